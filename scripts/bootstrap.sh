@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# Create .venv and install symlearn with everything it needs, on a fresh Debian machine or an
+# already prepared one. Idempotent: a stamp records the hash of pyproject.toml and the extras,
+# so a second run only checks and returns.
+#
+#   scripts/bootstrap.sh               runtime dependencies (graphviz)
+#   scripts/bootstrap.sh --with-tests  plus test tools, peer/oracle packages and Debian mona
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+with_tests=0
+[[ "${1:-}" == "--with-tests" ]] && with_tests=1
+
+say() { printf 'bootstrap: %s\n' "$*" >&2; }
+
+# --- Debian packages -------------------------------------------------------------------
+apt_needed=()
+command -v dot  >/dev/null 2>&1 || apt_needed+=(graphviz)
+if (( with_tests )); then command -v mona >/dev/null 2>&1 || apt_needed+=(mona); fi
+if (( ${#apt_needed[@]} )); then
+    sudo=""
+    if [[ $(id -u) -ne 0 ]]; then
+        if command -v sudo >/dev/null 2>&1; then sudo="sudo"; else
+            say "need Debian packages ${apt_needed[*]} but am not root and have no sudo; install them and rerun"
+            exit 1
+        fi
+    fi
+    say "installing Debian packages: ${apt_needed[*]}"
+    $sudo apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq "${apt_needed[@]}" >/dev/null
+fi
+
+# --- Python environment ------------------------------------------------------------------
+pick_python() {
+    for candidate in "${PYTHON:-}" python3.13 python3.12 python3.11 python3; do
+        [[ -n "$candidate" ]] || continue
+        if command -v "$candidate" >/dev/null 2>&1 &&
+           "$candidate" -c 'import sys; sys.exit(0 if sys.version_info >= (3, 11) else 1)' 2>/dev/null; then
+            echo "$candidate"; return 0
+        fi
+    done
+    return 1
+}
+# torch==2.13.0 is a CPU wheel for CPython 3.11 on our machines, so prefer 3.11 when present.
+if command -v python3.11 >/dev/null 2>&1; then py=python3.11; else py=$(pick_python) || {
+    say "Python >= 3.11 is required"; exit 1; }; fi
+
+if [[ ! -x .venv/bin/python ]]; then
+    say "creating .venv with $($py --version)"
+    "$py" -m venv .venv
+fi
+
+extras="peers"
+(( with_tests )) && extras="peers,test"
+stamp=".venv/.symlearn-installed"
+want="$(sha256sum pyproject.toml | cut -d' ' -f1) $extras"
+have="$(cat "$stamp" 2>/dev/null || true)"
+# A test install also satisfies a plain one.
+if [[ "$have" == "$want" ]] || { (( ! with_tests )) && [[ "$have" == "$(sha256sum pyproject.toml | cut -d' ' -f1) peers,test" ]]; }; then
+    exit 0
+fi
+say "installing symlearn[$extras] into .venv (first run takes a few minutes)"
+.venv/bin/python -m pip install -q --disable-pip-version-check --upgrade pip >/dev/null 2>&1 || true
+# torch first and pinned, so no other requirement can pull a CUDA build.
+.venv/bin/python -m pip install -q --disable-pip-version-check "torch==2.13.0"
+.venv/bin/python -m pip install -q --disable-pip-version-check -e ".[$extras]"
+echo "$want" > "$stamp"
+say "ready"

@@ -1,0 +1,3 @@
+from symlearn.cli.main import run
+
+run()

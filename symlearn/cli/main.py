@@ -1,0 +1,112 @@
+"""The ``symlearn`` entry point.
+
+Each sub-command lives in its own module with a ``register(subparsers, common)`` function that
+adds its parser and sets ``handler`` (``handler(args, out) -> int | None``). To add a command,
+write such a module and list it in :data:`COMMAND_MODULES`; modules import heavy libraries only
+inside handlers, so ``symlearn --help`` stays fast.
+
+Exit codes: 0 success, 2 bad input or usage (:class:`SymlearnError`), 1 internal failure,
+130 interrupted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+import traceback
+from collections.abc import Sequence
+
+from symlearn import __version__
+from symlearn.cli.output import Output
+from symlearn.errors import SymlearnError
+
+COMMAND_MODULES: tuple[str, ...] = (
+    "symlearn.cli.demo_command",
+    "symlearn.cli.data_command",
+)
+
+EXIT_OK, EXIT_INTERNAL, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
+
+
+def common_options(json_output: bool = True) -> argparse.ArgumentParser:
+    """Options every command accepts after its name, too (``symlearn demo --quiet``).
+
+    ``SUPPRESS`` defaults keep a value given before the command name from being overwritten.
+    """
+    parent = argparse.ArgumentParser(add_help=False)
+    group = parent.add_argument_group("common options")
+    group.add_argument("--debug", action="store_true", default=argparse.SUPPRESS,
+                       help="show tracebacks instead of one-line errors")
+    group.add_argument("--quiet", "-q", action="store_true", default=argparse.SUPPRESS,
+                       help="no progress bars or notes on stderr")
+    group.add_argument("--seed", type=int, default=argparse.SUPPRESS, help="random seed (default 0)")
+    if json_output:
+        group.add_argument("--json", action="store_true", default=argparse.SUPPRESS,
+                           help="print exactly one JSON document on stdout")
+    return parent
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(
+        prog="symlearn",
+        description="Learn interpretable symbolic models of behaviour from demonstrations.",
+        epilog="Run 'symlearn COMMAND --help' for the options of a command.",
+    )
+    parser.add_argument("--version", action="version", version=f"symlearn {__version__}")
+    parser.add_argument("--debug", action="store_true", help="show tracebacks instead of one-line errors")
+    parser.add_argument("--quiet", "-q", action="store_true", help="no progress bars or notes on stderr")
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    parser.add_argument("--json", action="store_true", help="print exactly one JSON document on stdout")
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
+    for name in COMMAND_MODULES:
+        importlib.import_module(name).register(subparsers, common_options)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    if not getattr(args, "handler", None):
+        if args.command:  # a command group such as 'symlearn data' without its sub-command
+            args.group_parser.print_help(sys.stderr)
+        else:
+            parser.print_help(sys.stderr)
+        return EXIT_USAGE
+
+    from symlearn.progress import progress_bars
+
+    out = Output(json_mode=getattr(args, "json", False), quiet=args.quiet)
+    try:
+        with progress_bars(False if (args.quiet or out.json_mode and not sys.stderr.isatty()) else None):
+            code = args.handler(args, out)
+        return EXIT_OK if code is None else int(code)
+    except SymlearnError as exc:
+        if args.debug:
+            traceback.print_exc()
+        print(f"symlearn: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except (FileNotFoundError, IsADirectoryError, PermissionError) as exc:
+        if args.debug:
+            traceback.print_exc()
+        where = f"{exc.filename}: " if exc.filename else ""
+        print(f"symlearn: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        print("symlearn: interrupted", file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except Exception as exc:  # a bug in symlearn, not the user's fault
+        if args.debug:
+            traceback.print_exc()
+        else:
+            print(f"symlearn: internal error: {type(exc).__name__}: {exc} "
+                  "(rerun with --debug for the traceback and please report it)", file=sys.stderr)
+        return EXIT_INTERNAL
+
+
+def run() -> None:
+    sys.exit(main())
+
+
+if __name__ == "__main__":
+    run()

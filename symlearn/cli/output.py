@@ -1,0 +1,53 @@
+"""How commands print: a human text on stdout, or with ``--json`` exactly one JSON document."""
+
+from __future__ import annotations
+
+import json
+import sys
+from collections.abc import Callable
+from typing import Any, TextIO
+
+
+class Output:
+    """Printing policy of one command invocation.
+
+    Commands call :meth:`result` once with a JSON-ready document and a function that renders
+    it for people; :meth:`note` sends side remarks to stderr (silenced by ``--quiet`` and, so
+    stdout stays parseable, never on stdout).
+    """
+
+    def __init__(self, *, json_mode: bool = False, quiet: bool = False,
+                 stdout: TextIO | None = None, stderr: TextIO | None = None) -> None:
+        self.json_mode = json_mode
+        self.quiet = quiet
+        self.stdout = stdout or sys.stdout
+        self.stderr = stderr or sys.stderr
+        self._emitted = False
+
+    def result(self, document: Any, render: Callable[[Any], str] | str | None = None) -> None:
+        if self._emitted and self.json_mode:
+            raise RuntimeError("a command may print only one JSON document")
+        self._emitted = True
+        if self.json_mode:
+            self.stdout.write(json.dumps(document, indent=2, sort_keys=False, default=_json_default) + "\n")
+            return
+        text = render(document) if callable(render) else render
+        if text is None:
+            text = json.dumps(document, indent=2, default=_json_default)
+        self.stdout.write(text.rstrip("\n") + "\n")
+
+    def note(self, message: str) -> None:
+        if not self.quiet:
+            self.stderr.write(message.rstrip("\n") + "\n")
+
+
+def _json_default(value: Any) -> Any:
+    import numpy as np
+
+    if isinstance(value, np.generic):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, (set, frozenset)):
+        return sorted(value)
+    raise TypeError(f"{type(value).__name__} is not JSON serialisable")

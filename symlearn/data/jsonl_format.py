@@ -1,0 +1,203 @@
+"""JSONL persistence for symbolic and discrete demonstrations.
+
+Line 1 is a header object; every further non-blank line is one trajectory::
+
+    {"symlearn": "demonstrations", "format_version": 1, "state_kind": "discrete",
+     "state_dtype": "int64", "action_kind": "symbol", "action_dtype": null, "metadata": {}}
+    {"states": [0, 1, 2], "actions": ["go(north)", "go(east)"], "labels": [[], ["key"], []]}
+
+Keys of a trajectory line: ``states`` (required), ``actions``, ``rewards``, ``labels``, ``info``.
+Kinds and dtypes live in the header so that, e.g., a 1-D integer vector is not read back as ids.
+Floats are written with Python's shortest round-trip ``repr``, so values come back bit-exact.
+Images do not belong here (use NPZ).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from symlearn.atomic import atomic_open
+from symlearn.data.demonstrations import Demonstrations
+from symlearn.data.kinds import KINDS
+from symlearn.data.trajectory import Trajectory
+from symlearn.errors import DataError, ParseError
+
+FORMAT_VERSION = 1
+MAGIC = "demonstrations"
+_LINE_KEYS = ("states", "actions", "rewards", "labels", "info")
+
+
+def _column_to_json(kind: str | None, values: Any) -> Any:
+    if kind in ("discrete", "vector"):
+        return values.tolist()
+    if kind == "features":
+        return [dict(row) for row in values]
+    return list(values)
+
+
+def _dtype_name(kind: str | None, values: Any) -> str | None:
+    return str(values.dtype) if kind in ("discrete", "vector") else None
+
+
+def write_jsonl(demos: Demonstrations, path: str | os.PathLike[str]) -> None:
+    if demos.state_kind == "image":
+        raise DataError(f"{path}: image states cannot be written as JSONL", hint="save to a .npz file")
+    ref_actions = next((t for t in demos if t.n_actions), demos[0])
+    header = {
+        "symlearn": MAGIC,
+        "format_version": FORMAT_VERSION,
+        "state_kind": demos.state_kind,
+        "state_dtype": _dtype_name(demos.state_kind, demos[0].states),
+        "action_kind": demos.action_kind,
+        "action_dtype": _dtype_name(demos.action_kind, ref_actions.actions) if ref_actions.n_actions else None,
+        "metadata": demos.metadata,
+    }
+    with atomic_open(path, "w") as out:
+        out.write(json.dumps(header, allow_nan=False) + "\n")
+        for traj in demos:
+            line: dict[str, Any] = {"states": _column_to_json(traj.state_kind, traj.states)}
+            if traj.actions is not None:
+                line["actions"] = _column_to_json(traj.action_kind, traj.actions)
+            if traj.rewards is not None:
+                line["rewards"] = traj.rewards.tolist()
+            if traj.labels is not None:
+                line["labels"] = [sorted(step) for step in traj.labels]
+            if traj.info:
+                line["info"] = traj.info
+            out.write(json.dumps(line, allow_nan=False) + "\n")
+
+
+def read_jsonl(path: str | os.PathLike[str]) -> Demonstrations:
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise ParseError(f"not UTF-8 text ({exc.reason})", file=path) from None
+    lines = text.splitlines()
+    header, start = None, 0
+    for number, raw in enumerate(lines, start=1):
+        if raw.strip():
+            header, start = _read_header(path, number, raw), number
+            break
+    if header is None:
+        raise DataError("file is empty: expected a header line and at least one trajectory", file=path)
+
+    trajectories = []
+    for number, raw in enumerate(lines[start:], start=start + 1):
+        if not raw.strip():
+            continue
+        trajectories.append(_read_trajectory(path, number, raw, header))
+    if not trajectories:
+        raise DataError("no trajectories after the header line", file=path, line=start)
+    try:
+        return Demonstrations(trajectories, metadata=header.get("metadata") or {})
+    except DataError as exc:
+        raise DataError(exc.message, file=path, hint=exc.hint) from None
+
+
+def _parse_line(path: Path, number: int, raw: str) -> Any:
+    try:
+        return json.loads(raw, parse_constant=_reject_constant)
+    except json.JSONDecodeError as exc:
+        raise ParseError(f"invalid JSON: {exc.msg}", file=path, line=number, column=exc.colno) from None
+    except ValueError as exc:  # from _reject_constant
+        raise DataError(str(exc), file=path, line=number, column=_column_of(raw, "NaN", "Infinity")) from None
+
+
+def _reject_constant(name: str) -> Any:
+    raise ValueError(f"non-finite number {name} is not allowed")
+
+
+def _column_of(raw: str, *needles: str) -> int | None:
+    found = [raw.find(n) for n in needles if raw.find(n) >= 0]
+    return min(found) + 1 if found else None
+
+
+def _read_header(path: Path, number: int, raw: str) -> dict[str, Any]:
+    header = _parse_line(path, number, raw)
+    if not isinstance(header, dict) or header.get("symlearn") != MAGIC:
+        raise DataError(
+            "missing header: the first line must be a symlearn demonstrations header",
+            file=path, line=number, column=1,
+            hint='start the file with {"symlearn": "demonstrations", "format_version": 1, ...}',
+        )
+    version = header.get("format_version")
+    if not isinstance(version, int) or version < 1:
+        raise DataError(f"bad format_version {version!r}", file=path, line=number, column=_column_of(raw, '"format_version"'))
+    if version > FORMAT_VERSION:
+        raise DataError(
+            f"format_version {version} is newer than this symlearn reads ({FORMAT_VERSION})",
+            file=path, line=number, hint="upgrade symlearn",
+        )
+    for key in ("state_kind", "action_kind"):
+        kind = header.get(key)
+        if kind is not None and kind not in KINDS:
+            raise DataError(f"unknown {key} {kind!r} (known: {', '.join(KINDS)})",
+                            file=path, line=number, column=_column_of(raw, f'"{key}"'))
+    if header.get("state_kind") is None:
+        raise DataError("header lacks state_kind", file=path, line=number)
+    if not isinstance(header.get("metadata", {}), dict):
+        raise DataError("header metadata must be an object", file=path, line=number, column=_column_of(raw, '"metadata"'))
+    return header
+
+
+def _read_trajectory(path: Path, number: int, raw: str, header: dict[str, Any]) -> Trajectory:
+    obj = _parse_line(path, number, raw)
+
+    def fail(message: str, key: str | None = None, hint: str | None = None) -> DataError:
+        column = _column_of(raw, f'"{key}"') if key else 1
+        return DataError(message, file=path, line=number, column=column, hint=hint)
+
+    if not isinstance(obj, dict):
+        raise fail(f"a trajectory line must be a JSON object, got {type(obj).__name__}")
+    unknown = sorted(set(obj) - set(_LINE_KEYS))
+    if unknown:
+        raise fail(f"unknown key {unknown[0]!r}", unknown[0], hint=f"known keys: {', '.join(_LINE_KEYS)}")
+    if "states" not in obj:
+        raise fail("trajectory has no 'states'")
+    if header.get("action_kind") is None and obj.get("actions"):
+        raise fail("trajectory has actions but the header says action_kind is null", "actions")
+
+    fields: dict[str, Any] = {}
+    for key, kind_key, dtype_key in (("states", "state_kind", "state_dtype"), ("actions", "action_kind", "action_dtype")):
+        if key in obj:
+            fields[key] = _column_from_json(obj[key], header.get(kind_key), header.get(dtype_key), key, fail)
+    for key in ("rewards", "labels", "info"):
+        if key in obj:
+            fields[key] = obj[key]
+    try:
+        traj = Trajectory(**fields)
+    except DataError as exc:
+        field = next((k for k in _LINE_KEYS if k in exc.message), None)
+        raise fail(exc.message, field, exc.hint) from None
+    if traj.state_kind != header["state_kind"]:
+        raise fail(f"states are {traj.state_kind} but the header says {header['state_kind']}", "states")
+    if traj.n_actions and traj.action_kind != header.get("action_kind"):
+        raise fail(f"actions are {traj.action_kind} but the header says {header.get('action_kind')}", "actions")
+    return traj
+
+
+def _column_from_json(values: Any, kind: str | None, dtype: str | None, key: str, fail) -> Any:
+    if not isinstance(values, list):
+        raise fail(f"'{key}' must be a list, got {type(values).__name__}", key)
+    if kind in ("discrete", "vector") and values:
+        try:
+            array = np.asarray(values)
+        except ValueError:
+            raise fail(f"'{key}' are ragged", key, hint="every step must have the same shape") from None
+        if array.dtype == object or array.dtype.kind not in "biuf":
+            raise fail(f"'{key}' must be numbers for {kind} {key}", key)
+        if kind == "discrete" and (array.ndim != 1 or array.dtype.kind not in "iu"):
+            raise fail(f"'{key}' must be a flat list of integer ids for discrete {key}", key)
+        if dtype is not None:
+            cast = array.astype(dtype)
+            if not np.array_equal(cast, array):
+                raise fail(f"'{key}' do not fit the header dtype {dtype}", key)
+            array = cast
+        return array
+    return values

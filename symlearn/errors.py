@@ -1,0 +1,87 @@
+"""Error types shared by every layer.
+
+Every mistake a user can make (a malformed file, a bad formula, an impossible setting) raises a
+:class:`SymlearnError` subclass. The CLI turns those into one line and exit code 2; anything else
+is a bug in symlearn and exits 1. Location fields are optional because much input has no file.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from os import PathLike
+
+
+class SymlearnError(Exception):
+    """A problem with the user's input or settings, reported without a traceback.
+
+    ``file``, ``line`` and ``column`` (1-based) locate the problem when it comes from text;
+    ``hint`` suggests a fix.
+    """
+
+    def __init__(
+        self,
+        message: str,
+        *,
+        file: str | PathLike[str] | None = None,
+        line: int | None = None,
+        column: int | None = None,
+        hint: str | None = None,
+    ) -> None:
+        super().__init__(message)
+        self.message = message
+        self.file = None if file is None else str(file)
+        self.line = line
+        self.column = column
+        self.hint = hint
+
+    @property
+    def location(self) -> str:
+        """``file:line:col`` with the parts that are known, or ``""``."""
+        parts = [p for p in (self.file, self.line, self.column) if p is not None]
+        return ":".join(str(p) for p in parts)
+
+    def __str__(self) -> str:
+        text = f"{self.location}: {self.message}" if self.location else self.message
+        if self.hint:
+            text += f" (hint: {self.hint})"
+        return text
+
+    def __reduce__(self):  # keep the fields when copied or sent between processes
+        return (_rebuild, (type(self), self.message, self.file, self.line, self.column, self.hint))
+
+
+def _rebuild(cls, message, file, line, column, hint):
+    return cls(message, file=file, line=line, column=column, hint=hint)
+
+
+class ParseError(SymlearnError):
+    """Text that does not follow its grammar (formulas, task files, JSONL lines)."""
+
+
+class DataError(SymlearnError):
+    """Demonstrations or arrays that are malformed: ragged, NaN/inf, mismatched lengths, empty."""
+
+
+class ModelError(SymlearnError):
+    """An inconsistent model: a transition tensor that is not stochastic, an unknown state, ..."""
+
+
+class LimitExceededError(SymlearnError):
+    """A bounded computation (state limit, size limit) would exceed its bound."""
+
+
+class MissingDependencyError(SymlearnError):
+    """An optional engine is not installed; the message says how to install it."""
+
+
+@dataclass(frozen=True)
+class OptionalDependency:
+    """An optional package or program and how to get it."""
+
+    name: str
+    install_hint: str
+
+    def error(self, purpose: str) -> MissingDependencyError:
+        return MissingDependencyError(
+            f"{purpose} needs {self.name}, which is not installed", hint=self.install_hint
+        )

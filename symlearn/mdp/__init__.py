@@ -1,0 +1,5 @@
+"""Models of environments for exact algorithms."""
+
+from symlearn.mdp.tabular import TabularMDP
+
+__all__ = ["TabularMDP"]

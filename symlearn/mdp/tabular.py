@@ -1,0 +1,195 @@
+"""The tabular MDP protocol that exact algorithms (value iteration, MaxEnt passes, constraint
+inference) work on.
+
+``transitions[s, a, s']`` is the probability of reaching ``s'``; ``rewards[s, a]`` the expected
+immediate reward; ``initial[s]`` the start distribution; ``terminal[s]`` marks states where an
+episode ends (their rows are kept stochastic, usually as self-loops, so tensors stay square).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from symlearn.errors import ModelError
+
+_TOLERANCE = 1e-8
+
+
+@dataclass(frozen=True, eq=False)
+class TabularMDP:
+    """A finite MDP with named states and actions and optional goal conditioning.
+
+    >>> P = np.zeros((2, 1, 2)); P[0, 0, 1] = P[1, 0, 1] = 1
+    >>> mdp = TabularMDP(P, rewards=np.array([[0.0], [1.0]]), initial=[1, 0], terminal=[False, True])
+    >>> mdp.n_states, mdp.n_actions, mdp.state_names
+    (2, 1, ('0', '1'))
+    """
+
+    transitions: np.ndarray
+    rewards: np.ndarray
+    initial: np.ndarray
+    terminal: np.ndarray
+    state_names: tuple[str, ...] = field(default=())
+    action_names: tuple[str, ...] = field(default=())
+    goals: tuple[int, ...] = field(default=())
+
+    def __post_init__(self) -> None:
+        P = np.asarray(self.transitions, dtype=np.float64)
+        if P.ndim != 3 or P.shape[0] != P.shape[2] or 0 in P.shape:
+            raise ModelError(f"transitions must have shape (S, A, S) with S, A > 0, got {P.shape}")
+        S, A, _ = P.shape
+        if not np.isfinite(P).all() or (P < 0).any():
+            raise ModelError("transition probabilities must be finite and non-negative")
+        sums = P.sum(axis=2)
+        bad = np.argwhere(np.abs(sums - 1.0) > 1e-6)
+        if len(bad):
+            s, a = bad[0]
+            raise ModelError(f"transition probabilities of state {s}, action {a} sum to {sums[s, a]:.6g}, not 1")
+        R = np.asarray(self.rewards, dtype=np.float64)
+        if R.shape == (S, A, S):  # reward on (s, a, s'): take its expectation under P
+            R = (P * R).sum(axis=2)
+        if R.shape != (S, A):
+            raise ModelError(f"rewards must have shape (S, A) = {(S, A)} or (S, A, S), got {R.shape}")
+        if not np.isfinite(R).all():
+            raise ModelError("rewards must be finite")
+        mu = np.asarray(self.initial, dtype=np.float64)
+        if mu.shape != (S,) or (mu < 0).any() or abs(mu.sum() - 1.0) > 1e-6:
+            raise ModelError(f"initial must be a probability vector of length {S}")
+        term = np.asarray(self.terminal, dtype=bool)
+        if term.shape != (S,):
+            raise ModelError(f"terminal must be a boolean vector of length {S}, got shape {term.shape}")
+        names_s = tuple(str(n) for n in self.state_names) or tuple(str(s) for s in range(S))
+        names_a = tuple(str(n) for n in self.action_names) or tuple(str(a) for a in range(A))
+        for what, names, size in (("state", names_s, S), ("action", names_a, A)):
+            if len(names) != size:
+                raise ModelError(f"{len(names)} {what} names for {size} {what}s")
+            if len(set(names)) != size:
+                raise ModelError(f"{what} names must be unique")
+        goals = tuple(int(g) for g in self.goals)
+        if any(not 0 <= g < S for g in goals):
+            raise ModelError(f"goal states must be in 0..{S - 1}, got {goals}")
+        for name, value in (("transitions", P), ("rewards", R), ("initial", mu), ("terminal", term)):
+            value.setflags(write=False)
+            object.__setattr__(self, name, value)
+        object.__setattr__(self, "state_names", names_s)
+        object.__setattr__(self, "action_names", names_a)
+        object.__setattr__(self, "goals", goals)
+
+    # --- sizes and names --------------------------------------------------------------------
+    @property
+    def n_states(self) -> int:
+        return self.transitions.shape[0]
+
+    @property
+    def n_actions(self) -> int:
+        return self.transitions.shape[1]
+
+    def state_index(self, name: str | int) -> int:
+        return _index(name, self.state_names, "state")
+
+    def action_index(self, name: str | int) -> int:
+        return _index(name, self.action_names, "action")
+
+    # --- dynamics ------------------------------------------------------------------------------
+    def successors(self, state: int, action: int) -> dict[int, float]:
+        """Reachable next states with their probabilities."""
+        row = self.transitions[state, action]
+        return {int(s): float(row[s]) for s in np.flatnonzero(row)}
+
+    def sample_next(self, state: int, action: int, rng: np.random.Generator) -> int:
+        return int(rng.choice(self.n_states, p=self.transitions[state, action]))
+
+    def sample_initial(self, rng: np.random.Generator) -> int:
+        return int(rng.choice(self.n_states, p=self.initial))
+
+    # --- derived models --------------------------------------------------------------------
+    def make_absorbing(self, states: Iterable[int]) -> TabularMDP:
+        """Copy in which ``states`` are terminal self-loops with zero reward."""
+        chosen = np.fromiter((int(s) for s in states), dtype=int)
+        P = self.transitions.copy()
+        R = self.rewards.copy()
+        P[chosen] = 0.0
+        P[chosen, :, chosen] = 1.0
+        R[chosen] = 0.0
+        terminal = self.terminal.copy()
+        terminal[chosen] = True
+        return replace(self, transitions=P, rewards=R, terminal=terminal)
+
+    def with_goal(self, goals: int | str | Sequence[int | str], goal_reward: float | None = None) -> TabularMDP:
+        """Goal-conditioned copy: the goal states become absorbing and terminal.
+
+        With ``goal_reward``, every action that can enter a goal earns that reward times the
+        probability of entering it (on top of the existing reward).
+        """
+        chosen = [self.state_index(g) for g in ([goals] if isinstance(goals, (int, str)) else goals)]
+        if not chosen:
+            raise ModelError("with_goal needs at least one goal state")
+        model = self.make_absorbing(chosen)
+        if goal_reward is not None:
+            entering = self.transitions[:, :, chosen].sum(axis=2)
+            entering[chosen] = 0.0
+            model = replace(model, rewards=model.rewards + goal_reward * entering)
+        return replace(model, goals=tuple(chosen))
+
+    # --- construction from gymnasium -------------------------------------------------------
+    @classmethod
+    def from_gymnasium(
+        cls,
+        env: Any,
+        *,
+        state_names: Sequence[str] = (),
+        action_names: Sequence[str] = (),
+    ) -> TabularMDP:
+        """Build from a discrete gymnasium environment that exposes its model.
+
+        Supported is the toy-text convention (FrozenLake, CliffWalking, Taxi):
+        ``env.unwrapped.P[s][a]`` is a list of ``(probability, next_state, reward, terminated)``
+        and ``env.unwrapped.initial_state_distrib`` the start distribution. A state entered with
+        ``terminated=True`` is terminal.
+        """
+        inner = getattr(env, "unwrapped", env)
+        model = getattr(inner, "P", None)
+        if not isinstance(model, dict):
+            raise ModelError(
+                f"{type(inner).__name__} does not expose its transition model",
+                hint="a tabular MDP needs env.unwrapped.P[s][a] = [(p, s', r, terminated), ...]",
+            )
+        try:
+            S = int(inner.observation_space.n)
+            A = int(inner.action_space.n)
+        except AttributeError:
+            raise ModelError("the environment's observation and action spaces must be Discrete") from None
+        P = np.zeros((S, A, S))
+        R = np.zeros((S, A))
+        terminal = np.zeros(S, dtype=bool)
+        for s in range(S):
+            for a in range(A):
+                for prob, nxt, reward, done in model[s][a]:
+                    P[s, a, int(nxt)] += prob
+                    R[s, a] += prob * reward
+                    if done:
+                        terminal[int(nxt)] = True
+        # Terminal states end the episode in the environment; make them explicit self-loops.
+        P[terminal] = 0.0
+        for s in np.flatnonzero(terminal):
+            P[s, :, s] = 1.0
+        R[terminal] = 0.0
+        initial = getattr(inner, "initial_state_distrib", None)
+        if initial is None:
+            raise ModelError(f"{type(inner).__name__} does not expose initial_state_distrib")
+        return cls(P, R, np.asarray(initial, dtype=float), terminal, tuple(state_names), tuple(action_names))
+
+
+def _index(name: str | int, names: tuple[str, ...], what: str) -> int:
+    if isinstance(name, (int, np.integer)):
+        if not 0 <= int(name) < len(names):
+            raise ModelError(f"{what} {name} is out of range 0..{len(names) - 1}")
+        return int(name)
+    try:
+        return names.index(name)
+    except ValueError:
+        raise ModelError(f"unknown {what} {name!r}") from None

@@ -1,0 +1,51 @@
+"""Progress bars that show on a terminal and stay silent in pipes, CI and ``--quiet`` runs.
+
+Library code calls :func:`progress` around long loops; whether a bar is drawn is decided here
+once, so no learner needs to know about terminals.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Iterable, Iterator
+from contextlib import contextmanager
+from contextvars import ContextVar
+from typing import TypeVar
+
+from tqdm.auto import tqdm
+
+T = TypeVar("T")
+
+# None: decide from the terminal; True/False: forced (CLI --quiet, tests, notebooks).
+_forced: ContextVar[bool | None] = ContextVar("symlearn_progress_forced", default=None)
+
+
+def progress_enabled() -> bool:
+    """Whether a bar would be drawn now."""
+    forced = _forced.get()
+    if forced is not None:
+        return forced
+    if os.environ.get("CI") or os.environ.get("SYMLEARN_QUIET"):
+        return False
+    return sys.stderr.isatty()
+
+
+@contextmanager
+def progress_bars(enabled: bool | None):
+    """Force bars on or off inside a block (``None`` restores automatic detection)."""
+    token = _forced.set(enabled)
+    try:
+        yield
+    finally:
+        _forced.reset(token)
+
+
+def progress(
+    iterable: Iterable[T], *, total: int | None = None, desc: str | None = None, unit: str = "it"
+) -> Iterator[T]:
+    """Iterate over ``iterable``, drawing a bar on stderr when :func:`progress_enabled`."""
+    if not progress_enabled():
+        yield from iterable
+        return
+    yield from tqdm(iterable, total=total, desc=desc, unit=unit, file=sys.stderr, leave=False)

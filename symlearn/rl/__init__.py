@@ -1,0 +1,1 @@
+"""Small, readable RL algorithms used by learners and experiments."""
