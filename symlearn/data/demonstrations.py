@@ -129,7 +129,7 @@ class Demonstrations(Sequence[Trajectory]):
                 hint="use to_state_action_pairs() for feature dicts and symbols",
             )
         states = np.concatenate([t.states[: t.n_actions] for t in self._items])
-        actions = np.concatenate([t.actions for t in self._items])
+        actions = np.concatenate([t.actions for t in self._items if t.n_actions])
         return states, actions
 
     def to_label_words(self) -> list[tuple[Label, ...]]:

@@ -173,7 +173,9 @@ def _read_trajectory(path: Path, number: int, raw: str, header: dict[str, Any]) 
     try:
         traj = Trajectory(**fields)
     except DataError as exc:
-        field = next((k for k in _LINE_KEYS if k in exc.message), None)
+        # Point at the field the message talks about first ("3 actions for 2 states" -> actions).
+        mentioned = [k for k in _LINE_KEYS if k in exc.message]
+        field = min(mentioned, key=exc.message.find) if mentioned else None
         raise fail(exc.message, field, exc.hint) from None
     if traj.state_kind != header["state_kind"]:
         raise fail(f"states are {traj.state_kind} but the header says {header['state_kind']}", "states")

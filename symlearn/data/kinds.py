@@ -45,6 +45,8 @@ def normalize_column(values: Any, what: str) -> tuple[Kind, Any]:
     if all(_is_int(v) for v in items):
         return "discrete", np.asarray(items, dtype=np.int64)
     if all(isinstance(v, str) for v in items):
+        for t, v in enumerate(items):
+            check_text(v, f"{what} at step {t}")
         return "symbol", tuple(items)
     if all(isinstance(v, Mapping) for v in items):
         return "features", _normalize_features(items, what)
@@ -100,6 +102,12 @@ def check_finite(array: np.ndarray, what: str) -> None:
         raise DataError(f"{what} hold a non-finite value ({value}) at step {step}")
 
 
+def check_text(value: str, where: str) -> None:
+    # NUL cannot survive numpy's fixed-width strings in NPZ and never means anything in a symbol.
+    if "\x00" in value:
+        raise DataError(f"{where} contains a NUL character")
+
+
 def _normalize_features(items: list[Mapping], what: str) -> tuple[dict[str, Any], ...]:
     keys = set(items[0])
     rows = []
@@ -112,7 +120,7 @@ def _normalize_features(items: list[Mapping], what: str) -> tuple[dict[str, Any]
             )
         clean: dict[str, Any] = {}
         for name, value in row.items():
-            if not isinstance(name, str) or not name:
+            if not isinstance(name, str) or not name or "\x00" in name:
                 raise DataError(f"{what}: feature names must be non-empty strings, got {name!r} at step {t}")
             clean[name] = _feature_scalar(value, f"{what}, feature {name!r} at step {t}")
         rows.append(clean)
@@ -130,6 +138,7 @@ def _feature_scalar(value: Any, where: str) -> Any:
             raise DataError(f"{where} is not finite ({value})")
         return value
     if isinstance(value, str):
+        check_text(value, where)
         return value
     raise DataError(f"{where} must be a number, boolean or string, got {type(value).__name__}")
 

@@ -36,14 +36,17 @@ MAGIC = "demonstrations"
 def _pack_column(prefix: str, kind: str, columns: list[Any], arrays: dict[str, np.ndarray], header: dict) -> None:
     if kind == "features":
         names = sorted(columns[0][0]) if columns and columns[0] else []
-        header[f"{prefix}_features"] = names
+        encodings = []
         for k, name in enumerate(names):
             values = [row[name] for col in columns for row in col]
-            kinds_seen = {type(v) for v in values}
-            if str in kinds_seen and len(kinds_seen) > 1:
-                raise DataError(f"feature {name!r} of {prefix} mixes strings and numbers; NPZ stores one type per feature",
-                                hint="save to .jsonl instead")
-            arrays[f"{prefix}.{k}"] = np.asarray(values)
+            if len({type(v) for v in values}) == 1:
+                arrays[f"{prefix}.{k}"] = np.asarray(values)
+                encodings.append("array")
+            else:  # mixed Python types: JSON text per value keeps each one exactly
+                arrays[f"{prefix}.{k}"] = np.asarray([json.dumps(v) for v in values], dtype=str)
+                encodings.append("json")
+        header[f"{prefix}_features"] = names
+        header[f"{prefix}_feature_encodings"] = encodings
     elif kind == "symbol":
         arrays[prefix] = np.asarray([v for col in columns for v in col], dtype=str)
     else:
@@ -170,9 +173,12 @@ def _split(path: Path, name: str, values: np.ndarray, lengths: np.ndarray) -> li
 def _unpack_column(path, prefix, kind, lengths, archive, header, member) -> list[Any]:
     if kind == "features":
         names = header.get(f"{prefix}_features") or []
+        encodings = header.get(f"{prefix}_feature_encodings") or ["array"] * len(names)
+        decode = {"array": lambda v: v.item(), "json": lambda v: json.loads(str(v))}
         columns = [_split(path, f"{prefix}.{k}", member(f"{prefix}.{k}"), lengths) for k in range(len(names))]
         return [
-            [{name: columns[k][i][t].item() for k, name in enumerate(names)} for t in range(int(lengths[i]))]
+            [{name: decode[encodings[k]](columns[k][i][t]) for k, name in enumerate(names)}
+             for t in range(int(lengths[i]))]
             for i in range(len(lengths))
         ]
     blocks = _split(path, prefix, member(prefix), lengths)

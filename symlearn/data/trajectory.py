@@ -62,6 +62,8 @@ class Trajectory:
                     f"mismatched lengths: {len(action_values)} actions for {n} states",
                     hint="give one action per state, or one fewer when the last state is final",
                 )
+            if len(action_values) == 0:  # a one-state episode: no action, so no kind either
+                action_kind, action_values = None, ()
         set_(self, "actions", action_values)
         set_(self, "action_kind", action_kind)
 
@@ -98,7 +100,7 @@ class Trajectory:
                 )
             props = frozenset(step)
             for prop in props:
-                if not isinstance(prop, str) or not prop or prop != prop.strip():
+                if not isinstance(prop, str) or not prop or prop != prop.strip() or "\x00" in prop:
                     raise DataError(f"labels at step {t}: {prop!r} is not a proposition name")
             result.append(props)
         if len(result) != n:
@@ -130,7 +132,7 @@ class Trajectory:
             return False
         if (self.actions is None) != (other.actions is None):
             return False
-        if self.actions is not None and not kinds.columns_equal(self.action_kind, self.actions, other.actions):
+        if self.n_actions and not kinds.columns_equal(self.action_kind, self.actions, other.actions):
             return False
         if (self.rewards is None) != (other.rewards is None):
             return False
