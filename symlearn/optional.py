@@ -1,0 +1,71 @@
+"""Optional engines: detected when first asked for, never required by the core.
+
+Adapters call :func:`require` (which raises :class:`MissingDependencyError` with an install hint)
+and tests call :func:`available` to skip oracle checks cleanly.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import shutil
+from dataclasses import dataclass
+from functools import cache
+
+from symlearn.errors import MissingDependencyError
+
+
+@dataclass(frozen=True)
+class Engine:
+    name: str
+    modules: tuple[str, ...]  # Python modules that must import
+    programs: tuple[str, ...]  # executables that must be on PATH
+    purpose: str
+    install_hint: str
+
+
+ENGINES: dict[str, Engine] = {
+    e.name: e
+    for e in (
+        Engine("spot", ("spot",), (), "LTL/automata cross-checks and HOA interoperability",
+               "Spot is not on PyPI: install it from your distribution (e.g. conda-forge 'spot')"),
+        Engine("mona", ("ltlf2dfa",), ("mona",), "LTLf -> DFA oracle (LTLf2DFA + MONA)",
+               "pip install 'symlearn[peers]' and apt-get install mona"),
+        Engine("scarlet", ("Scarlet",), (), "LTL learning peer (Scarlet)", "pip install 'symlearn[peers]'"),
+        Engine("aalpy", ("aalpy",), (), "automata learning peer (AALpy)", "pip install 'symlearn[peers]'"),
+        Engine("dfa_identify", ("dfa_identify",), (), "DFA identification peer", "pip install 'symlearn[peers]'"),
+        Engine("sumo", ("traci", "sumo"), (), "SUMO traffic demonstrations", "pip install 'symlearn[sumo]'"),
+        Engine("mujoco", ("mujoco",), (), "MuJoCo environments", "pip install 'symlearn[mujoco]'"),
+        Engine("highway", ("highway_env",), (), "highway-env environments", "pip install 'symlearn[highway]'"),
+        Engine("graphviz", (), ("dot",), "rendering automata to SVG/PNG",
+               "apt-get install graphviz (or brew install graphviz)"),
+    )
+}
+
+
+def _engine(name: str) -> Engine:
+    try:
+        return ENGINES[name]
+    except KeyError:
+        raise ValueError(f"unknown optional engine {name!r}; known: {', '.join(ENGINES)}") from None
+
+
+@cache
+def available(name: str) -> bool:
+    """Whether every module and program of engine ``name`` is present (checked without importing)."""
+    engine = _engine(name)
+    modules_ok = all(importlib.util.find_spec(m) is not None for m in engine.modules)
+    return modules_ok and all(shutil.which(p) is not None for p in engine.programs)
+
+
+def require(name: str, purpose: str | None = None) -> None:
+    """Raise a clear :class:`MissingDependencyError` when engine ``name`` is missing."""
+    if not available(name):
+        engine = _engine(name)
+        raise MissingDependencyError(f"{purpose or engine.purpose} needs {engine.name}, which is not installed",
+                                     hint=engine.install_hint)
+
+
+def report() -> list[dict[str, object]]:
+    """One row per engine: name, available, purpose, install hint."""
+    return [{"name": e.name, "available": available(e.name), "purpose": e.purpose, "install": e.install_hint}
+            for e in ENGINES.values()]
