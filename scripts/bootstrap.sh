@@ -60,9 +60,19 @@ if [[ "$have" == "$want" ]] || { (( ! with_tests )) && [[ "$have" == "$(sha256su
     exit 0
 fi
 say "installing symlearn[$extras] into .venv (first run takes a few minutes)"
-.venv/bin/python -m pip install -q --disable-pip-version-check --upgrade pip >/dev/null 2>&1 || true
+# pip's own chatter goes to a log that is shown only when an install fails.
+log=.venv/pip-install.log
+pip_install() {
+    if ! .venv/bin/python -m pip install --disable-pip-version-check "$@" >>"$log" 2>&1; then
+        tail -n 40 "$log" >&2
+        say "pip install $* failed (full log: $log)"
+        exit 1
+    fi
+}
+: > "$log"
+pip_install --upgrade pip
 # torch first and pinned, so no other requirement can pull a CUDA build.
-.venv/bin/python -m pip install -q --disable-pip-version-check "torch==2.13.0"
-.venv/bin/python -m pip install -q --disable-pip-version-check -e ".[$extras]"
+pip_install "torch==2.13.0"
+pip_install -e ".[$extras]"
 echo "$want" > "$stamp"
 say "ready"
