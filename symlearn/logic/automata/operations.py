@@ -1,0 +1,242 @@
+"""Algorithms on guarded DFAs: completion, minimisation, products, shortest words, equivalence.
+
+None of them enumerates the 2^|AP| letters: they work on guards. Minimisation is Moore-style
+partition refinement where a state's signature is, for every block of the current partition,
+the disjunction of the guards leading into that block; because guards are canonical BDDs,
+two states stay together exactly when those disjunctions are equal. Shortest words come from
+breadth-first search; each letter of a returned word is
+:meth:`~symlearn.logic.guards.Guard.satisfying_label` of the edge taken (the label with the
+fewest true propositions), so words are deterministic and small.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+from collections.abc import Iterable
+
+from symlearn.errors import LimitExceededError, ModelError
+from symlearn.logic.automata.dfa import DFA
+from symlearn.logic.guards import Guard
+
+SINK_NAME = "sink"
+
+
+def complete(dfa: DFA) -> DFA:
+    """Add a rejecting sink catching every label no edge matches (unchanged if already total)."""
+    missing = [~Guard.any_of(g for g, _ in dfa.successors(q)) for q in dfa.states]
+    if all(g.is_false() for g in missing):
+        return dfa
+    sink = dfa.n_states
+    edges = [list(dfa.successors(q)) + ([(missing[q], sink)] if not missing[q].is_false() else [])
+             for q in dfa.states]
+    edges.append([(Guard.true(), sink)])
+    names = None if dfa.state_names is None else list(dfa.state_names) + [_fresh_name(dfa.state_names)]
+    return DFA._trusted(dfa.alphabet, dfa.n_states + 1, dfa.initial, dfa.accepting, edges, names)
+
+
+def _fresh_name(names: Iterable[str]) -> str:
+    taken, name = set(names), SINK_NAME
+    while name in taken:
+        name += "'"
+    return name
+
+
+def reachable_states(dfa: DFA, start: int | None = None) -> frozenset[int]:
+    start = dfa.initial if start is None else start
+    seen, queue = {start}, deque([start])
+    while queue:
+        for _, target in dfa.successors(queue.popleft()):
+            if target not in seen:
+                seen.add(target)
+                queue.append(target)
+    return frozenset(seen)
+
+
+def live_states(dfa: DFA) -> frozenset[int]:
+    """States from which some accepting state is reachable (backward search)."""
+    predecessors: list[set[int]] = [set() for _ in dfa.states]
+    for source, _, target in dfa.edges():
+        predecessors[target].add(source)
+    seen, queue = set(dfa.accepting), deque(dfa.accepting)
+    while queue:
+        for source in predecessors[queue.popleft()]:
+            if source not in seen:
+                seen.add(source)
+                queue.append(source)
+    return frozenset(seen)
+
+
+def distances_to_acceptance(dfa: DFA) -> list[int | None]:
+    """Fewest steps from each state to an accepting state (``None`` where unreachable)."""
+    predecessors: list[set[int]] = [set() for _ in dfa.states]
+    for source, _, target in dfa.edges():
+        predecessors[target].add(source)
+    distance: list[int | None] = [None] * dfa.n_states
+    queue = deque()
+    for q in dfa.accepting:
+        distance[q] = 0
+        queue.append(q)
+    while queue:
+        q = queue.popleft()
+        for source in predecessors[q]:
+            if distance[source] is None:
+                distance[source] = distance[q] + 1  # type: ignore[operator]
+                queue.append(source)
+    return distance
+
+
+def _renumber(dfa: DFA, keep: Iterable[int]) -> DFA:
+    """The sub-automaton on ``keep`` (which contains the initial state), BFS-numbered."""
+    keep = set(keep)
+    order = canonical_order(dfa, keep)
+    index = {q: i for i, q in enumerate(order)}
+    edges = [[(g, index[t]) for g, t in dfa.successors(q) if t in index] for q in order]
+    names = None if dfa.state_names is None else [dfa.state_names[q] for q in order]
+    return DFA._trusted(dfa.alphabet, len(order), 0, [index[q] for q in order if q in dfa.accepting], edges, names)
+
+
+def canonical_order(dfa: DFA, keep: Iterable[int] | None = None) -> list[int]:
+    """States in breadth-first order from the initial state, edges taken by guard order."""
+    keep = set(dfa.states) if keep is None else set(keep)
+    order, seen, queue = [], {dfa.initial}, deque([dfa.initial])
+    while queue:
+        q = queue.popleft()
+        order.append(q)
+        for _, target in dfa.successors(q):  # successors are sorted by Guard.sort_key
+            if target in keep and target not in seen:
+                seen.add(target)
+                queue.append(target)
+    return order
+
+
+def trim(dfa: DFA) -> DFA:
+    """Only the states that are reachable and can still reach acceptance (initial always kept)."""
+    keep = (reachable_states(dfa) & live_states(dfa)) | {dfa.initial}
+    return _renumber(dfa, keep)
+
+
+def minimize(dfa: DFA) -> DFA:
+    """The minimal complete DFA of ``dfa``'s language, numbered in canonical BFS order.
+
+    Two DFAs with the same language (and alphabet) give structurally equal results
+    (:meth:`DFA.same_structure`). A merged block keeps the name of its lowest-numbered state.
+    """
+    dfa = _renumber(complete(dfa), reachable_states(complete(dfa)))
+    block = [1 if q in dfa.accepting else 0 for q in dfa.states]
+    n_blocks = len(set(block))
+    while True:
+        signatures: dict[tuple, int] = {}
+        new_block = []
+        for q in dfa.states:
+            into: dict[int, Guard] = {}
+            for guard, target in dfa.successors(q):
+                b = block[target]
+                into[b] = into[b] | guard if b in into else guard
+            signature = (block[q], frozenset(into.items()))
+            new_block.append(signatures.setdefault(signature, len(signatures)))
+        block = new_block
+        if len(signatures) == n_blocks:
+            break
+        n_blocks = len(signatures)
+    representative: dict[int, int] = {}
+    for q in dfa.states:
+        representative.setdefault(block[q], q)
+    edges = []
+    for b in range(n_blocks):
+        into: dict[int, Guard] = {}
+        for guard, target in dfa.successors(representative[b]):
+            into[block[target]] = into[block[target]] | guard if block[target] in into else guard
+        edges.append([(g, t) for t, g in into.items()])
+    accepting = {block[q] for q in dfa.accepting}
+    names = None if dfa.state_names is None else [dfa.state_names[representative[b]] for b in range(n_blocks)]
+    quotient = DFA._trusted(dfa.alphabet, n_blocks, block[dfa.initial], accepting, edges, names)
+    return _renumber(quotient, quotient.states)
+
+
+_MODES = {
+    "and": lambda x, y: x and y,
+    "or": lambda x, y: x or y,
+    "xor": lambda x, y: x != y,
+    "minus": lambda x, y: x and not y,
+}
+
+
+def product(left: DFA, right: DFA, mode: str = "and", *, max_states: int | None = None) -> DFA:
+    """Synchronous product over the union of the alphabets, reachable part only.
+
+    ``mode`` decides acceptance of a pair: ``and`` (intersection), ``or`` (union), ``xor``
+    (symmetric difference), ``minus`` (left but not right). Both sides are completed first
+    so that a word one side rejects by getting stuck is still read by the other.
+    """
+    if mode not in _MODES:
+        raise ModelError(f"unknown product mode {mode!r}", hint=f"use one of {', '.join(_MODES)}")
+    accept = _MODES[mode]
+    left, right = complete(left), complete(right)
+    start = (left.initial, right.initial)
+    index = {start: 0}
+    pairs, edges = [start], []
+    i = 0
+    while i < len(pairs):
+        p, q = pairs[i]
+        row = []
+        for g1, t1 in left.successors(p):
+            for g2, t2 in right.successors(q):
+                guard = g1 & g2
+                if guard.is_false():
+                    continue
+                pair = (t1, t2)
+                if pair not in index:
+                    if max_states is not None and len(pairs) >= max_states:
+                        raise LimitExceededError(f"the product automaton exceeds {max_states} states",
+                                                 hint="raise max_states or minimise the operands first")
+                    index[pair] = len(pairs)
+                    pairs.append(pair)
+                row.append((guard, index[pair]))
+        edges.append(row)
+        i += 1
+    accepting = [k for k, (p, q) in enumerate(pairs) if accept(p in left.accepting, q in right.accepting)]
+    names = None
+    if left.state_names is not None or right.state_names is not None:
+        names = [f"({left.name(p)}, {right.name(q)})" for p, q in pairs]
+    return DFA._trusted(left.alphabet | right.alphabet, len(pairs), 0, accepting, edges, names)
+
+
+def complement(dfa: DFA) -> DFA:
+    """The DFA accepting exactly the words (over the same alphabet) ``dfa`` rejects."""
+    total = complete(dfa)
+    accepting = set(total.states) - set(total.accepting)
+    return DFA._trusted(total.alphabet, total.n_states, total.initial, accepting,
+                        [total.successors(q) for q in total.states], total.state_names)
+
+
+def shortest_word(dfa: DFA, targets: Iterable[int], start: int | None = None) -> list[frozenset[str]] | None:
+    """A shortest word leading from ``start`` into one of ``targets`` (BFS), or ``None``."""
+    targets = set(targets)
+    start = dfa.initial if start is None else start
+    parent: dict[int, tuple[int, Guard] | None] = {start: None}
+    queue = deque([start])
+    while queue:
+        q = queue.popleft()
+        if q in targets:
+            word = []
+            while parent[q] is not None:
+                q, guard = parent[q]  # type: ignore[misc]
+                word.append(guard.satisfying_label())
+            return word[::-1]
+        for guard, target in dfa.successors(q):
+            if target not in parent:
+                parent[target] = (q, guard)
+                queue.append(target)
+    return None
+
+
+def shortest_rejected(dfa: DFA, start: int | None = None) -> list[frozenset[str]] | None:
+    total = complete(dfa)
+    return shortest_word(total, set(total.states) - set(total.accepting), start)
+
+
+def equivalent(left: DFA, right: DFA) -> tuple[bool, list[frozenset[str]] | None]:
+    """Language equality; on inequality a shortest word accepted by exactly one side."""
+    xor = product(left, right, "xor")
+    witness = shortest_word(xor, xor.accepting)
+    return (witness is None, witness)

@@ -1,0 +1,152 @@
+"""Guards: canonicity, Boolean algebra laws, parsing and printing."""
+
+import pickle
+
+import numpy as np
+import pytest
+from automata_strategies import PROPS, all_labels, guards, labels
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from symlearn.errors import ParseError
+from symlearn.logic.guards import Guard
+
+a, b, c = Guard.var("a"), Guard.var("b"), Guard.var("c")
+
+
+def truth_table(g, props=PROPS):
+    return tuple(g.evaluate(label) for label in all_labels(props))
+
+
+@settings(deadline=None)
+@given(guards(), guards())
+def test_equality_is_logical_equivalence(g, h):
+    assert (g == h) == (truth_table(g) == truth_table(h))
+    if g == h:
+        assert hash(g) == hash(h)
+
+
+@settings(deadline=None)
+@given(guards(), guards(), guards())
+def test_boolean_algebra_laws(g, h, k):
+    assert g & (h | k) == (g & h) | (g & k)
+    assert ~(g & h) == ~g | ~h
+    assert ~~g == g
+    assert g | ~g == Guard.true() and (g & ~g).is_false()
+    assert (g & h) & k == g & (h & k)
+    assert g | (g & h) == g
+
+
+@settings(deadline=None)
+@given(guards(), labels())
+def test_operations_match_pointwise_semantics(g, label):
+    h = Guard.var("a") | Guard.var("c")
+    assert (g & h).evaluate(label) == (g.evaluate(label) and h.evaluate(label))
+    assert (g | h).evaluate(label) == (g.evaluate(label) or h.evaluate(label))
+    assert (~g).evaluate(label) == (not g.evaluate(label))
+    assert (g ^ h).evaluate(label) == (g.evaluate(label) != h.evaluate(label))
+
+
+@settings(deadline=None)
+@given(guards())
+def test_print_parse_round_trip_and_support(g):
+    assert Guard.parse(str(g)) == g
+    # the support is exactly the propositions the function depends on
+    for p in PROPS:
+        depends = any(g.evaluate(lab | {p}) != g.evaluate(lab - {p}) for lab in all_labels(PROPS))
+        assert (p in g.propositions) == depends
+
+
+@settings(deadline=None)
+@given(guards())
+def test_satisfying_label_is_minimal(g):
+    label = g.satisfying_label()
+    if g.is_false():
+        assert label is None
+        return
+    assert g.evaluate(label)
+    assert len(label) == min(len(lab) for lab in all_labels(PROPS) if g.evaluate(lab))
+
+
+@settings(deadline=None)
+@given(guards())
+def test_count_matches_truth_table(g):
+    assert g.count(PROPS) == sum(truth_table(g))
+
+
+def test_sample_label_is_uniform_over_models():
+    g = a | b
+    rng = np.random.default_rng(0)
+    counts = {}
+    for _ in range(3000):
+        lab = g.sample_label(["a", "b"], rng)
+        assert g.evaluate(lab)
+        counts[lab] = counts.get(lab, 0) + 1
+    assert len(counts) == 3 and min(counts.values()) > 850
+
+
+def test_readable_minimal_printing():
+    assert str(Guard.true()) == "true" and str(Guard.false()) == "false"
+    assert str((a & b) | (a & ~b)) == "a"
+    assert str(Guard.parse("!(a | b) | a")) == "a | !b"
+    assert str((a & ~b) | (~a & b)) == "(a & !b) | (!a & b)"
+    assert str(Guard.cube({"b": False, "a": True})) == "a & !b"
+    assert str(Guard.var("true stuff")) == '"true stuff"'
+    assert str(Guard.var("false")) == '"false"'
+
+
+def test_parse_accepts_all_spellings():
+    assert Guard.parse("a && !b || c") == Guard.parse("(a & ~b) | c") == (a & ~b) | c
+    assert Guard.parse("TRUE") == Guard.true() and Guard.parse("False") == Guard.false()
+    assert Guard.parse('"x y" & trueish') == Guard.var("x y") & Guard.var("trueish")
+    assert Guard.parse("!a & b | c") == ((~a) & b) | c  # ! > & > |
+
+
+def test_large_support_does_not_enumerate():
+    names = [f"p{i}" for i in range(40)]
+    g = Guard.all_of(Guard.var(n) for n in names) | Guard.var("q")
+    assert g.count(names + ["q"]) == 2 ** 40 + 1
+    assert Guard.parse(str(g)) == g
+    assert g.satisfying_label() == frozenset({"q"})
+
+
+def test_quantifiers_restrict_rename():
+    assert ((a & b) | c).restrict("c", False) == a & b
+    assert (a & b).exists(["a"]) == b
+    assert (a & ~b).rename({"a": "z", "b": "a"}) == Guard.var("z") & ~a
+
+
+def test_immutable_and_picklable():
+    g = a & ~b
+    with pytest.raises(AttributeError):
+        g._node = 0
+    assert pickle.loads(pickle.dumps(g)) == g
+    with pytest.raises(TypeError):
+        bool(g)
+
+
+@pytest.mark.parametrize("text, column, hint", [
+    ("a &", 4, "true, false"),
+    ("a and b", 3, "'&' instead of 'and'"),
+    ("(a | b", 7, None),
+    ("a $ b", 3, None),
+    ("", 1, None),
+    ("a b", 3, None),
+])
+def test_parse_errors_name_the_column(text, column, hint):
+    with pytest.raises(ParseError) as info:
+        Guard.parse(text)
+    assert info.value.column == column
+    assert "guard" in info.value.message
+    if hint:
+        assert hint in info.value.hint
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.text(alphabet="ab!&|()~ \"tfrue", max_size=12))
+def test_fuzzing_parser_raises_only_parse_errors(text):
+    try:
+        g = Guard.parse(text)
+    except ParseError:
+        return
+    assert Guard.parse(str(g)) == g
