@@ -1,0 +1,13 @@
+% Junction with priority to the right: language bias (constraints only, no #modeh).
+#constant(direction, zero).
+#constant(direction, north).
+#constant(direction, east).
+#constant(direction, south).
+#constant(direction, west).
+
+#modeb(1, onRoad(const(direction))).
+#modeb(1, go(const(direction))).
+#modeb(1, carOnTheRight).
+% "the agent is on no road": not onRoad(V) for every V with dir(V); V is local to the literal
+#modec(1, not onRoad(var(dir)) : dir(var(dir))).
+#maxv(1).
