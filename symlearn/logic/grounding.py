@@ -1,0 +1,150 @@
+"""Labeling functions: which propositions are true in which environment state.
+
+A learned formula means nothing without the labeling it was learned under, so a labeling is a
+value of its own: it prints, compares, saves to versioned JSON and loads again. When a learner
+invents propositions (for instance "the agent is in this cell"), it returns a *new* labeling with
+the proposition added, in order of discovery, together with its meaning.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Hashable, Iterable, Mapping
+from pathlib import Path
+from typing import Any
+
+from symlearn.atomic import write_text
+from symlearn.errors import DataError, ParseError
+
+FORMAT_VERSION = 1
+MAGIC = "labeling"
+
+
+def _state_to_json(state: Hashable) -> Any:
+    if isinstance(state, tuple):
+        return [_state_to_json(s) for s in state]
+    if isinstance(state, (bool, int, str)) or state is None:
+        return state
+    if hasattr(state, "item"):  # numpy scalar
+        return state.item()
+    raise DataError(f"state {state!r} cannot be written to JSON; use ids, strings or tuples of them")
+
+
+def _state_from_json(value: Any) -> Hashable:
+    return tuple(_state_from_json(v) for v in value) if isinstance(value, list) else value
+
+
+def _hashable(state: Any) -> Hashable:
+    if hasattr(state, "item") and getattr(state, "ndim", 1) == 0:
+        return state.item()
+    if isinstance(state, list) or (hasattr(state, "tolist") and getattr(state, "ndim", 0) >= 1):
+        return tuple(state.tolist() if hasattr(state, "tolist") else state)
+    return state
+
+
+class Labeling:
+    """A finite table from states to the propositions true in them.
+
+    ``meanings`` says in words what each proposition stands for. States absent from the table
+    satisfy no proposition.
+
+    >>> lab = Labeling({0: {"coffee"}, 5: {"office"}}, meanings={"coffee": "at the coffee machine"})
+    >>> sorted(lab.label(0)), sorted(lab.label(3))
+    (['coffee'], [])
+    >>> lab2 = lab.with_proposition("p0", [3], "agent in cell 3")
+    >>> sorted(lab2.label(3)), lab2.propositions
+    (['p0'], ('coffee', 'office', 'p0'))
+    """
+
+    def __init__(self, table: Mapping[Hashable, Iterable[str]], *, meanings: Mapping[str, str] | None = None,
+                 propositions: Iterable[str] = ()) -> None:
+        clean: dict[Hashable, frozenset[str]] = {}
+        for state, props in table.items():
+            props = frozenset(props)
+            for p in props:
+                if not isinstance(p, str) or not p:
+                    raise DataError(f"labeling of state {state!r}: {p!r} is not a proposition name")
+            if props:
+                clean[_hashable(state)] = props
+        self._table = clean
+        declared = set(propositions) | {p for props in clean.values() for p in props} | set(meanings or {})
+        self._meanings = {p: (meanings or {}).get(p, "") for p in declared}
+        self._order = tuple(list(dict.fromkeys([*propositions])) + sorted(declared - set(propositions)))
+
+    @property
+    def propositions(self) -> tuple[str, ...]:
+        """Declared propositions: first those given in order, then the rest sorted."""
+        return self._order
+
+    @property
+    def meanings(self) -> dict[str, str]:
+        return dict(self._meanings)
+
+    def label(self, state: Any) -> frozenset[str]:
+        return self._table.get(_hashable(state), frozenset())
+
+    __call__ = label
+
+    def states_where(self, proposition: str) -> list[Hashable]:
+        return [s for s, props in self._table.items() if proposition in props]
+
+    def label_word(self, states: Iterable[Any]) -> tuple[frozenset[str], ...]:
+        return tuple(self.label(s) for s in states)
+
+    def with_proposition(self, name: str, states: Iterable[Any], meaning: str = "") -> Labeling:
+        """A copy in which ``name`` is also true in ``states`` (learners grow labelings this way)."""
+        if name in self._meanings:
+            raise DataError(f"proposition {name!r} already exists in this labeling")
+        table = {s: set(p) for s, p in self._table.items()}
+        for state in states:
+            table.setdefault(_hashable(state), set()).add(name)
+        meanings = {**self._meanings, name: meaning}
+        return Labeling(table, meanings=meanings, propositions=[*self._order, name])
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, Labeling):
+            return NotImplemented
+        return (self._table, self._meanings, self._order) == (other._table, other._meanings, other._order)
+
+    def __repr__(self) -> str:
+        return f"Labeling({len(self._order)} propositions over {len(self._table)} labelled states)"
+
+    # --- persistence ----------------------------------------------------------------------
+    def to_json(self) -> str:
+        doc = {
+            "symlearn": MAGIC,
+            "format_version": FORMAT_VERSION,
+            "propositions": [{"name": p, "meaning": self._meanings[p]} for p in self._order],
+            "table": [[_state_to_json(s), sorted(props)] for s, props in self._table.items()],
+        }
+        return json.dumps(doc, indent=1)
+
+    @classmethod
+    def from_json(cls, text: str, *, source: str = "<string>") -> Labeling:
+        try:
+            doc = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise ParseError(f"invalid JSON: {exc.msg}", file=source, line=exc.lineno, column=exc.colno) from None
+        if not isinstance(doc, dict) or doc.get("symlearn") != MAGIC:
+            raise DataError("not a symlearn labeling (missing \"symlearn\": \"labeling\")", file=source)
+        if doc.get("format_version") != FORMAT_VERSION:
+            raise DataError(f"unsupported labeling format_version {doc.get('format_version')!r}", file=source)
+        try:
+            props = [(p["name"], p.get("meaning", "")) for p in doc["propositions"]]
+            table = {_state_from_json(state): names for state, names in doc["table"]}
+        except (KeyError, TypeError, ValueError) as exc:
+            raise DataError(f"malformed labeling ({type(exc).__name__}: {exc})", file=source,
+                            hint="expected 'propositions': [{name, meaning}], 'table': [[state, [props]]]") from None
+        try:
+            return cls(table, meanings=dict(props), propositions=[name for name, _ in props])
+        except DataError as exc:
+            raise DataError(exc.message, file=source) from None
+
+    def save(self, path: str | os.PathLike[str]) -> None:
+        write_text(path, self.to_json() + "\n")
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str]) -> Labeling:
+        path = Path(path)
+        return cls.from_json(path.read_text(encoding="utf-8"), source=str(path))
