@@ -11,13 +11,15 @@ files in ``background_kb/<folder>/``:
 >>> d = logic_domain("hanoi")
 >>> d.name, len(d.pairs()), sum(ok for _, ok in d.pairs())
 ('hanoi', 216, 114)
+>>> len(d.forbidden_pairs(d.truth_path))
+102
 >>> d.pairs()[0][0]
 ('at(0,2,0).', 'at(1,2,1).', 'at(2,2,2).', 'move(2,0).')
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -95,12 +97,61 @@ class LogicDomain:
         """Every state-action pair as (facts, allowed by the ground truth), in model order."""
         return self._pairs
 
+    @cached_property
+    def _by_facts(self) -> dict[frozenset[str], tuple[Any, Any]]:
+        return {frozenset(self.facts(s, a)): (s, a) for s, a in self.state_actions()}
+
+    @cached_property
+    def context_signatures(self) -> frozenset[tuple[str, int]]:
+        """``(name, arity)`` of the predicates that appear in example contexts."""
+        return frozenset(_signature(fact.rstrip(".")) for facts in self._by_facts for fact in facts)
+
+    def decode(self, atoms: Iterable[str]) -> tuple[Any, Any]:
+        """The state-action pair an interpretation describes (atoms of other predicates ignored).
+
+        This is the inverse of :meth:`facts`; it raises :class:`ModelError` for an
+        interpretation that is no pair of the domain.
+        """
+        keep = self.context_signatures
+        facts = frozenset(f"{a}." for a in map(str, atoms) if _signature(a) in keep)
+        try:
+            return self._by_facts[facts]
+        except KeyError:
+            raise ModelError(f"{' '.join(sorted(facts))} is no state-action pair of {self.name}") from None
+
+    def forbidden_pairs(self, rules: Iterable[str] | str | Path) -> list[tuple[Any, Any]]:
+        """Every state-action pair that ``rules`` (text, rule list or ``.lp`` path) forbid.
+
+        Enumerates the answer sets of ``bk.lp`` + ``space*.lp`` that the rules remove and maps
+        them back to model pairs, in model order.
+        """
+        from symlearn.logic.asp import Hypothesis, Program
+
+        background = Program.from_file(self.bk_path)
+        if isinstance(rules, Path):
+            hypothesis = Hypothesis.from_lp(rules, background=background)
+        elif isinstance(rules, str):
+            hypothesis = Hypothesis.from_text(rules, background=background)
+        else:
+            hypothesis = Hypothesis(list(rules), background=background)
+        found = hypothesis.forbidden_interpretations(Program.from_file(self.space_path),
+                                                     show=sorted(self.context_signatures))
+        pairs = {self.decode(atoms) for atoms in found}
+        return [pair for pair in self.state_actions() if pair in pairs]
+
     def expert_pairs(self, n_episodes: int, rng: np.random.Generator) -> list[tuple[Any, Any]]:
         """State-action pairs of ``n_episodes`` rule-abiding expert episodes, in visiting order."""
         found = []
         for _ in range(n_episodes):
             found.extend(self.model.expert_episode(rng))
         return found
+
+
+def _signature(atom: str) -> tuple[str, int]:
+    from symlearn.logic.asp.clingo_adapter import parse_term
+
+    symbol = parse_term(atom)
+    return symbol.name, len(symbol.arguments)
 
 
 def _hanoi() -> LogicDomain:

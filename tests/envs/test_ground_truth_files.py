@@ -34,33 +34,33 @@ def test_each_context_has_exactly_one_answer_set(name):
         assert len(answer_sets(program)) == 1
 
 
-def _pairs_of(models, domain):
-    actions = {"move", "go"}
-    state_predicates = {"at", "tls0", "tls1", "carOnTheRight"}
-    found = set()
-    for model in models:
-        atoms = sorted(str(s) for s in model)
-        state = tuple(sorted(a + "." for a in atoms if a.split("(")[0] in state_predicates))
-        action = tuple(a + "." for a in atoms if a.split("(")[0] in actions)
-        found.add(state + action)
-    return found
-
-
 @pytest.mark.parametrize("name", DOMAIN_NAMES)
 def test_space_file_generates_exactly_the_domain_pairs(name):
     domain = logic_domain(name)
-    expected = {tuple(sorted(f[:-1])) + (f[-1],) for f, _ in domain.pairs()}
     models = answer_sets(Program.from_file(domain.bk_path) + Program.from_file(domain.space_path))
-    assert len(models) == len(expected)
-    assert _pairs_of(models, domain) == expected
+    decoded = [domain.decode(model) for model in models]
+    assert len(decoded) == len(set(decoded)) == len(list(domain.state_actions()))
+    assert set(decoded) == set(domain.state_actions())
 
 
 @pytest.mark.parametrize("name", DOMAIN_NAMES)
 def test_truth_forbids_exactly_the_invalid_pairs(name):
     domain = logic_domain(name)
-    forbidden = _truth(domain).forbidden_interpretations(Program.from_file(domain.space_path))
-    expected = {tuple(sorted(f[:-1])) + (f[-1],) for f, ok in domain.pairs() if not ok}
-    assert _pairs_of(forbidden, domain) == expected  # interpretations come back as atom strings
+    expected = [(s, a) for s, a in domain.state_actions() if not domain.is_allowed(s, a)]
+    assert domain.forbidden_pairs(domain.truth_path) == expected
+
+
+def test_forbidden_pairs_of_a_single_rule():
+    domain = logic_domain("traffic-priority")
+    forbidden = domain.forbidden_pairs([":- go(west)."])
+    assert len(forbidden) == 50 and all(a == "west" for _, a in forbidden)
+    assert domain.forbidden_pairs(":- go(west), carOnTheRight.") == [(s, a) for s, a in forbidden if s.car_on_right]
+
+
+def test_decode_rejects_a_non_pair():
+    domain = logic_domain("hanoi")
+    with pytest.raises(ModelError, match="no state-action pair"):
+        domain.decode(["at(0,0,0)", "move(0,1)", "on(1,2)"])
 
 
 def test_unknown_domain():
