@@ -146,12 +146,24 @@ class TabularMDP:
     ) -> TabularMDP:
         """Build from a discrete gymnasium environment that exposes its model.
 
-        Supported is the toy-text convention (FrozenLake, CliffWalking, Taxi):
-        ``env.unwrapped.P[s][a]`` is a list of ``(probability, next_state, reward, terminated)``
-        and ``env.unwrapped.initial_state_distrib`` the start distribution. A state entered with
-        ``terminated=True`` is terminal.
+        Two conventions are read: an environment with a ``to_tabular()`` method (symlearn's own
+        environments) returns its model directly; otherwise the toy-text convention (FrozenLake,
+        CliffWalking, Taxi): ``env.unwrapped.P[s][a]`` is a list of
+        ``(probability, next_state, reward, terminated)`` and ``env.unwrapped.initial_state_distrib``
+        the start distribution. A state entered with ``terminated=True`` is terminal.
         """
         inner = getattr(env, "unwrapped", env)
+        own_model = getattr(inner, "to_tabular", None)
+        if callable(own_model):
+            mdp = own_model()
+            if not isinstance(mdp, TabularMDP):
+                raise ModelError(f"{type(inner).__name__}.to_tabular() returned {type(mdp).__name__}, not a TabularMDP")
+            names = {}
+            if state_names:
+                names["state_names"] = tuple(state_names)
+            if action_names:
+                names["action_names"] = tuple(action_names)
+            return replace(mdp, **names) if names else mdp
         model = getattr(inner, "P", None)
         if not isinstance(model, dict):
             raise ModelError(

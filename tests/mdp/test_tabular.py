@@ -81,3 +81,12 @@ def test_from_gymnasium_frozen_lake():
 def test_from_gymnasium_needs_a_model():
     with pytest.raises(ModelError, match="does not expose its transition model"):
         TabularMDP.from_gymnasium(gym.make("CartPole-v1"))
+
+
+def test_from_gymnasium_uses_an_environments_own_model():
+    from symlearn.envs.office_world import make_office_world
+
+    mdp = TabularMDP.from_gymnasium(make_office_world())
+    assert (mdp.n_states, mdp.n_actions) == (108, 4) and mdp.action_names == ("up", "right", "down", "left")
+    renamed = TabularMDP.from_gymnasium(make_office_world(), action_names=["n", "e", "s", "w"])
+    assert renamed.action_names == ("n", "e", "s", "w")
