@@ -4,4 +4,4 @@
 #modeb(1, var(disk) = var(disk)).
 #modeb(1, var(disk) < var(disk)).
 #modeb(1, var(disk) > var(disk)).
-#maxv(2).
+#maxv(3).

@@ -30,7 +30,7 @@ on(D1, D2) :- after(D1, X, Y1), after(D2, X, Y2), Y1 = Y2 + 1.
 #modeb(1, var(disk) = var(disk)).
 #modeb(1, var(disk) < var(disk)).
 #modeb(1, var(disk) > var(disk)).
-#maxv(2).
+#maxv(3).
 
 % ---- examples
 #pos(p1, {}, {}, { at(0,2,0). at(1,2,1). at(2,2,2). move(2,0). }).
