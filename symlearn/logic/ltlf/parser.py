@@ -1,0 +1,268 @@
+"""Read LTLf formulas written in one of three dialects.
+
+>>> parse("G(request -> F grant)")
+Always(arg=Implies(left=Prop(name='request'), right=Eventually(arg=Prop(name='grant'))))
+>>> parse("X a", dialect="spot") == parse("WX a")
+True
+
+Syntax (``grammars/ltlf.lark``): ``true false`` (also ``1 0``), propositions
+``[a-z_][a-z0-9_]*`` or any double-quoted name (``"Door open"``, with ``\\"`` and ``\\\\``
+escapes); ``! ~`` (not), ``& &&``, ``| ||``, ``->``, ``<->``; unary ``X`` ``X[!]`` (strong
+next), ``N`` ``WX`` (weak next), ``F``, ``G``; binary ``U`` ``R`` ``W`` and ``T``
+(``a T b`` = ``F(a & X[!] F b)``). Unicode ``¬ ∧ ∨ → ↔ ⊤ ⊥ ◇ □ ○`` are accepted too.
+Unary operators bind tightest, then the binary temporal operators (grouping to the right),
+then ``&``, ``|``, ``->`` (to the right) and ``<->``.
+
+Dialects differ in two places only:
+
+=========  ==============  =============================================
+dialect    bare ``X``      ``->`` versus ``<->``
+=========  ==============  =============================================
+ours       strong next     ``<->`` looser than ``->``
+ltlf2dfa   strong next     ``<->`` looser than ``->`` (LTLf2DFA's grammar)
+spot       weak next       one level, grouping to the right (Spot's parser)
+=========  ==============  =============================================
+
+Syntax errors raise :class:`~symlearn.errors.ParseError` naming the column, showing the
+formula with a caret under it, listing what was expected and, for common spellings from other
+tools (``=>``, ``<>``, ``[]``, ``&&&``, ``and``...), the right one.
+"""
+
+from __future__ import annotations
+
+import re
+from functools import cache
+
+from lark import Lark, Token, Transformer
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
+
+from symlearn.errors import ParseError
+from symlearn.logic.ltlf.ast import (
+    FALSE, TRUE, Always, And, Eventually, Formula, Iff, Implies, Next, Not, Or, Prop, Release, Then,
+    Until, WeakNext, WeakUntil,
+)
+from symlearn.resources import grammar_text
+
+__all__ = ["DIALECTS", "parse", "check_dialect"]
+
+DIALECTS = ("ours", "spot", "ltlf2dfa")
+
+_UNARY = {
+    "!": Not, "~": Not, "\u00ac": Not,
+    "X[!]": Next, "\u25cb": Next, "N": WeakNext, "WX": WeakNext,
+    "F": Eventually, "\u25c7": Eventually, "G": Always, "\u25a1": Always,
+}
+_TEMPORAL = {"U": Until, "R": Release, "W": WeakUntil, "T": Then}
+
+
+def check_dialect(dialect: str) -> str:
+    if dialect not in DIALECTS:
+        raise ParseError(f"unknown LTLf dialect {dialect!r}", hint=f"choose one of: {', '.join(DIALECTS)}")
+    return dialect
+
+
+class _Build(Transformer):
+    """Turns the chains of the grammar into nodes, grouping as the dialect says."""
+
+    def __init__(self, dialect: str) -> None:
+        super().__init__()
+        self.bare_x = WeakNext if dialect == "spot" else Next
+        self.flat_arrows = dialect == "spot"
+
+    def true(self, _):
+        return TRUE
+
+    def false(self, _):
+        return FALSE
+
+    def prop(self, items):
+        return Prop(str(items[0]))
+
+    def quoted_prop(self, items):
+        return Prop(re.sub(r"\\(.)", r"\1", str(items[0])[1:-1]))
+
+    def group(self, items):
+        return items[0]
+
+    def unary(self, items):
+        if len(items) == 1:
+            return items[0]
+        op, arg = str(items[0]), items[1]
+        return (self.bare_x if op == "X" else _UNARY[op])(arg)
+
+    def temporal_chain(self, items):
+        result = items[-1]
+        for i in range(len(items) - 3, -1, -2):
+            result = _TEMPORAL[str(items[i + 1])](items[i], result)
+        return result
+
+    def and_chain(self, items):
+        return _fold_left(items, And)
+
+    def or_chain(self, items):
+        return _fold_left(items, Or)
+
+    def arrow_chain(self, items):
+        if self.flat_arrows:
+            return _fold_right(items, lambda op: Iff if op in ("<->", "\u2194") else Implies)
+        # <-> is looser: split on it first, then group each part's -> chain
+        parts: list[list] = [[]]
+        for item in items:
+            if isinstance(item, Token) and item.type == "IFF":
+                parts.append([])
+            else:
+                parts[-1].append(item)
+        groups = [_fold_right(part, lambda op: Implies) for part in parts]
+        result = groups[-1]
+        for g in reversed(groups[:-1]):
+            result = Iff(g, result)
+        return result
+
+
+def _fold_left(items, node):
+    result = items[0]
+    for i in range(2, len(items), 2):
+        result = node(result, items[i])
+    return result
+
+
+def _fold_right(items, node_for):
+    result = items[-1]
+    for i in range(len(items) - 3, -1, -2):
+        result = node_for(str(items[i + 1]))(items[i], result)
+    return result
+
+
+@cache
+def _parser(dialect: str) -> Lark:
+    return Lark(grammar_text("ltlf"), parser="lalr", transformer=_Build(dialect), maybe_placeholders=False)
+
+
+def parse(text: str, dialect: str = "ours", *, source: str | None = None, line: int | None = None) -> Formula:
+    """Parse ``text`` in ``dialect``; ``source``/``line`` locate it in a file for error messages."""
+    check_dialect(dialect)
+    if not isinstance(text, str):
+        raise ParseError(f"an LTLf formula must be text, not {type(text).__name__}")
+    if not text.strip():
+        raise ParseError("empty formula", file=source, line=line, hint="write e.g. 'F goal'")
+    try:
+        return _parser(dialect).parse(text)
+    except UnexpectedInput as exc:
+        raise _syntax_error(text, exc, source, line) from None
+    except VisitError as exc:  # a node refused its arguments; should not happen with this grammar
+        raise ParseError(f"cannot build formula: {exc.orig_exc}", file=source, line=line) from None
+    except RecursionError:
+        raise ParseError("formula is nested too deeply", file=source, line=line) from None
+
+
+# -- error messages --------------------------------------------------------------------------
+
+_TERMINAL_NAMES = {
+    "NAME": "a proposition", "QUOTED": "a quoted proposition", "TRUE": "true", "FALSE": "false",
+    "TOP": "1", "BOTTOM": "0", "UNARY_OP": "a unary operator (! X X[!] N F G)", "LPAR": "'('",
+    "RPAR": "')'", "AND": "'&'", "OR": "'|'", "IMPLIES": "'->'", "IFF": "'<->'",
+    "BINARY_TEMPORAL": "a binary temporal operator (U R W T)", "$END": "end of formula",
+}
+
+# spellings from other tools -> what to write here (checked against the operator run at the error)
+_SYMBOL_HINTS = [
+    (re.compile(r"&{3,}"), "write '&' or '&&' for 'and'"),
+    (re.compile(r"\|{3,}"), "write '|' or '||' for 'or'"),
+    (re.compile(r"<=+>"), "write '<->' for 'if and only if'"),
+    (re.compile(r"=+>"), "write '->' for implication"),
+    (re.compile(r"<-(?!>)"), "there is no '<-': write 'b -> a'"),
+    (re.compile(r"<>"), "write 'F' for 'eventually' (Spin's '<>')"),
+    (re.compile(r"\[\]"), "write 'G' for 'always' (Spin's '[]')"),
+    (re.compile(r"!="), "write '!(a <-> b)' for 'not equal'"),
+    (re.compile(r"=+"), "write '<->' for equivalence"),
+    (re.compile(r"\^"), "exclusive or is not supported: write '!(a <-> b)'"),
+    (re.compile(r"/\\"), "write '&' for 'and'"),
+    (re.compile(r"\\/"), "write '|' for 'or'"),
+    (re.compile(r"\["), "strong next is written 'X[!]'"),
+]
+_WORD_HINTS = {
+    "and": "write '&' for 'and'", "or": "write '|' for 'or'", "not": "write '!' for 'not'",
+    "implies": "write '->' for implication", "iff": "write '<->'", "xor": "write '!(a <-> b)'",
+    "until": "write 'U'", "next": "write 'X'", "eventually": "write 'F'", "always": "write 'G'",
+    "globally": "write 'G'", "finally": "write 'F'", "then": "write 'T'",
+    "M": "strong release 'a M b' is not supported: write 'b U (a & b)'",
+    "V": "write 'R' for release",
+    "Y": "past-time operators are not supported (future LTLf only)",
+    "O": "past-time operators are not supported (future LTLf only)",
+    "H": "past-time operators are not supported (future LTLf only)",
+    "S": "past-time operators are not supported (future LTLf only)",
+    "Z": "past-time operators are not supported (future LTLf only)",
+    "TRUE": "write 'true'", "True": "write 'true'", "FALSE": "write 'false'", "False": "write 'false'",
+}
+_OPERATOR_CHARS = set("&|=<>-![]~^/\\")
+
+
+def _syntax_error(text: str, exc: UnexpectedInput, source: str | None, line_offset: int | None) -> ParseError:
+    lines = text.split("\n")
+    if isinstance(exc, UnexpectedEOF) or (isinstance(exc, UnexpectedToken) and exc.token.type == "$END"):
+        row = len(lines)
+        col = len(lines[-1].rstrip()) + 1
+        what = "unexpected end of formula"
+    else:
+        row, col = max(exc.line, 1), max(exc.column, 1)
+        if isinstance(exc, UnexpectedCharacters):
+            what = f"unexpected character {text[exc.pos_in_stream]!r}"
+        else:
+            token = exc.token
+            what = f"unexpected {_describe_token(token)}"
+    expected = _expected(exc)
+    position = _offset(lines, row, col)
+    hint = _hint(text, position)
+    here = lines[row - 1]
+    message = f"{what} at column {col}"
+    if expected:
+        message += f"; expected {expected}"
+    message += f"\n  {here}\n  {' ' * (col - 1)}^"
+    if len(lines) > 1:
+        message = message.replace(" at column", f" at line {row}, column", 1)
+    return ParseError(message, file=source, line=(row if line_offset is None else line_offset + row - 1),
+                      column=col, hint=hint)
+
+
+def _describe_token(token: Token) -> str:
+    if token.type in ("NAME", "QUOTED"):
+        return f"proposition {str(token)!r}"
+    return repr(str(token))
+
+
+def _expected(exc: UnexpectedInput) -> str:
+    names = getattr(exc, "expected", None) or getattr(exc, "allowed", None) or ()
+    friendly = sorted({_TERMINAL_NAMES.get(n, n.lower()) for n in names
+                       if n not in ("QUOTED", "TOP", "BOTTOM")})
+    if not friendly:
+        return ""
+    if len(friendly) == 1:
+        return friendly[0]
+    return "one of " + ", ".join(friendly)
+
+
+def _offset(lines: list[str], row: int, col: int) -> int:
+    return sum(len(l) + 1 for l in lines[: row - 1]) + col - 1
+
+
+def _hint(text: str, position: int) -> str | None:
+    if position >= len(text):
+        return None
+    word = re.match(r"[A-Za-z_][A-Za-z0-9_]*", text[position:])
+    if word:
+        name = word.group(0)
+        if name in _WORD_HINTS:
+            return _WORD_HINTS[name]
+        if not re.fullmatch(r"[a-z_][a-z0-9_]*", name):
+            return f'propositions are written in lowercase; quote other names: "{name}"'
+        return None
+    start = end = position
+    while start > 0 and text[start - 1] in _OPERATOR_CHARS:
+        start -= 1
+    while end < len(text) and text[end] in _OPERATOR_CHARS:
+        end += 1
+    run = text[start:end]
+    for pattern, hint in _SYMBOL_HINTS:
+        if pattern.search(run):
+            return hint
+    return None

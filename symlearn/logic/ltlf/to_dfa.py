@@ -1,0 +1,459 @@
+"""LTLf -> minimal DFA, by symbolic formula progression.
+
+Construction (our own; sound by the progression identities, exact by minimisation):
+
+1. The formula is rewritten into negation normal form over ``& |``, literals, ``X WX F G U R``
+   (``a W b`` = ``b R (a | b)``, ``a T b`` = ``F(a & X F b)``); equal sub-formulas share one id.
+2. A DFA state is an *obligation on the rest of the trace*: a Boolean function, kept as a
+   reduced ordered BDD, of *elementary* sub-formulas (literals and temporal nodes) that the
+   remaining suffix must satisfy. Two states are the same exactly when their obligations are
+   propositionally equivalent, which BDD node identity decides in O(1).
+3. Reading one letter replaces every elementary formula by its one-step unfolding, e.g.
+   ``F f`` -> ``f_now | F f``, ``f U g`` -> ``g_now | (f_now & (f U g))``, where ``*_now`` are
+   BDD variables of the *current letter's propositions*, ordered above the obligation
+   variables. Walking the top (proposition) layer of the composed BDD yields each successor
+   obligation together with its guard, so the letters are never enumerated one by one: the
+   alphabet 2^|AP| is split only where the formula looks at a proposition.
+4. The remaining suffix may be empty, so each state also decides the empty suffix: literals,
+   ``X``, ``F``, ``U`` are false there and ``WX``, ``G``, ``R`` true. Strong ``X f`` unfolds to
+   ``f & NE`` and weak ``WX f`` to ``f | !NE`` where ``NE`` ("the rest is not empty") is needed
+   (only when ``f`` itself decides the empty suffix the other way). A state is accepting when
+   its obligation holds on the empty suffix. The empty *word* itself is decided by
+   :func:`~symlearn.logic.ltlf.progression.holds_at_end` (negation as complement, as MONA does),
+   which can differ from the start obligation's verdict (``!a``: true; NNF ``!a``: false); then
+   the start state is split off before minimisation.
+5. The reachable states are minimised by partition refinement whose signatures compare
+   canonical guard BDDs per target block, so the result is the unique minimal complete DFA
+   (the rejecting sink, when there is one, is a state like any other).
+
+>>> from symlearn.logic.ltlf.parser import parse
+>>> table = translate(parse("F a & F b"))
+>>> table.n_states, table.accepts([{"a"}, {"b"}]), table.accepts([{"a"}])
+(4, True, False)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass, field
+from typing import AbstractSet
+
+from symlearn.errors import LimitExceededError
+from symlearn.logic.guards import Guard
+from symlearn.logic.ltlf.ast import (
+    Always, And, Const, Eventually, Formula, Iff, Implies, Next, Not, Or, Prop, Release, Then, Until,
+    WeakNext, WeakUntil,
+)
+from symlearn.logic.ltlf.bdd import BDD, FALSE, TRUE
+from symlearn.logic.ltlf.progression import holds_at_end
+
+__all__ = ["DFATable", "translate", "to_dfa", "equivalent", "DEFAULT_MAX_STATES"]
+
+DEFAULT_MAX_STATES = 20_000
+
+# NNF node kinds
+_TT, _FF, _LIT, _NLIT, _AND, _OR, _X, _WX, _F, _G, _U, _R = range(12)
+_ELEMENTARY = {_LIT, _NLIT, _X, _WX, _F, _G, _U, _R}
+_TRUE_AT_END = {_WX, _G, _R}
+
+
+@dataclass(frozen=True)
+class DFATable:
+    """A complete minimal DFA over the formula's propositions, with canonical :class:`Guard` edges.
+
+    State 0 is initial; ``edges[q]`` lists ``(guard, target)`` with pairwise disjoint guards
+    covering every label. ``states_explored`` is the number of obligations met before
+    minimisation.
+    """
+
+    propositions: tuple[str, ...]
+    accepting: frozenset[int]
+    edges: tuple[tuple[tuple[Guard, int], ...], ...]
+    states_explored: int = 0
+    sink: int | None = None
+    initial: int = field(default=0)
+
+    @property
+    def n_states(self) -> int:
+        return len(self.edges)
+
+    @property
+    def n_edges(self) -> int:
+        return sum(len(out) for out in self.edges)
+
+    def step(self, state: int, label: AbstractSet[str]) -> int:
+        for guard, target in self.edges[state]:
+            if guard.evaluate(label):
+                return target
+        raise AssertionError("a DFATable is complete")  # pragma: no cover
+
+    def run(self, word: Iterable[Iterable[str]]) -> list[int]:
+        states = [self.initial]
+        for label in word:
+            states.append(self.step(states[-1], frozenset(label)))
+        return states
+
+    def accepts(self, word: Iterable[Iterable[str]]) -> bool:
+        return self.run(word)[-1] in self.accepting
+
+    def to_dfa(self):
+        """The same automaton as a :class:`symlearn.logic.automata.dfa.DFA`."""
+        from symlearn.logic.automata.dfa import DFA
+
+        transitions = {q: list(out) for q, out in enumerate(self.edges)}
+        return DFA(self.propositions, self.n_states, self.initial, self.accepting, transitions)
+
+
+class _Translation:
+    def __init__(self, formula: Formula) -> None:
+        self.nodes: list[tuple] = []
+        self.ids: dict[tuple, int] = {}
+        self.props: dict[str, int] = {}
+        self.memo: dict[tuple[int, bool], int] = {}
+        self.formula = formula
+        self.root = self._nnf(formula, False)
+
+    # -- negation normal form with shared nodes ------------------------------------------------
+    def _mk(self, key: tuple) -> int:
+        found = self.ids.get(key)
+        if found is None:
+            found = len(self.nodes)
+            self.nodes.append(key)
+            self.ids[key] = found
+        return found
+
+    def _and(self, a: int, b: int) -> int:
+        ka, kb = self.nodes[a][0], self.nodes[b][0]
+        if ka == _FF or kb == _FF:
+            return self._mk((_FF,))
+        if ka == _TT:
+            return b
+        if kb == _TT or a == b:
+            return a
+        return self._mk((_AND, min(a, b), max(a, b)))
+
+    def _or(self, a: int, b: int) -> int:
+        ka, kb = self.nodes[a][0], self.nodes[b][0]
+        if ka == _TT or kb == _TT:
+            return self._mk((_TT,))
+        if ka == _FF:
+            return b
+        if kb == _FF or a == b:
+            return a
+        return self._mk((_OR, min(a, b), max(a, b)))
+
+    def _nnf(self, root: Formula, negated: bool) -> int:
+        # explicit stack: formulas from files can be nested deeper than Python's recursion limit
+        memo = self.memo
+        stack: list[tuple[Formula, bool, bool]] = [(root, negated, False)]
+        while stack:
+            node, neg, ready = stack.pop()
+            key = (id(node), neg)
+            if key in memo:
+                continue
+            parts = self._parts(node, neg)
+            if not ready:
+                missing = [(c, n) for c, n in parts if (id(c), n) not in memo]
+                if missing:
+                    stack.append((node, neg, True))
+                    stack.extend((c, n, False) for c, n in missing)
+                    continue
+            memo[key] = self._combine(node, neg, [memo[(id(c), n)] for c, n in parts])
+        return memo[(id(root), negated)]
+
+    @staticmethod
+    def _parts(node: Formula, neg: bool) -> list[tuple[Formula, bool]]:
+        if isinstance(node, (Const, Prop)):
+            return []
+        if isinstance(node, Not):
+            return [(node.arg, not neg)]
+        if isinstance(node, (Next, WeakNext, Eventually, Always)):
+            return [(node.arg, neg)]
+        if isinstance(node, Implies):
+            return [(node.left, not neg), (node.right, neg)]
+        if isinstance(node, Iff):
+            return [(node.left, False), (node.left, True), (node.right, False), (node.right, True)]
+        return [(node.left, neg), (node.right, neg)]
+
+    def _combine(self, node: Formula, neg: bool, c: list[int]) -> int:
+        mk, AND, OR = self._mk, self._and, self._or
+        if isinstance(node, Const):
+            return mk((_TT,) if node.value != neg else (_FF,))
+        if isinstance(node, Prop):
+            self.props.setdefault(node.name, len(self.props))
+            return mk((_NLIT if neg else _LIT, node.name))
+        if isinstance(node, Not):
+            return c[0]
+        if isinstance(node, (Next, WeakNext)):
+            strong = isinstance(node, Next) != neg
+            if strong and self.nodes[c[0]][0] == _FF:
+                return c[0]
+            if not strong and self.nodes[c[0]][0] == _TT:
+                return c[0]
+            return mk((_X if strong else _WX, c[0]))
+        if isinstance(node, (Eventually, Always)):
+            kind = _F if isinstance(node, Eventually) != neg else _G
+            inner = self.nodes[c[0]][0]
+            if (kind == _F and inner == _FF) or (kind == _G and inner == _TT):
+                return c[0]
+            return mk((kind, c[0]))
+        if isinstance(node, Iff):
+            lp, ln, rp, rn = c
+            if neg:
+                return OR(AND(lp, rn), AND(ln, rp))
+            return OR(AND(lp, rp), AND(ln, rn))
+        left, right = c
+        if isinstance(node, (And, Or, Implies)):
+            conj = isinstance(node, And) != neg if not isinstance(node, Implies) else neg
+            return AND(left, right) if conj else OR(left, right)
+        if isinstance(node, Until):
+            return mk((_R if neg else _U, left, right))
+        if isinstance(node, Release):
+            return mk((_U if neg else _R, left, right))
+        if isinstance(node, WeakUntil):  # a W b = b R (a | b);  !(a W b) = !b U (!a & !b)
+            if neg:
+                return mk((_U, right, AND(left, right)))
+            return mk((_R, right, OR(left, right)))
+        if isinstance(node, Then):  # a T b = F(a & X F b);  !(a T b) = G(!a | WX G !b)
+            if neg:
+                return mk((_G, OR(left, self._wx(mk((_G, right))))))
+            return mk((_F, AND(left, mk((_X, mk((_F, right)))))))
+        raise TypeError(f"not an LTLf formula node: {node!r}")  # pragma: no cover
+
+    def _wx(self, arg: int) -> int:
+        return arg if self.nodes[arg][0] == _TT else self._mk((_WX, arg))
+
+    # -- symbolic automaton --------------------------------------------------------------------
+    def build(self, max_states: int) -> DFATable:
+        bdd = self.bdd = BDD()
+        n_props = len(self.props)
+        # BDD levels: propositions 0..n_props-1, then one per elementary node, then NE
+        self.level_of: dict[int, int] = {}
+        self.end_value: dict[int, bool] = {}
+        for nid, key in enumerate(self.nodes):
+            if key[0] in _ELEMENTARY:
+                level = n_props + len(self.level_of)
+                self.level_of[nid] = level
+                self.end_value[level] = key[0] in _TRUE_AT_END
+        self.ne_level = n_props + len(self.level_of)
+        self.end_value[self.ne_level] = False
+        self.ne = bdd.var(self.ne_level)
+        self.now_memo: dict[int, int] = {}
+        self.step_memo: dict[int, int] = {}
+        self.step_of_level: dict[int, int] = {self.ne_level: TRUE}
+        for nid, level in self.level_of.items():
+            self.step_of_level[level] = self._step(nid)
+        self.compose_memo: dict[int, int] = {}
+        self.split_memo: dict[int, dict[int, int]] = {}
+
+        start = self._now(self.root)
+        index = {start: 0}
+        states = [start]
+        edges: list[list[tuple[int, int]]] = []
+        for state in states:  # grows while we iterate: breadth-first exploration
+            out = []
+            for target, guard in self._split(self._compose(state)).items():
+                j = index.get(target)
+                if j is None:
+                    if len(states) >= max_states:
+                        raise LimitExceededError(
+                            f"the automaton of this formula needs more than {max_states} states",
+                            hint="raise max_states (CLI: --max-states) or split the formula")
+                    j = index[target] = len(states)
+                    states.append(target)
+                out.append((j, guard))
+            edges.append(out)
+        accepting = [self._end(s) for s in states]
+        initial = 0
+        empty_word = holds_at_end(self.formula)
+        if empty_word != accepting[0]:
+            # the start obligation may recur later with the other verdict on "the rest is empty",
+            # so the empty word gets a start state of its own (same edges)
+            initial = len(states)
+            states.append(start)
+            edges.append(list(edges[0]))
+            accepting.append(empty_word)
+        return self._minimal(states, edges, accepting, initial)
+
+    def _end(self, u: int) -> bool:
+        ev = self.end_value
+        return self.bdd.evaluate(u, lambda level: ev[level])
+
+    def _now(self, nid: int) -> int:
+        """The obligation 'the remaining suffix satisfies node nid' over elementary variables."""
+        found = self.now_memo.get(nid)
+        if found is not None:
+            return found
+        key = self.nodes[nid]
+        kind = key[0]
+        if kind == _TT:
+            found = TRUE
+        elif kind == _FF:
+            found = FALSE
+        elif kind == _AND:
+            found = self.bdd.apply_and(self._now(key[1]), self._now(key[2]))
+        elif kind == _OR:
+            found = self.bdd.apply_or(self._now(key[1]), self._now(key[2]))
+        else:
+            found = self.bdd.var(self.level_of[nid])
+        self.now_memo[nid] = found
+        return found
+
+    def _step(self, nid: int) -> int:
+        """Node nid at the current step: a BDD over this letter's propositions and next obligations."""
+        found = self.step_memo.get(nid)
+        if found is not None:
+            return found
+        bdd, key = self.bdd, self.nodes[nid]
+        kind = key[0]
+        if kind == _TT:
+            found = TRUE
+        elif kind == _FF:
+            found = FALSE
+        elif kind == _LIT:
+            found = bdd.var(self.props[key[1]])
+        elif kind == _NLIT:
+            found = bdd.negate(bdd.var(self.props[key[1]]))
+        elif kind == _AND:
+            found = bdd.apply_and(self._step(key[1]), self._step(key[2]))
+        elif kind == _OR:
+            found = bdd.apply_or(self._step(key[1]), self._step(key[2]))
+        elif kind == _X:
+            nxt = self._now(key[1])
+            found = bdd.apply_and(nxt, self.ne) if self._end(nxt) else nxt
+        elif kind == _WX:
+            nxt = self._now(key[1])
+            found = nxt if self._end(nxt) else bdd.apply_or(nxt, bdd.negate(self.ne))
+        else:
+            me = bdd.var(self.level_of[nid])
+            if kind == _F:
+                found = bdd.apply_or(self._step(key[1]), me)
+            elif kind == _G:
+                found = bdd.apply_and(self._step(key[1]), me)
+            elif kind == _U:
+                found = bdd.apply_or(self._step(key[2]), bdd.apply_and(self._step(key[1]), me))
+            else:  # _R
+                found = bdd.apply_and(self._step(key[2]), bdd.apply_or(self._step(key[1]), me))
+        self.step_memo[nid] = found
+        return found
+
+    def _compose(self, u: int) -> int:
+        """Substitute every obligation variable of u by its one-step unfolding."""
+        if u <= TRUE:
+            return u
+        found = self.compose_memo.get(u)
+        if found is None:
+            bdd = self.bdd
+            found = bdd.ite(self.step_of_level[bdd.level[u]], self._compose(bdd.high[u]), self._compose(bdd.low[u]))
+            self.compose_memo[u] = found
+        return found
+
+    def _split(self, u: int) -> dict[int, int]:
+        """Successor obligations of u (below the proposition layer) -> guard over propositions."""
+        found = self.split_memo.get(u)
+        if found is not None:
+            return found
+        bdd = self.bdd
+        level = bdd.level[u]
+        if u <= TRUE or level >= len(self.props):
+            found = {u: TRUE}
+        else:
+            var = bdd.var(level)
+            found = {t: bdd.apply_and(var, g) for t, g in self._split(bdd.high[u]).items()}
+            not_var = bdd.negate(var)
+            for t, g in self._split(bdd.low[u]).items():
+                g = bdd.apply_and(not_var, g)
+                found[t] = bdd.apply_or(found[t], g) if t in found else g
+        self.split_memo[u] = found
+        return found
+
+    # -- minimisation ----------------------------------------------------------------------------
+    def _minimal(self, states: list[int], edges: list[list[tuple[int, int]]], accepting: list[bool],
+                 initial: int) -> DFATable:
+        bdd = self.bdd
+        block = [1 if a else 0 for a in accepting]
+        n_blocks = len(set(block))
+        while True:
+            signatures: dict[tuple, int] = {}
+            new_block = []
+            for q, out in enumerate(edges):
+                merged: dict[int, int] = {}
+                for target, guard in out:
+                    b = block[target]
+                    merged[b] = bdd.apply_or(merged[b], guard) if b in merged else guard
+                sig = (block[q], frozenset(merged.items()))
+                new_block.append(signatures.setdefault(sig, len(signatures)))
+            block = new_block
+            if len(signatures) == n_blocks:
+                break
+            n_blocks = len(signatures)
+        # renumber blocks breadth-first from the initial state so state 0 is initial
+        order: dict[int, int] = {block[initial]: 0}
+        representative = [initial]
+        for q in representative:
+            for target, _ in edges[q]:
+                b = block[target]
+                if b not in order:
+                    order[b] = len(order)
+                    representative.append(target)
+        names = tuple(sorted(self.props, key=self.props.get))
+        to_guard = _GuardConverter(bdd, names)
+        table_edges = []
+        for q in representative:
+            merged: dict[int, int] = {}
+            for target, guard in edges[q]:
+                b = order[block[target]]
+                merged[b] = bdd.apply_or(merged[b], guard) if b in merged else guard
+            table_edges.append(tuple((to_guard(g), b) for b, g in sorted(merged.items())))
+        accepting_blocks = frozenset(order[block[q]] for q in representative if accepting[q])
+        sink = next((i for i, out in enumerate(table_edges)
+                     if i not in accepting_blocks and len(out) == 1 and out[0][1] == i), None)
+        return DFATable(tuple(sorted(names)), accepting_blocks, tuple(table_edges), len(states), sink)
+
+
+class _GuardConverter:
+    def __init__(self, bdd: BDD, names: Sequence[str]) -> None:
+        self.bdd, self.names = bdd, names
+        self.memo: dict[int, Guard] = {TRUE: Guard.true(), FALSE: Guard.false()}
+
+    def __call__(self, u: int) -> Guard:
+        found = self.memo.get(u)
+        if found is None:
+            bdd = self.bdd
+            var = Guard.var(self.names[bdd.level[u]])
+            found = (var & self(bdd.high[u])) | (~var & self(bdd.low[u]))
+            self.memo[u] = found
+        return found
+
+
+def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFATable:
+    """The minimal complete DFA of ``formula`` as a :class:`DFATable`.
+
+    Raises :class:`~symlearn.errors.LimitExceededError` when more than ``max_states``
+    obligations are reachable before minimisation.
+    """
+    if not isinstance(formula, Formula):
+        raise TypeError(f"expected an LTLf formula, got {type(formula).__name__}")
+    return _Translation(formula).build(max_states)
+
+
+def to_dfa(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES):
+    """The minimal complete DFA of ``formula`` as a :class:`~symlearn.logic.automata.dfa.DFA`."""
+    return translate(formula, max_states=max_states).to_dfa()
+
+
+def equivalent(f: Formula, g: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> bool:
+    """Whether ``f`` and ``g`` hold on exactly the same non-empty traces."""
+    # f <-> g is valid iff the DFA of its negation accepts no non-empty word
+    table = translate(Not(Iff(f, g)), max_states=max_states)
+    frontier = [t for _, t in table.edges[table.initial]]
+    seen = set(frontier)
+    while frontier:
+        q = frontier.pop()
+        if q in table.accepting:
+            return False
+        for _, t in table.edges[q]:
+            if t not in seen:
+                seen.add(t)
+                frontier.append(t)
+    return True
