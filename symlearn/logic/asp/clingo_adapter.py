@@ -1,0 +1,356 @@
+"""The one place symlearn talks to clingo: grounding, solving, enumeration, optimisation.
+
+Everything else in ``symlearn`` hands a :class:`~symlearn.logic.asp.program.Program` (text plus a
+map back to its source files) to the functions here. Keeping every clingo call in this module means
+timeouts, interrupts and error translation are handled once:
+
+* clingo reports syntax errors and unsafe variables through its logger callback, with positions in
+  the text it was given (``<block>:LINE:COL``). :func:`control_for` collects those messages and
+  :func:`_raise_clingo_error` turns the first error into a :class:`~symlearn.errors.ParseError`
+  located in *our* file via ``Program.locate``.
+* every solve runs asynchronously and is cancelled when its time budget is spent; the caller is
+  told whether the search was exhausted (``complete``) or cut short.
+
+>>> from symlearn.logic.asp.program import Program
+>>> [sorted(map(str, m)) for m in answer_sets(Program.from_text("{a}. b :- not a."))]
+[['b'], ['a']]
+"""
+
+from __future__ import annotations
+
+import re
+import time
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+import clingo
+import clingo.ast
+
+from symlearn.errors import LimitExceededError, ParseError
+
+if TYPE_CHECKING:
+    from symlearn.logic.asp.program import Program
+
+Symbol = clingo.Symbol
+
+# "<block>:3:5-9: error: syntax error, unexpected ..." ; also "<block>:3:5-4:2: ..." spans
+_POSITION = re.compile(r"^<block>:(\d+):(\d+)(?:-\d+(?::\d+)?)?:\s*(error|warning|info|note):\s*(.*)$")
+
+
+@dataclass
+class SolveOutcome:
+    """Models found by one solve call and whether the search space was exhausted."""
+
+    models: list[list[Symbol]] = field(default_factory=list)
+    costs: list[list[int]] = field(default_factory=list)
+    complete: bool = True
+    satisfiable: bool | None = None
+    seconds: float = 0.0
+
+    @property
+    def optimal(self) -> bool:
+        """For an optimisation: the last model is proven optimal."""
+        return self.complete and bool(self.models)
+
+
+class _Messages:
+    def __init__(self) -> None:
+        self.items: list[tuple[clingo.MessageCode, str]] = []
+
+    def __call__(self, code: clingo.MessageCode, message: str) -> None:
+        self.items.append((code, message))
+
+
+def control_for(arguments: Sequence[str] = ()) -> tuple[clingo.Control, _Messages]:
+    """A fresh ``clingo.Control`` whose messages are collected instead of printed."""
+    messages = _Messages()
+    ctl = clingo.Control(["--warn=none", *arguments], logger=messages)
+    return ctl, messages
+
+
+def _raise_clingo_error(program: Program, messages: _Messages, fallback: str) -> None:
+    for _code, text in messages.items:
+        first, *rest = text.strip().splitlines() or [""]
+        match = _POSITION.match(first)
+        if not match or match.group(3) != "error":
+            continue
+        line, column, _kind, message = int(match.group(1)), int(match.group(2)), match.group(3), match.group(4)
+        detail = " ".join(r.strip() for r in rest if r.strip() and not r.startswith("<block>"))
+        notes = [r.split("note:", 1)[1].strip() for r in rest if "note:" in r]
+        source, src_line, src_col = program.locate(line, column)
+        full = message.rstrip(":")
+        if notes:
+            full += " (" + "; ".join(notes) + ")"
+        elif detail:
+            full += ": " + detail
+        raise ParseError(f"clingo: {full}", file=source, line=src_line, column=src_col,
+                         hint="check the ASP syntax at this position")
+    raise ParseError(f"clingo: {fallback}", file=program.first_source)
+
+
+def ground(program: Program, arguments: Sequence[str] = (), *,
+           context: object | None = None) -> clingo.Control:
+    """Add ``program`` to a new control object and ground it; clingo errors become ParseError."""
+    ctl, messages = control_for(arguments)
+    try:
+        ctl.add("base", [], program.text)
+    except RuntimeError as exc:
+        _raise_clingo_error(program, messages, str(exc))
+    try:
+        ctl.ground([("base", [])], context=context)
+    except RuntimeError as exc:
+        _raise_clingo_error(program, messages, str(exc))
+    return ctl
+
+
+def _solve(ctl: clingo.Control, *, timeout: float | None, on_model: Callable[[clingo.Model], bool | None],
+           assumptions: Sequence[tuple[Symbol, bool]] = ()) -> tuple[bool, bool | None]:
+    """Run one solve; returns (complete, satisfiable). Cancels when ``timeout`` seconds pass."""
+    with ctl.solve(async_=True, on_model=on_model, assumptions=list(assumptions)) as handle:
+        finished = handle.wait(timeout if timeout is not None else -1.0)
+        if not finished:
+            handle.cancel()
+            handle.wait()
+        result = handle.get()
+    complete = bool(finished) and not result.interrupted and result.exhausted
+    sat = True if result.satisfiable else (False if result.unsatisfiable else None)
+    return complete, sat
+
+
+def solve(program: Program, *, max_models: int = 0, timeout: float | None = None,
+          project: bool = False, shown_only: bool = False, arguments: Sequence[str] = (),
+          assumptions: Sequence[tuple[Symbol, bool]] = ()) -> SolveOutcome:
+    """Enumerate answer sets (all when ``max_models`` is 0) of ``program``.
+
+    ``shown_only`` returns the atoms selected by ``#show`` instead of every atom; ``project``
+    enumerates distinct projections on the shown atoms.
+    """
+    args = [str(max_models)]
+    if project:
+        args.append("--project")
+    args.extend(arguments)
+    start = time.perf_counter()
+    ctl = ground(program, args)
+    outcome = SolveOutcome()
+
+    def on_model(model: clingo.Model) -> None:
+        outcome.models.append(sorted(model.symbols(shown=True) if shown_only else model.symbols(atoms=True)))
+
+    remaining = None if timeout is None else max(0.0, timeout - (time.perf_counter() - start))
+    outcome.complete, outcome.satisfiable = _solve(ctl, timeout=remaining, on_model=on_model, assumptions=assumptions)
+    if max_models and len(outcome.models) >= max_models:
+        outcome.complete = False if outcome.satisfiable is None else outcome.complete
+    outcome.seconds = time.perf_counter() - start
+    return outcome
+
+
+def answer_sets(program: Program, *, max_models: int = 0, timeout: float | None = None,
+                shown_only: bool = False) -> list[list[Symbol]]:
+    """The answer sets of ``program`` (each a sorted list of atoms)."""
+    return solve(program, max_models=max_models, timeout=timeout, shown_only=shown_only).models
+
+
+def is_satisfiable(program: Program, *, timeout: float | None = None) -> bool:
+    """Does ``program`` have an answer set? Raises LimitExceededError when undecided in time."""
+    outcome = solve(program, max_models=1, timeout=timeout)
+    if outcome.models:
+        return True
+    if outcome.satisfiable is False:
+        return False
+    raise LimitExceededError(f"clingo did not decide satisfiability within {timeout} s",
+                             hint="raise the timeout")
+
+
+def optimize(program: Program, *, timeout: float | None = None, arguments: Sequence[str] = (),
+             on_improvement: Callable[[list[Symbol], list[int]], None] | None = None) -> SolveOutcome:
+    """Minimise the program's ``#minimize`` statements; the last model is the best found.
+
+    ``complete`` is True when clingo proved the last model optimal within ``timeout``.
+    """
+    start = time.perf_counter()
+    ctl = ground(program, ["--opt-mode=opt", *arguments])
+    outcome = SolveOutcome()
+
+    def on_model(model: clingo.Model) -> None:
+        symbols = sorted(model.symbols(shown=True))
+        cost = list(model.cost)
+        outcome.models.append(symbols)
+        outcome.costs.append(cost)
+        if on_improvement is not None:
+            on_improvement(symbols, cost)
+
+    remaining = None if timeout is None else max(0.0, timeout - (time.perf_counter() - start))
+    outcome.complete, outcome.satisfiable = _solve(ctl, timeout=remaining, on_model=on_model)
+    outcome.seconds = time.perf_counter() - start
+    return outcome
+
+
+def ground_atoms(program: Program, signatures: Iterable[tuple[str, int]] | None = None) -> list[Symbol]:
+    """Atoms that ground to *facts* of a stratified program (no solving needed).
+
+    Used by the learner to read ``fires(R, E)`` relations computed in a single grounding.
+    ``signatures`` restricts the answer to those predicates.
+    """
+    ctl = ground(program)
+    wanted = None if signatures is None else set(signatures)
+    result = []
+    for atom in ctl.symbolic_atoms:
+        if not atom.is_fact:
+            continue
+        sym = atom.symbol
+        if wanted is None or (sym.name, len(sym.arguments)) in wanted:
+            result.append(sym)
+    return sorted(result)
+
+
+def parse_term(text: str) -> Symbol:
+    """A ground clingo term (``on(1,2)``); raises ParseError on bad syntax."""
+    try:
+        return clingo.parse_term(text, logger=lambda _c, _m: None)
+    except RuntimeError as exc:
+        raise ParseError(f"not a ground term: {text!r}") from exc
+
+
+def parse_rules(text: str, source: str = "<rules>") -> list[clingo.ast.AST]:
+    """The clingo AST statements of ``text`` (the leading ``#program base.`` dropped)."""
+    statements: list[clingo.ast.AST] = []
+    messages = _Messages()
+    try:
+        clingo.ast.parse_string(text, statements.append, logger=messages)
+    except RuntimeError as exc:
+        from symlearn.logic.asp.program import Program
+
+        _raise_clingo_error(Program.from_text(text, source=source), messages, str(exc))
+    skip = {clingo.ast.ASTType.Program, getattr(clingo.ast.ASTType, "Comment", None)}
+    return [s for s in statements if s.ast_type not in skip]
+
+
+Function = clingo.Function
+Number = clingo.Number
+String = clingo.String
+SymbolType = clingo.SymbolType
+
+
+# -- program rewriting -----------------------------------------------------------------------------
+
+class _Tagger(clingo.ast.Transformer):
+    """Add ``tag`` as the first argument of every predicate atom; guard every rule body."""
+
+    def __init__(self, tag: clingo.ast.AST, guard: list[clingo.ast.AST], constraint_head: str | None = None) -> None:
+        self.tag = tag
+        self.guard = guard
+        self.constraint_head = constraint_head
+
+    def visit_SymbolicAtom(self, atom: clingo.ast.AST) -> clingo.ast.AST:
+        term = atom.symbol
+        loc = term.location
+        if term.ast_type == clingo.ast.ASTType.Function and term.name:
+            return atom.update(symbol=term.update(arguments=[self.tag, *term.arguments]))
+        if term.ast_type == clingo.ast.ASTType.SymbolicTerm and term.symbol.type == clingo.SymbolType.Function \
+                and not term.symbol.arguments:
+            sign = term.symbol.negative
+            func = clingo.ast.Function(loc, term.symbol.name, [self.tag], 0)
+            if sign:
+                func = clingo.ast.UnaryOperation(loc, clingo.ast.UnaryOperator.Minus, func)
+            return atom.update(symbol=func)
+        if term.ast_type == clingo.ast.ASTType.UnaryOperation:  # classical negation -p(X)
+            inner = self.visit_SymbolicAtom(clingo.ast.SymbolicAtom(term.argument)).symbol
+            return atom.update(symbol=term.update(argument=inner))
+        if term.ast_type == clingo.ast.ASTType.Pool:
+            return atom.update(symbol=term.update(arguments=[
+                self.visit_SymbolicAtom(clingo.ast.SymbolicAtom(a)).symbol for a in term.arguments]))
+        raise ParseError(f"cannot rewrite atom {atom} for example tagging")
+
+    def visit_Rule(self, rule: clingo.ast.AST) -> clingo.ast.AST:
+        head = rule.head
+        if self.constraint_head and head.ast_type == clingo.ast.ASTType.Literal \
+                and head.atom.ast_type == clingo.ast.ASTType.BooleanConstant and not head.atom.value:
+            loc = head.location
+            atom = clingo.ast.SymbolicAtom(clingo.ast.Function(loc, self.constraint_head, [self.tag], 0))
+            head = clingo.ast.Literal(loc, clingo.ast.Sign.NoSign, atom)
+        else:
+            head = self.visit(head)
+        rule = rule.update(head=head, body=[self.visit(b) for b in rule.body])
+        return rule.update(body=[*rule.body, *self.guard])
+
+
+_UNTAGGABLE = {"Minimize", "Heuristic", "ProjectAtom", "ProjectSignature", "External", "Edge",
+               "TheoryDefinition", "Script", "Defined"}
+
+
+def tag_program(program: Program, tag: str, guard: Sequence[str] = (), constraint_head: str | None = None) -> str:
+    """Rewrite ``program`` so that every predicate gets ``tag`` (a term or variable) as first argument.
+
+    Used to put many copies of a program side by side in one grounding (one copy per example,
+    ``tag`` = the example id). Every rule body gets the ``guard`` literals, which must bind a
+    variable tag (e.g. ``tag="E"``, ``guard=["active(E)"]``). ``#show`` is dropped; statements
+    that cannot be copied this way (``#minimize``, ``#external`` ...) raise ParseError.
+    With ``constraint_head`` an integrity constraint ``:- body.`` becomes ``constraint_head(tag) :- body.``
+    """
+    tag_term = clingo.ast.parse_string  # keep name short below
+    parsed: list[clingo.ast.AST] = []
+    guard_text = ", ".join(guard)
+    probe = f"__probe({tag}) :- {guard_text}." if guard_text else f"__probe({tag})."
+    tag_term(probe, parsed.append)
+    rule = parsed[-1]
+    tag_ast = rule.head.atom.symbol.arguments[0]
+    guard_ast = list(rule.body)
+    tagger = _Tagger(tag_ast, guard_ast, constraint_head)
+    out: list[str] = []
+    messages = _Messages()
+
+    def visit(statement: clingo.ast.AST) -> None:
+        kind = statement.ast_type.name
+        if kind in ("Program", "Comment", "ShowSignature", "ShowTerm"):
+            return
+        if kind in _UNTAGGABLE:
+            loc = statement.location.begin
+            source, line, column = program.locate(loc.line, loc.column)
+            raise ParseError(f"'{kind}' statements are not supported in background knowledge of learning tasks",
+                             file=source, line=line, column=column)
+        if kind == "Rule":
+            out.append(str(tagger.visit(statement)))
+        else:
+            out.append(str(statement))
+
+    try:
+        clingo.ast.parse_string(program.text, visit, logger=messages)
+    except RuntimeError as exc:
+        _raise_clingo_error(program, messages, str(exc))
+    return "\n".join(out)
+
+
+class IncrementalOptimizer:
+    """A grounded optimisation problem that can be re-solved after adding constraints.
+
+    The learner's general path finds the cheapest hypothesis covering the positives, checks the
+    negatives, and adds a constraint for each negative the hypothesis wrongly accepts; grounding the
+    base program only once keeps those iterations cheap.
+    """
+
+    def __init__(self, program: Program, arguments: Sequence[str] = ()) -> None:
+        self.program = program
+        self.ctl = ground(program, ["--opt-mode=opt", *arguments])
+        self._parts = 0
+
+    def add(self, text: str) -> None:
+        self._parts += 1
+        name = f"extra_{self._parts}"
+        try:
+            self.ctl.add(name, [], text)
+            self.ctl.ground([(name, [])])
+        except RuntimeError as exc:  # our own generated text: a bug, not user input
+            raise RuntimeError(f"clingo rejected generated constraint {text!r}: {exc}") from exc
+
+    def optimize(self, timeout: float | None = None) -> SolveOutcome:
+        start = time.perf_counter()
+        outcome = SolveOutcome()
+
+        def on_model(model: clingo.Model) -> None:
+            outcome.models.append(sorted(model.symbols(shown=True)))
+            outcome.costs.append(list(model.cost))
+
+        outcome.complete, outcome.satisfiable = _solve(self.ctl, timeout=timeout, on_model=on_model)
+        outcome.seconds = time.perf_counter() - start
+        return outcome

@@ -1,0 +1,83 @@
+"""Many examples in one clingo program: every atom gets the example's number as first argument.
+
+Example ``i`` is the program B ∪ context_i with each atom ``p(X)`` renamed to ``p(i, X)``; the
+copies share nothing, so the answer sets of the union are the combinations of the copies' answer
+sets. Rules of B are guarded by ``active__(E)`` so one grounding instantiates B for all examples;
+an example whose ``active__`` atom is false contributes nothing (that is how soft examples are
+dropped and how negatives are checked independently of each other).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Sequence
+
+from symlearn.logic.asp import clingo_adapter as cl
+from symlearn.logic.asp.program import Program
+from symlearn.logic.ilp.task import Example, ILPTask
+
+ACTIVE = "active__"
+
+
+def tag_symbol(symbol: cl.Symbol, tag: int) -> cl.Symbol:
+    return cl.Function(symbol.name, [cl.Number(tag), *symbol.arguments], symbol.positive)
+
+
+def tagged_background(task: ILPTask) -> str:
+    return cl.tag_program(task.background, "E__", [f"{ACTIVE}(E__)"])
+
+
+def tagged_context(example: Example, tag: int) -> str:
+    if example.context.is_empty():
+        return ""
+    return cl.tag_program(example.context, str(tag), [f"{ACTIVE}({tag})"])
+
+
+def acceptance_constraints(example: Example, tag: int) -> str:
+    """Constraints that make copy ``tag`` extend the example's partial interpretation."""
+    lines = [f":- {ACTIVE}({tag}), not {tag_symbol(s, tag)}." for s in example.inclusions]
+    lines += [f":- {ACTIVE}({tag}), {tag_symbol(s, tag)}." for s in example.exclusions]
+    return "\n".join(lines)
+
+
+def tagged_rules(rules: Sequence[str], guard: Sequence[str] = ()) -> str:
+    """Hypothesis rules copied into every active example (``guard`` adds more body literals)."""
+    if not rules:
+        return ""
+    return cl.tag_program(Program.from_text("\n".join(rules), source="<hypothesis>"), "E__",
+                          [f"{ACTIVE}(E__)", *guard])
+
+
+def examples_program(task: ILPTask, indexed: Iterable[tuple[int, Example]], *, accept: bool = True) -> Program:
+    """Background once plus, per example, its context and (optionally) acceptance constraints."""
+    parts = [Program.from_text(tagged_background(task), source=f"{task.source} (background)")]
+    chunks = []
+    for tag, example in indexed:
+        chunks.append(tagged_context(example, tag))
+        if accept:
+            chunks.append(acceptance_constraints(example, tag))
+    parts.append(Program.from_text("\n".join(c for c in chunks if c), source=f"{task.source} (examples)"))
+    return Program.compose(parts)
+
+
+def accepted_by(task: ILPTask, rules: Sequence[str], examples: Sequence[Example], *,
+                timeout: float | None = None) -> dict[str, bool]:
+    """For each example: does B ∪ rules ∪ context have an answer set extending it?
+
+    One clingo call for all examples: each copy may be switched off (``{active__(i)}``) and the
+    number of active copies is maximised; since the copies are independent, the optimum switches
+    on exactly the examples that are accepted.
+    """
+    if not examples:
+        return {}
+    indexed = list(enumerate(examples))
+    program = examples_program(task, indexed) + Program.from_text(
+        tagged_rules(rules) + "\n" + "\n".join(f"{{ {ACTIVE}({i}) }}." for i, _ in indexed)
+        + f"\n#maximize {{ 1,E : {ACTIVE}(E) }}.\n#show {ACTIVE}/1.", source="<coverage check>")
+    outcome = cl.optimize(program, timeout=timeout)
+    if not outcome.models:
+        return {e.id: False for e in examples}
+    if not outcome.complete:
+        raise cl.LimitExceededError(f"checking {len(examples)} examples did not finish within {timeout} s",
+                                    hint="raise the timeout")
+    active = {s.arguments[0].number for s in outcome.models[-1]}
+    return {e.id: i in active for i, e in indexed}

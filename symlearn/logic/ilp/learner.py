@@ -1,0 +1,274 @@
+"""``learn(task)``: the cheapest hypothesis covering the examples, with diagnostics when none does.
+
+>>> from symlearn.logic.ilp import parse_task
+>>> task = parse_task('''
+... #pos(p1, {}, {}, { on(1,2). }).
+... #neg(n1, {}, {}, { on(2,1). }).
+... #modeb(1, on(var(disk), var(disk))).
+... #modeb(1, var(disk) < var(disk)).
+... ''')
+>>> learn(task).hypothesis.rules
+[':- on(V1,V2), V2 < V1.']
+
+Two search paths (``method``):
+
+* ``"single"`` -- integrity constraints only and one answer set per context: firing of every
+  candidate on every example decided in one grounding, then a set-cover optimisation
+  (:mod:`~symlearn.logic.ilp.selection`);
+* ``"general"`` -- full ASP semantics by generate-and-test (:mod:`~symlearn.logic.ilp.general`).
+
+``"auto"`` (default) takes the single-grounding path whenever its conditions hold (checked).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+from symlearn.errors import DataError, SymlearnError
+from symlearn.logic.asp import clingo_adapter as cl
+from symlearn.logic.asp.hypothesis import Hypothesis
+from symlearn.logic.ilp.encoding import accepted_by
+from symlearn.logic.ilp.general import SearchOutcome, search_general
+from symlearn.logic.ilp.selection import firing_matrix, select_rules, single_worlds
+from symlearn.logic.ilp.space import HypothesisSpace, generate_space
+from symlearn.logic.ilp.task import ILPTask
+
+METHODS = ("auto", "single", "general")
+
+
+@dataclass
+class Diagnostics:
+    """Why learning failed (or what it had to give up), for people and for JSON."""
+
+    space_size: int = 0
+    uncoverable_positives: list[str] = field(default_factory=list)
+    unexcludable_negatives: dict[str, list[str]] = field(default_factory=dict)  # negative -> blocking positives
+    conflicts: list[tuple[str, str]] = field(default_factory=list)  # (positive, negative) indistinguishable
+    hints: list[str] = field(default_factory=list)
+    notes: list[str] = field(default_factory=list)
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"space_size": self.space_size, "uncoverable_positives": self.uncoverable_positives,
+                "unexcludable_negatives": self.unexcludable_negatives,
+                "conflicts": [list(c) for c in self.conflicts], "hints": self.hints, "notes": self.notes}
+
+    def render(self) -> str:
+        lines = [f"hypothesis space: {self.space_size} rules"]
+        if self.uncoverable_positives:
+            lines.append("positives no hypothesis can accept (background + context alone already rejects them): "
+                         + ", ".join(self.uncoverable_positives))
+        for neg, blockers in self.unexcludable_negatives.items():
+            why = f" (every candidate that excludes it also excludes {', '.join(blockers)})" if blockers else \
+                " (no candidate fires on it)"
+            lines.append(f"negative {neg} cannot be excluded{why}")
+        for pos, neg in self.conflicts:
+            lines.append(f"examples {pos} and {neg} conflict: same answer set, one positive, one negative")
+        lines += [f"note: {n}" for n in self.notes]
+        lines += [f"hint: {h}" for h in self.hints]
+        return "\n".join(lines)
+
+
+@dataclass
+class LearningResult:
+    """What :func:`learn` found. ``hypothesis`` is None when no hypothesis covers the examples."""
+
+    hypothesis: Hypothesis | None
+    score: int | None
+    optimal: bool
+    seconds: float
+    space_size: int
+    coverage: dict[str, bool]
+    diagnostics: Diagnostics
+    method: str = "general"
+    penalty: int = 0
+
+    @property
+    def found(self) -> bool:
+        return self.hypothesis is not None
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"rules": list(self.hypothesis.rules) if self.hypothesis else [], "score": self.score,
+                "optimal": self.optimal, "seconds": round(self.seconds, 4), "space_size": self.space_size,
+                "method": self.method, "penalty": self.penalty, "coverage": self.coverage,
+                "diagnostics": self.diagnostics.to_dict()}
+
+
+def _check_examples(task: ILPTask) -> None:
+    if not task.examples:
+        raise DataError("the task has no examples (#pos/#neg)", file=task.source,
+                        hint="add at least one #pos or #neg example")
+
+
+def learn(task: ILPTask, timeout: float = 30.0, noise: bool = False, *, method: str = "auto",
+          max_body: int | None = None, space: HypothesisSpace | None = None) -> LearningResult:
+    """Find a minimum-cost hypothesis (see module docstring). Deterministic for the same input.
+
+    ``noise``: examples with a ``@penalty`` may be left uncovered at that cost (bounded by
+    ``#max_penalty``); examples without one must be covered. On timeout the best hypothesis
+    found so far is returned with ``optimal=False``.
+    """
+    if method not in METHODS:
+        raise SymlearnError(f"unknown method {method!r}", hint=f"use one of {', '.join(METHODS)}")
+    start = time.perf_counter()
+    deadline = start + timeout
+    _check_examples(task)
+    if space is None:
+        space = generate_space(task, max_body=max_body)
+    diagnostics = Diagnostics(space_size=len(space), notes=list(space.notes))
+    if len(space) == 0:
+        diagnostics.hints.append("the mode bias generates no rule: check that every variable can be bound by a "
+                                 "positive body literal, raise #maxv or the recalls, or declare #constant values")
+        raise SymlearnError("the mode bias makes the hypothesis space empty"
+                            + (f" ({'; '.join(space.notes)})" if space.notes else ""),
+                            file=task.source, hint=diagnostics.hints[-1])
+    chosen_method = method
+    outcome: SearchOutcome | None = None
+    if method in ("auto", "single"):
+        if not task.constraints_only or not all(c.is_constraint for c in space.candidates):
+            if method == "single":
+                raise SymlearnError("the single-grounding path needs a space of integrity constraints (no #modeh)")
+        else:
+            worlds = single_worlds(task, timeout=max(deadline - time.perf_counter(), 0.001))
+            if worlds is None:
+                if method == "single":
+                    raise SymlearnError("the single-grounding path needs one answer set per example context; "
+                                        "some context has several", hint="use method='general'")
+                diagnostics.notes.append("some context has several answer sets: using the general search")
+            else:
+                chosen_method = "single"
+                outcome = _single(task, space, worlds, noise, deadline, diagnostics)
+    if outcome is None:
+        chosen_method = "general"
+        outcome = search_general(task, space, noise=noise, deadline=deadline)
+        if outcome.selected is None and outcome.notes and "no hypothesis" in outcome.notes[-1]:
+            _general_diagnostics(task, diagnostics)
+    diagnostics.notes.extend(outcome.notes)
+    seconds = time.perf_counter() - start
+    if outcome.selected is None:
+        if not diagnostics.hints:
+            diagnostics.hints.append(_relax_hint(task))
+        return LearningResult(None, None, False, seconds, len(space), {}, diagnostics, chosen_method)
+    by_index = {c.index: c for c in space.candidates}
+    rules = [by_index[r].text for r in outcome.selected]
+    hypothesis = Hypothesis(rules, background=task.background, cost=outcome.cost,
+                            provenance={"task": task.source, "method": chosen_method, "noise": noise,
+                                        "space_size": len(space), "optimal": outcome.optimal})
+    uncovered = set(outcome.uncovered)
+    coverage = {e.id: e.id not in uncovered for e in task.examples}
+    return LearningResult(hypothesis, outcome.cost + outcome.penalty, outcome.optimal, seconds, len(space),
+                          coverage, diagnostics, chosen_method, outcome.penalty)
+
+
+def _single(task: ILPTask, space: HypothesisSpace, worlds, noise: bool, deadline: float,
+            diagnostics: Diagnostics) -> SearchOutcome:
+    def soft(e) -> bool:
+        return noise and e.penalty is not None
+
+    hard_pos, hard_neg = set(), set()
+    soft_pos, soft_neg = {}, {}
+    extra_penalty = 0
+    uncovered_upfront = []
+    for i, e in enumerate(task.examples):
+        if e.positive:
+            if not worlds.extends[i]:
+                if soft(e):
+                    extra_penalty += e.penalty
+                    uncovered_upfront.append(e.id)
+                else:
+                    diagnostics.uncoverable_positives.append(e.id)
+                continue
+            (soft_pos.__setitem__(i, e.penalty) if soft(e) else hard_pos.add(i))
+        elif worlds.extends[i]:
+            (soft_neg.__setitem__(i, e.penalty) if soft(e) else hard_neg.add(i))
+    relevant = sorted(hard_pos | hard_neg | set(soft_pos) | set(soft_neg))
+    fires = firing_matrix(task, space, worlds, relevant)
+    if diagnostics.uncoverable_positives:
+        _single_diagnostics(task, space, worlds, fires, hard_pos, hard_neg, diagnostics)
+        return SearchOutcome(None, notes=["no hypothesis in the space covers the examples"])
+    outcome = select_rules(task, space, fires, noise=noise, hard_pos=hard_pos, soft_pos=soft_pos,
+                           hard_neg=hard_neg, soft_neg=soft_neg,
+                           timeout=max(deadline - time.perf_counter(), 0.001))
+    if outcome.selected is None:
+        _single_diagnostics(task, space, worlds, fires, hard_pos, hard_neg, diagnostics)
+        return outcome
+    outcome.penalty += extra_penalty
+    outcome.uncovered = uncovered_upfront + outcome.uncovered
+    return outcome
+
+
+def _single_diagnostics(task, space, worlds, fires, hard_pos, hard_neg, diagnostics: Diagnostics) -> None:
+    by_example: dict[int, set[int]] = {}
+    for r, row in fires.items():
+        for e in row:
+            by_example.setdefault(e, set()).add(r)
+    for n in sorted(hard_neg):
+        rules = by_example.get(n, set())
+        if any(not (fires[r] & hard_pos) for r in rules):
+            continue
+        blockers = sorted({p for r in rules for p in fires[r] & hard_pos})
+        diagnostics.unexcludable_negatives[task.examples[n].id] = [task.examples[p].id for p in blockers[:5]]
+    # positives and negatives whose answer sets coincide can never be separated by constraints
+    signature: dict[frozenset, list[int]] = {}
+    for atom in worlds.atoms:
+        signature.setdefault(atom.arguments[0].number, [])
+    atoms_of: dict[int, set[str]] = {}
+    for atom in worlds.atoms:
+        if atom.arguments:
+            tag = atom.arguments[0]
+            if tag.type == cl.SymbolType.Number:
+                atoms_of.setdefault(tag.number, set()).add(f"{atom.name}/{[str(a) for a in atom.arguments[1:]]}")
+    groups: dict[frozenset, list[int]] = {}
+    for e in sorted(hard_pos | hard_neg):
+        groups.setdefault(frozenset(atoms_of.get(e, set())), []).append(e)
+    for members in groups.values():
+        pos = [e for e in members if e in hard_pos]
+        neg = [e for e in members if e in hard_neg]
+        for p in pos[:3]:
+            for n in neg[:3]:
+                diagnostics.conflicts.append((task.examples[p].id, task.examples[n].id))
+    if diagnostics.conflicts:
+        diagnostics.hints.append("conflicting examples have the same answer set: fix their labels, add the "
+                                 "facts that tell them apart to the contexts, or learn with noise=True and penalties")
+    elif diagnostics.uncoverable_positives:
+        diagnostics.hints.append("a positive example is rejected by the background knowledge and its context alone; "
+                                 "check its inclusions/exclusions and the background")
+    elif diagnostics.unexcludable_negatives:
+        diagnostics.hints.append(_relax_hint(task))
+
+
+def _general_diagnostics(task: ILPTask, diagnostics: Diagnostics) -> None:
+    """Which positives the background rejects even before any rule (cheap: one call)."""
+    try:
+        verdict = accepted_by(task, [], task.positives, timeout=10.0)
+    except SymlearnError:
+        return
+    if task.constraints_only:
+        diagnostics.uncoverable_positives = [e for e, ok in verdict.items() if not ok]
+
+
+def _relax_hint(task: ILPTask) -> str:
+    return (f"relax the bias: raise #maxv (now {task.n_variables}), the recall of #modeb declarations or "
+            f"max_body (now {task.max_body}), add modes or #constant values; or use noise=True with penalties")
+
+
+def score(task: ILPTask, hypothesis: Hypothesis, *, timeout: float | None = 60.0) -> dict[str, Any]:
+    """Coverage of each example by ``hypothesis`` (full ASP semantics) and its cost."""
+    _check_examples(task)
+    accepted = accepted_by(task, hypothesis.rules, task.examples, timeout=timeout)
+    coverage = {e.id: (accepted[e.id] if e.positive else not accepted[e.id]) for e in task.examples}
+    penalty = sum((e.penalty or 0) for e in task.examples if not coverage[e.id])
+    hard_misses = [e.id for e in task.examples if not coverage[e.id] and e.penalty is None]
+    return {"coverage": coverage, "covered": sum(coverage.values()), "total": len(coverage),
+            "cost": hypothesis.cost, "penalty": penalty, "uncovered_without_penalty": hard_misses,
+            "score": None if hard_misses else hypothesis.cost + penalty}
+
+
+def coverage_matrix(task: ILPTask, hypothesis: Hypothesis, *, timeout: float | None = 60.0) -> dict[str, dict[str, bool]]:
+    """For each rule alone: which examples B ∪ {rule} covers (rows: rules, columns: example ids)."""
+    matrix = {}
+    for rule in hypothesis.rules:
+        single = Hypothesis([rule], background=task.background)
+        matrix[rule] = score(task, single, timeout=timeout)["coverage"]
+    return matrix
