@@ -24,6 +24,7 @@ from symlearn.errors import SymlearnError
 COMMAND_MODULES: tuple[str, ...] = (
     "symlearn.cli.demo_command",
     "symlearn.cli.data_command",
+    "symlearn.cli.ltl_command",
     "symlearn.cli.doctor_command",
 )
 

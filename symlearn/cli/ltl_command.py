@@ -1,0 +1,166 @@
+"""``symlearn ltl``: parse LTLf formulas, evaluate them on traces, translate them to minimal DFAs."""
+
+from __future__ import annotations
+
+import argparse
+
+
+def register(subparsers, common) -> None:
+    group = subparsers.add_parser("ltl", help="parse, evaluate and translate LTLf formulas",
+                                  description="Parse LTLf formulas, evaluate them on traces and translate them "
+                                              "to minimal DFAs.")
+    group.set_defaults(group_parser=group)
+    commands = group.add_subparsers(dest="ltl_command", metavar="SUBCOMMAND")
+
+    def dialect_option(p):
+        p.add_argument("--dialect", default="ours", choices=("ours", "spot", "ltlf2dfa"),
+                       help="syntax of the input: bare X is strong next in ours/ltlf2dfa, weak in spot "
+                            "(default: ours)")
+
+    parse = commands.add_parser("parse", parents=[common()], help="print the canonical form and size",
+                                description="Parse a formula and print its canonical form, size and propositions.")
+    parse.add_argument("formula")
+    dialect_option(parse)
+    parse.add_argument("--to", dest="to_dialect", choices=("ours", "spot", "ltlf2dfa"),
+                       help="print in this dialect (default: the input dialect)")
+    parse.add_argument("--simplify", action="store_true", help="also print a simplified equivalent formula")
+    parse.set_defaults(handler=_parse)
+
+    evaluate = commands.add_parser("eval", parents=[common()], help="verdict of a formula on each trace",
+                                   description="Evaluate a formula on traces: a JSONL file with one trace per line, "
+                                               "each a list of steps, each step a list of the true propositions.")
+    evaluate.add_argument("formula")
+    evaluate.add_argument("--traces", required=True, help="JSONL file, e.g. a line [[\"a\"], [], [\"a\", \"b\"]]")
+    dialect_option(evaluate)
+    evaluate.set_defaults(handler=_eval)
+
+    dfa = commands.add_parser("dfa", parents=[common()], help="translate to a minimal DFA",
+                              description="Translate a formula to its minimal complete DFA (states include the "
+                                          "rejecting sink), or every formula of a file with --file.")
+    dfa.add_argument("formula", nargs="?")
+    dfa.add_argument("--file", help="one formula per line (blank lines and lines starting with # are skipped)")
+    dialect_option(dfa)
+    dfa.add_argument("--dot", help="write the automaton as Graphviz DOT")
+    dfa.add_argument("--svg", help="render the automaton to SVG (needs Graphviz's dot)")
+    dfa.add_argument("--save", help="write the automaton as symlearn DFA JSON")
+    dfa.add_argument("--max-states", type=int, default=None, help="stop with an error beyond this many states")
+    dfa.set_defaults(handler=_dfa)
+
+
+def _parse(args: argparse.Namespace, out) -> None:
+    from symlearn.logic.ltlf import operator_count, parse, propositions, simplify, size, temporal_depth, to_string
+
+    formula = parse(args.formula, args.dialect)
+    target = args.to_dialect or args.dialect
+    doc = {
+        "formula": to_string(formula, target),
+        "dialect": target,
+        "unicode": to_string(formula, target, style="unicode"),
+        "size": size(formula),
+        "operators": operator_count(formula),
+        "temporal_depth": temporal_depth(formula),
+        "propositions": sorted(propositions(formula)),
+    }
+    if args.simplify:
+        doc["simplified"] = to_string(simplify(formula, propositional=True), target)
+
+    def render(d: dict) -> str:
+        lines = [d["formula"], f"  size {d['size']} ({d['operators']} operators, temporal depth "
+                               f"{d['temporal_depth']}), propositions: {', '.join(d['propositions']) or 'none'}"]
+        if "simplified" in d:
+            lines.append(f"  simplified: {d['simplified']}")
+        return "\n".join(lines)
+
+    out.result(doc, render)
+
+
+def _eval(args: argparse.Namespace, out) -> None:
+    from symlearn.logic.ltlf import parse
+    from symlearn.logic.ltlf.traces_file import read_traces
+    from symlearn.logic.ltlf.vectorized import evaluate_many
+
+    formula = parse(args.formula, args.dialect)
+    traces = read_traces(args.traces)
+    results = [bool(v) for v in evaluate_many(formula, traces)] if traces else []
+
+    def render(doc: dict) -> str:
+        lines = [f"trace {i + 1}: {'holds' if v else 'fails'}" for i, v in enumerate(doc["results"])]
+        lines.append(f"{sum(doc['results'])} of {len(doc['results'])} traces satisfy {args.formula}")
+        return "\n".join(lines)
+
+    out.result({"results": results}, render)
+
+
+def _dfa(args: argparse.Namespace, out) -> None:
+    import time
+
+    from symlearn.errors import SymlearnError
+    from symlearn.logic.ltlf import parse
+    from symlearn.logic.ltlf.to_dfa import DEFAULT_MAX_STATES, translate
+
+    max_states = args.max_states or DEFAULT_MAX_STATES
+    if (args.formula is None) == (args.file is None):
+        raise SymlearnError("give either a FORMULA or --file FORMULAS.txt", hint="symlearn ltl dfa 'F a & G !b'")
+    if args.file:
+        if args.dot or args.svg or args.save:
+            raise SymlearnError("--dot, --svg and --save write one automaton; they cannot be used with --file")
+        with open(args.file, encoding="utf-8") as handle:
+            lines = handle.read().split("\n")
+        rows = []
+        for number, text in enumerate(lines, start=1):
+            if not text.strip() or text.lstrip().startswith("#"):
+                continue
+            formula = parse(text, args.dialect, source=args.file, line=number)
+            start = time.perf_counter()
+            try:
+                table = translate(formula, max_states=max_states)
+            except SymlearnError as exc:
+                exc.file, exc.line = args.file, number
+                raise
+            rows.append({"formula": text.strip(), "states": table.n_states, "edges": table.n_edges,
+                         "seconds": round(time.perf_counter() - start, 6)})
+
+        def render_rows(doc: list) -> str:
+            return "\n".join(f"{r['states']:6d} states {r['edges']:6d} edges {r['seconds'] * 1000:9.2f} ms  "
+                             f"{r['formula']}" for r in doc)
+
+        out.result(rows, render_rows)
+        return
+
+    formula = parse(args.formula, args.dialect)
+    start = time.perf_counter()
+    table = translate(formula, max_states=max_states)
+    seconds = time.perf_counter() - start
+    dfa = table.to_dfa()
+    written = []
+    if args.dot:
+        from symlearn.atomic import write_text
+
+        write_text(args.dot, dfa.to_dot(title=args.formula))
+        written.append(args.dot)
+    if args.svg:
+        from symlearn.rendering import render_dot
+
+        render_dot(dfa.to_dot(title=args.formula), args.svg)
+        written.append(args.svg)
+    if args.save:
+        dfa.save(args.save)
+        written.append(args.save)
+    doc = {
+        "formula": args.formula, "states": table.n_states, "edges": table.n_edges,
+        "accepting": sorted(table.accepting), "sink": table.sink, "propositions": list(table.propositions),
+        "seconds": round(seconds, 6), "written": written,
+        "transitions": [[{"guard": str(g), "target": t} for g, t in edges] for edges in table.edges],
+    }
+
+    def render(d: dict) -> str:
+        lines = [f"minimal DFA: {d['states']} states, {d['edges']} edges "
+                 f"(accepting: {', '.join(map(str, d['accepting'])) or 'none'}"
+                 + (f"; rejecting sink: {d['sink']}" if d["sink"] is not None else "") + ")"]
+        for q, edges in enumerate(d["transitions"]):
+            mark = "*" if q in d["accepting"] else " "
+            lines.append(f" {mark}{q}: " + "; ".join(f"{e['guard']} -> {e['target']}" for e in edges))
+        lines += [f"wrote {path}" for path in d["written"]]
+        return "\n".join(lines)
+
+    out.result(doc, render)
