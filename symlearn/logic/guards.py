@@ -312,6 +312,34 @@ class Guard:
                 u = _high[u]
         return frozenset(label)  # type: ignore[arg-type]
 
+    def closest_label(self, label: AbstractSet[str]) -> frozenset[str] | None:
+        """A satisfying label that differs from ``label`` in as few propositions as possible.
+
+        Propositions outside the guard's support keep their value in ``label``. ``None`` for
+        the false guard.
+        """
+        if self._node == _FALSE:
+            return None
+        cost: dict[int, float] = {_FALSE: float("inf"), _TRUE: 0}
+
+        def best(u: int) -> float:
+            if u not in cost:
+                here = _var[u] in label
+                cost[u] = min(best(_low[u]) + here, best(_high[u]) + (not here))
+            return cost[u]
+
+        best(self._node)
+        result, u = set(label), self._node
+        while u > _TRUE:
+            here = _var[u] in label
+            if cost[_low[u]] + here <= cost[_high[u]] + (not here):
+                result.discard(_var[u])
+                u = _low[u]
+            else:
+                result.add(_var[u])  # type: ignore[arg-type]
+                u = _high[u]
+        return frozenset(result)
+
     def count(self, alphabet: Iterable[str]) -> int:
         """How many labels over ``alphabet`` (a superset of the support) satisfy the guard."""
         names = sorted(set(alphabet))

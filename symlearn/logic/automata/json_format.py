@@ -1,0 +1,205 @@
+"""Versioned JSON for DFAs, PDFAs and reward machines (format version 1).
+
+One document per automaton::
+
+    {
+      "format": "symlearn-automaton", "version": 1, "kind": "dfa" | "pdfa" | "reward_machine",
+      "alphabet": ["a", "b"],            # proposition names, sorted
+      "states": 3,                       # states are 0..states-1
+      "initial": 0,
+      "accepting": [2],
+      "state_names": ["q0", ...] | null,
+      "transitions": [{"source": 0, "target": 1, "guard": "a & !b"}, ...]
+    }
+
+A PDFA adds ``"termination": [p_0, ...]`` and a ``"probability"`` per transition; a reward
+machine adds ``"terminal": [...]``, a ``"reward"`` per transition and optionally
+``"shaping": {"gamma": g, "potential": [...]}``. Guards are guard text
+(``grammars/guard.lark``); numbers are written with Python's shortest round-trip repr, so
+``from_json(to_json(x)) == x`` exactly. Reading never executes anything; every problem is
+reported with the JSON path of the offending field (``transitions[3].guard``) and, for JSON
+syntax errors, the line and column.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+from symlearn.errors import ParseError, SymlearnError
+from symlearn.logic.guards import Guard
+
+FORMAT = "symlearn-automaton"
+VERSION = 1
+KINDS = ("dfa", "pdfa", "reward_machine")
+
+
+def dumps(document: Mapping) -> str:
+    return json.dumps(document, indent=1, ensure_ascii=False, allow_nan=False) + "\n"
+
+
+def loads(text: str, *, source: str | None = None) -> Any:
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ParseError(f"not valid JSON: {exc.msg}", file=source, line=exc.lineno, column=exc.colno) from None
+
+
+class _Reader:
+    """Checked access to a JSON document; errors name the path of the field."""
+
+    def __init__(self, document: Any, source: str | None) -> None:
+        self.document = document
+        self.source = source
+
+    def fail(self, path: str, message: str, hint: str | None = None) -> ParseError:
+        where = f"{path}: " if path else ""
+        return ParseError(f"{where}{message}", file=self.source, hint=hint)
+
+    def get(self, obj: Any, path: str, key: str, kind, *, optional: bool = False, default=None):
+        if not isinstance(obj, dict):
+            raise self.fail(path, f"expected an object, got {_json_type(obj)}")
+        full = f"{path}.{key}" if path else key
+        if key not in obj or obj[key] is None:
+            if optional:
+                return default
+            raise self.fail(full, "missing field")
+        value = obj[key]
+        return self.check(value, full, kind)
+
+    def check(self, value: Any, path: str, kind):
+        if kind == "int":
+            if isinstance(value, bool) or not isinstance(value, int):
+                raise self.fail(path, f"expected an integer, got {_json_type(value)}")
+        elif kind == "number":
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+                raise self.fail(path, f"expected a finite number, got {_json_type(value)}")
+            value = float(value)
+        elif kind == "str":
+            if not isinstance(value, str):
+                raise self.fail(path, f"expected text, got {_json_type(value)}")
+        elif kind == "list":
+            if not isinstance(value, list):
+                raise self.fail(path, f"expected a list, got {_json_type(value)}")
+        elif kind == "dict":
+            if not isinstance(value, dict):
+                raise self.fail(path, f"expected an object, got {_json_type(value)}")
+        return value
+
+    def list_of(self, obj, path, key, kind, *, optional=False):
+        items = self.get(obj, path, key, "list", optional=optional)
+        if items is None:
+            return None
+        full = f"{path}.{key}" if path else key
+        return [self.check(v, f"{full}[{i}]", kind) for i, v in enumerate(items)]
+
+    def guard(self, value, path: str) -> Guard:
+        text = self.check(value, path, "str")
+        try:
+            return Guard.parse(text)
+        except SymlearnError as exc:
+            raise self.fail(path, exc.message, exc.hint) from None
+
+
+def _json_type(value: Any) -> str:
+    return {dict: "an object", list: "a list", str: "text", bool: "a boolean", type(None): "null"}.get(
+        type(value), f"the number {value!r}" if isinstance(value, (int, float)) else type(value).__name__)
+
+
+def header(kind: str, automaton) -> dict:
+    return {
+        "format": FORMAT, "version": VERSION, "kind": kind,
+        "alphabet": sorted(automaton.alphabet),
+        "states": automaton.n_states,
+        "initial": automaton.initial,
+        "accepting": sorted(automaton.accepting),
+        "state_names": None if automaton.state_names is None else list(automaton.state_names),
+    }
+
+
+def read_header(document: Any, kind: str | None, source: str | None) -> tuple[_Reader, dict]:
+    reader = _Reader(document, source)
+    if not isinstance(document, dict):
+        raise reader.fail("", f"an automaton document must be a JSON object, got {_json_type(document)}")
+    fmt = reader.get(document, "", "format", "str")
+    if fmt != FORMAT:
+        raise reader.fail("format", f"expected {FORMAT!r}, got {fmt!r}")
+    version = reader.get(document, "", "version", "int")
+    if version != VERSION:
+        raise reader.fail("version", f"unsupported version {version} (this symlearn reads version {VERSION})",
+                          hint="upgrade symlearn")
+    found = reader.get(document, "", "kind", "str")
+    if found not in KINDS:
+        raise reader.fail("kind", f"unknown automaton kind {found!r}", hint=f"one of {', '.join(KINDS)}")
+    if kind is not None and found != kind:
+        raise reader.fail("kind", f"expected a {kind}, the file holds a {found}")
+    fields = {
+        "kind": found,
+        "alphabet": reader.list_of(document, "", "alphabet", "str"),
+        "n_states": reader.get(document, "", "states", "int"),
+        "initial": reader.get(document, "", "initial", "int"),
+        "accepting": reader.list_of(document, "", "accepting", "int"),
+        "state_names": reader.list_of(document, "", "state_names", "str", optional=True),
+    }
+    return reader, fields
+
+
+def read_transitions(reader: _Reader, document: dict, extra: str | None) -> list[tuple]:
+    """``[(source, guard, target[, extra]), ...]`` with every field checked."""
+    result = []
+    for i, item in enumerate(reader.get(document, "", "transitions", "list")):
+        path = f"transitions[{i}]"
+        source = reader.get(item, path, "source", "int")
+        target = reader.get(item, path, "target", "int")
+        guard = reader.guard(reader.get(item, path, "guard", "str"), f"{path}.guard")
+        row = (source, guard, target) + ((reader.get(item, path, extra, "number"),) if extra else ())
+        result.append(row)
+    return result
+
+
+def construct(reader: _Reader, build):
+    """Run a constructor, locating its model errors in the file."""
+    try:
+        return build()
+    except SymlearnError as exc:
+        if exc.file is None:
+            exc.file = reader.source
+        raise
+
+
+# -- DFA -------------------------------------------------------------------------------------
+def dfa_to_dict(dfa) -> dict:
+    document = header("dfa", dfa)
+    document["transitions"] = [{"source": s, "target": t, "guard": str(g)} for s, g, t in dfa.edges()]
+    return document
+
+
+def dfa_from_dict(document: Any, *, source: str | None = None):
+    from symlearn.logic.automata.dfa import DFA
+
+    reader, f = read_header(document, "dfa", source)
+    transitions: dict[int, list] = {}
+    for s, g, t in read_transitions(reader, document, None):
+        transitions.setdefault(s, []).append((g, t))
+    return construct(reader, lambda: DFA(f["alphabet"], f["n_states"], f["initial"], f["accepting"],
+                                         transitions, f["state_names"]))
+
+
+def load_automaton(path: str | Path):
+    """Read any automaton file (DFA, PDFA or reward machine), dispatching on ``kind``."""
+    source = str(path)
+    document = loads(Path(path).read_text(encoding="utf-8"), source=source)
+    _, fields = read_header(document, None, source)
+    kind = fields["kind"]
+    if kind == "dfa":
+        return dfa_from_dict(document, source=source)
+    if kind == "pdfa":
+        from symlearn.logic.automata.pdfa import PDFA
+
+        return PDFA.from_dict(document, source=source)
+    from symlearn.logic.automata.reward_machine import RewardMachine
+
+    return RewardMachine.from_dict(document, source=source)
