@@ -26,6 +26,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "symlearn.cli.demo_command",
     "symlearn.cli.data_command",
     "symlearn.cli.ltl_command",
+    "symlearn.cli.automaton_command",
     "symlearn.cli.doctor_command",
 )
 
