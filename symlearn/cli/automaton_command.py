@@ -178,7 +178,7 @@ def _explain(args: argparse.Namespace, out) -> None:
         out.note(f"note: propositions {', '.join(unknown)} are not in the automaton's alphabet and are ignored")
     report = explain(dfa, trace)
     document = {"file": args.file, "trace": [sorted(s) for s in trace], **report.to_dict(),
-                "summary": report.summary()}
+                "state_names": [dfa.name(q) for q in report.states], "summary": report.summary()}
     out.result(document, _render_explain)
 
 
@@ -187,7 +187,7 @@ def _render_explain(doc: dict) -> str:
         return "{" + ", ".join(labels) + "}"
 
     lines = [f"trace: {' '.join(step(s) for s in doc['trace']) or '(empty)'}",
-             f"run:   {' -> '.join(str(q) for q in doc['states'])}"]
+             f"run:   {' -> '.join(doc['state_names'])}"]
     lines.append(("ACCEPTED" if doc["accepted"] else "REJECTED") + f": {doc['summary']}")
     if doc["fixed_trace"] is not None and not doc["accepted"]:
         lines.append(f"fixed: {' '.join(step(s) for s in doc['fixed_trace']) or '(empty)'}")
