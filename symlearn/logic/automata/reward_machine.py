@@ -9,10 +9,12 @@ stays there with reward 0.
 that enters an accepting state from a non-accepting one, terminal states are the absorbing
 ones (all edges loop; this covers "done forever" and the rejecting sink), and with
 ``shaping=True`` potential-based shaping is added to every edge,
-``F(u, u') = gamma * phi(u') - phi(u)`` with ``phi(u) = -scale * d(u)``, where ``d(u)`` is
-the graph distance from ``u`` to acceptance. States that can never accept get
-``d = d_max + 1`` so entering them is penalised; shaping terms are folded into the stored
-rewards and the potential is kept in :attr:`potential` for inspection.
+``F(u, u') = gamma * phi(u') - phi(u)`` with ``phi(u) = scale * (d_max + 1 - d(u))``, where
+``d(u)`` is the graph distance from ``u`` to acceptance and ``d_max`` its largest finite value.
+States that can never accept get ``phi = 0``. The potential is non-negative on purpose: with
+``gamma < 1`` a negative potential would pay ``(1 - gamma) * |phi|`` for standing still, whereas
+this one charges for waiting, pays for progress and penalises entering a dead state. Shaping
+terms are folded into the stored rewards and the potential is kept in :attr:`potential`.
 
 >>> from symlearn.logic.automata import DFA
 >>> from symlearn.logic.guards import Guard
@@ -109,7 +111,7 @@ class RewardMachine:
         distance = distances_to_acceptance(dfa)
         finite = [d for d in distance if d is not None]
         worst = (max(finite) if finite else 0) + 1
-        potential = [-scale * (worst if d is None else d) for d in distance]
+        potential = [0.0 if d is None else scale * (worst - d) for d in distance]
         terminal = {q for q in dfa.states if all(t == q for _, t in dfa.successors(q))}
         if terminal_on_acceptance:
             terminal |= set(dfa.accepting)

@@ -45,7 +45,10 @@ def test_shaping_is_potential_based():
     shaped = RewardMachine.from_dfa(a_then_b_avoid_c(), shaping=True, gamma=gamma)
     phi = shaped.potential
     assert shaped.gamma == gamma
-    assert sorted(phi) == [-3.0, -2.0, -1.0, 0.0]  # distances 0, 1, 2 and the dead sink (d_max + 1)
+    assert sorted(phi) == [0.0, 1.0, 2.0, 3.0]  # dead sink 0, then d_max + 1 - d for d = 2, 1, 0
+    # waiting costs, progress pays, breaking the rule costs
+    assert shaped.step(0, set())[1] < 0 < shaped.step(0, {"a"})[1]
+    assert shaped.step(0, {"c"})[1] < shaped.step(0, set())[1]
     for (s, g, t, r), (_, _, _, r0) in zip(shaped.edges(), plain.edges()):
         assert r == pytest.approx(r0 + gamma * phi[t] - phi[s])
     # moving towards acceptance earns more than waiting
