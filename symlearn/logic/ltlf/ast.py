@@ -18,7 +18,7 @@ puts back exactly the parentheses needed to reproduce the same tree.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import ClassVar
 
 __all__ = [
@@ -33,6 +33,40 @@ class Formula:
     """Base class of every LTLf node; supports ``&``, ``|``, ``~`` and ``>>`` (implies)."""
 
     __slots__ = ()
+
+    # Equality and hashing are written out (not the dataclass ones) so that formulas nested
+    # thousands deep compare without recursion; the hash is computed once, at construction.
+    def __hash__(self) -> int:
+        return self._hash  # type: ignore[attr-defined]
+
+    def __eq__(self, other: object) -> bool:
+        if self is other:
+            return True
+        if not isinstance(other, Formula):
+            return NotImplemented
+        stack = [(self, other)]
+        while stack:
+            x, y = stack.pop()
+            if x is y:
+                continue
+            if type(x) is not type(y) or x._hash != y._hash:  # type: ignore[attr-defined]
+                return False
+            kids_x, kids_y = x.children(), y.children()
+            if not kids_x and x._leaf_key() != y._leaf_key():
+                return False
+            stack.extend(zip(kids_x, kids_y))
+        return True
+
+    def __ne__(self, other: object) -> bool:
+        equal = self.__eq__(other)
+        return equal if equal is NotImplemented else not equal
+
+    def _leaf_key(self):
+        return None
+
+    def _set_hash(self) -> None:
+        key = (type(self).__name__, self._leaf_key(), *(hash(c) for c in self.children()))
+        object.__setattr__(self, "_hash", hash(key))
 
     def __and__(self, other: Formula) -> Formula:
         return And(self, _check(other))
@@ -66,11 +100,18 @@ def _check(value: object) -> Formula:
     return value
 
 
-@dataclass(frozen=True, slots=True, repr=False)
+@dataclass(frozen=True, slots=True, repr=False, eq=False)
 class Const(Formula):
     """``true`` or ``false``."""
 
     value: bool
+    _hash: int = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        self._set_hash()
+
+    def _leaf_key(self):
+        return bool(self.value)
 
     def __repr__(self) -> str:
         return "TRUE" if self.value else "FALSE"
@@ -80,31 +121,47 @@ TRUE = Const(True)
 FALSE = Const(False)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class Prop(Formula):
     """An atomic proposition, true at a step when its name is in that step's label."""
 
     name: str
+    _hash: int = field(init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
             raise ValueError(f"a proposition name must be a non-empty string, not {self.name!r}")
+        self._set_hash()
+
+    def _leaf_key(self):
+        return self.name
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class Unary(Formula):
     arg: Formula
+    _hash: int = field(init=False, repr=False, compare=False)
     symbol: ClassVar[str] = "?"
+
+    def __post_init__(self) -> None:
+        _check(self.arg)
+        self._set_hash()
 
     def children(self) -> tuple[Formula, ...]:
         return (self.arg,)
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(frozen=True, slots=True, eq=False)
 class Binary(Formula):
     left: Formula
     right: Formula
+    _hash: int = field(init=False, repr=False, compare=False)
     symbol: ClassVar[str] = "?"
+
+    def __post_init__(self) -> None:
+        _check(self.left)
+        _check(self.right)
+        self._set_hash()
 
     def children(self) -> tuple[Formula, ...]:
         return (self.left, self.right)

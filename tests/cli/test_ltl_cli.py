@@ -1,0 +1,93 @@
+import json
+
+import pytest
+
+from symlearn.cli.main import main
+
+
+def run(capsys, *args):
+    code = main([str(a) for a in args])
+    captured = capsys.readouterr()
+    return code, captured.out, captured.err
+
+
+def test_parse_prints_canonical_form_and_size(capsys):
+    code, out, _ = run(capsys, "ltl", "parse", "F  F a&(b|b)", "--simplify")
+    assert code == 0
+    assert out.splitlines()[0] == "F F a & (b | b)"
+    assert "size 7" in out and "simplified: F a & b" in out
+    code, out, _ = run(capsys, "ltl", "parse", "X a -> b <-> c", "--dialect", "spot", "--to", "ours", "--json")
+    doc = json.loads(out)
+    assert doc["formula"] == "WX a -> (b <-> c)" and doc["size"] == 6 and doc["propositions"] == ["a", "b", "c"]
+
+
+def test_parse_error_is_one_located_message(capsys):
+    code, out, err = run(capsys, "ltl", "parse", "a => b")
+    assert code == 2 and out == ""
+    assert err.startswith("symlearn: error: 1:3: unexpected character '='")
+    assert "hint: write '->' for implication" in err and "    ^" in err
+
+
+def test_eval_prints_verdicts_in_trace_order(tmp_path, capsys):
+    traces = tmp_path / "t.jsonl"
+    traces.write_text('[["a"], [], ["b"]]\n\n[["b"]]\n[["a"], ["b"]]\n')
+    code, out, _ = run(capsys, "ltl", "eval", "a T b", "--traces", traces, "--json")
+    assert code == 0 and json.loads(out) == {"results": [True, False, True]}
+    code, out, _ = run(capsys, "ltl", "eval", "a T b", "--traces", traces)
+    assert "trace 2: fails" in out and "2 of 3 traces" in out
+
+
+@pytest.mark.parametrize("line, where, message", [
+    ('[["a"], "b"]', "1:9", "step 1 must be a list"),
+    ('[["a"], [3]]', "1:10", "non-empty string"),
+    ('[["a"],', "1:8", "not valid JSON"),
+    ('{"a": 1}', "1:1", "must be a JSON list"),
+])
+def test_eval_reports_malformed_trace_files_with_file_line_col(tmp_path, capsys, line, where, message):
+    traces = tmp_path / "bad.jsonl"
+    traces.write_text('[["a"]]\n' + line + "\n")
+    line_no, col = where.split(":")
+    code, _, err = run(capsys, "ltl", "eval", "a", "--traces", traces)
+    assert code == 2
+    assert f"{traces}:{int(line_no) + 1}:{col}: " in err and message in err
+
+
+def test_dfa_single_formula_writes_files(tmp_path, capsys):
+    dot, svg, js = tmp_path / "a.dot", tmp_path / "a.svg", tmp_path / "a.json"
+    args = ["ltl", "dfa", "G(!hole) & (key T door)", "--dot", dot, "--save", js]
+    from symlearn.rendering import dot_available
+
+    if dot_available():
+        args += ["--svg", svg]
+    code, out, _ = run(capsys, *args)
+    assert code == 0
+    assert out.startswith("minimal DFA: 4 states, 9 edges")
+    assert dot.read_text().startswith("digraph")
+    from symlearn.logic.automata.dfa import DFA
+
+    loaded = DFA.load(js)
+    assert loaded.n_states == 4 and loaded.accepts([{"key"}, {"door"}])
+    if dot_available():
+        assert svg.read_text().lstrip().startswith("<?xml")
+
+
+def test_dfa_batch_file(tmp_path, capsys):
+    specs = tmp_path / "f.txt"
+    specs.write_text("# comment\nF(var0)\n\nX[!] a && X b\nG(var1 -> G(var0))\n")
+    code, out, _ = run(capsys, "ltl", "dfa", "--file", specs, "--dialect", "spot", "--json")
+    rows = json.loads(out)
+    assert [r["formula"] for r in rows] == ["F(var0)", "X[!] a && X b", "G(var1 -> G(var0))"]
+    assert [r["states"] for r in rows] == [2, 4, 3]  # X[!] a && X b = X[!](a & b)
+    assert all(set(r) == {"formula", "states", "edges", "seconds"} for r in rows)
+
+
+def test_dfa_batch_errors_are_located(tmp_path, capsys):
+    specs = tmp_path / "f.txt"
+    specs.write_text("F a\nF a &&& b\n")
+    code, _, err = run(capsys, "ltl", "dfa", "--file", specs)
+    assert code == 2 and f"{specs}:2:7: unexpected '&'" in err and "'&' or '&&'" in err
+    specs.write_text(" & ".join(f"F p{i}" for i in range(10)) + "\n")
+    code, _, err = run(capsys, "ltl", "dfa", "--file", specs, "--max-states", "50")
+    assert code == 2 and f"{specs}:1: " in err and "more than 50 states" in err
+    code, _, err = run(capsys, "ltl", "dfa")
+    assert code == 2 and "give either a FORMULA or --file" in err

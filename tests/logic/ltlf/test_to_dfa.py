@@ -1,0 +1,63 @@
+import time
+
+import pytest
+from hypothesis import given, settings
+
+from ltlf_strategies import formulas
+from symlearn.errors import LimitExceededError
+from symlearn.logic.ltlf import equivalent, parse, to_dfa, translate
+from symlearn.logic.ltlf.ast import Always, Eventually, Not, Prop, conjunction
+
+
+@pytest.mark.parametrize("text, states, edges", [
+    ("true", 1, 1), ("false", 1, 1), ("a", 3, 4), ("F a", 2, 3), ("G a", 2, 3), ("a U b", 3, 5),
+    ("X a", 4, 5), ("WX a", 4, 5), ("F a & F b", 4, 9), ("a T b", 3, 5), ("G(a -> X b)", 3, 6),
+    ("G(!hole) & F goal", 3, 6), ("F a & G !a", 1, 1),
+])
+def test_known_minimal_sizes(text, states, edges):
+    table = translate(parse(text))
+    assert (table.n_states, table.n_edges) == (states, edges)
+
+
+def test_result_is_complete_minimal_and_matches_the_dfa_class():
+    table = translate(parse("G(req -> F grant) & (a T b) & G !bad"))
+    dfa = table.to_dfa()
+    assert dfa.n_states == table.n_states and dfa.is_complete()
+    assert dfa.minimize().n_states == table.n_states
+    assert table.sink is not None and table.sink not in table.accepting
+    assert to_dfa(parse("F a")).accepts([set(), {"a"}])
+
+
+@settings(max_examples=150, deadline=None)
+@given(formulas(max_leaves=8))
+def test_translation_is_already_minimal(f):
+    table = translate(f)
+    dfa = table.to_dfa()
+    assert dfa.minimize().n_states == table.n_states
+    assert all(len({t for _, t in out}) == len(out) for out in table.edges)  # one edge per target
+
+
+def test_many_propositions_are_not_enumerated():
+    # 2^24 letters; the symbolic construction only splits where the formula looks
+    props = [Prop(f"p{i}") for i in range(24)]
+    f = conjunction(Always(conjunction(*(Not(p) for p in props[:12]))), *(Eventually(p) for p in props[12:15]))
+    start = time.perf_counter()
+    table = translate(f)
+    assert time.perf_counter() - start < 5
+    assert table.n_states == 2 ** 3 + 1  # subsets of the three F's met, plus the sink
+    assert table.n_edges < 200
+
+
+def test_state_limit():
+    counter = " & ".join(f"F p{i}" for i in range(12))
+    with pytest.raises(LimitExceededError, match="more than 100 states") as info:
+        translate(parse(counter), max_states=100)
+    assert "max_states" in info.value.hint
+
+
+def test_equivalence():
+    assert equivalent(parse("a T b"), parse("F(a & X F b)"))
+    assert equivalent(parse("a W b"), parse("a U b | G a"))
+    assert equivalent(parse("!(a U b)"), parse("!a R !b"))
+    assert equivalent(parse("G F a"), parse("F G a"))  # both: 'a' at the last step
+    assert not equivalent(parse("X a"), parse("WX a"))
