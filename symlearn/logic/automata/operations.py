@@ -1,12 +1,13 @@
 """Algorithms on guarded DFAs: completion, minimisation, products, shortest words, equivalence.
 
-None of them enumerates the 2^|AP| letters: they work on guards. Minimisation is Moore-style
-partition refinement where a state's signature is, for every block of the current partition,
-the disjunction of the guards leading into that block; because guards are canonical BDDs,
-two states stay together exactly when those disjunctions are equal. Shortest words come from
+None of them enumerates the 2^|AP| letters: they work on guards, and because guards are
+canonical BDDs, "same guard" is a dictionary lookup. Shortest words come from
 breadth-first search; each letter of a returned word is
 :meth:`~symlearn.logic.guards.Guard.satisfying_label` of the edge taken (the label with the
 fewest true propositions), so words are deterministic and small.
+
+Minimisation is Hopcroft's algorithm with symbolic splitters (:func:`coarsest_partition`);
+Moore's round-based refinement is kept as :func:`minimize_moore` for cross-checking.
 """
 
 from __future__ import annotations
@@ -121,23 +122,10 @@ def minimize(dfa: DFA) -> DFA:
     Two DFAs with the same language (and alphabet) give structurally equal results
     (:meth:`DFA.same_structure`). A merged block keeps the name of its lowest-numbered state.
     """
-    dfa = _renumber(complete(dfa), reachable_states(complete(dfa)))
-    block = [1 if q in dfa.accepting else 0 for q in dfa.states]
-    n_blocks = len(set(block))
-    while True:
-        signatures: dict[tuple, int] = {}
-        new_block = []
-        for q in dfa.states:
-            into: dict[int, Guard] = {}
-            for guard, target in dfa.successors(q):
-                b = block[target]
-                into[b] = into[b] | guard if b in into else guard
-            signature = (block[q], frozenset(into.items()))
-            new_block.append(signatures.setdefault(signature, len(signatures)))
-        block = new_block
-        if len(signatures) == n_blocks:
-            break
-        n_blocks = len(signatures)
+    total = complete(dfa)
+    dfa = _renumber(total, reachable_states(total))
+    block = coarsest_partition(dfa)
+    n_blocks = max(block) + 1
     representative: dict[int, int] = {}
     for q in dfa.states:
         representative.setdefault(block[q], q)
@@ -150,6 +138,86 @@ def minimize(dfa: DFA) -> DFA:
     accepting = {block[q] for q in dfa.accepting}
     names = None if dfa.state_names is None else [dfa.state_names[representative[b]] for b in range(n_blocks)]
     quotient = DFA._trusted(dfa.alphabet, n_blocks, block[dfa.initial], accepting, edges, names)
+    return _renumber(quotient, quotient.states)
+
+
+def coarsest_partition(dfa: DFA) -> list[int]:
+    """Block number of every state in the language-equivalence partition of a complete DFA.
+
+    Hopcroft's algorithm with symbolic splitters: processing block ``B`` gives each state ``q``
+    the guard ``g_B(q)``, the disjunction of its edges into ``B``; a block splits into the
+    classes of equal ``g_B`` (canonical guards make this a dictionary lookup), which is the
+    split every letter would cause at once. All parts but the largest go on the worklist.
+    """
+    predecessors: list[list[tuple[int, Guard]]] = [[] for _ in dfa.states]
+    for source, guard, target in dfa.edges():
+        predecessors[target].append((source, guard))
+    initial_blocks = [b for b in (set(dfa.accepting), set(dfa.states) - set(dfa.accepting)) if b]
+    blocks: list[set[int]] = initial_blocks
+    block_of = [0] * dfa.n_states
+    for i, members in enumerate(blocks):
+        for q in members:
+            block_of[q] = i
+    work, waiting = list(range(len(blocks))), set(range(len(blocks)))
+    while work:
+        splitter = work.pop()
+        waiting.discard(splitter)
+        into: dict[int, Guard] = {}
+        for target in blocks[splitter]:
+            for source, guard in predecessors[target]:
+                into[source] = into[source] | guard if source in into else guard
+        touched: dict[int, dict[Guard, list[int]]] = {}
+        for q, guard in into.items():
+            touched.setdefault(block_of[q], {}).setdefault(guard, []).append(q)
+        for c, classes in touched.items():
+            parts = list(classes.values())
+            rest = [q for q in blocks[c] if q not in into]
+            if rest:
+                parts.append(rest)
+            if len(parts) == 1:
+                continue
+            parts.sort(key=len, reverse=True)
+            blocks[c] = set(parts[0])  # the largest part keeps the id (and its worklist status)
+            for part in parts[1:]:
+                new = len(blocks)
+                blocks.append(set(part))
+                for q in part:
+                    block_of[q] = new
+                work.append(new)
+                waiting.add(new)
+    return block_of
+
+
+def minimize_moore(dfa: DFA) -> DFA:
+    """Reference minimisation by Moore's round-based refinement (quadratic; used in tests)."""
+    total = complete(dfa)
+    dfa = _renumber(total, reachable_states(total))
+    block = [1 if q in dfa.accepting else 0 for q in dfa.states]
+    n_blocks = len(set(block))
+    while True:
+        signatures: dict[tuple, int] = {}
+        new_block = []
+        for q in dfa.states:
+            into: dict[int, Guard] = {}
+            for guard, target in dfa.successors(q):
+                b = block[target]
+                into[b] = into[b] | guard if b in into else guard
+            new_block.append(signatures.setdefault((block[q], frozenset(into.items())), len(signatures)))
+        block = new_block
+        if len(signatures) == n_blocks:
+            break
+        n_blocks = len(signatures)
+    edges = [[] for _ in range(n_blocks)]
+    done = set()
+    for q in dfa.states:
+        if block[q] in done:
+            continue
+        done.add(block[q])
+        into: dict[int, Guard] = {}
+        for guard, target in dfa.successors(q):
+            into[block[target]] = into[block[target]] | guard if block[target] in into else guard
+        edges[block[q]] = [(g, t) for t, g in into.items()]
+    quotient = DFA._trusted(dfa.alphabet, n_blocks, block[dfa.initial], {block[q] for q in dfa.accepting}, edges)
     return _renumber(quotient, quotient.states)
 
 

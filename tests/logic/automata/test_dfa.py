@@ -185,3 +185,29 @@ def test_shortest_words_are_correct(d):
         assert d.accepts(acc)
     if rej is not None:
         assert not d.accepts(rej)
+
+
+@settings(max_examples=80, deadline=None)
+@given(dfas(("a", "b", "c"), max_states=6))
+def test_hopcroft_agrees_with_moore_and_is_minimal(d):
+    from symlearn.logic.automata.operations import minimize_moore
+
+    m = d.minimize()
+    assert m.same_structure(minimize_moore(d))
+    # no two states of the result accept the same language
+    for i in m.states:
+        for j in range(i + 1, m.n_states):
+            left = DFA._trusted(m.alphabet, m.n_states, i, m.accepting, [m.successors(q) for q in m.states])
+            right = DFA._trusted(m.alphabet, m.n_states, j, m.accepting, [m.successors(q) for q in m.states])
+            assert not left.equivalent(right)[0]
+
+
+def test_minimize_large_counter_is_fast():
+    import time
+
+    n = 400
+    tr = {k: [(a, ((k % n + 1) % n) + n * (1 - k // n)), (~a, k)] for k in range(2 * n)}
+    d = DFA({"a", "b"}, 2 * n, 0, [0, n], tr)
+    start = time.perf_counter()
+    m = d.minimize()
+    assert m.n_states == n and time.perf_counter() - start < 2.0
