@@ -143,3 +143,24 @@ def test_malformed_rm_text(text, line, column, message):
 def test_rm_text_never_evaluates_python():
     with pytest.raises(ParseError):
         parse_rm_text("__import__('os').system('false')\n[]\n")
+
+
+# -- cross-check of our operations against automata built independently by LTLf2DFA/MONA --------
+def _ltlf2dfa(name):
+    return read_mona_dot(DATA / f"ltlf2dfa_{name}.dot")
+
+
+def test_products_and_complement_agree_with_mona():
+    fa, gb = _ltlf2dfa("fa"), _ltlf2dfa("gb")
+    assert (fa & gb).equivalent(_ltlf2dfa("fa_and_gb")) == (True, None)
+    assert (fa | gb).equivalent(_ltlf2dfa("fa_or_gb")) == (True, None)
+    assert fa.complement().equivalent(_ltlf2dfa("not_fa")) == (True, None)
+    same, witness = fa.equivalent(gb)
+    assert not same and fa.accepts(witness) != gb.accepts(witness)
+
+
+def test_minimize_keeps_mona_minimal_sizes():
+    # MONA's DFAs are minimal; ours must have the same number of states after minimising
+    for name in ("fa", "gb", "fa_and_gb", "fa_or_gb", "a_until_b", "ga_implies_fb", "g_a_implies_xb"):
+        d = _ltlf2dfa(name)
+        assert d.is_complete() and d.minimize().n_states == d.n_states, name
