@@ -6,7 +6,7 @@
 #constant(direction, west).
 
 #modeb(1, onRoad(const(direction))).
-#modeb(1, beforeJunction(const(direction))).
+#modeb(1, beforeJunction(const(direction)), (positive)).
 #modeb(1, go(const(direction))).
 #modeb(1, tls0, (positive)).
 #modeb(1, tls1, (positive)).
