@@ -46,6 +46,7 @@ _or_cache: dict[tuple[int, int], int] = {}
 _not_cache: dict[int, int] = {}
 _support_cache: dict[int, frozenset[str]] = {_FALSE: frozenset(), _TRUE: frozenset()}
 _text_cache: dict[int, str] = {}
+_label_cache: dict[int, frozenset[str]] = {}
 
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _KEYWORDS = {"true", "false"}
@@ -295,6 +296,9 @@ class Guard:
         """
         if self._node == _FALSE:
             return None
+        cached = _label_cache.get(self._node)
+        if cached is not None:
+            return cached
         cost: dict[int, float] = {_FALSE: float("inf"), _TRUE: 0}
 
         def best(u: int) -> float:
@@ -310,7 +314,9 @@ class Guard:
             else:
                 label.add(_var[u])
                 u = _high[u]
-        return frozenset(label)  # type: ignore[arg-type]
+        result = frozenset(label)  # type: ignore[arg-type]
+        _label_cache[self._node] = result
+        return result
 
     def closest_label(self, label: AbstractSet[str]) -> frozenset[str] | None:
         """A satisfying label that differs from ``label`` in as few propositions as possible.

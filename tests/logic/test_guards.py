@@ -132,6 +132,7 @@ def test_immutable_and_picklable():
     ("a $ b", 3, None),
     ("", 1, None),
     ("a b", 3, None),
+    ('""', 1, None),
 ])
 def test_parse_errors_name_the_column(text, column, hint):
     with pytest.raises(ParseError) as info:
@@ -143,7 +144,7 @@ def test_parse_errors_name_the_column(text, column, hint):
 
 
 @settings(max_examples=300, deadline=None)
-@given(st.text(alphabet="ab!&|()~ \"tfrue", max_size=12))
+@given(st.text(alphabet="ab!&|()~ \"\\tfrue", max_size=12))
 def test_fuzzing_parser_raises_only_parse_errors(text):
     try:
         g = Guard.parse(text)
