@@ -35,7 +35,9 @@ from functools import cached_property
 
 import numpy as np
 
+from symlearn.envs.asp_constants import set_constants
 from symlearn.errors import ModelError
+from symlearn.resources import background_kb_path
 
 Slot = tuple[int, int]
 
@@ -250,6 +252,11 @@ class HanoiModel:
                             nxt.append(other)
             frontier = nxt
         return distance
+
+    def background(self) -> str:
+        """``background_kb/hanoi/bk.lp`` with its size constants set to this game."""
+        return set_constants(background_kb_path("hanoi", "bk.lp").read_text(encoding="utf-8"),
+                             {"disks": self.n_disks, "pegs": self.n_pegs})
 
     # --- rendering as ASP facts --------------------------------------------------------------
     def state_facts(self, state: HanoiState) -> list[str]:

@@ -3,7 +3,8 @@
 A :class:`LogicDomain` ties a Python domain model (states, actions, ground truth, facts) to the
 files in ``background_kb/<folder>/``:
 
-* ``bk.lp`` -- background knowledge; with one example's facts it has one answer set;
+* ``bk.lp`` -- background knowledge; with one example's facts it has one answer set (its
+  ``#const`` sizes are set to the model's by ``model.background()``);
 * ``space*.lp`` -- a generator whose answer sets (with ``bk.lp``) are all state-action pairs;
 * ``bias*.las`` -- mode declarations of the hypothesis space;
 * ``truth*.lp`` -- the ground-truth rules, as constraints over the background predicates.
@@ -67,7 +68,8 @@ class LogicDomain:
         return self.path(self.truth_file)
 
     def background(self) -> str:
-        return self.bk_path.read_text(encoding="utf-8")
+        """The background knowledge for this domain's model (``bk.lp`` sized to the model)."""
+        return self.model.background()
 
     def bias(self) -> str:
         return self.bias_path.read_text(encoding="utf-8")
@@ -127,7 +129,7 @@ class LogicDomain:
         """
         from symlearn.logic.asp import Hypothesis, Program
 
-        background = Program.from_file(self.bk_path)
+        background = Program.from_text(self.background(), source=str(self.bk_path))
         if isinstance(rules, Path):
             hypothesis = Hypothesis.from_lp(rules, background=background)
         elif isinstance(rules, str):

@@ -48,7 +48,9 @@ from functools import cached_property
 
 import numpy as np
 
+from symlearn.envs.asp_constants import set_constants
 from symlearn.errors import ModelError
+from symlearn.resources import background_kb_path
 
 Cell = tuple[int, int]
 
@@ -276,6 +278,11 @@ class TrafficJunction:
 
     def example_facts(self, state: JunctionState, action: str) -> list[str]:
         return [*self.state_facts(state), self.action_fact(state, action)]
+
+    def background(self) -> str:
+        """``background_kb/traffic/bk.lp`` with its geometry constants set to this grid."""
+        return set_constants(background_kb_path("traffic", "bk.lp").read_text(encoding="utf-8"),
+                             {"size": self.size, "jx": self.junction[0], "jy": self.junction[1]})
 
     # --- helpers -----------------------------------------------------------------------------
     def _action(self, action: str) -> str:

@@ -2,7 +2,10 @@
 
 import pytest
 
-from symlearn.envs.logic_domains import DOMAIN_NAMES, logic_domain
+from symlearn.envs.asp_constants import set_constants
+from symlearn.envs.hanoi_model import HanoiModel
+from symlearn.envs.logic_domains import DOMAIN_NAMES, LogicDomain, logic_domain
+from symlearn.envs.traffic_model import TrafficJunction
 from symlearn.errors import ModelError
 from symlearn.logic.asp import Hypothesis, Program, answer_sets
 
@@ -66,3 +69,25 @@ def test_decode_rejects_a_non_pair():
 def test_unknown_domain():
     with pytest.raises(ModelError, match="unknown logic domain"):
         logic_domain("chess")
+
+
+@pytest.mark.parametrize("folder, model_factory, files", [
+    ("traffic", lambda: TrafficJunction("lights", size=7, junction=(4, 4)), ("space_lights.lp", "truth_lights.lp")),
+    ("traffic", lambda: TrafficJunction("priority", size=7, junction=(3, 5)),
+     ("space_priority.lp", "truth_priority.lp")),
+    ("hanoi", lambda: HanoiModel(4, 3), ("space.lp", "truth.lp")),
+    ("hanoi", lambda: HanoiModel(2, 4), ("space.lp", "truth.lp")),
+])
+def test_resized_background_agrees_with_the_resized_model(folder, model_factory, files):
+    model = model_factory()
+    space, truth = files
+    domain = LogicDomain("resized", folder, "bk.lp", space, "bias.las", truth, model, "resized")
+    models = answer_sets(Program.from_text(domain.background()) + Program.from_file(domain.space_path))
+    assert sorted(domain.decode(m) for m in models) == sorted(model.state_actions())
+    expected = [(s, a) for s, a in model.state_actions() if not model.is_allowed(s, a)]
+    assert domain.forbidden_pairs(domain.truth_path) == expected
+
+
+def test_set_constants_refuses_a_missing_constant():
+    with pytest.raises(ModelError, match="#const size 0 times"):
+        set_constants("col(1..5).", {"size": 7})

@@ -8,12 +8,16 @@
 %
 % An example's context gives the configuration and the move as facts:
 %   at(D, X, Y)   disk D sits on peg X at height Y (0 = bottom); disks are numbered from
-%                 the largest (0) to the smallest (2)
+%                 the largest (0) to the smallest (disks - 1)
 %   move(D, P)    the top disk D is moved onto peg P
 % Given those facts this program has exactly one answer set.
 
-disk(0..2).
-peg(0..2).
+% Size: symlearn's HanoiModel(n_disks, n_pegs) rewrites these two lines (HanoiModel.background()).
+#const disks = 3.
+#const pegs = 3.
+
+disk(0..disks - 1).
+peg(0..pegs - 1).
 
 % The slot of every disk after the move: the moved disk lands on top of the target peg.
 moved(D) :- move(D, _).
