@@ -11,6 +11,7 @@ ground truth allows, negatives pairs it forbids. Two ways to choose the pairs:
 
 * :func:`exhaustive_examples` -- every pair of the domain, so any hypothesis that covers all
   examples classifies the whole domain exactly like the ground truth;
+* :func:`sampled_examples` -- a seeded uniform sample of allowed and of forbidden pairs;
 * :func:`demonstration_examples` -- like learning from demonstrations: positives are the
   distinct pairs of rule-abiding expert episodes, negatives the forbidden actions in states the
   expert visited (the violations an observer can point at), optionally capped.
@@ -68,6 +69,22 @@ def _number(labelled: Iterable[tuple[tuple[str, ...], bool]], penalty: int | Non
 def exhaustive_examples(domain: LogicDomain) -> list[Example]:
     """Every state-action pair of the domain, labelled by the ground truth, in model order."""
     return _number(domain.pairs())
+
+
+def sampled_examples(domain: LogicDomain, n_positive: int, n_negative: int, seed: int = 0) -> list[Example]:
+    """A seeded uniform sample (without replacement) of allowed and of forbidden pairs.
+
+    Raises :class:`DataError` when the domain has fewer pairs of a kind than requested.
+    """
+    rng = np.random.default_rng(seed)
+    chosen = []
+    for positive, wanted in ((True, n_positive), (False, n_negative)):
+        pool = [facts for facts, ok in domain.pairs() if ok == positive]
+        kind = "allowed" if positive else "forbidden"
+        if not 0 <= wanted <= len(pool):
+            raise DataError(f"asked for {wanted} {kind} pairs, {domain.name} has {len(pool)}")
+        chosen.extend((pool[i], positive) for i in sorted(rng.choice(len(pool), size=wanted, replace=False)))
+    return _number(chosen)
 
 
 def demonstration_examples(domain: LogicDomain, n_episodes: int = 20, seed: int = 0,
@@ -152,4 +169,4 @@ def write_default_tasks(root: str | os.PathLike[str]) -> list[Path]:
 
 
 __all__ = ["DEFAULT_TASKS", "DOMAIN_NAMES", "Example", "default_task_text", "demonstration_examples",
-           "exhaustive_examples", "task_text", "write_default_tasks", "write_task"]
+           "exhaustive_examples", "sampled_examples", "task_text", "write_default_tasks", "write_task"]

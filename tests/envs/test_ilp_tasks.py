@@ -3,7 +3,7 @@ from pathlib import Path
 import pytest
 
 from symlearn.envs.ilp_tasks import (DEFAULT_TASKS, Example, default_task_text, demonstration_examples,
-                                     exhaustive_examples, task_text, write_task)
+                                     exhaustive_examples, sampled_examples, task_text, write_task)
 from symlearn.envs.logic_domains import DOMAIN_NAMES, logic_domain
 from symlearn.errors import DataError
 from symlearn.logic.ilp import load_task, parse_task
@@ -39,6 +39,20 @@ def test_demonstration_examples_are_deterministic_and_truthful(name):
 def test_different_seeds_give_different_traffic_demonstrations():
     domain = logic_domain("traffic-lights")
     assert demonstration_examples(domain, 5, seed=1) != demonstration_examples(domain, 5, seed=2)
+
+
+def test_sampled_examples():
+    domain = logic_domain("hanoi")
+    sample = sampled_examples(domain, 10, 4, seed=3)
+    assert sample == sampled_examples(domain, 10, 4, seed=3)
+    assert sample != sampled_examples(domain, 10, 4, seed=4)
+    labels = dict(domain.pairs())
+    assert [e.positive for e in sample] == [True] * 10 + [False] * 4
+    assert all(labels[e.facts] == e.positive for e in sample)
+    assert len({e.facts for e in sample}) == 14
+    assert len(sampled_examples(domain, 114, 102)) == 216
+    with pytest.raises(DataError, match="asked for 115 allowed pairs, hanoi has 114"):
+        sampled_examples(domain, 115, 0)
 
 
 def test_example_lines():
