@@ -136,7 +136,9 @@ def soft_value_iteration(
         if delta < tol and same_support:
             converged = True
             break
-    policy = _masked_softmax_policy((q - values[:, None]) / beta, mask)
+    with np.errstate(invalid="ignore"):  # -inf - -inf in states with no allowed action
+        logits = np.nan_to_num((q - values[:, None]) / beta, nan=-np.inf)
+    policy = _masked_softmax_policy(logits, mask)
     return SoftValueResult(values, q, policy, iteration, converged)
 
 

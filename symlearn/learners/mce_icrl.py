@@ -1,0 +1,194 @@
+"""Tabular maximum causal entropy inverse constrained RL (MCE-ICRL) and its non-causal baseline.
+
+The learner looks for the policy that maximises reward plus ``beta`` times the causal entropy
+while its expected (discounted) features do not exceed the expert's. Its Lagrangian dual is
+solved by alternating
+
+1. soft policy iteration with cost ``C(s, a) = lambda . phi(s, a)`` subtracted from the reward
+   (exact soft value iteration, warm-started from the previous round), and
+2. a projected gradient step on the multipliers,
+   ``lambda <- max(0, lambda - eta * (E_D[phi] - E_pi[phi]))``, where ``E_pi`` is computed
+   exactly with a forward pass in the true (stochastic) dynamics and ``E_D`` from the
+   demonstrations.
+
+Features whose expected count under the policy exceeds the expert's gain cost; the learned
+constraint map is the set of features whose multiplier ends above ``threshold``.
+
+:class:`MEICRL` is the same loop with *non-causal* (trajectory) entropy: the policy comes from
+the trajectory-level MaxEnt model ``P(tau) ~ prod P(s'|s,a) exp(return / beta)``, whose backup
+is ``Q = R - C + gamma * beta * log E_{s'}[exp(V(s') / beta)]`` (see
+:mod:`symlearn.rl.maxent`). That model credits the agent with choosing its own successor, so a
+risky action is valued by its lucky outcomes: with stochastic dynamics no multiplier can stop
+the policy from taking it, and the violations stay. With deterministic dynamics the two coincide.
+
+>>> from symlearn.envs.gridworld import StochasticGridworld
+>>> from symlearn.data import record
+>>> env = StochasticGridworld(0.0); policy = env.expert_policy()
+>>> demos = record(env, lambda s: int(policy[s]), 5, seed=0, max_steps=200)
+>>> learner = MCEICRL(env.to_tabular(), n_iterations=200).fit(demos)
+>>> bool(learner.constraint_map_[env.forbidden_states].mean() > 0.5)
+True
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Iterable
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+
+from symlearn.errors import ModelError, SymlearnError
+from symlearn.learners.tabular_demos import check_constraints, discounted_counts, tabular_episodes
+from symlearn.mdp import TabularMDP
+from symlearn.rl.maxent import Entropy, forward_pass, soft_value_iteration
+from symlearn.rl.tabular import check_mask
+
+
+def state_features(mdp: TabularMDP) -> np.ndarray:
+    """``phi(s, a) = one-hot(s)``: one multiplier, hence one cost, per state."""
+    return np.broadcast_to(np.eye(mdp.n_states)[:, None, :], (mdp.n_states, mdp.n_actions, mdp.n_states))
+
+
+def state_action_features(mdp: TabularMDP) -> np.ndarray:
+    """``phi(s, a) = one-hot(s, a)``: one multiplier per state-action pair."""
+    k = mdp.n_states * mdp.n_actions
+    return np.eye(k).reshape(mdp.n_states, mdp.n_actions, k)
+
+
+_FEATURES = {"state": state_features, "state_action": state_action_features}
+
+
+@dataclass(frozen=True)
+class DualStep:
+    iteration: int
+    excess: float  # largest amount by which a policy feature count exceeds the expert's
+    n_active: int  # multipliers above the threshold
+    seconds: float
+
+
+class MCEICRL:
+    """Tabular MCE-ICRL; scikit-learn style (``fit(demos) -> self``).
+
+    Parameters: ``mdp`` (its rewards are the known reward), ``features`` (``"state"``,
+    ``"state_action"`` or a non-negative array ``(S, A, k)``), ``beta`` (entropy weight),
+    ``discount``, ``horizon`` (steps counted in feature expectations; demonstrations are cut
+    there too), ``learning_rate`` (eta), ``n_iterations``, ``budget`` (alpha: the slack of the
+    feature-matching constraint; 0 = hard constraints), ``tol`` (stop once no policy feature
+    count exceeds the expert's by more than ``tol + budget``), ``threshold`` (a multiplier
+    above it marks a constrained feature), ``known_constraints`` (a forbidden (S, A) mask that
+    is known in advance: removed from the policy; demonstrations breaking it raise a
+    :class:`~symlearn.errors.DataError`, or with ``on_violation="warn"`` a warning with the
+    count), ``max_sweeps`` (soft value iteration sweeps per round; the solve is warm-started).
+
+    Results: ``lambda_`` (k,), ``cost_`` (S, A), ``policy_`` (S, A), ``constraint_map_``
+    (``lambda_ > threshold``; per state for state features), ``expert_features_``,
+    ``policy_features_``, ``history_`` (one :class:`DualStep` per iteration), ``converged_``,
+    ``n_iter_``, ``seconds_``.
+    """
+
+    entropy: Entropy = "causal"
+
+    def __init__(
+        self,
+        mdp: TabularMDP,
+        *,
+        features: str | np.ndarray = "state",
+        beta: float = 0.5,
+        discount: float = 0.99,
+        horizon: int = 200,
+        learning_rate: float = 2.0,
+        n_iterations: int = 300,
+        budget: float = 0.0,
+        tol: float = 1e-3,
+        threshold: float = 0.5,
+        known_constraints: np.ndarray | None = None,
+        on_violation: Literal["error", "warn"] = "error",
+        max_sweeps: int = 50,
+    ) -> None:
+        self.mdp = getattr(mdp, "to_tabular", lambda: mdp)() if not isinstance(mdp, TabularMDP) else mdp
+        if not isinstance(self.mdp, TabularMDP):
+            raise ModelError(f"{type(mdp).__name__} is not a TabularMDP and has no to_tabular()")
+        self.features = features
+        self.beta = beta
+        self.discount = discount
+        self.horizon = horizon
+        self.learning_rate = learning_rate
+        self.n_iterations = n_iterations
+        self.budget = budget
+        self.tol = tol
+        self.threshold = threshold
+        self.known_constraints = known_constraints
+        self.on_violation = on_violation
+        self.max_sweeps = max_sweeps
+
+    def _phi(self) -> np.ndarray:
+        if isinstance(self.features, str):
+            try:
+                return _FEATURES[self.features](self.mdp)
+            except KeyError:
+                raise SymlearnError(f"unknown features {self.features!r}", hint=f"use one of {sorted(_FEATURES)} or an array") from None
+        phi = np.asarray(self.features, dtype=np.float64)
+        if phi.ndim != 3 or phi.shape[:2] != (self.mdp.n_states, self.mdp.n_actions):
+            raise ModelError(f"features must have shape (S, A, k) with (S, A) = {(self.mdp.n_states, self.mdp.n_actions)}, got {phi.shape}")
+        if (phi < 0).any() or not np.isfinite(phi).all():
+            raise ModelError("features must be finite and non-negative")
+        return phi
+
+    def fit(self, demos: Iterable[Any]) -> MCEICRL:
+        if self.learning_rate <= 0 or self.n_iterations < 1 or self.horizon < 1:
+            raise SymlearnError("learning_rate must be positive, n_iterations and horizon at least 1")
+        started = time.perf_counter()
+        mdp = self.mdp
+        episodes = tabular_episodes(demos, mdp)
+        allowed = None
+        if self.known_constraints is not None:
+            known = check_mask(mdp, self.known_constraints, "known constraints")
+            check_constraints(episodes, known, self.on_violation)
+            allowed = ~known
+        phi = self._phi()
+        flat_phi = phi.reshape(-1, phi.shape[2])
+        expert = discounted_counts(episodes, mdp, self.discount, self.horizon).reshape(-1) @ flat_phi
+        lam = np.zeros(phi.shape[2])
+        values = None
+        history: list[DualStep] = []
+        converged = False
+        policy_features = np.zeros_like(expert)
+        policy = None
+        for iteration in range(1, self.n_iterations + 1):
+            t0 = time.perf_counter()
+            cost = (flat_phi @ lam).reshape(mdp.n_states, mdp.n_actions)
+            solved = soft_value_iteration(mdp, beta=self.beta, discount=self.discount, cost=cost, allowed=allowed,
+                                          entropy=self.entropy, tol=1e-6, initial_values=values,
+                                          max_iterations=self.max_sweeps)
+            values = solved.values
+            policy = solved.policy
+            visits = forward_pass(mdp, policy, self.horizon, discount=self.discount, tol=1e-12)
+            policy_features = visits.state_actions.reshape(-1) @ flat_phi
+            gap = expert - policy_features - self.budget  # gradient of the Lagrangian in lambda
+            excess = float(np.max(-gap))
+            if excess <= self.tol:
+                converged = True
+            else:
+                lam = np.maximum(0.0, lam - self.learning_rate * gap)
+            history.append(DualStep(iteration, excess, int((lam > self.threshold).sum()), time.perf_counter() - t0))
+            if converged:
+                break
+        self.lambda_ = lam
+        self.cost_ = (flat_phi @ lam).reshape(mdp.n_states, mdp.n_actions)
+        self.policy_ = policy
+        self.expert_features_ = expert
+        self.policy_features_ = policy_features
+        self.constraint_map_ = lam > self.threshold
+        self.history_ = history
+        self.converged_ = converged
+        self.n_iter_ = len(history)
+        self.seconds_ = time.perf_counter() - started
+        return self
+
+
+class MEICRL(MCEICRL):
+    """The baseline with non-causal (trajectory) entropy; see the module docstring."""
+
+    entropy: Entropy = "trajectory"

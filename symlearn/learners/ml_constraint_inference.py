@@ -1,0 +1,194 @@
+"""Maximum-likelihood constraint inference in a tabular MDP (in the style of Scobee & Sastry).
+
+Under the maximum-entropy model a demonstration's probability is proportional to
+``exp(reward)`` among all trajectories still valid in the constrained MDP, so the constraint
+that raises the likelihood of the demonstrations most is the one removing the most probability
+mass: the *unobserved* state-action pair that the nominal (constraint-free so far) MaxEnt
+policy visits most often. Each iteration
+
+1. computes, for every goal ``g`` (a state where a demonstration ended), the goal-conditioned
+   MaxEnt policy ``Z_sa / Z_s`` with a planning horizon, and its expected state-action
+   visitation from the demonstrations' start states (weighted by how many demonstrations
+   pursue ``g``);
+2. adds the unobserved, still allowed pair with the highest visitation;
+3. closes the set: a state left with no valid action becomes *empty* and every pair that can
+   enter it (positive probability) is forbidden too (:func:`symlearn.rl.tabular.restrict`);
+   demonstrated pairs are never forbidden;
+4. optionally lets ``generalize`` extend the set (the hook where logic constraint inference
+   plugs in an ILP step: induce rules from demonstrated and forbidden pairs, translate them
+   back to every pair they forbid);
+5. restricts the MDP.
+
+**Stopping criterion**: the loop ends when the best candidate's expected visitation drops below
+``min_visitation`` (adding it would barely change the likelihood), when no unobserved allowed
+pair is left, or after ``max_iterations``.
+
+The reward is the MDP's own (``reward="given"``), an explicit ``(S, A)``/``(S, A, S)`` array,
+or ``"sparse"``: 1 for entering a state where a demonstration ended, 0 otherwise.
+``rationality`` multiplies it (the inverse temperature of the MaxEnt model): with many actions
+and a small step cost, long wandering paths can outweigh short ones unless it is raised.
+
+>>> from symlearn.envs.gridworld import StochasticGridworld
+>>> from symlearn.data import record
+>>> env = StochasticGridworld(0.0); policy = env.expert_policy()
+>>> demos = record(env, lambda s: int(policy[s]), 3, seed=0, max_steps=200)
+>>> learner = MLConstraintInference(env.to_tabular(), horizon=30).fit(demos)
+>>> int(learner.constraints_.sum()) > 0, learner.stopped_because_ in {"min_visitation", "no_candidates"}
+(True, True)
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+
+from symlearn.errors import ModelError, SymlearnError
+from symlearn.learners.tabular_demos import check_constraints, demonstrated_pairs, final_states, tabular_episodes
+from symlearn.mdp import TabularMDP
+from symlearn.rl.maxent import forward_pass, maxent_backward_pass
+from symlearn.rl.tabular import check_mask, restrict
+
+Generalizer = Callable[[np.ndarray, np.ndarray], np.ndarray]
+
+
+@dataclass(frozen=True)
+class InferenceStep:
+    iteration: int
+    state: int
+    action: int
+    visitation: float  # expected visits of the chosen pair under the nominal policy
+    n_forbidden: int  # size of the closed constraint set after this step
+    n_generalized: int  # pairs added by ``generalize`` in this step
+    seconds: float
+
+
+class MLConstraintInference:
+    """Scikit-learn style: ``MLConstraintInference(mdp, ...).fit(demos)``.
+
+    Results: ``constraints_`` (forbidden (S, A) mask), ``empty_states_``, ``policy_`` (nominal
+    MaxEnt policy of the restricted MDP for the most frequent goal), ``goals_``, ``history_``
+    (one :class:`InferenceStep` per added constraint), ``stopped_because_``, ``seconds_``.
+    """
+
+    def __init__(
+        self,
+        mdp: TabularMDP,
+        *,
+        reward: Literal["given", "sparse"] | np.ndarray = "given",
+        horizon: int = 50,
+        max_iterations: int = 200,
+        min_visitation: float = 1e-3,
+        known_constraints: np.ndarray | None = None,
+        on_violation: Literal["error", "warn"] = "error",
+        generalize: Generalizer | None = None,
+        rationality: float = 1.0,
+    ) -> None:
+        self.mdp = mdp if isinstance(mdp, TabularMDP) else getattr(mdp, "to_tabular", lambda: mdp)()
+        if not isinstance(self.mdp, TabularMDP):
+            raise ModelError(f"{type(mdp).__name__} is not a TabularMDP and has no to_tabular()")
+        self.reward = reward
+        self.horizon = horizon
+        self.max_iterations = max_iterations
+        self.min_visitation = min_visitation
+        self.known_constraints = known_constraints
+        self.on_violation = on_violation
+        self.generalize = generalize
+        self.rationality = rationality
+
+    def _reward(self, goal: int) -> np.ndarray:
+        mdp = self.mdp
+        if isinstance(self.reward, str):
+            if self.reward == "given":
+                return mdp.rewards
+            if self.reward == "sparse":
+                sparse = np.zeros(mdp.transitions.shape)
+                sparse[:, :, goal] = 1.0
+                return sparse
+            raise SymlearnError(f"unknown reward {self.reward!r}", hint="use 'given', 'sparse' or an array")
+        return np.asarray(self.reward, dtype=np.float64)
+
+    def visitation(self, forbidden: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Expected state-action visitation (S, A) of the goal-conditioned nominal policies in
+        the MDP restricted by ``forbidden``, and the policy for the most frequent goal."""
+        mdp = self.mdp
+        allowed = ~forbidden
+        total = np.zeros(forbidden.shape)
+        main_policy = None
+        for goal, weight, start in self._goal_groups:
+            reward = self.rationality * self._reward(goal)
+            backward = maxent_backward_pass(mdp, [goal], self.horizon, reward=reward, allowed=allowed)
+            goal_mdp = mdp.make_absorbing([goal]) if not mdp.terminal[goal] else mdp
+            visits = forward_pass(goal_mdp, backward.policy, self.horizon, initial=start, tol=1e-12)
+            total += weight * visits.state_actions
+            if main_policy is None:
+                main_policy = backward.policy
+        return total, main_policy
+
+    def fit(self, demos: Iterable[Any]) -> MLConstraintInference:
+        if self.horizon < 1 or self.max_iterations < 0:
+            raise SymlearnError("horizon must be at least 1 and max_iterations non-negative")
+        started = time.perf_counter()
+        mdp = self.mdp
+        episodes = tabular_episodes(demos, mdp)
+        seen = demonstrated_pairs(episodes, mdp)
+        forbidden = np.zeros_like(seen)
+        if self.known_constraints is not None:
+            forbidden = check_mask(mdp, self.known_constraints, "known constraints").copy()
+            check_constraints(episodes, forbidden, self.on_violation)
+            forbidden &= ~seen  # with on_violation="warn" the noisy pairs stay allowed
+        self._goal_groups = self._goals(episodes)
+        restriction = restrict(mdp, forbidden, protected=seen)
+        forbidden = restriction.forbidden
+        history: list[InferenceStep] = []
+        stopped = "max_iterations"
+        policy = None
+        for iteration in range(1, self.max_iterations + 2):
+            t0 = time.perf_counter()
+            visits, policy = self.visitation(forbidden)
+            if iteration > self.max_iterations:
+                break
+            candidates = np.where(~forbidden & ~seen & ~mdp.terminal[:, None], visits, -np.inf)
+            best = int(np.argmax(candidates))
+            value = float(candidates.flat[best])
+            if not np.isfinite(value):
+                stopped = "no_candidates"
+                break
+            if value < self.min_visitation:
+                stopped = "min_visitation"
+                break
+            s, a = divmod(best, mdp.n_actions)
+            forbidden = forbidden.copy()
+            forbidden[s, a] = True
+            before = int(restrict(mdp, forbidden, protected=seen).forbidden.sum())
+            n_generalized = 0
+            if self.generalize is not None:
+                extra = check_mask(mdp, self.generalize(forbidden, seen), "generalized constraints")
+                extra &= ~seen
+                n_generalized = int((extra & ~forbidden).sum())
+                forbidden |= extra
+            forbidden = restrict(mdp, forbidden, protected=seen).forbidden
+            history.append(InferenceStep(iteration, s, a, value, int(forbidden.sum()),
+                                         max(n_generalized, int(forbidden.sum()) - before), time.perf_counter() - t0))
+        final = restrict(mdp, forbidden, protected=seen)
+        self.constraints_ = final.forbidden
+        self.empty_states_ = final.empty_states
+        self.demonstrated_ = seen
+        self.policy_ = policy
+        self.goals_ = tuple(g for g, _, _ in self._goal_groups)
+        self.history_ = history
+        self.stopped_because_ = stopped
+        self.seconds_ = time.perf_counter() - started
+        return self
+
+    def _goals(self, episodes) -> list[tuple[int, float, np.ndarray]]:
+        ends = final_states(episodes)
+        groups = []
+        for goal in sorted(set(ends.tolist()), key=lambda g: (-int(np.sum(ends == g)), g)):
+            members = [e for e, end in zip(episodes, ends) if end == goal]
+            start = np.bincount([int(e.states[0]) for e in members], minlength=self.mdp.n_states) / len(members)
+            groups.append((goal, len(members) / len(episodes), start))
+        return groups

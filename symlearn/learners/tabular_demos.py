@@ -1,0 +1,122 @@
+"""Demonstrations read against a :class:`~symlearn.mdp.TabularMDP`: checked, then counted.
+
+Shared by the tabular constraint learners. Clear mistakes (a state or action id the model does
+not have, a non-integer state) raise :class:`~symlearn.errors.DataError` naming the
+demonstration and step; what looks like noise in recorded data (a step the model gives
+probability zero, a demonstrated pair that breaks a given constraint set when the caller
+allows it) is counted and reported in one warning.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+from typing import Any, Literal
+
+import numpy as np
+
+from symlearn.errors import DataError
+from symlearn.mdp import TabularMDP
+
+
+@dataclass(frozen=True)
+class TabularEpisode:
+    states: np.ndarray  # (T,) int
+    actions: np.ndarray  # (T,) or (T - 1,) int
+
+
+def tabular_episodes(demos: Iterable[Any], mdp: TabularMDP) -> list[TabularEpisode]:
+    """Integer state and action arrays of each demonstration, validated against ``mdp``.
+
+    Accepts :class:`~symlearn.data.Demonstrations`, or any iterable of trajectories or of
+    ``(states, actions)`` pairs.
+    """
+    episodes = []
+    for i, item in enumerate(demos):
+        states, actions = (item.states, item.actions) if hasattr(item, "states") else item
+        if actions is None:
+            raise DataError(f"demonstration {i} has no actions", hint="constraint inference needs state-action pairs")
+        s = _ids(states, f"demonstration {i}: states", mdp.n_states, "state", mdp.state_names)
+        a = _ids(actions, f"demonstration {i}: actions", mdp.n_actions, "action", mdp.action_names)
+        if len(a) not in (len(s), len(s) - 1):
+            raise DataError(f"demonstration {i}: {len(a)} actions for {len(s)} states")
+        episodes.append(TabularEpisode(s, a))
+    if not episodes:
+        raise DataError("no demonstrations were given")
+    impossible = sum(int(np.sum(mdp.transitions[e.states[:-1], e.actions[: len(e.states) - 1], e.states[1:]] == 0))
+                     for e in episodes if len(e.states) > 1)
+    if impossible:
+        warnings.warn(f"{impossible} demonstrated step(s) have probability zero under the model "
+                      "(treated as noise and kept)", stacklevel=3)
+    return episodes
+
+
+def _ids(values: Any, where: str, size: int, what: str, names: Sequence[str]) -> np.ndarray:
+    array = np.asarray(values)
+    if array.ndim != 1:
+        raise DataError(f"{where} must be one {what} id per step, got shape {array.shape}")
+    if array.dtype.kind in "US":  # names: map through the model's names
+        lookup = {n: k for k, n in enumerate(names)}
+        unknown = [v for v in array.tolist() if v not in lookup]
+        if unknown:
+            raise DataError(f"{where}: unknown {what} {unknown[0]!r}", hint=f"the model's {what}s are {', '.join(names[:8])}...")
+        return np.array([lookup[v] for v in array.tolist()], dtype=np.int64)
+    if array.size and (array.dtype.kind not in "iu"):
+        if array.dtype.kind == "f" and np.all(np.equal(np.mod(array, 1), 0)):
+            array = array.astype(np.int64)
+        else:
+            raise DataError(f"{where} must be integer {what} ids, got {array.dtype}")
+    array = array.astype(np.int64)
+    bad = np.flatnonzero((array < 0) | (array >= size))
+    if bad.size:
+        step = int(bad[0])
+        raise DataError(f"{where}: step {step}: {what} {int(array[step])} is outside the environment (0..{size - 1})",
+                        hint=f"{bad.size} step(s) out of range; were the demonstrations recorded in another environment?")
+    return array
+
+
+def demonstrated_pairs(episodes: Sequence[TabularEpisode], mdp: TabularMDP) -> np.ndarray:
+    """Boolean (S, A): the pairs that occur in some demonstration."""
+    seen = np.zeros((mdp.n_states, mdp.n_actions), dtype=bool)
+    for e in episodes:
+        seen[e.states[: len(e.actions)], e.actions] = True
+    return seen
+
+
+def check_constraints(
+    episodes: Sequence[TabularEpisode],
+    forbidden: np.ndarray,
+    on_violation: Literal["error", "warn"] = "error",
+) -> int:
+    """Count demonstrated steps that break the constraint set ``forbidden``; raise on any
+    (``"error"``) or warn with the count (``"warn"``, for noisy data). Returns the count."""
+    count, first = 0, None
+    for i, e in enumerate(episodes):
+        hits = np.flatnonzero(forbidden[e.states[: len(e.actions)], e.actions])
+        if hits.size and first is None:
+            first = (i, int(hits[0]), int(e.states[hits[0]]), int(e.actions[hits[0]]))
+        count += int(hits.size)
+    if count and on_violation == "error":
+        i, t, s, a = first
+        raise DataError(f"demonstration {i}, step {t}: state {s}, action {a} breaks the given constraints "
+                        f"({count} violating step(s) in all)",
+                        hint="fix the demonstrations or the constraint set; on_violation='warn' treats them as noise")
+    if count:
+        warnings.warn(f"{count} demonstrated step(s) break the given constraints (treated as noise)", stacklevel=3)
+    return count
+
+
+def discounted_counts(
+    episodes: Sequence[TabularEpisode], mdp: TabularMDP, discount: float, horizon: int | None = None
+) -> np.ndarray:
+    """Mean over demonstrations of ``sum_t discount**t [s_t = s, a_t = a]``, shape (S, A)."""
+    counts = np.zeros((mdp.n_states, mdp.n_actions))
+    for e in episodes:
+        n = len(e.actions) if horizon is None else min(len(e.actions), horizon)
+        np.add.at(counts, (e.states[:n], e.actions[:n]), discount ** np.arange(n))
+    return counts / len(episodes)
+
+
+def final_states(episodes: Sequence[TabularEpisode]) -> np.ndarray:
+    return np.array([int(e.states[-1]) for e in episodes], dtype=np.int64)
