@@ -22,6 +22,7 @@ from symlearn.cli.output import Output
 from symlearn.errors import SymlearnError
 
 COMMAND_MODULES: tuple[str, ...] = (
+    "symlearn.cli.learn_command",
     "symlearn.cli.ilp_command",
     "symlearn.cli.demo_command",
     "symlearn.cli.data_command",

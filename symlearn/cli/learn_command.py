@@ -1,0 +1,141 @@
+"""``symlearn learn``: learn symbolic models from demonstrations.
+
+The group is open: each sub-command lives in a module with ``register_learn(commands, common)``
+listed in :data:`LEARN_SUBCOMMANDS` (``spec`` is defined here). To add ``learn constraints``,
+write ``symlearn/cli/learn_constraints_command.py`` with such a function and add ONE line to
+the tuple.
+
+``symlearn learn spec --env office-1 [--demos D.jsonl | --n-demos N] [--props given|learn] [-o spec.ltl]``
+writes the formula (``spec.ltl``), the labeling (``spec.labeling.json``) and the automaton
+(``spec.dot`` and, with Graphviz, ``spec.svg``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+from pathlib import Path
+
+# Modules defining register_learn(commands, common); this module registers "spec" itself.
+LEARN_SUBCOMMANDS: tuple[str, ...] = ()
+
+
+def register(subparsers, common) -> None:
+    group = subparsers.add_parser("learn", help="learn symbolic models from demonstrations",
+                                  description="Learn symbolic models (task specifications, ...) from demonstrations.")
+    group.set_defaults(group_parser=group)
+    commands = group.add_subparsers(dest="learn_command", metavar="SUBCOMMAND")
+    register_learn(commands, common)
+    for name in LEARN_SUBCOMMANDS:
+        importlib.import_module(name).register_learn(commands, common)
+
+
+def register_learn(commands, common) -> None:
+    spec = commands.add_parser(
+        "spec", parents=[common()], help="learn an LTLf task specification from expert demonstrations",
+        description="Alternate information-gain template search and CRM Q-learning of a nominal policy until "
+                    "the learned LTLf formula separates expert from nominal behaviour.")
+    spec.add_argument("--env", required=True, help="task/environment name, e.g. office-1 or craft-2")
+    source = spec.add_mutually_exclusive_group()
+    source.add_argument("--demos", help="expert demonstrations (.jsonl or .npz) with environment state ids")
+    source.add_argument("--n-demos", type=int, default=50, help="generate N optimal expert demonstrations (default 50)")
+    spec.add_argument("--props", choices=("given", "learn"), default="given",
+                      help="use the environment's propositions, or learn propositions from states")
+    spec.add_argument("--labeling", help="a labeling JSON file to use instead of the environment's (with --props given)")
+    spec.add_argument("--threshold", type=float, default=0.2, help="stop when the best information gain is below (0.2)")
+    spec.add_argument("--max-iterations", type=int, default=10, help="at most this many iterations (10)")
+    spec.add_argument("--no-prune", action="store_true", help="keep every learned conjunct")
+    spec.add_argument("-o", "--output", help="write the formula here (labeling and automaton next to it)")
+    spec.set_defaults(handler=_spec)
+
+
+def _render(doc: dict) -> str:
+    lines = [f"formula: {doc['formula']}"]
+    if doc["propositions"]:
+        lines.append("propositions:")
+        lines += [f"  {name}: {meaning}" for name, meaning in doc["propositions"].items()]
+    if doc["success_rate"] is not None:
+        lines.append(f"success rate on the ground-truth task: {doc['success_rate']:.2f}")
+    lines.append(f"policy entropy: {doc['entropy']:.3f}   iterations: {doc['iterations']}   "
+                 f"length: {doc['length']}   {doc['seconds']:.1f} s")
+    if doc["pruned"]:
+        lines.append("pruned: " + ", ".join(doc["pruned"]))
+    lines += [f"wrote {f}" for f in doc["files"]]
+    return "\n".join(lines)
+
+
+def _spec(args: argparse.Namespace, out) -> None:
+    from symlearn.envs.spec_experts import expert_demonstrations
+    from symlearn.envs.spec_tasks import get_task
+    from symlearn.errors import DataError
+    from symlearn.learners.spec_from_demos import SpecLearner
+    from symlearn.logic.grounding import Labeling
+
+    task = get_task(args.env)
+    seed = getattr(args, "seed", 0)
+    if args.demos:
+        from symlearn.data import load
+
+        demos = load(args.demos)
+    else:
+        if args.n_demos < 1:
+            raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
+        demos = expert_demonstrations(task, args.n_demos, seed=seed)
+    labeling = Labeling.load(args.labeling) if args.labeling else None
+    if labeling is not None and args.props == "learn":
+        raise DataError("--labeling gives propositions, which contradicts --props learn")
+
+    def report(record: dict) -> None:
+        if "iteration" in record:
+            verdict = "added" if record["added"] else "stop (below threshold)"
+            out.note(f"iteration {record['iteration']}: {record['formula'] or '-'}  gain {record['gain']:.3f}  "
+                     f"{verdict}  ({record['seconds']:.1f} s)")
+        elif "pruned" in record:
+            out.note(f"pruned {record['pruned']} (satisfied without it: {record['satisfied_without_it']:.2f})")
+
+    learner = SpecLearner(propositions=args.props, labeling=labeling, threshold=args.threshold,
+                          max_iterations=args.max_iterations, prune=not args.no_prune, random_state=seed,
+                          callback=report)
+    env = task.make_env()
+    try:
+        learner.fit(demos, env)
+    except DataError as exc:
+        if args.demos and not exc.file:
+            raise DataError(exc.message, file=args.demos, hint=exc.hint) from None
+        raise
+    files = _write_outputs(learner, args.output) if args.output else []
+    meanings = learner.labeling_.meanings
+    used = [p for p in learner.labeling_.propositions]
+    doc = {
+        "env": task.name,
+        "formula": str(learner.formula_),
+        "propositions": {p: meanings.get(p, "") for p in used},
+        "success_rate": learner.success_rate(task.formula),
+        "entropy": learner.entropy_,
+        "iterations": learner.iterations_,
+        "length": learner.length_,
+        "pruned": learner.pruned_,
+        "seconds": learner.seconds_,
+        "files": files,
+    }
+    out.result(doc, _render)
+
+
+def _write_outputs(learner, output: str) -> list[str]:
+    from symlearn.atomic import write_text
+    from symlearn.rendering import dot_available, render_dot
+
+    path = Path(output)
+    stem = path.with_suffix("") if path.suffix else path
+    write_text(path, str(learner.formula_) + "\n")
+    labeling_path = stem.with_name(stem.name + ".labeling.json")
+    learner.labeling_.save(labeling_path)
+    dot = learner.dfa_.to_dot(title=str(learner.formula_))
+    dot_path = stem.with_name(stem.name + ".dot")
+    write_text(dot_path, dot)
+    files = [str(path), str(labeling_path), str(dot_path)]
+    if dot_available():
+        svg_path = stem.with_name(stem.name + ".svg")
+        render_dot(dot, svg_path)
+        files.append(str(svg_path))
+    return files

@@ -1,0 +1,331 @@
+"""Learning an LTLf task specification from expert demonstrations, alternating inference and
+policy updates (the method of the thesis, chapter 5).
+
+Start from the specification ``true`` and a random nominal policy. Each iteration samples
+nominal trajectories, picks the instantiated template (``F p``, ``G p``, ``p T q`` or a
+negation) that best separates expert from nominal trajectories by information gain, conjoins it
+to the specification and retrains the nominal policy on the new specification (DFA -> reward
+machine -> CRM Q-learning). It stops when the best gain falls below ``threshold`` (that formula
+is not added) or after ``max_iterations``. Finally each conjunct is held out in turn: if a
+policy trained without it still satisfies it with probability at least ``prune_threshold``, it
+is implied by the rest and dropped.
+
+Propositions are either *given* (a :class:`~symlearn.logic.grounding.Labeling`, by default the
+environment's) or *learned*: then every state visited by an expert or nominal trajectory is a
+candidate proposition "the agent is in this state", and a chosen state becomes a new
+proposition ``p0``, ``p1``, ... in order of discovery; :attr:`SpecLearner.labeling_` is the
+grown labeling.
+
+>>> from symlearn.envs.spec_experts import expert_demonstrations
+>>> demos = expert_demonstrations("office-1", 20, seed=0)
+>>> learner = SpecLearner(random_state=0).fit(demos, "office-1")
+>>> learner.success_rate("(f T g) & G !n")
+1.0
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import numpy as np
+
+from symlearn.errors import DataError, ModelError
+from symlearn.learners.spec_templates import ARITY, Choice, TraceBounds, best_candidate, instantiate, novelty_depth
+from symlearn.logic.grounding import Labeling
+from symlearn.logic.ltlf.ast import Formula, conjunction, size
+
+__all__ = ["SpecLearner"]
+
+
+class SpecLearner:
+    """Learn ``formula_`` (and, without given propositions, ``labeling_``) from demonstrations.
+
+    Parameters: ``propositions`` is ``"given"`` (use ``labeling`` or the environment's),
+    ``"learn"``, or a list of proposition names of the given labeling to search over;
+    ``policy_updates=False`` keeps the nominal policy random (an ablation); ``q_steps`` is the
+    CRM Q-learning budget in environment transitions (default: scaled with the product size).
+    """
+
+    def __init__(self, *, propositions: str | Sequence[str] = "given", labeling: Labeling | None = None,
+                 threshold: float = 0.2, max_iterations: int = 10, n_nominal: int | None = None,
+                 policy_updates: bool = True, prune: bool = True, prune_threshold: float = 0.9,
+                 q_steps: int | None = None, n_envs: int = 128, discount: float = 0.99, epsilon: float = 0.1,
+                 n_eval: int = 20, random_state: int | None = 0,
+                 callback: Callable[[dict[str, Any]], None] | None = None) -> None:
+        self.propositions = propositions
+        self.labeling = labeling
+        self.threshold = threshold
+        self.max_iterations = max_iterations
+        self.n_nominal = n_nominal
+        self.policy_updates = policy_updates
+        self.prune = prune
+        self.prune_threshold = prune_threshold
+        self.q_steps = q_steps
+        self.n_envs = n_envs
+        self.discount = discount
+        self.epsilon = epsilon
+        self.n_eval = n_eval
+        self.random_state = random_state
+        self.callback = callback
+
+    # ------------------------------------------------------------------------------------------
+    def fit(self, demos, env) -> SpecLearner:
+        """Learn from ``demos`` (Demonstrations, trajectories or state sequences) in ``env``
+        (an environment with ``next_state`` and ``labeling``, or a task name such as ``office-1``)."""
+        t_start = time.perf_counter()
+        self._check_parameters()
+        env = self._environment(env)
+        from symlearn.envs.spec_experts import successor_table
+
+        self._env = env
+        self._succ = successor_table(env)
+        self._n_states = self._succ.shape[0]
+        self._start = int(env.reset(seed=0)[0])
+        self._horizon = int(getattr(env, "max_steps", 200))
+        self._rng = np.random.default_rng(self.random_state)
+        experts = self._expert_traces(demos)
+        learn = self.propositions == "learn"
+        labeling, names = (Labeling({}), []) if learn else self._given_labeling(env)
+        n_nominal = self.n_nominal or len(experts)
+
+        conjuncts: list[tuple[Formula, tuple[str, tuple[str, ...]]]] = []
+        self.history_: list[dict[str, Any]] = []
+        policy = last_policy = None
+        self.stopped_because_ = "max_iterations"
+        for iteration in range(1, self.max_iterations + 1):
+            t0 = time.perf_counter()
+            nominal = self._random_traces(n_nominal) if policy is None else self._policy_traces(policy, n_nominal)
+            spec = conjunction(*(f for f, _ in conjuncts))
+            nominal_success = self._satisfaction(spec, labeling, nominal)
+            if learn:
+                states = np.unique(np.concatenate([*experts, *nominal]))
+                atom_names = [self._state_name(labeling, int(s)) for s in states]
+                atom_of_state = np.zeros((self._n_states, len(states)), dtype=bool)
+                atom_of_state[states, np.arange(len(states))] = True
+            else:
+                atom_names = list(names)
+                atom_of_state = np.array([[p in labeling.label(s) for p in names] for s in range(self._n_states)],
+                                         dtype=bool).reshape(self._n_states, len(names))
+            covered = np.zeros(self._n_states, dtype=bool)
+            covered[np.concatenate(nominal)] = True
+            exclude = {(key[0], tuple(atom_names.index(a) for a in key[1]), False)
+                       for _, key in conjuncts if all(a in atom_names for a in key[1])}
+            choice = best_candidate(TraceBounds.from_traces(experts, atom_of_state),
+                                    TraceBounds.from_traces(nominal, atom_of_state),
+                                    preference=novelty_depth(experts, atom_of_state, covered), exclude=exclude)
+            record = {"iteration": iteration, "nominal_success": nominal_success, "spec": str(spec)}
+            if choice is None or choice.gain < self.threshold:
+                record.update(self._describe(choice, atom_names, None), added=False,
+                              seconds=time.perf_counter() - t0)
+                self._log(record)
+                self.stopped_because_ = "gain below threshold" if choice is not None else "no candidates"
+                break
+            chosen = [atom_names[i] for i in choice.atoms]
+            if learn:
+                for k, name in enumerate(chosen):
+                    if name.startswith("s"):  # a state not yet a proposition
+                        state = int(name[1:])
+                        new = f"p{len(labeling.propositions)}"
+                        labeling = labeling.with_proposition(new, [state], self._meaning(state))
+                        chosen[k] = new
+            formula = instantiate(choice.template, chosen, choice.negated)
+            conjuncts.append((formula, (choice.template, tuple(chosen))))
+            if self.policy_updates:
+                policy = last_policy = self._train(conjunction(*(f for f, _ in conjuncts)), labeling, seed=iteration)
+            record.update(self._describe(choice, atom_names, formula), added=True,
+                          spec=str(conjunction(*(f for f, _ in conjuncts))), seconds=time.perf_counter() - t0)
+            self._log(record)
+
+        self.unpruned_formula_ = conjunction(*(f for f, _ in conjuncts))
+        self.pruned_: list[str] = []
+        if self.prune and len(conjuncts) > 1:
+            conjuncts = self._pruned(conjuncts, labeling)
+        self.formula_ = conjunction(*(f for f, _ in conjuncts))
+        self.full_labeling_ = labeling
+        self.labeling_ = _restrict(labeling, self.formula_) if learn else labeling
+        same = last_policy is not None and self.formula_ == self.unpruned_formula_
+        self.policy_ = last_policy if same else self._train(self.formula_, labeling, seed=10_000)
+        self.entropy_ = self._entropy(self.policy_)
+        self.dfa_ = self._dfa(self.formula_)
+        self.iterations_ = sum(1 for h in self.history_ if h["added"])
+        self.seconds_ = time.perf_counter() - t_start
+        return self
+
+    # --- results ------------------------------------------------------------------------------
+    @property
+    def length_(self) -> int:
+        """Number of nodes of the learned formula (``true`` counts 1)."""
+        return size(self.formula_)
+
+    def success_rate(self, truth, n: int | None = None, labeling: Labeling | None = None) -> float:
+        """Fraction of greedy rollouts of the learned nominal policy satisfying ``truth``
+        (a formula over the environment's ground-truth labeling unless ``labeling`` is given)."""
+        from symlearn.logic.ltlf import holds, parse
+        from symlearn.rl.crm_q_learning import sample_episodes
+
+        self._check_fitted()
+        truth = parse(truth) if isinstance(truth, str) else truth
+        labeling = self._env.labeling if labeling is None else labeling
+        paths = sample_episodes(self.policy_, n or self.n_eval, seed=self.random_state, greedy=True)
+        return float(np.mean([holds(truth, [labeling.label(int(s)) for s in p]) for p in paths]))
+
+    # --- steps ----------------------------------------------------------------------------------
+    def _check_parameters(self) -> None:
+        if not 0 <= self.threshold <= 1:
+            raise ModelError(f"threshold must lie in [0, 1], got {self.threshold}")
+        if int(self.max_iterations) < 1:
+            raise ModelError(f"max_iterations must be at least 1, got {self.max_iterations}")
+        if not (self.propositions in ("given", "learn") or
+                (not isinstance(self.propositions, str) and all(isinstance(p, str) for p in self.propositions))):
+            raise ModelError(f"propositions must be 'given', 'learn' or a list of names, got {self.propositions!r}")
+
+    @staticmethod
+    def _environment(env):
+        if isinstance(env, str):
+            from symlearn.envs.spec_tasks import get_task
+
+            return get_task(env).make_env()
+        for attr in ("next_state", "labeling", "observation_space", "action_space", "reset"):
+            if not hasattr(env, attr):
+                raise ModelError(f"{type(env).__name__} is not a labelled tabular environment (no {attr})",
+                                 hint="use an office/craft world or a task name such as 'office-1'")
+        return env
+
+    def _expert_traces(self, demos) -> list[np.ndarray]:
+        from symlearn.data import Demonstrations, Trajectory
+
+        if isinstance(demos, (Demonstrations, list, tuple)):
+            items = list(demos)
+        else:
+            raise DataError(f"demonstrations must be Demonstrations or a list of trajectories, not {type(demos).__name__}")
+        if not items:
+            raise DataError("no demonstrations: at least one expert trajectory is needed")
+        traces = []
+        for i, item in enumerate(items):
+            states = item.states if isinstance(item, Trajectory) else item
+            try:
+                array = np.asarray(states)
+            except (TypeError, ValueError):
+                raise DataError(f"trajectory {i}: states must be environment state ids") from None
+            if array.ndim != 1 or array.size == 0 or not np.issubdtype(array.dtype, np.integer):
+                raise DataError(f"trajectory {i}: states must be a non-empty sequence of integer state ids",
+                                hint="specification learning works on discrete environment states")
+            bad = array[(array < 0) | (array >= self._n_states)]
+            if bad.size:
+                raise DataError(f"trajectory {i}: state {int(bad[0])} lies outside the environment's "
+                                f"{self._n_states} states (0..{self._n_states - 1})",
+                                hint="were these demonstrations recorded in another environment?")
+            traces.append(array.astype(np.int64))
+        return traces
+
+    def _given_labeling(self, env) -> tuple[Labeling, list[str]]:
+        labeling = self.labeling if self.labeling is not None else env.labeling
+        for state, _ in labeling._table.items():
+            if not (isinstance(state, (int, np.integer)) and 0 <= state < self._n_states):
+                raise DataError(f"the labeling labels state {state!r}, which is not one of the environment's "
+                                f"{self._n_states} states")
+        names = list(labeling.propositions) if self.propositions == "given" else list(self.propositions)
+        unknown = [p for p in names if p not in labeling.propositions]
+        if unknown:
+            raise DataError(f"unknown proposition {unknown[0]!r}: not in the given labeling",
+                            hint="known propositions: " + ", ".join(labeling.propositions))
+        if not names:
+            raise DataError("the given labeling has no propositions", hint="use propositions='learn'")
+        return labeling, names
+
+    def _state_name(self, labeling: Labeling, state: int) -> str:
+        found = [p for p in labeling.label(state)]
+        return found[0] if found else f"s{state}"
+
+    def _meaning(self, state: int) -> str:
+        cell = getattr(self._env, "cell_of", None)
+        return f"agent in cell {cell(state)}" if cell else f"agent in state {state}"
+
+    def _random_traces(self, n: int) -> list[np.ndarray]:
+        n_a = self._succ.shape[1]
+        s = np.full(n, self._start)
+        path = [s]
+        for _ in range(self._horizon):
+            s = self._succ[s, self._rng.integers(0, n_a, n)]
+            path.append(s)
+        return list(np.stack(path, axis=1))
+
+    def _policy_traces(self, policy, n: int) -> list[np.ndarray]:
+        from symlearn.rl.crm_q_learning import sample_episodes
+
+        return sample_episodes(policy, n, seed=int(self._rng.integers(1 << 31)))
+
+    def _train(self, formula: Formula, labeling: Labeling, seed: int):
+        from symlearn.envs.spec_experts import task_machine
+        from symlearn.rl.crm_q_learning import crm_q_learning
+
+        machine = task_machine(formula)
+        steps = self.q_steps or 400 * self._n_states * (1 + machine.n_states // 8)
+        labels = [labeling.label(s) for s in range(self._n_states)]
+        base = 0 if self.random_state is None else int(self.random_state)
+        return crm_q_learning(self._succ, labels, machine, self._start, n_steps=steps, n_envs=self.n_envs,
+                              horizon=self._horizon, discount=self.discount, epsilon=self.epsilon,
+                              seed=base * 100_003 + seed)
+
+    def _satisfaction(self, formula: Formula, labeling: Labeling, traces: Sequence[np.ndarray]) -> float:
+        from symlearn.logic.ltlf import evaluate_many
+
+        words = [[labeling.label(int(s)) for s in t] for t in traces]
+        return float(np.mean(evaluate_many(formula, words)))
+
+    def _pruned(self, conjuncts, labeling):
+        kept = list(conjuncts)
+        for item in list(conjuncts):
+            rest = [c for c in kept if c is not item]
+            if not rest:
+                break
+            policy = self._train(conjunction(*(f for f, _ in rest)), labeling, seed=20_000 + len(self.pruned_))
+            rate = self._satisfaction(item[0], labeling, self._policy_traces(policy, self.n_eval * 2))
+            if rate >= self.prune_threshold:
+                kept = rest
+                self.pruned_.append(str(item[0]))
+                self._log({"pruned": str(item[0]), "satisfied_without_it": rate})
+        return kept
+
+    def _entropy(self, policy) -> float:
+        from symlearn.rl.crm_q_learning import policy_entropy
+
+        return policy_entropy(policy, self._policy_traces(policy, self.n_eval))
+
+    @staticmethod
+    def _dfa(formula: Formula):
+        from symlearn.logic.ltlf import to_dfa
+
+        return to_dfa(formula)
+
+    def _describe(self, choice: Choice | None, atom_names, formula) -> dict[str, Any]:
+        if choice is None:
+            return {"template": None, "formula": None, "gain": 0.0}
+        shown = formula if formula is not None else instantiate(choice.template, [atom_names[i] for i in choice.atoms],
+                                                                choice.negated)
+        template = ("!" if choice.negated else "") + {1: f"{choice.template} p", 2: "p T q"}[ARITY[choice.template]]
+        return {"template": template, "formula": str(shown), "gain": choice.gain, "expert_rate": choice.expert_rate,
+                "nominal_rate": choice.nominal_rate, "candidates": choice.n_candidates}
+
+    def _log(self, record: dict[str, Any]) -> None:
+        if "iteration" in record:
+            self.history_.append(record)
+        if self.callback is not None:
+            self.callback(record)
+
+    def _check_fitted(self) -> None:
+        if not hasattr(self, "formula_"):
+            raise ModelError("this SpecLearner is not fitted yet; call fit(demos, env) first")
+
+
+def _restrict(labeling: Labeling, formula: Formula) -> Labeling:
+    """The labeling cut down to the propositions the formula uses (kept in discovery order)."""
+    from symlearn.logic.ltlf.ast import propositions
+
+    used = propositions(formula)
+    order = [p for p in labeling.propositions if p in used]
+    table = {s: props & used for s, props in labeling._table.items() if props & used}
+    return Labeling(table, meanings={p: labeling.meanings[p] for p in order}, propositions=order)
+

@@ -1,0 +1,179 @@
+"""Specification learning from demonstrations: template scoring, the learner, bad input."""
+
+import json
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from symlearn.data import Demonstrations, Trajectory
+from symlearn.envs.spec_experts import expert_demonstrations
+from symlearn.errors import DataError, ModelError
+from symlearn.learners.spec_from_demos import SpecLearner
+from symlearn.learners.spec_templates import (
+    TEMPLATES, TraceBounds, best_candidate, information_gain, instantiate, novelty_depth,
+)
+from symlearn.logic.grounding import Labeling
+from symlearn.logic.ltlf import holds, parse
+from symlearn.logic.ltlf.vectorized import evaluate_many
+
+NAMES = ("p", "q", "r")
+
+
+# --- templates ---------------------------------------------------------------------------------
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.lists(st.integers(0, 4), min_size=1, max_size=7), min_size=1, max_size=6),
+       st.integers(0, 2 ** 15 - 1))
+def test_bounds_agree_with_the_core_semantics(traces, bits):
+    # 5 states, 3 atoms: a random labeling drawn from `bits`
+    atoms = np.array([[(bits >> (3 * s + p)) & 1 for p in range(3)] for s in range(5)], dtype=bool)
+    bounds = TraceBounds.from_traces([np.array(t) for t in traces], atoms)
+    words = [[{NAMES[p] for p in range(3) if atoms[s, p]} for s in t] for t in traces]
+    for template in TEMPLATES:
+        pairs = [(p, q) for p in range(3) for q in range(3) if p != q] if template == "T" else [(p,) for p in range(3)]
+        for args in pairs:
+            ours = bounds.satisfies(template, *args)
+            for negated in (False, True):
+                formula = instantiate(template, [NAMES[i] for i in args], negated)
+                expected = evaluate_many(formula, words)
+                assert (ours ^ negated).tolist() == expected.tolist(), (formula, words)
+                assert expected.tolist() == [holds(formula, w) for w in words]
+        counts = bounds.counts(template)
+        if template == "T":
+            assert counts[0, 1] == bounds.satisfies("T", 0, 1).sum()
+        else:
+            assert counts.tolist() == [bounds.satisfies(template, p).sum() for p in range(3)]
+
+
+def test_negations_read_naturally():
+    assert str(instantiate("F", ["n"], True)) == "G !n"
+    assert str(instantiate("G", ["n"], True)) == "F !n"
+    assert str(instantiate("T", ["f", "g"], False)) == "f T g"
+    assert str(instantiate("T", ["f", "g"], True)) == "!(f T g)"
+
+
+def test_information_gain_values():
+    gain = information_gain(np.array([10, 0, 5, 10]), np.array([0, 10, 5, 10]), 10, 10)
+    assert gain.tolist() == pytest.approx([1.0, 1.0, 0.0, 0.0])
+    # unequal split: 10 of 10 experts and 3 of 10 nominal satisfy
+    p_sat = 13 / 20
+    h = -(10 / 13) * np.log2(10 / 13) - (3 / 13) * np.log2(3 / 13)
+    assert information_gain(np.array([10]), np.array([3]), 10, 10)[0] == pytest.approx(1 - p_sat * h)
+
+
+def test_best_candidate_keeps_expert_polarity_and_prefers_simple_templates():
+    # states: 0 start, 1 goal (g), 2 trap (n); experts reach g, nominal fall into n
+    atoms = np.array([[0, 0], [1, 0], [0, 1]], dtype=bool)
+    experts = TraceBounds.from_traces([np.array([0, 1])] * 4, atoms)
+    nominal = TraceBounds.from_traces([np.array([0, 2])] * 4, atoms)
+    choice = best_candidate(experts, nominal)
+    assert choice.gain == pytest.approx(1.0)
+    assert choice.template in ("F", "G") and choice.expert_rate == 1.0 and choice.nominal_rate == 0.0
+    formula = instantiate(choice.template, [("g", "n")[i] for i in choice.atoms], choice.negated)
+    assert str(formula) in ("F g", "G !n")
+    # excluding what was chosen moves on to the other one
+    other = best_candidate(experts, nominal, exclude={(choice.template, choice.atoms, choice.negated)})
+    assert (other.template, other.atoms) != (choice.template, choice.atoms) and other.gain == pytest.approx(1.0)
+
+
+def test_novelty_depth_prefers_places_far_from_nominal_behaviour():
+    atoms = np.eye(6, dtype=bool)
+    covered = np.array([1, 1, 0, 0, 0, 0], dtype=bool)
+    depth = novelty_depth([np.array([0, 1, 2, 3, 4, 5])], atoms, covered)
+    assert depth.tolist() == [0, 0, 1, 2, 3, 4]
+
+
+# --- the learner -------------------------------------------------------------------------------
+@pytest.fixture(scope="module")
+def office1_demos():
+    return expert_demonstrations("office-1", 30, seed=0)
+
+
+def test_given_propositions_office1(office1_demos):
+    learner = SpecLearner(random_state=0).fit(office1_demos, "office-1")
+    assert learner.success_rate("(f T g) & G !n") == 1.0
+    assert "g" in str(learner.formula_) and "G !n" in str(learner.formula_)
+    added = [h for h in learner.history_ if h["added"]]
+    assert learner.iterations_ == len(added) >= 1
+    assert all(h["gain"] >= 0.2 for h in added)
+    last = learner.history_[-1]
+    assert not last["added"] and last["gain"] < 0.2  # the formula below the threshold is not added
+    assert {"template", "gain", "seconds", "nominal_success"} <= set(last)
+    assert learner.dfa_.accepts([{"g"}]) == learner.dfa_.accepts([set(), {"g"}])
+    assert 0 <= learner.entropy_ <= 1 and learner.length_ <= 7
+    assert learner.labeling_.propositions == ("a", "b", "c", "d", "e", "f", "g", "n")
+
+
+def test_learned_propositions_office1(office1_demos, tmp_path):
+    learner = SpecLearner(propositions="learn", random_state=0).fit(office1_demos, "office-1")
+    assert learner.success_rate("(f T g) & G !n") == 1.0
+    props = learner.labeling_.propositions
+    assert props and all(p.startswith("p") for p in props)
+    numbers = [int(p[1:]) for p in props]
+    assert numbers == sorted(numbers)  # named in order of discovery
+    for p in props:
+        (state,) = learner.labeling_.states_where(p)
+        assert learner.labeling_.meanings[p] == f"agent in cell {learner._env.cell_of(state)}"
+    learner.labeling_.save(tmp_path / "lab.json")
+    assert Labeling.load(tmp_path / "lab.json") == learner.labeling_
+    assert json.loads((tmp_path / "lab.json").read_text())["symlearn"] == "labeling"
+
+
+def test_without_policy_updates_the_nominal_stays_random(office1_demos):
+    learner = SpecLearner(policy_updates=False, max_iterations=3, prune=False, random_state=0)
+    learner.fit(office1_demos[:10], "office-1")
+    # a random walk never satisfies the growing spec, so every chosen conjunct keeps a high gain
+    assert all(h["nominal_success"] <= 0.2 for h in learner.history_[1:])
+    assert learner.iterations_ == 3
+
+
+def test_pruning_drops_implied_conjuncts(office1_demos):
+    learner = SpecLearner(random_state=0).fit(office1_demos[:10], "office-1")
+    labeling = learner._env.labeling
+    kept = learner._pruned([(parse("F f"), ("F", ("f",))), (parse("f T g"), ("T", ("f", "g")))], labeling)
+    assert [str(f) for f, _ in kept] == ["f T g"]
+    assert learner.pruned_ == ["F f"]
+
+
+# --- bad input ---------------------------------------------------------------------------------
+def test_states_outside_the_environment():
+    demos = Demonstrations([Trajectory([13, 14, 500])])
+    with pytest.raises(DataError, match="state 500 lies outside the environment's 108 states"):
+        SpecLearner().fit(demos, "office-1")
+
+
+def test_empty_demonstrations():
+    with pytest.raises(DataError, match="no demonstrations"):
+        SpecLearner().fit([], "office-1")
+
+
+def test_non_integer_states():
+    with pytest.raises(DataError, match="integer state ids"):
+        SpecLearner().fit([[0.5, 1.5]], "office-1")
+
+
+def test_unknown_environment_name():
+    with pytest.raises(DataError, match="unknown environment/task 'office-7'"):
+        SpecLearner().fit([[13]], "office-7")
+
+
+def test_unknown_proposition_in_given_labeling():
+    with pytest.raises(DataError, match="unknown proposition 'z'") as info:
+        SpecLearner(propositions=["f", "z"]).fit([[13, 14]], "office-1")
+    assert "known propositions: a, b" in info.value.hint
+
+
+def test_labeling_of_states_outside_the_environment():
+    labeling = Labeling({3: {"x"}, 999: {"y"}})
+    with pytest.raises(DataError, match="labels state 999"):
+        SpecLearner(labeling=labeling).fit([[13, 14]], "office-1")
+
+
+def test_bad_parameters():
+    with pytest.raises(ModelError, match="threshold"):
+        SpecLearner(threshold=2).fit([[13]], "office-1")
+    with pytest.raises(ModelError, match="propositions"):
+        SpecLearner(propositions="maybe").fit([[13]], "office-1")
+    with pytest.raises(ModelError, match="not fitted"):
+        SpecLearner().success_rate("F g")
