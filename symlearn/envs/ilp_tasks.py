@@ -111,6 +111,22 @@ def demonstration_examples(domain: LogicDomain, n_episodes: int = 20, seed: int 
     return _number([(f, True) for f in positives] + [(f, False) for f in negatives], penalty)
 
 
+def with_label_noise(examples: Sequence[Example], fraction: float, penalty: int, seed: int = 0) -> list[Example]:
+    """A copy with a seeded ``fraction`` of the labels flipped and ``penalty`` on every example.
+
+    For noisy learning (``learn(task, noise=True)``): a flipped example is data noise the
+    learner may leave uncovered at the cost of its penalty. Ids are kept, so the file still says
+    which examples were flipped only by comparison with the noise-free one.
+    """
+    if not 0.0 <= fraction <= 1.0:
+        raise DataError(f"the noise fraction must be in [0, 1], got {fraction}")
+    if penalty < 1:
+        raise DataError(f"the penalty must be a positive integer, got {penalty}")
+    rng = np.random.default_rng(seed)
+    flipped = set(rng.choice(len(examples), size=round(fraction * len(examples)), replace=False).tolist())
+    return [Example(e.id, e.positive != (i in flipped), e.facts, penalty) for i, e in enumerate(examples)]
+
+
 def task_text(domain: LogicDomain, examples: Sequence[Example], title: str | None = None) -> str:
     """The complete task file: header, background, bias, examples."""
     if not examples:
@@ -169,4 +185,4 @@ def write_default_tasks(root: str | os.PathLike[str]) -> list[Path]:
 
 
 __all__ = ["DEFAULT_TASKS", "DOMAIN_NAMES", "Example", "default_task_text", "demonstration_examples",
-           "exhaustive_examples", "sampled_examples", "task_text", "write_default_tasks", "write_task"]
+           "exhaustive_examples", "sampled_examples", "task_text", "with_label_noise", "write_default_tasks", "write_task"]

@@ -3,7 +3,8 @@ from pathlib import Path
 import pytest
 
 from symlearn.envs.ilp_tasks import (DEFAULT_TASKS, Example, default_task_text, demonstration_examples,
-                                     exhaustive_examples, sampled_examples, task_text, write_task)
+                                     exhaustive_examples, sampled_examples, task_text, with_label_noise,
+                                     write_task)
 from symlearn.envs.logic_domains import DOMAIN_NAMES, logic_domain
 from symlearn.errors import DataError
 from symlearn.logic.ilp import load_task, parse_task
@@ -53,6 +54,19 @@ def test_sampled_examples():
     assert len(sampled_examples(domain, 114, 102)) == 216
     with pytest.raises(DataError, match="asked for 115 allowed pairs, hanoi has 114"):
         sampled_examples(domain, 115, 0)
+
+
+def test_label_noise():
+    clean = exhaustive_examples(logic_domain("traffic-lights"))
+    noisy = with_label_noise(clean, 0.1, penalty=3, seed=1)
+    assert noisy == with_label_noise(clean, 0.1, penalty=3, seed=1)
+    assert sum(a.positive != b.positive for a, b in zip(clean, noisy)) == 25
+    assert all(b.penalty == 3 and a.facts == b.facts and a.id == b.id for a, b in zip(clean, noisy))
+    assert with_label_noise(clean, 0.0, penalty=1) == [Example(e.id, e.positive, e.facts, 1) for e in clean]
+    with pytest.raises(DataError, match=r"noise fraction must be in \[0, 1\]"):
+        with_label_noise(clean, 1.5, penalty=1)
+    with pytest.raises(DataError, match="penalty must be a positive integer"):
+        with_label_noise(clean, 0.1, penalty=0)
 
 
 def test_example_lines():

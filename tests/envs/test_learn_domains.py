@@ -10,10 +10,10 @@ from pathlib import Path
 import pytest
 from clingo.ast import ASTType, ComparisonOperator
 
-from symlearn.envs.ilp_tasks import DEFAULT_TASKS
+from symlearn.envs.ilp_tasks import DEFAULT_TASKS, exhaustive_examples, task_text, with_label_noise
 from symlearn.envs.logic_domains import logic_domain
 from symlearn.logic.asp import Hypothesis, Program
-from symlearn.logic.ilp import learn, load_task
+from symlearn.logic.ilp import learn, load_task, parse_task
 from symlearn.resources import background_kb_path
 
 TIME_LIMIT = 5.0
@@ -119,3 +119,14 @@ def test_traffic_demonstration_tasks_are_solved_consistently(relative):
     for example in task.examples:
         assert hypothesis.eliminates(example.context) != example.positive, example.describe()
     assert seconds <= TIME_LIMIT, f"{relative} took {seconds:.2f} s"
+
+
+def test_noisy_hanoi_still_gives_the_expected_rule():
+    # 5% of the labels flipped, each example worth a penalty of 10: the true rule leaves exactly
+    # the flipped examples uncovered, and no other hypothesis is cheaper
+    domain = logic_domain("hanoi")
+    examples = with_label_noise(exhaustive_examples(domain), 0.05, penalty=10, seed=0)
+    n_flipped = sum(a.positive != b.positive for a, b in zip(exhaustive_examples(domain), examples))
+    result = learn(parse_task(task_text(domain, examples)), timeout=30.0, noise=True)
+    assert len(result.hypothesis.rules) == 1 and _is_no_larger_on_smaller(result.hypothesis.rules[0])
+    assert result.score == 2 + 10 * n_flipped
