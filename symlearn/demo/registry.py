@@ -13,6 +13,7 @@ import numpy as np
 # Modules that each define ``PIPELINE``; the demo runs them in this order.
 PIPELINE_MODULES: tuple[str, ...] = (
     "symlearn.demo.demonstrations_pipeline",
+    "symlearn.demo.gridworld_pipeline",
 )
 
 
