@@ -185,4 +185,5 @@ def write_default_tasks(root: str | os.PathLike[str]) -> list[Path]:
 
 
 __all__ = ["DEFAULT_TASKS", "DOMAIN_NAMES", "Example", "default_task_text", "demonstration_examples",
-           "exhaustive_examples", "sampled_examples", "task_text", "with_label_noise", "write_default_tasks", "write_task"]
+           "exhaustive_examples", "sampled_examples", "task_text", "with_label_noise", "write_default_tasks",
+           "write_task"]
