@@ -105,7 +105,7 @@ def run(context: DemoContext) -> Section:
             render_dot(dot, context.path("gridworld", f"{stem}.svg"))
             files.append(f"gridworld/{stem}.svg")
 
-    n_q = 100 if context.quick else 300
+    n_q = 50 if context.quick else 300
     plain = q_learning(make_gridworld(STOCHASTICITY), n_q, learning_rate=0.5, discount=0.95, seed=context.seed)
     shielded = q_learning(Shield(make_gridworld(STOCHASTICITY), ml.constraints_, seed=context.seed), n_q,
                           learning_rate=0.5, discount=0.95, seed=context.seed)
