@@ -35,7 +35,7 @@ if TYPE_CHECKING:
 Symbol = clingo.Symbol
 
 # "<block>:3:5-9: error: syntax error, unexpected ..." ; also "<block>:3:5-4:2: ..." spans
-_POSITION = re.compile(r"^<block>:(\d+):(\d+)(?:-\d+(?::\d+)?)?:\s*(error|warning|info|note):\s*(.*)$")
+_POSITION = re.compile(r"^<(?:block|string)>:(\d+):(\d+)(?:-\d+(?::\d+)?)?:\s*(error|warning|info|note):\s*(.*)$")
 
 
 @dataclass
@@ -76,7 +76,7 @@ def _raise_clingo_error(program: Program, messages: _Messages, fallback: str) ->
         if not match or match.group(3) != "error":
             continue
         line, column, _kind, message = int(match.group(1)), int(match.group(2)), match.group(3), match.group(4)
-        detail = " ".join(r.strip() for r in rest if r.strip() and not r.startswith("<block>"))
+        detail = " ".join(r.strip() for r in rest if r.strip() and not r.startswith(("<block>", "<string>")))
         notes = [r.split("note:", 1)[1].strip() for r in rest if "note:" in r]
         source, src_line, src_col = program.locate(line, column)
         full = message.rstrip(":")
@@ -163,7 +163,8 @@ def is_satisfiable(program: Program, *, timeout: float | None = None) -> bool:
 
 
 def optimize(program: Program, *, timeout: float | None = None, arguments: Sequence[str] = (),
-             on_improvement: Callable[[list[Symbol], list[int]], None] | None = None) -> SolveOutcome:
+             on_improvement: Callable[[list[Symbol], list[int]], None] | None = None,
+             shown_only: bool = True) -> SolveOutcome:
     """Minimise the program's ``#minimize`` statements; the last model is the best found.
 
     ``complete`` is True when clingo proved the last model optimal within ``timeout``.
@@ -173,7 +174,7 @@ def optimize(program: Program, *, timeout: float | None = None, arguments: Seque
     outcome = SolveOutcome()
 
     def on_model(model: clingo.Model) -> None:
-        symbols = sorted(model.symbols(shown=True))
+        symbols = sorted(model.symbols(shown=True) if shown_only else model.symbols(atoms=True))
         cost = list(model.cost)
         outcome.models.append(symbols)
         outcome.costs.append(cost)

@@ -61,7 +61,14 @@ def examples_program(task: ILPTask, indexed: Iterable[tuple[int, Example]], *, a
 
 def accepted_by(task: ILPTask, rules: Sequence[str], examples: Sequence[Example], *,
                 timeout: float | None = None) -> dict[str, bool]:
-    """For each example: does B ∪ rules ∪ context have an answer set extending it?
+    """For each example: does B ∪ rules ∪ context have an answer set extending it?"""
+    return {k: v is not None for k, v in witnesses(task, rules, examples, timeout=timeout).items()}
+
+
+def witnesses(task: ILPTask, rules: Sequence[str], examples: Sequence[Example], *,
+              timeout: float | None = None) -> dict[str, list[cl.Symbol] | None]:
+    """Per example, an answer set of B ∪ rules ∪ context extending it (atoms tagged with the
+    example's position in ``examples``), or None when there is none.
 
     One clingo call for all examples: each copy may be switched off (``{active__(i)}``) and the
     number of active copies is maximised; since the copies are independent, the optimum switches
@@ -72,12 +79,40 @@ def accepted_by(task: ILPTask, rules: Sequence[str], examples: Sequence[Example]
     indexed = list(enumerate(examples))
     program = examples_program(task, indexed) + Program.from_text(
         tagged_rules(rules) + "\n" + "\n".join(f"{{ {ACTIVE}({i}) }}." for i, _ in indexed)
-        + f"\n#maximize {{ 1,E : {ACTIVE}(E) }}.\n#show {ACTIVE}/1.", source="<coverage check>")
-    outcome = cl.optimize(program, timeout=timeout)
+        + f"\n#maximize {{ 1,E : {ACTIVE}(E) }}.", source="<coverage check>")
+    outcome = cl.optimize(program, timeout=timeout, shown_only=False)
     if not outcome.models:
-        return {e.id: False for e in examples}
+        return {e.id: None for e in examples}
     if not outcome.complete:
         raise cl.LimitExceededError(f"checking {len(examples)} examples did not finish within {timeout} s",
                                     hint="raise the timeout")
-    active = {s.arguments[0].number for s in outcome.models[-1]}
-    return {e.id: i in active for i, e in indexed}
+    model = outcome.models[-1]
+    active = {s.arguments[0].number for s in model if s.name == ACTIVE}
+    by_tag: dict[int, list[cl.Symbol]] = {i: [] for i in active}
+    for atom in model:
+        if atom.name != ACTIVE and atom.arguments and atom.arguments[0].type == cl.SymbolType.Number:
+            tag = atom.arguments[0].number
+            if tag in by_tag:
+                by_tag[tag].append(atom)
+    return {e.id: (by_tag[i] if i in active else None) for i, e in indexed}
+
+
+def firing_rows(candidates: Iterable, atoms: Iterable[cl.Symbol], tags: Iterable[int]) -> dict[int, set[int]]:
+    """For each candidate constraint, the copies (tags) whose answer set its body holds in.
+
+    ``atoms`` are the tagged answer sets, given as facts; one grounding decides every body on
+    every copy (the program is stratified: facts plus one ``fires__`` rule per candidate).
+    """
+    tags = list(tags)
+    candidates = list(candidates)
+    if not tags or not candidates:
+        return {}
+    facts = "\n".join(f"{a}." for a in atoms if a.name != ACTIVE)
+    facts += "\n" + "\n".join(f"{ACTIVE}({i})." for i in tags)
+    rules = [f"fires__({c.index}) :- {', '.join(b.render() for b in c.body)}." for c in candidates]
+    program = Program.from_text(facts, source="<answer sets>") + Program.from_text(
+        tagged_rules(rules), source="<candidate bodies>")
+    rows: dict[int, set[int]] = {}
+    for atom in cl.ground_atoms(program, [("fires__", 2)]):
+        rows.setdefault(atom.arguments[1].number, set()).add(atom.arguments[0].number)
+    return rows

@@ -4,17 +4,23 @@ One optimisation program holds a copy of B ∪ context per positive example (see
 :mod:`~symlearn.logic.ilp.encoding`), every candidate rule guarded by a choice atom ``use__(r)``,
 and ``#minimize`` over rule costs (plus penalties of dropped soft positives). Its optimum is the
 cheapest hypothesis accepting all positives. Negatives need "no answer set extends it", which is
-not expressible in the same program, so the search is iterative (generate and test):
+not expressible in the same program, so the search is iterative (generate and test, with
+counterexamples as in ILASP):
 
-1. optimise -> H;  2. check every negative against H in one clingo call;
-3. if H accepts a hard negative, forbid exactly this choice of rules (a nogood over ``use__``);
-   a soft negative instead adds its penalty whenever exactly this H is chosen;
-4. repeat until the optimum accepts no unpaid negative.
+1. optimise -> H = N ∪ C (N: rules with heads, C: integrity constraints);
+2. check every negative against H in one clingo call, keeping a witness answer set A for each
+   negative that H wrongly accepts;
+3. for each witness: any H' with the same normal rules N still has A as an answer set unless one
+   of its constraints fires on A -- so add the cut "N' = N implies some chosen constraint fires on
+   A" (firing of every constraint candidate on A is decided in one grounding). For a hard
+   negative the cut is an integrity constraint; a soft negative pays its penalty when the cut's
+   condition holds;
+4. repeat until the optimum accepts no negative it does not pay for.
 
-Every cost the optimiser sees is a lower bound of the true cost, and the returned hypothesis'
-cost is exact, so the first hypothesis that passes is optimal. Nogoods block exactly one
-hypothesis each; tasks with many negatives and large spaces need many rounds -- the
-single-grounding path (:mod:`~symlearn.logic.ilp.selection`) is the fast one for constraints.
+Each cut only removes hypotheses that really accept the negative, so the optimiser's costs are
+lower bounds and the first hypothesis that passes is optimal. With normal rules in the space a
+cut is specific to one set N, so tasks with many negatives and many normal rules need many
+rounds; the single-grounding path (:mod:`~symlearn.logic.ilp.selection`) is the fast one.
 """
 
 from __future__ import annotations
@@ -24,7 +30,7 @@ from dataclasses import dataclass, field
 
 from symlearn.logic.asp import clingo_adapter as cl
 from symlearn.logic.asp.program import Program
-from symlearn.logic.ilp.encoding import ACTIVE, accepted_by, examples_program, tagged_rules
+from symlearn.logic.ilp.encoding import ACTIVE, examples_program, firing_rows, tagged_rules, witnesses
 from symlearn.logic.ilp.space import HypothesisSpace
 from symlearn.logic.ilp.task import ILPTask
 
@@ -66,12 +72,15 @@ def search_general(task: ILPTask, space: HypothesisSpace, *, noise: bool, deadli
         soft = [f"{e.penalty},{i} : ignored__({i})" for i, e in positives if _soft(e, noise)]
         if soft:
             lines.append(f":- #sum {{ {' ; '.join(soft)} }} > {task.max_penalty}.")
-    lines.append("#show use__/1. #show ignored__/1.")
+    lines.append("#show use__/1. #show ignored__/1. #show accepts__/1.")
+    lines.append("#defined accepts__/1.")
     program = examples_program(task, positives) + Program.from_text("\n".join(lines), source="<search>")
     optimizer = cl.IncrementalOptimizer(program)
     by_index = {c.index: c for c in space.candidates}
     outcome = SearchOutcome(None)
-    paid: dict[frozenset[int], set[str]] = {}  # soft negatives already charged to a hypothesis
+    constraints = [c for c in space.candidates if c.is_constraint]
+    normal = [c for c in space.candidates if not c.is_constraint]
+    n_cuts = 0
     while True:
         outcome.rounds += 1
         remaining = deadline - time.perf_counter()
@@ -88,29 +97,38 @@ def search_general(task: ILPTask, space: HypothesisSpace, *, noise: bool, deadli
         model = solved.models[-1]
         chosen = sorted(s.arguments[0].number for s in model if s.name == "use__")
         dropped = [task.examples[s.arguments[0].number] for s in model if s.name == "ignored__"]
-        key = frozenset(chosen)
+        charged = {s.arguments[0].number for s in model if s.name == "accepts__"}
         rules = [by_index[r].text for r in chosen]
         left = deadline - time.perf_counter()
-        verdict = accepted_by(task, rules, negatives, timeout=max(left, 0.001)) if negatives else {}
-        wrong = [e for e in negatives if verdict.get(e.id)]
-        charged = paid.setdefault(key, set())
-        unpaid = [e for e in wrong if not _soft(e, noise) or e.id not in charged]
+        found = witnesses(task, rules, negatives, timeout=max(left, 0.001)) if negatives else {}
+        wrong = [(j, e) for j, e in enumerate(negatives) if found.get(e.id) is not None]
+        unpaid = [(j, e) for j, e in wrong if not _soft(e, noise) or j not in charged]
         if not unpaid:
             outcome.selected = chosen
             outcome.cost = sum(by_index[r].cost for r in chosen)
-            outcome.penalty = sum(e.penalty for e in dropped) + sum(e.penalty for e in wrong)
-            outcome.uncovered = [e.id for e in dropped] + [e.id for e in wrong]
+            outcome.penalty = sum(e.penalty for e in dropped) + sum(e.penalty for _j, e in wrong)
+            outcome.uncovered = [e.id for e in dropped] + [e.id for _j, e in wrong]
             outcome.optimal = solved.complete
+            outcome.notes.append(f"{outcome.rounds} rounds, {n_cuts} counterexample cuts")
             if not solved.complete:
                 outcome.notes.append("time limit reached: best hypothesis found so far, not proven optimal")
             return outcome
-        exact = ", ".join([f"use__({r})" for r in chosen] +
-                          [f"not use__({c.index})" for c in space.candidates if c.index not in key])
-        if any(not _soft(e, noise) for e in unpaid):
-            optimizer.add(f":- {exact}." if exact else ":- #true.")
-        else:
-            tag = outcome.rounds
-            terms = " ; ".join(f"{e.penalty},n,{tag},{j} : {exact}" if exact else f"{e.penalty},n,{tag},{j}"
-                               for j, e in enumerate(unpaid))
-            optimizer.add(f"#minimize {{ {terms} }}.")
-            charged.update(e.id for e in unpaid)
+        chosen_set = set(chosen)
+        same_normal = [f"use__({c.index})" if c.index in chosen_set else f"not use__({c.index})" for c in normal]
+        atoms = [a for j, e in unpaid for a in found[e.id]]
+        rows = firing_rows(constraints, atoms, [j for j, _e in unpaid])
+        fired_on: dict[int, list[int]] = {}
+        for r, tags in rows.items():
+            for t in tags:
+                fired_on.setdefault(t, []).append(r)
+        cuts = []
+        for j, e in unpaid:
+            n_cuts += 1
+            body = same_normal + [f"not use__({r})" for r in sorted(fired_on.get(j, []))]
+            condition = ", ".join(body) if body else "#true"
+            if _soft(e, noise):
+                cuts.append(f"accepts__({j}) :- {condition}.")
+                cuts.append(f"#minimize {{ {e.penalty},n,{j} : accepts__({j}) }}.")
+            else:
+                cuts.append(f":- {condition}.")
+        optimizer.add("\n".join(cuts))

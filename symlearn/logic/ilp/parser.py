@@ -91,7 +91,7 @@ class _Build(Transformer):
         if str(name) in ("var", "const") and len(args) == 1 and isinstance(args[0], ModeFunction) and not args[0].args:
             return Placeholder(str(name), args[0].name)
         if str(name) == "num_var":
-            raise _Unsupported("num_var placeholders", name)
+            raise _Unsupported("num_var", name)
         return ModeFunction(str(name), tuple(args))
 
     def mnumber(self, items):

@@ -23,12 +23,11 @@ have different rows and are both kept.
 
 from __future__ import annotations
 
-from collections import defaultdict
 from dataclasses import dataclass, field
 
 from symlearn.logic.asp import clingo_adapter as cl
 from symlearn.logic.asp.program import Program
-from symlearn.logic.ilp.encoding import ACTIVE, examples_program, tagged_rules
+from symlearn.logic.ilp.encoding import ACTIVE, examples_program, firing_rows
 from symlearn.logic.ilp.general import SearchOutcome
 from symlearn.logic.ilp.space import HypothesisSpace
 from symlearn.logic.ilp.task import Example, ILPTask
@@ -89,20 +88,7 @@ def _worlds_one_by_one(task: ILPTask, timeout: float | None) -> Worlds | None:
 
 def firing_matrix(task: ILPTask, space: HypothesisSpace, worlds: Worlds, examples: list[int]) -> dict[int, set[int]]:
     """For every candidate: the examples (indices among ``examples``) whose answer set it fires on."""
-    if not examples or not space.candidates:
-        return {}
-    facts = "\n".join(f"{a}." for a in worlds.atoms if a.name != ACTIVE)
-    facts += "\n" + "\n".join(f"{ACTIVE}({i})." for i in examples)
-    rules = []
-    for c in space.candidates:
-        body = ", ".join(b.render() for b in c.body)
-        rules.append(f"fires__({c.index}) :- {body}.")
-    program = Program.from_text(facts, source="<answer sets>") + Program.from_text(
-        tagged_rules(rules), source="<candidate bodies>")
-    fires: dict[int, set[int]] = defaultdict(set)
-    for atom in cl.ground_atoms(program, [("fires__", 2)]):
-        fires[atom.arguments[1].number].add(atom.arguments[0].number)
-    return fires
+    return firing_rows(space.candidates, worlds.atoms, examples)
 
 
 def select_rules(task: ILPTask, space: HypothesisSpace, fires: dict[int, set[int]], *, noise: bool,
