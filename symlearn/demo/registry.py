@@ -14,6 +14,7 @@ import numpy as np
 PIPELINE_MODULES: tuple[str, ...] = (
     "symlearn.demo.demonstrations_pipeline",
     "symlearn.demo.gridworld_pipeline",
+    "symlearn.demo.ltlf_pipeline",
 )
 
 
