@@ -40,7 +40,7 @@ from typing import Any, Literal
 import numpy as np
 
 from symlearn.errors import ModelError, SymlearnError
-from symlearn.learners.tabular_demos import check_constraints, discounted_counts, tabular_episodes
+from symlearn.learners.tabular_demos import as_tabular, check_constraints, discounted_counts, tabular_episodes
 from symlearn.mdp import TabularMDP
 from symlearn.rl.maxent import Entropy, forward_pass, soft_value_iteration
 from symlearn.rl.tabular import check_mask
@@ -107,9 +107,7 @@ class MCEICRL:
         on_violation: Literal["error", "warn"] = "error",
         max_sweeps: int = 50,
     ) -> None:
-        self.mdp = getattr(mdp, "to_tabular", lambda: mdp)() if not isinstance(mdp, TabularMDP) else mdp
-        if not isinstance(self.mdp, TabularMDP):
-            raise ModelError(f"{type(mdp).__name__} is not a TabularMDP and has no to_tabular()")
+        self.mdp = as_tabular(mdp)
         self.features = features
         self.beta = beta
         self.discount = discount

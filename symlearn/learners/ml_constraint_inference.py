@@ -46,8 +46,8 @@ from typing import Any, Literal
 
 import numpy as np
 
-from symlearn.errors import ModelError, SymlearnError
-from symlearn.learners.tabular_demos import check_constraints, demonstrated_pairs, final_states, tabular_episodes
+from symlearn.errors import SymlearnError
+from symlearn.learners.tabular_demos import as_tabular, check_constraints, demonstrated_pairs, final_states, tabular_episodes
 from symlearn.mdp import TabularMDP
 from symlearn.rl.maxent import forward_pass, maxent_backward_pass
 from symlearn.rl.tabular import check_mask, restrict
@@ -87,9 +87,7 @@ class MLConstraintInference:
         generalize: Generalizer | None = None,
         rationality: float = 1.0,
     ) -> None:
-        self.mdp = mdp if isinstance(mdp, TabularMDP) else getattr(mdp, "to_tabular", lambda: mdp)()
-        if not isinstance(self.mdp, TabularMDP):
-            raise ModelError(f"{type(mdp).__name__} is not a TabularMDP and has no to_tabular()")
+        self.mdp = as_tabular(mdp)
         self.reward = reward
         self.horizon = horizon
         self.max_iterations = max_iterations

@@ -16,8 +16,16 @@ from typing import Any, Literal
 
 import numpy as np
 
-from symlearn.errors import DataError
+from symlearn.errors import DataError, ModelError
 from symlearn.mdp import TabularMDP
+
+
+def as_tabular(model: Any) -> TabularMDP:
+    """``model`` itself, or the exact model of an environment that offers ``to_tabular()``."""
+    mdp = model if isinstance(model, TabularMDP) else getattr(getattr(model, "unwrapped", model), "to_tabular", lambda: model)()
+    if not isinstance(mdp, TabularMDP):
+        raise ModelError(f"{type(model).__name__} is not a TabularMDP and has no to_tabular()")
+    return mdp
 
 
 @dataclass(frozen=True)
