@@ -29,7 +29,7 @@ import numpy as np
 
 __all__ = ["Frame", "apply", "UNARY", "BINARY", "COMMUTATIVE", "TEMPORAL", "row_hashes", "first_bits"]
 
-UNARY = ("!", "X", "N", "F", "G")
+UNARY = ("F", "G", "X", "!", "N")  # F and G first: they matter most when a level is cut short
 BINARY = ("&", "|", "->", "U", "R", "W", "T")
 COMMUTATIVE = frozenset({"&", "|"})
 TEMPORAL = frozenset({"X", "N", "F", "G", "U", "R", "W", "T"})

@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from symlearn.learners.ltl_bitsets import BINARY, COMMUTATIVE, UNARY, Frame, apply, row_hashes
+from symlearn.learners.ltl_bitsets import BINARY, COMMUTATIVE, UNARY, Frame, apply, first_bits, row_hashes
 
 __all__ = ["Enumerator", "EnumerationOutcome"]
 
@@ -162,18 +162,20 @@ class Enumerator:
             stack.pop()
         return built[cid]
 
-    def all_candidates(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Every stored candidate: ``(ids, sizes, values)`` in size order."""
+    def all_candidates(self, first_only: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Every stored candidate: ``(ids, sizes, values)`` in size order (values at position 0 only:
+        ``(k, n)`` bools, with ``first_only``)."""
         ids, sizes, values = [], [], []
         for size in sorted(self.levels):
             level = self.levels[size]
             k = level.count
             ids.append(self.offsets[size] + np.arange(k))
             sizes.append(np.full(k, size))
-            values.append(level.values[0])
+            values.append(first_bits(level.values[0]) if first_only else level.values[0])
         if not ids:
             shape = self.frame.shape
-            return np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros((0, *shape), np.uint64)
+            empty = np.zeros((0, shape[0]), bool) if first_only else np.zeros((0, *shape), np.uint64)
+            return np.zeros(0, np.int64), np.zeros(0, np.int64), empty
         return np.concatenate(ids), np.concatenate(sizes), np.concatenate(values)
 
     # -- generation -------------------------------------------------------------------------

@@ -26,7 +26,7 @@ timeout (a safety net) only matters when those limits are set too high for the m
 >>> neg = [[{"b"}, {"a"}], [{"a"}], [set(), {"b"}]]
 >>> result = learn_ltl(pos, neg)
 >>> str(result.formula), result.size, result.optimal
-('F(a & X b)', 5, True)
+('F(a & F b)', 5, True)
 """
 
 from __future__ import annotations
@@ -118,7 +118,7 @@ def learn_from_sample(sample: LtlSample, *, max_size: int = 40, timeout: float =
     if max_size < 1:
         raise SymlearnError(f"max_size must be at least 1, not {max_size}")
     start = time.monotonic()
-    deadline = start + timeout
+    deadline = start + 0.85 * timeout
     traces = list(sample.positive) + list(sample.negative)
     n_pos = len(sample.positive)
     frame = Frame.from_traces(traces, sample.propositions)
@@ -130,7 +130,7 @@ def learn_from_sample(sample: LtlSample, *, max_size: int = 40, timeout: float =
 
     atoms = [(name, frame.propositions[name], 1) for name in sample.propositions]
     exact = Enumerator(frame, atoms, operators, separates, max_candidates=max_candidates, max_work=max_work,
-                       deadline=start + 0.7 * timeout)
+                       deadline=start + 0.5 * timeout)
     outcome = exact.run(max_size)
 
     def finish(formula, size, method, explored, stopped_by):
@@ -191,8 +191,7 @@ def _positional_literals(frame: Frame, propositions: Sequence[str], complete_up_
 def _combine(exact: Enumerator, extras: list, target: np.ndarray, max_size: int, pool_size: int,
              deadline: float, max_work: float) -> _Combination:
     """Phase 2: Boolean combinations of the exact phase's candidates, judged at position 0 only."""
-    ids, sizes, values = exact.all_candidates()
-    first = first_bits(values)  # (k, n)
+    ids, sizes, first = exact.all_candidates(first_only=True)  # first: (k, n) values at position 0
     if extras:
         ids = np.concatenate([ids, -1 - np.arange(len(extras))])
         sizes = np.concatenate([sizes, [size for _, _, size in extras]])
@@ -297,16 +296,20 @@ def _greedy_two_level(first: np.ndarray, sizes: np.ndarray, pos: np.ndarray, neg
     the positives it keeps are then covered. (Called with ``~first`` and the classes swapped, it
     gives the dual conjunction of disjunctions.)
     """
-    on_pos, on_neg = first[:, pos], first[:, neg]
-    uncovered = np.ones(on_pos.shape[1], dtype=bool)
+    # packed bits and popcounts: the loop below scores every candidate once per step
+    on_pos = np.packbits(first[:, pos], axis=1)
+    on_neg = np.packbits(first[:, neg], axis=1)
+    off_neg = np.packbits(~first[:, neg], axis=1)
+    uncovered = np.packbits(np.ones(int(pos.sum()), dtype=bool))
+    all_neg = np.packbits(np.ones(int(neg.sum()), dtype=bool))
     terms: list[list[int]] = []
     while uncovered.any():
-        kept, left = uncovered.copy(), np.ones(on_neg.shape[1], dtype=bool)
+        kept, left = uncovered.copy(), all_neg.copy()
         term: list[int] = []
         while left.any():
-            keeps = (on_pos & kept).sum(axis=1)
-            rejects = (~on_neg & left).sum(axis=1)
-            score = keeps * rejects / sizes
+            keeps = np.bitwise_count(on_pos & kept).sum(axis=1, dtype=np.int64)
+            rejects = np.bitwise_count(off_neg & left).sum(axis=1, dtype=np.int64)
+            score = keeps * keeps * rejects / sizes
             pick = int(np.argmax(score))
             if score[pick] == 0:
                 return None
