@@ -8,13 +8,13 @@ step. ``holds(f, trace)`` evaluates ``f`` at step 0:
 * ``F f``, ``G f``, ``f U g``, ``f R g``, ``f W g`` range over the current and later steps;
 * ``a T b`` holds when ``a`` holds at some step and ``b`` at a strictly later one.
 
-**Empty traces.** LTLf is defined on non-empty traces, so ``holds`` (and the vectorised
-evaluator) reject an empty trace with :class:`~symlearn.errors.DataError`. A DFA from
-:func:`~symlearn.logic.ltlf.to_dfa.to_dfa` still has to decide the empty word: it accepts it
-exactly when the formula holds "at the end of the trace", i.e. after rewriting into negation
-normal form, with literals, ``X``, ``F`` and ``U`` false and ``WX``, ``G``, ``R`` and ``W``
-true (:func:`~symlearn.logic.ltlf.progression.holds_at_end`). This is the convention MONA's
-automata (through LTLf2DFA) follow too.
+**Empty traces.** LTLf is defined on non-empty traces, so ``holds`` rejects an empty trace
+with :class:`~symlearn.errors.DataError`. Automata and batch evaluation still have to decide
+the empty word; there symlearn uses :func:`~symlearn.logic.ltlf.progression.holds_at_end`:
+propositions are false, ``!`` is the complement, ``X``, ``F``, ``U`` and ``T`` are false and
+``WX``, ``G``, ``R`` and ``W`` are true (so ``G a`` and ``!a`` accept the empty word, ``F a``
+and ``a`` do not). The DFA of :func:`~symlearn.logic.ltlf.to_dfa.translate`, the vectorised
+evaluator and MONA's automata (through LTLf2DFA) all follow this convention.
 
 This module is the reference the faster evaluators are tested against: it stays a plain
 dynamic program over (sub-formula, step).
