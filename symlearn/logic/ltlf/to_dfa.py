@@ -34,6 +34,7 @@ Construction (our own; sound by the progression identities, exact by minimisatio
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import AbstractSet
@@ -50,6 +51,7 @@ from symlearn.logic.ltlf.progression import holds_at_end
 __all__ = ["DFATable", "translate", "to_dfa", "equivalent", "DEFAULT_MAX_STATES"]
 
 DEFAULT_MAX_STATES = 20_000
+_RECURSION_LIMIT = 12_000
 
 # NNF node kinds
 _TT, _FF, _LIT, _NLIT, _AND, _OR, _X, _WX, _F, _G, _U, _R = range(12)
@@ -434,7 +436,16 @@ def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFAT
     """
     if not isinstance(formula, Formula):
         raise TypeError(f"expected an LTLf formula, got {type(formula).__name__}")
-    return _Translation(formula).build(max_states)
+    # BDD operations recurse once per variable level and obligations once per nesting level
+    limit = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(limit, _RECURSION_LIMIT))
+    try:
+        return _Translation(formula).build(max_states)
+    except RecursionError:
+        raise LimitExceededError("the formula is nested too deeply to translate",
+                                 hint="split it into smaller conjuncts") from None
+    finally:
+        sys.setrecursionlimit(limit)
 
 
 def to_dfa(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES):

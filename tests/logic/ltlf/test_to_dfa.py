@@ -61,3 +61,14 @@ def test_equivalence():
     assert equivalent(parse("!(a U b)"), parse("!a R !b"))
     assert equivalent(parse("G F a"), parse("F G a"))  # both: 'a' at the last step
     assert not equivalent(parse("X a"), parse("WX a"))
+
+
+def test_deeply_nested_formulas_translate_or_stop_cleanly():
+    from symlearn.logic.ltlf.ast import Next
+
+    f = Prop("a")
+    for _ in range(1500):
+        f = Next(f)
+    table = translate(f)
+    assert table.n_states == 1503  # 1500 waiting steps + 'a' checked + accepting + sink
+    assert table.accepts([set()] * 1500 + [{"a"}]) and not table.accepts([set()] * 1500)
