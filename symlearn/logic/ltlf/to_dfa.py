@@ -370,25 +370,58 @@ class _Translation:
         return found
 
     # -- minimisation ----------------------------------------------------------------------------
+    def _refine(self, edges: list[list[tuple[int, int]]], accepting: list[bool]) -> list[int]:
+        """Coarsest partition compatible with acceptance and transitions (Hopcroft, symbolic).
+
+        Splitting by a block B separates states whose guards into B differ (canonical BDD
+        nodes, so one comparison covers every letter); when a block not waiting to be used
+        splits, only its smaller parts need to wait (Hopcroft's argument holds per letter).
+        """
+        bdd = self.bdd
+        n = len(edges)
+        predecessors: list[list[tuple[int, int]]] = [[] for _ in range(n)]
+        for q, out in enumerate(edges):
+            for target, guard in out:
+                predecessors[target].append((q, guard))
+        block = [1 if a else 0 for a in accepting]
+        members: list[list[int]] = [[q for q in range(n) if not accepting[q]], [q for q in range(n) if accepting[q]]]
+        if not members[0] or not members[1]:
+            return [0] * n
+        waiting = {0 if len(members[0]) <= len(members[1]) else 1}
+        while waiting:
+            splitter = waiting.pop()
+            into: dict[int, int] = {}
+            for t in members[splitter]:
+                for q, guard in predecessors[t]:
+                    into[q] = bdd.apply_or(into[q], guard) if q in into else guard
+            groups: dict[int, dict[int, list[int]]] = {}
+            for q, guard in into.items():
+                groups.setdefault(block[q], {}).setdefault(guard, []).append(q)
+            for c, by_guard in groups.items():
+                parts = list(by_guard.values())
+                touched = sum(len(p) for p in parts)
+                if touched < len(members[c]):
+                    seen = set(into)
+                    parts.append([q for q in members[c] if q not in seen])
+                if len(parts) == 1:
+                    continue
+                parts.sort(key=len, reverse=True)
+                members[c] = parts[0]
+                for part in parts[1:]:
+                    new_id = len(members)
+                    members.append(part)
+                    for q in part:
+                        block[q] = new_id
+                    waiting.add(new_id)
+                if c in waiting:
+                    continue
+                # c keeps the largest part; the smaller ones were queued above
+        return block
+
     def _minimal(self, states: list[int], edges: list[list[tuple[int, int]]], accepting: list[bool],
                  initial: int) -> DFATable:
         bdd = self.bdd
-        block = [1 if a else 0 for a in accepting]
-        n_blocks = len(set(block))
-        while True:
-            signatures: dict[tuple, int] = {}
-            new_block = []
-            for q, out in enumerate(edges):
-                merged: dict[int, int] = {}
-                for target, guard in out:
-                    b = block[target]
-                    merged[b] = bdd.apply_or(merged[b], guard) if b in merged else guard
-                sig = (block[q], frozenset(merged.items()))
-                new_block.append(signatures.setdefault(sig, len(signatures)))
-            block = new_block
-            if len(signatures) == n_blocks:
-                break
-            n_blocks = len(signatures)
+        block = self._refine(edges, accepting)
         # renumber blocks breadth-first from the initial state so state 0 is initial
         order: dict[int, int] = {block[initial]: 0}
         representative = [initial]

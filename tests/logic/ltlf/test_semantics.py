@@ -63,7 +63,7 @@ def test_benchmark_column_layout():
         TraceBatch.from_columns([{"a": [1, 0], "b": [1]}])
 
 
-@settings(max_examples=400, deadline=None)
+@settings(max_examples=250, deadline=None)
 @given(formulas(), st.lists(traces(), min_size=1, max_size=8))
 def test_reference_vectorised_progression_and_dfa_agree(f, sample):
     expected = [holds(f, t) for t in sample]
