@@ -49,6 +49,7 @@ OPERATORS = UNARY + BINARY
 #: the operators of the public benchmarks' formulas (``X`` is the strong next)
 DEFAULT_OPERATORS = ("!", "X", "F", "G", "&", "|", "->", "U")
 _BOOLEAN = ("!", "&", "|", "->")
+_FRAGMENT = ("F", "X", "&")
 
 _NODES = {"!": ast.Not, "X": ast.Next, "N": ast.WeakNext, "F": ast.Eventually, "G": ast.Always,
           "&": ast.And, "|": ast.Or, "->": ast.Implies, "U": ast.Until, "R": ast.Release,
@@ -118,7 +119,7 @@ def learn_from_sample(sample: LtlSample, *, max_size: int = 40, timeout: float =
     if max_size < 1:
         raise SymlearnError(f"max_size must be at least 1, not {max_size}")
     start = time.monotonic()
-    deadline = start + 0.85 * timeout
+    deadline = start + 0.8 * timeout
     traces = list(sample.positive) + list(sample.negative)
     n_pos = len(sample.positive)
     frame = Frame.from_traces(traces, sample.propositions)
@@ -130,7 +131,7 @@ def learn_from_sample(sample: LtlSample, *, max_size: int = 40, timeout: float =
 
     atoms = [(name, frame.propositions[name], 1) for name in sample.propositions]
     exact = Enumerator(frame, atoms, operators, separates, max_candidates=max_candidates, max_work=max_work,
-                       deadline=start + 0.5 * timeout)
+                       deadline=start + 0.3 * timeout)
     outcome = exact.run(max_size)
 
     def finish(formula, size, method, explored, stopped_by):
@@ -140,20 +141,44 @@ def learn_from_sample(sample: LtlSample, *, max_size: int = 40, timeout: float =
         return LearnResult(formula, size, optimal, time.monotonic() - start, explored, max_size,
                            outcome.complete_up_to, stopped_by, method)
 
+    sources = [exact]
+
     def build(cid: int) -> ast.Formula:
-        return exact.build(cid, ast.Prop, lambda op, *kids: _NODES[op](*kids))
+        if cid < 0:
+            return extras[-cid - 1][0]
+        for search in sources:
+            if cid < search.stored:
+                return search.build(cid, ast.Prop, lambda op, *kids: _NODES[op](*kids))
+            cid -= search.stored
+        raise IndexError(cid)
 
     if outcome.solution is not None:
         return finish(build(outcome.solution), outcome.solution_size, "enumeration", outcome.evaluated, "solution")
     if outcome.stopped_by == "max_size":
         return finish(None, None, "none", outcome.evaluated, "max_size")
+    explored = outcome.evaluated
+
+    # A narrower operator set reaches deeper (sequences such as F(a & X F(b & X F c))) on the same budget.
+    found = None
+    fragment = tuple(op for op in _FRAGMENT if op in operators)
+    if len(fragment) >= 2 and len(fragment) < len(operators):
+        narrow = Enumerator(frame, atoms, fragment, separates, max_candidates=max_candidates, max_work=max_work,
+                            deadline=start + 0.55 * timeout)
+        narrow_outcome = narrow.run(max_size)
+        explored += narrow_outcome.evaluated
+        if narrow_outcome.solution is not None:
+            found = narrow.build(narrow_outcome.solution, ast.Prop, lambda op, *kids: _NODES[op](*kids))
+        sources.append(narrow)
 
     extras = _positional_literals(frame, sample.propositions, outcome.complete_up_to)
-    best = _combine(exact, extras, target, max_size, pool_size, deadline, max_work)
-    explored = outcome.evaluated + best.explored
+    limit = max_size if found is None else ast.size(found) - 1  # the combination must beat the narrow answer
+    best = _combine(sources, extras, target, limit, pool_size, deadline, max_work, start + 0.95 * timeout)
+    explored += best.explored
     if best.formula_ids is None:
+        if found is not None:
+            return finish(found, ast.size(found), "enumeration (F, X, &)", explored, outcome.stopped_by)
         return finish(None, None, "none", explored, outcome.stopped_by)
-    formula = best.formula_ids(lambda cid: build(cid) if cid >= 0 else extras[-cid - 1][0])
+    formula = best.formula_ids(build)
     return finish(formula, ast.size(formula), best.method, explored, outcome.stopped_by)
 
 
@@ -188,14 +213,23 @@ def _positional_literals(frame: Frame, propositions: Sequence[str], complete_up_
     return extras
 
 
-def _combine(exact: Enumerator, extras: list, target: np.ndarray, max_size: int, pool_size: int,
-             deadline: float, max_work: float) -> _Combination:
-    """Phase 2: Boolean combinations of the exact phase's candidates, judged at position 0 only."""
-    ids, sizes, first = exact.all_candidates(first_only=True)  # first: (k, n) values at position 0
+def _combine(sources: list[Enumerator], extras: list, target: np.ndarray, max_size: int, pool_size: int,
+             deadline: float, max_work: float, hard_deadline: float) -> _Combination:
+    """Phase 2: Boolean combinations of the exact phases' candidates, judged at position 0 only.
+
+    Candidate ids run through the sources one after the other; extras get negative ids.
+    """
+    parts, offset = [], 0
+    for search in sources:
+        ids, sizes, first = search.all_candidates(first_only=True)  # first: (k, n) values at position 0
+        parts.append((ids + offset, sizes, first))
+        offset += search.stored
     if extras:
-        ids = np.concatenate([ids, -1 - np.arange(len(extras))])
-        sizes = np.concatenate([sizes, [size for _, _, size in extras]])
-        first = np.concatenate([first, np.stack([bits for _, bits, _ in extras])])
+        parts.append((-1 - np.arange(len(extras)), np.array([size for _, _, size in extras]),
+                      np.stack([bits for _, bits, _ in extras])))
+    ids, sizes, first = (np.concatenate(column) for column in zip(*parts))
+    by_size = np.argsort(sizes, kind="stable")
+    ids, sizes, first = ids[by_size], sizes[by_size], first[by_size]
     # one candidate per distinct first-position behaviour (the smallest: candidates come in size order)
     _, keep = np.unique(np.packbits(first, axis=1), axis=0, return_index=True)
     keep.sort()
@@ -207,8 +241,8 @@ def _combine(exact: Enumerator, extras: list, target: np.ndarray, max_size: int,
 
     for groups, outer, inner in ((_greedy_cover(first, sizes, pos, neg, conjunction=True), ast.And, ast.And),
                                  (_greedy_cover(first, sizes, pos, neg, conjunction=False), ast.Or, ast.Or),
-                                 (_greedy_two_level(first, sizes, pos, neg), ast.Or, ast.And),
-                                 (_greedy_two_level(~first, sizes, neg, pos), ast.And, ast.Or)):
+                                 (_greedy_two_level(first, sizes, pos, neg, hard_deadline), ast.Or, ast.And),
+                                 (_greedy_two_level(~first, sizes, neg, pos, hard_deadline), ast.And, ast.Or)):
         if groups is None:
             continue
         size = sum(int(sizes[c].sum()) + len(c) - 1 for c in groups) + len(groups) - 1
@@ -288,7 +322,8 @@ def _greedy_cover(first: np.ndarray, sizes: np.ndarray, pos: np.ndarray, neg: np
     return [chosen] if conjunction else [[c] for c in chosen]
 
 
-def _greedy_two_level(first: np.ndarray, sizes: np.ndarray, pos: np.ndarray, neg: np.ndarray) -> list[list[int]] | None:
+def _greedy_two_level(first: np.ndarray, sizes: np.ndarray, pos: np.ndarray, neg: np.ndarray,
+                      deadline: float) -> list[list[int]] | None:
     """A disjunction of conjunctions of candidates that separates, built greedily.
 
     Each term starts from the positives not yet covered and adds the candidate that rejects the
@@ -307,6 +342,8 @@ def _greedy_two_level(first: np.ndarray, sizes: np.ndarray, pos: np.ndarray, neg
         kept, left = uncovered.copy(), all_neg.copy()
         term: list[int] = []
         while left.any():
+            if time.monotonic() > deadline:
+                return None
             keeps = np.bitwise_count(on_pos & kept).sum(axis=1, dtype=np.int64)
             rejects = np.bitwise_count(off_neg & left).sum(axis=1, dtype=np.int64)
             score = keeps * keeps * rejects / sizes
