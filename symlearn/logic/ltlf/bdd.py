@@ -52,41 +52,29 @@ class BDD:
         return self.node(var, FALSE, TRUE)
 
     def apply_and(self, u: int, v: int) -> int:
-        if u == FALSE or v == FALSE:
-            return FALSE
-        if u == TRUE:
-            return v
-        if v == TRUE or u == v:
-            return u
-        key = (u, v) if u < v else (v, u)
-        found = self._and.get(key)
-        if found is not None:
-            return found
-        lu, lv = self.level[u], self.level[v]
-        top = lu if lu < lv else lv
-        u0, u1 = (self.low[u], self.high[u]) if lu == top else (u, u)
-        v0, v1 = (self.low[v], self.high[v]) if lv == top else (v, v)
-        found = self.node(top, self.apply_and(u0, v0), self.apply_and(u1, v1))
-        self._and[key] = found
-        return found
+        return self._apply(u, v, FALSE, self._and)
 
     def apply_or(self, u: int, v: int) -> int:
-        if u == TRUE or v == TRUE:
-            return TRUE
-        if u == FALSE:
+        return self._apply(u, v, TRUE, self._or)
+
+    def _apply(self, u: int, v: int, absorbing: int, cache: dict[tuple[int, int], int]) -> int:
+        """``u & v`` (absorbing FALSE) or ``u | v`` (absorbing TRUE) by Shannon expansion."""
+        if u == absorbing or v == absorbing:
+            return absorbing
+        if u <= TRUE:  # the neutral constant
             return v
-        if v == FALSE or u == v:
+        if v <= TRUE or u == v:
             return u
         key = (u, v) if u < v else (v, u)
-        found = self._or.get(key)
+        found = cache.get(key)
         if found is not None:
             return found
         lu, lv = self.level[u], self.level[v]
         top = lu if lu < lv else lv
         u0, u1 = (self.low[u], self.high[u]) if lu == top else (u, u)
         v0, v1 = (self.low[v], self.high[v]) if lv == top else (v, v)
-        found = self.node(top, self.apply_or(u0, v0), self.apply_or(u1, v1))
-        self._or[key] = found
+        found = self.node(top, self._apply(u0, v0, absorbing, cache), self._apply(u1, v1, absorbing, cache))
+        cache[key] = found
         return found
 
     def negate(self, u: int) -> int:

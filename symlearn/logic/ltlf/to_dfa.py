@@ -125,24 +125,20 @@ class _Translation:
         return found
 
     def _and(self, a: int, b: int) -> int:
-        ka, kb = self.nodes[a][0], self.nodes[b][0]
-        if ka == _FF or kb == _FF:
-            return self._mk((_FF,))
-        if ka == _TT:
-            return b
-        if kb == _TT or a == b:
-            return a
-        return self._mk((_AND, min(a, b), max(a, b)))
+        return self._junction(a, b, _AND, _FF, _TT)
 
     def _or(self, a: int, b: int) -> int:
+        return self._junction(a, b, _OR, _TT, _FF)
+
+    def _junction(self, a: int, b: int, kind: int, absorbing: int, neutral: int) -> int:
         ka, kb = self.nodes[a][0], self.nodes[b][0]
-        if ka == _TT or kb == _TT:
-            return self._mk((_TT,))
-        if ka == _FF:
+        if ka == absorbing or kb == absorbing:
+            return self._mk((absorbing,))
+        if ka == neutral:
             return b
-        if kb == _FF or a == b:
+        if kb == neutral or a == b:
             return a
-        return self._mk((_OR, min(a, b), max(a, b)))
+        return self._mk((kind, min(a, b), max(a, b)))
 
     def _nnf(self, root: Formula, negated: bool) -> int:
         # explicit stack: formulas from files can be nested deeper than Python's recursion limit
