@@ -238,14 +238,18 @@ SymbolType = clingo.SymbolType
 class _Tagger(clingo.ast.Transformer):
     """Add ``tag`` as the first argument of every predicate atom; guard every rule body."""
 
-    def __init__(self, tag: clingo.ast.AST, guard: list[clingo.ast.AST], constraint_head: str | None = None) -> None:
+    def __init__(self, tag: clingo.ast.AST, guard: list[clingo.ast.AST], constraint_head: str | None = None,
+                 untagged: frozenset[str] = frozenset()) -> None:
         self.tag = tag
         self.guard = guard
         self.constraint_head = constraint_head
+        self.untagged = untagged
 
     def visit_SymbolicAtom(self, atom: clingo.ast.AST) -> clingo.ast.AST:
         term = atom.symbol
         loc = term.location
+        if getattr(term, "name", None) in self.untagged:
+            return atom
         if term.ast_type == clingo.ast.ASTType.Function and term.name:
             return atom.update(symbol=term.update(arguments=[self.tag, *term.arguments]))
         if term.ast_type == clingo.ast.ASTType.SymbolicTerm and term.symbol.type == clingo.SymbolType.Function \
@@ -280,13 +284,15 @@ _UNTAGGABLE = {"Minimize", "Heuristic", "ProjectAtom", "ProjectSignature", "Exte
                "TheoryDefinition", "Script", "Defined"}
 
 
-def tag_program(program: Program, tag: str, guard: Sequence[str] = (), constraint_head: str | None = None) -> str:
+def tag_program(program: Program, tag: str, guard: Sequence[str] = (), constraint_head: str | None = None,
+                untagged: Iterable[str] = ()) -> str:
     """Rewrite ``program`` so that every predicate gets ``tag`` (a term or variable) as first argument.
 
     Used to put many copies of a program side by side in one grounding (one copy per example,
     ``tag`` = the example id). Every rule body gets the ``guard`` literals, which must bind a
     variable tag (e.g. ``tag="E"``, ``guard=["active(E)"]``). ``#show`` is dropped; statements
     that cannot be copied this way (``#minimize``, ``#external`` ...) raise ParseError.
+    Predicates named in ``untagged`` are left alone.
     With ``constraint_head`` an integrity constraint ``:- body.`` becomes ``constraint_head(tag) :- body.``
     """
     tag_term = clingo.ast.parse_string  # keep name short below
@@ -297,7 +303,7 @@ def tag_program(program: Program, tag: str, guard: Sequence[str] = (), constrain
     rule = parsed[-1]
     tag_ast = rule.head.atom.symbol.arguments[0]
     guard_ast = list(rule.body)
-    tagger = _Tagger(tag_ast, guard_ast, constraint_head)
+    tagger = _Tagger(tag_ast, guard_ast, constraint_head, frozenset(untagged))
     out: list[str] = []
     messages = _Messages()
 

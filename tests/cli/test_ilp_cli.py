@@ -1,0 +1,91 @@
+"""``symlearn ilp learn|check|space`` end to end, including bad input."""
+
+import json
+
+import pytest
+
+TASK = """
+dir(north;south;east;west).
+#pos(p1, {}, {}, { wall(north). go(south). }).
+#pos(p2, {}, {}, { go(east). }).
+#neg(n1, {}, {}, { wall(north). go(north). }).
+#neg(n2, {}, {}, { wall(east). go(east). }).
+#modeb(1, wall(var(d))).
+#modeb(1, go(var(d))).
+#maxv(1).
+"""
+
+
+@pytest.fixture
+def task_file(tmp_path):
+    path = tmp_path / "walls.las"
+    path.write_text(TASK)
+    return path
+
+
+def test_learn_prints_rules_and_writes_an_editable_file(run_cli, task_file, tmp_path):
+    out = tmp_path / "learned.lp"
+    result = run_cli("ilp", "learn", task_file, "-o", out)
+    assert result.returncode == 0, result.stderr
+    assert ":- wall(V1), go(V1)." in result.stdout and "score 2 (optimal)" in result.stdout
+    text = out.read_text()
+    assert text.startswith("% learned by symlearn ilp learn") and ":- wall(V1), go(V1)." in text
+
+
+def test_learn_json_keys(run_cli, task_file):
+    result = run_cli("ilp", "learn", task_file, "--json", "--timeout", "20")
+    doc = json.loads(result.stdout)
+    assert {"rules", "score", "optimal", "seconds"} <= set(doc)
+    assert doc["rules"] == [":- wall(V1), go(V1)."] and doc["score"] == 2 and doc["optimal"] is True
+
+
+def test_check_rescores_an_edited_file(run_cli, task_file, tmp_path):
+    hyp = tmp_path / "edited.lp"
+    hyp.write_text("% my edit: only forbid going north\n:- go(north).\n")
+    result = run_cli("ilp", "check", task_file, hyp, "--json")
+    doc = json.loads(result.stdout)
+    assert result.returncode == 0
+    assert doc["coverage"] == {"p1": True, "p2": True, "n1": True, "n2": False}
+    assert doc["score"] is None and doc["uncovered_without_penalty"] == ["n2"]
+    text = run_cli("ilp", "check", task_file, hyp).stdout
+    assert "3/4 examples covered" in text and "uncovered: n2" in text
+
+
+def test_space_prints_size_and_sample(run_cli, task_file):
+    result = run_cli("ilp", "space", task_file, "--sample", "3")
+    assert result.returncode == 0 and "candidate rules" in result.stdout
+    doc = json.loads(run_cli("ilp", "space", task_file, "--json").stdout)
+    assert doc["size"] == 3 and {r["rule"] for r in doc["sample"]} == {":- wall(V1).", ":- go(V1).",
+                                                                       ":- wall(V1), go(V1)."}
+
+
+def test_extra_background_file(run_cli, tmp_path):
+    task = tmp_path / "t.las"
+    task.write_text("#pos(p, {}, {}, { a. }).\n#neg(n, {}, {}, { c. }).\n#modeb(1, b).\n")
+    bk = tmp_path / "bk.lp"
+    bk.write_text("b :- c.\n")
+    doc = json.loads(run_cli("ilp", "learn", task, "--bk", bk, "--json").stdout)
+    assert doc["rules"] == [":- b."]
+
+
+@pytest.mark.parametrize("content, message", [
+    ("#modeb(1, p(var(t)).\n", "t.las:1:"),
+    ("#pos(a, {}, {}, {}).\nbad(.\n#modeb(1, p).\n", "t.las:2:"),
+    ("#modeo(a).\n", "unsupported feature #modeo at line 1"),
+    ("#modeb(1, p).\n", "no examples"),
+    ("#pos(a, {}, {}, {}).\n#modeb(1, p(const(c))).\n", "hypothesis space empty"),
+])
+def test_bad_input_is_one_line_and_exit_2(run_cli, tmp_path, content, message):
+    task = tmp_path / "t.las"
+    task.write_text(content)
+    result = run_cli("ilp", "learn", task)
+    assert result.returncode == 2 and message in result.stderr
+    assert result.stderr.startswith("symlearn: error:") and "Traceback" not in result.stderr
+
+
+def test_no_solution_prints_diagnostics_and_exits_2(run_cli, tmp_path):
+    task = tmp_path / "t.las"
+    task.write_text("#pos(p, {}, {}, { go(n). }).\n#neg(q, {}, {}, { go(n). }).\n#modeb(1, go(var(d))).\n")
+    result = run_cli("ilp", "learn", task)
+    assert result.returncode == 2
+    assert "no hypothesis found" in result.stdout and "p and q conflict" in result.stdout
