@@ -12,6 +12,9 @@
 The printer adds exactly the parentheses needed to rebuild the same tree under the dialect's
 precedence, so ``parse(to_string(f, dialect=d), dialect=d) == f`` for every formula and
 dialect. Propositions that are not plain lowercase names are printed double-quoted.
+The task operator ``T`` is symlearn's own: it is printed as ``T`` in every dialect (so the round
+trip holds), which Spot and LTLf2DFA cannot read; :func:`symlearn.logic.ltlf.mona.to_ltlf2dfa_text`
+expands it (``a T b`` = ``F(a & X F b)``) for LTLf2DFA.
 """
 
 from __future__ import annotations
