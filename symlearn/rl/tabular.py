@@ -20,20 +20,31 @@ class ValueIterationResult:
 
 
 def value_iteration(
-    mdp: TabularMDP, discount: float = 0.99, tol: float = 1e-8, max_iterations: int = 100_000
+    mdp: TabularMDP,
+    discount: float = 0.99,
+    tol: float = 1e-8,
+    max_iterations: int = 100_000,
+    *,
+    allowed: np.ndarray | None = None,
 ) -> ValueIterationResult:
     """Optimal values by Bellman backups until the largest change drops below ``tol``.
 
-    Terminal states are worth zero: no reward is collected after an episode ends.
+    Terminal states are worth zero: no reward is collected after an episode ends. ``allowed``
+    (boolean ``(S, A)``, e.g. ``restrict(...).allowed``) limits the actions a policy may take;
+    a state with none allowed keeps all its actions (it is a dead end of the constraint set,
+    which :func:`restrict` already keeps every allowed action away from).
     """
     if not 0.0 <= discount <= 1.0:
         raise SymlearnError(f"discount must lie in [0, 1], got {discount}")
     live = (~mdp.terminal).astype(np.float64)
+    usable = np.ones((mdp.n_states, mdp.n_actions), bool) if allowed is None else check_mask(mdp, allowed, "allowed mask")
+    usable = usable | ~usable.any(axis=1, keepdims=True)
     values = np.zeros(mdp.n_states)
     q = mdp.rewards.copy()
     for iteration in range(1, max_iterations + 1):
         q = mdp.rewards + discount * mdp.transitions @ values
         q[mdp.terminal] = 0.0
+        q = np.where(usable, q, -np.inf)
         new_values = q.max(axis=1) * live
         delta = float(np.max(np.abs(new_values - values)))
         values = new_values

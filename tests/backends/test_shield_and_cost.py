@@ -116,3 +116,11 @@ def test_wrappers_compose():
     env.step(RIGHT)
     _, _, _, _, info = env.step(RIGHT)  # the shield replaces it before anything happens
     assert info["shield"] == "replaced" and "action_mask" in info
+
+
+def test_observations_outside_the_mask_are_reported():
+    import gymnasium as gym
+
+    env = Shield(gym.make("FrozenLake-v1"), np.zeros((49, 4), bool), state_of=lambda obs: obs + 100)
+    with pytest.raises(SymlearnError, match=r"state 100 is outside the constraint mask \(0..48\)"):
+        env.reset(seed=0)

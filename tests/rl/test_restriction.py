@@ -57,3 +57,15 @@ def test_rollouts_stop_at_the_goal():
     r = sample_rollouts(mdp, policy, 10, 50, np.random.default_rng(0))
     assert (r.length == 4).all() and (r.returns() == -4).all()
     assert r.fraction_in(np.eye(5)[2].astype(bool)).tolist() == [0.25] * 10
+
+
+def test_value_iteration_respects_an_allowed_mask():
+    from symlearn.rl.tabular import value_iteration
+
+    mdp = corridor()
+    mask = np.zeros((5, 2), bool)
+    mask[2, 1] = True  # the way right from state 2 is closed
+    free = value_iteration(mdp, discount=0.9)
+    closed = value_iteration(mdp, discount=0.9, allowed=restrict(mdp, mask).allowed)
+    assert free.policy[2] == 1 and closed.policy[2] == 0
+    assert closed.values[0] < free.values[0]
