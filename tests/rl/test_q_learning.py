@@ -18,8 +18,8 @@ def test_shielded_agent_never_violates_and_plain_agent_does():
 
 def test_ignoring_the_mask_is_possible():
     mask = StochasticGridworld(0.0).constraint_mask()
-    env = Shield(make_gridworld(0.0), mask, mode="refuse")
-    result = q_learning(env, 50, use_action_mask=False, seed=0, learning_rate=0.5, discount=0.95)
+    env = Shield(make_gridworld(0.0), mask, mode="refuse", refusal_reward=-2)
+    result = q_learning(env, 50, use_action_mask=False, seed=0, learning_rate=0.5, discount=0.95, max_steps=300)
     assert env.interventions > 0 and result.violations.sum() == 0
 
 
