@@ -1,26 +1,32 @@
 """Learn a small LTLf formula that every positive trace satisfies and no negative trace does.
 
-:func:`learn_ltl` works in two phases, both on truth values packed as bit words
-(:mod:`~symlearn.learners.ltl_bitsets`), both keeping one candidate per distinct behaviour:
+:func:`learn_ltl` works in phases, all on truth values packed as bit words
+(:mod:`~symlearn.learners.ltl_bitsets`), all keeping one candidate per distinct behaviour:
 
 1. **Exact search** (:class:`~symlearn.learners.ltl_enumeration.Enumerator`): all formulas by
    increasing size over the chosen operators, each represented by its truth values at every
    position of every trace. The first size with a separating candidate gives a smallest formula
    (``optimal=True``).
-2. **Boolean combination** (anytime, when the exact search hits its work limit): the candidates
-   found so far only matter at position 0 of each trace now, so each becomes one bit per trace.
-   A greedy set cover (a conjunction of candidates true on every positive that together reject
-   every negative, or the dual disjunction) gives a first answer quickly; then a second
-   size-ordered search combines the candidates with ``!``, ``&``, ``|``, ``->`` over those
-   per-trace bits, looking for a smaller one. Answers of this phase are flagged
-   ``optimal=False`` unless the exact phase already proved nothing smaller exists.
+2. **Narrow search** (when the exact search hits its work limit): the same over ``F X &`` only,
+   which reaches deeper on the same budget (sequences like ``F(a & X F(b & X F c))``).
+3. **Boolean combination** (anytime): the candidates of both searches only matter at position 0
+   of each trace now, so each becomes one bit per trace. Greedy set covers (a conjunction of
+   candidates true on every positive that together reject every negative, the dual disjunction,
+   and greedy disjunctions of conjunctions and their duals; ``X..X p`` literals make sure traces
+   that differ late can still be told apart) give a first answer; then a second size-ordered
+   search combines a pool of candidates with ``!``, ``&``, ``|``, ``->`` over those per-trace
+   bits, looking for a smaller one. Answers of phases 2 and 3 are flagged ``optimal=False``
+   unless the exact phase already proved nothing smaller exists.
 
 Size is the number of nodes of the syntax tree (:func:`symlearn.logic.ltlf.ast.size`:
 propositions, constants and every operator count 1, ``a -> b`` is 3), the measure under which
 the benchmarks' ``smallest_known_formula`` is compared.
 
-The result is deterministic: every limit but the wall-clock ``timeout`` counts work, and the
-timeout (a safety net) only matters when those limits are set too high for the machine.
+Time: the phases stop by at most 30 %, 55 % and 80 % of ``timeout`` and the set cover by 95 %,
+so an answer comes back within the timeout. The result is deterministic as long as the work
+limits (``max_work``, ``max_candidates``: they count work, not time) bind before those
+deadlines, which is the case on an unloaded machine with the defaults; on a heavily loaded
+machine a deadline may cut a phase at a different point.
 
 >>> pos = [[{"a"}, {"b"}], [set(), {"a"}, {"b"}]]
 >>> neg = [[{"b"}, {"a"}], [{"a"}], [set(), {"b"}]]
@@ -297,7 +303,7 @@ def _nested(groups: list[list[int]], outer, inner):
 
 
 def _greedy_cover(first: np.ndarray, sizes: np.ndarray, pos: np.ndarray, neg: np.ndarray, *,
-                  conjunction: bool) -> list[int] | None:
+                  conjunction: bool) -> list[list[int]] | None:
     """Candidates whose conjunction (disjunction) separates: greedy weighted set cover.
 
     For a conjunction every chosen candidate must hold on all positives, and together they must

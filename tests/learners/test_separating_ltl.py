@@ -232,3 +232,31 @@ def test_benchmark_problems_reach_the_known_size(name):
         known = known[: known.rindex(")")] + known[known.rindex(")") + 1:]
     assert result.optimal and result.size <= size(parse(known, dialect="spot"))
     assert separates(result.formula, sample.positive, sample.negative)
+
+
+def _wired() -> bool:
+    from symlearn.cli.main import build_parser
+
+    parser = build_parser()
+    groups = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction)).choices
+    ltl = groups.get("ltl")
+    if ltl is None:
+        return False
+    commands = next((a for a in ltl._actions if isinstance(a, argparse._SubParsersAction)), None)
+    return commands is not None and "learn" in commands.choices
+
+
+def test_cli_through_main_exit_codes(tmp_path, capsys):
+    if not _wired():
+        pytest.skip("'ltl learn' is not registered in the ltl command group yet")
+    from symlearn.cli.main import main
+
+    good = _sample_file(tmp_path, [[{"a"}], [{"b"}]], [[set()], [set(), {"a"}]])
+    assert main(["ltl", "learn", str(good), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["size"] == 3
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"atomic_propositions": ["a"], "positive_traces": [{"a": [1]}],
+                               "negative_traces": [{"a": [1]}]}))
+    assert main(["ltl", "learn", str(bad)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and err[0].startswith(f"symlearn: error: {bad}: contradictory sample")
