@@ -224,6 +224,9 @@ class _Translation:
     # -- symbolic automaton --------------------------------------------------------------------
     def build(self, max_states: int) -> DFATable:
         bdd = self.bdd = BDD()
+        # propositions take the top levels in name order, the order Guard's diagrams use, so
+        # converting a guard to a Guard is one constant-time node construction per node
+        self.props = {name: level for level, name in enumerate(sorted(self.props))}
         n_props = len(self.props)
         # BDD levels: propositions 0..n_props-1, then one per elementary node, then NE
         self.level_of: dict[int, int] = {}
