@@ -15,6 +15,7 @@ PIPELINE_MODULES: tuple[str, ...] = (
     "symlearn.demo.demonstrations_pipeline",
     "symlearn.demo.gridworld_pipeline",
     "symlearn.demo.ltlf_pipeline",
+    "symlearn.demo.spec_pipeline",
 )
 
 

@@ -262,7 +262,7 @@ class SpecLearner:
         from symlearn.rl.crm_q_learning import crm_q_learning
 
         machine = task_machine(formula)
-        steps = self.q_steps or 400 * self._n_states * (1 + machine.n_states // 8)
+        steps = self.q_steps or min(400 * self._n_states * (1 + machine.n_states // 8), 4_000_000)
         labels = [labeling.label(s) for s in range(self._n_states)]
         base = 0 if self.random_state is None else int(self.random_state)
         return crm_q_learning(self._succ, labels, machine, self._start, n_steps=steps, n_envs=self.n_envs,
