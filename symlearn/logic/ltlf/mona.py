@@ -91,19 +91,30 @@ def to_ltlf2dfa_text(formula: Formula, names: dict[str, str]) -> str:
     return text[id(formula)]
 
 
-def _program(formula: Formula) -> tuple[str, dict[str, str]]:
+def _program(formula: Formula, printed: bool) -> tuple[str, dict[str, str]]:
     from ltlf2dfa.base import MonaProgram
     from ltlf2dfa.parser.ltlf import LTLfParser
 
-    names = {name: f"p{i}" for i, name in enumerate(sorted(propositions(formula)))}
-    parsed = LTLfParser()(to_ltlf2dfa_text(formula, names))
-    return MonaProgram(parsed).mona_program(), names
+    if printed:  # our printer's ltlf2dfa dialect, as a user would hand it to LTLf2DFA
+        from symlearn.logic.ltlf.printer import to_string
+
+        names = {name: name for name in propositions(formula)}
+        text = to_string(formula, "ltlf2dfa")
+    else:
+        names = {name: f"p{i}" for i, name in enumerate(sorted(propositions(formula)))}
+        text = to_ltlf2dfa_text(formula, names)
+    return MonaProgram(LTLfParser()(text)).mona_program(), names
 
 
-def mona_dfa(formula: Formula, *, timeout: float = 120.0) -> MonaDFA:
-    """Translate with LTLf2DFA + MONA; ``seconds`` is the wall time of the whole round trip."""
+def mona_dfa(formula: Formula, *, timeout: float = 120.0, printed: bool = False) -> MonaDFA:
+    """Translate with LTLf2DFA + MONA; ``seconds`` is the wall time of the whole round trip.
+
+    By default the formula reaches LTLf2DFA fully parenthesised with renamed propositions;
+    ``printed=True`` sends ``to_string(formula, "ltlf2dfa")`` instead (plain lowercase names and
+    LTLf2DFA's operators only), which tests that dialect against LTLf2DFA's own parser.
+    """
     start = time.perf_counter()
-    program, names = _program(formula)
+    program, names = _program(formula, printed)
     upper = {v.upper(): k for k, v in names.items()}
     fd, path = tempfile.mkstemp(suffix=".mona")
     try:

@@ -15,13 +15,16 @@ then ``&``, ``|``, ``->`` (to the right) and ``<->``.
 
 Dialects differ in two places only:
 
-=========  ==============  =============================================
-dialect    bare ``X``      ``->`` versus ``<->``
-=========  ==============  =============================================
-ours       strong next     ``<->`` looser than ``->``
-ltlf2dfa   strong next     ``<->`` looser than ``->`` (LTLf2DFA's grammar)
-spot       weak next       one level, grouping to the right (Spot's parser)
-=========  ==============  =============================================
+=========  ==============  ===============================================  ==================
+dialect    bare ``X``      ``->`` versus ``<->``                            ``R`` versus ``U``
+=========  ==============  ===============================================  ==================
+ours       strong next     ``<->`` looser than ``->``                       one level
+ltlf2dfa   strong next     ``<->`` looser than ``->`` (LTLf2DFA's grammar)  ``R`` tighter
+spot       weak next       one level, grouping to the right (Spot's parser)  one level
+=========  ==============  ===============================================  ==================
+
+In the ``ltlf2dfa`` dialect the printer also parenthesises every chain of ``U``/``R``/``->``/
+``<->`` (LTLf2DFA keeps such chains n-ary), so its output means the same to LTLf2DFA.
 
 Syntax errors raise :class:`~symlearn.errors.ParseError` naming the column, showing the
 formula with a caret under it, listing what was expected and, for common spellings from other
@@ -68,6 +71,7 @@ class _Build(Transformer):
         super().__init__()
         self.bare_x = WeakNext if dialect == "spot" else Next
         self.flat_arrows = dialect == "spot"
+        self.release_binds_tighter = dialect == "ltlf2dfa"
 
     def true(self, _):
         return TRUE
@@ -91,10 +95,22 @@ class _Build(Transformer):
         return (self.bare_x if op == "X" else _UNARY[op])(arg)
 
     def temporal_chain(self, items):
-        result = items[-1]
-        for i in range(len(items) - 3, -1, -2):
-            result = _TEMPORAL[str(items[i + 1])](items[i], result)
-        return result
+        if not self.release_binds_tighter:
+            return _fold_right(items, lambda op: _TEMPORAL[op])
+        # LTLf2DFA's grammar: R binds tighter than U (and our W, T)
+        parts: list[list] = [[]]
+        joins: list = []
+        for item in items:
+            if isinstance(item, Token) and str(item) != "R":
+                joins.append(item)
+                parts.append([])
+            else:
+                parts[-1].append(item)
+        folded = [_fold_right(part, lambda op: Release) for part in parts]
+        chain = [folded[0]]
+        for op, part in zip(joins, folded[1:]):
+            chain += [op, part]
+        return _fold_right(chain, lambda op: _TEMPORAL[op])
 
     def and_chain(self, items):
         return _fold_left(items, And)

@@ -52,6 +52,8 @@ def _precedence(node: Formula, dialect: str) -> int:
         return _ATOM
     if isinstance(node, (Not, Next, WeakNext, Eventually, Always)):
         return _UNARY
+    if isinstance(node, Release) and dialect == "ltlf2dfa":
+        return _TEMPORAL + 5
     if isinstance(node, (Until, Release, WeakUntil, Then)):
         return _TEMPORAL
     if isinstance(node, And):
@@ -95,9 +97,10 @@ def to_string(formula: Formula, dialect: str = "ours", style: str = "ascii") -> 
             left, right = text[id(node.left)], text[id(node.right)]
             lp, rp = _precedence(node.left, dialect), _precedence(node.right, dialect)
             right_grouping = isinstance(node, _RIGHT_GROUPING)
+            explicit = right_grouping and dialect == "ltlf2dfa"  # no chains for LTLf2DFA
             if lp < p or (lp == p and right_grouping):
                 left = f"{lparen}{left}{rparen}"
-            if rp < p or (rp == p and not right_grouping):
+            if rp < p or (rp == p and (explicit or not right_grouping)):
                 right = f"{lparen}{right}{rparen}"
             out = f"{left} {symbols[type(node)]} {right}"
         else:

@@ -9,7 +9,10 @@ from hypothesis import HealthCheck, given, settings
 
 from ltlf_oracle import compare
 from ltlf_strategies import formulas
-from symlearn.logic.ltlf import parse, translate
+from symlearn.logic.ltlf import parse, to_string, translate
+from symlearn.logic.ltlf.ast import (
+    Always, And, Const, Eventually, Iff, Implies, Next, Not, Or, Prop, Release, Until, WeakNext, subformulas,
+)
 
 MONA = importlib.util.find_spec("ltlf2dfa") is not None and shutil.which("mona") is not None
 pytestmark = [pytest.mark.oracle, pytest.mark.skipif(not MONA, reason="needs ltlf2dfa and the mona program")]
@@ -85,3 +88,15 @@ def test_spot_agrees_when_installed():
             for word in itertools.product(letters, repeat=length):
                 check = spot.translate(_spot_word_formula(word, props))
                 assert ours.accepts(word) == theirs.intersects(check), (text, word)
+
+
+_CORE = (Prop, Const, Not, And, Or, Implies, Iff, Next, WeakNext, Eventually, Always, Until, Release)
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
+@given(formulas(max_leaves=7).filter(lambda f: all(isinstance(n, _CORE) for n in subformulas(f))))
+def test_ltlf2dfa_dialect_text_means_the_same_to_ltlf2dfa(f):
+    from symlearn.logic.ltlf.mona import mona_dfa
+
+    problems = compare(translate(f), mona_dfa(f, printed=True))
+    assert not problems, (to_string(f, "ltlf2dfa"), problems)

@@ -4,7 +4,7 @@ from hypothesis import given, settings, strategies as st
 from ltlf_strategies import formulas
 from symlearn.errors import ParseError, SymlearnError
 from symlearn.logic.ltlf import (
-    FALSE, TRUE, Always, And, Eventually, Iff, Implies, Next, Not, Or, Prop, Then, Until, WeakNext,
+    FALSE, TRUE, Always, And, Eventually, Iff, Implies, Next, Not, Or, Prop, Release, Then, Until, WeakNext,
     operator_count, parse, size, to_latex, to_string,
 )
 
@@ -136,3 +136,11 @@ def test_fuzz_parser_only_raises_symlearn_errors(text):
         parse(text)
     except SymlearnError:
         pass
+
+
+def test_ltlf2dfa_dialect_binds_release_tighter_and_prints_no_chains():
+    assert parse("a R b U c", "ltlf2dfa") == Until(Release(a, b), c)
+    assert parse("a R b U c") == Release(a, Until(b, c))
+    assert to_string(Until(a, Until(b, c)), "ltlf2dfa") == "a U (b U c)"
+    assert to_string(Implies(a, Implies(b, c)), "ltlf2dfa") == "a -> (b -> c)"
+    assert to_string(Until(Release(a, b), c), "ltlf2dfa") == "a R b U c"
