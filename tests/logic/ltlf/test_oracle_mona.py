@@ -81,7 +81,7 @@ def test_spot_agrees_when_installed():
     for text in ["F a & F b", "G(a -> X b)", "a U b U c", "X a", "X[!] a", "a R (b | X[!] c)"]:
         f = parse(text, "spot")
         ours = translate(f)
-        theirs = spot.translate(spot.from_ltlf(to_string(f, "spot")))
+        theirs = spot.translate(spot.from_ltlf(spot.formula(to_string(f, "spot"))))
         props = ["a", "b", "c"]
         letters = [frozenset(c) for n in range(4) for c in itertools.combinations(props, n)]
         for length in range(1, 4):
