@@ -86,42 +86,32 @@ def _cofactors(u: int, var: str) -> tuple[int, int]:
     return u, u
 
 
-def _and(u: int, v: int) -> int:
-    if u == _FALSE or v == _FALSE:
-        return _FALSE
-    if u == _TRUE:
+def _apply(u: int, v: int, absorbing: int, cache: dict[tuple[int, int], int]) -> int:
+    """``u & v`` (``absorbing`` false) or ``u | v`` (``absorbing`` true), Shannon expansion."""
+    if u == absorbing or v == absorbing:
+        return absorbing
+    if u == 1 - absorbing:  # the neutral constant
         return v
-    if v == _TRUE or u == v:
+    if v == 1 - absorbing or u == v:
         return u
     key = (u, v) if u < v else (v, u)
-    hit = _and_cache.get(key)
+    hit = cache.get(key)
     if hit is not None:
         return hit
     var = _top(u, v)
     u0, u1 = _cofactors(u, var)
     v0, v1 = _cofactors(v, var)
-    result = _make(var, _and(u0, v0), _and(u1, v1))
-    _and_cache[key] = result
+    result = _make(var, _apply(u0, v0, absorbing, cache), _apply(u1, v1, absorbing, cache))
+    cache[key] = result
     return result
+
+
+def _and(u: int, v: int) -> int:
+    return _apply(u, v, _FALSE, _and_cache)
 
 
 def _or(u: int, v: int) -> int:
-    if u == _TRUE or v == _TRUE:
-        return _TRUE
-    if u == _FALSE:
-        return v
-    if v == _FALSE or u == v:
-        return u
-    key = (u, v) if u < v else (v, u)
-    hit = _or_cache.get(key)
-    if hit is not None:
-        return hit
-    var = _top(u, v)
-    u0, u1 = _cofactors(u, var)
-    v0, v1 = _cofactors(v, var)
-    result = _make(var, _or(u0, v0), _or(u1, v1))
-    _or_cache[key] = result
-    return result
+    return _apply(u, v, _TRUE, _or_cache)
 
 
 def _not(u: int) -> int:

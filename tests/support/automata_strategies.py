@@ -52,3 +52,13 @@ def dfas(draw, props=PROPS[:2], max_states=4, partial=True):
     accepting = draw(st.sets(st.integers(0, n - 1)))
     initial = draw(st.integers(0, n - 1))
     return DFA(props, n, initial, accepting, transitions)
+
+
+def a_then_b_avoid_c() -> DFA:
+    """F(a & X F b) & G !c written by hand; partial (a c-labelled step has no edge)."""
+    a, b, c = Guard.var("a"), Guard.var("b"), Guard.var("c")
+    return DFA({"a", "b", "c"}, 3, 0, [2], {
+        0: [(~a & ~c, 0), (a & ~c, 1)],
+        1: [(~b & ~c, 1), (b & ~c, 2)],
+        2: [(~c, 2)],
+    })

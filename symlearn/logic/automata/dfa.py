@@ -21,26 +21,17 @@ returns a new DFA. The algorithms live in :mod:`symlearn.logic.automata.operatio
 
 from __future__ import annotations
 
-from collections.abc import Iterable, Iterator, Mapping, Sequence
-from pathlib import Path
+from collections.abc import Iterable, Mapping, Sequence
 from typing import AbstractSet
 
 from symlearn.errors import ModelError
+from symlearn.logic.automata.base import (
+    GuardedAutomaton, as_guard, check_alphabet, check_deterministic, check_n_states, check_names, check_state,
+)
 from symlearn.logic.guards import Guard
 
 Label = AbstractSet[str]
 Word = Sequence[Label]
-
-
-def as_guard(value: Guard | str | bool) -> Guard:
-    """Accept guards as :class:`Guard`, guard text or a bool constant."""
-    if isinstance(value, Guard):
-        return value
-    if isinstance(value, bool):
-        return Guard.true() if value else Guard.false()
-    if isinstance(value, str):
-        return Guard.parse(value)
-    raise ModelError(f"an edge guard must be a Guard or guard text, not {type(value).__name__}")
 
 
 def normalise_edges(
@@ -73,39 +64,11 @@ def normalise_edges(
     return tuple(result)
 
 
-def check_deterministic(source: int, edges: Sequence[tuple], what: str = "DFA") -> None:
-    """Raise :class:`ModelError` if two edges of ``source`` share a label (targets differ)."""
-    for i, first in enumerate(edges):
-        for second in edges[i + 1:]:
-            overlap = first[0] & second[0]
-            if not overlap.is_false():
-                witness = sorted(overlap.satisfying_label() or ())
-                raise ModelError(
-                    f"{what} is not deterministic: from state {source}, guards {str(first[0])!r} (to {first[1]}) "
-                    f"and {str(second[0])!r} (to {second[1]}) both match the label {{{', '.join(witness)}}}",
-                    hint="make the guards of one state mutually exclusive")
-
-
-def check_state(state, n_states: int, what: str) -> int:
-    if isinstance(state, bool) or not isinstance(state, int) or not 0 <= state < n_states:
-        raise ModelError(f"{what} {state!r} is not a state (states are 0..{n_states - 1})")
-    return state
-
-
-def check_alphabet(alphabet: Iterable[str]) -> frozenset[str]:
-    if isinstance(alphabet, str):
-        raise ModelError(f"the alphabet must be a collection of proposition names, not the string {alphabet!r}")
-    result = frozenset(alphabet)
-    for name in result:
-        if not isinstance(name, str) or not name:
-            raise ModelError(f"proposition names must be non-empty strings, not {name!r}")
-    return result
-
-
-class DFA:
+class DFA(GuardedAutomaton):
     """A deterministic finite automaton with states ``0..n_states-1`` and guarded edges."""
 
     __slots__ = ("alphabet", "n_states", "initial", "accepting", "state_names", "_edges")
+    _what = "DFA"
 
     def __init__(
         self,
@@ -116,63 +79,28 @@ class DFA:
         transitions: Mapping[int, Sequence[tuple[Guard | str, int]]],
         state_names: Sequence[str] | None = None,
     ) -> None:
-        if isinstance(n_states, bool) or not isinstance(n_states, int) or n_states < 1:
-            raise ModelError(f"a DFA needs at least one state, got n_states={n_states!r}")
+        n_states = check_n_states(n_states, "DFA")
         alphabet = check_alphabet(alphabet)
-        set_ = object.__setattr__
-        set_(self, "alphabet", alphabet)
-        set_(self, "n_states", n_states)
-        set_(self, "initial", check_state(initial, n_states, "initial state"))
-        set_(self, "accepting", frozenset(check_state(q, n_states, "accepting state") for q in accepting))
-        set_(self, "_edges", normalise_edges(n_states, transitions, alphabet))
-        if state_names is not None:
-            state_names = tuple(str(n) for n in state_names)
-            if len(state_names) != n_states:
-                raise ModelError(f"{len(state_names)} state names for {n_states} states")
-        set_(self, "state_names", state_names)
-
-    def __setattr__(self, name, value):
-        raise AttributeError("DFA is immutable")
+        self._init_fields(
+            alphabet=alphabet,
+            n_states=n_states,
+            initial=check_state(initial, n_states, "initial state"),
+            accepting=frozenset(check_state(q, n_states, "accepting state") for q in accepting),
+            _edges=normalise_edges(n_states, transitions, alphabet),
+            state_names=check_names(state_names, n_states),
+        )
 
     @classmethod
     def _trusted(cls, alphabet, n_states, initial, accepting, edges, state_names=None) -> DFA:
         """Build from already canonical edges (internal: skips validation)."""
         dfa = object.__new__(cls)
-        set_ = object.__setattr__
-        set_(dfa, "alphabet", frozenset(alphabet))
-        set_(dfa, "n_states", n_states)
-        set_(dfa, "initial", initial)
-        set_(dfa, "accepting", frozenset(accepting))
-        set_(dfa, "_edges", tuple(tuple(sorted(row, key=lambda e: e[0].sort_key)) for row in edges))
-        set_(dfa, "state_names", None if state_names is None else tuple(state_names))
+        dfa._init_fields(alphabet=frozenset(alphabet), n_states=n_states, initial=initial,
+                         accepting=frozenset(accepting),
+                         _edges=tuple(tuple(sorted(row, key=lambda e: e[0].sort_key)) for row in edges),
+                         state_names=None if state_names is None else tuple(state_names))
         return dfa
 
-    # -- structure --------------------------------------------------------------------------
-    @property
-    def transitions(self) -> dict[int, list[tuple[Guard, int]]]:
-        """``{state: [(guard, target), ...]}`` as accepted by the constructor."""
-        return {q: list(row) for q, row in enumerate(self._edges)}
-
-    def successors(self, state: int) -> tuple[tuple[Guard, int], ...]:
-        return self._edges[state]
-
-    def edges(self) -> Iterator[tuple[int, Guard, int]]:
-        """Every edge as ``(source, guard, target)``."""
-        for source, row in enumerate(self._edges):
-            for guard, target in row:
-                yield source, guard, target
-
-    @property
-    def n_edges(self) -> int:
-        return sum(len(row) for row in self._edges)
-
-    @property
-    def states(self) -> range:
-        return range(self.n_states)
-
-    def name(self, state: int) -> str:
-        return self.state_names[state] if self.state_names else str(state)
-
+    # -- structure (states, edges, successors, transitions, n_edges, name: see GuardedAutomaton)
     def is_accepting(self, state: int) -> bool:
         return state in self.accepting
 
@@ -305,17 +233,6 @@ class DFA:
 
         return dfa_to_dot(self, title=title, unicode=unicode)
 
-    def render(self, path: str | Path) -> Path:
-        """Draw to ``.svg``/``.png``/``.pdf`` with Graphviz."""
-        from symlearn.rendering import render_dot
-
-        return render_dot(self.to_dot(), path)
-
-    def _repr_svg_(self) -> str | None:
-        from symlearn.rendering import dot_to_svg_text
-
-        return dot_to_svg_text(self.to_dot())
-
     def to_hoa(self, name: str | None = None) -> str:
         from symlearn.logic.automata.hoa_export import to_hoa
 
@@ -326,44 +243,15 @@ class DFA:
 
         return dfa_to_dict(self)
 
-    def to_json(self) -> str:
-        from symlearn.logic.automata.json_format import dumps
-
-        return dumps(self.to_dict())
-
     @classmethod
     def from_dict(cls, document: Mapping, *, source: str | None = None) -> DFA:
         from symlearn.logic.automata.json_format import dfa_from_dict
 
         return dfa_from_dict(document, source=source)
 
-    @classmethod
-    def from_json(cls, text: str | Mapping, *, source: str | None = None) -> DFA:
-        from symlearn.logic.automata.json_format import loads
-
-        document = text if isinstance(text, Mapping) else loads(text, source=source)
-        return cls.from_dict(document, source=source)
-
-    def save(self, path: str | Path) -> Path:
-        from symlearn.atomic import write_text
-
-        return write_text(path, self.to_json())
-
-    @classmethod
-    def load(cls, path: str | Path) -> DFA:
-        text = Path(path).read_text(encoding="utf-8")
-        return cls.from_json(text, source=str(path))
-
     # -- identity ---------------------------------------------------------------------------
     def _key(self) -> tuple:
         return (self.alphabet, self.n_states, self.initial, self.accepting, self._edges, self.state_names)
-
-    def __eq__(self, other: object) -> bool:
-        """Structural equality (same numbering, guards, names); see :meth:`equivalent` for languages."""
-        return isinstance(other, DFA) and type(other) is type(self) and other._key() == self._key()
-
-    def __hash__(self) -> int:
-        return hash(self._key())
 
     def same_structure(self, other: DFA) -> bool:
         """Structural equality ignoring state names."""

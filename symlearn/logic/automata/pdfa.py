@@ -27,19 +27,22 @@ from __future__ import annotations
 import heapq
 import math
 from collections.abc import Iterable, Mapping, Sequence
-from pathlib import Path
 
 from symlearn.errors import LimitExceededError, ModelError
-from symlearn.logic.automata.dfa import DFA, Word, as_guard, check_alphabet, check_deterministic, check_state
+from symlearn.logic.automata.base import (
+    GuardedAutomaton, check_alphabet, check_n_states, check_names, check_state, weighted_edges,
+)
+from symlearn.logic.automata.dfa import DFA, Word
 from symlearn.logic.guards import Guard
 
 TOLERANCE = 1e-9
 
 
-class PDFA:
+class PDFA(GuardedAutomaton):
     """A probabilistic DFA with states ``0..n_states-1``; immutable."""
 
     __slots__ = ("alphabet", "n_states", "initial", "accepting", "termination", "state_names", "_edges")
+    _what = "PDFA"
 
     def __init__(
         self,
@@ -53,34 +56,14 @@ class PDFA:
         *,
         tolerance: float = TOLERANCE,
     ) -> None:
-        if isinstance(n_states, bool) or not isinstance(n_states, int) or n_states < 1:
-            raise ModelError(f"a PDFA needs at least one state, got n_states={n_states!r}")
+        n_states = check_n_states(n_states, "PDFA")
         alphabet = check_alphabet(alphabet)
         termination = tuple(_probability(p, f"termination probability of state {q}")
                             for q, p in enumerate(termination))
         if len(termination) != n_states:
             raise ModelError(f"{len(termination)} termination probabilities for {n_states} states")
-        edges: list[list[tuple[Guard, int, float]]] = [[] for _ in range(n_states)]
-        for source, row in transitions.items():
-            check_state(source, n_states, "PDFA transition source")
-            for edge in row:
-                if not isinstance(edge, (tuple, list)) or len(edge) != 3:
-                    raise ModelError(f"PDFA edge {edge!r} from state {source} is not (guard, target, probability)")
-                guard = as_guard(edge[0])
-                target = check_state(edge[1], n_states, f"PDFA transition target (from state {source})")
-                p = _probability(edge[2], f"probability of edge {source} -> {target}")
-                unknown = guard.propositions - alphabet
-                if unknown:
-                    raise ModelError(f"PDFA guard {str(guard)!r} on state {source} uses {sorted(unknown)} "
-                                     f"outside the alphabet {sorted(alphabet)}")
-                if guard.is_false():
-                    if p > 0:
-                        raise ModelError(f"edge {source} -> {target} has probability {p} but its guard is false")
-                    continue
-                edges[source].append((guard, target, p))
+        edges = weighted_edges(transitions, n_states, alphabet, "PDFA", "probability", _probability)
         for source, row in enumerate(edges):
-            row.sort(key=lambda e: (e[0].sort_key, e[1]))
-            check_deterministic(source, row, "PDFA")
             total = sum(p for _, _, p in row) + termination[source]
             if abs(total - 1.0) > tolerance:
                 raise ModelError(
@@ -88,21 +71,10 @@ class PDFA:
                     hint="normalise each state's edge and termination probabilities")
         accepting = (frozenset(q for q, p in enumerate(termination) if p > 0) if accepting is None
                      else frozenset(check_state(q, n_states, "accepting state") for q in accepting))
-        if state_names is not None:
-            state_names = tuple(str(n) for n in state_names)
-            if len(state_names) != n_states:
-                raise ModelError(f"{len(state_names)} state names for {n_states} states")
-        set_ = object.__setattr__
-        set_(self, "alphabet", alphabet)
-        set_(self, "n_states", n_states)
-        set_(self, "initial", check_state(initial, n_states, "initial state"))
-        set_(self, "accepting", accepting)
-        set_(self, "termination", termination)
-        set_(self, "state_names", state_names)
-        set_(self, "_edges", tuple(tuple(row) for row in edges))
-
-    def __setattr__(self, name, value):
-        raise AttributeError("PDFA is immutable")
+        self._init_fields(
+            alphabet=alphabet, n_states=n_states, initial=check_state(initial, n_states, "initial state"),
+            accepting=accepting, termination=termination, state_names=check_names(state_names, n_states),
+            _edges=tuple(tuple(row) for row in edges))
 
     @classmethod
     def from_dfa(cls, dfa: DFA, termination: float = 0.2) -> PDFA:
@@ -130,28 +102,7 @@ class PDFA:
         return cls(useful.alphabet, useful.n_states, useful.initial, transitions, stops, useful.accepting,
                    useful.state_names)
 
-    # -- structure --------------------------------------------------------------------------
-    def edges(self):
-        """Every edge as ``(source, guard, target, probability)``."""
-        for source, row in enumerate(self._edges):
-            for guard, target, p in row:
-                yield source, guard, target, p
-
-    def successors(self, state: int) -> tuple[tuple[Guard, int, float], ...]:
-        return self._edges[state]
-
-    @property
-    def transitions(self) -> dict[int, list[tuple[Guard, int, float]]]:
-        return {q: list(row) for q, row in enumerate(self._edges)}
-
-    @property
-    def n_edges(self) -> int:
-        return sum(len(row) for row in self._edges)
-
-    @property
-    def states(self) -> range:
-        return range(self.n_states)
-
+    # -- structure (states, edges, successors, transitions, n_edges, name: see GuardedAutomaton)
     @property
     def dfa(self) -> DFA:
         """The underlying DFA (same states, accepting states, guards)."""
@@ -243,16 +194,6 @@ class PDFA:
 
         return pdfa_to_dot(self, title=title, unicode=unicode)
 
-    def _repr_svg_(self) -> str | None:
-        from symlearn.rendering import dot_to_svg_text
-
-        return dot_to_svg_text(self.to_dot())
-
-    def render(self, path: str | Path) -> Path:
-        from symlearn.rendering import render_dot
-
-        return render_dot(self.to_dot(), path)
-
     def to_dict(self) -> dict:
         from symlearn.logic.automata.json_format import header
 
@@ -261,11 +202,6 @@ class PDFA:
         document["transitions"] = [{"source": s, "target": t, "guard": str(g), "probability": p}
                                    for s, g, t, p in self.edges()]
         return document
-
-    def to_json(self) -> str:
-        from symlearn.logic.automata.json_format import dumps
-
-        return dumps(self.to_dict())
 
     @classmethod
     def from_dict(cls, document, *, source: str | None = None) -> PDFA:
@@ -279,26 +215,9 @@ class PDFA:
         return construct(reader, lambda: cls(f["alphabet"], f["n_states"], f["initial"], transitions,
                                              termination, f["accepting"], f["state_names"]))
 
-    @classmethod
-    def from_json(cls, text, *, source: str | None = None) -> PDFA:
-        from symlearn.logic.automata.json_format import loads
-
-        return cls.from_dict(text if isinstance(text, Mapping) else loads(text, source=source), source=source)
-
-    def save(self, path: str | Path) -> Path:
-        from symlearn.atomic import write_text
-
-        return write_text(path, self.to_json())
-
     def _key(self):
         return (self.alphabet, self.n_states, self.initial, self.accepting, self.termination, self.state_names,
                 self._edges)
-
-    def __eq__(self, other: object) -> bool:
-        return isinstance(other, PDFA) and self._key() == other._key()
-
-    def __hash__(self) -> int:
-        return hash(self._key())
 
     def __repr__(self) -> str:
         return f"PDFA({self.n_states} states, {self.n_edges} edges, alphabet {sorted(self.alphabet)})"

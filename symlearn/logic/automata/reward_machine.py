@@ -28,18 +28,21 @@ terms are folded into the stored rewards and the potential is kept in :attr:`pot
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping, Sequence
-from pathlib import Path
 
 from symlearn.errors import ModelError
-from symlearn.logic.automata.dfa import DFA, as_guard, check_alphabet, check_deterministic, check_state
+from symlearn.logic.automata.base import (
+    GuardedAutomaton, check_alphabet, check_n_states, check_names, check_state, weighted_edges,
+)
+from symlearn.logic.automata.dfa import DFA
 from symlearn.logic.guards import Guard
 
 
-class RewardMachine:
+class RewardMachine(GuardedAutomaton):
     """States ``0..n_states-1``, guarded edges ``(guard, target, reward)``; immutable."""
 
     __slots__ = ("alphabet", "n_states", "initial", "terminal", "accepting", "state_names", "default_reward",
                  "gamma", "potential", "_edges")
+    _what = "reward machine"
 
     def __init__(
         self,
@@ -55,49 +58,25 @@ class RewardMachine:
         gamma: float | None = None,
         potential: Sequence[float] | None = None,
     ) -> None:
-        if isinstance(n_states, bool) or not isinstance(n_states, int) or n_states < 1:
-            raise ModelError(f"a reward machine needs at least one state, got n_states={n_states!r}")
+        n_states = check_n_states(n_states, "reward machine")
         alphabet = check_alphabet(alphabet)
-        edges: list[list[tuple[Guard, int, float]]] = [[] for _ in range(n_states)]
-        for source, row in transitions.items():
-            check_state(source, n_states, "reward machine transition source")
-            for edge in row:
-                if not isinstance(edge, (tuple, list)) or len(edge) != 3:
-                    raise ModelError(f"reward machine edge {edge!r} from state {source} is not (guard, target, reward)")
-                guard = as_guard(edge[0])
-                target = check_state(edge[1], n_states, f"reward machine transition target (from state {source})")
-                reward = _number(edge[2], f"reward of edge {source} -> {target}")
-                unknown = guard.propositions - alphabet
-                if unknown:
-                    raise ModelError(f"reward machine guard {str(guard)!r} on state {source} uses {sorted(unknown)} "
-                                     f"outside the alphabet {sorted(alphabet)}")
-                if not guard.is_false():
-                    edges[source].append((guard, target, reward))
-        for source, row in enumerate(edges):
-            row.sort(key=lambda e: (e[0].sort_key, e[1]))
-            check_deterministic(source, row, "reward machine")
-        if state_names is not None:
-            state_names = tuple(str(n) for n in state_names)
-            if len(state_names) != n_states:
-                raise ModelError(f"{len(state_names)} state names for {n_states} states")
+        edges = weighted_edges(transitions, n_states, alphabet, "reward machine", "reward", _number)
         if potential is not None:
             potential = tuple(_number(v, "potential") for v in potential)
             if len(potential) != n_states:
                 raise ModelError(f"{len(potential)} potentials for {n_states} states")
-        set_ = object.__setattr__
-        set_(self, "alphabet", alphabet)
-        set_(self, "n_states", n_states)
-        set_(self, "initial", check_state(initial, n_states, "initial state"))
-        set_(self, "terminal", frozenset(check_state(q, n_states, "terminal state") for q in terminal))
-        set_(self, "accepting", frozenset(check_state(q, n_states, "accepting state") for q in accepting))
-        set_(self, "state_names", state_names)
-        set_(self, "default_reward", _number(default_reward, "default reward"))
-        set_(self, "gamma", None if gamma is None else _number(gamma, "gamma"))
-        set_(self, "potential", potential)
-        set_(self, "_edges", tuple(tuple(row) for row in edges))
-
-    def __setattr__(self, name, value):
-        raise AttributeError("RewardMachine is immutable")
+        self._init_fields(
+            alphabet=alphabet,
+            n_states=n_states,
+            initial=check_state(initial, n_states, "initial state"),
+            terminal=frozenset(check_state(q, n_states, "terminal state") for q in terminal),
+            accepting=frozenset(check_state(q, n_states, "accepting state") for q in accepting),
+            state_names=check_names(state_names, n_states),
+            default_reward=_number(default_reward, "default reward"),
+            gamma=None if gamma is None else _number(gamma, "gamma"),
+            potential=potential,
+            _edges=tuple(tuple(row) for row in edges),
+        )
 
     @classmethod
     def from_dfa(cls, dfa: DFA, *, reward: float = 1.0, shaping: bool = False, gamma: float = 0.99,
@@ -151,27 +130,6 @@ class RewardMachine:
     def is_terminal(self, state: int) -> bool:
         return state in self.terminal
 
-    def edges(self):
-        """Every edge as ``(source, guard, target, reward)``."""
-        for source, row in enumerate(self._edges):
-            for guard, target, r in row:
-                yield source, guard, target, r
-
-    def successors(self, state: int):
-        return self._edges[state]
-
-    @property
-    def transitions(self) -> dict[int, list[tuple[Guard, int, float]]]:
-        return {q: list(row) for q, row in enumerate(self._edges)}
-
-    @property
-    def states(self) -> range:
-        return range(self.n_states)
-
-    @property
-    def n_edges(self) -> int:
-        return sum(len(row) for row in self._edges)
-
     @property
     def dfa(self) -> DFA:
         """The underlying automaton with the accepting states (edge rewards dropped)."""
@@ -183,16 +141,6 @@ class RewardMachine:
         from symlearn.logic.automata.dot_export import reward_machine_to_dot
 
         return reward_machine_to_dot(self, title=title, unicode=unicode)
-
-    def _repr_svg_(self) -> str | None:
-        from symlearn.rendering import dot_to_svg_text
-
-        return dot_to_svg_text(self.to_dot())
-
-    def render(self, path: str | Path) -> Path:
-        from symlearn.rendering import render_dot
-
-        return render_dot(self.to_dot(), path)
 
     def to_text(self) -> str:
         """The text format of the public reward-machines code (see ``rm_text_import``)."""
@@ -218,11 +166,6 @@ class RewardMachine:
                                    for s, g, t, r in self.edges()]
         return document
 
-    def to_json(self) -> str:
-        from symlearn.logic.automata.json_format import dumps
-
-        return dumps(self.to_dict())
-
     @classmethod
     def from_dict(cls, document, *, source: str | None = None) -> RewardMachine:
         from symlearn.logic.automata.json_format import construct, read_header, read_transitions
@@ -242,26 +185,9 @@ class RewardMachine:
             f["alphabet"], f["n_states"], f["initial"], transitions, terminal, f["accepting"], f["state_names"],
             default_reward=default, gamma=gamma, potential=potential))
 
-    @classmethod
-    def from_json(cls, text, *, source: str | None = None) -> RewardMachine:
-        from symlearn.logic.automata.json_format import loads
-
-        return cls.from_dict(text if isinstance(text, Mapping) else loads(text, source=source), source=source)
-
-    def save(self, path: str | Path) -> Path:
-        from symlearn.atomic import write_text
-
-        return write_text(path, self.to_json())
-
     def _key(self):
         return (self.alphabet, self.n_states, self.initial, self.terminal, self.accepting, self.state_names,
                 self.default_reward, self.gamma, self.potential, self._edges)
-
-    def __eq__(self, other: object) -> bool:
-        return isinstance(other, RewardMachine) and self._key() == other._key()
-
-    def __hash__(self) -> int:
-        return hash(self._key())
 
     def __repr__(self) -> str:
         return (f"RewardMachine({self.n_states} states, {self.n_edges} edges, initial {self.initial}, "

@@ -3,7 +3,7 @@
 import itertools
 
 import pytest
-from automata_strategies import dfas, words
+from automata_strategies import a_then_b_avoid_c, dfas, words
 from hypothesis import given, settings
 
 from symlearn.logic.automata import DFA, explain
@@ -12,14 +12,6 @@ from symlearn.logic.guards import Guard
 
 a, b, c = Guard.var("a"), Guard.var("b"), Guard.var("c")
 T = Guard.true()
-
-
-def a_then_b_avoid_c():
-    return DFA({"a", "b", "c"}, 3, 0, [2], {
-        0: [(~a & ~c, 0), (a & ~c, 1)],
-        1: [(~b & ~c, 1), (b & ~c, 2)],
-        2: [(~c, 2)],
-    })
 
 
 def test_accepted_trace():

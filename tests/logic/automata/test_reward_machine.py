@@ -1,6 +1,7 @@
 """Reward machines: stepping, compilation from a DFA, potential-based shaping."""
 
 import pytest
+from automata_strategies import a_then_b_avoid_c
 
 from symlearn.errors import ModelError
 from symlearn.logic.automata import DFA, RewardMachine
@@ -8,15 +9,6 @@ from symlearn.logic.guards import Guard
 
 a, b, c = Guard.var("a"), Guard.var("b"), Guard.var("c")
 T = Guard.true()
-
-
-def a_then_b_avoid_c():
-    """F(a & X F b) & G !c, hand-written (partial: c leads nowhere)."""
-    return DFA({"a", "b", "c"}, 3, 0, [2], {
-        0: [(~a & ~c, 0), (a & ~c, 1)],
-        1: [(~b & ~c, 1), (b & ~c, 2)],
-        2: [(~c, 2)],
-    })
 
 
 def test_step_and_implicit_self_loop():
