@@ -149,10 +149,11 @@ class RewardMachine(GuardedAutomaton):
         return to_rm_text(self)
 
     @classmethod
-    def from_text(cls, text: str, *, source: str | None = None) -> RewardMachine:
+    def from_text(cls, text: str, *, source: str | None = None, unmatched: str = "terminal") -> RewardMachine:
+        """Read the reward-machines text format (see ``rm_text_import`` for ``unmatched``)."""
         from symlearn.logic.automata.rm_text_import import parse_rm_text
 
-        return parse_rm_text(text, source=source)
+        return parse_rm_text(text, source=source, unmatched=unmatched)
 
     def to_dict(self) -> dict:
         from symlearn.logic.automata.json_format import header

@@ -121,3 +121,16 @@ def test_hoa_labels_encode_the_guards_exactly():
     text = hoa_label(g, {"a": 0, "b": 1})
     back = Guard.parse(text.replace("0", "a").replace("1", "b"))
     assert back == g
+
+
+@settings(max_examples=40, deadline=None)
+@given(dfas(("a", "b"), max_states=4))
+def test_pdfa_and_reward_machine_round_trips(d):
+    rm = RewardMachine.from_dfa(d, shaping=True, gamma=0.95)
+    assert RewardMachine.from_json(rm.to_json()) == rm
+    back = RewardMachine.from_text(rm.to_text(), unmatched="stay")
+    for word in ([], [{"a"}], [{"a", "b"}, set(), {"b"}]):
+        assert back.run(word) == rm.run(word)
+    if d.trim().accepting:
+        p = PDFA.from_dfa(d, termination=0.25)
+        assert PDFA.from_json(p.to_json()) == p
