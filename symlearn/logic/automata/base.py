@@ -94,6 +94,9 @@ class GuardedAutomaton:
     def __hash__(self) -> int:
         return hash(self._key())
 
+    def __reduce__(self):  # copy and multiprocessing go through the JSON form (slots + immutability)
+        return (type(self).from_dict, (self.to_dict(),))
+
 
 def check_n_states(n_states, what: str) -> int:
     if isinstance(n_states, bool) or not isinstance(n_states, int) or n_states < 1:

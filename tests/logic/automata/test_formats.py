@@ -134,3 +134,10 @@ def test_pdfa_and_reward_machine_round_trips(d):
     if d.trim().accepting:
         p = PDFA.from_dfa(d, termination=0.25)
         assert PDFA.from_json(p.to_json()) == p
+
+
+def test_copy_goes_through_json():
+    import copy
+
+    d = example()
+    assert copy.deepcopy(d) == d and copy.copy(RewardMachine.from_dfa(d)) == RewardMachine.from_dfa(d)
