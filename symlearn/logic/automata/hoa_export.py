@@ -1,10 +1,10 @@
 """HOA v1 text (the Hanoi Omega-Automata format) for Spot and other HOA readers.
 
-HOA describes ω-automata; a DFA over finite words is written the way Spot's finite-word
-bridge expects: state-based Büchi acceptance (``Acceptance: 1 Inf(0)``) whose accepting set
-``{0}`` marks the *final* states. Spot users read it back with ``spot.automaton(text)`` and
-treat the marks as final states (e.g. after ``spot.to_finite`` on their side, or by comparing
-with ``ltlf_to_dfa`` style automata that use the same convention). Propositions are numbered
+HOA describes ω-automata and has no finite-word acceptance, so we use the common convention
+for DFAs in HOA: state-based acceptance with one set (``Acceptance: 1 Inf(0)``, ``acc-name:
+Buchi``) whose mark ``{0}`` means *final state*. ``spot.automaton(text)`` reads the file;
+read the marks as final states (under Büchi semantics the automaton would mean something
+else, so do not feed it to ω-language algorithms unchanged). Propositions are numbered
 in sorted order (``AP: 2 "a" "b"``) and guards become HOA label expressions over those
 numbers (``[0&!1]``), one edge per target.
 
