@@ -31,7 +31,7 @@ from collections.abc import Iterable, Iterator, Mapping
 from typing import AbstractSet
 from functools import lru_cache
 
-from symlearn.errors import ParseError
+from symlearn.errors import LimitExceededError, ParseError
 
 __all__ = ["Guard", "GuardParseError"]
 
@@ -531,29 +531,45 @@ def _parse_cached(text: str) -> Guard:
             if re.search(rf"(?<![A-Za-z0-9_]){re.escape(word)}(?![A-Za-z0-9_])", text, re.I) and word.isalpha():
                 hint = f"write {spelling!r} instead of {word!r}"
         raise GuardParseError(f"{what} in guard {text!r}", line=1, column=column, hint=hint) from None
-    return _build(tree)
+    try:
+        return _build(tree)
+    except RecursionError:
+        raise LimitExceededError(f"guard of {len(text)} characters is too large to build",
+                                 hint="guards over hundreds of propositions exceed the BDD's recursion depth") from None
 
 
 def _build(tree) -> Guard:
+    """Evaluate a parse tree bottom-up with an explicit stack (long guards nest deeply)."""
     from lark import Token
 
-    if isinstance(tree, Token):  # pragma: no cover - the grammar wraps every token
-        raise GuardParseError(f"unexpected token {tree!r}")
-    kind = tree.data
-    kids = [c for c in tree.children if not isinstance(c, Token) or c.type in ("NAME", "QUOTED")]
-    if kind == "true":
-        return _GUARD_TRUE
-    if kind == "false":
-        return _GUARD_FALSE
-    if kind == "name":
-        return Guard.var(str(kids[0]))
-    if kind == "quoted":
-        raw = str(kids[0])[1:-1]
-        return Guard.var(re.sub(r"\\(.)", r"\1", raw))
-    if kind == "not_":
-        return ~_build(kids[0])
-    if kind == "and_":
-        return _build(kids[0]) & _build(kids[1])
-    if kind == "or_":
-        return _build(kids[0]) | _build(kids[1])
-    raise GuardParseError(f"unknown guard construct {kind!r}")  # pragma: no cover
+    def operands(node) -> list:
+        return [c for c in node.children if not isinstance(c, Token) or c.type in ("NAME", "QUOTED")]
+
+    values: dict[int, Guard] = {}
+    stack = [(tree, False)]
+    while stack:
+        node, expanded = stack.pop()
+        kind = node.data
+        kids = operands(node)
+        if kind in ("not_", "and_", "or_") and not expanded:
+            stack.append((node, True))
+            stack.extend((kid, False) for kid in kids)
+            continue
+        if kind == "true":
+            value = _GUARD_TRUE
+        elif kind == "false":
+            value = _GUARD_FALSE
+        elif kind == "name":
+            value = Guard.var(str(kids[0]))
+        elif kind == "quoted":
+            value = Guard.var(re.sub(r"\\(.)", r"\1", str(kids[0])[1:-1]))
+        elif kind == "not_":
+            value = ~values.pop(id(kids[0]))
+        elif kind == "and_":
+            value = values.pop(id(kids[0])) & values.pop(id(kids[1]))
+        elif kind == "or_":
+            value = values.pop(id(kids[0])) | values.pop(id(kids[1]))
+        else:  # pragma: no cover - the grammar has no other constructs
+            raise GuardParseError(f"unknown guard construct {kind!r}")
+        values[id(node)] = value
+    return values[id(tree)]

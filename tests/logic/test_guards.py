@@ -151,3 +151,13 @@ def test_fuzzing_parser_raises_only_parse_errors(text):
     except ParseError:
         return
     assert Guard.parse(str(g)) == g
+
+
+def test_deep_nesting_and_size_limit():
+    from symlearn.errors import LimitExceededError
+
+    assert Guard.parse("!" * 3001 + "a") == ~a
+    assert Guard.parse("(" * 3000 + "a" + ")" * 3000) == a
+    assert len(Guard.parse(" | ".join(f"p{i}" for i in range(200))).propositions) == 200
+    with pytest.raises(LimitExceededError, match="too large"):
+        Guard.parse(" & ".join(f"p{i}" for i in range(3000)))
