@@ -20,6 +20,8 @@ def register(subparsers, common) -> None:
     learn.add_argument("--max-body", type=int, default=None, metavar="N", help="max body literals per rule (default 3)")
     learn.add_argument("--method", choices=("auto", "single", "general"), default="auto",
                        help="search path (default: auto)")
+    learn.add_argument("--dialect", choices=("ilasp", "fastlas"), default="ilasp",
+                       help="ilasp: #modeb atoms may also be negated unless (positive); fastlas: modes as written")
     learn.add_argument("--coverage", action="store_true", help="also print which example each rule covers")
     learn.add_argument("-o", "--output", metavar="OUT.lp", help="write the rules as an editable .lp file")
     learn.set_defaults(handler=_learn)
@@ -36,6 +38,7 @@ def register(subparsers, common) -> None:
                                 description="Generate the hypothesis space of the task's mode bias.")
     space.add_argument("task")
     space.add_argument("--max-body", type=int, default=None, metavar="N")
+    space.add_argument("--dialect", choices=("ilasp", "fastlas"), default="ilasp")
     space.add_argument("--sample", type=int, default=10, metavar="K", help="rules to show (default 10)")
     space.set_defaults(handler=_space)
 
@@ -43,7 +46,8 @@ def register(subparsers, common) -> None:
 def _load(args):
     from symlearn.logic.ilp import load_task
 
-    task = load_task(args.task, extra_background=args.bk if hasattr(args, "bk") else [])
+    task = load_task(args.task, extra_background=getattr(args, "bk", []),
+                     dialect=getattr(args, "dialect", "ilasp"))
     if getattr(args, "max_body", None) is not None:
         if args.max_body < 1:
             from symlearn.errors import SymlearnError

@@ -54,9 +54,11 @@ def test_check_rescores_an_edited_file(run_cli, task_file, tmp_path):
 def test_space_prints_size_and_sample(run_cli, task_file):
     result = run_cli("ilp", "space", task_file, "--sample", "3")
     assert result.returncode == 0 and "candidate rules" in result.stdout
-    doc = json.loads(run_cli("ilp", "space", task_file, "--json").stdout)
+    doc = json.loads(run_cli("ilp", "space", task_file, "--json", "--dialect", "fastlas").stdout)
     assert doc["size"] == 3 and {r["rule"] for r in doc["sample"]} == {":- wall(V1).", ":- go(V1).",
                                                                        ":- wall(V1), go(V1)."}
+    ilasp = json.loads(run_cli("ilp", "space", task_file, "--json").stdout)  # negated body atoms too
+    assert ilasp["size"] > doc["size"]
 
 
 def test_extra_background_file(run_cli, tmp_path):

@@ -194,14 +194,12 @@ def ground_atoms(program: Program, signatures: Iterable[tuple[str, int]] | None 
     ``signatures`` restricts the answer to those predicates.
     """
     ctl = ground(program)
-    wanted = None if signatures is None else set(signatures)
+    atoms = ctl.symbolic_atoms
+    if signatures is None:
+        return sorted(a.symbol for a in atoms if a.is_fact)
     result = []
-    for atom in ctl.symbolic_atoms:
-        if not atom.is_fact:
-            continue
-        sym = atom.symbol
-        if wanted is None or (sym.name, len(sym.arguments)) in wanted:
-            result.append(sym)
+    for name, arity in signatures:
+        result.extend(a.symbol for a in atoms.by_signature(name, arity) if a.is_fact)
     return sorted(result)
 
 
@@ -280,6 +278,20 @@ class _Tagger(clingo.ast.Transformer):
         return rule.update(body=[*rule.body, *self.guard])
 
 
+def _ground_fact(statement: clingo.ast.AST) -> clingo.Symbol | None:
+    """The symbol of a plain ground fact ``p(1,a).``, else None."""
+    if statement.body:
+        return None
+    head = statement.head
+    if head.ast_type != clingo.ast.ASTType.Literal or head.sign != clingo.ast.Sign.NoSign:
+        return None
+    atom = head.atom
+    if atom.ast_type != clingo.ast.ASTType.SymbolicAtom or atom.symbol.ast_type != clingo.ast.ASTType.SymbolicTerm:
+        return None
+    symbol = atom.symbol.symbol
+    return symbol if symbol.type == clingo.SymbolType.Function and symbol.name else None
+
+
 _UNTAGGABLE = {"Minimize", "Heuristic", "ProjectAtom", "ProjectSignature", "External", "Edge",
                "TheoryDefinition", "Script", "Defined"}
 
@@ -303,13 +315,21 @@ def tag_program(program: Program, tag: str, guard: Sequence[str] = (), constrain
     rule = parsed[-1]
     tag_ast = rule.head.atom.symbol.arguments[0]
     guard_ast = list(rule.body)
-    tagger = _Tagger(tag_ast, guard_ast, constraint_head, frozenset(untagged))
+    untagged = frozenset(untagged)
+    tagger = _Tagger(tag_ast, guard_ast, constraint_head, untagged)
     out: list[str] = []
     messages = _Messages()
+    guard_suffix = f" :- {guard_text}." if guard_text else "."
 
     def visit(statement: clingo.ast.AST) -> None:
         kind = statement.ast_type.name
         if kind in ("Program", "Comment", "ShowSignature", "ShowTerm"):
+            return
+        fact = _ground_fact(statement) if kind == "Rule" else None
+        if fact is not None and fact.name not in untagged:
+            # fast path (contexts are mostly facts): rebuild the text from the symbol
+            args = ",".join([tag, *map(str, fact.arguments)])
+            out.append(f"{'-' if fact.negative else ''}{fact.name}({args}){guard_suffix}")
             return
         if kind in _UNTAGGABLE:
             loc = statement.location.begin

@@ -109,9 +109,11 @@ def firing_rows(candidates: Iterable, atoms: Iterable[cl.Symbol], tags: Iterable
         return {}
     facts = "\n".join(f"{a}." for a in atoms if a.name != ACTIVE)
     facts += "\n" + "\n".join(f"{ACTIVE}({i})." for i in tags)
-    rules = [f"fires__({c.index}) :- {', '.join(b.render() for b in c.body)}." for c in candidates]
+    # ';' separates body elements: after a conditional literal ',' would extend its condition
+    rules = [f"fires__(E__,{c.index}) :- {'; '.join(b.tagged('E__') for b in c.body)}; {ACTIVE}(E__)."
+             for c in candidates]
     program = Program.from_text(facts, source="<answer sets>") + Program.from_text(
-        tagged_rules(rules), source="<candidate bodies>")
+        "\n".join(rules), source="<candidate bodies>")
     rows: dict[int, set[int]] = {}
     for atom in cl.ground_atoms(program, [("fires__", 2)]):
         rows.setdefault(atom.arguments[1].number, set()).add(atom.arguments[0].number)

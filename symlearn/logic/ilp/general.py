@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 
 from symlearn.logic.asp import clingo_adapter as cl
 from symlearn.logic.asp.program import Program
-from symlearn.logic.ilp.encoding import ACTIVE, examples_program, firing_rows, tagged_rules, witnesses
+from symlearn.logic.ilp.encoding import ACTIVE, examples_program, firing_rows, witnesses
 from symlearn.logic.ilp.space import HypothesisSpace
 from symlearn.logic.ilp.task import ILPTask
 
@@ -62,8 +62,7 @@ def search_general(task: ILPTask, space: HypothesisSpace, *, noise: bool, deadli
             lines.append(f"{ACTIVE}({i}).")
     for c in space.candidates:
         lines.append(f"{{ use__({c.index}) }}.")
-        rule = tagged_rules([c.text], guard=[f"use__({c.index})"])
-        lines.append(rule)
+        lines.append(c.tagged_rule("E__", (f"{ACTIVE}(E__)", f"use__({c.index})")))
     weights = [f"{c.cost},r,{c.index} : use__({c.index})" for c in space.candidates if c.cost]
     weights += [f"{e.penalty},e,{i} : ignored__({i})" for i, e in positives if _soft(e, noise)]
     if weights:

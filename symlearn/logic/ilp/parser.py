@@ -196,8 +196,18 @@ def _unquote(token) -> str:
     return text.encode("utf-8").decode("unicode_escape") if "\\" in text else text
 
 
-def parse_task(text: str, source: str = "<task>", extra_background: Iterable[Program | str | os.PathLike] = ()) -> ILPTask:
-    """Parse the text of a task file; ``extra_background`` programs/paths are appended to B."""
+DIALECTS = ("ilasp", "fastlas")
+
+
+def parse_task(text: str, source: str = "<task>", extra_background: Iterable[Program | str | os.PathLike] = (),
+               dialect: str = "ilasp") -> ILPTask:
+    """Parse the text of a task file; ``extra_background`` programs/paths are appended to B.
+
+    ``dialect`` only changes how ``#modeb`` atoms are used: ``"ilasp"`` (default) also allows
+    them negated unless flagged ``(positive)``; ``"fastlas"`` uses every mode exactly as written.
+    """
+    if dialect not in DIALECTS:
+        raise SymlearnError(f"unknown task dialect {dialect!r}", hint="use 'ilasp' or 'fastlas'")
     try:
         tree = _parser().parse(text)
     except UnexpectedInput as exc:
@@ -215,7 +225,9 @@ def parse_task(text: str, source: str = "<task>", extra_background: Iterable[Pro
         if isinstance(inner, SymlearnError):
             raise inner from None
         raise
-    return _assemble(items, source, extra_background)
+    task = _assemble(items, source, extra_background)
+    task.dialect = dialect
+    return task
 
 
 def _assemble(items, source: str, extra_background) -> ILPTask:
@@ -266,7 +278,8 @@ def _assemble(items, source: str, extra_background) -> ILPTask:
     return task
 
 
-def load_task(path: str | os.PathLike[str], extra_background: Iterable[str | os.PathLike | Program] = ()) -> ILPTask:
+def load_task(path: str | os.PathLike[str], extra_background: Iterable[str | os.PathLike | Program] = (),
+              dialect: str = "ilasp") -> ILPTask:
     """Read a task file; ``extra_background`` paths (``.lp`` files) or programs are appended to B."""
     path = Path(path)
     try:
@@ -274,7 +287,7 @@ def load_task(path: str | os.PathLike[str], extra_background: Iterable[str | os.
     except UnicodeDecodeError as exc:
         raise ParseError(f"not UTF-8 text: {exc.reason}", file=path) from exc
     extras = [Path(e) if isinstance(e, str) else e for e in extra_background]
-    return parse_task(text, source=str(path), extra_background=extras)
+    return parse_task(text, source=str(path), extra_background=extras, dialect=dialect)
 
 
 def _syntax_error(exc: UnexpectedInput, text: str, source: str) -> ParseError:

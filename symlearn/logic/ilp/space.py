@@ -49,6 +49,20 @@ class BodyLiteral:
     def length(self) -> int:
         return 1 + len(self.condition)
 
+    def tagged(self, tag: str) -> str:
+        """The literal inside example copy ``tag`` (see :mod:`symlearn.logic.ilp.encoding`)."""
+        if self.kind == "cmp":
+            return self.text
+        lit = ("not " if self.negated else "") + _tag_atom(self.text, tag)
+        if self.kind == "cond":
+            return f"{lit} : {', '.join(_tag_atom(c, tag) for c in self.condition)}"
+        return lit
+
+
+def _tag_atom(atom: str, tag: str) -> str:
+    name, paren, rest = atom.partition("(")
+    return f"{name}({tag},{rest}" if paren else f"{name}({tag})"
+
 
 @dataclass(frozen=True)
 class Candidate:
@@ -62,7 +76,9 @@ class Candidate:
 
     @property
     def text(self) -> str:
-        body = ", ".join(b.render() for b in self.body)
+        body = ""
+        for i, b in enumerate(self.body):  # after a conditional literal "," would extend its condition
+            body += ("" if i == 0 else "; " if self.body[i - 1].kind == "cond" else ", ") + b.render()
         if self.head is None:
             return f":- {body}."
         return f"{self.head} :- {body}." if body else f"{self.head}."
@@ -70,6 +86,12 @@ class Candidate:
     @property
     def is_constraint(self) -> bool:
         return self.head is None
+
+    def tagged_rule(self, tag: str, guards: tuple[str, ...] = ()) -> str:
+        """This rule inside example copy ``tag``, with extra ``guards`` in the body."""
+        body = "; ".join([b.tagged(tag) for b in self.body] + list(guards))
+        head = "" if self.head is None else _tag_atom(self.head, tag)
+        return f"{head} :- {body}." if body else f"{head}."
 
 
 @dataclass
@@ -187,12 +209,29 @@ def _partitions(types: Sequence[str], max_blocks: int) -> Iterator[list[int]]:
 
 # -- the generator -------------------------------------------------------------------------------
 
+def _body_modes(task: ILPTask) -> tuple[list[ModeDeclaration], list[int]]:
+    """Body modes with their recall group. ILASP dialect: an atom mode without ``(positive)``
+    may also be used negated (both polarities share the recall). FastLAS dialect: as written."""
+    modes: list[ModeDeclaration] = []
+    groups: list[int] = []
+    as_written = task.dialect == "fastlas"
+    for group, mode in enumerate(task.modeb + task.modec):
+        modes.append(mode)
+        groups.append(group)
+        lit = mode.literal
+        if mode.kind == "b" and isinstance(lit, ModeAtom) and not lit.negated and not mode.positive and not as_written:
+            modes.append(ModeDeclaration("b", ModeAtom(lit.name, lit.args, True), mode.recall, False,
+                                         mode.line, mode.column))
+            groups.append(group)
+    return modes, groups
+
+
 class _Generator:
     def __init__(self, task: ILPTask, max_body: int, limit: int) -> None:
         self.task = task
         self.max_body = max_body
         self.limit = limit
-        self.body_modes: list[ModeDeclaration] = task.modeb + task.modec
+        self.body_modes, self.groups = _body_modes(task)
         self.notes: list[str] = []
         self.seen: set[tuple] = set()
         self.rules: list[tuple[str | None, tuple[BodyLiteral, ...]]] = []
@@ -207,8 +246,9 @@ class _Generator:
         modes = self.body_modes
         for size in range(0, self.max_body + 1):
             for combo in itertools.combinations_with_replacement(range(len(modes)), size):
-                counts = Counter(combo)
-                if all(modes[m].recall is None or c <= modes[m].recall for m, c in counts.items()):
+                counts = Counter(self.groups[m] for m in combo)  # recall counts both polarities of a mode
+                recall = {self.groups[m]: modes[m].recall for m in combo}
+                if all(recall[g] is None or c <= recall[g] for g, c in counts.items()):
                     yield combo
 
     def generate(self) -> None:
@@ -229,7 +269,7 @@ class _Generator:
         const_choices = [self.task.constants.get(s.type, []) for s in flat if s.kind == "const"]
         if any(not c for c in const_choices):
             return
-        repeated = len(set(combo)) < len(combo)
+        repeated = len(combo) > 1
         for partition in _partitions(var_types, self.task.n_variables):
             for consts in itertools.product(*const_choices) if const_choices else [()]:
                 self._build(head, literals, slot_lists, partition, [str(c) for c in consts], repeated)
@@ -326,6 +366,13 @@ def _canonical(head: str | None, body: tuple[BodyLiteral, ...]) -> tuple:
     return best
 
 
+def _reading_order(literal: BodyLiteral) -> int:
+    """Positive atoms first, then negated atoms, comparisons, conditional literals (stable)."""
+    if literal.kind == "atom":
+        return 1 if literal.negated else 0
+    return 2 if literal.kind == "cmp" else 3
+
+
 def generate_space(task: ILPTask, *, max_body: int | None = None, limit: int = DEFAULT_SPACE_LIMIT,
                    on_limit: str = "raise") -> HypothesisSpace:
     """All candidate rules of ``task``'s mode bias (see module docstring), scored by length or #bias."""
@@ -339,6 +386,7 @@ def generate_space(task: ILPTask, *, max_body: int | None = None, limit: int = D
                                  file=task.source, hint="lower #maxv, the recalls or max_body, or raise the limit")
     candidates = []
     for i, (head, body) in enumerate(generator.rules):
+        body = tuple(sorted(body, key=_reading_order))
         length = (0 if head is None else 1) + sum(b.length() for b in body)
         candidates.append(Candidate(i, head, body, length, length))
     space = HypothesisSpace(candidates, generator.truncated, generator.notes)

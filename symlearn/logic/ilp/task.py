@@ -50,6 +50,9 @@ class ILPTask:
     bias: list[str] = field(default_factory=list)  # #bias scoring programs (FastLAS style)
     max_body: int = DEFAULT_MAX_BODY
     source: str = "<task>"
+    # "ilasp": a #modeb atom may also be used negated unless flagged (positive);
+    # "fastlas": every mode literal is used exactly as written (write #modeb(not p) for negation)
+    dialect: str = "ilasp"
 
     @property
     def positives(self) -> list[Example]:
@@ -80,5 +83,5 @@ class ILPTask:
         return {"source": self.source, "positives": len(self.positives), "negatives": len(self.negatives),
                 "modeh": [str(m) for m in self.modeh], "modeb": [str(m) for m in self.modeb],
                 "modec": [str(m) for m in self.modec], "maxv": self.n_variables,
-                "max_body": self.max_body, "max_penalty": self.max_penalty,
+                "max_body": self.max_body, "max_penalty": self.max_penalty, "dialect": self.dialect,
                 "constants": {k: [str(v) for v in vs] for k, vs in self.constants.items()}}

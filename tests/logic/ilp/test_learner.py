@@ -10,11 +10,11 @@ from symlearn.logic.ilp import coverage_matrix, learn, parse_task, score
 
 GRID_BIAS = """
 dir(north;south;east;west).
-#modeb(1, wall(const(d))).
-#modeb(1, go(const(d))).
+#modeb(1, wall(const(d)), (positive)).
+#modeb(1, go(const(d)), (positive)).
 #modeb(1, var(d) != var(d)).
-#modeb(1, wall(var(d))).
-#modeb(1, go(var(d))).
+#modeb(1, wall(var(d)), (positive)).
+#modeb(1, go(var(d)), (positive)).
 #constant(d, north). #constant(d, south). #constant(d, east). #constant(d, west).
 #maxv(2).
 """

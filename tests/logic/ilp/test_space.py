@@ -42,7 +42,7 @@ def _brute_force_space(max_vars: int) -> set:
 
 
 def test_space_is_exactly_the_rules_up_to_renaming():
-    task = parse_task("#modeb(2, on(var(d), var(d))).\n#modeb(1, var(d) < var(d)).\n#maxv(3).\n"
+    task = parse_task("#modeb(2, on(var(d), var(d)), (positive)).\n#modeb(1, var(d) < var(d)).\n#maxv(3).\n"
                       "#pos(p, {}, {}, {}).\n")
     space = generate_space(task)
     generated = [_canonical(c.text) for c in space]
@@ -93,8 +93,9 @@ def test_head_variables_must_be_bound_and_bias_scores_rules():
                       '#bias("penalty(1, head).").\n#bias("penalty(2, X) :- in_body(X).").\n'
                       '#bias(":- in_body(s(X)).").\n')
     space = generate_space(task)
-    # r(V1) :- q(V2). is unsafe; every rule using s/1 is excluded by the bias constraint
-    assert [(c.text, c.cost) for c in space] == [("r(V1) :- q(V1).", 3)]
+    # r(V1) :- q(V2). is unsafe; every rule using s/1 positively is excluded by the bias constraint
+    # (the negated literal is described as naf(s(var(1))), which the constraint does not match)
+    assert [(c.text, c.cost) for c in space] == [("r(V1) :- q(V1).", 3), ("r(V1) :- q(V1), not s(V1).", 5)]
 
 
 def test_empty_space_and_missing_constants_are_explained():
@@ -105,3 +106,14 @@ def test_empty_space_and_missing_constants_are_explained():
         learn(task)
     with pytest.raises(SymlearnError, match="no #modeh, #modeb or #modec"):
         generate_space(parse_task("#pos(x, {}, {}, {}).\n"))
+
+
+def test_dialects_decide_whether_body_atoms_may_be_negated():
+    text = "#modeb(1, p(var(t))).\n#modeb(1, q(var(t))).\n#modeb(1, r(var(t)), (positive)).\n#maxv(1).\n"
+    ilasp = {c.text for c in generate_space(parse_task(text))}
+    fastlas = {c.text for c in generate_space(parse_task(text, dialect="fastlas"))}
+    assert ":- p(V1), not q(V1)." in ilasp and ":- q(V1), not p(V1)." in ilasp
+    assert not any("not r" in t for t in ilasp)  # (positive)
+    assert not any("not" in t for t in fastlas) and fastlas < ilasp
+    # the recall is shared by both polarities of a mode
+    assert ":- p(V1), not p(V1)." not in ilasp and not any(t.count("p(") > 1 for t in ilasp)
