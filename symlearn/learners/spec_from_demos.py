@@ -45,12 +45,17 @@ class SpecLearner:
     Parameters: ``propositions`` is ``"given"`` (use ``labeling`` or the environment's),
     ``"learn"``, or a list of proposition names of the given labeling to search over;
     ``policy_updates=False`` keeps the nominal policy random (an ablation); ``q_steps`` is the
-    CRM Q-learning budget in environment transitions (default: scaled with the product size).
+    CRM Q-learning budget in environment transitions (default: scaled with the product size);
+    ``min_expert_rate`` is the fraction of expert trajectories a conjunct must satisfy to be
+    considered at all (our addition to the information-gain criterion: without it, a detail
+    some experts show by chance, such as one of two equally short detours, can win on gain
+    when demonstrations are few).
     """
 
     def __init__(self, *, propositions: str | Sequence[str] = "given", labeling: Labeling | None = None,
                  threshold: float = 0.2, max_iterations: int = 10, n_nominal: int | None = None,
-                 policy_updates: bool = True, prune: bool = True, prune_threshold: float = 0.9,
+                 min_expert_rate: float = 0.9, policy_updates: bool = True, prune: bool = True,
+                 prune_threshold: float = 0.9,
                  q_steps: int | None = None, n_envs: int = 128, discount: float = 0.99, epsilon: float = 0.1,
                  n_eval: int = 20, random_state: int | None = 0,
                  callback: Callable[[dict[str, Any]], None] | None = None) -> None:
@@ -59,6 +64,7 @@ class SpecLearner:
         self.threshold = threshold
         self.max_iterations = max_iterations
         self.n_nominal = n_nominal
+        self.min_expert_rate = min_expert_rate
         self.policy_updates = policy_updates
         self.prune = prune
         self.prune_threshold = prune_threshold
@@ -114,7 +120,8 @@ class SpecLearner:
                        for _, key in conjuncts if all(a in atom_names for a in key[1])}
             choice = best_candidate(TraceBounds.from_traces(experts, atom_of_state),
                                     TraceBounds.from_traces(nominal, atom_of_state),
-                                    preference=novelty_depth(experts, atom_of_state, covered), exclude=exclude)
+                                    preference=novelty_depth(experts, atom_of_state, covered), exclude=exclude,
+                                    min_expert_rate=self.min_expert_rate)
             record = {"iteration": iteration, "nominal_success": nominal_success, "spec": str(spec)}
             if choice is None or choice.gain < self.threshold:
                 record.update(self._describe(choice, atom_names, None), added=False,

@@ -142,8 +142,13 @@ class Choice:
 
 
 def best_candidate(expert: TraceBounds, nominal: TraceBounds, *, preference: np.ndarray | None = None,
-                   exclude: set[tuple[str, tuple[int, ...], bool]] = frozenset()) -> Choice | None:
+                   exclude: set[tuple[str, tuple[int, ...], bool]] = frozenset(),
+                   min_expert_rate: float = 0.0) -> Choice | None:
     """The instantiation with the highest information gain, in the polarity the experts satisfy.
+
+    Only instantiations that at least ``min_expert_rate`` of the expert traces satisfy compete:
+    a formula some experts violate is unlikely to be part of their task, yet a rare detail
+    that only some experts show and the nominal agent never does can have a high gain.
 
     Ties (within 1e-9) go to the simpler template (``F``, ``G`` before ``T``), then to the atoms
     with the larger ``preference`` (a score per atom, e.g. how far into unexplored territory the
@@ -160,6 +165,8 @@ def best_candidate(expert: TraceBounds, nominal: TraceBounds, *, preference: np.
         kn = nominal.counts(template).astype(np.float64)
         gain = information_gain(ke, kn, ne, nn)
         negated = ke / ne < kn / nn
+        expert_rate = np.where(negated, ne - ke, ke) / ne
+        gain = np.where(expert_rate >= min_expert_rate - 1e-12, gain, -np.inf)
         if template == "T":
             np.fill_diagonal(gain, -np.inf)
             score = (pref[:, None] + pref[None, :]) / 2

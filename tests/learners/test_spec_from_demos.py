@@ -177,3 +177,14 @@ def test_bad_parameters():
         SpecLearner(propositions="maybe").fit([[13]], "office-1")
     with pytest.raises(ModelError, match="not fitted"):
         SpecLearner().success_rate("F g")
+
+
+def test_min_expert_rate_rejects_details_only_some_experts_show():
+    # 3 of 5 experts pass state 1 (a chance detour), none of the nominal; all experts reach state 2
+    atoms = np.eye(3, dtype=bool)
+    experts = TraceBounds.from_traces([np.array([0, 1, 2])] * 3 + [np.array([0, 2])] * 2, atoms)
+    nominal = TraceBounds.from_traces([np.array([0, 2])] * 3 + [np.array([0])] * 2, atoms)
+    loose = best_candidate(experts, nominal)
+    assert loose.expert_rate < 1.0  # the chance detour wins on gain alone
+    strict = best_candidate(experts, nominal, min_expert_rate=0.9)
+    assert strict.expert_rate == 1.0 and strict.atoms == (2,) and strict.template == "F"
