@@ -101,6 +101,19 @@ def scarlet(positives, negatives, alphabet, timeout: float) -> tuple[str | None,
         return formula, seconds, finished
 
 
+def _scarlet_peer(positives, negatives, alphabet, timeout: float) -> tuple[str | None, float, bool]:
+    """Through the project's Scarlet adapter (symlearn.learners.scarlet_peer) when it can start its
+    child process here, else through the minimal subprocess adapter above."""
+    try:
+        from symlearn.data.ltl_samples import sample_from_traces
+        from symlearn.learners.scarlet_peer import run_scarlet
+
+        result = run_scarlet(sample_from_traces(positives, negatives, propositions=alphabet), timeout=timeout)
+        return result.formula, result.seconds, result.finished
+    except (ImportError, AssertionError):  # e.g. "daemonic processes are not allowed to have children"
+        return scarlet(positives, negatives, alphabet, timeout)
+
+
 # --- one job -----------------------------------------------------------------------------------
 def run_job(job: dict) -> dict:
     from symlearn.envs.spec_experts import expert_demonstrations
@@ -132,7 +145,7 @@ def run_job(job: dict) -> dict:
                     word.append(env.labeling.label(s))
                     s = env.next_state(s, int(rng.integers(4)))
                 negatives.append(word)
-            text, seconds, finished = scarlet(positives, negatives, alphabet, job["scarlet_timeout"])
+            text, seconds, finished = _scarlet_peer(positives, negatives, alphabet, job["scarlet_timeout"])
             row.update(formula=text, finished=finished, seconds=seconds, iterations=None)
             if text is None:
                 row.update(success=0.0, entropy=None, length=None)
