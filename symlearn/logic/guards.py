@@ -17,8 +17,8 @@ True
 Text syntax (``grammars/guard.lark``): ``true``, ``false``, names ``[A-Za-z_][A-Za-z0-9_]*`` or
 double-quoted strings, ``!``/``~``, ``&``/``&&``, ``|``/``||`` and parentheses; ``!`` binds
 tightest, then ``&``, then ``|``. ``str(g)`` prints a minimal sum of products over the guard's
-support (Quine-McCluskey via sympy for up to 8 propositions, the disjoint BDD-path cover above
-that) and ``Guard.parse(str(g)) == g`` always holds.
+support (Quine-McCluskey via sympy for up to 8 propositions, a greedy cover by prime implicants
+computed on the BDD above that) and ``Guard.parse(str(g)) == g`` always holds.
 
 The node table only grows; it holds one entry per distinct sub-function ever built, which
 stays small for automaton guards.
@@ -448,8 +448,33 @@ def _cover(u: int) -> tuple[tuple[tuple[str, bool], ...], ...]:
     if len(support) <= _SOP_LIMIT:
         cubes = _minimal_cover(u, support)
     else:
-        cubes = list(_paths(u))
-    return tuple(sorted(cubes, key=lambda c: (len(c), [(n, not v) for n, v in c])))
+        cubes = _prime_cover(u)
+    cubes = [tuple(sorted(c, key=lambda lit: _natural(lit[0]))) for c in cubes]
+    return tuple(sorted(cubes, key=lambda c: (len(c), [(_natural(n), not v) for n, v in c])))
+
+
+def _natural(name: str) -> tuple:
+    """Sort key reading digit runs as numbers, so p2 prints before p10."""
+    return tuple(int(part) if part.isdigit() else part for part in re.split(r"(\d+)", name))
+
+
+def _prime_cover(u: int) -> list[tuple[tuple[str, bool], ...]]:
+    """An irredundant cover by prime implicants, found on the BDD (no truth table).
+
+    Take a path to true of the still-uncovered part, drop every literal whose removal keeps
+    the cube inside ``u`` (so the cube becomes a prime implicant), remove what it covers, and
+    repeat. Not always minimum, but every cube is prime and each covers something new.
+    """
+    cubes, remaining = [], u
+    while remaining != _FALSE:
+        cube = dict(next(_paths(remaining)))
+        for name in sorted(cube):
+            value = cube.pop(name)
+            if _and(Guard.cube(cube)._node, _not(u)) != _FALSE:
+                cube[name] = value  # needed: without it the cube leaves u
+        cubes.append(tuple(sorted(cube.items())))
+        remaining = _and(remaining, _not(Guard.cube(cube)._node))
+    return cubes
 
 
 def _minimal_cover(u: int, support: list[str]) -> list[tuple[tuple[str, bool], ...]]:

@@ -161,3 +161,14 @@ def test_deep_nesting_and_size_limit():
     assert len(Guard.parse(" | ".join(f"p{i}" for i in range(200))).propositions) == 200
     with pytest.raises(LimitExceededError, match="too large"):
         Guard.parse(" & ".join(f"p{i}" for i in range(3000)))
+
+
+def test_large_support_prints_prime_implicants_in_natural_order():
+    names = [f"p{i}" for i in range(12)]
+    g = Guard.all_of(Guard.var(n) for n in names[:6]) | (Guard.var("p7") & ~Guard.var("p11")) | Guard.var("p9")
+    assert str(g) == "p9 | (p7 & !p11) | (p0 & p1 & p2 & p3 & p4 & p5)"
+    for cube in g.cubes():
+        assert Guard.cube(cube).implies(g)
+        for name in cube:  # prime: no literal can be dropped
+            rest = {n: v for n, v in cube.items() if n != name}
+            assert not Guard.cube(rest).implies(g)
