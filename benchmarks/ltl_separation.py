@@ -62,19 +62,22 @@ def main(argv=None) -> int:
     parser.add_argument("--per-family", type=int, default=6, help="problems per family (0: all)")
     parser.add_argument("--timeout", type=float, default=10.0, help="our time limit per problem")
     parser.add_argument("--peer-timeout", type=float, default=10.0, help="Scarlet's time limit per problem")
+    parser.add_argument("--max-size", type=int, default=40, help="our size bound (default 40, as the CLI)")
+    parser.add_argument("--family", action="append", help="only these families (repeatable)")
     parser.add_argument("--no-peer", action="store_true", help="skip Scarlet")
     parser.add_argument("--json-out", type=Path, help="write the per-problem rows as JSON")
     args = parser.parse_args(argv)
 
     folder = args.data / args.split
-    rows = select(list(csv.DictReader((folder / "manifest.csv").open())), args.per_family)
+    rows = [r for r in csv.DictReader((folder / "manifest.csv").open()) if not args.family or r["family"] in args.family]
+    rows = select(rows, args.per_family)
     print(f"command: {' '.join([Path(sys.argv[0]).name] + (argv or sys.argv[1:]))}")
     print(f"{len(rows)} problems from {folder}; our timeout {args.timeout} s"
           + ("" if args.no_peer else f"; Scarlet timeout {args.peer_timeout} s"), flush=True)
     results = []
     for row in rows:
         sample = load_sample(folder / row["file"])
-        result = learn_from_sample(sample, timeout=args.timeout)
+        result = learn_from_sample(sample, timeout=args.timeout, max_size=args.max_size)
         separates = None
         if result.formula is not None:
             verdicts = evaluate_many(result.formula, list(sample.positive) + list(sample.negative))
