@@ -18,19 +18,18 @@ timeouts, interrupts and error translation are handled once:
 
 from __future__ import annotations
 
+import bisect
 import re
 import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import clingo
 import clingo.ast
 
 from symlearn.errors import LimitExceededError, ParseError
 
-if TYPE_CHECKING:
-    from symlearn.logic.asp.program import Program
+from symlearn.logic.asp.program import Program
 
 Symbol = clingo.Symbol
 
@@ -278,18 +277,43 @@ class _Tagger(clingo.ast.Transformer):
         return rule.update(body=[*rule.body, *self.guard])
 
 
-def _ground_fact(statement: clingo.ast.AST) -> clingo.Symbol | None:
-    """The symbol of a plain ground fact ``p(1,a).``, else None."""
+def _ground_fact(statement: clingo.ast.AST) -> tuple[str, list[str], bool] | None:
+    """(name, argument texts, classically negated) of a plain ground fact ``p(1,f(a)).``, else None."""
     if statement.body:
         return None
     head = statement.head
     if head.ast_type != clingo.ast.ASTType.Literal or head.sign != clingo.ast.Sign.NoSign:
         return None
     atom = head.atom
-    if atom.ast_type != clingo.ast.ASTType.SymbolicAtom or atom.symbol.ast_type != clingo.ast.ASTType.SymbolicTerm:
+    if atom.ast_type != clingo.ast.ASTType.SymbolicAtom:
         return None
-    symbol = atom.symbol.symbol
-    return symbol if symbol.type == clingo.SymbolType.Function and symbol.name else None
+    term = atom.symbol
+    negative = False
+    if term.ast_type == clingo.ast.ASTType.UnaryOperation:
+        negative, term = True, term.argument
+    if term.ast_type == clingo.ast.ASTType.SymbolicTerm:
+        symbol = term.symbol
+        if symbol.type != clingo.SymbolType.Function or not symbol.name:
+            return None
+        return symbol.name, [str(a) for a in symbol.arguments], negative or symbol.negative
+    if term.ast_type != clingo.ast.ASTType.Function or not term.name or term.external:
+        return None
+    args = [_ground_term_text(a) for a in term.arguments]
+    if any(a is None for a in args):
+        return None
+    return term.name, args, negative
+
+
+def _ground_term_text(term: clingo.ast.AST) -> str | None:
+    kind = term.ast_type
+    if kind == clingo.ast.ASTType.SymbolicTerm:
+        return str(term.symbol)
+    if kind == clingo.ast.ASTType.Function and not term.external:
+        args = [_ground_term_text(a) for a in term.arguments]
+        if any(a is None for a in args):
+            return None
+        return f"{term.name}({','.join(args)})" if args or not term.name else term.name
+    return None
 
 
 _UNTAGGABLE = {"Minimize", "Heuristic", "ProjectAtom", "ProjectSignature", "External", "Edge",
@@ -307,45 +331,72 @@ def tag_program(program: Program, tag: str, guard: Sequence[str] = (), constrain
     Predicates named in ``untagged`` are left alone.
     With ``constraint_head`` an integrity constraint ``:- body.`` becomes ``constraint_head(tag) :- body.``
     """
-    tag_term = clingo.ast.parse_string  # keep name short below
-    parsed: list[clingo.ast.AST] = []
-    guard_text = ", ".join(guard)
-    probe = f"__probe({tag}) :- {guard_text}." if guard_text else f"__probe({tag})."
-    tag_term(probe, parsed.append)
-    rule = parsed[-1]
-    tag_ast = rule.head.atom.symbol.arguments[0]
-    guard_ast = list(rule.body)
+    return tag_programs([(program, tag, tuple(guard))], constraint_head=constraint_head, untagged=untagged)[0]
+
+
+def tag_programs(pieces: Sequence[tuple[Program, str, Sequence[str]]], *, constraint_head: str | None = None,
+                 untagged: Iterable[str] = ()) -> list[str]:
+    """:func:`tag_program` for many (program, tag, guard) pieces with a single clingo parse."""
     untagged = frozenset(untagged)
-    tagger = _Tagger(tag_ast, guard_ast, constraint_head, untagged)
-    out: list[str] = []
+    combined = Program.compose(p for p, _t, _g in pieces) if pieces else None
+    if combined is None:
+        return []
+    starts = []  # first line of each piece in the combined text
+    line = 1
+    for program, _tag, _guard in pieces:
+        starts.append(line)
+        line += sum(part.n_lines for part in program.parts) if program.parts else 0
+        if not program.parts:
+            starts[-1] = -1
+    outputs: list[list[str]] = [[] for _ in pieces]
+    taggers: dict[int, _Tagger] = {}
     messages = _Messages()
-    guard_suffix = f" :- {guard_text}." if guard_text else "."
+
+    nonempty = [i for i, start in enumerate(starts) if start > 0]
+    nonempty_starts = [starts[i] for i in nonempty]
+
+    def piece_of(statement_line: int) -> int:
+        return nonempty[bisect.bisect_right(nonempty_starts, statement_line) - 1]
+
+    def tagger(index: int) -> _Tagger:
+        if index not in taggers:
+            _program, tag, guard = pieces[index]
+            parsed: list[clingo.ast.AST] = []
+            guard_text = ", ".join(guard)
+            clingo.ast.parse_string(f"__probe({tag}) :- {guard_text}." if guard_text else f"__probe({tag}).",
+                                    parsed.append)
+            rule = parsed[-1]
+            taggers[index] = _Tagger(rule.head.atom.symbol.arguments[0], list(rule.body), constraint_head, untagged)
+        return taggers[index]
 
     def visit(statement: clingo.ast.AST) -> None:
         kind = statement.ast_type.name
         if kind in ("Program", "Comment", "ShowSignature", "ShowTerm"):
             return
-        fact = _ground_fact(statement) if kind == "Rule" else None
-        if fact is not None and fact.name not in untagged:
-            # fast path (contexts are mostly facts): rebuild the text from the symbol
-            args = ",".join([tag, *map(str, fact.arguments)])
-            out.append(f"{'-' if fact.negative else ''}{fact.name}({args}){guard_suffix}")
-            return
+        index = piece_of(statement.location.begin.line)
         if kind in _UNTAGGABLE:
             loc = statement.location.begin
-            source, line, column = program.locate(loc.line, loc.column)
+            source, src_line, column = combined.locate(loc.line, loc.column)
             raise ParseError(f"'{kind}' statements are not supported in background knowledge of learning tasks",
-                             file=source, line=line, column=column)
+                             file=source, line=src_line, column=column)
         if kind == "Rule":
-            out.append(str(tagger.visit(statement)))
+            fact = _ground_fact(statement)
+            if fact is not None and fact[0] not in untagged:
+                # fast path (contexts are mostly facts): the tagged text directly, no AST rewriting
+                name, args, negative = fact
+                _program, tag, guard = pieces[index]
+                suffix = f" :- {', '.join(guard)}." if guard else "."
+                outputs[index].append(f"{'-' if negative else ''}{name}({','.join([tag, *args])}){suffix}")
+                return
+            outputs[index].append(str(tagger(index).visit(statement)))
         else:
-            out.append(str(statement))
+            outputs[index].append(str(statement))
 
     try:
-        clingo.ast.parse_string(program.text, visit, logger=messages)
+        clingo.ast.parse_string(combined.text, visit, logger=messages)
     except RuntimeError as exc:
-        _raise_clingo_error(program, messages, str(exc))
-    return "\n".join(out)
+        _raise_clingo_error(combined, messages, str(exc))
+    return ["\n".join(lines) for lines in outputs]
 
 
 class IncrementalOptimizer:

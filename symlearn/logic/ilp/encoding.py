@@ -50,11 +50,12 @@ def tagged_rules(rules: Sequence[str], guard: Sequence[str] = ()) -> str:
 def examples_program(task: ILPTask, indexed: Iterable[tuple[int, Example]], *, accept: bool = True) -> Program:
     """Background once plus, per example, its context and (optionally) acceptance constraints."""
     parts = [Program.from_text(tagged_background(task), source=f"{task.source} (background)")]
-    chunks = []
-    for tag, example in indexed:
-        chunks.append(tagged_context(example, tag))
-        if accept:
-            chunks.append(acceptance_constraints(example, tag))
+    indexed = [(tag, e) for tag, e in indexed]
+    with_context = [(tag, e) for tag, e in indexed if not e.context.is_empty()]
+    contexts = cl.tag_programs([(e.context, str(tag), (f"{ACTIVE}({tag})",)) for tag, e in with_context])
+    chunks = list(contexts)
+    if accept:
+        chunks += [acceptance_constraints(e, tag) for tag, e in indexed]
     parts.append(Program.from_text("\n".join(c for c in chunks if c), source=f"{task.source} (examples)"))
     return Program.compose(parts)
 
