@@ -16,6 +16,7 @@ PIPELINE_MODULES: tuple[str, ...] = (
     "symlearn.demo.gridworld_pipeline",
     "symlearn.demo.ltlf_pipeline",
     "symlearn.demo.spec_pipeline",
+    "symlearn.demo.ilp_pipeline",
 )
 
 
