@@ -362,12 +362,9 @@ class _Translation:
         if u <= TRUE or level >= len(self.props):
             found = {u: TRUE}
         else:
-            var = bdd.var(level)
-            found = {t: bdd.apply_and(var, g) for t, g in self._split(bdd.high[u]).items()}
-            not_var = bdd.negate(var)
-            for t, g in self._split(bdd.low[u]).items():
-                g = bdd.apply_and(not_var, g)
-                found[t] = bdd.apply_or(found[t], g) if t in found else g
+            # child guards only mention later propositions, so each guard is one new node
+            high, low = self._split(bdd.high[u]), self._split(bdd.low[u])
+            found = {t: bdd.node(level, low.get(t, FALSE), high.get(t, FALSE)) for t in {**low, **high}}
         self.split_memo[u] = found
         return found
 
