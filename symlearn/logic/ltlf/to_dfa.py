@@ -455,7 +455,13 @@ class _GuardConverter:
         if found is None:
             bdd = self.bdd
             var = Guard.var(self.names[bdd.level[u]])
-            found = (var & self(bdd.high[u])) | (~var & self(bdd.low[u]))
+            low, high = bdd.low[u], bdd.high[u]
+            if low == FALSE:  # most guards are cubes: one operation instead of three
+                found = var & self(high)
+            elif high == FALSE:
+                found = ~var & self(low)
+            else:
+                found = (var & self(high)) | (~var & self(low))
             self.memo[u] = found
         return found
 
