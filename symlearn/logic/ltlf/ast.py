@@ -131,6 +131,8 @@ class Prop(Formula):
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not self.name:
             raise ValueError(f"a proposition name must be a non-empty string, not {self.name!r}")
+        if "\n" in self.name or "\r" in self.name:  # could not be written back on one line
+            raise ValueError(f"a proposition name cannot contain a line break: {self.name!r}")
         self._set_hash()
 
     def _leaf_key(self):
