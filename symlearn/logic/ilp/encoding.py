@@ -81,7 +81,9 @@ def witnesses(task: ILPTask, rules: Sequence[str], examples: Sequence[Example], 
     program = examples_program(task, indexed) + Program.from_text(
         tagged_rules(rules) + "\n" + "\n".join(f"{{ {ACTIVE}({i}) }}." for i, _ in indexed)
         + f"\n#maximize {{ 1,E : {ACTIVE}(E) }}.", source="<coverage check>")
-    outcome = cl.optimize(program, timeout=timeout, shown_only=False)
+    # core-guided optimisation: every copy that cannot be active is one small unsatisfiable core,
+    # where branch-and-bound would improve the count one copy at a time
+    outcome = cl.optimize(program, timeout=timeout, shown_only=False, arguments=["--opt-strategy=usc"])
     if not outcome.models:
         return {e.id: None for e in examples}
     if not outcome.complete:

@@ -99,7 +99,11 @@ def search_general(task: ILPTask, space: HypothesisSpace, *, noise: bool, deadli
         charged = {s.arguments[0].number for s in model if s.name == "accepts__"}
         rules = [by_index[r].text for r in chosen]
         left = deadline - time.perf_counter()
-        found = witnesses(task, rules, negatives, timeout=max(left, 0.001)) if negatives else {}
+        try:
+            found = witnesses(task, rules, negatives, timeout=max(left, 0.001)) if negatives else {}
+        except cl.LimitExceededError:
+            outcome.notes.append("time limit reached while checking the negative examples")
+            return outcome
         wrong = [(j, e) for j, e in enumerate(negatives) if found.get(e.id) is not None]
         unpaid = [(j, e) for j, e in wrong if not _soft(e, noise) or j not in charged]
         if not unpaid:
