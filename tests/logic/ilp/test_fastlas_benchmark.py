@@ -53,3 +53,15 @@ def test_parses_or_is_refused_precisely(path):
 def test_stated_optimal_scores(name, expected):
     result = learn(load_task(FOLDER / name, dialect="fastlas"), timeout=60)
     assert result.optimal and result.score == expected, result.diagnostics.render()
+
+
+def test_sudoku_constraints_with_longer_bodies():
+    """No stated score; with up to 5 body literals the three sudoku constraints are learned."""
+    task = load_task(FOLDER / "fastlas__testing__sudoku_simple.las", dialect="fastlas")
+    assert learn(task, timeout=30).hypothesis is None  # default max_body 3 is too short
+    task.max_body = 5
+    result = learn(task, timeout=60)
+    assert result.optimal
+    groups = sorted(next(g for g in ("row", "col", "block") if f"{g}(" in rule) for rule in result.hypothesis.rules)
+    assert groups == ["block", "col", "row"]
+    assert all(rule.startswith("false :- value(") and "!=" in rule for rule in result.hypothesis.rules)
