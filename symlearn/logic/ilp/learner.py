@@ -26,7 +26,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Any
 
-from symlearn.errors import DataError, SymlearnError
+from symlearn.errors import DataError, LimitExceededError, SymlearnError
 from symlearn.logic.asp import clingo_adapter as cl
 from symlearn.logic.asp.hypothesis import Hypothesis
 from symlearn.logic.ilp.encoding import accepted_by
@@ -130,7 +130,12 @@ def learn(task: ILPTask, timeout: float = 30.0, noise: bool = False, *, method: 
             if method == "single":
                 raise SymlearnError("the single-grounding path needs a space of integrity constraints (no #modeh)")
         else:
-            worlds = single_worlds(task, timeout=max(deadline - time.perf_counter(), 0.001))
+            try:
+                worlds = single_worlds(task, timeout=max(deadline - time.perf_counter(), 0.001))
+            except LimitExceededError:
+                diagnostics.notes.append("time limit reached while solving the example contexts")
+                return LearningResult(None, None, False, time.perf_counter() - start, len(space), {},
+                                      diagnostics, "single")
             if worlds is None:
                 if method == "single":
                     raise SymlearnError("the single-grounding path needs one answer set per example context; "
@@ -187,6 +192,8 @@ def _single(task: ILPTask, space: HypothesisSpace, worlds, noise: bool, deadline
     if diagnostics.uncoverable_positives:
         _single_diagnostics(task, space, worlds, fires, hard_pos, hard_neg, diagnostics)
         return SearchOutcome(None, notes=["no hypothesis in the space covers the examples"])
+    if time.perf_counter() >= deadline:
+        return SearchOutcome(None, notes=["time limit reached before the rule selection"])
     outcome = select_rules(task, space, fires, noise=noise, hard_pos=hard_pos, soft_pos=soft_pos,
                            hard_neg=hard_neg, soft_neg=soft_neg,
                            timeout=max(deadline - time.perf_counter(), 0.001))

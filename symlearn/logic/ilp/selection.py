@@ -57,6 +57,9 @@ def single_worlds(task: ILPTask, *, timeout: float | None = None) -> Worlds | No
     outcome = cl.solve(program, max_models=2, timeout=timeout)
     if len(outcome.models) > 1:
         return None
+    if outcome.models and not outcome.complete:  # uniqueness not established in time
+        raise cl.LimitExceededError("checking that every context has one answer set did not finish in time",
+                                    hint="raise the timeout")
     if not outcome.models:
         if not outcome.complete and outcome.satisfiable is None:
             raise cl.LimitExceededError("solving the example contexts did not finish in time",

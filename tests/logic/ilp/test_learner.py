@@ -100,11 +100,13 @@ def test_rules_with_heads_and_negative_examples():
     assert sorted(result.hypothesis.rules) in ([ "p :- r.", "q :- not r."], ["p :- r.", "q :- e."])
 
 
-def test_timeout_returns_best_so_far_flagged(monkeypatch):
+@pytest.mark.parametrize("method", ["single", "general"])
+def test_timeout_returns_a_result_flagged_not_optimal(method):
     task = parse_task(_grid_task(40))
-    result = learn(task, timeout=0.0, method="general")
+    result = learn(task, timeout=0.0, method=method)
     assert not result.optimal
     assert result.hypothesis is None or result.score >= 3
+    assert any("time limit" in note for note in result.diagnostics.notes)
 
 
 def test_no_solution_diagnostics_name_negatives_and_conflicts():
