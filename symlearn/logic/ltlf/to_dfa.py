@@ -34,6 +34,7 @@ Construction (our own; sound by the progression identities, exact by minimisatio
 
 from __future__ import annotations
 
+import gc
 import sys
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
@@ -477,6 +478,9 @@ def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFAT
     # BDD operations recurse once per variable level and obligations once per nesting level
     limit = sys.getrecursionlimit()
     sys.setrecursionlimit(max(limit, _RECURSION_LIMIT))
+    # the construction allocates many small acyclic tables; cyclic GC passes only slow it down
+    collecting = gc.isenabled()
+    gc.disable()
     try:
         return _Translation(formula).build(max_states)
     except RecursionError:
@@ -484,6 +488,8 @@ def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFAT
                                  hint="split it into smaller conjuncts") from None
     finally:
         sys.setrecursionlimit(limit)
+        if collecting:
+            gc.enable()
 
 
 def to_dfa(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES):
