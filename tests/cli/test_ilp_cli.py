@@ -91,3 +91,14 @@ def test_no_solution_prints_diagnostics_and_exits_2(run_cli, tmp_path):
     result = run_cli("ilp", "learn", task)
     assert result.returncode == 2
     assert "no hypothesis found" in result.stdout and "p and q conflict" in result.stdout
+
+
+def test_noise_flag_and_coverage_matrix(run_cli, tmp_path):
+    task = tmp_path / "noisy.las"
+    task.write_text(TASK + "#pos(p3@4, {}, {}, { wall(south). go(south). }).\n")  # mislabelled
+    assert run_cli("ilp", "learn", task).returncode == 2
+    result = run_cli("ilp", "learn", task, "--noise", "--coverage", "--json")
+    doc = json.loads(result.stdout)
+    assert result.returncode == 0 and doc["rules"] == [":- wall(V1), go(V1)."]
+    assert doc["penalty"] == 4 and doc["score"] == 6 and doc["coverage"]["p3"] is False
+    assert doc["matrix"][":- wall(V1), go(V1)."]["n2"] is True
