@@ -61,6 +61,15 @@ class MonaDFA:
         return seen
 
 
+# LTLf2DFA has no W or T: they are spelled out (a W b = (a U b) | G a, a T b = F(a & X F b))
+_LTLF2DFA_TEMPLATES = {
+    Not: "!({0})", Next: "X({0})", WeakNext: "WX({0})", Eventually: "F({0})", Always: "G({0})",
+    And: "({0}) & ({1})", Or: "({0}) | ({1})", Implies: "({0}) -> ({1})", Iff: "({0}) <-> ({1})",
+    Until: "({0}) U ({1})", Release: "({0}) R ({1})", WeakUntil: "(({0}) U ({1})) | G({0})",
+    Then: "F(({0}) & X(F({1})))",
+}
+
+
 def to_ltlf2dfa_text(formula: Formula, names: dict[str, str]) -> str:
     """Fully parenthesised text in LTLf2DFA's syntax (only its core operators), renaming propositions."""
     text: dict[int, str] = {}
@@ -70,23 +79,8 @@ def to_ltlf2dfa_text(formula: Formula, names: dict[str, str]) -> str:
             t = "true" if node.value else "false"
         elif isinstance(node, Prop):
             t = names[node.name]
-        elif isinstance(node, Not):
-            t = f"!({c[0]})"
-        elif isinstance(node, Next):
-            t = f"X({c[0]})"
-        elif isinstance(node, WeakNext):
-            t = f"WX({c[0]})"
-        elif isinstance(node, Eventually):
-            t = f"F({c[0]})"
-        elif isinstance(node, Always):
-            t = f"G({c[0]})"
-        elif isinstance(node, WeakUntil):
-            t = f"(({c[0]}) U ({c[1]})) | G({c[0]})"
-        elif isinstance(node, Then):
-            t = f"F(({c[0]}) & X(F({c[1]})))"
         else:
-            op = {And: "&", Or: "|", Implies: "->", Iff: "<->", Until: "U", Release: "R"}[type(node)]
-            t = f"({c[0]}) {op} ({c[1]})"
+            t = _LTLF2DFA_TEMPLATES[type(node)].format(*c)
         text[id(node)] = t
     return text[id(formula)]
 
