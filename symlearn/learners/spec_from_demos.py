@@ -229,7 +229,7 @@ class SpecLearner:
 
     def _given_labeling(self, env) -> tuple[Labeling, list[str]]:
         labeling = self.labeling if self.labeling is not None else env.labeling
-        for state, _ in labeling._table.items():
+        for state, _ in labeling.items():
             if not (isinstance(state, (int, np.integer)) and 0 <= state < self._n_states):
                 raise DataError(f"the labeling labels state {state!r}, which is not one of the environment's "
                                 f"{self._n_states} states")
@@ -331,8 +331,5 @@ def _restrict(labeling: Labeling, formula: Formula) -> Labeling:
     """The labeling cut down to the propositions the formula uses (kept in discovery order)."""
     from symlearn.logic.ltlf.ast import propositions
 
-    used = propositions(formula)
-    order = [p for p in labeling.propositions if p in used]
-    table = {s: props & used for s, props in labeling._table.items() if props & used}
-    return Labeling(table, meanings={p: labeling.meanings[p] for p in order}, propositions=order)
+    return labeling.restrict(propositions(formula))
 

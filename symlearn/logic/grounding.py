@@ -86,6 +86,20 @@ class Labeling:
 
     __call__ = label
 
+    def items(self) -> list[tuple[Hashable, frozenset[str]]]:
+        """Every labelled state with its propositions (states with none are not listed)."""
+        return list(self._table.items())
+
+    def restrict(self, propositions: Iterable[str]) -> Labeling:
+        """A copy that keeps only ``propositions`` (in this labeling's order) and their meanings."""
+        keep = frozenset(propositions)
+        unknown = sorted(keep - set(self._order))
+        if unknown:
+            raise DataError(f"unknown proposition {unknown[0]!r}", hint="known: " + ", ".join(self._order))
+        order = [p for p in self._order if p in keep]
+        table = {s: props & keep for s, props in self._table.items() if props & keep}
+        return Labeling(table, meanings={p: self._meanings[p] for p in order}, propositions=order)
+
     def states_where(self, proposition: str) -> list[Hashable]:
         return [s for s, props in self._table.items() if proposition in props]
 

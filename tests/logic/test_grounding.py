@@ -37,3 +37,13 @@ def test_bad_labeling_files(tmp_path):
         Labeling.load(path)
     with pytest.raises(DataError, match="not a proposition name"):
         Labeling({0: [""]})
+
+
+def test_items_and_restrict():
+    lab = Labeling({0: ["a", "b"], 1: ["b"], 2: ["c"]}, meanings={"a": "A", "b": "B"}, propositions=["c", "b", "a"])
+    assert dict(lab.items()) == {0: {"a", "b"}, 1: {"b"}, 2: {"c"}}
+    cut = lab.restrict(["a", "c"])
+    assert cut.propositions == ("c", "a") and cut.label(0) == {"a"} and cut.label(1) == frozenset()
+    assert cut.meanings == {"c": "", "a": "A"}
+    with pytest.raises(DataError, match="unknown proposition 'z'"):
+        lab.restrict(["z"])
