@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import csv
 import multiprocessing
+import queue
 import tempfile
 import time
 from dataclasses import dataclass
@@ -79,13 +80,22 @@ def run_scarlet(sample: LtlSample, timeout: float = 10.0) -> ScarletResult:
         process = context.Process(target=_child, args=(str(trace_file), str(csv_file), answer), daemon=True)
         process.start()
         try:
-            formula, size = answer.get(timeout=timeout)
-            seconds = time.monotonic() - start
-            process.join(5)
-            return ScarletResult(formula, size, seconds, True)
-        except Exception:  # queue.Empty on timeout
-            seconds = time.monotonic() - start
-            return ScarletResult(*_best_so_far(csv_file), seconds, False)
+            # Poll rather than block for the whole timeout, so a crashed peer is noticed at once.
+            deadline = start + timeout
+            while True:
+                try:
+                    formula, size = answer.get(timeout=max(0.0, min(0.2, deadline - time.monotonic())))
+                except queue.Empty:
+                    if process.is_alive() and time.monotonic() < deadline:
+                        continue
+                    try:  # an answer put just before the child exited may still be in flight
+                        formula, size = answer.get(timeout=0.5 if not process.is_alive() else 0.0)
+                    except queue.Empty:
+                        seconds = time.monotonic() - start
+                        return ScarletResult(*_best_so_far(csv_file), seconds, False)
+                seconds = time.monotonic() - start
+                process.join(5)
+                return ScarletResult(formula, size, seconds, True)
         finally:
             if process.is_alive():
                 process.terminate()
