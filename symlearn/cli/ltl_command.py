@@ -11,6 +11,9 @@ def register(subparsers, common) -> None:
                                               "to minimal DFAs.")
     group.set_defaults(group_parser=group)
     commands = group.add_subparsers(dest="ltl_command", metavar="SUBCOMMAND")
+    from symlearn.cli.ltl_learn_command import add_learn_command  # separating formulas (its own module)
+
+    add_learn_command(commands, common)
 
     def dialect_option(p):
         p.add_argument("--dialect", default="ours", choices=("ours", "spot", "ltlf2dfa"),
