@@ -1,8 +1,8 @@
 """Read traces from JSONL: one trace per line, a list of steps, each a list of true propositions.
 
->>> import io
->>> read_traces_text('[["a"], [], ["a", "b"]]\\n[["b"]]\\n')
-[[frozenset({'a'}), frozenset(), frozenset({'a', 'b'})], [frozenset({'b'})]]
+>>> traces = read_traces_text('[["a"], [], ["a", "b"]]\\n[["b"]]\\n')
+>>> [[sorted(step) for step in trace] for trace in traces]
+[[['a'], [], ['a', 'b']], [['b']]]
 
 Blank lines are skipped. Mistakes raise :class:`~symlearn.errors.DataError` with
 ``file:line:col`` (the column of the offending value where it can be found).
