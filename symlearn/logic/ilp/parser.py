@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable
+from dataclasses import replace
 from functools import cache
 from pathlib import Path
 
@@ -204,7 +205,9 @@ def parse_task(text: str, source: str = "<task>", extra_background: Iterable[Pro
     """Parse the text of a task file; ``extra_background`` programs/paths are appended to B.
 
     ``dialect`` only changes how ``#modeb`` atoms are used: ``"ilasp"`` (default) also allows
-    them negated unless flagged ``(positive)``; ``"fastlas"`` uses every mode exactly as written.
+    them negated unless flagged ``(positive)``; ``"fastlas"`` uses every mode exactly as written
+    and reads ``inclusion(a)``/``exclusion(a)`` facts of a context as that example's inclusions
+    and exclusions (a convention of FastLAS's own test tasks).
     """
     if dialect not in DIALECTS:
         raise SymlearnError(f"unknown task dialect {dialect!r}", hint="use 'ilasp' or 'fastlas'")
@@ -227,7 +230,22 @@ def parse_task(text: str, source: str = "<task>", extra_background: Iterable[Pro
         raise
     task = _assemble(items, source, extra_background)
     task.dialect = dialect
+    if dialect == "fastlas":
+        task.examples = [_context_inclusions(e) for e in task.examples]
     return task
+
+
+def _context_inclusions(example: Example) -> Example:
+    """FastLAS's test tasks may state inclusions and exclusions as ``inclusion(a)`` /
+    ``exclusion(a)`` facts inside the context; read them as the example's own sets (the facts
+    stay in the context, where no mode refers to them)."""
+    text = "".join(part.text for part in example.context.parts)
+    if "inclusion(" not in text and "exclusion(" not in text:
+        return example
+    found = cl.ground_atoms(example.context, [("inclusion", 1), ("exclusion", 1)])
+    inclusions = tuple(a.arguments[0] for a in found if a.name == "inclusion")
+    exclusions = tuple(a.arguments[0] for a in found if a.name == "exclusion")
+    return replace(example, inclusions=example.inclusions + inclusions, exclusions=example.exclusions + exclusions)
 
 
 def _assemble(items, source: str, extra_background) -> ILPTask:

@@ -31,6 +31,8 @@ STATED = {
     "fastlas__testing__agent_abduction.las": 3,
     # stated "5 (6 with forced safety)": symlearn only generates safe rules, i.e. forced safety
     "fastlas__testing__simple_agent.las": 6,
+    # inclusions/exclusions given as inclusion(..)/exclusion(..) facts in the contexts
+    "fastlas__testing__simple_inc_exc.las": 4,
 }
 
 
