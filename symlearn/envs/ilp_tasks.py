@@ -56,7 +56,8 @@ class Example:
         return f"{kind}({ident}, {{}}, {{}}, {{ {' '.join(self.facts)} }})."
 
 
-def _number(labelled: Iterable[tuple[tuple[str, ...], bool]], penalty: int | None = None) -> list[Example]:
+def number_examples(labelled: Iterable[tuple[tuple[str, ...], bool]], penalty: int | None = None) -> list[Example]:
+    """Examples `p1, p2, ...` and `n1, n2, ...` from (facts, positive) pairs, in order."""
     counts = {True: 0, False: 0}
     examples = []
     for facts, positive in labelled:
@@ -68,7 +69,7 @@ def _number(labelled: Iterable[tuple[tuple[str, ...], bool]], penalty: int | Non
 
 def exhaustive_examples(domain: LogicDomain) -> list[Example]:
     """Every state-action pair of the domain, labelled by the ground truth, in model order."""
-    return _number(domain.pairs())
+    return number_examples(domain.pairs())
 
 
 def sampled_examples(domain: LogicDomain, n_positive: int, n_negative: int, seed: int = 0) -> list[Example]:
@@ -84,7 +85,7 @@ def sampled_examples(domain: LogicDomain, n_positive: int, n_negative: int, seed
         if not 0 <= wanted <= len(pool):
             raise DataError(f"asked for {wanted} {kind} pairs, {domain.name} has {len(pool)}")
         chosen.extend((pool[i], positive) for i in sorted(rng.choice(len(pool), size=wanted, replace=False)))
-    return _number(chosen)
+    return number_examples(chosen)
 
 
 def demonstration_examples(domain: LogicDomain, n_episodes: int = 20, seed: int = 0,
@@ -108,7 +109,7 @@ def demonstration_examples(domain: LogicDomain, n_episodes: int = 20, seed: int 
     if max_negatives is not None and len(negatives) > max_negatives:
         chosen = sorted(rng.choice(len(negatives), size=max_negatives, replace=False))
         negatives = [negatives[i] for i in chosen]
-    return _number([(f, True) for f in positives] + [(f, False) for f in negatives], penalty)
+    return number_examples([(f, True) for f in positives] + [(f, False) for f in negatives], penalty)
 
 
 def with_label_noise(examples: Sequence[Example], fraction: float, penalty: int, seed: int = 0) -> list[Example]:
@@ -184,6 +185,6 @@ def write_default_tasks(root: str | os.PathLike[str]) -> list[Path]:
     return [write_text(Path(root) / rel, default_task_text(rel)) for rel in DEFAULT_TASKS]
 
 
-__all__ = ["DEFAULT_TASKS", "DOMAIN_NAMES", "Example", "default_task_text", "demonstration_examples",
+__all__ = ["DEFAULT_TASKS", "DOMAIN_NAMES", "Example", "default_task_text", "number_examples", "demonstration_examples",
            "exhaustive_examples", "sampled_examples", "task_text", "with_label_noise", "write_default_tasks",
            "write_task"]

@@ -168,10 +168,12 @@ def _traffic(variant: str) -> Callable[[], LogicDomain]:
         from symlearn.envs.traffic_model import TrafficJunction
 
         what = {"lights": "traffic-light junction, two-way roads",
-                "priority": "junction with priority to the right, one-way roads"}[variant]
+                "priority": "junction with priority to the right, one-way roads",
+                "combined": "junction with a traffic light, priority to the right and one-way roads"}[variant]
+        model = TrafficJunction(variant)
         return LogicDomain(f"traffic-{variant}", "traffic", "bk.lp", f"space_{variant}.lp",
-                           f"bias_{variant}.las", f"truth_{variant}.lp", TrafficJunction(variant),
-                           f"5 x 5 {what}")
+                           f"bias_{variant}.las", f"truth_{variant}.lp", model,
+                           f"{model.size} x {model.size} {what}")
     return build
 
 
@@ -179,6 +181,7 @@ _DOMAINS: dict[str, Callable[[], LogicDomain]] = {
     "hanoi": _hanoi,
     "traffic-lights": _traffic("lights"),
     "traffic-priority": _traffic("priority"),
+    "traffic-combined": _traffic("combined"),
 }
 
 DOMAIN_NAMES: tuple[str, ...] = tuple(_DOMAINS)

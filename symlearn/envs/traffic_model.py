@@ -7,13 +7,16 @@ junction cell itself is named ``zero``. The car moves one cell per step with the
 ``zero`` (stand still), ``north``, ``east``, ``south`` and ``west``; moving past the edge of the
 grid at the end of a road means leaving the scene.
 
-Two variants, as in the logic-constraint-inference experiments of the reference thesis:
+Three variants, as in the logic-constraint-inference experiments of the reference thesis:
 
 * ``"lights"``: two-way roads and a traffic light with two phases. In phase ``tls0`` the
   north/south approaches are red, in phase ``tls1`` the east/west approaches are red.
 * ``"priority"``: one-way roads and priority to the right. Traffic comes in on the ``west``,
   ``north`` and ``south`` arms and leaves on the ``east`` arm; ``car_on_right`` says a car
   with priority approaches from the right, and then the agent must stand still.
+* ``"combined"``: the transfer target, by default on a larger 7 x 7 grid: the one-way roads and
+  priority to the right of ``"priority"`` together with the traffic light of ``"lights"``, so
+  every rule of both other variants holds and neither alone knows them all.
 
 Ground-truth rules (``violations`` names the ones a state-action breaks):
 
@@ -58,7 +61,9 @@ ACTIONS: tuple[str, ...] = ("zero", "north", "east", "south", "west")
 ARMS: tuple[str, ...] = ("north", "east", "south", "west")
 STEP: dict[str, Cell] = {"zero": (0, 0), "north": (0, 1), "east": (1, 0), "south": (0, -1), "west": (-1, 0)}
 OPPOSITE: dict[str, str] = {"north": "south", "south": "north", "east": "west", "west": "east"}
-VARIANTS: tuple[str, ...] = ("lights", "priority")
+VARIANTS: tuple[str, ...] = ("lights", "priority", "combined")
+#: Default grid size of each variant (the combined transfer target is larger).
+DEFAULT_SIZE: dict[str, int] = {"lights": 5, "priority": 5, "combined": 7}
 
 #: Arms whose approach is red in each light phase (index = phase, fact ``tls<phase>``).
 RED_ARMS: tuple[frozenset[str], ...] = (frozenset({"north", "south"}), frozenset({"east", "west"}))
@@ -67,6 +72,9 @@ RED_ARMS: tuple[frozenset[str], ...] = (frozenset({"north", "south"}), frozenset
 #: exits from the junction cell.
 ONE_WAY_FLOW: dict[str, str] = {"west": "east", "north": "south", "south": "north", "east": "east"}
 ONE_WAY_EXITS: frozenset[str] = frozenset({"east"})
+
+#: How often a car with priority approaches from the right (the observation is redrawn each step).
+CAR_ON_RIGHT_PROBABILITY = 0.3
 
 
 @dataclass(frozen=True, order=True)
@@ -103,9 +111,10 @@ class TrafficJunction:
     (``lights``) or the car-on-the-right flag (``priority``): 5 x 5 x 2 = 50 states, 250 pairs.
     """
 
-    def __init__(self, variant: str = "lights", size: int = 5, junction: Cell | None = None) -> None:
+    def __init__(self, variant: str = "lights", size: int | None = None, junction: Cell | None = None) -> None:
         if variant not in VARIANTS:
             raise ModelError(f"unknown junction variant {variant!r}", hint=f"use one of {', '.join(VARIANTS)}")
+        size = DEFAULT_SIZE[variant] if size is None else size
         if size < 3:
             raise ModelError(f"a junction grid needs size >= 3, got {size}")
         junction = ((size + 1) // 2, (size + 1) // 2) if junction is None else tuple(junction)
@@ -114,8 +123,9 @@ class TrafficJunction:
         self.variant = variant
         self.size = size
         self.junction: Cell = junction
-        self.has_lights = variant == "lights"
-        self.one_way = variant == "priority"
+        self.has_lights = variant in ("lights", "combined")
+        self.one_way = variant in ("priority", "combined")
+        self.has_priority = variant in ("priority", "combined")
         self.actions = ACTIONS
 
     # --- geometry ----------------------------------------------------------------------------
@@ -162,9 +172,9 @@ class TrafficJunction:
     @cached_property
     def _states(self) -> tuple[JunctionState, ...]:
         cells = list(itertools.product(range(1, self.size + 1), repeat=2))
-        if self.has_lights:
-            return tuple(JunctionState(x, y, light=p) for (x, y) in cells for p in (0, 1))
-        return tuple(JunctionState(x, y, car_on_right=c) for (x, y) in cells for c in (False, True))
+        lights = (0, 1) if self.has_lights else (None,)
+        cars = (False, True) if self.has_priority else (False,)
+        return tuple(JunctionState(x, y, light=p, car_on_right=c) for (x, y) in cells for p in lights for c in cars)
 
     def states(self) -> tuple[JunctionState, ...]:
         return self._states
@@ -253,9 +263,16 @@ class TrafficJunction:
         return steps
 
     def _observe(self, cell: Cell, rng: np.random.Generator) -> JunctionState:
-        if self.has_lights:
-            return JunctionState(*cell, light=int(rng.integers(2)))
-        return JunctionState(*cell, car_on_right=bool(rng.random() < 0.3))
+        light = int(rng.integers(2)) if self.has_lights else None
+        car = bool(rng.random() < CAR_ON_RIGHT_PROBABILITY) if self.has_priority else False
+        return JunctionState(*cell, light=light, car_on_right=car)
+
+    def observation_distribution(self) -> list[tuple[int | None, bool, float]]:
+        """The (light, car on the right, probability) draws of :meth:`_observe`, redrawn each step."""
+        lights = [(0, 0.5), (1, 0.5)] if self.has_lights else [(None, 1.0)]
+        cars = ([(False, 1 - CAR_ON_RIGHT_PROBABILITY), (True, CAR_ON_RIGHT_PROBABILITY)]
+                if self.has_priority else [(False, 1.0)])
+        return [(light, car, pl * pc) for light, pl in lights for car, pc in cars]
 
     def _route_step(self, cell: Cell, entry_arm: str, goal_arm: str) -> str:
         arm = self.road_of(cell)
