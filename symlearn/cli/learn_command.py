@@ -3,7 +3,7 @@
 The group is open: each sub-command lives in a module with ``register_learn(commands, common)``
 listed in :data:`LEARN_SUBCOMMANDS` (``spec`` is defined here). To add ``learn constraints``,
 write ``symlearn/cli/learn_constraints_command.py`` with such a function and add ONE line to
-the tuple.
+the tuple (``constraints`` lives in ``learn_constraints_command.py``).
 
 ``symlearn learn spec --env office-1 [--demos D.jsonl | --n-demos N] [--props given|learn] [-o spec.ltl]``
 writes the formula (``spec.ltl``), the labeling (``spec.labeling.json``) and the automaton
@@ -17,7 +17,7 @@ import importlib
 from pathlib import Path
 
 # Modules defining register_learn(commands, common); this module registers "spec" itself.
-LEARN_SUBCOMMANDS: tuple[str, ...] = ()
+LEARN_SUBCOMMANDS: tuple[str, ...] = ("symlearn.cli.learn_constraints_command",)
 
 
 def register(subparsers, common) -> None:

@@ -29,6 +29,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "symlearn.cli.ltl_command",
     "symlearn.cli.automaton_command",
     "symlearn.cli.doctor_command",
+    "symlearn.cli.envs_command",
 )
 
 EXIT_OK, EXIT_INTERNAL, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130

@@ -40,9 +40,11 @@ import numpy as np
 
 from symlearn.envs.ilp_tasks import Example, number_examples, task_text
 from symlearn.envs.logic_mdp import LogicMDP, logic_mdp
-from symlearn.errors import SymlearnError
+from symlearn.errors import DataError, SymlearnError
 from symlearn.learners.constraint_metrics import constraint_metrics
 from symlearn.learners.ml_constraint_inference import MLConstraintInference
+from symlearn.learners.tabular_demos import tabular_episodes
+from symlearn.rl.tabular import check_mask
 from symlearn.progress import progress
 
 
@@ -99,7 +101,7 @@ class LogicConstraintInference:
     def __init__(self, domain: LogicMDP | str, *, iterations: int = 10, horizon: int = 30,
                  reward: str | np.ndarray = "sparse", rationality: float = 1.0,
                  min_visitation: float = 1e-3, ilp_timeout: float = 30.0, noise: bool = False,
-                 penalty: int = 10) -> None:
+                 penalty: int = 10, known: np.ndarray | None = None) -> None:
         self.domain = logic_mdp(domain) if isinstance(domain, str) else domain
         self.iterations = iterations
         self.horizon = horizon
@@ -109,25 +111,31 @@ class LogicConstraintInference:
         self.ilp_timeout = ilp_timeout
         self.noise = noise
         self.penalty = penalty
+        self.known = known
 
     def fit(self, demos: Any) -> LogicConstraintInference:
         if self.iterations < 1:
             raise SymlearnError(f"iterations must be at least 1, got {self.iterations}")
         started = time.perf_counter()
         lm = self.domain
+        episodes = tabular_episodes(demos, lm.mdp)
+        _check_available(episodes, lm)
+        known = lm.unavailable & ~lm.mdp.terminal[:, None]
+        if self.known is not None:
+            known = known | check_mask(lm.mdp, self.known, "known constraints")
         state = _Induction()
         self._state = state
         self._best: tuple[tuple[str, ...], Any] = ((), None)
         inference = MLConstraintInference(
             lm.mdp, reward=self.reward, horizon=self.horizon, max_iterations=self.iterations,
-            min_visitation=self.min_visitation, known_constraints=lm.unavailable & ~lm.mdp.terminal[:, None],
+            min_visitation=self.min_visitation, known_constraints=known,
             on_violation="warn" if self.noise else "error", generalize=self._generalize,
             rationality=self.rationality)
         self._bar = progress(range(self.iterations), total=self.iterations, desc=f"logic inference {lm.name}")
         self._bar_iter = iter(self._bar)
         self._records: list[tuple[tuple[str, ...], bool, int, int, float]] = []
         try:
-            inference.fit(demos)
+            inference.fit(episodes)
         finally:
             close = getattr(self._bar, "close", None)
             if close:
@@ -197,6 +205,20 @@ class LogicConstraintInference:
                   f"({len(self.history_)} iterations, {self.seconds_:.1f} s). Edit freely; "
                   "re-check them with `symlearn ilp check`.")
         return self.hypothesis_.to_lp(path, header=header)
+
+
+def _check_available(episodes, lm: LogicMDP) -> None:
+    """A demonstrated move that does not exist is a wrong file, not noise: say where it is."""
+    for i, e in enumerate(episodes):
+        n = len(e.actions)
+        bad = np.flatnonzero(lm.unavailable[e.states[:n], e.actions])
+        if bad.size:
+            t = int(bad[0])
+            s, a = int(e.states[t]), int(e.actions[t])
+            where = "after the episode ended" if lm.mdp.terminal[s] else "there"
+            raise DataError(f"demonstration {i}, step {t}: action {lm.mdp.action_names[a]!r} is not available in "
+                            f"state {lm.mdp.state_names[s]!r} ({where})",
+                            hint=f"{lm.name}: were the demonstrations recorded in another environment?")
 
 
 def _induce(lm: LogicMDP, examples: list[Example], timeout: float):

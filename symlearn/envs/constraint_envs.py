@@ -1,0 +1,88 @@
+"""The environments constraint learners run on, behind one interface (CLI, demo, benchmarks).
+
+A :class:`ConstraintSetting` gives what every tabular constraint learner needs: the nominal
+MDP, the pairs that exist at all (``space``), the ground-truth forbidden mask to score against,
+what is known in advance (unavailable moves), the reward to plan with, and a bundled expert.
+
+* ``hanoi``, ``junction-lights``, ``junction-priority``, ``junction-combined``: the logic
+  domains (:mod:`symlearn.envs.logic_mdp`), with ASP facts for every pair, so the ``logic``
+  method can induce rules; reward inferred as sparse (reaching where demonstrations ended).
+* ``gridworld``: the stochastic gridworld (:mod:`symlearn.envs.gridworld`) with its own reward;
+  no ASP facts, so only the ``ml`` and ``mce-icrl`` methods.
+
+>>> setting = constraint_setting("junction-priority")
+>>> setting.mdp.n_states, int(setting.truth.sum()), setting.logic is not None
+(54, 223, True)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from symlearn.errors import DataError
+from symlearn.mdp import TabularMDP
+
+#: name -> (logic domain name or None, one-line description)
+CONSTRAINT_ENVS: dict[str, tuple[str | None, str]] = {
+    "hanoi": ("hanoi", "Towers of Hanoi, 3 disks: no disk on a smaller one"),
+    "junction-lights": ("traffic-lights", "5x5 junction with a traffic light, two-way roads"),
+    "junction-priority": ("traffic-priority", "5x5 junction with priority to the right, one-way roads"),
+    "junction-combined": ("traffic-combined", "7x7 junction: light + priority + one-way roads (transfer target)"),
+    "gridworld": (None, "7x7 stochastic gridworld with a forbidden block (--stochasticity p)"),
+}
+
+
+@dataclass(frozen=True, eq=False)
+class ConstraintSetting:
+    name: str
+    mdp: TabularMDP
+    space: np.ndarray  # (S, A) pairs that exist (False: unavailable moves, exit states)
+    truth: np.ndarray  # (S, A) forbidden by the ground truth
+    reward: str  # "sparse" or "given"
+    expert: Callable[[int, int], Any]  # (n, seed) -> Demonstrations
+    logic: Any = None  # the LogicMDP where ASP rules can be learned
+    rationality: float = 1.0
+
+    @property
+    def known(self) -> np.ndarray:
+        """Pairs forbidden in advance: those that are no move at all (never in terminal states)."""
+        return ~self.space & ~self.mdp.terminal[:, None]
+
+
+def constraint_setting(name: str, stochasticity: float = 0.0) -> ConstraintSetting:
+    """The setting called ``name`` (one of :data:`CONSTRAINT_ENVS`)."""
+    if name not in CONSTRAINT_ENVS:
+        raise DataError(f"unknown environment {name!r} for constraint learning",
+                        hint=f"use one of {', '.join(CONSTRAINT_ENVS)} (see `symlearn envs`)")
+    domain, _ = CONSTRAINT_ENVS[name]
+    if domain is None:
+        return _gridworld(stochasticity)
+    from symlearn.envs.logic_mdp import logic_mdp
+
+    lm = logic_mdp(domain)
+    return ConstraintSetting(name, lm.mdp, ~lm.unavailable, lm.truth_forbidden, "sparse",
+                             lm.expert_demonstrations, lm)
+
+
+def _gridworld(stochasticity: float) -> ConstraintSetting:
+    from symlearn.data import record
+    from symlearn.envs.gridworld import StochasticGridworld
+
+    env = StochasticGridworld(stochasticity)
+    mdp = env.to_tabular()
+    space = np.ones((mdp.n_states, mdp.n_actions), dtype=bool)
+    space[mdp.terminal] = False
+
+    def expert(n: int, seed: int):
+        policy = env.expert_policy()
+        return record(env, lambda s: int(policy[s]), n, seed=seed, desc="gridworld expert")
+
+    return ConstraintSetting("gridworld", mdp, space, env.constraint_mask() & space, "given", expert,
+                             rationality=3.0)
+
+
+__all__ = ["CONSTRAINT_ENVS", "ConstraintSetting", "constraint_setting"]
