@@ -4,7 +4,7 @@
 # so a second run only checks and returns.
 #
 #   scripts/bootstrap.sh               runtime dependencies (graphviz)
-#   scripts/bootstrap.sh --with-tests  plus test tools, peer/oracle packages and Debian mona
+#   scripts/bootstrap.sh --with-tests  plus test tools, peer/oracle packages, SUMO and Debian mona
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -51,12 +51,12 @@ if [[ ! -x .venv/bin/python ]]; then
 fi
 
 extras="peers"
-(( with_tests )) && extras="peers,test"
+(( with_tests )) && extras="peers,test,sumo"
 stamp=".venv/.symlearn-installed"
 want="$(sha256sum pyproject.toml | cut -d' ' -f1) $extras"
 have="$(cat "$stamp" 2>/dev/null || true)"
 # A test install also satisfies a plain one.
-if [[ "$have" == "$want" ]] || { (( ! with_tests )) && [[ "$have" == "$(sha256sum pyproject.toml | cut -d' ' -f1) peers,test" ]]; }; then
+if [[ "$have" == "$want" ]] || { (( ! with_tests )) && [[ "$have" == "$(sha256sum pyproject.toml | cut -d' ' -f1) peers,test,sumo" ]]; }; then
     exit 0
 fi
 say "installing symlearn[$extras] into .venv (first run takes a few minutes)"

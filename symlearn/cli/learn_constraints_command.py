@@ -34,6 +34,9 @@ def register_learn(commands, common) -> None:
     source = cmd.add_mutually_exclusive_group()
     source.add_argument("--demos", help="demonstrations (.jsonl or .npz) with the environment's state/action ids or names")
     source.add_argument("--n-demos", type=int, default=50, help="generate N demonstrations of the bundled expert (50)")
+    cmd.add_argument("--expert", choices=("native", "sumo"), default="native",
+                     help="who drives the generated junction demonstrations: our traffic model (native, default) "
+                          "or SUMO's car-following and junction logic (sumo extra)")
     cmd.add_argument("--method", choices=METHODS, default=None,
                      help="logic (default where rules can be learned), ml, or mce-icrl (default for gridworld)")
     cmd.add_argument("--iterations", type=int, default=None,
@@ -69,7 +72,12 @@ def _constraints(args: argparse.Namespace, out) -> None:
     else:
         if args.n_demos < 1:
             raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
-        demos = setting.expert(args.n_demos, seed)
+        if args.expert == "sumo":
+            if setting.logic is None:
+                raise DataError("--expert sumo drives the junctions only")
+            demos = setting.logic.expert_demonstrations(args.n_demos, seed, source="sumo")
+        else:
+            demos = setting.expert(args.n_demos, seed)
     known = setting.known
     if args.known:
         known = known | setting.logic.rule_mask(Path(args.known))

@@ -99,24 +99,43 @@ class LogicMDP:
         return self.mask(self.domain.forbidden_pairs(rules))
 
     # --- demonstrations ----------------------------------------------------------------------
-    def expert_demonstrations(self, n: int, seed: int = 0) -> Demonstrations:
-        """``n`` complete drives (or games) of the domain's rule-abiding expert, as integer ids.
+    def expert_demonstrations(self, n: int, seed: int = 0, source: str = "native") -> Demonstrations:
+        """``n`` complete drives (or games) of a rule-abiding expert, as integer ids.
 
-        Each trajectory ends with the state the last action leads to (an exit state for a
-        drive), which is where the sparse inferred reward of constraint inference puts its goal.
+        ``source="native"`` uses the domain model's own expert; ``"sumo"`` (traffic junctions
+        ``lights`` and ``priority``, needs the ``sumo`` extra) lets SUMO drive the cars, see
+        :mod:`symlearn.envs.sumo_junction`. Each trajectory ends with the state the last action
+        leads to (an exit state for a drive), which is where the sparse inferred reward of
+        constraint inference puts its goal; a drive cut off before it left the grid is skipped.
         """
         if n < 1:
             raise DataError(f"the number of demonstrations must be at least 1, got {n}")
-        rng = np.random.default_rng(seed)
+        if source not in ("native", "sumo"):
+            raise DataError(f"unknown demonstration source {source!r}", hint="use 'native' or 'sumo'")
+        model = self.domain.model
+        if source == "sumo":
+            if not hasattr(model, "next_cell") or model.variant not in ("lights", "priority"):
+                raise DataError(f"SUMO drives only the lights and priority junctions, not {self.name}")
+            from symlearn.envs.sumo_junction import sumo_expert_episodes
+
+            episodes = iter(sumo_expert_episodes(model, n, seed))
+            draw = lambda: next(episodes, None)  # noqa: E731 -- SUMO replaces dropped cars itself
+        else:
+            rng = np.random.default_rng(seed)
+            draw = lambda: model.expert_episode(rng, max_steps=500)  # noqa: E731
         trajectories = []
         while len(trajectories) < n:
-            steps = self.domain.model.expert_episode(rng, max_steps=500)
+            steps = draw()
+            if steps is None:
+                break
             final = self._final_state(*steps[-1]) if steps else None
             if final is None:
                 continue  # a cut-off drive has no goal; draw another
             states = [self._state_ids[s] for s, _ in steps] + [final]
             actions = [self.actions.index(a) for _, a in steps]
             trajectories.append(Trajectory(states=states, actions=actions))
+        if not trajectories:
+            raise DataError(f"the {source} expert produced no complete episode in {self.name}")
         return Demonstrations(trajectories)
 
     def _final_state(self, state: Any, action: Any) -> int | None:

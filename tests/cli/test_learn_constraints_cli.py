@@ -93,3 +93,18 @@ def test_envs_lists_both_kinds(capsys):
     names = {r["name"] for r in doc["constraints"]}
     assert {"hanoi", "junction-lights", "junction-priority", "junction-combined", "gridworld"} <= names
     assert "office-1" in {r["name"] for r in doc["specs"]}
+
+
+def test_sumo_driven_demonstrations(capsys):
+    pytest.importorskip("sumo")
+    pytest.importorskip("traci")
+    code, out, err = run(capsys, "learn", "constraints", "--env", "junction-priority", "--expert", "sumo",
+                         "--n-demos", 15, "--iterations", 6, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["rules"] and doc["iterations"] >= 1
+
+
+def test_sumo_refuses_other_environments(capsys):
+    code, _, err = run(capsys, "learn", "constraints", "--env", "hanoi", "--expert", "sumo", "--n-demos", 3)
+    assert code == 2 and "SUMO drives only" in err
