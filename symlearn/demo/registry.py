@@ -17,6 +17,7 @@ PIPELINE_MODULES: tuple[str, ...] = (
     "symlearn.demo.ltlf_pipeline",
     "symlearn.demo.spec_pipeline",
     "symlearn.demo.ilp_pipeline",
+    "symlearn.demo.constraints_pipeline",
 )
 
 
