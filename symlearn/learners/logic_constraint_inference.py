@@ -44,7 +44,7 @@ from symlearn.errors import DataError, SymlearnError
 from symlearn.learners.constraint_metrics import constraint_metrics
 from symlearn.learners.ml_constraint_inference import MLConstraintInference
 from symlearn.learners.tabular_demos import tabular_episodes
-from symlearn.rl.tabular import check_mask
+from symlearn.rl.tabular import check_mask, restrict
 from symlearn.progress import progress
 
 
@@ -95,7 +95,8 @@ class LogicConstraintInference:
     Results: ``hypothesis_`` (:class:`~symlearn.logic.asp.Hypothesis`, None if no rule was
     induced), ``rules_``, ``rule_constraints_`` (the pairs the rules forbid), ``constraints_``
     (forbidden ``(S, A)`` mask: the rules' pairs plus the inferred ones, closed), ``inferred_`` (the pairs chosen by inference alone), ``history_``
-    (:class:`LogicIteration` list), ``seconds_``.
+    (:class:`LogicIteration` list), ``seconds_``, ``final_induction_seconds_`` (the induction after
+    the loop's last closure, 0 when that closure added nothing; see :meth:`_final_induction`).
     """
 
     def __init__(self, domain: LogicMDP | str, *, iterations: int = 10, horizon: int = 30,
@@ -134,8 +135,10 @@ class LogicConstraintInference:
         self._bar = progress(range(self.iterations), total=self.iterations, desc=f"logic inference {lm.name}")
         self._bar_iter = iter(self._bar)
         self._records: list[tuple[tuple[str, ...], bool, int, int, float]] = []
+        self._last_negatives: np.ndarray | None = None
         try:
             inference.fit(episodes)
+            closed = self._final_induction(inference.constraints_, inference.demonstrated_)
         finally:
             close = getattr(self._bar, "close", None)
             if close:
@@ -150,7 +153,7 @@ class LogicConstraintInference:
         rules, hypothesis = self._best
         self.rules_ = list(rules)
         self.hypothesis_ = hypothesis
-        self.constraints_ = inference.constraints_ & ~lm.unavailable
+        self.constraints_ = closed & ~lm.unavailable
         self.rule_constraints_ = (self._state.cache.get(rules, np.zeros_like(self.constraints_))
                                   if hypothesis is not None else np.zeros_like(self.constraints_))
         self.inferred_ = np.zeros_like(self.constraints_)
@@ -162,6 +165,21 @@ class LogicConstraintInference:
         self.seconds_ = time.perf_counter() - started
         return self
 
+    def _final_induction(self, closed: np.ndarray, seen: np.ndarray) -> np.ndarray:
+        """Algorithm 3.1 closes the constraint set (pairs into empty states) *before* each
+        induction, so every closure is generalised. The inference loop closes after the hook, so
+        the pairs its last closure added (typically: every move into a state the last rules left
+        without a valid action, e.g. off the road) were never examples. Induce once more when
+        they exist, and close the result again."""
+        lm = self.domain
+        self.final_induction_seconds_ = 0.0
+        negatives = closed & ~lm.unavailable
+        if self._last_negatives is None or np.array_equal(negatives, self._last_negatives):
+            return closed
+        extra = self._generalize(closed, seen)
+        self.final_induction_seconds_ = self._records.pop()[-1]
+        return restrict(lm.mdp, closed | (extra & ~seen), protected=seen).forbidden
+
     # --- the induction step, called by the inference loop ---------------------------------------
     def _generalize(self, forbidden: np.ndarray, seen: np.ndarray) -> np.ndarray:
         lm = self.domain
@@ -172,6 +190,7 @@ class LogicConstraintInference:
         # each negative may be left uncovered at a penalty; demonstrated pairs are taken as valid.
         negatives = number_examples(((lm.facts(s, a), False) for s, a in np.argwhere(forbidden & ~lm.unavailable)),
                                     self.penalty)
+        self._last_negatives = forbidden & ~lm.unavailable
         examples = positives + negatives
         result = _induce(lm, examples, self.ilp_timeout)
         extra = np.zeros_like(forbidden)
