@@ -1,0 +1,330 @@
+"""Logic-constrained Q-learning in the traffic junctions, and transfer of the learned rules.
+
+The experiment of the reference thesis, sections 3.4.4 and 3.4.5. Once per junction
+(``lights``, ``priority``): record expert demonstrations, run logic constraint inference
+(maximum-likelihood inference + ILP induction per iteration) and, with the same number of
+iterations, maximum-likelihood inference alone. Then, for every seed, train three
+epsilon-greedy tabular Q-learners in :class:`~symlearn.envs.junction_env.JunctionEnv`:
+
+* ``QL``: no shield;
+* ``C-QL``: shielded by the inference-only constraints (``MLConstraintInference.constraints_``);
+* ``LC-QL``: shielded by the pairs the induced rules forbid (``rule_constraints_``), closed
+  under the nominal MDP (a state where the rules forbid every action is empty, so the pairs
+  entering it are forbidden too: the restriction step of the thesis' Algorithm 3.1);
+* ``LC-QL raw``: the rules' pairs without that closure (reported to show why it is needed).
+
+Transfer (combined 7 x 7 junction: one-way roads + priority + lights): the rules learned in
+``lights`` (1) and ``priority`` (2) are plain rule text; ``logic_mdp("traffic-combined")
+.rule_mask(rules)`` translates them to the pairs of the combined domain (same ``bk.lp``, size 7:
+the symbol grounding). Agents: QL, LC-QL(1), LC-QL(2), LC-QL(1+2).
+
+Settings as in the thesis: epsilon 0.05 while training, greedy afterwards, learning rate 0.9,
+discount 0.75, Q-table zero-initialised; reward = -(L1 distance to the goal) and -10 for a
+step breaking a ground-truth rule. Each agent drives one route (entry -> exit arm end), seed
+``i`` takes route ``i mod (number of routes)``, so all routes are covered.
+
+Measured per method: P(at least one violation during training), P(at least one violation in
+the greedy test rollouts), violations per training episode, episodes to convergence, final
+(greedy test) cost per episode, wall time.
+
+**Episodes to convergence** (per agent): the training cost of an episode is minus its return;
+the agent has converged at the first episode where the moving *median* over ``WINDOW`` episodes
+comes within ``max(10 %, 0.5)`` of its final level (median of the last 50 episodes); the median
+ignores the occasional exploratory step (epsilon stays 0.05, and one violation costs 10).
+Reported as the median and interquartile range over agents. The *curve* version: the first
+episode where the mean cost over agents (moving mean) comes within 10 % of its last 50
+episodes. Also the total training cost (area under the curve) and greedy tests after fewer
+training episodes (``--test-at``; ``q_learning`` is prefix-consistent, so training ``k``
+episodes with the same seed reproduces the first ``k`` of the long run).
+
+    python benchmarks/shielded_q_learning.py                 # 60 seeds x 300 episodes
+    python benchmarks/shielded_q_learning.py --quick         # 12 seeds x 150 episodes
+    python benchmarks/shielded_q_learning.py --seeds 200 --episodes 400 --json out.json
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import sys
+import time
+import warnings
+
+import numpy as np
+
+from symlearn.backends import Shield
+from symlearn.envs.junction_env import JunctionEnv, env_mask, routes
+from symlearn.envs.logic_mdp import logic_mdp
+from symlearn.learners.logic_constraint_inference import LogicConstraintInference
+from symlearn.learners.ml_constraint_inference import MLConstraintInference
+from symlearn.rl.q_learning import q_learning
+
+WINDOW = 20
+SETTINGS = {"learning_rate": 0.9, "discount": 0.75, "epsilon": 0.05}
+
+
+# --- learning the constraints ------------------------------------------------------------------
+def learn_constraints(variant: str, n_demos: int, iterations: int, demo_seed: int) -> dict:
+    lm = logic_mdp(f"traffic-{variant}")
+    demos = lm.expert_demonstrations(n_demos, seed=demo_seed)
+    t0 = time.perf_counter()
+    lc = LogicConstraintInference(lm, iterations=iterations).fit(demos)
+    lc_seconds = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    ml = MLConstraintInference(lm.mdp, reward="sparse", horizon=lc.horizon, max_iterations=iterations,
+                               min_visitation=lc.min_visitation,
+                               known_constraints=lm.unavailable & ~lm.mdp.terminal[:, None]).fit(demos)
+    ml_seconds = time.perf_counter() - t0
+    truth = lm.truth_forbidden
+    valid = ~lm.unavailable
+    rule_pairs = lc.rule_constraints_ & valid
+    closed = env_mask(lm, lc.rule_constraints_)
+    n = closed.shape[0]
+    missed = truth & ~rule_pairs
+    inference_only = ml.constraints_ & valid
+    history = [h.as_dict() for h in lc.history_]
+    return {
+        "lm": lm, "rules": list(lc.rules_), "n_demos": n_demos, "iterations_run": len(lc.history_),
+        "stopped_because": lc.stopped_because_, "seconds_logic": lc_seconds, "seconds_ml": ml_seconds,
+        "ml_iterations_run": len(ml.history_),
+        "inference_seconds": [h["inference_seconds"] for h in history],
+        "induction_seconds": [h["induction_seconds"] for h in history],
+        "masks": {"C-QL": env_mask(lm, ml.constraints_, close=False),
+                  "LC-QL": closed,
+                  "LC-QL raw": env_mask(lm, lc.rule_constraints_, close=False)},
+        "recovery": {
+            "truth_forbidden": int(truth.sum()),
+            "rules_forbid": int(rule_pairs.sum()), "rules_false_positive": int((rule_pairs & ~truth).sum()),
+            "rules_missed": int(missed.sum()),
+            "rules_missed_on_road_states": [f"{lm.states[s]} / {lm.actions[a]}" for s, a in np.argwhere(missed)
+                                            if lm.domain.model.road_of(lm.states[s].cell) is not None],
+            "closed_rules_forbid": int(closed.sum()),
+            "closed_rules_missed": int((truth[:n] & ~closed).sum()),
+            "closed_false_positive": int((closed & ~truth[:n]).sum()),
+            "inference_only_forbid": int(inference_only.sum()),
+            "inference_only_false_positive": int((inference_only & ~truth).sum()),
+            "inference_only_missed": int((truth & ~inference_only).sum()),
+        },
+    }
+
+
+# --- training and testing one agent ------------------------------------------------------------
+def make_env(variant: str, route: tuple, mask: np.ndarray | None, seed: int, max_steps: int):
+    env = JunctionEnv(variant, start=route[0], goal=route[1], max_steps=max_steps)
+    return env if mask is None else Shield(env, mask, seed=seed)
+
+
+def greedy_rollouts(env, q: np.ndarray, episodes: int, seed: int) -> tuple[int, float, float]:
+    """Greedy (epsilon = 0) drives with the learned Q-table, ties broken at random, the shield's
+    mask respected. Returns (violations, mean cost per episode, success rate)."""
+    rng = np.random.default_rng(seed)
+    violations, cost, successes = 0, 0.0, 0
+    seeds = np.random.SeedSequence(seed).generate_state(episodes).tolist()
+    for episode_seed in seeds:
+        state, info = env.reset(seed=int(episode_seed))
+        while True:
+            mask = np.asarray(info.get("action_mask", np.ones(q.shape[1])), bool)
+            values = np.where(mask, q[int(state)], -np.inf)
+            action = int(rng.choice(np.flatnonzero(values == values.max())))
+            state, reward, terminated, truncated, info = env.step(action)
+            cost -= reward
+            violations += bool(info["violation"])
+            if terminated or truncated:
+                successes += bool(terminated)
+                break
+    return violations, cost / episodes, successes / episodes
+
+
+def moving(values: np.ndarray, statistic=np.median) -> np.ndarray:
+    """The statistic over each window of ``WINDOW`` consecutive episodes (index = last episode)."""
+    windows = np.lib.stride_tricks.sliding_window_view(values, WINDOW, axis=-1)
+    return statistic(windows, axis=-1)
+
+
+def converged_at(costs: np.ndarray) -> int:
+    """Episodes until the moving median of the training cost first comes within
+    ``max(10 %, 0.5)`` of its final level (median of the last 50 episodes)."""
+    mm = moving(costs)
+    final = float(np.median(costs[-50:]))
+    inside = np.flatnonzero(mm <= final + max(0.1 * abs(final), 0.5))
+    return int(inside[0]) + WINDOW if inside.size else len(costs)
+
+
+def curve_converged_at(costs: np.ndarray) -> int:
+    """The same on the mean cost over agents (moving mean, within 10 % of the last 50 episodes)."""
+    mean = costs.mean(axis=0)
+    ma = moving(mean, np.mean)
+    final = float(mean[-50:].mean())
+    inside = np.flatnonzero(ma <= 1.1 * final)
+    return int(inside[0]) + WINDOW if inside.size else len(mean)
+
+
+def run_agents(variant: str, masks: dict, seeds: int, episodes: int, test_episodes: int, max_steps: int,
+               test_at: tuple[int, ...] = ()) -> dict:
+    env_routes = routes(JunctionEnv(variant).model)
+    results = {}
+    for method, mask in masks.items():
+        t0 = time.perf_counter()
+        costs, train_viol, test_viol, test_cost, success, conv = [], [], [], [], [], []
+        early = {k: ([], []) for k in test_at if k < episodes}  # greedy test after k episodes
+        for seed in range(seeds):
+            route = env_routes[seed % len(env_routes)]
+            env = make_env(variant, route, mask, seed, max_steps)
+            result = q_learning(env, episodes, seed=seed, **SETTINGS)
+            costs.append(-result.returns)
+            train_viol.append(result.violations)
+            v, c, s = greedy_rollouts(make_env(variant, route, mask, seed + 10_000, max_steps), result.q_values,
+                                      test_episodes, seed + 10_000)
+            test_viol.append(v)
+            test_cost.append(c)
+            success.append(s)
+            conv.append(converged_at(-result.returns))
+            for k, (viol_k, cost_k) in early.items():
+                # q_learning is prefix-consistent: k episodes with this seed = the first k above.
+                q_k = q_learning(make_env(variant, route, mask, seed, max_steps), k, seed=seed, **SETTINGS).q_values
+                v, c, _ = greedy_rollouts(make_env(variant, route, mask, seed + 10_000, max_steps), q_k,
+                                          test_episodes, seed + 10_000)
+                viol_k.append(v)
+                cost_k.append(c)
+        costs_a, train_a, test_a = np.array(costs), np.array(train_viol), np.array(test_viol)
+        per_agent = train_a.sum(axis=1)
+        results[method] = {
+            "agents": seeds,
+            "p_violation_training": float((per_agent > 0).mean()),
+            "p_violation_test": float((test_a > 0).mean()),
+            "violations_per_training_episode": float(train_a.mean()),
+            "training_violations_total": int(per_agent.sum()),
+            "test_violations_total": int(test_a.sum()),
+            "episodes_to_convergence_median": float(np.median(conv)),
+            "episodes_to_convergence_iqr": [float(np.percentile(conv, 25)), float(np.percentile(conv, 75))],
+            "curve_converged_at": curve_converged_at(costs_a),
+            "training_cost_first_50": float(costs_a[:, :50].mean()),
+            "training_cost_last_50": float(costs_a[:, -50:].mean()),
+            "test_cost": float(np.mean(test_cost)),
+            "test_success": float(np.mean(success)),
+            "total_training_cost": float(costs_a.sum(axis=1).mean()),
+            "early_tests": {str(k): {"p_violation_test": float((np.array(v) > 0).mean()), "test_cost": float(np.mean(c))}
+                            for k, (v, c) in early.items()},
+            "mean_cost_curve": costs_a.mean(axis=0).round(3).tolist(),
+            "seconds": time.perf_counter() - t0,
+        }
+        print(f"  {variant:9s} {method:18s} P(viol) train {results[method]['p_violation_training']:.3f} "
+              f"test {results[method]['p_violation_test']:.3f}  conv {results[method]['episodes_to_convergence_median']:.0f}"
+              f"  test cost {results[method]['test_cost']:.2f}  ({results[method]['seconds']:.0f} s)",
+              file=sys.stderr, flush=True)
+    return results
+
+
+def table(results: dict, title: str) -> str:
+    lines = [f"### {title}", "",
+             "| method | P(viol.) training | P(viol.) test | viol. / training episode | episodes to conv. (median [IQR]) "
+             "| curve conv. | total training cost | training cost / episode, first 50 / last 50 | test cost / episode "
+             "| test success |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for method, r in results.items():
+        lo, hi = r["episodes_to_convergence_iqr"]
+        lines.append(f"| {method} | {r['p_violation_training']:.3f} | {r['p_violation_test']:.3f} "
+                     f"| {r['violations_per_training_episode']:.3f} | {r['episodes_to_convergence_median']:.0f} "
+                     f"[{lo:.0f}, {hi:.0f}] | {r['curve_converged_at']} | {r['total_training_cost']:.0f} "
+                     f"| {r['training_cost_first_50']:.1f} / {r['training_cost_last_50']:.1f} | {r['test_cost']:.2f} "
+                     f"| {r['test_success']:.2f} |")
+    early = sorted({k for r in results.values() for k in r["early_tests"]}, key=int)
+    if early:
+        lines += ["", "Greedy test after fewer training episodes (P(viol.) test / test cost per episode):", "",
+                  "| method | " + " | ".join(f"after {k}" for k in early) + " |",
+                  "|---|" + "---|" * len(early)]
+        for method, r in results.items():
+            cells = [f"{r['early_tests'][k]['p_violation_test']:.3f} / {r['early_tests'][k]['test_cost']:.1f}"
+                     for k in early]
+            lines.append(f"| {method} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--quick", action="store_true", help="12 seeds, 150 episodes")
+    parser.add_argument("--seeds", type=int, default=None, help="agents per method (default 60)")
+    parser.add_argument("--episodes", type=int, default=None, help="training episodes (default 300)")
+    parser.add_argument("--test-episodes", type=int, default=20, help="greedy test drives per agent")
+    parser.add_argument("--max-steps", type=int, default=50)
+    parser.add_argument("--test-at", default="10,30", help="also test greedily after these many episodes")
+    parser.add_argument("--demos", type=int, default=100)
+    parser.add_argument("--iterations", type=int, default=20)
+    parser.add_argument("--demo-seed", type=int, default=0)
+    parser.add_argument("--json", default=None, help="write all results (incl. mean cost curves) here")
+    args = parser.parse_args(argv)
+    seeds = args.seeds or (12 if args.quick else 60)
+    test_at = tuple(int(k) for k in args.test_at.split(",") if k.strip())
+    episodes = args.episodes or (150 if args.quick else 300)
+    warnings.filterwarnings("ignore")
+    os.environ.setdefault("TQDM_DISABLE", "1")
+    started = time.perf_counter()
+
+    learned = {}
+    for variant in ("lights", "priority"):
+        print(f"learning constraints: {variant}", file=sys.stderr, flush=True)
+        learned[variant] = learn_constraints(variant, args.demos, args.iterations, args.demo_seed)
+
+    out: dict = {"settings": {**SETTINGS, "seeds": seeds, "episodes": episodes, "test_episodes": args.test_episodes,
+                              "max_steps": args.max_steps, "demos": args.demos, "iterations": args.iterations,
+                              "demo_seed": args.demo_seed, "violation_cost": 10.0},
+                 "machine": {"python": platform.python_version(), "platform": platform.platform(),
+                             "cpus": os.cpu_count()},
+                 "learning": {}, "junctions": {}, "transfer": {}}
+    for variant, info in learned.items():
+        inf, ind = np.array(info["inference_seconds"]), np.array(info["induction_seconds"])
+        out["learning"][variant] = {k: v for k, v in info.items() if k not in ("lm", "masks")}
+        out["learning"][variant]["mean_inference_seconds_per_iteration"] = float(inf.mean()) if inf.size else 0.0
+        out["learning"][variant]["mean_induction_seconds_per_iteration"] = float(ind.mean()) if ind.size else 0.0
+
+    for variant, info in learned.items():
+        masks = {"QL": None, **info["masks"]}
+        if np.array_equal(masks["LC-QL"], masks["LC-QL raw"]):
+            del masks["LC-QL raw"]  # the closure added nothing: same agent
+        out["junctions"][variant] = run_agents(variant, masks, seeds, episodes, args.test_episodes, args.max_steps,
+                                               test_at)
+
+    print("transfer: translating the rules to the combined junction", file=sys.stderr, flush=True)
+    target = logic_mdp("traffic-combined")
+    t0 = time.perf_counter()
+    r1, r2 = learned["lights"]["rules"], learned["priority"]["rules"]
+    transfer_masks = {"QL": None}
+    transfer_recovery = {}
+    for name, rules in (("LC-QL(1)", r1), ("LC-QL(2)", r2), ("LC-QL(1+2)", r1 + r2)):
+        raw = target.rule_mask(rules) if rules else np.zeros_like(target.unavailable)
+        closed = env_mask(target, raw)
+        transfer_masks[name] = closed
+        n = closed.shape[0]
+        truth = target.truth_forbidden[:n]
+        transfer_recovery[name] = {"rules": len(rules), "forbid": int(closed.sum()),
+                                   "false_positive": int((closed & ~truth).sum()),
+                                   "missed": int((truth & ~closed).sum()), "truth_forbidden": int(truth.sum())}
+    out["transfer_translation_seconds"] = time.perf_counter() - t0
+    out["transfer_recovery"] = transfer_recovery
+    out["transfer"] = run_agents("combined", transfer_masks, seeds, episodes, args.test_episodes, args.max_steps,
+                                 test_at)
+    out["seconds"] = time.perf_counter() - started
+
+    for variant, info in out["learning"].items():
+        print(f"\n## {variant}: {len(info['rules'])} rules, {info['iterations_run']} iterations "
+              f"({info['stopped_because']}), logic {info['seconds_logic']:.1f} s, inference-only {info['seconds_ml']:.1f} s; "
+              f"per iteration: inference {info['mean_inference_seconds_per_iteration']:.2f} s, "
+              f"induction {info['mean_induction_seconds_per_iteration']:.2f} s")
+        for rule in info["rules"]:
+            print(f"    {rule}")
+        print(f"  recovery: {info['recovery']}")
+    for variant, results in out["junctions"].items():
+        print("\n" + table(results, f"{variant} junction ({seeds} agents x {episodes} episodes)"))
+    print("\n" + table(out["transfer"], f"transfer to the combined junction ({seeds} agents x {episodes} episodes)"))
+    print(f"  translation: {transfer_recovery}")
+    print(f"\ntotal {out['seconds']:.0f} s")
+    if args.json:
+        with open(args.json, "w", encoding="utf-8") as fh:
+            json.dump(out, fh, indent=1)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
