@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from symlearn.data import Demonstrations, Trajectory
 from symlearn.envs.spec_experts import expert_demonstrations
 from symlearn.errors import DataError, ModelError
-from symlearn.learners.spec_from_demos import SpecLearner
+from symlearn.learners.spec_from_demos import SpecLearner, _without_reproductions
 from symlearn.learners.spec_templates import (
     TEMPLATES, TraceBounds, best_candidate, information_gain, instantiate, novelty_depth,
 )
@@ -126,6 +126,43 @@ def test_without_policy_updates_the_nominal_stays_random(office1_demos):
     # a random walk never satisfies the growing spec, so every chosen conjunct keeps a high gain
     assert all(h["nominal_success"] <= 0.2 for h in learner.history_[1:])
     assert learner.iterations_ == 3
+
+
+def test_reproduced_demonstrations_leave_the_nominal_side():
+    experts = [np.array([0, 1, 2]), np.array([0, 3, 2])]
+    nominal = [np.array([0, 1, 2]), np.array([0, 4, 2]), np.array([0, 1]), np.array([0, 3, 2])]
+    assert [t.tolist() for t in _without_reproductions(nominal, experts)] == [[0, 4, 2], [0, 1]]
+    # Why: 50 experts go 0-1-2 or 0-3-2; the nominal agent does the same two thirds of the time
+    # and cuts through state 4 otherwise. "G !4" holds for every expert and every reproduction,
+    # but only after the reproductions leave does its gain reach the threshold.
+    atoms = np.eye(5, dtype=bool)
+    experts = [np.array([0, 1, 2])] * 25 + [np.array([0, 3, 2])] * 25
+    nominal = [np.array([0, 1, 2])] * 17 + [np.array([0, 3, 2])] * 17 + [np.array([0, 4, 2])] * 16
+    full = best_candidate(TraceBounds.from_traces(experts, atoms), TraceBounds.from_traces(nominal, atoms),
+                          min_expert_rate=0.9)
+    reduced = best_candidate(TraceBounds.from_traces(experts, atoms),
+                             TraceBounds.from_traces(_without_reproductions(nominal, experts), atoms),
+                             min_expert_rate=0.9)
+    assert (full.template, full.atoms, full.negated) == (reduced.template, reduced.atoms, reduced.negated) == \
+        ("F", (4,), True)
+    assert full.gain < 0.2 <= reduced.gain
+
+
+def test_learned_propositions_office2_close_the_undemonstrated_route():
+    # Two equally short routes satisfy "mail, then g, avoiding the decorations the experts
+    # avoid"; only the bottom one is demonstrated. The top corridor crosses decorations, so the
+    # learner has to forbid it without ever seeing the experts avoid it (threshold stays 0.2).
+    demos = expert_demonstrations("office-2", 50, seed=0)
+    for seed in (0, 1):
+        learner = SpecLearner(propositions="learn", random_state=seed).fit(demos, "office-2")
+        assert learner.threshold == 0.2
+        assert learner.success_rate("(e T g) & G !n") == 1.0
+        assert all(h["gain"] >= 0.2 for h in learner.history_ if h["added"])
+        assert learner.stopped_because_ in ("gain below threshold", "nominal reproduces the demonstrations")
+        cells = [learner._env.cell_of(s) for p in learner.labeling_.propositions
+                 for s in learner.labeling_.states_where(p)]
+        assert any(x >= 3 and y <= 2 for x, y in cells)  # a cell of the top corridor is forbidden
+        assert any(h["nominal_reproduced"] > 0 for h in learner.history_)
 
 
 def test_pruning_drops_implied_conjuncts(office1_demos):
