@@ -4,7 +4,7 @@ from gymnasium.utils.env_checker import check_env
 
 from symlearn.envs.junction_env import JunctionEnv, env_mask, routes
 from symlearn.envs.logic_mdp import logic_mdp
-from symlearn.envs.traffic_model import TrafficJunction
+from symlearn.envs.traffic_model import JunctionState, TrafficJunction
 from symlearn.errors import ModelError
 
 ACT = {name: i for i, name in enumerate(TrafficJunction().actions)}
@@ -99,6 +99,6 @@ def test_closure_forbids_entering_states_where_everything_is_forbidden():
     raw = env_mask(lm, lm.rule_mask(rules), close=False)
     closed = env_mask(lm, lm.rule_mask(rules))
     env = JunctionEnv("priority")
-    north_arm = env.model.state_index(env.model.states()[0].__class__(3, 4))
+    north_arm = env.model.state_index(JunctionState(3, 4))
     assert not raw[north_arm, ACT["east"]] and closed[north_arm, ACT["east"]]  # (4, 4) is off the road
     assert not closed[north_arm, ACT["south"]]
