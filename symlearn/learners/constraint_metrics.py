@@ -13,9 +13,23 @@ A *positive* is a forbidden pair. Over the pairs in ``space``:
 >>> learned = np.array([[True, True], [False, False]])
 >>> constraint_metrics(learned, truth)
 {'fpr': 0.3333333333333333, 'fnr': 0.0, 'accuracy': 0.75, 'forbidden': 2}
+
+The full pair space counts pairs no rule-abiding agent ever meets (a Hanoi configuration that
+breaks the rules, a traffic cell off the road). :func:`reachable_pairs` gives the smaller space of
+every action in the states reachable from the start distribution when only the allowed pairs of
+a constraint set are taken; scoring there asks "would an agent that starts where the experts
+start and obeys these rules ever meet a misclassified pair?".
+
+>>> from symlearn.mdp import TabularMDP
+>>> P = np.zeros((3, 2, 3)); P[0, 0, 1] = P[0, 1, 2] = P[1, :, 1] = P[2, :, 2] = 1
+>>> mdp = TabularMDP(P, np.zeros((3, 2)), [1, 0, 0], [False, True, True])
+>>> reachable_pairs(mdp, np.array([[False, True], [False, False], [False, False]])).astype(int).tolist()
+[[1, 1], [0, 0], [0, 0]]
 """
 
 from __future__ import annotations
+
+from typing import Any
 
 import numpy as np
 
@@ -36,3 +50,22 @@ def constraint_metrics(learned: np.ndarray, truth: np.ndarray, space: np.ndarray
         "accuracy": float((learned == truth).mean()) if truth.size else 1.0,
         "forbidden": int(learned.sum()),
     }
+
+
+def reachable_pairs(mdp: Any, forbidden: np.ndarray, initial: np.ndarray | None = None) -> np.ndarray:
+    """Boolean ``(S, A)``: every action of every non-terminal state reachable from ``initial``
+    (default: the MDP's start distribution) by allowed pairs (``~forbidden``) with positive
+    transition probability. Terminal states are left out (nothing is decided there)."""
+    P = np.asarray(mdp.transitions)
+    forbidden = np.asarray(forbidden, dtype=bool)
+    start = np.asarray(mdp.initial if initial is None else initial) > 0
+    reached = start.copy()
+    frontier = start.copy()
+    # one boolean (S, S) step relation of the allowed pairs, then a breadth-first closure
+    step = ((P > 0) & ~forbidden[:, :, None]).any(axis=1)
+    while frontier.any():
+        new = step[frontier].any(axis=0) & ~reached
+        reached |= new
+        frontier = new
+    reached &= ~np.asarray(mdp.terminal, dtype=bool)
+    return np.repeat(reached[:, None], P.shape[1], axis=1)
