@@ -102,12 +102,13 @@ class LogicConstraintInference:
     def __init__(self, domain: LogicMDP | str, *, iterations: int = 10, horizon: int = 30,
                  reward: str | np.ndarray = "sparse", rationality: float = 1.0,
                  min_visitation: float = 1e-3, ilp_timeout: float = 30.0, noise: bool = False,
-                 penalty: int = 10, known: np.ndarray | None = None) -> None:
+                 penalty: int = 10, known: np.ndarray | None = None, start: str = "uniform") -> None:
         self.domain = logic_mdp(domain) if isinstance(domain, str) else domain
         self.iterations = iterations
         self.horizon = horizon
         self.reward = reward
         self.rationality = rationality
+        self.start = start
         self.min_visitation = min_visitation
         self.ilp_timeout = ilp_timeout
         self.noise = noise
@@ -131,7 +132,7 @@ class LogicConstraintInference:
             lm.mdp, reward=self.reward, horizon=self.horizon, max_iterations=self.iterations,
             min_visitation=self.min_visitation, known_constraints=known,
             on_violation="warn" if self.noise else "error", generalize=self._generalize,
-            rationality=self.rationality)
+            rationality=self.rationality, start=self.start)
         self._bar = progress(range(self.iterations), total=self.iterations, desc=f"logic inference {lm.name}")
         self._bar_iter = iter(self._bar)
         self._records: list[tuple[tuple[str, ...], bool, int, int, float]] = []

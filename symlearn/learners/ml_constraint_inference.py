@@ -28,6 +28,13 @@ or ``"sparse"``: 1 for entering a state where a demonstration ended, 0 otherwise
 ``rationality`` multiplies it (the inverse temperature of the MaxEnt model): with many actions
 and a small step cost, long wandering paths can outweigh short ones unless it is raised.
 
+``start`` says where the nominal visitation starts: from the demonstrations' start states
+(the maximum-likelihood objective, default) or uniformly from every non-terminal state
+(``"uniform"``). The latter also weighs pairs in regions no demonstration starts near -- a
+state the learned constraints make unreachable from the demonstrated starts (off-road cells
+once turning off the road is forbidden) still gets candidates, so rules about such regions
+can be learned.
+
 >>> from symlearn.envs.gridworld import StochasticGridworld
 >>> from symlearn.data import record
 >>> env = StochasticGridworld(0.0); policy = env.expert_policy()
@@ -86,6 +93,7 @@ class MLConstraintInference:
         on_violation: Literal["error", "warn"] = "error",
         generalize: Generalizer | None = None,
         rationality: float = 1.0,
+        start: Literal["demonstrations", "uniform"] = "demonstrations",
     ) -> None:
         self.mdp = as_tabular(mdp)
         self.reward = reward
@@ -96,6 +104,9 @@ class MLConstraintInference:
         self.on_violation = on_violation
         self.generalize = generalize
         self.rationality = rationality
+        if start not in ("demonstrations", "uniform"):
+            raise SymlearnError(f"unknown start {start!r}", hint="use 'demonstrations' or 'uniform'")
+        self.start = start
 
     def _reward(self, goal: int) -> np.ndarray:
         mdp = self.mdp
@@ -187,6 +198,9 @@ class MLConstraintInference:
         groups = []
         for goal in sorted(set(ends.tolist()), key=lambda g: (-int(np.sum(ends == g)), g)):
             members = [e for e, end in zip(episodes, ends) if end == goal]
-            start = np.bincount([int(e.states[0]) for e in members], minlength=self.mdp.n_states) / len(members)
+            if self.start == "uniform":
+                start = (~self.mdp.terminal).astype(np.float64) / np.sum(~self.mdp.terminal)
+            else:
+                start = np.bincount([int(e.states[0]) for e in members], minlength=self.mdp.n_states) / len(members)
             groups.append((goal, len(members) / len(episodes), start))
         return groups
