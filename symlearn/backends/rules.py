@@ -7,7 +7,7 @@ hypothesis, through an environment-specific translation of states to facts) or a
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
@@ -34,6 +34,30 @@ def allowed_function(constraints: Any, n_actions: int, n_states: int | None = No
             raise SymlearnError(f"state {state!r} is outside the constraint mask (0..{forbidden.shape[0] - 1})",
                                 hint="a mask over (S, A) needs integer observations")
         return not forbidden[int(state), int(action)]
+
+    return allowed
+
+
+def rules_allowed(hypothesis: Any, action_atoms: Sequence[str]) -> AllowedFn:
+    """``allowed(state_facts, action_index)`` of an ASP hypothesis (anything with
+    ``allowed(state_facts, action_atom)``, e.g. :class:`~symlearn.logic.asp.Hypothesis`).
+
+    ``action_atoms[i]`` is the ASP atom of action ``i`` (``go(north)``). Each distinct
+    (state facts, action) is decided by clingo once and remembered, so a shield built on the
+    rules themselves costs one solver call per new pair, not per step. Use it with
+    ``Shield(env, rules_allowed(h, atoms), state_of=observation -> facts)``.
+    """
+    atoms = tuple(action_atoms)
+    cache: dict[tuple[str, int], bool] = {}
+
+    def allowed(state_facts: Any, action: int) -> bool:
+        facts = state_facts if isinstance(state_facts, str) else " ".join(state_facts)
+        key = (facts, int(action))
+        if key not in cache:
+            if not 0 <= int(action) < len(atoms):
+                raise SymlearnError(f"action {action} has no ASP atom (known: {len(atoms)} actions)")
+            cache[key] = bool(hypothesis.allowed(facts, atoms[int(action)]))
+        return cache[key]
 
     return allowed
 
