@@ -49,6 +49,7 @@ def tabular_episodes(demos: Iterable[Any], mdp: TabularMDP) -> list[TabularEpiso
         a = _ids(actions, f"demonstration {i}: actions", mdp.n_actions, "action", mdp.action_names)
         if len(a) not in (len(s), len(s) - 1):
             raise DataError(f"demonstration {i}: {len(a)} actions for {len(s)} states")
+        _check_goal_label(i, getattr(item, "info", None), s, mdp)
         episodes.append(TabularEpisode(s, a))
     if not episodes:
         raise DataError("no demonstrations were given")
@@ -58,6 +59,22 @@ def tabular_episodes(demos: Iterable[Any], mdp: TabularMDP) -> list[TabularEpiso
         warnings.warn(f"{impossible} demonstrated step(s) have probability zero under the model "
                       "(treated as noise and kept)", stacklevel=3)
     return episodes
+
+
+def _check_goal_label(i: int, info: Any, states: np.ndarray, mdp: TabularMDP) -> None:
+    """A demonstration may say which goal it pursued (``info["goal"]``, a state id or name).
+
+    The learners take the state where a demonstration ends as its goal, so a label that
+    names another state means the file and the learners disagree about the task: say so.
+    """
+    if not isinstance(info, dict) or "goal" not in info:
+        return
+    label = info["goal"]
+    goal = _ids([label], f"demonstration {i}: goal label", mdp.n_states, "state", mdp.state_names)[0]
+    if int(goal) != int(states[-1]):
+        end = mdp.state_names[int(states[-1])] if mdp.state_names else int(states[-1])
+        raise DataError(f"demonstration {i} is labelled with goal {label!r} but ends in state {end!r}",
+                        hint="a demonstration must end where its goal is; fix the label or cut the trajectory")
 
 
 def _ids(values: Any, where: str, size: int, what: str, names: Sequence[str]) -> np.ndarray:

@@ -108,3 +108,18 @@ def test_sumo_driven_demonstrations(capsys):
 def test_sumo_refuses_other_environments(capsys):
     code, _, err = run(capsys, "learn", "constraints", "--env", "hanoi", "--expert", "sumo", "--n-demos", 3)
     assert code == 2 and "SUMO drives only" in err
+
+
+def test_inconsistent_goal_label(capsys, tmp_path):
+    lm = logic_mdp("traffic-lights")
+    demo = lm.expert_demonstrations(1, seed=0)[0]
+    wrong = lm.mdp.state_names[int(demo.states[0])]
+    path = tmp_path / "bad.jsonl"
+    Demonstrations([Trajectory(states=list(demo.states), actions=list(demo.actions), info={"goal": wrong})]).save(path)
+    code, _, err = run(capsys, "learn", "constraints", "--env", "junction-lights", "--demos", path, "--method", "ml")
+    assert code == 2 and "labelled with goal" in err and str(path) in err
+    right = lm.mdp.state_names[int(demo.states[-1])]
+    Demonstrations([Trajectory(states=list(demo.states), actions=list(demo.actions), info={"goal": right})]).save(path)
+    code, _, err = run(capsys, "learn", "constraints", "--env", "junction-lights", "--demos", path, "--method", "ml",
+                       "--iterations", 3)
+    assert code == 0, err
