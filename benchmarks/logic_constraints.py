@@ -1,6 +1,6 @@
 """Accuracy of logic constraint inference vs. number of demonstrations and iterations (thesis 3.4.3).
 
-    python benchmarks/logic_constraints.py [--quick] [--seeds 2] [--workers 2] [--json OUT]
+    python benchmarks/logic_constraints.py [--quick] [--seeds 2] [--workers 2] [--start both] [--json OUT]
 
 For the traffic-light and priority junctions, every number of expert demonstrations ``n`` and
 every seed, it runs :class:`LogicConstraintInference` once with the largest ``eta`` and reads
@@ -18,8 +18,15 @@ ground truth with :func:`constraint_metrics`:
 * ``fnr@learned``: FNR over the states reachable when obeying the *learned* rules (what an
   agent that trusts the rules can meet and break).
 
+``--start`` says where the nominal MaxEnt visitation starts (``LogicConstraintInference(start=)``):
+``uniform`` (the learner's default: every non-terminal state), ``demonstrations`` (the
+demonstrations' start states, the thesis' maximum-likelihood objective) or ``both`` (each
+(domain, n, seed) is run with both starts, so the tables compare them in the same run).
+
 The peer measured in the same run is maximum-likelihood inference alone (the same demonstrations,
-horizon, sparse reward and eta, no induction): its closed constraint set after eta iterations.
+horizon, sparse reward and eta, no induction, ``MLConstraintInference``'s own default start
+``demonstrations``): its closed constraint set after eta iterations; it does not depend on
+``--start`` and is run once per (domain, n, seed).
 Timing: the mean seconds per iteration of the inference step and of the induction step over
 every iteration of every run (the stage timing figure, thesis Fig. 3.6). Hanoi: the rule learned
 from a few games and whether it forbids exactly the true pairs.
@@ -28,6 +35,7 @@ from a few games and whether it forbids exactly the true pairs.
 from __future__ import annotations
 
 import argparse
+import inspect
 import json
 import multiprocessing
 import os
@@ -48,6 +56,8 @@ FULL = {"domains": ["traffic-lights", "traffic-priority"], "ns": [5, 15, 30, 100
 QUICK = {"domains": ["traffic-lights", "traffic-priority"], "ns": [5, 30], "etas": [5, 20], "hanoi_ns": [3]}
 
 _MDPS: dict[str, LogicMDP] = {}
+STARTS = ("uniform", "demonstrations")
+DEFAULT_START = inspect.signature(LogicConstraintInference).parameters["start"].default
 
 
 def _lm(name: str) -> LogicMDP:
@@ -67,17 +77,34 @@ def _scores(lm: LogicMDP, learned: np.ndarray, reach_truth: np.ndarray) -> dict[
             "fnr_at_learned": constraint_metrics(learned, truth, reach_learned)["fnr"]}
 
 
-def run_one(job: tuple[str, int, int, list[int], int]) -> list[dict[str, Any]]:
-    """One (domain, n, seed): logic inference with max(etas) iterations, ML-only peer, per eta."""
-    name, n, seed, etas, horizon = job
+def run_one(job: tuple[str, int, int, list[int], int, tuple[str, ...]]) -> list[dict[str, Any]]:
+    """One (domain, n, seed): logic inference with max(etas) iterations for every start, ML-only
+    peer (once), per eta."""
+    name, n, seed, etas, horizon, starts = job
     lm = _lm(name)
     demos = lm.expert_demonstrations(n, seed=seed)
     reach_truth = reachable_pairs(lm.mdp, lm.truth_forbidden) & ~lm.unavailable
+    known = lm.unavailable & ~lm.mdp.terminal[:, None]
+    # ML inference alone after eta iterations = the closure of its first eta inferred pairs
+    ml = _ml_only(lm, demos, max(etas), horizon, known)
+    ml_scores = {}
+    for eta in etas:
+        forbidden = known.copy()
+        for s, a in ml["pairs"][:eta]:
+            forbidden[s, a] = True
+        closed = restrict(lm.mdp, forbidden, protected=ml["seen"]).forbidden & ~lm.unavailable
+        ml_scores[eta] = {f"ml_{k}": v for k, v in _scores(lm, closed, reach_truth).items()}
+    out: list[dict[str, Any]] = []
+    for start in starts:
+        out += _logic_rows(lm, demos, name, n, seed, etas, horizon, start, reach_truth, ml_scores, ml)
+    return out
+
+
+def _logic_rows(lm, demos, name, n, seed, etas, horizon, start, reach_truth, ml_scores, ml) -> list[dict[str, Any]]:
     t0 = time.perf_counter()
-    learner = LogicConstraintInference(lm, iterations=max(etas), horizon=horizon).fit(demos)
+    learner = LogicConstraintInference(lm, iterations=max(etas), horizon=horizon, start=start).fit(demos)
     wall = time.perf_counter() - t0
     history = learner.history_
-    known = lm.unavailable & ~lm.mdp.terminal[:, None]
     rows = []
     for eta in etas:
         done = history[:eta]
@@ -86,20 +113,11 @@ def run_one(job: tuple[str, int, int, list[int], int]) -> list[dict[str, Any]]:
         else:
             rules = done[-1].rules if done else ()
             mask = lm.rule_mask(list(rules)) if rules else np.zeros_like(lm.unavailable)
-        row = {"domain": name, "n": n, "seed": seed, "eta": eta, "iterations_run": len(done),
+        row = {"domain": name, "start": start, "n": n, "seed": seed, "eta": eta, "iterations_run": len(done),
                "stopped": learner.stopped_because_ if len(done) == len(history) else "eta",
-               "rules": list(rules), **_scores(lm, mask, reach_truth)}
+               "rules": list(rules), **_scores(lm, mask, reach_truth), **ml_scores[eta]}
         rows.append(row)
-    # ML inference alone after eta iterations = the closure of its first eta inferred pairs
-    ml = _ml_only(lm, demos, max(etas), horizon, known)
-    for row in rows:
-        inferred = ml["pairs"][: row["eta"]]
-        forbidden = known.copy()
-        for s, a in inferred:
-            forbidden[s, a] = True
-        closed = restrict(lm.mdp, forbidden, protected=ml["seen"]).forbidden & ~lm.unavailable
-        row.update({f"ml_{k}": v for k, v in _scores(lm, closed, reach_truth).items()})
-    timing = {"domain": name, "n": n, "seed": seed, "wall_seconds": wall,
+    timing = {"domain": name, "start": start, "n": n, "seed": seed, "wall_seconds": wall,
               "final_induction_seconds": learner.final_induction_seconds_,
               "inference_seconds": [h.inference_seconds for h in history],
               "induction_seconds": [h.induction_seconds for h in history],
@@ -111,21 +129,23 @@ def _ml_only(lm: LogicMDP, demos, eta: int, horizon: int, known: np.ndarray) -> 
     from symlearn.learners.ml_constraint_inference import MLConstraintInference
 
     learner = MLConstraintInference(lm.mdp, reward="sparse", horizon=horizon, max_iterations=eta,
-                                    known_constraints=known).fit(demos)
+                                    known_constraints=known).fit(demos)  # its own default start
     return {"pairs": [(h.state, h.action) for h in learner.history_], "seen": learner.demonstrated_,
             "seconds": learner.seconds_}
 
 
-def hanoi_rows(ns: list[int], seeds: list[int]) -> list[dict[str, Any]]:
+def hanoi_rows(ns: list[int], seeds: list[int], starts: tuple[str, ...]) -> list[dict[str, Any]]:
     lm = _lm("hanoi")
     rows = []
-    for n in ns:
-        for seed in seeds:
-            t0 = time.perf_counter()
-            learner = LogicConstraintInference(lm, iterations=3).fit(lm.expert_demonstrations(n, seed=seed))
-            rows.append({"domain": "hanoi", "n": n, "seed": seed, "rules": learner.rules_,
-                         "exact": bool(np.array_equal(learner.rule_constraints_, lm.truth_forbidden)),
-                         "seconds": time.perf_counter() - t0, **learner.score()})
+    for start in starts:
+        for n in ns:
+            for seed in seeds:
+                t0 = time.perf_counter()
+                learner = LogicConstraintInference(lm, iterations=3, start=start).fit(
+                    lm.expert_demonstrations(n, seed=seed))
+                rows.append({"domain": "hanoi", "start": start, "n": n, "seed": seed, "rules": learner.rules_,
+                             "exact": bool(np.array_equal(learner.rule_constraints_, lm.truth_forbidden)),
+                             "seconds": time.perf_counter() - t0, **learner.score()})
     return rows
 
 
@@ -136,46 +156,71 @@ def _mean_sd(values: list[float]) -> str:
     return f"{values.mean():.3f}±{values.std(ddof=1):.3f}"
 
 
+def _start_label(start: str) -> str:
+    return f"start={start}" + (" (default)" if start == DEFAULT_START else "")
+
+
 def report(rows: list[dict[str, Any]], timings: list[dict[str, Any]], hanoi: list[dict[str, Any]]) -> str:
     out = []
+    starts = [s for s in STARTS if any(r["start"] == s for r in rows)]
+    max_eta = max(x["eta"] for x in rows)
     for name in sorted({r["domain"] for r in rows}):
-        out.append(f"\n### {name}: learned rules vs. the truth (mean±sd over seeds)\n")
-        out.append("| n | eta | iters run | FPR | FNR | acc | forbidden | FPR reach | FNR reach | FNR @learned "
-                   "| ML-only FPR | ML-only FNR | ML-only FNR reach | ML forbidden |")
-        out.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
-        cells = sorted({(r["n"], r["eta"]) for r in rows if r["domain"] == name})
-        for n, eta in cells:
-            group = [r for r in rows if r["domain"] == name and r["n"] == n and r["eta"] == eta]
-            col = lambda key: _mean_sd([r[key] for r in group])  # noqa: E731
-            out.append(f"| {n} | {eta} | {np.mean([r['iterations_run'] for r in group]):.1f} | {col('fpr')} | "
-                       f"{col('fnr')} | {col('accuracy')} | {np.mean([r['forbidden'] for r in group]):.0f} | "
-                       f"{col('reach_fpr')} | {col('reach_fnr')} | {col('fnr_at_learned')} | {col('ml_fpr')} | "
-                       f"{col('ml_fnr')} | {col('ml_reach_fnr')} | {np.mean([r['ml_forbidden'] for r in group]):.0f} |")
-        off_road = [r for r in rows if r["domain"] == name and r["eta"] == max(x["eta"] for x in rows)]
-        has = sum(any("not onRoad(V1) : dir(V1)" in rule for rule in r["rules"]) for r in off_road)
-        out.append(f"\noff-road rule `:- not onRoad(V1) : dir(V1).` learned in {has} of {len(off_road)} runs "
-                   f"at the largest eta")
+        for start in starts:
+            mine = [r for r in rows if r["domain"] == name and r["start"] == start]
+            out.append(f"\n### {name}, {_start_label(start)}: learned rules vs. the truth (mean±sd over seeds)\n")
+            out.append("| n | eta | iters run | FPR | FNR | acc | forbidden | FPR reach | FNR reach | FNR @learned "
+                       "| ML-only FPR | ML-only FNR | ML-only FNR reach | ML forbidden |")
+            out.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+            for n, eta in sorted({(r["n"], r["eta"]) for r in mine}):
+                group = [r for r in mine if r["n"] == n and r["eta"] == eta]
+                col = lambda key: _mean_sd([r[key] for r in group])  # noqa: E731
+                out.append(f"| {n} | {eta} | {np.mean([r['iterations_run'] for r in group]):.1f} | {col('fpr')} | "
+                           f"{col('fnr')} | {col('accuracy')} | {np.mean([r['forbidden'] for r in group]):.0f} | "
+                           f"{col('reach_fpr')} | {col('reach_fnr')} | {col('fnr_at_learned')} | {col('ml_fpr')} | "
+                           f"{col('ml_fnr')} | {col('ml_reach_fnr')} | {np.mean([r['ml_forbidden'] for r in group]):.0f} |")
+            last = [r for r in mine if r["eta"] == max_eta]
+            has = sum(any("not onRoad(V1) : dir(V1)" in rule for rule in r["rules"]) for r in last)
+            exact = sum(r["fpr"] == 0 and r["fnr"] == 0 for r in last)
+            out.append(f"\noff-road rule `:- not onRoad(V1) : dir(V1).` learned in {has} of {len(last)} runs "
+                       f"at eta {max_eta}; rules forbid exactly the truth (FPR = FNR = 0) in {exact} of {len(last)}")
+        if len(starts) > 1:
+            out.append(f"\n### {name}: start=uniform vs. start=demonstrations (same demonstrations; mean over seeds)\n")
+            out.append("| n | eta | FPR uniform | FNR uniform | FPR demos | FNR demos | FNR reach uniform | "
+                       "FNR reach demos | rules uniform | rules demos |")
+            out.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+            for n, eta in sorted({(r["n"], r["eta"]) for r in rows if r["domain"] == name}):
+                g = {st: [r for r in rows if r["domain"] == name and r["start"] == st and r["n"] == n
+                          and r["eta"] == eta] for st in STARTS}
+                m = lambda st, key: f"{np.mean([r[key] for r in g[st]]):.3f}"  # noqa: E731
+                k = lambda st: f"{np.mean([len(r['rules']) for r in g[st]]):.1f}"  # noqa: E731
+                out.append(f"| {n} | {eta} | {m('uniform', 'fpr')} | {m('uniform', 'fnr')} | "
+                           f"{m('demonstrations', 'fpr')} | {m('demonstrations', 'fnr')} | "
+                           f"{m('uniform', 'reach_fnr')} | {m('demonstrations', 'reach_fnr')} | "
+                           f"{k('uniform')} | {k('demonstrations')} |")
     out.append("\n### Stage timing: mean seconds per iteration (all iterations of all runs)\n")
-    out.append("| domain | n | inference s/iter | induction s/iter | induction share | final induction s | "
+    out.append("| domain | start | n | inference s/iter | induction s/iter | induction share | final induction s | "
                "ML-only s/run | wall s/run |")
-    out.append("|---|---:|---:|---:|---:|---:|---:|---:|")
+    out.append("|---|---|---:|---:|---:|---:|---:|---:|---:|")
     for name in sorted({t["domain"] for t in timings}):
-        for n in sorted({t["n"] for t in timings if t["domain"] == name}):
-            group = [t for t in timings if t["domain"] == name and t["n"] == n]
-            inf = [x for t in group for x in t["inference_seconds"]]
-            ind = [x for t in group for x in t["induction_seconds"]]
-            share = sum(ind) / max(sum(ind) + sum(inf), 1e-12)
-            out.append(f"| {name} | {n} | {np.mean(inf):.3f} | {np.mean(ind):.3f} | {share:.0%} | "
-                       f"{np.mean([t['final_induction_seconds'] for t in group]):.2f} | "
-                       f"{np.mean([t['ml_only_seconds'] for t in group]):.2f} | "
-                       f"{np.mean([t['wall_seconds'] for t in group]):.1f} |")
+        for start in starts:
+            for n in sorted({t["n"] for t in timings if t["domain"] == name}):
+                group = [t for t in timings if t["domain"] == name and t["n"] == n and t["start"] == start]
+                if not group:
+                    continue
+                inf = [x for t in group for x in t["inference_seconds"]]
+                ind = [x for t in group for x in t["induction_seconds"]]
+                share = sum(ind) / max(sum(ind) + sum(inf), 1e-12)
+                out.append(f"| {name} | {start} | {n} | {np.mean(inf):.3f} | {np.mean(ind):.3f} | {share:.0%} | "
+                           f"{np.mean([t['final_induction_seconds'] for t in group]):.2f} | "
+                           f"{np.mean([t['ml_only_seconds'] for t in group]):.2f} | "
+                           f"{np.mean([t['wall_seconds'] for t in group]):.1f} |")
     if hanoi:
         out.append("\n### Hanoi (3 iterations)\n")
-        out.append("| n | seed | rules | forbids exactly the truth | FPR | FNR | s |")
-        out.append("|---:|---:|---|---|---:|---:|---:|")
+        out.append("| start | n | seed | rules | forbids exactly the truth | FPR | FNR | s |")
+        out.append("|---|---:|---:|---|---|---:|---:|---:|")
         for r in hanoi:
-            out.append(f"| {r['n']} | {r['seed']} | {' '.join(f'`{x}`' for x in r['rules'])} | {r['exact']} | "
-                       f"{r['fpr']:.3f} | {r['fnr']:.3f} | {r['seconds']:.1f} |")
+            out.append(f"| {r['start']} | {r['n']} | {r['seed']} | {' '.join(f'`{x}`' for x in r['rules'])} | "
+                       f"{r['exact']} | {r['fpr']:.3f} | {r['fnr']:.3f} | {r['seconds']:.1f} |")
     return "\n".join(out)
 
 
@@ -185,17 +230,28 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seeds", type=int, default=None, help="number of seeds (default 2, quick 1)")
     parser.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     parser.add_argument("--horizon", type=int, default=30)
+    parser.add_argument("--start", choices=[*STARTS, "both"], default=DEFAULT_START,
+                        help=f"where the nominal visitation starts (default: the learner's, {DEFAULT_START}); "
+                             "'both' runs and compares both")
+    parser.add_argument("--ns", default=None, help="comma-separated n (overrides the plan)")
+    parser.add_argument("--etas", default=None, help="comma-separated eta (overrides the plan)")
     parser.add_argument("--json", metavar="OUT", help="write every row and timing as JSON")
     args = parser.parse_args(argv)
-    plan = QUICK if args.quick else FULL
+    plan = dict(QUICK if args.quick else FULL)
+    if args.ns:
+        plan["ns"] = [int(x) for x in args.ns.split(",")]
+    if args.etas:
+        plan["etas"] = sorted(int(x) for x in args.etas.split(","))
+    starts = STARTS if args.start == "both" else (args.start,)
     seeds = list(range(args.seeds if args.seeds is not None else (1 if args.quick else 2)))
     command = "python benchmarks/logic_constraints.py " + " ".join(sys.argv[1:] if argv is None else argv)
     print(f"command: {command.strip()}")
     print(f"machine: {platform.machine()}, {os.cpu_count()} cpus, python {platform.python_version()}, "
           f"{args.workers} worker process(es)")
-    print(f"settings: n in {plan['ns']}, eta in {plan['etas']}, seeds {seeds}, horizon {args.horizon}")
+    print(f"settings: n in {plan['ns']}, eta in {plan['etas']}, seeds {seeds}, horizon {args.horizon}, "
+          f"start {', '.join(starts)}")
     started = time.perf_counter()
-    jobs = [(name, n, seed, plan["etas"], args.horizon) for name in plan["domains"]
+    jobs = [(name, n, seed, plan["etas"], args.horizon, starts) for name in plan["domains"]
             for n in sorted(plan["ns"], reverse=True) for seed in seeds]
     results: list[list[dict[str, Any]]] = []
     if args.workers > 1:
@@ -207,13 +263,14 @@ def main(argv: list[str] | None = None) -> int:
         results = [run_one(job) for job in jobs]
     rows = [r for result in results for r in result if "timing" not in r]
     timings = [r["timing"] for result in results for r in result if "timing" in r]
-    hanoi = hanoi_rows(plan["hanoi_ns"], seeds)
+    hanoi = hanoi_rows(plan["hanoi_ns"], seeds, starts)
     total = time.perf_counter() - started
     print(report(rows, timings, hanoi))
     print(f"\ntotal {total:.0f} s")
     if args.json:
         with open(args.json, "w") as handle:
             json.dump({"command": command.strip(), "seeds": seeds, "plan": plan, "horizon": args.horizon,
+                       "start": args.start, "starts": list(starts), "default_start": DEFAULT_START,
                        "seconds": total, "rows": rows, "timings": timings, "hanoi": hanoi}, handle, indent=1)
     return 0
 

@@ -3,7 +3,10 @@
 The experiment of the reference thesis, sections 3.4.4 and 3.4.5. Once per junction
 (``lights``, ``priority``): record expert demonstrations, run logic constraint inference
 (maximum-likelihood inference + ILP induction per iteration) and, with the same number of
-iterations, maximum-likelihood inference alone. Then, for every seed, train three
+iterations, maximum-likelihood inference alone. ``--start`` (``uniform``, the learner's default, or
+``demonstrations``) is where the logic learner's nominal MaxEnt visitation starts
+(``LogicConstraintInference(start=)``); the inference-only peer keeps ``MLConstraintInference``'s
+own default (``demonstrations``, the thesis' maximum-likelihood objective). Then, for every seed, train three
 epsilon-greedy tabular Q-learners in :class:`~symlearn.envs.junction_env.JunctionEnv`:
 
 * ``QL``: no shield;
@@ -40,11 +43,13 @@ episodes with the same seed reproduces the first ``k`` of the long run).
     python benchmarks/shielded_q_learning.py                 # 60 seeds x 300 episodes
     python benchmarks/shielded_q_learning.py --quick         # 12 seeds x 150 episodes
     python benchmarks/shielded_q_learning.py --seeds 200 --episodes 400 --json out.json
+    python benchmarks/shielded_q_learning.py --start demonstrations  # rules learned as in the thesis
 """
 
 from __future__ import annotations
 
 import argparse
+import inspect
 import json
 import os
 import platform
@@ -62,15 +67,17 @@ from symlearn.learners.ml_constraint_inference import MLConstraintInference
 from symlearn.rl.q_learning import q_learning
 
 WINDOW = 20
+DEFAULT_START = inspect.signature(LogicConstraintInference).parameters["start"].default
 SETTINGS = {"learning_rate": 0.9, "discount": 0.75, "epsilon": 0.05}
 
 
 # --- learning the constraints ------------------------------------------------------------------
-def learn_constraints(variant: str, n_demos: int, iterations: int, demo_seed: int) -> dict:
+def learn_constraints(variant: str, n_demos: int, iterations: int, demo_seed: int,
+                      start: str = DEFAULT_START) -> dict:
     lm = logic_mdp(f"traffic-{variant}")
     demos = lm.expert_demonstrations(n_demos, seed=demo_seed)
     t0 = time.perf_counter()
-    lc = LogicConstraintInference(lm, iterations=iterations).fit(demos)
+    lc = LogicConstraintInference(lm, iterations=iterations, start=start).fit(demos)
     lc_seconds = time.perf_counter() - t0
     t0 = time.perf_counter()
     ml = MLConstraintInference(lm.mdp, reward="sparse", horizon=lc.horizon, max_iterations=iterations,
@@ -86,7 +93,7 @@ def learn_constraints(variant: str, n_demos: int, iterations: int, demo_seed: in
     inference_only = ml.constraints_ & valid
     history = [h.as_dict() for h in lc.history_]
     return {
-        "lm": lm, "rules": list(lc.rules_), "n_demos": n_demos, "iterations_run": len(lc.history_),
+        "lm": lm, "rules": list(lc.rules_), "start": start, "n_demos": n_demos, "iterations_run": len(lc.history_),
         "stopped_because": lc.stopped_because_, "seconds_logic": lc_seconds, "seconds_ml": ml_seconds,
         "ml_iterations_run": len(ml.history_),
         "inference_seconds": [h["inference_seconds"] for h in history],
@@ -253,6 +260,9 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--demos", type=int, default=100)
     parser.add_argument("--iterations", type=int, default=20)
     parser.add_argument("--demo-seed", type=int, default=0)
+    parser.add_argument("--start", choices=["uniform", "demonstrations"], default=DEFAULT_START,
+                        help=f"where the logic learner's nominal visitation starts (default: the learner's, "
+                             f"{DEFAULT_START})")
     parser.add_argument("--json", default=None, help="write all results (incl. mean cost curves) here")
     args = parser.parse_args(argv)
     seeds = args.seeds or (12 if args.quick else 60)
@@ -265,11 +275,12 @@ def main(argv: list[str] | None = None) -> int:
     learned = {}
     for variant in ("lights", "priority"):
         print(f"learning constraints: {variant}", file=sys.stderr, flush=True)
-        learned[variant] = learn_constraints(variant, args.demos, args.iterations, args.demo_seed)
+        learned[variant] = learn_constraints(variant, args.demos, args.iterations, args.demo_seed, args.start)
 
     out: dict = {"settings": {**SETTINGS, "seeds": seeds, "episodes": episodes, "test_episodes": args.test_episodes,
                               "max_steps": args.max_steps, "demos": args.demos, "iterations": args.iterations,
-                              "demo_seed": args.demo_seed, "violation_cost": 10.0},
+                              "demo_seed": args.demo_seed, "violation_cost": 10.0, "start": args.start,
+                              "default_start": DEFAULT_START, "inference_only_start": "demonstrations"},
                  "machine": {"python": platform.python_version(), "platform": platform.platform(),
                              "cpus": os.cpu_count()},
                  "learning": {}, "junctions": {}, "transfer": {}}
@@ -308,7 +319,7 @@ def main(argv: list[str] | None = None) -> int:
     out["seconds"] = time.perf_counter() - started
 
     for variant, info in out["learning"].items():
-        print(f"\n## {variant}: {len(info['rules'])} rules, {info['iterations_run']} iterations "
+        print(f"\n## {variant} (start={info['start']}): {len(info['rules'])} rules, {info['iterations_run']} iterations "
               f"({info['stopped_because']}), logic {info['seconds_logic']:.1f} s, inference-only {info['seconds_ml']:.1f} s; "
               f"per iteration: inference {info['mean_inference_seconds_per_iteration']:.2f} s, "
               f"induction {info['mean_induction_seconds_per_iteration']:.2f} s")

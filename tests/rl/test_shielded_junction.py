@@ -11,10 +11,13 @@ from symlearn.rl.q_learning import q_learning
 SETTINGS = {"learning_rate": 0.9, "discount": 0.75, "epsilon": 0.05}
 
 # What logic constraint inference induced in the priority junction from 100 expert drives
-# (benchmarks/shielded_q_learning.py, demo seed 0); rule text only, translated below.
+# (benchmarks/shielded_q_learning.py, demo seed 0) with start="demonstrations" (the default before
+# start="uniform"); rule text only, translated below.
 PRIORITY_RULES = [":- go(west).", ":- not onRoad(V1) : dir(V1).", ":- onRoad(south), go(east).",
                   ":- go(south), not onRoad(north).", ":- go(north), not onRoad(south).",
                   ":- carOnTheRight, not go(zero)."]
+# The same with the default start="uniform": one more rule, the gap closed by the rules themselves.
+PRIORITY_RULES_UNIFORM = PRIORITY_RULES[:2] + [":- onRoad(north), go(east)."] + PRIORITY_RULES[2:]
 
 
 def greedy_violations(env, q, episodes, seed):
@@ -50,8 +53,9 @@ def test_shielded_q_learning_never_violates_and_plain_q_learning_does(variant, s
 
 
 def test_rules_without_the_closure_let_the_priority_agent_off_the_road():
-    """The induced priority rules miss "no east turn from the north arm" (no demonstration shows
-    it); the rules forbid everything off the road, so closing the mask covers the gap."""
+    """The priority rules induced with start="demonstrations" miss "no east turn from the north
+    arm" (no demonstration shows it); the rules forbid everything off the road, so closing the mask
+    covers the gap."""
     lm = logic_mdp("traffic-priority")
     raw = env_mask(lm, lm.rule_mask(PRIORITY_RULES), close=False)
     closed = env_mask(lm, lm.rule_mask(PRIORITY_RULES))
@@ -59,3 +63,10 @@ def test_rules_without_the_closure_let_the_priority_agent_off_the_road():
     missed = [str(JunctionEnv("priority").states[s]) for s, a in np.argwhere(truth & ~raw)]
     assert missed == ["(3,4)", "(3,5)"]
     np.testing.assert_array_equal(closed, truth)
+
+
+def test_rules_learned_with_the_uniform_start_need_no_closure():
+    lm = logic_mdp("traffic-priority")
+    np.testing.assert_array_equal(lm.rule_mask(PRIORITY_RULES_UNIFORM), lm.truth_forbidden)
+    np.testing.assert_array_equal(env_mask(lm, lm.rule_mask(PRIORITY_RULES_UNIFORM), close=False),
+                                  env_mask(lm, lm.truth_forbidden, close=False))
