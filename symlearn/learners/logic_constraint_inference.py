@@ -92,6 +92,17 @@ class LogicConstraintInference:
     inference can pick an allowed pair that no demonstration happened to show.
     ``noise=True`` accepts demonstrations that break ``known`` constraints with a warning.
 
+    ``start`` is where the nominal visitation starts (see :class:`MLConstraintInference`). The
+    default 0.1 keeps 90 % of the mass on the demonstrations' starts (the maximum-likelihood
+    objective of the thesis) and spreads 10 % over every state. Why: rules should hold in the
+    whole domain, but once the first rules make a region unreachable from where demonstrations
+    start (the off-road cells of a junction, once turning off the road is forbidden), the pure
+    objective never proposes a pair there, so a rule about it ("stay on the road") is never
+    induced; measured in ``benchmarks/logic_constraints.py``. ``"demonstrations"`` is the
+    thesis' objective exactly; ``"uniform"`` starts everywhere, which also proposes pairs in
+    states no expert would be in (Hanoi configurations with a disk on a smaller one), where a
+    move that repairs the configuration is allowed and wastes iterations.
+
     Results: ``hypothesis_`` (:class:`~symlearn.logic.asp.Hypothesis`, None if no rule was
     induced), ``rules_``, ``rule_constraints_`` (the pairs the rules forbid), ``constraints_``
     (forbidden ``(S, A)`` mask: the rules' pairs plus the inferred ones, closed), ``inferred_`` (the pairs chosen by inference alone), ``history_``
@@ -102,7 +113,7 @@ class LogicConstraintInference:
     def __init__(self, domain: LogicMDP | str, *, iterations: int = 10, horizon: int = 30,
                  reward: str | np.ndarray = "sparse", rationality: float = 1.0,
                  min_visitation: float = 1e-3, ilp_timeout: float = 30.0, noise: bool = False,
-                 penalty: int = 10, known: np.ndarray | None = None, start: str = "uniform") -> None:
+                 penalty: int = 10, known: np.ndarray | None = None, start: str | float = 0.1) -> None:
         self.domain = logic_mdp(domain) if isinstance(domain, str) else domain
         self.iterations = iterations
         self.horizon = horizon

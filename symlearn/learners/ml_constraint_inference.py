@@ -29,11 +29,13 @@ or ``"sparse"``: 1 for entering a state where a demonstration ended, 0 otherwise
 and a small step cost, long wandering paths can outweigh short ones unless it is raised.
 
 ``start`` says where the nominal visitation starts: from the demonstrations' start states
-(the maximum-likelihood objective, default) or uniformly from every non-terminal state
-(``"uniform"``). The latter also weighs pairs in regions no demonstration starts near -- a
-state the learned constraints make unreachable from the demonstrated starts (off-road cells
-once turning off the road is forbidden) still gets candidates, so rules about such regions
-can be learned.
+(``"demonstrations"``, the maximum-likelihood objective, default), uniformly from every
+non-terminal state (``"uniform"``), or a mixture: a number ``w`` in [0, 1] puts that share of
+the start mass uniformly on every non-terminal state and the rest on the demonstrations' starts.
+A uniform share also weighs pairs in regions no demonstration starts near -- a state the
+learned constraints make unreachable from the demonstrated starts (off-road cells once turning
+off the road is forbidden) still gets candidates, so rules about such regions can be learned;
+a small share keeps the demonstrated flow first, so the likeliest constraints come first.
 
 >>> from symlearn.envs.gridworld import StochasticGridworld
 >>> from symlearn.data import record
@@ -93,7 +95,7 @@ class MLConstraintInference:
         on_violation: Literal["error", "warn"] = "error",
         generalize: Generalizer | None = None,
         rationality: float = 1.0,
-        start: Literal["demonstrations", "uniform"] = "demonstrations",
+        start: Literal["demonstrations", "uniform"] | float = "demonstrations",
     ) -> None:
         self.mdp = as_tabular(mdp)
         self.reward = reward
@@ -104,9 +106,8 @@ class MLConstraintInference:
         self.on_violation = on_violation
         self.generalize = generalize
         self.rationality = rationality
-        if start not in ("demonstrations", "uniform"):
-            raise SymlearnError(f"unknown start {start!r}", hint="use 'demonstrations' or 'uniform'")
         self.start = start
+        self._uniform_share = _uniform_share(start)
 
     def _reward(self, goal: int) -> np.ndarray:
         mdp = self.mdp
@@ -198,9 +199,22 @@ class MLConstraintInference:
         groups = []
         for goal in sorted(set(ends.tolist()), key=lambda g: (-int(np.sum(ends == g)), g)):
             members = [e for e, end in zip(episodes, ends) if end == goal]
-            if self.start == "uniform":
-                start = (~self.mdp.terminal).astype(np.float64) / np.sum(~self.mdp.terminal)
-            else:
-                start = np.bincount([int(e.states[0]) for e in members], minlength=self.mdp.n_states) / len(members)
+            start = np.bincount([int(e.states[0]) for e in members], minlength=self.mdp.n_states) / len(members)
+            if self._uniform_share > 0:
+                everywhere = (~self.mdp.terminal).astype(np.float64) / np.sum(~self.mdp.terminal)
+                start = (1 - self._uniform_share) * start + self._uniform_share * everywhere
             groups.append((goal, len(members) / len(episodes), start))
         return groups
+
+
+def _uniform_share(start: Any) -> float:
+    """The share of start mass spread over every state, from a ``start`` setting."""
+    if isinstance(start, str):
+        shares = {"demonstrations": 0.0, "uniform": 1.0}
+        if start not in shares:
+            raise SymlearnError(f"unknown start {start!r}", hint="use 'demonstrations', 'uniform' or a share in [0, 1]")
+        return shares[start]
+    share = float(start)
+    if not 0.0 <= share <= 1.0:
+        raise SymlearnError(f"a uniform start share must lie in [0, 1], got {start}")
+    return share
