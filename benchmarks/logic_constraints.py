@@ -19,9 +19,11 @@ ground truth with :func:`constraint_metrics`:
   agent that trusts the rules can meet and break).
 
 ``--start`` says where the nominal MaxEnt visitation starts (``LogicConstraintInference(start=)``):
-``uniform`` (the learner's default: every non-terminal state), ``demonstrations`` (the
-demonstrations' start states, the thesis' maximum-likelihood objective) or ``both`` (each
-(domain, n, seed) is run with both starts, so the tables compare them in the same run).
+``default`` (the learner's default, the default here), ``uniform`` (every non-terminal state),
+``demonstrations`` (the demonstrations' start states, the thesis' maximum-likelihood objective),
+a uniform share in [0, 1] (a mixture of the two), or a comma-separated list of these; ``both`` =
+``uniform,demonstrations``, ``all`` = ``default,uniform,demonstrations``. Every (domain, n, seed)
+is run with each start, so the tables compare them in the same run.
 
 The peer measured in the same run is maximum-likelihood inference alone (the same demonstrations,
 horizon, sparse reward and eta, no induction, ``MLConstraintInference``'s own default start
@@ -58,6 +60,19 @@ QUICK = {"domains": ["traffic-lights", "traffic-priority"], "ns": [5, 30], "etas
 _MDPS: dict[str, LogicMDP] = {}
 STARTS = ("uniform", "demonstrations")
 DEFAULT_START = inspect.signature(LogicConstraintInference).parameters["start"].default
+SHORTCUTS = {"both": ["uniform", "demonstrations"], "all": ["default", "uniform", "demonstrations"]}
+
+
+def parse_starts(text: str) -> list[str | float]:
+    """``--start``: comma-separated starts ("uniform", "demonstrations", "default" = the learner's
+    default, or a uniform share in [0, 1]); "both" = uniform,demonstrations; "all" = default too."""
+    starts: list[str | float] = []
+    for item in SHORTCUTS.get(text.strip(), text.split(",")):
+        item = item.strip()
+        value = DEFAULT_START if item == "default" else item if item in STARTS else float(item)
+        if value not in starts:
+            starts.append(value)
+    return starts
 
 
 def _lm(name: str) -> LogicMDP:
@@ -156,13 +171,13 @@ def _mean_sd(values: list[float]) -> str:
     return f"{values.mean():.3f}±{values.std(ddof=1):.3f}"
 
 
-def _start_label(start: str) -> str:
+def _start_label(start: str | float) -> str:
     return f"start={start}" + (" (default)" if start == DEFAULT_START else "")
 
 
 def report(rows: list[dict[str, Any]], timings: list[dict[str, Any]], hanoi: list[dict[str, Any]]) -> str:
     out = []
-    starts = [s for s in STARTS if any(r["start"] == s for r in rows)]
+    starts = list(dict.fromkeys(r["start"] for r in rows))
     max_eta = max(x["eta"] for x in rows)
     for name in sorted({r["domain"] for r in rows}):
         for start in starts:
@@ -184,19 +199,20 @@ def report(rows: list[dict[str, Any]], timings: list[dict[str, Any]], hanoi: lis
             out.append(f"\noff-road rule `:- not onRoad(V1) : dir(V1).` learned in {has} of {len(last)} runs "
                        f"at eta {max_eta}; rules forbid exactly the truth (FPR = FNR = 0) in {exact} of {len(last)}")
         if len(starts) > 1:
-            out.append(f"\n### {name}: start=uniform vs. start=demonstrations (same demonstrations; mean over seeds)\n")
-            out.append("| n | eta | FPR uniform | FNR uniform | FPR demos | FNR demos | FNR reach uniform | "
-                       "FNR reach demos | rules uniform | rules demos |")
-            out.append("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+            names = " vs. ".join(f"start={st}" for st in starts)
+            out.append(f"\n### {name}: {names} (same demonstrations; mean over seeds)\n")
+            out.append("| n | eta | " + " | ".join(f"FPR {st} | FNR {st}" for st in starts) + " | "
+                       + " | ".join(f"FNR reach {st}" for st in starts) + " | "
+                       + " | ".join(f"rules {st}" for st in starts) + " |")
+            out.append("|---:|---:|" + "---:|" * (4 * len(starts)))
             for n, eta in sorted({(r["n"], r["eta"]) for r in rows if r["domain"] == name}):
                 g = {st: [r for r in rows if r["domain"] == name and r["start"] == st and r["n"] == n
-                          and r["eta"] == eta] for st in STARTS}
+                          and r["eta"] == eta] for st in starts}
                 m = lambda st, key: f"{np.mean([r[key] for r in g[st]]):.3f}"  # noqa: E731
                 k = lambda st: f"{np.mean([len(r['rules']) for r in g[st]]):.1f}"  # noqa: E731
-                out.append(f"| {n} | {eta} | {m('uniform', 'fpr')} | {m('uniform', 'fnr')} | "
-                           f"{m('demonstrations', 'fpr')} | {m('demonstrations', 'fnr')} | "
-                           f"{m('uniform', 'reach_fnr')} | {m('demonstrations', 'reach_fnr')} | "
-                           f"{k('uniform')} | {k('demonstrations')} |")
+                out.append(f"| {n} | {eta} | " + " | ".join(f"{m(st, 'fpr')} | {m(st, 'fnr')}" for st in starts)
+                           + " | " + " | ".join(m(st, "reach_fnr") for st in starts) + " | "
+                           + " | ".join(k(st) for st in starts) + " |")
     out.append("\n### Stage timing: mean seconds per iteration (all iterations of all runs)\n")
     out.append("| domain | start | n | inference s/iter | induction s/iter | induction share | final induction s | "
                "ML-only s/run | wall s/run |")
@@ -230,9 +246,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seeds", type=int, default=None, help="number of seeds (default 2, quick 1)")
     parser.add_argument("--workers", type=int, default=2, help="processes (default 2)")
     parser.add_argument("--horizon", type=int, default=30)
-    parser.add_argument("--start", choices=[*STARTS, "both"], default=DEFAULT_START,
-                        help=f"where the nominal visitation starts (default: the learner's, {DEFAULT_START}); "
-                             "'both' runs and compares both")
+    parser.add_argument("--start", default="default",
+                        help=f"where the nominal visitation starts: default (the learner's, {DEFAULT_START}), "
+                             "uniform, demonstrations, a uniform share in [0, 1], or a comma-separated list; "
+                             "'both' = uniform,demonstrations; 'all' = default,uniform,demonstrations")
     parser.add_argument("--ns", default=None, help="comma-separated n (overrides the plan)")
     parser.add_argument("--etas", default=None, help="comma-separated eta (overrides the plan)")
     parser.add_argument("--json", metavar="OUT", help="write every row and timing as JSON")
@@ -242,14 +259,14 @@ def main(argv: list[str] | None = None) -> int:
         plan["ns"] = [int(x) for x in args.ns.split(",")]
     if args.etas:
         plan["etas"] = sorted(int(x) for x in args.etas.split(","))
-    starts = STARTS if args.start == "both" else (args.start,)
+    starts = tuple(parse_starts(args.start))
     seeds = list(range(args.seeds if args.seeds is not None else (1 if args.quick else 2)))
     command = "python benchmarks/logic_constraints.py " + " ".join(sys.argv[1:] if argv is None else argv)
     print(f"command: {command.strip()}")
     print(f"machine: {platform.machine()}, {os.cpu_count()} cpus, python {platform.python_version()}, "
           f"{args.workers} worker process(es)")
     print(f"settings: n in {plan['ns']}, eta in {plan['etas']}, seeds {seeds}, horizon {args.horizon}, "
-          f"start {', '.join(starts)}")
+          f"start {', '.join(map(str, starts))}")
     started = time.perf_counter()
     jobs = [(name, n, seed, plan["etas"], args.horizon, starts) for name in plan["domains"]
             for n in sorted(plan["ns"], reverse=True) for seed in seeds]

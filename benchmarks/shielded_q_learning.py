@@ -3,8 +3,9 @@
 The experiment of the reference thesis, sections 3.4.4 and 3.4.5. Once per junction
 (``lights``, ``priority``): record expert demonstrations, run logic constraint inference
 (maximum-likelihood inference + ILP induction per iteration) and, with the same number of
-iterations, maximum-likelihood inference alone. ``--start`` (``uniform``, the learner's default, or
-``demonstrations``) is where the logic learner's nominal MaxEnt visitation starts
+iterations, maximum-likelihood inference alone. ``--start`` (the learner's default, ``uniform``,
+``demonstrations`` or a uniform share in [0, 1]) is where the logic learner's nominal MaxEnt
+visitation starts
 (``LogicConstraintInference(start=)``); the inference-only peer keeps ``MLConstraintInference``'s
 own default (``demonstrations``, the thesis' maximum-likelihood objective). Then, for every seed, train three
 epsilon-greedy tabular Q-learners in :class:`~symlearn.envs.junction_env.JunctionEnv`:
@@ -260,9 +261,10 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--demos", type=int, default=100)
     parser.add_argument("--iterations", type=int, default=20)
     parser.add_argument("--demo-seed", type=int, default=0)
-    parser.add_argument("--start", choices=["uniform", "demonstrations"], default=DEFAULT_START,
-                        help=f"where the logic learner's nominal visitation starts (default: the learner's, "
-                             f"{DEFAULT_START})")
+    parser.add_argument("--start", default=DEFAULT_START,
+                        type=lambda x: x if x in ("uniform", "demonstrations") else float(x),
+                        help=f"where the logic learner's nominal visitation starts: uniform, demonstrations or a "
+                             f"uniform share in [0, 1] (default: the learner's, {DEFAULT_START})")
     parser.add_argument("--json", default=None, help="write all results (incl. mean cost curves) here")
     args = parser.parse_args(argv)
     seeds = args.seeds or (12 if args.quick else 60)

@@ -17,10 +17,7 @@ def hanoi():
 
 @pytest.fixture(scope="module")
 def hanoi_fit(hanoi):
-    # the thesis' maximum-likelihood objective; the default start="uniform" learns no Hanoi rule
-    # (see test_hanoi_with_the_default_uniform_start_learns_the_rule below)
-    return LogicConstraintInference(hanoi, iterations=3, start="demonstrations").fit(
-        hanoi.expert_demonstrations(10, seed=0))
+    return LogicConstraintInference(hanoi, iterations=3).fit(hanoi.expert_demonstrations(10, seed=0))
 
 
 @pytest.fixture(scope="module")
@@ -48,12 +45,13 @@ def test_hanoi_learns_no_larger_disk_on_a_smaller_one(hanoi, hanoi_fit):
     assert hanoi_fit.hypothesis_ is not None and list(hanoi_fit.hypothesis_.rules) == hanoi_fit.rules_
 
 
-@pytest.mark.xfail(strict=True, reason="known regression of start='uniform' (the default): started from every "
-                   "state, the most visited undemonstrated pairs are allowed moves (e.g. onto an empty peg, "
-                   "far from the demonstrated path) and the induction returns no rule at all")
-def test_hanoi_with_the_default_uniform_start_learns_the_rule(hanoi):
-    learner = LogicConstraintInference(hanoi, iterations=3).fit(hanoi.expert_demonstrations(10, seed=0))
-    assert learner.rules_ == [":- on(V1,V2), V1 < V2."]
+@pytest.mark.parametrize("start, learns", [("demonstrations", True), (0.5, True), ("uniform", False)])
+def test_hanoi_rule_by_start(hanoi, start, learns):
+    """The thesis' start and mixtures learn the rule; a pure uniform start does not (documented
+    limitation: started from every state, the most visited undemonstrated pairs are allowed moves
+    far from the demonstrated path, e.g. onto an empty peg, and no rule is induced in 3 iterations)."""
+    learner = LogicConstraintInference(hanoi, iterations=3, start=start).fit(hanoi.expert_demonstrations(10, seed=0))
+    assert learner.rules_ == ([":- on(V1,V2), V1 < V2."] if learns else [])
 
 
 def test_history_records_every_iteration(hanoi_fit):
@@ -92,16 +90,17 @@ def test_priority_rules_match_the_truth_where_a_rule_abiding_driver_goes(priorit
     # stay on the road and priority to the right are among the rules
     assert ":- not onRoad(V1) : dir(V1)." in priority_fit.rules_
     assert ":- carOnTheRight, not go(zero)." in priority_fit.rules_
-    # with the default start="uniform", over the whole space too: the 7 thesis rules, exactly the truth
+    # with the default start, over the whole space too: the 7 thesis rules, exactly the truth
     assert len(priority_fit.rules_) == 7
     np.testing.assert_array_equal(priority_fit.rule_constraints_, truth)
     assert priority_fit.score() == {"fpr": 0.0, "fnr": 0.0, "accuracy": 1.0, "forbidden": int(truth.sum())}
 
 
 def test_lights_junction_learns_the_off_road_rule_and_exactly_the_truth():
-    """With the default start="uniform" the off-road cells keep nominal visitation after the 8
-    sideways rules are learned, so the off-road rule is induced too: the 13 thesis rules (about
-    30 s). With start="demonstrations" the loop stops at 12 rules, full-space FNR 0.816."""
+    """With the default start (a 0.1 uniform share) the off-road cells keep nominal visitation
+    after the 8 sideways rules are learned, so the off-road rule is induced too: the 13 thesis
+    rules (about 30 s). With start="demonstrations" the loop stops at 12 rules, full-space FNR
+    0.816."""
     lights = logic_mdp("traffic-lights")
     learner = LogicConstraintInference(lights, iterations=13).fit(lights.expert_demonstrations(100, seed=0))
     assert ":- not onRoad(V1) : dir(V1)." in learner.rules_
@@ -114,6 +113,8 @@ def test_lights_junction_learns_the_off_road_rule_and_exactly_the_truth():
 def test_start_is_passed_to_the_inference_and_checked(hanoi):
     with pytest.raises(SymlearnError, match="unknown start"):
         LogicConstraintInference(hanoi, iterations=1, start="anywhere").fit(hanoi.expert_demonstrations(2, seed=0))
+    with pytest.raises(SymlearnError, match=r"\[0, 1\]"):
+        LogicConstraintInference(hanoi, iterations=1, start=1.5).fit(hanoi.expert_demonstrations(2, seed=0))
 
 
 def test_reachable_pairs_follow_the_allowed_moves(priority):
