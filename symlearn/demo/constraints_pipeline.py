@@ -41,6 +41,8 @@ def run(context: DemoContext) -> Section:
         rows.append(f"| {name} | {n_demos} | {len(learner.history_)} | {rules_md} | {scores['forbidden']} | "
                     f"{scores['fpr']:.3f} | {scores['fnr']:.3f} | {scores['accuracy']:.3f} | "
                     f"{inference:.1f} / {induction:.1f} |")
+        figures[f"{name}_rules"] = len(learner.rules_)
+        figures[f"{name}_accuracy"] = round(scores["accuracy"], 3)
         figures[name] = {"rules": learner.rules_, "iterations": len(learner.history_), **scores,
                          "inference_seconds": round(inference, 3), "induction_seconds": round(induction, 3)}
 
@@ -79,6 +81,7 @@ def _shielded_q_learning(context: DemoContext, learned: dict, figures: dict) -> 
                "plain_final_cost": float(np.mean(-plain.returns[-20:])),
                "shielded_final_cost": float(np.mean(-shielded.returns[-20:]))}
         figures[f"{name}_q_learning"] = row
+        figures[f"{name}_shielded_violations"] = row["shielded_violations"]
         lines.append(f"| {name} | {episodes} | {row['plain_violations']} | {row['shielded_violations']} | "
                      f"{row['plain_final_cost']:.1f} | {row['shielded_final_cost']:.1f} |")
     if not lines:
