@@ -5,7 +5,7 @@ from pathlib import Path
 
 import pytest
 
-from symlearn.cli.main import main
+from cli_runner import run
 from symlearn.logic.automata import DFA, RewardMachine, load_automaton
 from symlearn.logic.guards import Guard
 from symlearn.rendering import dot_available
@@ -21,10 +21,6 @@ def spec(tmp_path):
     return d.save(tmp_path / "spec.json")
 
 
-def run(capsys, *argv):
-    code = main([str(x) for x in argv])
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
 
 
 def test_show_text_and_drawings(capsys, spec, tmp_path):

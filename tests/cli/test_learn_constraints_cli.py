@@ -4,16 +4,12 @@ import json
 
 import pytest
 
-from symlearn.cli.main import main
+from cli_runner import run
 from symlearn.data import Demonstrations, Trajectory
 from symlearn.envs.logic_mdp import logic_mdp
 from symlearn.logic.asp import Hypothesis
 
 
-def run(capsys, *args):
-    code = main([str(a) for a in args])
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
 
 
 def test_hanoi_rules_json_and_editable_file(capsys, tmp_path):

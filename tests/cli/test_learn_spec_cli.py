@@ -2,16 +2,12 @@
 
 import json
 
-from symlearn.cli.main import main
+from cli_runner import run
 from symlearn.data import Demonstrations, Trajectory
 from symlearn.logic.grounding import Labeling
 from symlearn.rendering import dot_available
 
 
-def run(capsys, *args):
-    code = main([str(a) for a in args])
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
 
 
 def test_json_document_and_files(capsys, tmp_path):

@@ -2,13 +2,9 @@ import json
 
 import pytest
 
-from symlearn.cli.main import main
+from cli_runner import run
 
 
-def run(capsys, *args):
-    code = main([str(a) for a in args])
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
 
 
 def test_parse_prints_canonical_form_and_size(capsys):
