@@ -90,7 +90,10 @@ class LogicConstraintInference:
     unobserved pair is likely any more). The ILP step must cover every demonstrated pair but
     may leave an inferred constraint uncovered at ``penalty`` (a rule costs its length), since
     inference can pick an allowed pair that no demonstration happened to show.
-    ``noise=True`` accepts demonstrations that break ``known`` constraints with a warning.
+    ``noise=True`` declares the demonstrations noisy: pairs that break ``known`` constraints are
+    counted in a warning instead of an error, and the ILP step may then also leave a
+    demonstrated pair uncovered at ``penalty`` (a slip of one expert need not block a rule the
+    rest support; the rule still has to be cheaper than the penalties it incurs).
 
     ``start`` is where the nominal visitation starts (see :class:`MLConstraintInference`). The
     default 0.1 keeps 90 % of the mass on the demonstrations' starts (the maximum-likelihood
@@ -197,9 +200,13 @@ class LogicConstraintInference:
         lm = self.domain
         t0 = time.perf_counter()
         next(self._bar_iter, None)
-        positives = number_examples((lm.facts(s, a), True) for s, a in np.argwhere(seen & ~lm.unavailable))
+        # Demonstrated pairs are taken as valid unless the data is declared noisy: then a rule may
+        # forbid one at a penalty too (an expert's slip should not block a rule every other
+        # demonstration supports).
+        positives = number_examples(((lm.facts(s, a), True) for s, a in np.argwhere(seen & ~lm.unavailable)),
+                                    self.penalty if self.noise else None)
         # Inferred constraints may be wrong (an allowed pair nobody happened to demonstrate), so
-        # each negative may be left uncovered at a penalty; demonstrated pairs are taken as valid.
+        # each negative may be left uncovered at a penalty.
         negatives = number_examples(((lm.facts(s, a), False) for s, a in np.argwhere(forbidden & ~lm.unavailable)),
                                     self.penalty)
         self._last_negatives = forbidden & ~lm.unavailable
