@@ -82,7 +82,7 @@ def _constraints(args: argparse.Namespace, out) -> None:
     if args.known:
         known = known | setting.logic.rule_mask(Path(args.known))
     try:
-        doc, learned = _run(method, setting, demos, args, known, out)
+        doc, learned, learner = _run(method, setting, demos, args, known, out)
     except DataError as exc:
         if args.demos and not exc.file:
             raise DataError(exc.message, file=args.demos, hint=exc.hint) from None
@@ -90,9 +90,8 @@ def _constraints(args: argparse.Namespace, out) -> None:
     from symlearn.learners.constraint_metrics import constraint_metrics
 
     scores = constraint_metrics(learned, setting.truth, setting.space)
-    doc.update({"env": args.env, "method": method, "constraints": int((learned & setting.space).sum()),
+    doc.update({"env": args.env, "method": method, "constraints": scores["forbidden"],
                 "fpr": scores["fpr"], "fnr": scores["fnr"], "accuracy": scores["accuracy"]})
-    learner = doc.pop("_learner", None)
     if args.output:
         doc["files"] = [_write(args.output, method, doc, learned, setting, learner)]
     out.result(doc, _render)
@@ -111,8 +110,8 @@ def _run(method, setting, demos, args, known, out):
                      f"{step.n_constraints} forbidden pairs (inference {step.inference_seconds:.2f} s, "
                      f"induction {step.induction_seconds:.2f} s)")
         doc = {"rules": learner.rules_, "iterations": len(learner.history_), "seconds": learner.seconds_,
-               "history": [h.as_dict() for h in learner.history_], "_learner": learner}
-        return doc, learner.rule_constraints_
+               "history": [h.as_dict() for h in learner.history_]}
+        return doc, learner.rule_constraints_, learner
     if method == "ml":
         from symlearn.learners.ml_constraint_inference import MLConstraintInference
 
@@ -121,7 +120,7 @@ def _run(method, setting, demos, args, known, out):
                                         on_violation="warn" if args.noise else "error",
                                         rationality=setting.rationality).fit(demos)
         doc = {"rules": None, "iterations": len(learner.history_), "seconds": learner.seconds_}
-        return doc, learner.constraints_ & ~known
+        return doc, learner.constraints_ & ~known, learner
     from symlearn.learners.mce_icrl import MCEICRL
 
     learner = MCEICRL(setting.mdp, n_iterations=args.iterations or 300,
@@ -131,7 +130,7 @@ def _run(method, setting, demos, args, known, out):
     learned = learner.constraint_map_[targets] & setting.space
     doc = {"rules": None, "iterations": learner.n_iter_, "seconds": learner.seconds_,
            "multipliers": {setting.mdp.state_names[s]: float(v) for s, v in enumerate(learner.lambda_) if v > 0}}
-    return doc, learned
+    return doc, learned, learner
 
 
 def _write(output: str, method: str, doc: dict, learned, setting, learner) -> str:

@@ -43,7 +43,8 @@ Pair = tuple[Any, Any]
 class LogicMDP:
     """A :class:`TabularMDP` whose state-action ids map to the pairs of a :class:`LogicDomain`.
 
-    ``states[i]`` / ``actions[j]`` are the model's objects (``None`` for an exit state).
+    ``states[i]`` / ``actions[j]`` are the model's objects (an ``exit <side>`` marker for the
+    exit states of a junction).
     ``unavailable[s, a]`` marks ids that are no pair of the domain (exit states, Hanoi moves
     from an empty peg); ``truth_forbidden[s, a]`` the pairs the ground truth forbids.
     """
@@ -172,13 +173,10 @@ def _hanoi_mdp(domain: LogicDomain) -> LogicMDP:
     unavailable = np.array([[not model.is_available(s, m) for m in actions] for s in states])
     initial = np.zeros(len(states))
     initial[model.state_index(model.initial_state())] = 1.0
-    terminal = np.zeros(len(states), dtype=bool)
-    terminal[model.state_index(model.goal_state())] = True
-    P[terminal] = 0.0
-    P[terminal, :, terminal] = 1.0
-    mdp = TabularMDP(P, np.zeros(unavailable.shape), initial, terminal,
-                     tuple(map(str, states)), tuple(map(str, actions)))
-    unavailable[terminal] = True  # the game is over: nothing is demonstrated or inferred there
+    goal = model.state_index(model.goal_state())
+    mdp = TabularMDP(P, np.zeros(unavailable.shape), initial, np.zeros(len(states), dtype=bool),
+                     tuple(map(str, states)), tuple(map(str, actions))).make_absorbing([goal])
+    unavailable[goal] = True  # the game is over: nothing is demonstrated or inferred there
     return LogicMDP(domain, mdp, states, actions, unavailable, {s: i for i, s in enumerate(states)})
 
 

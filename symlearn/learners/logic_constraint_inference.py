@@ -33,7 +33,7 @@ ended), so only demonstrations, background knowledge and bias are needed.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -68,18 +68,6 @@ class LogicIteration:
                 "rules": list(self.rules), "optimal": self.optimal, "positives": self.n_positive,
                 "negatives": self.n_negative, "constraints": self.n_constraints,
                 "inference_seconds": self.inference_seconds, "induction_seconds": self.induction_seconds}
-
-
-@dataclass
-class _Induction:
-    """What the ILP step of the current iteration did (filled in by the ``generalize`` hook)."""
-
-    rules: tuple[str, ...] = ()
-    optimal: bool = True
-    n_positive: int = 0
-    n_negative: int = 0
-    seconds: float = 0.0
-    cache: dict[tuple[str, ...], np.ndarray] = field(default_factory=dict)
 
 
 class LogicConstraintInference:
@@ -139,8 +127,9 @@ class LogicConstraintInference:
         known = lm.unavailable & ~lm.mdp.terminal[:, None]
         if self.known is not None:
             known = known | check_mask(lm.mdp, self.known, "known constraints")
-        state = _Induction()
-        self._state = state
+        # Pairs each induced rule set forbids: consecutive iterations often induce the same rules,
+        # and translating them back is a full answer-set enumeration.
+        self._rule_masks: dict[tuple[str, ...], np.ndarray] = {}
         self._best: tuple[tuple[str, ...], Any] = ((), None)
         inference = MLConstraintInference(
             lm.mdp, reward=self.reward, horizon=self.horizon, max_iterations=self.iterations,
@@ -169,8 +158,7 @@ class LogicConstraintInference:
         self.rules_ = list(rules)
         self.hypothesis_ = hypothesis
         self.constraints_ = closed & ~lm.unavailable
-        self.rule_constraints_ = (self._state.cache.get(rules, np.zeros_like(self.constraints_))
-                                  if hypothesis is not None else np.zeros_like(self.constraints_))
+        self.rule_constraints_ = self._rule_masks.get(rules, np.zeros_like(self.constraints_))
         self.inferred_ = np.zeros_like(self.constraints_)
         for step in inference.history_:
             self.inferred_[step.state, step.action] = True
@@ -219,9 +207,9 @@ class LogicConstraintInference:
             rules = tuple(result.hypothesis.rules)
             optimal = result.optimal
             self._best = (rules, result.hypothesis)
-            if rules not in self._state.cache:
-                self._state.cache[rules] = lm.rule_mask(list(rules)) if rules else np.zeros_like(forbidden)
-            extra = self._state.cache[rules]
+            if rules not in self._rule_masks:
+                self._rule_masks[rules] = lm.rule_mask(list(rules)) if rules else np.zeros_like(forbidden)
+            extra = self._rule_masks[rules]
         self._records.append((rules, optimal, len(positives), len(negatives), time.perf_counter() - t0))
         return extra
 
