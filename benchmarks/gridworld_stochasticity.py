@@ -25,8 +25,8 @@ import numpy as np
 
 from symlearn.data import record
 from symlearn.envs.gridworld import StochasticGridworld
-from symlearn.learners.mce_icrl import MCEICRL, MEICRL
-from symlearn.learners.ml_constraint_inference import MLConstraintInference
+from symlearn.learners.constraints.mce_icrl import MCEICRL, MEICRL
+from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
 from symlearn.rl.tabular import sample_rollouts
 
 METHODS = ("expert", "MCE-ICRL", "ME-ICRL", "ML-inference")

@@ -49,13 +49,13 @@ from typing import Any
 import numpy as np
 
 from symlearn.envs.logic_mdp import LogicMDP, logic_mdp
-from symlearn.learners.constraint_metrics import constraint_metrics, reachable_pairs
-from symlearn.learners.logic_constraint_inference import LogicConstraintInference
+from symlearn.learners.constraints.constraint_metrics import constraint_metrics, reachable_pairs
+from symlearn.learners.constraints.logic_constraint_inference import LogicConstraintInference
 from symlearn.rl.tabular import restrict
 
-FULL = {"domains": ["traffic-lights", "traffic-priority"], "ns": [5, 15, 30, 100, 500],
+FULL = {"domains": ["junction-lights", "junction-priority"], "ns": [5, 15, 30, 100, 500],
         "etas": [5, 10, 20, 30], "hanoi_ns": [1, 3, 10]}
-QUICK = {"domains": ["traffic-lights", "traffic-priority"], "ns": [5, 30], "etas": [5, 20], "hanoi_ns": [3]}
+QUICK = {"domains": ["junction-lights", "junction-priority"], "ns": [5, 30], "etas": [5, 20], "hanoi_ns": [3]}
 
 _MDPS: dict[str, LogicMDP] = {}
 STARTS = ("uniform", "demonstrations")
@@ -141,7 +141,7 @@ def _logic_rows(lm, demos, name, n, seed, etas, horizon, start, reach_truth, ml_
 
 
 def _ml_only(lm: LogicMDP, demos, eta: int, horizon: int, known: np.ndarray) -> dict[str, Any]:
-    from symlearn.learners.ml_constraint_inference import MLConstraintInference
+    from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
 
     learner = MLConstraintInference(lm.mdp, reward="sparse", horizon=horizon, max_iterations=eta,
                                     known_constraints=known).fit(demos)  # its own default start

@@ -26,7 +26,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from symlearn.data.ltl_samples import load_sample  # noqa: E402
-from symlearn.learners.separating_ltl import learn_from_sample  # noqa: E402
+from symlearn.learners.temporal.separating_ltl import learn_from_sample  # noqa: E402
 from symlearn.logic.ltlf import parse, size  # noqa: E402
 from symlearn.logic.ltlf.vectorized import evaluate_many  # noqa: E402
 
@@ -89,7 +89,7 @@ def main(argv=None) -> int:
                   "method": result.method}
         record["solved"] = bool(separates) and result.seconds <= args.timeout
         if not args.no_peer:
-            from symlearn.learners.scarlet_peer import run_scarlet
+            from symlearn.learners.temporal.scarlet_peer import run_scarlet
 
             peer = run_scarlet(sample, timeout=args.peer_timeout)
             record.update(peer_formula=peer.formula, peer_size=peer.size, peer_seconds=peer.seconds,

@@ -125,14 +125,14 @@ def measure(text: str, dialect: str, peer: bool) -> dict:
     best = float("inf")
     for _ in range(3):
         start = time.perf_counter()
-        table = translate(f, max_states=500_000)
+        dfa = translate(f, max_states=500_000)
         best = min(best, time.perf_counter() - start)
-    row = {"formula": text, "operators": operator_count(f), "states": table.n_states, "edges": table.n_edges,
+    row = {"formula": text, "operators": operator_count(f), "states": dfa.n_states, "edges": dfa.n_edges,
            "ours_s": best}
     mona = mona_dfa(f)
     row["mona_s"] = mona.seconds
     row["mona_states"] = len(mona.word_states())
-    row["identical"] = not compare(table, mona)
+    row["identical"] = not compare(dfa, mona)
     if peer:
         row["ltlf2dfa_s"], row["ltlf2dfa_timeout"] = _ltlf2dfa_seconds(f, PEER_TIMEOUT)
     del _sys

@@ -18,7 +18,7 @@ epsilon-greedy tabular Q-learners in :class:`~symlearn.envs.junction_env.Junctio
 * ``LC-QL raw``: the rules' pairs without that closure (reported to show why it is needed).
 
 Transfer (combined 7 x 7 junction: one-way roads + priority + lights): the rules learned in
-``lights`` (1) and ``priority`` (2) are plain rule text; ``logic_mdp("traffic-combined")
+``lights`` (1) and ``priority`` (2) are plain rule text; ``logic_mdp("junction-combined")
 .rule_mask(rules)`` translates them to the pairs of the combined domain (same ``bk.lp``, size 7:
 the symbol grounding). Agents: QL, LC-QL(1), LC-QL(2), LC-QL(1+2).
 
@@ -61,10 +61,11 @@ import warnings
 import numpy as np
 
 from symlearn.backends import Shield
-from symlearn.envs.junction_env import JunctionEnv, env_mask, routes
+from symlearn.backends.masks import env_mask
+from symlearn.envs.junction_env import JunctionEnv, routes
 from symlearn.envs.logic_mdp import logic_mdp
-from symlearn.learners.logic_constraint_inference import LogicConstraintInference
-from symlearn.learners.ml_constraint_inference import MLConstraintInference
+from symlearn.learners.constraints.logic_constraint_inference import LogicConstraintInference
+from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
 from symlearn.rl.q_learning import q_learning
 
 WINDOW = 20
@@ -72,10 +73,15 @@ DEFAULT_START = inspect.signature(LogicConstraintInference).parameters["start"].
 SETTINGS = {"learning_rate": 0.9, "discount": 0.75, "epsilon": 0.05}
 
 
+def junction_mask(lm, variant: str, forbidden: np.ndarray, close: bool = True) -> np.ndarray:
+    """A junction domain's mask over the observation ids of that junction's environment."""
+    return env_mask(lm.mdp, forbidden, JunctionEnv(variant).state_names, unavailable=lm.unavailable, close=close)
+
+
 # --- learning the constraints ------------------------------------------------------------------
 def learn_constraints(variant: str, n_demos: int, iterations: int, demo_seed: int,
                       start: str = DEFAULT_START) -> dict:
-    lm = logic_mdp(f"traffic-{variant}")
+    lm = logic_mdp(f"junction-{variant}")
     demos = lm.expert_demonstrations(n_demos, seed=demo_seed)
     t0 = time.perf_counter()
     lc = LogicConstraintInference(lm, iterations=iterations, start=start).fit(demos)
@@ -88,7 +94,7 @@ def learn_constraints(variant: str, n_demos: int, iterations: int, demo_seed: in
     truth = lm.truth_forbidden
     valid = ~lm.unavailable
     rule_pairs = lc.rule_constraints_ & valid
-    closed = env_mask(lm, lc.rule_constraints_)
+    closed = junction_mask(lm, variant, lc.rule_constraints_)
     n = closed.shape[0]
     missed = truth & ~rule_pairs
     inference_only = ml.constraints_ & valid
@@ -99,9 +105,9 @@ def learn_constraints(variant: str, n_demos: int, iterations: int, demo_seed: in
         "ml_iterations_run": len(ml.history_),
         "inference_seconds": [h["inference_seconds"] for h in history],
         "induction_seconds": [h["induction_seconds"] for h in history],
-        "masks": {"C-QL": env_mask(lm, ml.constraints_, close=False),
+        "masks": {"C-QL": junction_mask(lm, variant, ml.constraints_, close=False),
                   "LC-QL": closed,
-                  "LC-QL raw": env_mask(lm, lc.rule_constraints_, close=False)},
+                  "LC-QL raw": junction_mask(lm, variant, lc.rule_constraints_, close=False)},
         "recovery": {
             "truth_forbidden": int(truth.sum()),
             "rules_forbid": int(rule_pairs.sum()), "rules_false_positive": int((rule_pairs & ~truth).sum()),
@@ -300,14 +306,14 @@ def main(argv: list[str] | None = None) -> int:
                                                test_at)
 
     print("transfer: translating the rules to the combined junction", file=sys.stderr, flush=True)
-    target = logic_mdp("traffic-combined")
+    target = logic_mdp("junction-combined")
     t0 = time.perf_counter()
     r1, r2 = learned["lights"]["rules"], learned["priority"]["rules"]
     transfer_masks = {"QL": None}
     transfer_recovery = {}
     for name, rules in (("LC-QL(1)", r1), ("LC-QL(2)", r2), ("LC-QL(1+2)", r1 + r2)):
         raw = target.rule_mask(rules) if rules else np.zeros_like(target.unavailable)
-        closed = env_mask(target, raw)
+        closed = junction_mask(target, "combined", raw)
         transfer_masks[name] = closed
         n = closed.shape[0]
         truth = target.truth_forbidden[:n]

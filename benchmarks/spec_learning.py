@@ -46,7 +46,8 @@ QUICK_TASKS = ["office-1", "office-2", "office-3", "craft-1"]
 # --- evaluation of a formula -------------------------------------------------------------------
 def evaluate_formula(formula, env, truth: str, labeling, seed: int) -> dict:
     """Train a nominal policy on ``formula`` by CRM Q-learning and score it on ``truth``."""
-    from symlearn.envs.spec_experts import successor_table, task_machine
+    from symlearn.backends.reward_machine import task_machine
+    from symlearn.envs.spec_experts import successor_table
     from symlearn.logic.ltlf import holds, parse
     from symlearn.rl.crm_q_learning import crm_q_learning, policy_entropy, sample_episodes
 
@@ -102,11 +103,11 @@ def scarlet(positives, negatives, alphabet, timeout: float) -> tuple[str | None,
 
 
 def _scarlet_peer(positives, negatives, alphabet, timeout: float) -> tuple[str | None, float, bool]:
-    """Through the project's Scarlet adapter (symlearn.learners.scarlet_peer) when it can start its
+    """Through the project's Scarlet adapter (symlearn.learners.temporal.scarlet_peer) when it can start its
     child process here, else through the minimal subprocess adapter above."""
     try:
         from symlearn.data.ltl_samples import sample_from_traces
-        from symlearn.learners.scarlet_peer import run_scarlet
+        from symlearn.learners.temporal.scarlet_peer import run_scarlet
 
         result = run_scarlet(sample_from_traces(positives, negatives, propositions=alphabet), timeout=timeout)
         return result.formula, result.seconds, result.finished
@@ -118,7 +119,7 @@ def _scarlet_peer(positives, negatives, alphabet, timeout: float) -> tuple[str |
 def run_job(job: dict) -> dict:
     from symlearn.envs.spec_experts import expert_demonstrations
     from symlearn.envs.spec_tasks import get_task
-    from symlearn.learners.spec_from_demos import SpecLearner
+    from symlearn.learners.temporal.spec_from_demos import SpecLearner
     from symlearn.logic.ltlf import parse, size
 
     task = get_task(job["task"])

@@ -64,9 +64,8 @@ assert verdicts.tolist()[:200] == [holds(spec, t) for t in traces[:200]]"""),
 The translation progresses formula obligations symbolically (the 2^|AP| letters are never
 listed one by one) and minimises; edges carry propositional guards."""),
     new_code_cell("""start = time.perf_counter()
-table = translate(spec)
-print(f"{table.n_states} states, {table.n_edges} edges in {1000 * (time.perf_counter() - start):.2f} ms")
-dfa = table.to_dfa()
+dfa = translate(spec)
+print(f"{dfa.n_states} states, {dfa.n_edges} edges in {1000 * (time.perf_counter() - start):.2f} ms")
 assert all(dfa.accepts(t) == bool(v) for t, v in zip(traces[:300], verdicts[:300]))
 svg = dot_to_svg_text(dfa.to_dot(title=to_string(spec)))
 display(SVG(svg)) if svg else print(dfa.to_dot())"""),
@@ -85,9 +84,9 @@ old traces, and redraw."""),
     new_code_cell("""edited = parse("G(!lava) & (parcel T (door T deliver))")
 for name, trace in [("good", good), ("sneaky", sneaky), ("burnt", burnt)]:
     print(f"{name:7s} old {holds(spec, trace)!s:5s} new {holds(edited, trace)}")
-edited_table = translate(edited)
-print(f"edited DFA: {edited_table.n_states} states, {edited_table.n_edges} edges")
-svg = dot_to_svg_text(edited_table.to_dfa().to_dot(title=to_string(edited)))
+edited_dfa = translate(edited)
+print(f"edited DFA: {edited_dfa.n_states} states, {edited_dfa.n_edges} edges")
+svg = dot_to_svg_text(edited_dfa.to_dot(title=to_string(edited)))
 display(SVG(svg)) if svg else None"""),
     new_markdown_cell("""Simplification and equivalence help keep edited specs tidy: `T` chains are the same as
 nested eventualities, and redundant parts disappear."""),

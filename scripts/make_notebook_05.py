@@ -18,8 +18,8 @@ import numpy as np
 
 from symlearn.data import record
 from symlearn.envs.gridworld import StochasticGridworld, make_gridworld, ACTIONS
-from symlearn.learners.mce_icrl import MCEICRL, MEICRL
-from symlearn.learners.ml_constraint_inference import MLConstraintInference
+from symlearn.learners.constraints.mce_icrl import MCEICRL, MEICRL
+from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
 from symlearn.rl.tabular import sample_rollouts
 from symlearn.errors import SymlearnError
 

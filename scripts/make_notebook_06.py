@@ -17,7 +17,7 @@ proven smallest."""),
 from pathlib import Path
 
 from symlearn.data.ltl_samples import load_sample, sample_from_traces
-from symlearn.learners.separating_ltl import learn_from_sample, learn_ltl
+from symlearn.learners.temporal.separating_ltl import learn_from_sample, learn_ltl
 from symlearn.logic.ltlf import holds, parse, size
 from symlearn.logic.ltlf.vectorized import evaluate_many
 

@@ -18,7 +18,7 @@ It starts from `true` and a random walk and stops when the best gain drops below
 new_code_cell("""import os
 from symlearn.envs.spec_tasks import get_task
 from symlearn.envs.spec_experts import expert_demonstrations
-from symlearn.learners.spec_from_demos import SpecLearner
+from symlearn.learners.temporal.spec_from_demos import SpecLearner
 
 QUICK = os.environ.get("SYMLEARN_QUICK") == "1"
 N_DEMOS = 10 if QUICK else 50

@@ -17,11 +17,11 @@ Q-learning agent so that it never breaks them, not even while exploring."""),
 import numpy as np
 
 from symlearn.envs.logic_mdp import logic_mdp
-from symlearn.learners.logic_constraint_inference import LogicConstraintInference
-from symlearn.learners.constraint_metrics import constraint_metrics
+from symlearn.learners.constraints.logic_constraint_inference import LogicConstraintInference
+from symlearn.learners.constraints.constraint_metrics import constraint_metrics
 
 QUICK = os.environ.get("SYMLEARN_QUICK") == "1"
-lm = logic_mdp("traffic-priority")
+lm = logic_mdp("junction-priority")
 demos = lm.expert_demonstrations(50 if QUICK else 100, seed=0)
 print(lm.mdp.n_states, "states x", lm.mdp.n_actions, "actions;", len(demos), "demonstrations")
 print("first drive:", [lm.mdp.state_names[s] for s in demos[0].states])"""),
@@ -54,13 +54,18 @@ print("edited:", constraint_metrics(lm.rule_mask(reloaded), lm.truth_forbidden, 
 Q-learning with epsilon 0.05, learning rate 0.9, discount 0.75; the cost is the L1 distance to
 the goal plus 10 for every broken rule. The shield masks the actions the learned rules forbid
 (`info["action_mask"]`), so the shielded agent never breaks a learned rule."""),
-    new_code_cell("""from symlearn.backends.shield import Shield
-from symlearn.envs.junction_env import JunctionEnv, env_mask
+    new_code_cell("""from symlearn.backends.masks import env_mask
+from symlearn.backends.shield import Shield
+from symlearn.envs.junction_env import JunctionEnv
 from symlearn.rl.q_learning import q_learning
 
+# The learned rules forbid pairs of the domain's model; env_mask closes that set and keeps the
+# pairs of the states the environment observes (checked by name: the same ids, the same order).
+env = JunctionEnv("priority")
+mask = env_mask(lm.mdp, learner.rule_constraints_, env.state_names, unavailable=lm.unavailable)
 episodes = 150 if QUICK else 500
 plain = q_learning(JunctionEnv("priority"), episodes, seed=0)
-shielded = q_learning(Shield(JunctionEnv("priority"), env_mask(lm, learner.rule_constraints_), seed=0), episodes, seed=0)
+shielded = q_learning(Shield(env, mask, seed=0), episodes, seed=0)
 print("rule violations while training: plain", int(plain.violations.sum()), " shielded", int(shielded.violations.sum()))
 print("mean cost of the last 20 episodes: plain", -plain.returns[-20:].mean(), " shielded", -shielded.returns[-20:].mean())"""),
     new_markdown_cell("""## Transfer
@@ -69,7 +74,7 @@ The rules speak of roads, lights and cars, not of cells, so they carry over to a
 junction with a traffic light as well (the same background knowledge, sized to the new grid).
 Rules from the priority junction cover its one-way and priority rules but know nothing of red
 lights."""),
-    new_code_cell("""combined = logic_mdp("traffic-combined")
+    new_code_cell("""combined = logic_mdp("junction-combined")
 transferred = combined.rule_mask(learner.rules_)
 print(constraint_metrics(transferred, combined.truth_forbidden, ~combined.unavailable))"""),
     new_markdown_cell("""## Bad input is reported, not crashed on"""),

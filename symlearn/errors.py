@@ -62,6 +62,10 @@ class DataError(SymlearnError):
     """Demonstrations or arrays that are malformed: ragged, NaN/inf, mismatched lengths, empty."""
 
 
+class UnknownNameError(DataError):
+    """A name that is none of the known ones (environment, task, domain); the hint lists them."""
+
+
 class ModelError(SymlearnError):
     """An inconsistent model: a transition tensor that is not stochastic, an unknown state, ..."""
 

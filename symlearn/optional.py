@@ -36,6 +36,10 @@ ENGINES: dict[str, Engine] = {
         Engine("sumo", ("traci", "sumo"), (), "SUMO traffic demonstrations", "pip install 'symlearn[sumo]'"),
         Engine("mujoco", ("mujoco",), (), "MuJoCo environments", "pip install 'symlearn[mujoco]'"),
         Engine("highway", ("highway_env",), (), "highway-env environments", "pip install 'symlearn[highway]'"),
+        Engine("sb3", ("stable_baselines3",), (), "stable-baselines3 agents on shields and reward machines",
+               "pip install 'symlearn[sb3]'"),
+        Engine("sb3_contrib", ("sb3_contrib",), (), "masked policies (MaskablePPO) on shields",
+               "pip install 'symlearn[sb3]'"),
         Engine("graphviz", (), ("dot",), "rendering automata to SVG/PNG",
                "apt-get install graphviz (or brew install graphviz)"),
     )

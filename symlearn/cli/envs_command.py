@@ -1,4 +1,11 @@
-"""``symlearn envs``: the bundled environments and what can be learned in each."""
+"""``symlearn envs``: the bundled environments (:mod:`symlearn.envs.registry`) and what can be
+learned in each.
+
+``--json`` prints ``{"constraints": [...], "specs": [...], "gymnasium": [...]}``: one row per
+registry entry of kind ``constraints`` (with the size of its MDP and ground truth) or ``spec``
+(with its formula), each with ``kinds``, ``methods`` and ``gym_id`` (``null`` where there is no
+gymnasium environment), then one row per gymnasium id with the entries that use it.
+"""
 
 from __future__ import annotations
 
@@ -6,27 +13,35 @@ from __future__ import annotations
 def register(subparsers, common) -> None:
     parser = subparsers.add_parser(
         "envs", parents=[common()], help="list the bundled environments",
-        description="List the bundled environments: where constraints can be learned (`symlearn learn constraints`) "
-                    "and where task specifications can be learned (`symlearn learn spec`).")
+        description="List the bundled environments: where constraints can be learned (`symlearn learn constraints`), "
+                    "where task specifications can be learned (`symlearn learn spec`), and their gymnasium ids.")
     parser.set_defaults(handler=_envs)
 
 
 def _envs(args, out) -> None:
-    from symlearn.envs.constraint_envs import CONSTRAINT_ENVS, constraint_setting
-    from symlearn.envs.spec_tasks import TASKS
+    from symlearn.envs.constraint_envs import constraint_setting
+    from symlearn.envs.registry import Kind, entries
 
     constraints = []
-    for name, (domain, description) in CONSTRAINT_ENVS.items():
-        setting = constraint_setting(name)
-        constraints.append({
-            "name": name, "description": description, "states": setting.mdp.n_states,
-            "actions": setting.mdp.n_actions, "pairs": int(setting.space.sum()),
-            "forbidden_by_truth": int(setting.truth.sum()),
-            "methods": ["logic", "ml"] if domain else ["ml", "mce-icrl"],
-        })
-    specs = [{"name": t.name, "env": t.env_name, "formula": t.formula, "description": t.description}
-             for t in TASKS.values()]
-    out.result({"constraints": constraints, "specs": specs}, _render)
+    for entry in entries(Kind.CONSTRAINTS):
+        setting = constraint_setting(entry.name)
+        constraints.append({**_row(entry), "states": setting.mdp.n_states, "actions": setting.mdp.n_actions,
+                            "pairs": int(setting.space.sum()), "forbidden_by_truth": int(setting.truth.sum())})
+    specs = [{**_row(entry), "env": entry.gym_name, "formula": entry.formula} for entry in entries(Kind.SPEC)]
+    gym_ids: dict[str, list[str]] = {}
+    for entry in entries():
+        if entry.gym_id is not None:
+            gym_ids.setdefault(entry.gym_id, []).append(entry.name)
+    gymnasium = [{"id": gym_id, "entries": used_by} for gym_id, used_by in gym_ids.items()]
+    out.result({"constraints": constraints, "specs": specs, "gymnasium": gymnasium}, _render)
+
+
+def _row(entry) -> dict:
+    from symlearn.envs.registry import Kind
+
+    return {"name": entry.name, "description": entry.description,
+            "kinds": [kind.value for kind in Kind if kind in entry.kinds],
+            "methods": list(entry.methods), "gym_id": entry.gym_id}
 
 
 def _render(doc: dict) -> str:
@@ -38,4 +53,10 @@ def _render(doc: dict) -> str:
     lines.append("task specifications (symlearn learn spec --env NAME):")
     for r in doc["specs"]:
         lines.append(f"  {r['name']:<18} {r['formula']:<40} {r['description']}")
+    lines.append("gymnasium environments (import symlearn.envs, then gymnasium.make(ID)):")
+    for r in doc["gymnasium"]:
+        lines.append(f"  {r['id']:<30} {', '.join(r['entries'])}")
+    without = [r["name"] for r in doc["constraints"] + doc["specs"] if r["gym_id"] is None]
+    if without:
+        lines.append(f"  (no gymnasium environment: {', '.join(without)})")
     return "\n".join(lines)

@@ -68,8 +68,8 @@ def _spec(args: argparse.Namespace, out) -> None:
     from symlearn.envs.spec_experts import expert_demonstrations
     from symlearn.envs.spec_tasks import get_task
     from symlearn.errors import DataError
-    from symlearn.learners.spec_from_demos import SpecLearner
-    from symlearn.logic.grounding import Labeling
+    from symlearn.learners.temporal.spec_from_demos import SpecLearner
+    from symlearn.grounding.labeling import Labeling
 
     task = get_task(args.env)
     seed = getattr(args, "seed", 0)

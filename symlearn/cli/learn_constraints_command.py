@@ -87,7 +87,7 @@ def _constraints(args: argparse.Namespace, out) -> None:
         if args.demos and not exc.file:
             raise DataError(exc.message, file=args.demos, hint=exc.hint) from None
         raise
-    from symlearn.learners.constraint_metrics import constraint_metrics
+    from symlearn.learners.constraints.constraint_metrics import constraint_metrics
 
     scores = constraint_metrics(learned, setting.truth, setting.space)
     doc.update({"env": args.env, "method": method, "constraints": scores["forbidden"],
@@ -101,7 +101,7 @@ def _run(method, setting, demos, args, known, out):
     import numpy as np
 
     if method == "logic":
-        from symlearn.learners.logic_constraint_inference import LogicConstraintInference
+        from symlearn.learners.constraints.logic_constraint_inference import LogicConstraintInference
 
         learner = LogicConstraintInference(setting.logic, iterations=args.iterations or 20, horizon=args.horizon,
                                            noise=args.noise, known=known).fit(demos)
@@ -113,7 +113,7 @@ def _run(method, setting, demos, args, known, out):
                "history": [h.as_dict() for h in learner.history_]}
         return doc, learner.rule_constraints_, learner
     if method == "ml":
-        from symlearn.learners.ml_constraint_inference import MLConstraintInference
+        from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
 
         learner = MLConstraintInference(setting.mdp, reward=setting.reward, horizon=args.horizon,
                                         max_iterations=args.iterations or 200, known_constraints=known,
@@ -121,7 +121,7 @@ def _run(method, setting, demos, args, known, out):
                                         rationality=setting.rationality).fit(demos)
         doc = {"rules": None, "iterations": len(learner.history_), "seconds": learner.seconds_}
         return doc, learner.constraints_ & ~known, learner
-    from symlearn.learners.mce_icrl import MCEICRL
+    from symlearn.learners.constraints.mce_icrl import MCEICRL
 
     learner = MCEICRL(setting.mdp, n_iterations=args.iterations or 300,
                       on_violation="warn" if args.noise else "error").fit(demos)

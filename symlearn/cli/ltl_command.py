@@ -116,11 +116,11 @@ def _dfa(args: argparse.Namespace, out) -> None:
             formula = parse(text, args.dialect, source=args.file, line=number)
             start = time.perf_counter()
             try:
-                table = translate(formula, max_states=max_states)
+                dfa = translate(formula, max_states=max_states)
             except SymlearnError as exc:
                 exc.file, exc.line = args.file, number
                 raise
-            rows.append({"formula": text.strip(), "states": table.n_states, "edges": table.n_edges,
+            rows.append({"formula": text.strip(), "states": dfa.n_states, "edges": dfa.n_edges,
                          "seconds": round(time.perf_counter() - start, 6)})
 
         def render_rows(doc: list) -> str:
@@ -132,9 +132,8 @@ def _dfa(args: argparse.Namespace, out) -> None:
 
     formula = parse(args.formula, args.dialect)
     start = time.perf_counter()
-    table = translate(formula, max_states=max_states)
+    dfa = translate(formula, max_states=max_states)
     seconds = time.perf_counter() - start
-    dfa = table.to_dfa()
     written = []
     if args.dot:
         from symlearn.atomic import write_text
@@ -149,11 +148,12 @@ def _dfa(args: argparse.Namespace, out) -> None:
     if args.save:
         dfa.save(args.save)
         written.append(args.save)
+    dead = set(dfa.states) - dfa.live_states()  # a minimal complete DFA has at most one: the sink
     doc = {
-        "formula": args.formula, "states": table.n_states, "edges": table.n_edges,
-        "accepting": sorted(table.accepting), "sink": table.sink, "propositions": list(table.propositions),
+        "formula": args.formula, "states": dfa.n_states, "edges": dfa.n_edges,
+        "accepting": sorted(dfa.accepting), "sink": min(dead, default=None), "propositions": sorted(dfa.alphabet),
         "seconds": round(seconds, 6), "written": written,
-        "transitions": [[{"guard": str(g), "target": t} for g, t in edges] for edges in table.edges],
+        "transitions": [[{"guard": str(g), "target": t} for g, t in dfa.successors(q)] for q in dfa.states],
     }
 
     def render(d: dict) -> str:

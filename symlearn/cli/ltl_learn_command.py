@@ -37,7 +37,7 @@ def _render(doc: dict) -> str:
 def _learn(args: argparse.Namespace, out) -> None:
     from symlearn.data.ltl_samples import load_sample
     from symlearn.errors import SymlearnError
-    from symlearn.learners.separating_ltl import DEFAULT_OPERATORS, learn_from_sample
+    from symlearn.learners.temporal.separating_ltl import DEFAULT_OPERATORS, learn_from_sample
 
     if args.timeout <= 0:
         raise SymlearnError(f"--timeout must be positive, not {args.timeout}")

@@ -21,7 +21,7 @@ _QUICK = [("hanoi", 10, 5), ("junction-priority", 50, 10)]
 
 def run(context: DemoContext) -> Section:
     from symlearn.envs.constraint_envs import constraint_setting
-    from symlearn.learners.logic_constraint_inference import LogicConstraintInference
+    from symlearn.learners.constraints.logic_constraint_inference import LogicConstraintInference
 
     rows, figures, files, learned = [], {}, [], {}
     for name, n_demos, iterations in (_QUICK if context.quick else _FULL):
@@ -63,8 +63,9 @@ forbidden pairs; over every state-action pair of the domain. Rules: `constraints
 
 def _shielded_q_learning(context: DemoContext, learned: dict, figures: dict) -> str:
     """Plain vs rule-shielded Q-learning in each junction whose rules were learned above."""
+    from symlearn.backends.masks import env_mask
     from symlearn.backends.shield import Shield
-    from symlearn.envs.junction_env import JunctionEnv, env_mask
+    from symlearn.envs.junction_env import JunctionEnv
     from symlearn.rl.q_learning import q_learning
 
     episodes = 150 if context.quick else 400
@@ -74,7 +75,9 @@ def _shielded_q_learning(context: DemoContext, learned: dict, figures: dict) -> 
             continue
         variant = name.removeprefix("junction-")
         plain = q_learning(JunctionEnv(variant), episodes, seed=context.seed)
-        mask = env_mask(learner.domain, learner.rule_constraints_)
+        domain = learner.domain
+        mask = env_mask(domain.mdp, learner.rule_constraints_, JunctionEnv(variant).state_names,
+                        unavailable=domain.unavailable)
         shielded = q_learning(Shield(JunctionEnv(variant), mask, seed=context.seed), episodes, seed=context.seed)
         row = {"episodes": episodes, "plain_violations": int(plain.violations.sum()),
                "shielded_violations": int(shielded.violations.sum()),

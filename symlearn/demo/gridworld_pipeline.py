@@ -61,8 +61,8 @@ def run(context: DemoContext) -> Section:
     from symlearn.backends import Shield
     from symlearn.data import record
     from symlearn.envs.gridworld import StochasticGridworld, make_gridworld
-    from symlearn.learners.mce_icrl import MCEICRL
-    from symlearn.learners.ml_constraint_inference import MLConstraintInference
+    from symlearn.learners.constraints.mce_icrl import MCEICRL
+    from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
     from symlearn.rl.q_learning import q_learning
     from symlearn.rl.tabular import sample_rollouts
 

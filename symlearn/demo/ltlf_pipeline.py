@@ -80,9 +80,8 @@ def run(context: DemoContext) -> Section:
     agree = all(verdicts[k].tolist() == [holds(spec, w) for w in words[k]] for k in words)
 
     start = time.perf_counter()
-    table = translate(spec)
+    dfa = translate(spec)
     dfa_ms = 1000 * (time.perf_counter() - start)
-    dfa = table.to_dfa()
     _draw(dfa, to_string(spec), context, "spec_dfa", files)
     dfa_agrees = all(dfa.accepts(w) == bool(v) for k in words for w, v in zip(words[k], verdicts[k]))
 
@@ -93,8 +92,8 @@ def run(context: DemoContext) -> Section:
         from symlearn.logic.ltlf.mona import mona_dfa
 
         mona = mona_dfa(spec)
-        mona_identical = len(mona.word_states()) == table.n_states and \
-            dfa.equivalent(_mona_as_dfa(mona, table.propositions))[0]
+        mona_identical = len(mona.word_states()) == dfa.n_states and \
+            dfa.equivalent(_mona_as_dfa(mona, dfa.alphabet))[0]
 
     failing_index = int(np.flatnonzero(~verdicts["random"])[0]) if (~verdicts["random"]).any() else None
     explanation_md = "Every random episode satisfied the spec; nothing to explain."
@@ -110,8 +109,8 @@ def run(context: DemoContext) -> Section:
     edited = parse(EDITED_SPEC)
     write_text(context.path("ltlf", "spec_edited.ltl"), f"# edited: never return to the start tile\n{EDITED_SPEC}\n")
     files.append("ltlf/spec_edited.ltl")
-    edited_table = translate(edited)
-    _draw(edited_table.to_dfa(), to_string(edited), context, "spec_edited_dfa", files)
+    edited_dfa = translate(edited)
+    _draw(edited_dfa, to_string(edited), context, "spec_edited_dfa", files)
     edited_rates = {k: float(evaluate(edited, b).mean()) for k, b in batches.items()}
 
     rates = {k: float(v.mean()) for k, v in verdicts.items()}
@@ -121,9 +120,9 @@ def run(context: DemoContext) -> Section:
         "spec_satisfaction": rates,
         "edited_spec": to_string(edited),
         "edited_spec_satisfaction": edited_rates,
-        "dfa_states": table.n_states,
-        "dfa_edges": table.n_edges,
-        "edited_dfa_states": edited_table.n_states,
+        "dfa_states": dfa.n_states,
+        "dfa_edges": dfa.n_edges,
+        "edited_dfa_states": edited_dfa.n_states,
         "translation_ms": round(dfa_ms, 3),
         "vectorised_eval_ms_all_traces": round(eval_ms, 3),
         "vectorised_agrees_with_reference": agree,
@@ -144,14 +143,14 @@ Task spec (editable text in `ltlf/spec.ltl`): `{to_string(spec)}` — never step
 | value-iteration expert | {rates['expert']:.2f} | {edited_rates['expert']:.2f} |
 | uniform random | {rates['random']:.2f} | {edited_rates['random']:.2f} |
 
-Minimal DFA: {table.n_states} states, {table.n_edges} edges, built in {dfa_ms:.2f} ms
+Minimal DFA: {dfa.n_states} states, {dfa.n_edges} edges, built in {dfa_ms:.2f} ms
 (`ltlf/spec_dfa.dot`/`.svg`/`.json`); it accepts exactly the episodes the evaluator accepts
 ({dfa_agrees}). {mona_line}
 
 Explanation from the DFA: {explanation_md}
 
 Edited spec `{to_string(edited)}` (also: once the agent leaves the start tile it never returns):
-{edited_table.n_states} states; the slippery ice makes even the expert drift back to the start,
+{edited_dfa.n_states} states; the slippery ice makes even the expert drift back to the start,
 which the edited spec now counts as a violation.
 """
     return Section("LTLf task specification: evaluate, translate, explain (FrozenLake)", markdown, figures, files)

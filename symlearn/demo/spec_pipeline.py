@@ -18,7 +18,7 @@ TASK = "office-1"
 def run(context: DemoContext) -> Section:
     from symlearn.envs.spec_experts import expert_demonstrations
     from symlearn.envs.spec_tasks import get_task
-    from symlearn.learners.spec_from_demos import SpecLearner
+    from symlearn.learners.temporal.spec_from_demos import SpecLearner
 
     task = get_task(TASK)
     env = task.make_env()

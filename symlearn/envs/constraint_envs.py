@@ -29,9 +29,9 @@ from symlearn.mdp import TabularMDP
 #: name -> (logic domain name or None, one-line description)
 CONSTRAINT_ENVS: dict[str, tuple[str | None, str]] = {
     "hanoi": ("hanoi", "Towers of Hanoi, 3 disks: no disk on a smaller one"),
-    "junction-lights": ("traffic-lights", "5x5 junction with a traffic light, two-way roads"),
-    "junction-priority": ("traffic-priority", "5x5 junction with priority to the right, one-way roads"),
-    "junction-combined": ("traffic-combined", "7x7 junction: light + priority + one-way roads (transfer target)"),
+    "junction-lights": ("junction-lights", "5x5 junction with a traffic light, two-way roads"),
+    "junction-priority": ("junction-priority", "5x5 junction with priority to the right, one-way roads"),
+    "junction-combined": ("junction-combined", "7x7 junction: light + priority + one-way roads (transfer target)"),
     "gridworld": (None, "7x7 stochastic gridworld with a forbidden block (--stochasticity p)"),
 }
 

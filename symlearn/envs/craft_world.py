@@ -11,17 +11,14 @@ from __future__ import annotations
 import numpy as np
 
 from symlearn.envs.labelled_grid import LabelledGridEnv
+from symlearn.envs.registry import formulas
 from symlearn.errors import ModelError
 
 SIZE = 40
 RESOURCES = ("a", "b", "c", "d", "e", "f", "g")
 
-TASKS = {
-    "craft-1": "a T c",
-    "craft-2": "(a T e) & (f T e)",
-    "craft-3": "(a T b) & (f T b) & (c T b)",
-    "craft-4": "(a T e) & (f T e) & (e T g)",
-}
+# Task name -> ground-truth LTLf formula; the table of every bundled task is the registry.
+TASKS = formulas("craft")
 
 
 def make_craft_world(seed: int = 0, size: int = SIZE, per_resource: int = 5, max_steps: int = 400,

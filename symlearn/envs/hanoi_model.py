@@ -105,6 +105,11 @@ class HanoiMove:
     def __str__(self) -> str:
         return f"move top of peg {self.source} to peg {self.target}"
 
+    @property
+    def atom(self) -> str:
+        """A state-independent ASP name of the move (the ``move(D, P)`` fact depends on the state)."""
+        return f"move_peg({self.source},{self.target})"
+
 
 class HanoiModel:
     """The finite Towers of Hanoi domain (default: 3 disks, 3 pegs).

@@ -19,7 +19,7 @@ ground truth allows, negatives pairs it forbids. Two ways to choose the pairs:
 Both are deterministic for a given seed.
 
 >>> from symlearn.envs.logic_domains import logic_domain
->>> domain = logic_domain("traffic-lights")
+>>> domain = logic_domain("junction-lights")
 >>> examples = exhaustive_examples(domain)
 >>> len(examples), sum(e.positive for e in examples)
 (250, 54)
@@ -158,10 +158,10 @@ def write_task(path: str | os.PathLike[str], domain: LogicDomain, examples: Sequ
 DEFAULT_TASKS: dict[str, tuple[str, str]] = {
     "hanoi/tasks/hanoi.las": ("hanoi", "exhaustive"),
     "hanoi/tasks/hanoi_demos.las": ("hanoi", "demonstrations"),
-    "traffic/tasks/lights.las": ("traffic-lights", "exhaustive"),
-    "traffic/tasks/lights_demos.las": ("traffic-lights", "demonstrations"),
-    "traffic/tasks/priority.las": ("traffic-priority", "exhaustive"),
-    "traffic/tasks/priority_demos.las": ("traffic-priority", "demonstrations"),
+    "traffic/tasks/lights.las": ("junction-lights", "exhaustive"),
+    "traffic/tasks/lights_demos.las": ("junction-lights", "demonstrations"),
+    "traffic/tasks/priority.las": ("junction-priority", "exhaustive"),
+    "traffic/tasks/priority_demos.las": ("junction-priority", "demonstrations"),
 }
 
 #: Settings of the demonstration tasks (episodes, seed).

@@ -25,14 +25,16 @@ logic-constrained Q-learning experiments of the reference thesis (sections 3.4.4
   state-action pair just taken, ``model.example_facts``), ``state_facts`` (facts of the new
   state), ``cell``, ``distance``. ``reset`` reports ``state_facts`` and ``cell``.
 
-The project registers no gymnasium ids, so neither does this module; build the class directly.
+Registered with gymnasium as ``symlearn/junction-<variant>-v0`` (see :mod:`symlearn.envs.registry`);
+``gymnasium.make`` adds its checker wrappers, so build the class directly to get ``JunctionEnv``
+itself.
 
 **Constraint masks.** The observation ids are the first ``len(model.states())`` state ids of
 :func:`~symlearn.envs.logic_mdp.logic_mdp` of the same variant (it appends four absorbing exit
-states). :func:`env_mask` cuts a LogicMDP ``(S, A)`` mask down to the environment's ids, after
-checking that both orders agree, and optionally closes it with
-:func:`~symlearn.rl.tabular.restrict` (a state where every action is forbidden is *empty*, so
-the pairs that enter it are forbidden too) -- the restriction step of the thesis' Algorithm 3.1.
+states); ``state_names`` holds their names in id order, so
+:func:`symlearn.backends.masks.env_mask` can check that both orders agree when it cuts a
+domain's ``(S, A)`` mask down to the environment's ids (and closes it, the restriction step of
+the thesis' Algorithm 3.1).
 
 >>> env = JunctionEnv("lights", start=(3, 1), goal=(5, 3))
 >>> obs, info = env.reset(seed=0)
@@ -101,6 +103,8 @@ class JunctionEnv(gym.Env):
         self.violation_cost = float(violation_cost)
         self.render_mode = render_mode
         self.states: tuple[JunctionState, ...] = self.model.states()
+        # The names a domain model gives these states (str of each), for checking id orders.
+        self.state_names: tuple[str, ...] = tuple(map(str, self.states))
         self.actions: tuple[str, ...] = tuple(self.model.actions)
         self.observation_space = gym.spaces.Discrete(len(self.states))
         self.action_space = gym.spaces.Discrete(len(self.actions))
@@ -178,23 +182,4 @@ class JunctionEnv(gym.Env):
         return "\n".join(rows) + f"\n{self.states[self._state]}"
 
 
-def env_mask(lm: Any, forbidden: np.ndarray, *, close: bool = True) -> np.ndarray:
-    """A forbidden mask over a :class:`~symlearn.envs.logic_mdp.LogicMDP`'s ids, as a forbidden
-    mask over :class:`JunctionEnv` observation ids (optionally closed under the nominal MDP
-    first: pairs entering a state with no allowed action are forbidden too)."""
-    from symlearn.rl.tabular import restrict
-
-    model = lm.domain.model
-    n = len(model.states())
-    if tuple(lm.states[:n]) != tuple(model.states()):
-        raise ModelError(f"the state ids of {lm.name} do not start with the junction's states() order")
-    forbidden = np.asarray(forbidden, dtype=bool)
-    if forbidden.shape != lm.unavailable.shape:
-        raise ModelError(f"a {lm.name} mask must have shape {lm.unavailable.shape}, got {forbidden.shape}")
-    mask = forbidden & ~lm.unavailable
-    if close:
-        mask = restrict(lm.mdp, mask).forbidden & ~lm.unavailable
-    return mask[:n].copy()
-
-
-__all__ = ["JunctionEnv", "VIOLATION_COST", "arm_end", "env_mask", "routes"]
+__all__ = ["JunctionEnv", "VIOLATION_COST", "arm_end", "routes"]

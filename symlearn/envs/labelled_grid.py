@@ -16,7 +16,7 @@ import numpy as np
 from gymnasium import spaces
 
 from symlearn.errors import ModelError
-from symlearn.logic.grounding import Labeling
+from symlearn.grounding.labeling import Labeling
 from symlearn.mdp import TabularMDP
 
 ACTIONS = ("up", "right", "down", "left")

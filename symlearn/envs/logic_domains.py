@@ -20,7 +20,7 @@ files in ``background_kb/<folder>/``:
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Iterable, Iterator
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from symlearn.envs.registry import Kind, get, names
 from symlearn.errors import ModelError
 from symlearn.resources import background_kb_path
 
@@ -156,40 +157,32 @@ def _signature(atom: str) -> tuple[str, int]:
     return symbol.name, len(symbol.arguments)
 
 
-def _hanoi() -> LogicDomain:
+def hanoi_domain() -> LogicDomain:
+    """Towers of Hanoi (registry entry ``hanoi``)."""
     from symlearn.envs.hanoi_model import HanoiModel
 
     return LogicDomain("hanoi", "hanoi", "bk.lp", "space.lp", "bias.las", "truth.lp", HanoiModel(),
                        "Towers of Hanoi, 3 disks on 3 pegs: no disk on a smaller disk")
 
 
-def _traffic(variant: str) -> Callable[[], LogicDomain]:
-    def build() -> LogicDomain:
-        from symlearn.envs.traffic_model import TrafficJunction
+def junction_domain(variant: str) -> LogicDomain:
+    """The traffic junction ``variant`` (registry entries ``junction-<variant>``); its files
+    live in ``background_kb/traffic/``."""
+    from symlearn.envs.traffic_model import TrafficJunction
 
-        what = {"lights": "traffic-light junction, two-way roads",
-                "priority": "junction with priority to the right, one-way roads",
-                "combined": "junction with a traffic light, priority to the right and one-way roads"}[variant]
-        model = TrafficJunction(variant)
-        return LogicDomain(f"traffic-{variant}", "traffic", "bk.lp", f"space_{variant}.lp",
-                           f"bias_{variant}.las", f"truth_{variant}.lp", model,
-                           f"{model.size} x {model.size} {what}")
-    return build
+    what = {"lights": "traffic-light junction, two-way roads",
+            "priority": "junction with priority to the right, one-way roads",
+            "combined": "junction with a traffic light, priority to the right and one-way roads"}[variant]
+    model = TrafficJunction(variant)
+    return LogicDomain(f"junction-{variant}", "traffic", "bk.lp", f"space_{variant}.lp",
+                       f"bias_{variant}.las", f"truth_{variant}.lp", model, f"{model.size} x {model.size} {what}")
 
 
-_DOMAINS: dict[str, Callable[[], LogicDomain]] = {
-    "hanoi": _hanoi,
-    "traffic-lights": _traffic("lights"),
-    "traffic-priority": _traffic("priority"),
-    "traffic-combined": _traffic("combined"),
-}
-
-DOMAIN_NAMES: tuple[str, ...] = tuple(_DOMAINS)
+#: The bundled logic domains: the registry entries that have ASP facts (kind ``rules``).
+DOMAIN_NAMES: tuple[str, ...] = names(Kind.RULES)
 
 
 def logic_domain(name: str) -> LogicDomain:
-    """The bundled domain called ``name`` (one of :data:`DOMAIN_NAMES`)."""
-    try:
-        return _DOMAINS[name]()
-    except KeyError:
-        raise ModelError(f"unknown logic domain {name!r}", hint=f"use one of {', '.join(DOMAIN_NAMES)}") from None
+    """The bundled domain called ``name`` (one of :data:`DOMAIN_NAMES`); an unknown name raises
+    :class:`~symlearn.errors.UnknownNameError` listing them."""
+    return get(name, Kind.RULES, what="logic domain").domain()

@@ -1,10 +1,11 @@
-"""A logic domain as a tabular MDP: the model the constraint-inference loop plans in.
+"""A bundled logic domain as a :class:`~symlearn.grounding.Domain`: the model the learners plan in.
 
 :class:`~symlearn.envs.logic_domains.LogicDomain` knows states, actions, the ground truth and
-the ASP facts of every pair; the exact algorithms need transition tensors. :func:`logic_mdp`
-builds the *nominal* MDP (no rule removes any action) and keeps the index in both directions,
-so that a forbidden ``(S, A)`` mask, a list of domain pairs and a set of ASP examples can be
-turned into one another.
+the ASP facts of every pair as Python objects; the learners need a
+:class:`~symlearn.grounding.Domain` (nominal tabular MDP, fact grounding by integer ids,
+background, bias, truth) -- the same class a user's domain folder loads into. :func:`logic_mdp`
+builds that domain (``.domain``) and keeps the index between ids and the model's objects in
+both directions, plus the bundled experts, which a user's domain does not have.
 
 * **Hanoi**: the 60 configurations, the 6 moves "top disk of peg i to peg j"; a move from an
   empty peg is no pair of the domain (the ASP side cannot even describe it), so it is
@@ -15,11 +16,13 @@ turned into one another.
   there. The observation is redrawn after every step with the model's probabilities, so the
   dynamics are stochastic; drives start at an entry of the roads. Exit states are no pairs.
 
->>> lm = logic_mdp("traffic-lights")
+>>> lm = logic_mdp("junction-lights")
 >>> lm.mdp.n_states, lm.mdp.n_actions, int(lm.unavailable.sum())
 (54, 5, 20)
->>> int(lm.truth_forbidden.sum()), len(lm.domain.pairs()) - sum(ok for _, ok in lm.domain.pairs())
+>>> int(lm.truth_forbidden.sum()), len(lm.logic.pairs()) - sum(ok for _, ok in lm.logic.pairs())
 (196, 196)
+>>> lm.domain
+Domain('junction-lights': 54 states x 5 actions, 250 pairs, truth)
 """
 
 from __future__ import annotations
@@ -27,6 +30,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -34,6 +38,8 @@ import numpy as np
 from symlearn.data import Demonstrations, Trajectory
 from symlearn.envs.logic_domains import LogicDomain, logic_domain
 from symlearn.errors import DataError, ModelError
+from symlearn.grounding import Domain, FactGrounding
+from symlearn.logic.asp.program import Program
 from symlearn.mdp import TabularMDP
 
 Pair = tuple[Any, Any]
@@ -41,24 +47,32 @@ Pair = tuple[Any, Any]
 
 @dataclass(frozen=True, eq=False)
 class LogicMDP:
-    """A :class:`TabularMDP` whose state-action ids map to the pairs of a :class:`LogicDomain`.
+    """A bundled :class:`~symlearn.grounding.Domain` with the model objects behind its ids.
 
+    ``domain`` is what learners take; ``logic`` the :class:`LogicDomain` (model, files);
     ``states[i]`` / ``actions[j]`` are the model's objects (an ``exit <side>`` marker for the
-    exit states of a junction).
-    ``unavailable[s, a]`` marks ids that are no pair of the domain (exit states, Hanoi moves
-    from an empty peg); ``truth_forbidden[s, a]`` the pairs the ground truth forbids.
+    exit states of a junction). ``unavailable[s, a]`` marks ids that are no pair of the domain
+    (exit states, Hanoi moves from an empty peg); ``truth_forbidden[s, a]`` the pairs the
+    ground truth forbids.
     """
 
-    domain: LogicDomain
-    mdp: TabularMDP
+    logic: LogicDomain
+    domain: Domain
     states: tuple[Any, ...]
     actions: tuple[Any, ...]
-    unavailable: np.ndarray
     _state_ids: dict[Any, int] = field(repr=False)
 
     @property
     def name(self) -> str:
         return self.domain.name
+
+    @property
+    def mdp(self) -> TabularMDP:
+        return self.domain.mdp
+
+    @property
+    def unavailable(self) -> np.ndarray:
+        return self.domain.unavailable
 
     def pair(self, s: int, a: int) -> Pair | None:
         """The domain pair of ids ``(s, a)``, or ``None`` where it is no pair."""
@@ -83,21 +97,18 @@ class LogicMDP:
 
     @cached_property
     def truth_forbidden(self) -> np.ndarray:
-        """Pairs the domain's ground truth forbids (never an unavailable id)."""
+        """Pairs the domain's ground truth forbids (never an unavailable id), from the model."""
         truth = np.zeros(self.unavailable.shape, dtype=bool)
         for (s, a) in np.argwhere(~self.unavailable):
-            truth[s, a] = not self.domain.is_allowed(self.states[s], self.actions[a])
+            truth[s, a] = not self.logic.is_allowed(self.states[s], self.actions[a])
         return truth
 
     def facts(self, s: int, a: int) -> tuple[str, ...]:
-        pair = self.pair(s, a)
-        if pair is None:
-            raise ModelError(f"ids ({s}, {a}) are no state-action pair of {self.name}")
-        return self.domain.facts(*pair)
+        return self.domain.facts(s, a)
 
     def rule_mask(self, rules: Iterable[str] | str) -> np.ndarray:
-        """Every pair a rule set forbids (answer sets of B that are no answer sets of B u H)."""
-        return self.mask(self.domain.forbidden_pairs(rules))
+        """Every pair a rule set forbids (see :meth:`symlearn.grounding.Domain.rule_mask`)."""
+        return self.domain.rule_mask(rules if isinstance(rules, (str, Path)) else list(rules))
 
     # --- demonstrations ----------------------------------------------------------------------
     def expert_demonstrations(self, n: int, seed: int = 0, source: str = "native") -> Demonstrations:
@@ -113,7 +124,7 @@ class LogicMDP:
             raise DataError(f"the number of demonstrations must be at least 1, got {n}")
         if source not in ("native", "sumo"):
             raise DataError(f"unknown demonstration source {source!r}", hint="use 'native' or 'sumo'")
-        model = self.domain.model
+        model = self.logic.model
         if source == "sumo":
             if not hasattr(model, "next_cell") or model.variant not in ("lights", "priority"):
                 raise DataError(f"SUMO drives only the lights and priority junctions, not {self.name}")
@@ -140,7 +151,7 @@ class LogicMDP:
         return Demonstrations(trajectories)
 
     def _final_state(self, state: Any, action: Any) -> int | None:
-        model = self.domain.model
+        model = self.logic.model
         if hasattr(model, "next_cell"):
             if model.next_cell(state.cell, action) is not None:
                 return None
@@ -158,12 +169,38 @@ class _Exit:
 
 
 def logic_mdp(domain: LogicDomain | str) -> LogicMDP:
-    """The nominal tabular MDP of a bundled logic domain (``hanoi``, ``traffic-*``)."""
+    """The bundled logic domain (``hanoi``, ``junction-*``) with its nominal tabular MDP."""
     domain = logic_domain(domain) if isinstance(domain, str) else domain
     model = domain.model
     if hasattr(model, "next_cell"):
         return _junction_mdp(domain)
     return _hanoi_mdp(domain)
+
+
+def _grounded(logic: LogicDomain, mdp: TabularMDP, states: Sequence[Any], actions: Sequence[Any],
+              unavailable: np.ndarray) -> LogicMDP:
+    """Tabulate the model's facts by ids: every pair's context (Hanoi's move atom depends on
+    the state: ``move(D, P)`` names the disk on top), every state's facts, one atom per action."""
+    ids = {s: i for i, s in enumerate(states)}
+    pair_facts = {(s, a): tuple(logic.facts(states[s], actions[a])) for s, a in np.argwhere(~unavailable).tolist()}
+    state_facts = [tuple(logic.state_facts(x)) if not isinstance(x, _Exit) else (f"exit({x.side}).",) for x in states]
+    atoms = [_action_atom(logic, states, unavailable, a) for a in range(len(actions))]
+    grounding = FactGrounding(state_facts, atoms, pair_facts=pair_facts, source=str(logic.bk_path))
+    domain = Domain(logic.name, background=Program.from_text(logic.background(), source=str(logic.bk_path)),
+                    bias=logic.bias(), grounding=grounding, mdp=mdp, truth=logic.truth_path.read_text(encoding="utf-8"),
+                    available=~unavailable, description=logic.description,
+                    sources={"bias": str(logic.bias_path), "truth": str(logic.truth_path)})
+    return LogicMDP(logic, domain, tuple(states), tuple(actions), ids)
+
+
+def _action_atom(logic: LogicDomain, states: Sequence[Any], unavailable: np.ndarray, a: int) -> str:
+    """A state-independent name for action ``a``: its atom where that is the same in every state
+    (junction moves), else the model's name for the move (Hanoi ``move(0,2)``: peg to peg)."""
+    model = logic.model
+    found = {logic.action_fact(states[s], model.actions[a]).rstrip(".") for s in np.flatnonzero(~unavailable[:, a])}
+    if len(found) == 1:
+        return found.pop()
+    return getattr(model.actions[a], "atom", f"action({a})")
 
 
 def _hanoi_mdp(domain: LogicDomain) -> LogicMDP:
@@ -177,7 +214,7 @@ def _hanoi_mdp(domain: LogicDomain) -> LogicMDP:
     mdp = TabularMDP(P, np.zeros(unavailable.shape), initial, np.zeros(len(states), dtype=bool),
                      tuple(map(str, states)), tuple(map(str, actions))).make_absorbing([goal])
     unavailable[goal] = True  # the game is over: nothing is demonstrated or inferred there
-    return LogicMDP(domain, mdp, states, actions, unavailable, {s: i for i, s in enumerate(states)})
+    return _grounded(domain, mdp, states, actions, unavailable)
 
 
 def _junction_mdp(domain: LogicDomain) -> LogicMDP:
@@ -217,7 +254,7 @@ def _junction_mdp(domain: LogicDomain) -> LogicMDP:
     unavailable[terminal] = True
     mdp = TabularMDP(P, np.zeros((n_s, n_a)), initial, terminal,
                      tuple(map(str, states)), actions)
-    return LogicMDP(domain, mdp, tuple(states), actions, unavailable, ids)
+    return _grounded(domain, mdp, states, actions, unavailable)
 
 
 __all__ = ["LogicMDP", "logic_mdp"]

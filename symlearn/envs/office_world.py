@@ -8,6 +8,7 @@ The task specifications are those of the thesis, Table 5.1 (``T`` is "then": ``F
 from __future__ import annotations
 
 from symlearn.envs.labelled_grid import LabelledGridEnv
+from symlearn.envs.registry import formulas
 
 WIDTH, HEIGHT, ROOM = 12, 9, 3
 START = (2, 1)
@@ -23,12 +24,8 @@ HORIZONTAL_DOORS = [(x, y) for y in (1, 7) for x in (2, 5, 8)]
 # Doors between vertically adjacent rooms: the cell pair (x, y) <-> (x, y + 1).
 VERTICAL_DOORS = [(x, 5) for x in (1, 4, 7, 10)] + [(x, 2) for x in (1, 10)]
 
-TASKS = {
-    "office-1": "(f T g) & G !n",
-    "office-2": "(e T g) & G !n",
-    "office-3": "(f T g) & (e T g) & G !n",
-    "office-4": "(a T b) & (b T c) & (c T d) & G !n",
-}
+# Task name -> ground-truth LTLf formula; the table of every bundled task is the registry.
+TASKS = formulas("office")
 
 
 def _walls():

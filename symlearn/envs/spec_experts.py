@@ -33,16 +33,6 @@ def state_labels(env, labeling=None) -> list[frozenset[str]]:
     return [labeling.label(s) for s in range(int(env.observation_space.n))]
 
 
-def task_machine(formula):
-    """The reward machine of an LTLf formula (text or AST): reward 1 on entering acceptance."""
-    from symlearn.logic.automata.reward_machine import RewardMachine
-    from symlearn.logic.ltlf import parse, to_dfa
-
-    if isinstance(formula, str):
-        formula = parse(formula)
-    return RewardMachine.from_dfa(to_dfa(formula))
-
-
 @dataclass
 class ProductSolution:
     """Optimal ``q_values[s, u, a]`` of a task; the same shape as a CRM result."""
@@ -63,11 +53,12 @@ class ProductSolution:
 def solve_task(env, formula, *, labeling=None, discount: float = DISCOUNT, tol: float = 1e-10,
                max_iterations: int = 100_000) -> ProductSolution:
     """Exact optimal values of ``formula`` in ``env`` by value iteration on the product."""
+    from symlearn.logic.automata.reward_machine import RewardMachine
     from symlearn.rl.crm_q_learning import MachineTables, label_ids
 
     succ = successor_table(env)
     ids, distinct = label_ids(state_labels(env, labeling))
-    tables = MachineTables.compile(task_machine(formula), distinct)
+    tables = MachineTables.compile(RewardMachine.from_formula(formula), distinct)
     lab_next = ids[succ]  # (S, A)
     nu = tables.next_u[:, lab_next]  # (U, S, A)
     r = tables.reward[:, lab_next]

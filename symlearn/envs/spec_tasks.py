@@ -1,7 +1,8 @@
 """The task-specification benchmark: eight named tasks in the office and craft worlds.
 
 Each task pairs an environment factory with its ground-truth LTLf formula (thesis Table 5.1,
-``T`` is "then"). The labeling is the environment's own (:attr:`LabelledGridEnv.labeling`).
+``T`` is "then"), both from the ``spec`` entries of :mod:`symlearn.envs.registry`. The labeling
+is the environment's own (:attr:`LabelledGridEnv.labeling`).
 
 >>> task = get_task("office-1")
 >>> task.formula, task.env_name
@@ -14,10 +15,9 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from difflib import get_close_matches
 from typing import Any
 
-from symlearn.errors import DataError
+from symlearn.envs.registry import Entry, Kind, entries, get
 
 
 @dataclass(frozen=True)
@@ -46,47 +46,16 @@ class SpecTask:
                 "propositions": env.labeling.meanings, "description": self.description}
 
 
-def _office(**kwargs: Any):
-    from symlearn.envs.office_world import make_office_world
-
-    return make_office_world(**kwargs)
+def _task(entry: Entry) -> SpecTask:
+    return SpecTask(entry.name, entry.gym_name, entry.formula, entry.env, entry.description)
 
 
-def _craft(seed: int = 0, **kwargs: Any):
-    from symlearn.envs.craft_world import make_craft_world
-
-    return make_craft_world(seed=seed, **kwargs)
-
-
-def _build() -> dict[str, SpecTask]:
-    from symlearn.envs import craft_world, office_world
-
-    words = {
-        "office-1": "fetch coffee, then deliver it to g, never touching a decoration",
-        "office-2": "fetch mail, then deliver it to g, never touching a decoration",
-        "office-3": "fetch coffee and mail (any order), then deliver both to g, avoiding decorations",
-        "office-4": "visit offices a, b, c, d in this order, avoiding decorations",
-        "craft-1": "get a, then use it at c",
-        "craft-2": "get a and f, then use both at e",
-        "craft-3": "get a, f and c, then use them at b",
-        "craft-4": "get a and f, use them at e, then go to g",
-    }
-    tasks = {name: SpecTask(name, "office", formula, _office, words[name])
-             for name, formula in office_world.TASKS.items()}
-    tasks.update({name: SpecTask(name, "craft", formula, _craft, words[name])
-                  for name, formula in craft_world.TASKS.items()})
-    return tasks
-
-
-TASKS: dict[str, SpecTask] = _build()
+#: The specification tasks of the registry (:mod:`symlearn.envs.registry`), by name.
+TASKS: dict[str, SpecTask] = {entry.name: _task(entry) for entry in entries(Kind.SPEC)}
 
 
 def get_task(name: str) -> SpecTask:
-    """The task called ``name`` (case-insensitive), or a :class:`DataError` listing the names."""
-    key = str(name).strip().lower()
-    if key in TASKS:
-        return TASKS[key]
-    close = get_close_matches(key, list(TASKS), n=1)
-    hint = f"did you mean {close[0]!r}? " if close else ""
-    raise DataError(f"unknown environment/task {name!r}",
-                    hint=hint + "known tasks: " + ", ".join(sorted(TASKS)))
+    """The task called ``name`` (case-insensitive), or an
+    :class:`~symlearn.errors.UnknownNameError` (a ``DataError``) naming the closest and the
+    known tasks."""
+    return TASKS[get(name, Kind.SPEC, what="environment/task").name]

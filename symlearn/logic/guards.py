@@ -20,33 +20,47 @@ tightest, then ``&``, then ``|``. ``str(g)`` prints a minimal sum of products ov
 support (Quine-McCluskey via sympy for up to 8 propositions, a greedy cover by prime implicants
 computed on the BDD above that) and ``Guard.parse(str(g)) == g`` always holds.
 
-The node table only grows; it holds one entry per distinct sub-function ever built, which
-stays small for automaton guards.
+Memory: the shared table keeps the nodes that live guards reach. Nodes of guards that no longer
+exist are freed by :func:`collect`, which runs by itself each time the table has doubled
+(from 2^17 nodes on), so a long run that builds and drops automata does not grow without bound.
 """
 
 from __future__ import annotations
 
 import re
-from collections.abc import Iterable, Iterator, Mapping
-from typing import AbstractSet
+import weakref
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from functools import lru_cache
+from typing import AbstractSet
 
 from symlearn.errors import LimitExceededError, ParseError
+from symlearn.logic.bdd import BDD
 
-__all__ = ["Guard", "GuardParseError"]
+__all__ = ["Guard", "GuardParseError", "from_bdd", "collect", "node_count"]
 
 _FALSE, _TRUE = 0, 1
-# _var[n], _low[n], _high[n] describe node n >= 2; terminals have var None.
-_var: list[str | None] = [None, None]
-_low: list[int] = [0, 1]
-_high: list[int] = [0, 1]
-_unique: dict[tuple[str, int, int], int] = {}
-_and_cache: dict[tuple[int, int], int] = {}
-_or_cache: dict[tuple[int, int], int] = {}
-_not_cache: dict[int, int] = {}
-_support_cache: dict[int, frozenset[str]] = {_FALSE: frozenset(), _TRUE: frozenset()}
+# Every guard lives in this one manager (variables: proposition names), so guards of different
+# automata combine and compare without conversion. _var/_low/_high alias its node lists (changed
+# only in place) for the hot loops below.
+_MANAGER = BDD()
+_var, _low, _high = _MANAGER.level, _MANAGER.low, _MANAGER.high
+_and = _MANAGER.apply_and
+_or = _MANAGER.apply_or
+_not = _MANAGER.negate
+_make = _MANAGER.node
+_support = _MANAGER.support
+# node -> weak reference to the one Guard object holding it: the live guards are the roots from
+# which collect() keeps nodes, and one object per node lets an operation whose result already
+# has a guard return that object instead of allocating another.
+_guards: dict[int, weakref.ref] = {}
 _text_cache: dict[int, str] = {}
 _label_cache: dict[int, frozenset[str]] = {}
+
+# Collect when the node lists pass this length, then when they pass twice the nodes left live
+# (or their old length: freed ids are reused first). Each collection costs time linear in the
+# table and frees at least half of it, so it is amortised O(1) per node built.
+_COLLECT_FROM = 1 << 17
+_collect_at = _COLLECT_FROM
 
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _KEYWORDS = {"true", "false"}
@@ -57,100 +71,91 @@ class GuardParseError(ParseError):
     """Guard text that does not follow ``grammars/guard.lark``."""
 
 
-def _make(var: str, low: int, high: int) -> int:
-    if low == high:
-        return low
-    key = (var, low, high)
-    node = _unique.get(key)
-    if node is None:
-        node = len(_var)
-        _var.append(var)
-        _low.append(low)
-        _high.append(high)
-        _unique[key] = node
+def _wrap(node: int) -> Guard:
+    """The Guard of ``node`` (the existing object when one is alive)."""
+    ref = _guards.get(node)
+    if ref is not None:
+        guard = ref()
+        if guard is not None:
+            return guard
+    guard = object.__new__(Guard)
+    object.__setattr__(guard, "_node", node)
+    _guards[node] = weakref.ref(guard)
+    return guard
+
+
+def _maybe_collect() -> None:
+    # Called only at the start of public operations, where every node in use is held by a Guard:
+    # internal helpers keep raw node ids in local variables, which collect() cannot see.
+    if len(_var) > _collect_at:
+        collect()
+
+
+def collect() -> int:
+    """Free the guard nodes no live :class:`Guard` reaches; return how many were freed.
+
+    Runs by itself whenever the table has doubled since the last collection; call it to
+    release memory earlier. Live guards keep their identity, equality and hash.
+    """
+    global _collect_at
+    dead = [node for node, ref in _guards.items() if ref() is None]
+    for node in dead:
+        del _guards[node]
+    freed = _MANAGER.collect(_guards)
+    _text_cache.clear()
+    _label_cache.clear()
+    _cover.cache_clear()
+    _collect_at = max(_COLLECT_FROM, 2 * len(_MANAGER), len(_var))
+    return freed
+
+
+def node_count() -> int:
+    """Nodes in the shared guard table (terminals included)."""
+    return len(_MANAGER)
+
+
+def _cube_node(literals: Mapping[str, bool]) -> int:
+    node = _TRUE
+    for name in sorted(literals, reverse=True):  # build bottom-up: no apply needed
+        node = _make(name, node, _FALSE) if not literals[name] else _make(name, _FALSE, node)
     return node
 
 
-def _top(u: int, v: int) -> str:
-    a, b = _var[u], _var[v]
-    if a is None:
-        return b  # type: ignore[return-value]
-    if b is None or a <= b:
-        return a
-    return b
+def _evaluate(u: int, label: AbstractSet[str]) -> bool:
+    while u > _TRUE:
+        u = _high[u] if _var[u] in label else _low[u]
+    return u == _TRUE
 
 
-def _cofactors(u: int, var: str) -> tuple[int, int]:
-    if _var[u] == var:
-        return _low[u], _high[u]
-    return u, u
+def from_bdd(bdd: BDD, nodes: Sequence[int], names: Sequence[str]) -> list[Guard]:
+    """The guards of ``nodes`` of another manager whose variable ``i`` is proposition ``names[i]``.
 
+    ``names`` must be sorted (variable order = name order, as in the shared table), so each
+    node maps to exactly one guard node; nodes shared between the inputs are converted once.
+    """
+    if list(names) != sorted(names):
+        raise ValueError("from_bdd needs the variables in proposition-name order")
+    _maybe_collect()
+    memo = {_FALSE: _FALSE, _TRUE: _TRUE}
+    level, low, high = bdd.level, bdd.low, bdd.high
 
-def _apply(u: int, v: int, absorbing: int, cache: dict[tuple[int, int], int]) -> int:
-    """``u & v`` (``absorbing`` false) or ``u | v`` (``absorbing`` true), Shannon expansion."""
-    if u == absorbing or v == absorbing:
-        return absorbing
-    if u == 1 - absorbing:  # the neutral constant
-        return v
-    if v == 1 - absorbing or u == v:
-        return u
-    key = (u, v) if u < v else (v, u)
-    hit = cache.get(key)
-    if hit is not None:
-        return hit
-    var = _top(u, v)
-    u0, u1 = _cofactors(u, var)
-    v0, v1 = _cofactors(v, var)
-    result = _make(var, _apply(u0, v0, absorbing, cache), _apply(u1, v1, absorbing, cache))
-    cache[key] = result
-    return result
+    def convert(u: int) -> int:
+        found = memo.get(u)
+        if found is None:
+            found = memo[u] = _make(names[level[u]], convert(low[u]), convert(high[u]))
+        return found
 
-
-def _and(u: int, v: int) -> int:
-    return _apply(u, v, _FALSE, _and_cache)
-
-
-def _or(u: int, v: int) -> int:
-    return _apply(u, v, _TRUE, _or_cache)
-
-
-def _not(u: int) -> int:
-    if u <= _TRUE:
-        return 1 - u
-    hit = _not_cache.get(u)
-    if hit is None:
-        hit = _make(_var[u], _not(_low[u]), _not(_high[u]))  # type: ignore[arg-type]
-        _not_cache[u] = hit
-        _not_cache[hit] = u
-    return hit
-
-
-def _support(u: int) -> frozenset[str]:
-    hit = _support_cache.get(u)
-    if hit is None:
-        hit = _support(_low[u]) | _support(_high[u]) | {_var[u]}  # type: ignore[operator]
-        _support_cache[u] = hit
-    return hit
-
-
-def _restrict(u: int, var: str, value: bool) -> int:
-    if u <= _TRUE:
-        return u
-    name = _var[u]
-    if name == var:
-        return _high[u] if value else _low[u]
-    if name > var:  # type: ignore[operator]
-        return u  # var cannot occur below a later variable
-    return _make(name, _restrict(_low[u], var, value), _restrict(_high[u], var, value))  # type: ignore[arg-type]
+    converted = [convert(u) for u in nodes]  # every node is built before any Guard exists
+    return [_wrap(u) for u in converted]
 
 
 class Guard:
     """An immutable propositional formula over proposition names; ``==`` is equivalence."""
 
-    __slots__ = ("_node",)
+    __slots__ = ("_node", "__weakref__")
 
-    def __init__(self, node: int = _TRUE) -> None:  # prefer the named constructors
-        object.__setattr__(self, "_node", node)
+    def __new__(cls, node: int = _TRUE) -> Guard:  # prefer the named constructors
+        return _wrap(node)
 
     def __setattr__(self, name, value):
         raise AttributeError("Guard is immutable")
@@ -169,15 +174,14 @@ class Guard:
         """The guard true exactly when proposition ``name`` holds."""
         if not isinstance(name, str) or not name:
             raise ValueError(f"a proposition name must be a non-empty string, not {name!r}")
-        return Guard(_make(name, _FALSE, _TRUE))
+        _maybe_collect()
+        return _wrap(_make(name, _FALSE, _TRUE))
 
     @staticmethod
     def cube(literals: Mapping[str, bool]) -> Guard:
         """Conjunction of literals: ``{"a": True, "b": False}`` is ``a & !b``."""
-        node = _TRUE
-        for name in sorted(literals, reverse=True):  # build bottom-up: no apply needed
-            node = _make(name, node, _FALSE) if not literals[name] else _make(name, _FALSE, node)
-        return Guard(node)
+        _maybe_collect()
+        return _wrap(_cube_node(literals))
 
     @staticmethod
     def label(label: AbstractSet[str], alphabet: Iterable[str]) -> Guard:
@@ -186,17 +190,21 @@ class Guard:
 
     @staticmethod
     def any_of(guards: Iterable[Guard]) -> Guard:
+        guards = [_as_guard(g) for g in guards]  # built first: they may create guards themselves
+        _maybe_collect()
         node = _FALSE
         for g in guards:
             node = _or(node, g._node)
-        return Guard(node)
+        return _wrap(node)
 
     @staticmethod
     def all_of(guards: Iterable[Guard]) -> Guard:
+        guards = [_as_guard(g) for g in guards]
+        _maybe_collect()
         node = _TRUE
         for g in guards:
             node = _and(node, g._node)
-        return Guard(node)
+        return _wrap(node)
 
     @staticmethod
     def parse(text: str) -> Guard:
@@ -205,21 +213,26 @@ class Guard:
 
     # -- algebra ----------------------------------------------------------------------------
     def __and__(self, other: Guard) -> Guard:
-        return Guard(_and(self._node, _as_guard(other)._node))
+        _maybe_collect()
+        return _wrap(_and(self._node, _as_guard(other)._node))
 
     def __or__(self, other: Guard) -> Guard:
-        return Guard(_or(self._node, _as_guard(other)._node))
+        _maybe_collect()
+        return _wrap(_or(self._node, _as_guard(other)._node))
 
     def __invert__(self) -> Guard:
-        return Guard(_not(self._node))
+        _maybe_collect()
+        return _wrap(_not(self._node))
 
     def __sub__(self, other: Guard) -> Guard:
         """``g - h`` is ``g & ~h``."""
-        return Guard(_and(self._node, _not(_as_guard(other)._node)))
+        _maybe_collect()
+        return _wrap(_and(self._node, _not(_as_guard(other)._node)))
 
     def __xor__(self, other: Guard) -> Guard:
+        _maybe_collect()
         o = _as_guard(other)._node
-        return Guard(_or(_and(self._node, _not(o)), _and(_not(self._node), o)))
+        return _wrap(_or(_and(self._node, _not(o)), _and(_not(self._node), o)))
 
     def implies(self, other: Guard) -> bool:
         """Whether every label satisfying ``self`` satisfies ``other``."""
@@ -230,17 +243,21 @@ class Guard:
 
     def restrict(self, name: str, value: bool) -> Guard:
         """The cofactor with proposition ``name`` fixed to ``value``."""
-        return Guard(_restrict(self._node, name, value))
+        _maybe_collect()
+        return _wrap(_MANAGER.restrict(self._node, name, value))
 
     def exists(self, names: Iterable[str]) -> Guard:
         """Existential quantification: true where some value of ``names`` makes ``self`` true."""
+        names = list(names)
+        _maybe_collect()
         node = self._node
         for name in names:
-            node = _or(_restrict(node, name, False), _restrict(node, name, True))
-        return Guard(node)
+            node = _or(_MANAGER.restrict(node, name, False), _MANAGER.restrict(node, name, True))
+        return _wrap(node)
 
     def rename(self, mapping: Mapping[str, str]) -> Guard:
         """Substitute proposition names (the result is re-ordered canonically)."""
+        _maybe_collect()
         memo: dict[int, int] = {}
 
         def walk(u: int) -> int:
@@ -255,15 +272,12 @@ class Guard:
                 memo[u] = hit
             return hit
 
-        return Guard(walk(self._node))
+        return _wrap(walk(self._node))
 
     # -- queries ----------------------------------------------------------------------------
     def evaluate(self, label: AbstractSet[str]) -> bool:
         """Truth value under the label (the set of propositions that are true)."""
-        u = self._node
-        while u > _TRUE:
-            u = _high[u] if _var[u] in label else _low[u]
-        return u == _TRUE
+        return _evaluate(self._node, label)
 
     __call__ = evaluate
 
@@ -417,8 +431,8 @@ class Guard:
         return (0, ()) if label is None else (1, len(label), tuple(sorted(label)), len(self.propositions))
 
 
-_GUARD_TRUE = Guard(_TRUE)
-_GUARD_FALSE = Guard(_FALSE)
+_GUARD_TRUE = _wrap(_TRUE)
+_GUARD_FALSE = _wrap(_FALSE)
 
 
 def _as_guard(value) -> Guard:
@@ -470,10 +484,10 @@ def _prime_cover(u: int) -> list[tuple[tuple[str, bool], ...]]:
         cube = dict(next(_paths(remaining)))
         for name in sorted(cube):
             value = cube.pop(name)
-            if _and(Guard.cube(cube)._node, _not(u)) != _FALSE:
+            if _and(_cube_node(cube), _not(u)) != _FALSE:
                 cube[name] = value  # needed: without it the cube leaves u
         cubes.append(tuple(sorted(cube.items())))
-        remaining = _and(remaining, _not(Guard.cube(cube)._node))
+        remaining = _and(remaining, _not(_cube_node(cube)))
     return cubes
 
 
@@ -486,7 +500,7 @@ def _minimal_cover(u: int, support: list[str]) -> list[tuple[tuple[str, bool], .
     for bits in range(2 ** len(support)):
         values = [(bits >> (len(support) - 1 - i)) & 1 for i in range(len(support))]
         label = {name for name, bit in zip(support, values) if bit}
-        if Guard(u).evaluate(label):
+        if _evaluate(u, label):
             minterms.append(values)
     symbols = [Symbol(f"v{i}") for i in range(len(support))]
     expr = SOPform(symbols, minterms)

@@ -12,7 +12,7 @@ from symlearn.rl.q_learning import q_learning
 
 
 def _shielded(variant: str, rules_path) -> Shield:
-    domain = logic_domain(f"traffic-{variant}")
+    domain = logic_domain(f"junction-{variant}")
     env = JunctionEnv(variant)
     model = env.model
     hypothesis = Hypothesis.from_lp(rules_path, background=Program.from_text(domain.background()))
@@ -23,7 +23,7 @@ def _shielded(variant: str, rules_path) -> Shield:
 
 
 def test_truth_rules_as_a_shield_give_no_violations():
-    domain = logic_domain("traffic-priority")
+    domain = logic_domain("junction-priority")
     shielded = _shielded("priority", domain.truth_path)
     result = q_learning(shielded, 60, seed=0)
     assert result.violations.sum() == 0
@@ -32,7 +32,7 @@ def test_truth_rules_as_a_shield_give_no_violations():
 
 
 def test_masks_agree_with_the_ground_truth_in_every_state():
-    domain = logic_domain("traffic-lights")
+    domain = logic_domain("junction-lights")
     shielded = _shielded("lights", domain.truth_path)
     model = shielded.env.model
     for i, state in enumerate(model.states()):

@@ -4,7 +4,7 @@ import pytest
 from symlearn.backends import CostWrapper, Shield
 from symlearn.envs.gridworld import ACTIONS, StochasticGridworld, make_gridworld
 from symlearn.errors import ModelError, SymlearnError
-from symlearn.learners.mce_icrl import state_features
+from symlearn.learners.constraints.mce_icrl import state_features
 
 RIGHT = ACTIONS.index("right")
 UP = ACTIONS.index("up")

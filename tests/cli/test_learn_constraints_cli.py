@@ -26,7 +26,7 @@ def test_hanoi_rules_json_and_editable_file(capsys, tmp_path):
 
 
 def test_ml_on_a_junction_from_a_demonstrations_file_with_state_names(capsys, tmp_path):
-    lm = logic_mdp("traffic-priority")
+    lm = logic_mdp("junction-priority")
     demos = lm.expert_demonstrations(20, seed=1)
     named = Demonstrations([Trajectory(states=[lm.mdp.state_names[s] for s in t.states],
                                        actions=[lm.mdp.action_names[a] for a in t.actions]) for t in demos])
@@ -60,7 +60,7 @@ def test_unavailable_action_is_a_clear_error(capsys, tmp_path):
 
 
 def test_demonstrations_breaking_known_rules(capsys, tmp_path):
-    lm = logic_mdp("traffic-lights")
+    lm = logic_mdp("junction-lights")
     demos = lm.expert_demonstrations(5, seed=0)
     path = tmp_path / "demos.jsonl"
     demos.save(path)
@@ -107,7 +107,7 @@ def test_sumo_refuses_other_environments(capsys):
 
 
 def test_inconsistent_goal_label(capsys, tmp_path):
-    lm = logic_mdp("traffic-lights")
+    lm = logic_mdp("junction-lights")
     demo = lm.expert_demonstrations(1, seed=0)[0]
     wrong = lm.mdp.state_names[int(demo.states[0])]
     path = tmp_path / "bad.jsonl"

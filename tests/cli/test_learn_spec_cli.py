@@ -4,7 +4,7 @@ import json
 
 from cli_runner import run
 from symlearn.data import Demonstrations, Trajectory
-from symlearn.logic.grounding import Labeling
+from symlearn.grounding.labeling import Labeling
 from symlearn.rendering import dot_available
 
 

@@ -6,7 +6,7 @@ from symlearn.envs.asp_constants import set_constants
 from symlearn.envs.hanoi_model import HanoiModel
 from symlearn.envs.logic_domains import DOMAIN_NAMES, LogicDomain, logic_domain
 from symlearn.envs.traffic_model import TrafficJunction
-from symlearn.errors import ModelError
+from symlearn.errors import DataError, ModelError
 from symlearn.logic.asp import Hypothesis, Program, answer_sets
 
 
@@ -59,7 +59,7 @@ def test_truth_forbids_exactly_the_invalid_pairs(name):
 
 
 def test_forbidden_pairs_of_a_single_rule():
-    domain = logic_domain("traffic-priority")
+    domain = logic_domain("junction-priority")
     forbidden = domain.forbidden_pairs([":- go(west)."])
     assert len(forbidden) == 50 and all(a == "west" for _, a in forbidden)
     assert domain.forbidden_pairs(":- go(west), carOnTheRight.") == [(s, a) for s, a in forbidden if s.car_on_right]
@@ -71,9 +71,10 @@ def test_decode_rejects_a_non_pair():
         domain.decode(["at(0,0,0)", "move(0,1)", "on(1,2)"])
 
 
-def test_unknown_domain():
-    with pytest.raises(ModelError, match="unknown logic domain"):
+def test_unknown_domain_lists_the_known_ones():
+    with pytest.raises(DataError, match="unknown logic domain 'chess'") as info:
         logic_domain("chess")
+    assert "junction-lights" in info.value.hint
 
 
 @pytest.mark.parametrize("folder, model_factory, files", [

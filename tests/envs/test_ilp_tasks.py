@@ -38,7 +38,7 @@ def test_demonstration_examples_are_deterministic_and_truthful(name):
 
 
 def test_different_seeds_give_different_traffic_demonstrations():
-    domain = logic_domain("traffic-lights")
+    domain = logic_domain("junction-lights")
     assert demonstration_examples(domain, 5, seed=1) != demonstration_examples(domain, 5, seed=2)
 
 
@@ -57,7 +57,7 @@ def test_sampled_examples():
 
 
 def test_label_noise():
-    clean = exhaustive_examples(logic_domain("traffic-lights"))
+    clean = exhaustive_examples(logic_domain("junction-lights"))
     noisy = with_label_noise(clean, 0.1, penalty=3, seed=1)
     assert noisy == with_label_noise(clean, 0.1, penalty=3, seed=1)
     assert sum(a.positive != b.positive for a, b in zip(clean, noisy)) == 25
@@ -94,7 +94,7 @@ def test_bundled_tasks_are_up_to_date_and_parse(relative):
 
 
 def test_written_task_round_trips_through_the_parser(tmp_path):
-    domain = logic_domain("traffic-priority")
+    domain = logic_domain("junction-priority")
     examples = demonstration_examples(domain, n_episodes=3, seed=0, penalty=4)
     path = write_task(tmp_path / "t.las", domain, examples)
     task = parse_task(path.read_text(), source=str(path))

@@ -2,12 +2,18 @@ import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
 
-from symlearn.envs.junction_env import JunctionEnv, env_mask, routes
+from symlearn.backends.masks import env_mask
+from symlearn.envs.junction_env import JunctionEnv, routes
 from symlearn.envs.logic_mdp import logic_mdp
 from symlearn.envs.traffic_model import JunctionState, TrafficJunction
 from symlearn.errors import ModelError
 
 ACT = {name: i for i, name in enumerate(TrafficJunction().actions)}
+
+
+def junction_mask(lm, variant, forbidden, close=True):
+    """A junction domain's mask over the observation ids of that junction's environment."""
+    return env_mask(lm.mdp, forbidden, JunctionEnv(variant).state_names, unavailable=lm.unavailable, close=close)
 
 
 @pytest.mark.parametrize("variant", ["lights", "priority", "combined"])
@@ -84,20 +90,24 @@ def test_seeding_is_reproducible():
 @pytest.mark.parametrize("variant", ["lights", "priority", "combined"])
 def test_env_mask_matches_the_logic_mdp_ids(variant):
     env = JunctionEnv(variant)
-    lm = logic_mdp(f"traffic-{variant}")
+    lm = logic_mdp(f"junction-{variant}")
     assert tuple(lm.states[:env.observation_space.n]) == env.states
-    truth = env_mask(lm, lm.truth_forbidden, close=False)
+    truth = junction_mask(lm, variant, lm.truth_forbidden, close=False)
     np.testing.assert_array_equal(truth, env.violation_mask())
-    np.testing.assert_array_equal(env_mask(lm, lm.truth_forbidden), truth)  # the truth is closed already
+    # the truth is closed already
+    np.testing.assert_array_equal(junction_mask(lm, variant, lm.truth_forbidden), truth)
     with pytest.raises(ModelError):
-        env_mask(lm, truth)  # wrong shape: the LogicMDP has four exit states more
+        junction_mask(lm, variant, truth)  # wrong shape: the LogicMDP has four exit states more
+    with pytest.raises(ModelError):  # the ids of another variant are in another order
+        other = "priority" if variant != "priority" else "lights"
+        env_mask(lm.mdp, lm.truth_forbidden, JunctionEnv(other).state_names, unavailable=lm.unavailable)
 
 
 def test_closure_forbids_entering_states_where_everything_is_forbidden():
-    lm = logic_mdp("traffic-priority")
+    lm = logic_mdp("junction-priority")
     rules = [":- not onRoad(V) : dir(V).", ":- carOnTheRight, not go(zero)."]
-    raw = env_mask(lm, lm.rule_mask(rules), close=False)
-    closed = env_mask(lm, lm.rule_mask(rules))
+    raw = junction_mask(lm, "priority", lm.rule_mask(rules), close=False)
+    closed = junction_mask(lm, "priority", lm.rule_mask(rules))
     env = JunctionEnv("priority")
     north_arm = env.model.state_index(JunctionState(3, 4))
     assert not raw[north_arm, ACT["east"]] and closed[north_arm, ACT["east"]]  # (4, 4) is off the road

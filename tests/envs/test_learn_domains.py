@@ -92,8 +92,8 @@ def test_hanoi_demonstrations_give_the_expected_rule():
 
 
 @pytest.mark.parametrize("relative, domain", [
-    ("traffic/tasks/lights.las", "traffic-lights"),
-    ("traffic/tasks/priority.las", "traffic-priority"),
+    ("traffic/tasks/lights.las", "junction-lights"),
+    ("traffic/tasks/priority.las", "junction-priority"),
 ])
 def test_traffic_rules_classify_every_pair_like_the_truth(relative, domain):
     result, seconds = _learn(relative)
@@ -104,8 +104,8 @@ def test_traffic_rules_classify_every_pair_like_the_truth(relative, domain):
 
 
 @pytest.mark.parametrize("relative, domain", [
-    ("traffic/tasks/lights.las", "traffic-lights"),
-    ("traffic/tasks/priority.las", "traffic-priority"),
+    ("traffic/tasks/lights.las", "junction-lights"),
+    ("traffic/tasks/priority.las", "junction-priority"),
 ])
 def test_optimum_is_no_longer_than_the_truth(relative, domain):
     # every truth rule is in the space (ILASP: a mode without "(positive)" also gives the negated

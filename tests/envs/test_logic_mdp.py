@@ -6,7 +6,7 @@ import pytest
 from symlearn.envs.logic_mdp import LogicMDP, logic_mdp
 from symlearn.errors import DataError, ModelError
 
-NAMES = ["hanoi", "traffic-lights", "traffic-priority", "traffic-combined"]
+NAMES = ["hanoi", "junction-lights", "junction-priority", "junction-combined"]
 
 
 @pytest.fixture(scope="module", params=NAMES)
@@ -68,7 +68,7 @@ def test_truth_mask_is_the_domain_truth(lm):
         assert lm.truth_forbidden[s, a] == (not lm.domain.is_allowed(state, action))
 
 
-@pytest.mark.parametrize("name", ["hanoi", "traffic-lights", "traffic-priority"])
+@pytest.mark.parametrize("name", ["hanoi", "junction-lights", "junction-priority"])
 def test_truth_mask_equals_the_ground_truth_rules(name):
     lm = logic_mdp(name)
     np.testing.assert_array_equal(lm.rule_mask(lm.domain.truth_path.read_text()), lm.truth_forbidden)
@@ -99,5 +99,5 @@ def test_sizes_of_the_bundled_domains():
     hanoi = logic_mdp("hanoi")
     assert (hanoi.mdp.n_states, hanoi.mdp.n_actions) == (60, 6)
     assert int((~hanoi.unavailable).sum()) == 216 - 2  # minus the 2 moves of the goal configuration
-    lights = logic_mdp("traffic-lights")
+    lights = logic_mdp("junction-lights")
     assert (lights.mdp.n_states, lights.mdp.n_actions) == (54, 5)

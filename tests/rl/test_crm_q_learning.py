@@ -3,7 +3,8 @@
 import numpy as np
 import pytest
 
-from symlearn.envs.spec_experts import solve_task, state_labels, successor_table, task_machine
+from symlearn.backends.reward_machine import task_machine
+from symlearn.envs.spec_experts import solve_task, state_labels, successor_table
 from symlearn.envs.spec_tasks import get_task
 from symlearn.errors import ModelError
 from symlearn.logic.ltlf import holds, parse

@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
+from symlearn.logic.automata.dfa import DFA
 from symlearn.logic.ltlf.mona import MonaDFA
-from symlearn.logic.ltlf.to_dfa import DFATable
 
 
-def compare(ours: DFATable, mona: MonaDFA) -> list[str]:
+def compare(ours: DFA, mona: MonaDFA) -> list[str]:
     """Problems found (empty when the languages and state counts agree)."""
     problems = []
     start = (ours.initial, mona.word_start)
@@ -16,7 +16,7 @@ def compare(ours: DFATable, mona: MonaDFA) -> list[str]:
         if (q in ours.accepting) != (m in mona.accepting):
             problems.append(f"acceptance differs at ours {q} / MONA {m}")
             break
-        for g, t in ours.edges[q]:
+        for g, t in ours.successors(q):
             for h, u in mona.edges[m]:
                 if not (g & h).is_false() and (t, u) not in seen:
                     seen.add((t, u))

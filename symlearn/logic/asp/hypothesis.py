@@ -160,14 +160,18 @@ class Hypothesis:
                                         hint="raise the timeout or pass max_models")
 
     # -- files -----------------------------------------------------------------------------
-    def to_lp(self, path: str | os.PathLike[str], header: str | None = None) -> Path:
-        """Write the rules as an editable ``.lp`` file with a comment header."""
+    def lp_text(self, header: str | None = None) -> str:
+        """The rules as editable ``.lp`` text with a comment header (what :meth:`to_lp` writes)."""
         lines = [f"% {line}" if line else "%" for line in (header or "learned by symlearn").splitlines()]
         lines.append(f"% cost (total rule length): {self.cost}")
         lines.append("% edit the rules below; re-check with: symlearn ilp check TASK.las THIS.lp")
         lines.append("")
         lines.extend(self.rules)
-        return write_text(path, "\n".join(lines) + "\n")
+        return "\n".join(lines) + "\n"
+
+    def to_lp(self, path: str | os.PathLike[str], header: str | None = None) -> Path:
+        """Write the rules as an editable ``.lp`` file with a comment header."""
+        return write_text(path, self.lp_text(header))
 
     @classmethod
     def from_lp(cls, path: str | os.PathLike[str], background: Program | str | None = None) -> Hypothesis:

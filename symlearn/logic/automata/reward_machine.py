@@ -14,7 +14,9 @@ ones (all edges loop; this covers "done forever" and the rejecting sink), and wi
 States that can never accept get ``phi = 0``. The potential is non-negative on purpose: with
 ``gamma < 1`` a negative potential would pay ``(1 - gamma) * |phi|`` for standing still, whereas
 this one charges for waiting, pays for progress and penalises entering a dead state. Shaping
-terms are folded into the stored rewards and the potential is kept in :attr:`potential`.
+terms are folded into the stored rewards and the potential is kept in :attr:`potential`;
+:func:`task_potential` computes it for any task automaton (a wrapper shaping at run time uses it).
+:meth:`RewardMachine.from_formula` compiles an LTLf task the same way, through its minimal DFA.
 
 >>> from symlearn.logic.automata import DFA
 >>> from symlearn.logic.guards import Guard
@@ -79,18 +81,26 @@ class RewardMachine(GuardedAutomaton):
         )
 
     @classmethod
+    def from_formula(cls, formula, **options) -> RewardMachine:
+        """The reward machine of an LTLf task (text or a parsed formula): its minimal DFA through
+        :meth:`from_dfa` (``options`` are those of ``from_dfa``: reward, shaping, gamma, ...).
+
+        >>> rm = RewardMachine.from_formula("F a")
+        >>> rm.run([set(), {"a"}])
+        ([0, 0, 1], [0.0, 1.0])
+        """
+        from symlearn.logic.ltlf import parse, to_dfa
+
+        return cls.from_dfa(to_dfa(parse(formula) if isinstance(formula, str) else formula), **options)
+
+    @classmethod
     def from_dfa(cls, dfa: DFA, *, reward: float = 1.0, shaping: bool = False, gamma: float = 0.99,
                  scale: float = 1.0, minimize: bool = True, terminal_on_acceptance: bool = False) -> RewardMachine:
         """Compile a task DFA (see the module docstring for the exact rewards and potentials)."""
-        from symlearn.logic.automata.operations import distances_to_acceptance
-
         if not 0 < gamma <= 1:
             raise ModelError(f"gamma must be in (0, 1], got {gamma}")
         dfa = dfa.minimize() if minimize else dfa.complete()
-        distance = distances_to_acceptance(dfa)
-        finite = [d for d in distance if d is not None]
-        worst = (max(finite) if finite else 0) + 1
-        potential = [0.0 if d is None else scale * (worst - d) for d in distance]
+        potential = task_potential(dfa, scale)
         terminal = {q for q in dfa.states if all(t == q for _, t in dfa.successors(q))}
         if terminal_on_acceptance:
             terminal |= set(dfa.accepting)
@@ -193,6 +203,21 @@ class RewardMachine(GuardedAutomaton):
     def __repr__(self) -> str:
         return (f"RewardMachine({self.n_states} states, {self.n_edges} edges, initial {self.initial}, "
                 f"terminal {sorted(self.terminal)})")
+
+
+def task_potential(automaton: GuardedAutomaton, scale: float = 1.0) -> list[float]:
+    """The shaping potential of every state: ``scale * (d_max + 1 - d(u))`` with ``d(u)`` the
+    graph distance to acceptance (0 where acceptance is unreachable; see the module docstring).
+
+    Works on a DFA or a reward machine (the distances ignore the rewards).
+    """
+    from symlearn.logic.automata.operations import distances_to_acceptance
+
+    dfa = automaton.dfa if isinstance(automaton, RewardMachine) else automaton
+    distance = distances_to_acceptance(dfa)
+    finite = [d for d in distance if d is not None]
+    worst = (max(finite) if finite else 0) + 1
+    return [0.0 if d is None else scale * (worst - d) for d in distance]
 
 
 def _number(value, what: str) -> float:

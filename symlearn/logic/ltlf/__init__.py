@@ -10,7 +10,7 @@ True
 
 Modules: ``ast`` (nodes), ``parser`` / ``printer`` (dialects ours, spot, ltlf2dfa),
 ``semantics`` (``holds``), ``vectorized`` (one formula on many traces), ``progression``,
-``simplify``, ``to_dfa`` (LTLf -> minimal DFA), ``mona`` (LTLf2DFA + MONA oracle adapter).
+``simplify``, ``to_dfa`` (LTLf -> minimal :class:`~symlearn.logic.automata.DFA`), ``mona`` (LTLf2DFA + MONA oracle adapter).
 Heavy or optional pieces (numpy evaluation, sympy, MONA) load only when used.
 """
 
@@ -23,13 +23,13 @@ from symlearn.logic.ltlf.printer import to_latex, to_string
 from symlearn.logic.ltlf.progression import holds_at_end, progress
 from symlearn.logic.ltlf.semantics import holds
 from symlearn.logic.ltlf.simplify import simplify
-from symlearn.logic.ltlf.to_dfa import DFATable, equivalent, to_dfa, translate
+from symlearn.logic.ltlf.to_dfa import equivalent, to_dfa, translate
 
 __all__ = [
     "Formula", "Const", "Prop", "Not", "And", "Or", "Implies", "Iff", "Next", "WeakNext", "Eventually",
     "Always", "Until", "Release", "WeakUntil", "Then", "TRUE", "FALSE", "size", "operator_count",
     "temporal_depth", "propositions", "DIALECTS", "parse", "to_string", "to_latex", "holds", "holds_at_end",
-    "progress", "simplify", "translate", "to_dfa", "equivalent", "DFATable", "evaluate_many",
+    "progress", "simplify", "translate", "to_dfa", "equivalent", "evaluate_many",
 ]
 
 

@@ -26,9 +26,13 @@ Construction (our own; sound by the progression identities, exact by minimisatio
    canonical guard BDDs per target block, so the result is the unique minimal complete DFA
    (the rejecting sink, when there is one, is a state like any other).
 
+The result is a :class:`~symlearn.logic.automata.dfa.DFA` over the formula's propositions,
+complete and minimal, numbered as :meth:`~symlearn.logic.automata.dfa.DFA.minimize` numbers
+states (state 0 initial, then breadth-first in guard order).
+
 >>> from symlearn.logic.ltlf.parser import parse
->>> table = translate(parse("F a & F b"))
->>> table.n_states, table.accepts([{"a"}, {"b"}]), table.accepts([{"a"}])
+>>> dfa = translate(parse("F a & F b"))
+>>> dfa.n_states, dfa.accepts([{"a"}, {"b"}]), dfa.accepts([{"a"}])
 (4, True, False)
 """
 
@@ -36,20 +40,19 @@ from __future__ import annotations
 
 import gc
 import sys
-from collections.abc import Iterable, Sequence
-from dataclasses import dataclass, field
-from typing import AbstractSet
 
 from symlearn.errors import LimitExceededError
-from symlearn.logic.guards import Guard
+from symlearn.logic.automata.dfa import DFA
+from symlearn.logic.automata.operations import canonical_order
+from symlearn.logic.bdd import BDD, FALSE, TRUE
+from symlearn.logic.guards import from_bdd
 from symlearn.logic.ltlf.ast import (
     Always, And, Const, Eventually, Formula, Iff, Implies, Next, Not, Or, Prop, Release, Then, Until,
     WeakNext, WeakUntil,
 )
-from symlearn.logic.ltlf.bdd import BDD, FALSE, TRUE
 from symlearn.logic.ltlf.progression import holds_at_end
 
-__all__ = ["DFATable", "translate", "to_dfa", "equivalent", "DEFAULT_MAX_STATES"]
+__all__ = ["translate", "to_dfa", "equivalent", "DEFAULT_MAX_STATES"]
 
 DEFAULT_MAX_STATES = 20_000
 _RECURSION_LIMIT = 12_000
@@ -58,53 +61,6 @@ _RECURSION_LIMIT = 12_000
 _TT, _FF, _LIT, _NLIT, _AND, _OR, _X, _WX, _F, _G, _U, _R = range(12)
 _ELEMENTARY = {_LIT, _NLIT, _X, _WX, _F, _G, _U, _R}
 _TRUE_AT_END = {_WX, _G, _R}
-
-
-@dataclass(frozen=True)
-class DFATable:
-    """A complete minimal DFA over the formula's propositions, with canonical :class:`Guard` edges.
-
-    State 0 is initial; ``edges[q]`` lists ``(guard, target)`` with pairwise disjoint guards
-    covering every label. ``states_explored`` is the number of obligations met before
-    minimisation.
-    """
-
-    propositions: tuple[str, ...]
-    accepting: frozenset[int]
-    edges: tuple[tuple[tuple[Guard, int], ...], ...]
-    states_explored: int = 0
-    sink: int | None = None
-    initial: int = field(default=0)
-
-    @property
-    def n_states(self) -> int:
-        return len(self.edges)
-
-    @property
-    def n_edges(self) -> int:
-        return sum(len(out) for out in self.edges)
-
-    def step(self, state: int, label: AbstractSet[str]) -> int:
-        for guard, target in self.edges[state]:
-            if guard.evaluate(label):
-                return target
-        raise AssertionError("a DFATable is complete")  # pragma: no cover
-
-    def run(self, word: Iterable[Iterable[str]]) -> list[int]:
-        states = [self.initial]
-        for label in word:
-            states.append(self.step(states[-1], frozenset(label)))
-        return states
-
-    def accepts(self, word: Iterable[Iterable[str]]) -> bool:
-        return self.run(word)[-1] in self.accepting
-
-    def to_dfa(self):
-        """The same automaton as a :class:`symlearn.logic.automata.dfa.DFA`."""
-        from symlearn.logic.automata.dfa import DFA
-
-        transitions = {q: list(out) for q, out in enumerate(self.edges)}
-        return DFA(self.propositions, self.n_states, self.initial, self.accepting, transitions)
 
 
 class _Translation:
@@ -223,10 +179,10 @@ class _Translation:
         return arg if self.nodes[arg][0] == _TT else self._mk((_WX, arg))
 
     # -- symbolic automaton --------------------------------------------------------------------
-    def build(self, max_states: int) -> DFATable:
+    def build(self, max_states: int) -> DFA:
         bdd = self.bdd = BDD()
-        # propositions take the top levels in name order, the order Guard's diagrams use, so
-        # converting a guard to a Guard is one constant-time node construction per node
+        # propositions take the top levels in name order, the order of the shared guard table, so
+        # converting an edge guard to a Guard is one node construction per node (guards.from_bdd)
         self.props = {name: level for level, name in enumerate(sorted(self.props))}
         n_props = len(self.props)
         # BDD levels: propositions 0..n_props-1, then one per elementary node, then NE
@@ -419,7 +375,7 @@ class _Translation:
         return block
 
     def _minimal(self, states: list[int], edges: list[list[tuple[int, int]]], accepting: list[bool],
-                 initial: int) -> DFATable:
+                 initial: int) -> DFA:
         bdd = self.bdd
         block = self._refine(edges, accepting)
         # renumber blocks breadth-first from the initial state so state 0 is initial
@@ -431,44 +387,31 @@ class _Translation:
                 if b not in order:
                     order[b] = len(order)
                     representative.append(target)
-        names = tuple(sorted(self.props, key=self.props.get))
-        to_guard = _GuardConverter(bdd, names)
-        table_edges = []
+        rows = []
         for q in representative:
             merged: dict[int, int] = {}
             for target, guard in edges[q]:
                 b = order[block[target]]
                 merged[b] = bdd.apply_or(merged[b], guard) if b in merged else guard
-            table_edges.append(tuple((to_guard(g), b) for b, g in sorted(merged.items())))
-        accepting_blocks = frozenset(order[block[q]] for q in representative if accepting[q])
-        sink = next((i for i, out in enumerate(table_edges)
-                     if i not in accepting_blocks and len(out) == 1 and out[0][1] == i), None)
-        return DFATable(tuple(sorted(names)), accepting_blocks, tuple(table_edges), len(states), sink)
+            rows.append(sorted(merged.items()))
+        # propositions hold the top levels in name order, so each guard node maps to one node of
+        # the shared guard table (one conversion for the whole automaton)
+        names = sorted(self.props, key=self.props.get)
+        guards = iter(from_bdd(bdd, [g for row in rows for _, g in row], names))
+        table = [[(next(guards), b) for b, _ in row] for row in rows]
+        accepting_blocks = [order[block[q]] for q in representative if accepting[q]]
+        # the edges are canonical already (disjoint, complete, one per target): skip validation
+        dfa = DFA._trusted(names, len(table), 0, accepting_blocks, table)
+        # number states as DFA.minimize does (breadth-first, edges in guard order), so equal
+        # languages give equal DFAs whichever way they were built
+        canonical = canonical_order(dfa)
+        index = {q: i for i, q in enumerate(canonical)}
+        return DFA._trusted(names, len(table), 0, [index[q] for q in accepting_blocks],
+                            [[(g, index[t]) for g, t in dfa.successors(q)] for q in canonical])
 
 
-class _GuardConverter:
-    def __init__(self, bdd: BDD, names: Sequence[str]) -> None:
-        self.bdd, self.names = bdd, names
-        self.memo: dict[int, Guard] = {TRUE: Guard.true(), FALSE: Guard.false()}
-
-    def __call__(self, u: int) -> Guard:
-        found = self.memo.get(u)
-        if found is None:
-            bdd = self.bdd
-            var = Guard.var(self.names[bdd.level[u]])
-            low, high = bdd.low[u], bdd.high[u]
-            if low == FALSE:  # most guards are cubes: one operation instead of three
-                found = var & self(high)
-            elif high == FALSE:
-                found = ~var & self(low)
-            else:
-                found = (var & self(high)) | (~var & self(low))
-            self.memo[u] = found
-        return found
-
-
-def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFATable:
-    """The minimal complete DFA of ``formula`` as a :class:`DFATable`.
+def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFA:
+    """The minimal complete DFA of ``formula`` (state 0 initial, breadth-first numbering).
 
     Raises :class:`~symlearn.errors.LimitExceededError` when more than ``max_states``
     obligations are reachable before minimisation.
@@ -492,22 +435,20 @@ def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFAT
             gc.enable()
 
 
-def to_dfa(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES):
-    """The minimal complete DFA of ``formula`` as a :class:`~symlearn.logic.automata.dfa.DFA`."""
-    return translate(formula, max_states=max_states).to_dfa()
+to_dfa = translate  # the name the automata side reads better with
 
 
 def equivalent(f: Formula, g: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> bool:
     """Whether ``f`` and ``g`` hold on exactly the same non-empty traces."""
     # f <-> g is valid iff the DFA of its negation accepts no non-empty word
-    table = translate(Not(Iff(f, g)), max_states=max_states)
-    frontier = [t for _, t in table.edges[table.initial]]
+    dfa = translate(Not(Iff(f, g)), max_states=max_states)
+    frontier = [t for _, t in dfa.successors(dfa.initial)]
     seen = set(frontier)
     while frontier:
         q = frontier.pop()
-        if q in table.accepting:
+        if q in dfa.accepting:
             return False
-        for _, t in table.edges[q]:
+        for _, t in dfa.successors(q):
             if t not in seen:
                 seen.add(t)
                 frontier.append(t)

@@ -5,6 +5,7 @@ from hypothesis import given, settings
 
 from ltlf_strategies import formulas
 from symlearn.errors import LimitExceededError
+from symlearn.logic.automata import DFA
 from symlearn.logic.ltlf import equivalent, parse, to_dfa, translate
 from symlearn.logic.ltlf.ast import Always, Eventually, Not, Prop, conjunction
 
@@ -15,26 +16,26 @@ from symlearn.logic.ltlf.ast import Always, Eventually, Not, Prop, conjunction
     ("G(!hole) & F goal", 3, 6), ("F a & G !a", 1, 1),
 ])
 def test_known_minimal_sizes(text, states, edges):
-    table = translate(parse(text))
-    assert (table.n_states, table.n_edges) == (states, edges)
+    dfa = translate(parse(text))
+    assert (dfa.n_states, dfa.n_edges) == (states, edges)
 
 
-def test_result_is_complete_minimal_and_matches_the_dfa_class():
-    table = translate(parse("G(req -> F grant) & (a T b) & G !bad"))
-    dfa = table.to_dfa()
-    assert dfa.n_states == table.n_states and dfa.is_complete()
-    assert dfa.minimize().n_states == table.n_states
-    assert table.sink is not None and table.sink not in table.accepting
+def test_result_is_a_complete_minimal_dfa_numbered_canonically():
+    dfa = translate(parse("G(req -> F grant) & (a T b) & G !bad"))
+    assert isinstance(dfa, DFA) and dfa.alphabet == {"a", "b", "bad", "grant", "req"}
+    assert dfa.is_complete() and dfa.initial == 0
+    assert dfa.minimize() == dfa  # minimize numbers states breadth-first too
+    dead = set(dfa.states) - dfa.live_states()
+    assert len(dead) == 1  # the rejecting sink
     assert to_dfa(parse("F a")).accepts([set(), {"a"}])
 
 
 @settings(max_examples=150, deadline=None)
 @given(formulas(max_leaves=8))
 def test_translation_is_already_minimal(f):
-    table = translate(f)
-    dfa = table.to_dfa()
-    assert dfa.minimize().n_states == table.n_states
-    assert all(len({t for _, t in out}) == len(out) for out in table.edges)  # one edge per target
+    dfa = translate(f)
+    assert dfa.minimize() == dfa  # minimal, and numbered canonically
+    assert all(len({t for _, t in dfa.successors(q)}) == len(dfa.successors(q)) for q in dfa.states)  # one edge per target
 
 
 def test_many_propositions_are_not_enumerated():
@@ -42,10 +43,10 @@ def test_many_propositions_are_not_enumerated():
     props = [Prop(f"p{i}") for i in range(24)]
     f = conjunction(Always(conjunction(*(Not(p) for p in props[:12]))), *(Eventually(p) for p in props[12:15]))
     start = time.perf_counter()
-    table = translate(f)
+    dfa = translate(f)
     assert time.perf_counter() - start < 5
-    assert table.n_states == 2 ** 3 + 1  # subsets of the three F's met, plus the sink
-    assert table.n_edges < 200
+    assert dfa.n_states == 2 ** 3 + 1  # subsets of the three F's met, plus the sink
+    assert dfa.n_edges < 200
 
 
 def test_state_limit():
@@ -69,6 +70,6 @@ def test_deeply_nested_formulas_translate_or_stop_cleanly():
     f = Prop("a")
     for _ in range(1500):
         f = Next(f)
-    table = translate(f)
-    assert table.n_states == 1503  # 1500 waiting steps + 'a' checked + accepting + sink
-    assert table.accepts([set()] * 1500 + [{"a"}]) and not table.accepts([set()] * 1500)
+    dfa = translate(f)
+    assert dfa.n_states == 1503  # 1500 waiting steps + 'a' checked + accepting + sink
+    assert dfa.accepts([set()] * 1500 + [{"a"}]) and not dfa.accepts([set()] * 1500)

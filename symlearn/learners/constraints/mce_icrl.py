@@ -25,7 +25,7 @@ the policy from taking it, and the violations stay. With deterministic dynamics 
 >>> from symlearn.data import record
 >>> env = StochasticGridworld(0.0); policy = env.expert_policy()
 >>> demos = record(env, lambda s: int(policy[s]), 5, seed=0, max_steps=200)
->>> learner = MCEICRL(env.to_tabular(), n_iterations=200).fit(demos)
+>>> learner = MCEICRL(n_iterations=200).fit(demos, env.to_tabular())
 >>> bool(learner.constraint_map_[env.forbidden_states].mean() > 0.5)
 True
 """
@@ -34,14 +34,16 @@ from __future__ import annotations
 
 import time
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any, Literal
 
 import numpy as np
 
 from symlearn.errors import ModelError, SymlearnError
-from symlearn.learners.tabular_demos import as_tabular, check_constraints, discounted_counts, tabular_episodes
+from symlearn.learners.base import Learner
+from symlearn.learners.constraints.ml_constraint_inference import tabular_model
 from symlearn.mdp import TabularMDP
+from symlearn.mdp.episodes import check_constraints, discounted_counts, tabular_episodes
 from symlearn.rl.maxent import Entropy, forward_pass, soft_value_iteration
 from symlearn.rl.tabular import check_mask
 
@@ -67,11 +69,16 @@ class DualStep:
     n_active: int  # multipliers above the threshold
     seconds: float
 
+    def as_dict(self) -> dict[str, Any]:
+        return asdict(self)
 
-class MCEICRL:
-    """Tabular MCE-ICRL; scikit-learn style (``fit(demos) -> self``).
 
-    Parameters: ``mdp`` (its rewards are the known reward), ``features`` (``"state"``,
+class MCEICRL(Learner):
+    """Tabular MCE-ICRL: ``MCEICRL(...).fit(demonstrations, domain)``.
+
+    ``domain``: a :class:`~symlearn.grounding.Domain`, a :class:`TabularMDP` or an environment
+    with ``to_tabular()``; its rewards are the known reward, moves it does not have are known
+    constraints. Parameters: ``features`` (``"state"``,
     ``"state_action"`` or a non-negative array ``(S, A, k)``), ``beta`` (entropy weight),
     ``discount``, ``horizon`` (steps counted in feature expectations; demonstrations are cut
     there too), ``learning_rate`` (eta), ``n_iterations``, ``budget`` (alpha: the slack of the
@@ -90,9 +97,10 @@ class MCEICRL:
 
     entropy: Entropy = "causal"
 
+    artefact_suffix = ".json"
+
     def __init__(
         self,
-        mdp: TabularMDP,
         *,
         features: str | np.ndarray = "state",
         beta: float = 0.5,
@@ -107,7 +115,6 @@ class MCEICRL:
         on_violation: Literal["error", "warn"] = "error",
         max_sweeps: int = 50,
     ) -> None:
-        self.mdp = as_tabular(mdp)
         self.features = features
         self.beta = beta
         self.discount = discount
@@ -121,31 +128,33 @@ class MCEICRL:
         self.on_violation = on_violation
         self.max_sweeps = max_sweeps
 
-    def _phi(self) -> np.ndarray:
+    def _phi(self, mdp: TabularMDP) -> np.ndarray:
         if isinstance(self.features, str):
             try:
-                return _FEATURES[self.features](self.mdp)
+                return _FEATURES[self.features](mdp)
             except KeyError:
                 raise SymlearnError(f"unknown features {self.features!r}", hint=f"use one of {sorted(_FEATURES)} or an array") from None
         phi = np.asarray(self.features, dtype=np.float64)
-        if phi.ndim != 3 or phi.shape[:2] != (self.mdp.n_states, self.mdp.n_actions):
-            raise ModelError(f"features must have shape (S, A, k) with (S, A) = {(self.mdp.n_states, self.mdp.n_actions)}, got {phi.shape}")
+        if phi.ndim != 3 or phi.shape[:2] != (mdp.n_states, mdp.n_actions):
+            raise ModelError(f"features must have shape (S, A, k) with (S, A) = {(mdp.n_states, mdp.n_actions)}, got {phi.shape}")
         if (phi < 0).any() or not np.isfinite(phi).all():
             raise ModelError("features must be finite and non-negative")
         return phi
 
-    def fit(self, demos: Iterable[Any]) -> MCEICRL:
+    def fit(self, demonstrations: Iterable[Any], domain: Any = None) -> MCEICRL:
         if self.learning_rate <= 0 or self.n_iterations < 1 or self.horizon < 1:
             raise SymlearnError("learning_rate must be positive, n_iterations and horizon at least 1")
         started = time.perf_counter()
-        mdp = self.mdp
-        episodes = tabular_episodes(demos, mdp)
-        allowed = None
+        mdp, known = tabular_model(domain)
+        episodes = tabular_episodes(demonstrations, mdp)
         if self.known_constraints is not None:
-            known = check_mask(mdp, self.known_constraints, "known constraints")
+            given = check_mask(mdp, self.known_constraints, "known constraints")
+            known = given if known is None else known | given
+        allowed = None
+        if known is not None and known.any():
             check_constraints(episodes, known, self.on_violation)
             allowed = ~known
-        phi = self._phi()
+        phi = self._phi(mdp)
         flat_phi = phi.reshape(-1, phi.shape[2])
         expert = discounted_counts(episodes, mdp, self.discount, self.horizon).reshape(-1) @ flat_phi
         lam = np.zeros(phi.shape[2])
@@ -183,7 +192,29 @@ class MCEICRL:
         self.converged_ = converged
         self.n_iter_ = len(history)
         self.seconds_ = time.perf_counter() - started
+        self.forbidden_ = self._forbidden_pairs(mdp, known)
+        from symlearn.learners.constraints.constraint_file import constraint_set_text
+
+        names = mdp.state_names or tuple(str(s) for s in range(mdp.n_states))
+        multipliers = ({names[s]: float(v) for s, v in enumerate(lam) if v > 0}
+                       if lam.shape[0] == mdp.n_states else None)
+        self._set_result(self.forbidden_, constraint_set_text(self.forbidden_, mdp, method="mce-icrl",
+                                                              multipliers=multipliers),
+                         metrics={"constraints": int(self.forbidden_.sum()), "converged": converged},
+                         timings={"total": self.seconds_}, history=history)
         return self
+
+    def _forbidden_pairs(self, mdp: TabularMDP, known: np.ndarray | None) -> np.ndarray:
+        """The constraint set the multipliers imply, as forbidden (S, A) pairs: with state
+        features every move whose most likely successor is a constrained state; with
+        state-action (or custom) features every pair whose cost exceeds the threshold."""
+        if self.constraint_map_.shape == (mdp.n_states,) and (not isinstance(self.features, str) or
+                                                               self.features == "state"):
+            forbidden = self.constraint_map_[np.argmax(mdp.transitions, axis=2)]
+        else:
+            forbidden = self.cost_ > self.threshold
+        forbidden = forbidden & ~mdp.terminal[:, None]
+        return forbidden if known is None else forbidden & ~known
 
 
 class MEICRL(MCEICRL):

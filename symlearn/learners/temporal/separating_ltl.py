@@ -1,9 +1,9 @@
 """Learn a small LTLf formula that every positive trace satisfies and no negative trace does.
 
 :func:`learn_ltl` works in phases, all on truth values packed as bit words
-(:mod:`~symlearn.learners.ltl_bitsets`), all keeping one candidate per distinct behaviour:
+(:mod:`~symlearn.learners.temporal.ltl_bitsets`), all keeping one candidate per distinct behaviour:
 
-1. **Exact search** (:class:`~symlearn.learners.ltl_enumeration.Enumerator`): all formulas by
+1. **Exact search** (:class:`~symlearn.learners.temporal.ltl_enumeration.Enumerator`): all formulas by
    increasing size over the chosen operators, each represented by its truth values at every
    position of every trace. The first size with a separating candidate gives a smallest formula
    (``optimal=True``).
@@ -45,8 +45,8 @@ import numpy as np
 
 from symlearn.data.ltl_samples import LtlSample, sample_from_traces
 from symlearn.errors import SymlearnError
-from symlearn.learners.ltl_bitsets import BINARY, UNARY, Frame, _pack, first_bits, unpack
-from symlearn.learners.ltl_enumeration import Enumerator
+from symlearn.learners.temporal.ltl_bitsets import BINARY, UNARY, Frame, _pack, first_bits, unpack
+from symlearn.learners.temporal.ltl_enumeration import Enumerator
 from symlearn.logic.ltlf import ast
 
 __all__ = ["learn_ltl", "learn_from_sample", "LearnResult", "SeparatingLtlLearner", "DEFAULT_OPERATORS", "OPERATORS"]

@@ -1,7 +1,7 @@
 import pytest
 
 from symlearn.errors import DataError, ParseError
-from symlearn.logic.grounding import Labeling
+from symlearn.grounding.labeling import Labeling
 
 
 def test_labels_and_growth():

@@ -3,7 +3,7 @@
 Level ``s`` holds the candidates of size ``s`` (number of syntax-tree nodes): the atoms of that
 size, then every unary operator over level ``s-1``, then every binary operator over levels
 ``s1`` and ``s2`` with ``s1 + s2 = s - 1``. A candidate is computed from its children's bit
-words (:mod:`symlearn.learners.ltl_bitsets`) in vectorised batches and kept only if no candidate
+words (:mod:`symlearn.learners.temporal.ltl_bitsets`) in vectorised batches and kept only if no candidate
 of the same or a smaller size already has the same truth values everywhere. Since two
 candidates with equal truth values can replace each other inside any larger formula, keeping
 the first (smallest) one loses no solution: the first level holding a solution holds a
@@ -13,7 +13,7 @@ The enumeration is deterministic: the order of atoms, operators and pairs is fix
 limits that cut a level short (stored candidates, evaluated words) count work, not time. The
 wall-clock deadline is only a safety net.
 
->>> from symlearn.learners.ltl_bitsets import Frame
+>>> from symlearn.learners.temporal.ltl_bitsets import Frame
 >>> frame = Frame.from_traces([[{"a"}], [set(), {"a"}], [set()]], ["a"])
 >>> goal = lambda v: (v[..., 0] & 1).astype(bool) @ [1, 2, -4] == 3   # true on traces 0, 1 only
 >>> search = Enumerator(frame, [("a", frame.propositions["a"], 1)], ("!", "F"), goal)
@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from symlearn.learners.ltl_bitsets import BINARY, COMMUTATIVE, UNARY, Frame, apply, first_bits, row_hashes
+from symlearn.learners.temporal.ltl_bitsets import BINARY, COMMUTATIVE, UNARY, Frame, apply, first_bits, row_hashes
 
 __all__ = ["Enumerator", "EnumerationOutcome"]
 

@@ -12,8 +12,8 @@ from hypothesis import strategies as st
 
 from symlearn.data.ltl_samples import load_sample, sample_from_traces, save_sample
 from symlearn.errors import DataError, SymlearnError
-from symlearn.learners.ltl_bitsets import BINARY, UNARY, Frame, apply, unpack
-from symlearn.learners.separating_ltl import OPERATORS, learn_from_sample, learn_ltl
+from symlearn.learners.temporal.ltl_bitsets import BINARY, UNARY, Frame, apply, unpack
+from symlearn.learners.temporal.separating_ltl import OPERATORS, learn_from_sample, learn_ltl
 from symlearn.logic.ltlf import ast, holds, parse, size
 
 PROPS = ("a", "b")

@@ -41,7 +41,7 @@ a small share keeps the demonstrated flow first, so the likeliest constraints co
 >>> from symlearn.data import record
 >>> env = StochasticGridworld(0.0); policy = env.expert_policy()
 >>> demos = record(env, lambda s: int(policy[s]), 3, seed=0, max_steps=200)
->>> learner = MLConstraintInference(env.to_tabular(), horizon=30).fit(demos)
+>>> learner = MLConstraintInference(horizon=30).fit(demos, env.to_tabular())
 >>> int(learner.constraints_.sum()) > 0, learner.stopped_because_ in {"min_visitation", "no_candidates"}
 (True, True)
 """
@@ -50,14 +50,15 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any, Literal
 
 import numpy as np
 
 from symlearn.errors import SymlearnError
-from symlearn.learners.tabular_demos import as_tabular, check_constraints, demonstrated_pairs, final_states, tabular_episodes
+from symlearn.learners.base import Learner
 from symlearn.mdp import TabularMDP
+from symlearn.mdp.episodes import as_tabular, check_constraints, demonstrated_pairs, final_states, tabular_episodes
 from symlearn.rl.maxent import forward_pass, maxent_backward_pass
 from symlearn.rl.tabular import check_mask, restrict
 
@@ -74,40 +75,34 @@ class InferenceStep:
     n_generalized: int  # pairs added by ``generalize`` in this step
     seconds: float
 
+    def as_dict(self) -> dict[str, Any]:
+        return asdict(self)
 
-class MLConstraintInference:
-    """Scikit-learn style: ``MLConstraintInference(mdp, ...).fit(demos)``.
 
-    Results: ``constraints_`` (forbidden (S, A) mask), ``empty_states_``, ``policy_`` (nominal
-    MaxEnt policy of the restricted MDP for the most frequent goal), ``goals_``, ``history_``
-    (one :class:`InferenceStep` per added constraint), ``stopped_because_``, ``seconds_``.
+def tabular_model(domain: Any) -> tuple[TabularMDP, np.ndarray | None]:
+    """The nominal MDP of ``domain`` and the pairs it forbids in advance (moves that do not exist).
+
+    ``domain``: a :class:`~symlearn.grounding.Domain` (its ``mdp`` and ``known``), a
+    :class:`TabularMDP`, or an environment with ``to_tabular()``.
     """
+    from symlearn.grounding import Domain, as_domain
 
-    def __init__(
-        self,
-        mdp: TabularMDP,
-        *,
-        reward: Literal["given", "sparse"] | np.ndarray = "given",
-        horizon: int = 50,
-        max_iterations: int = 200,
-        min_visitation: float = 1e-3,
-        known_constraints: np.ndarray | None = None,
-        on_violation: Literal["error", "warn"] = "error",
-        generalize: Generalizer | None = None,
-        rationality: float = 1.0,
-        start: Literal["demonstrations", "uniform"] | float = "demonstrations",
-    ) -> None:
-        self.mdp = as_tabular(mdp)
-        self.reward = reward
-        self.horizon = horizon
-        self.max_iterations = max_iterations
-        self.min_visitation = min_visitation
-        self.known_constraints = known_constraints
-        self.on_violation = on_violation
-        self.generalize = generalize
-        self.rationality = rationality
-        self.start = start
-        self._uniform_share = _uniform_share(start)
+    if isinstance(domain, Domain) or isinstance(getattr(domain, "domain", None), Domain):
+        d = as_domain(domain)
+        return d.mdp, d.known
+    if domain is None:
+        raise SymlearnError("constraint inference needs the domain: fit(demonstrations, domain)",
+                            hint="a symlearn.grounding.Domain, a TabularMDP or an environment with to_tabular()")
+    return as_tabular(domain), None
+
+
+class MaxEntVisitation:
+    """Goal-conditioned MaxEnt visitation of an MDP under a constraint set (one fit's planner)."""
+
+    def __init__(self, mdp: TabularMDP, goal_groups: list[tuple[int, float, np.ndarray]], reward: Any,
+                 horizon: int, rationality: float) -> None:
+        self.mdp, self.goal_groups, self.reward = mdp, goal_groups, reward
+        self.horizon, self.rationality = horizon, rationality
 
     def _reward(self, goal: int) -> np.ndarray:
         mdp = self.mdp
@@ -121,14 +116,14 @@ class MLConstraintInference:
             raise SymlearnError(f"unknown reward {self.reward!r}", hint="use 'given', 'sparse' or an array")
         return np.asarray(self.reward, dtype=np.float64)
 
-    def visitation(self, forbidden: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def __call__(self, forbidden: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Expected state-action visitation (S, A) of the goal-conditioned nominal policies in
         the MDP restricted by ``forbidden``, and the policy for the most frequent goal."""
         mdp = self.mdp
         allowed = ~forbidden
         total = np.zeros(forbidden.shape)
         main_policy = None
-        for goal, weight, start in self._goal_groups:
+        for goal, weight, start in self.goal_groups:
             reward = self.rationality * self._reward(goal)
             backward = maxent_backward_pass(mdp, [goal], self.horizon, reward=reward, allowed=allowed)
             goal_mdp = mdp.make_absorbing([goal]) if not mdp.terminal[goal] else mdp
@@ -138,27 +133,68 @@ class MLConstraintInference:
                 main_policy = backward.policy
         return total, main_policy
 
-    def fit(self, demos: Iterable[Any]) -> MLConstraintInference:
+
+class MLConstraintInference(Learner):
+    """``MLConstraintInference(reward=..., horizon=..., ...).fit(demonstrations, domain)``.
+
+    ``domain``: a :class:`~symlearn.grounding.Domain` (moves it does not have are known
+    constraints), a :class:`TabularMDP` or an environment with ``to_tabular()``.
+
+    Results: ``constraints_`` (forbidden (S, A) mask), ``empty_states_``, ``policy_`` (nominal
+    MaxEnt policy of the restricted MDP for the most frequent goal), ``goals_``, ``history_``
+    (one :class:`InferenceStep` per added constraint), ``stopped_because_``, ``seconds_``,
+    ``known_`` (the constraints given in advance), ``result_``.
+    """
+
+    artefact_suffix = ".json"
+
+    def __init__(
+        self,
+        *,
+        reward: Literal["given", "sparse"] | np.ndarray = "given",
+        horizon: int = 50,
+        max_iterations: int = 200,
+        min_visitation: float = 1e-3,
+        known_constraints: np.ndarray | None = None,
+        on_violation: Literal["error", "warn"] = "error",
+        generalize: Generalizer | None = None,
+        rationality: float = 1.0,
+        start: Literal["demonstrations", "uniform"] | float = "demonstrations",
+    ) -> None:
+        self.reward = reward
+        self.horizon = horizon
+        self.max_iterations = max_iterations
+        self.min_visitation = min_visitation
+        self.known_constraints = known_constraints
+        self.on_violation = on_violation
+        self.generalize = generalize
+        self.rationality = rationality
+        self.start = start
+
+    def fit(self, demonstrations: Iterable[Any], domain: Any = None) -> MLConstraintInference:
         if self.horizon < 1 or self.max_iterations < 0:
             raise SymlearnError("horizon must be at least 1 and max_iterations non-negative")
+        share = _uniform_share(self.start)
         started = time.perf_counter()
-        mdp = self.mdp
-        episodes = tabular_episodes(demos, mdp)
+        mdp, domain_known = tabular_model(domain)
+        episodes = tabular_episodes(demonstrations, mdp)
         seen = demonstrated_pairs(episodes, mdp)
-        forbidden = np.zeros_like(seen)
+        known = np.zeros_like(seen) if domain_known is None else domain_known.copy()
         if self.known_constraints is not None:
-            forbidden = check_mask(mdp, self.known_constraints, "known constraints").copy()
+            known |= check_mask(mdp, self.known_constraints, "known constraints")
+        forbidden = known.copy()
+        if forbidden.any():
             check_constraints(episodes, forbidden, self.on_violation)
             forbidden &= ~seen  # with on_violation="warn" the noisy pairs stay allowed
-        self._goal_groups = self._goals(episodes)
-        restriction = restrict(mdp, forbidden, protected=seen)
-        forbidden = restriction.forbidden
+        visitation = MaxEntVisitation(mdp, _goal_groups(mdp, episodes, share), self.reward, self.horizon,
+                                      self.rationality)
+        forbidden = restrict(mdp, forbidden, protected=seen).forbidden
         history: list[InferenceStep] = []
         stopped = "max_iterations"
         policy = None
         for iteration in range(1, self.max_iterations + 2):
             t0 = time.perf_counter()
-            visits, policy = self.visitation(forbidden)
+            visits, policy = visitation(forbidden)
             if iteration > self.max_iterations:
                 break
             candidates = np.where(~forbidden & ~seen & ~mdp.terminal[:, None], visits, -np.inf)
@@ -187,24 +223,33 @@ class MLConstraintInference:
         self.constraints_ = final.forbidden
         self.empty_states_ = final.empty_states
         self.demonstrated_ = seen
+        self.known_ = known
         self.policy_ = policy
-        self.goals_ = tuple(g for g, _, _ in self._goal_groups)
+        self.goals_ = tuple(g for g, _, _ in visitation.goal_groups)
         self.history_ = history
         self.stopped_because_ = stopped
         self.seconds_ = time.perf_counter() - started
+        from symlearn.learners.constraints.constraint_file import constraint_set_text
+
+        learned = self.constraints_ & ~known
+        self._set_result(learned, constraint_set_text(learned, mdp, method="ml"),
+                         metrics={"constraints": int(learned.sum()), "stopped_because": stopped},
+                         timings={"total": self.seconds_}, history=history)
         return self
 
-    def _goals(self, episodes) -> list[tuple[int, float, np.ndarray]]:
-        ends = final_states(episodes)
-        groups = []
-        for goal in sorted(set(ends.tolist()), key=lambda g: (-int(np.sum(ends == g)), g)):
-            members = [e for e, end in zip(episodes, ends) if end == goal]
-            start = np.bincount([int(e.states[0]) for e in members], minlength=self.mdp.n_states) / len(members)
-            if self._uniform_share > 0:
-                everywhere = (~self.mdp.terminal).astype(np.float64) / np.sum(~self.mdp.terminal)
-                start = (1 - self._uniform_share) * start + self._uniform_share * everywhere
-            groups.append((goal, len(members) / len(episodes), start))
-        return groups
+
+def _goal_groups(mdp: TabularMDP, episodes, share: float) -> list[tuple[int, float, np.ndarray]]:
+    """(goal, share of demonstrations, start distribution) per state where demonstrations end."""
+    ends = final_states(episodes)
+    groups = []
+    for goal in sorted(set(ends.tolist()), key=lambda g: (-int(np.sum(ends == g)), g)):
+        members = [e for e, end in zip(episodes, ends) if end == goal]
+        start = np.bincount([int(e.states[0]) for e in members], minlength=mdp.n_states) / len(members)
+        if share > 0:
+            everywhere = (~mdp.terminal).astype(np.float64) / np.sum(~mdp.terminal)
+            start = (1 - share) * start + share * everywhere
+        groups.append((goal, len(members) / len(episodes), start))
+    return groups
 
 
 def _uniform_share(start: Any) -> float:

@@ -10,11 +10,11 @@ from hypothesis import strategies as st
 from symlearn.data import Demonstrations, Trajectory
 from symlearn.envs.spec_experts import expert_demonstrations
 from symlearn.errors import DataError, ModelError
-from symlearn.learners.spec_from_demos import SpecLearner, _without_reproductions
-from symlearn.learners.spec_templates import (
+from symlearn.learners.temporal.spec_from_demos import SpecLearner, _without_reproductions
+from symlearn.learners.temporal.spec_templates import (
     TEMPLATES, TraceBounds, best_candidate, information_gain, instantiate, novelty_depth,
 )
-from symlearn.logic.grounding import Labeling
+from symlearn.grounding.labeling import Labeling
 from symlearn.logic.ltlf import holds, parse
 from symlearn.logic.ltlf.vectorized import evaluate_many
 

@@ -6,8 +6,8 @@ import pytest
 from symlearn.data import Demonstrations, Trajectory
 from symlearn.envs.logic_mdp import logic_mdp
 from symlearn.errors import DataError, SymlearnError
-from symlearn.learners.constraint_metrics import constraint_metrics, reachable_pairs
-from symlearn.learners.logic_constraint_inference import LogicConstraintInference, LogicIteration
+from symlearn.learners.constraints.constraint_metrics import constraint_metrics, reachable_pairs
+from symlearn.learners.constraints.logic_constraint_inference import LogicConstraintInference, LogicIteration
 
 
 @pytest.fixture(scope="module")
@@ -22,7 +22,7 @@ def hanoi_fit(hanoi):
 
 @pytest.fixture(scope="module")
 def priority():
-    return logic_mdp("traffic-priority")
+    return logic_mdp("junction-priority")
 
 
 @pytest.fixture(scope="module")
@@ -101,7 +101,7 @@ def test_lights_junction_learns_the_off_road_rule_and_exactly_the_truth():
     after the 8 sideways rules are learned, so the off-road rule is induced too: the 13 thesis
     rules (about 30 s). With start="demonstrations" the loop stops at 12 rules, full-space FNR
     0.816."""
-    lights = logic_mdp("traffic-lights")
+    lights = logic_mdp("junction-lights")
     learner = LogicConstraintInference(lights, iterations=13).fit(lights.expert_demonstrations(100, seed=0))
     assert ":- not onRoad(V1) : dir(V1)." in learner.rules_
     assert len(learner.rules_) == 13

@@ -6,8 +6,8 @@ import pytest
 from symlearn.data import Demonstrations, Trajectory, record
 from symlearn.envs.gridworld import ACTIONS, StochasticGridworld
 from symlearn.errors import DataError, ModelError, SymlearnError
-from symlearn.learners.mce_icrl import MCEICRL, MEICRL
-from symlearn.learners.ml_constraint_inference import MLConstraintInference
+from symlearn.learners.constraints.mce_icrl import MCEICRL, MEICRL
+from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
 from symlearn.rl.tabular import restrict, sample_rollouts
 
 

@@ -25,7 +25,7 @@ exactly (large maps, many equally good paths) nothing changes. Only exact copies
 trajectory made of pieces the experts showed can still break their order (deliver before
 fetching), so "stays on expert cells" is not a reason to drop it.
 
-Propositions are either *given* (a :class:`~symlearn.logic.grounding.Labeling`, by default the
+Propositions are either *given* (a :class:`~symlearn.grounding.labeling.Labeling`, by default the
 environment's) or *learned*: then every state visited by an expert or nominal trajectory is a
 candidate proposition "the agent is in this state", and a chosen state becomes a new
 proposition ``p0``, ``p1``, ... in order of discovery; :attr:`SpecLearner.labeling_` is the
@@ -47,8 +47,8 @@ from typing import Any
 import numpy as np
 
 from symlearn.errors import DataError, ModelError
-from symlearn.learners.spec_templates import ARITY, Choice, TraceBounds, best_candidate, instantiate, novelty_depth
-from symlearn.logic.grounding import Labeling
+from symlearn.learners.temporal.spec_templates import ARITY, Choice, TraceBounds, best_candidate, instantiate, novelty_depth
+from symlearn.grounding.labeling import Labeling
 from symlearn.logic.ltlf.ast import Formula, conjunction, size
 
 __all__ = ["SpecLearner"]
@@ -287,10 +287,10 @@ class SpecLearner:
         return sample_episodes(policy, n, seed=int(self._rng.integers(1 << 31)))
 
     def _train(self, formula: Formula, labeling: Labeling, seed: int):
-        from symlearn.envs.spec_experts import task_machine
+        from symlearn.logic.automata.reward_machine import RewardMachine
         from symlearn.rl.crm_q_learning import crm_q_learning
 
-        machine = task_machine(formula)
+        machine = RewardMachine.from_formula(formula)
         steps = self.q_steps or min(400 * self._n_states * (1 + machine.n_states // 8), 4_000_000)
         labels = [labeling.label(s) for s in range(self._n_states)]
         base = 0 if self.random_state is None else int(self.random_state)

@@ -1,7 +1,15 @@
-"""Labeling functions: which propositions are true in which environment state.
+"""Labelings: which propositions are true in which environment state.
 
 A learned formula means nothing without the labeling it was learned under, so a labeling is a
-value of its own: it prints, compares, saves to versioned JSON and loads again. When a learner
+value of its own: it prints, compares, saves to versioned JSON and loads again. Three forms share
+one interface (``propositions``, ``meanings``, ``label(state) -> frozenset``, ``label_word``):
+
+* :class:`Labeling`: a finite table state -> propositions (this module);
+* :class:`~symlearn.grounding.feature_labeling.FeatureLabeling`: propositions defined by
+  inequalities over named features, for continuous states and image features;
+* :class:`~symlearn.grounding.feature_labeling.CallableLabeling`: a Python function.
+
+:func:`load_labeling` reads either saved form (the JSON ``kind`` says which). When a learner
 invents propositions (for instance "the agent is in this cell"), it returns a *new* labeling with
 the proposition added, in order of discovery, together with its meaning.
 """
@@ -129,6 +137,7 @@ class Labeling:
         doc = {
             "symlearn": MAGIC,
             "format_version": FORMAT_VERSION,
+            "kind": "table",
             "propositions": [{"name": p, "meaning": self._meanings[p]} for p in self._order],
             "table": [[_state_to_json(s), sorted(props)] for s, props in self._table.items()],
         }
@@ -144,6 +153,9 @@ class Labeling:
             raise DataError("not a symlearn labeling (missing \"symlearn\": \"labeling\")", file=source)
         if doc.get("format_version") != FORMAT_VERSION:
             raise DataError(f"unsupported labeling format_version {doc.get('format_version')!r}", file=source)
+        if doc.get("kind", "table") != "table":
+            raise DataError(f"this labeling is of kind {doc.get('kind')!r}, not a table", file=source,
+                            hint="read it with symlearn.grounding.load_labeling")
         try:
             props = [(p["name"], p.get("meaning", "")) for p in doc["propositions"]]
             table = {_state_from_json(state): names for state, names in doc["table"]}
@@ -162,3 +174,34 @@ class Labeling:
     def load(cls, path: str | os.PathLike[str]) -> Labeling:
         path = Path(path)
         return cls.from_json(path.read_text(encoding="utf-8"), source=str(path))
+
+
+def load_labeling_text(text: str, *, source: str = "<string>"):
+    """A :class:`Labeling` or :class:`~symlearn.grounding.feature_labeling.FeatureLabeling`
+    from its JSON text, chosen by the document's ``kind`` (``table`` when absent)."""
+    try:
+        doc = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ParseError(f"invalid JSON: {exc.msg}", file=source, line=exc.lineno, column=exc.colno) from None
+    if not isinstance(doc, dict) or doc.get("symlearn") != MAGIC:
+        raise DataError("not a symlearn labeling (missing \"symlearn\": \"labeling\")", file=source)
+    kind = doc.get("kind", "table")
+    if kind == "table":
+        return Labeling.from_json(text, source=source)
+    if kind == "features":
+        from symlearn.grounding.feature_labeling import FeatureLabeling
+
+        if doc.get("format_version") != FORMAT_VERSION:
+            raise DataError(f"unsupported labeling format_version {doc.get('format_version')!r}", file=source)
+        return FeatureLabeling.from_document(doc, source=source)
+    raise DataError(f"unknown labeling kind {kind!r}", file=source, hint="use 'table' or 'features'")
+
+
+def load_labeling(path: str | os.PathLike[str]):
+    """Read a saved labeling of either kind (see :func:`load_labeling_text`)."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise DataError(f"cannot read the labeling: {exc.strerror}", file=str(path)) from None
+    return load_labeling_text(text, source=str(path))

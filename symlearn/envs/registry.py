@@ -1,0 +1,222 @@
+"""The one table of bundled environments, domains and tasks, and what can be learned in each.
+
+Every bundled name lives here once: the CLI (``symlearn envs``, ``--env``), the logic domains
+(:mod:`~symlearn.envs.logic_domains`), the specification tasks (:mod:`~symlearn.envs.spec_tasks`),
+the constraint settings and the gymnasium ids all look their names up in :data:`ENTRIES`.
+
+An :class:`Entry` has one or more :class:`Kind`:
+
+* ``constraints`` -- tabular constraint learning (``symlearn learn constraints --env NAME``);
+* ``rules`` -- it also has ASP facts for every state-action pair, so rules can be induced
+  (``--method logic``); such an entry names the factory of its
+  :class:`~symlearn.envs.logic_domains.LogicDomain`;
+* ``spec`` -- a task specification with its ground-truth LTLf formula
+  (``symlearn learn spec --env NAME``).
+
+Factories are ``"module:attribute"`` strings resolved only when called, so importing this
+module loads neither gymnasium nor numpy; the same strings are the gymnasium entry points
+(:mod:`~symlearn.envs.gym_registration`).
+
+>>> get("junction-lights").gym_id
+'symlearn/junction-lights-v0'
+>>> names(Kind.RULES)
+('hanoi', 'junction-lights', 'junction-priority', 'junction-combined')
+>>> get("office-1").formula, get("office-1").gym_name
+('(f T g) & G !n', 'office')
+>>> get("junction-light")  # doctest: +ELLIPSIS
+Traceback (most recent call last):
+symlearn.errors.UnknownNameError: unknown environment 'junction-light' (hint: did you mean 'junction-lights'? ...)
+"""
+
+from __future__ import annotations
+
+import importlib
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from difflib import get_close_matches
+from enum import StrEnum
+from typing import Any
+
+from symlearn.errors import DataError, UnknownNameError
+
+
+class Kind(StrEnum):
+    """What can be learned in an entry (the value is what ``symlearn envs --json`` prints)."""
+
+    CONSTRAINTS = "constraints"
+    RULES = "rules"
+    SPEC = "spec"
+
+    @property
+    def label(self) -> str:
+        return {"constraints": "constraint-learning environment", "rules": "logic domain",
+                "spec": "specification task"}[self.value]
+
+
+@dataclass(frozen=True)
+class Factory:
+    """``target`` (``"module:attribute"``) called with ``kwargs``; imported only when called."""
+
+    target: str
+    kwargs: Mapping[str, Any] = field(default_factory=dict, hash=False)
+
+    def resolve(self) -> Any:
+        module, _, attribute = self.target.partition(":")
+        return getattr(importlib.import_module(module), attribute)
+
+    def __call__(self, **overrides: Any) -> Any:
+        return self.resolve()(**{**self.kwargs, **overrides})
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One bundled environment, domain or task.
+
+    ``env`` builds its gymnasium environment (registered as ``gym_id``), ``domain`` its logic
+    domain (``rules`` entries), ``formula`` is the ground truth of a ``spec`` entry, ``methods``
+    what it can be learned with (``--method`` of ``symlearn learn constraints``; ``spec`` is
+    ``symlearn learn spec``).
+    """
+
+    name: str
+    kinds: frozenset[Kind]
+    description: str
+    methods: tuple[str, ...]
+    gym_id: str | None = None
+    env: Factory | None = None
+    domain: Factory | None = None
+    formula: str | None = None
+
+    def __post_init__(self) -> None:
+        # A wrong row is a bug of ours, found by the import of this module (and its tests).
+        problems = []
+        if not self.kinds & {Kind.CONSTRAINTS, Kind.SPEC}:
+            problems.append("is neither a constraint environment nor a specification task")
+        if Kind.RULES in self.kinds and (Kind.CONSTRAINTS not in self.kinds or self.domain is None):
+            problems.append("has rules but no constraint kind or no domain factory")
+        if Kind.SPEC in self.kinds and (self.formula is None or self.env is None):
+            problems.append("is a specification task without a formula or an environment")
+        if (self.gym_id is None) != (self.env is None):
+            problems.append("needs both a gymnasium id and an environment factory, or neither")
+        if self.gym_id is not None and not _GYM_ID.fullmatch(self.gym_id):
+            problems.append(f"has gymnasium id {self.gym_id!r}, not 'symlearn/<name>-v<version>'")
+        if problems:
+            raise ValueError(f"registry entry {self.name!r} " + "; ".join(problems))
+
+    @property
+    def gym_name(self) -> str | None:
+        """The gymnasium id without namespace and version (``office`` for ``symlearn/office-v0``)."""
+        return None if self.gym_id is None else _GYM_ID.fullmatch(self.gym_id)["name"]
+
+    def make_env(self, **kwargs: Any) -> Any:
+        """The gymnasium environment, built directly (without ``gymnasium.make``'s wrappers)."""
+        if self.env is None:
+            raise DataError(f"{self.name} has no gymnasium environment",
+                                   hint="environments: " + ", ".join(e.name for e in ENTRIES if e.env))
+        return self.env(**kwargs)
+
+
+_GYM_ID = re.compile(r"symlearn/(?P<name>[a-z0-9-]+?)-v\d+")
+
+_CONSTRAINT_RULES = frozenset({Kind.CONSTRAINTS, Kind.RULES})
+_LOGIC_METHODS = ("logic", "ml")  # mce-icrl needs the environment's reward, which these lack
+
+
+def _junction(variant: str, description: str) -> Entry:
+    name = f"junction-{variant}"
+    return Entry(name, _CONSTRAINT_RULES, description, _LOGIC_METHODS, f"symlearn/{name}-v0",
+                 Factory("symlearn.envs.junction_env:JunctionEnv", {"variant": variant}),
+                 Factory("symlearn.envs.logic_domains:junction_domain", {"variant": variant}))
+
+
+def _spec(name: str, world: str, formula: str, description: str) -> Entry:
+    # One gymnasium environment per world: the task is not part of the environment (it pays no
+    # reward); the formula says what the agent should achieve there.
+    factory = Factory(f"symlearn.envs.{world}_world:make_{world}_world")
+    return Entry(name, frozenset({Kind.SPEC}), description, ("spec",), f"symlearn/{world}-v0", factory,
+                 formula=formula)
+
+
+#: Every bundled entry, in listing order. The formulas are those of the thesis, Table 5.1
+#: (``T`` is "then": ``a T b`` = ``F(a & X F b)``).
+ENTRIES: tuple[Entry, ...] = (
+    # No gymnasium environment exists for Hanoi: it is a finite model learned on as a tabular MDP.
+    Entry("hanoi", _CONSTRAINT_RULES, "Towers of Hanoi, 3 disks: no disk on a smaller one", _LOGIC_METHODS,
+          domain=Factory("symlearn.envs.logic_domains:hanoi_domain")),
+    _junction("lights", "5x5 junction with a traffic light, two-way roads"),
+    _junction("priority", "5x5 junction with priority to the right, one-way roads"),
+    _junction("combined", "7x7 junction: light + priority + one-way roads (transfer target)"),
+    Entry("gridworld", frozenset({Kind.CONSTRAINTS}),
+          "7x7 stochastic gridworld with a forbidden block (--stochasticity p)", ("ml", "mce-icrl"),
+          "symlearn/gridworld-v0", Factory("symlearn.envs.gridworld:StochasticGridworld")),
+    _spec("office-1", "office", "(f T g) & G !n", "fetch coffee, then deliver it to g, never touching a decoration"),
+    _spec("office-2", "office", "(e T g) & G !n", "fetch mail, then deliver it to g, never touching a decoration"),
+    _spec("office-3", "office", "(f T g) & (e T g) & G !n",
+          "fetch coffee and mail (any order), then deliver both to g, avoiding decorations"),
+    _spec("office-4", "office", "(a T b) & (b T c) & (c T d) & G !n",
+          "visit offices a, b, c, d in this order, avoiding decorations"),
+    _spec("craft-1", "craft", "a T c", "get a, then use it at c"),
+    _spec("craft-2", "craft", "(a T e) & (f T e)", "get a and f, then use both at e"),
+    _spec("craft-3", "craft", "(a T b) & (f T b) & (c T b)", "get a, f and c, then use them at b"),
+    _spec("craft-4", "craft", "(a T e) & (f T e) & (e T g)", "get a and f, use them at e, then go to g"),
+)
+
+# Names used before the registry gave the junction one name everywhere (hints only).
+_FORMER_NAMES = {f"traffic-{variant}": f"junction-{variant}" for variant in ("lights", "priority", "combined")}
+
+_BY_NAME: dict[str, Entry] = {entry.name: entry for entry in ENTRIES}
+if len(_BY_NAME) != len(ENTRIES):
+    raise ValueError("registry names must be unique")
+
+
+def entries(kind: Kind | None = None) -> tuple[Entry, ...]:
+    """Every entry (of ``kind``), in listing order."""
+    return tuple(e for e in ENTRIES if kind is None or kind in e.kinds)
+
+
+def names(kind: Kind | None = None) -> tuple[str, ...]:
+    return tuple(e.name for e in entries(kind))
+
+
+def get(name: str, kind: Kind | None = None, *, what: str | None = None) -> Entry:
+    """The entry called ``name`` (case-insensitive) that has ``kind``.
+
+    Anything else raises :class:`~symlearn.errors.UnknownNameError` whose hint lists the names
+    of that kind (and the closest one). ``what`` names the thing in the message (default: the
+    kind's label, or "environment").
+    """
+    key = str(name).strip().lower()
+    known = names(kind)
+    if key in known:
+        return _BY_NAME[key]
+    what = what or (kind.label if kind else "environment")
+    close = [_FORMER_NAMES[key]] if _FORMER_NAMES.get(key) in known else get_close_matches(key, known, n=1)
+    hint = (f"did you mean {close[0]!r}? " if close else "") + f"known {_plural(kind)}: " + ", ".join(known)
+    if key in _BY_NAME:  # a real entry, just not of this kind: say what it is instead
+        kinds = ", ".join(sorted(k.value for k in _BY_NAME[key].kinds))
+        raise UnknownNameError(f"{key!r} is no {what} (it is: {kinds})", hint=hint)
+    raise UnknownNameError(f"unknown {what} {name!r}", hint=hint)
+
+
+def _plural(kind: Kind | None) -> str:
+    return f"{kind.label}s" if kind else "environments"
+
+
+def gym_entries() -> dict[str, Factory]:
+    """Gymnasium id -> environment factory, one per id (the spec tasks of a world share one)."""
+    found: dict[str, Factory] = {}
+    for entry in ENTRIES:
+        if entry.gym_id is None:
+            continue
+        if found.setdefault(entry.gym_id, entry.env) != entry.env:
+            raise ValueError(f"gymnasium id {entry.gym_id} has two different factories")
+    return found
+
+
+def formulas(world: str) -> dict[str, str]:
+    """Task name -> ground-truth formula of the specification tasks in ``world`` (``office``)."""
+    return {e.name: e.formula for e in entries(Kind.SPEC) if e.gym_name == world}
+
+
+__all__ = ["ENTRIES", "Entry", "Factory", "Kind", "entries", "formulas", "get", "gym_entries", "names"]

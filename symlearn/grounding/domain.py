@@ -1,0 +1,279 @@
+"""A domain for learning constraints: background knowledge, mode bias, fact grounding, nominal model.
+
+:class:`Domain` is everything a constraint learner needs to know about a finite world, and
+nothing about where it came from: the bundled Hanoi and junction domains and a folder a user
+wrote (:meth:`Domain.from_folder`, see ``docs/FORMATS.md``) are the same class.
+
+* ``mdp``: the nominal :class:`~symlearn.mdp.TabularMDP` (no learned rule removes an action);
+  action names are the ASP atoms of the actions, so demonstrations may name actions by atom.
+* ``grounding``: a :class:`~symlearn.grounding.facts.FactGrounding`, the ASP facts of every
+  state and action (the *example context* of a pair is state facts + action atom).
+* ``background``: a clingo program that, with one pair's context, has exactly one answer set;
+  ``bias``: the ILASP-style mode declarations (``#modeb``, ``#modec``, ``#constant``, ``#maxv``)
+  that span the hypothesis space; ``truth``: optional ground-truth rules to score against.
+* ``available``: optional ``(S, A)`` mask of moves that exist; pairs that are not available,
+  and every pair of a terminal state, are *unavailable*: no example, no rule is about them.
+
+What the learners ask of a domain: :meth:`ilp_task` (an ILP task over chosen pairs, built as
+objects, never as text), :meth:`rule_mask` (every pair a rule set forbids, decided on the
+answer sets of all pairs in one grounding), :attr:`truth_forbidden`, :meth:`episodes`
+(demonstrations checked against the model).
+
+>>> import numpy as np
+>>> from symlearn.mdp import TabularMDP
+>>> P = np.zeros((2, 2, 2)); P[0, 0, 1] = P[0, 1, 0] = P[1, :, 1] = 1
+>>> mdp = TabularMDP(P, np.zeros((2, 2)), [1, 0], [False, True])
+>>> d = Domain("toy", background="safe :- not alarm.", bias="#modeb(1, alarm). #modeb(1, go).",
+...            grounding=FactGrounding({0: "alarm.", 1: ""}, ["go", "wait"]), mdp=mdp, truth=":- alarm, go.")
+>>> d.truth_forbidden.astype(int).tolist()
+[[1, 0], [0, 0]]
+>>> d.rule_mask([":- go."]).astype(int).tolist()
+[[1, 0], [0, 0]]
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from collections.abc import Iterable, Sequence
+from functools import cached_property
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from symlearn.errors import DataError, ModelError, SymlearnError
+from symlearn.grounding.facts import FactGrounding, Facts
+from symlearn.mdp import TabularMDP
+
+RulesLike = str | Sequence[str] | os.PathLike
+
+
+class Domain:
+    """A finite domain for constraint learning (see the module docstring)."""
+
+    def __init__(self, name: str, *, background: Any, bias: str, grounding: FactGrounding, mdp: TabularMDP,
+                 truth: str | None = None, labeling: Any = None, available: np.ndarray | None = None,
+                 description: str = "", sources: dict[str, str] | None = None) -> None:
+        from symlearn.logic.asp.program import Program, as_program
+
+        self.name = str(name)
+        self.description = description or self.name
+        self.sources = dict(sources or {})
+        self.background = background if isinstance(background, Program) else as_program(str(background))
+        self.bias_text = bias
+        self.grounding = grounding
+        self.labeling = labeling
+        self.truth = truth
+        if (grounding.n_states, grounding.n_actions) != (mdp.n_states, mdp.n_actions):
+            raise DataError(f"the model has {mdp.n_states} states x {mdp.n_actions} actions, the fact grounding "
+                            f"{grounding.n_states} x {grounding.n_actions}", file=self.sources.get("model"),
+                            hint="model.npz, states.jsonl and actions.jsonl must describe the same ids")
+        names = tuple(grounding.action_atoms)
+        self.mdp = dataclasses.replace(mdp, action_names=names) if mdp.action_names != names else mdp
+        if available is None:
+            available = np.ones((mdp.n_states, mdp.n_actions), dtype=bool)
+        available = np.asarray(available, dtype=bool)
+        if available.shape != (mdp.n_states, mdp.n_actions):
+            raise DataError(f"available must have shape {(mdp.n_states, mdp.n_actions)}, got {available.shape}",
+                            file=self.sources.get("model"))
+        unavailable = ~available | np.asarray(mdp.terminal, dtype=bool)[:, None]
+        unavailable.setflags(write=False)
+        self.unavailable = unavailable
+
+    # --- the pair space -----------------------------------------------------------------------
+    @property
+    def n_states(self) -> int:
+        return self.mdp.n_states
+
+    @property
+    def n_actions(self) -> int:
+        return self.mdp.n_actions
+
+    @property
+    def state_names(self) -> tuple[str, ...]:
+        return self.mdp.state_names or tuple(str(s) for s in range(self.n_states))
+
+    @property
+    def action_names(self) -> tuple[str, ...]:
+        return self.mdp.action_names
+
+    @property
+    def known(self) -> np.ndarray:
+        """Pairs forbidden in advance: moves that do not exist (never in terminal states)."""
+        return self.unavailable & ~self.mdp.terminal[:, None]
+
+    @cached_property
+    def pair_ids(self) -> tuple[tuple[int, int], ...]:
+        """Every available ``(s, a)`` in id order: the pairs rules are learned about."""
+        return tuple((int(s), int(a)) for s, a in np.argwhere(~self.unavailable))
+
+    def facts(self, s: int, a: int) -> Facts:
+        if self.unavailable[s, a]:
+            raise ModelError(f"ids ({s}, {a}) are no state-action pair of {self.name}")
+        return self.grounding.facts(s, a)
+
+    def describe_pair(self, s: int, a: int) -> str:
+        return f"{self.state_names[s]} / {self.action_names[a]}"
+
+    # --- ILP ----------------------------------------------------------------------------------
+    @cached_property
+    def bias(self):
+        """The mode bias as an :class:`~symlearn.logic.ilp.task.ILPTask` without examples."""
+        from symlearn.logic.ilp import parse_task
+
+        source = self.sources.get("bias", f"<{self.name} bias>")
+        task = parse_task(self.bias_text, source=source)
+        if task.examples:
+            first = task.examples[0]
+            raise DataError(f"the bias file holds examples ({first.describe()}); it must hold mode declarations only",
+                            file=source, line=first.line, hint="examples come from demonstrations")
+        return task
+
+    @cached_property
+    def hypothesis_space(self):
+        """The candidate rules of the bias (independent of the examples, so built once)."""
+        from symlearn.logic.ilp.space import generate_space
+
+        return generate_space(self.ilp_task([]))
+
+    def examples(self, pairs: Iterable[tuple[int, int]], positive: bool, penalty: int | None = None,
+                 prefix: str | None = None) -> list:
+        """ILP examples (contexts = the pairs' facts), ids ``p1, p2, ...`` or ``n1, n2, ...``."""
+        from symlearn.logic.asp.program import Program
+        from symlearn.logic.ilp.task import Example
+
+        prefix = prefix or ("p" if positive else "n")
+        out = []
+        for k, (s, a) in enumerate(pairs, start=1):
+            context = Program.from_text(" ".join(self.facts(s, a)), source=f"<{self.describe_pair(s, a)}>")
+            out.append(Example(f"{prefix}{k}", positive, context=context, penalty=penalty))
+        return out
+
+    def ilp_task(self, examples: list):
+        """An ILP task over this domain's background and bias with the given examples."""
+        bias = self.bias
+        return dataclasses.replace(bias, background=self.background + bias.background, examples=list(examples),
+                                   source=f"<{self.name} induction task>")
+
+    def hypothesis(self, rules: RulesLike):
+        """A :class:`~symlearn.logic.asp.Hypothesis` from rule text, a rule list or an ``.lp`` path."""
+        from symlearn.logic.asp import Hypothesis
+
+        background = self.background + self.bias.background
+        if isinstance(rules, os.PathLike):
+            return Hypothesis.from_lp(rules, background=background)
+        if isinstance(rules, str):
+            return Hypothesis.from_text(rules, background=background)
+        return Hypothesis(list(rules), background=background)
+
+    @cached_property
+    def _worlds(self) -> dict[int, list]:
+        """The one answer set of background + context per available pair, tagged by pair index."""
+        from symlearn.logic.ilp.selection import single_worlds
+
+        task = self.ilp_task(self.examples(self.pair_ids, True))
+        worlds = single_worlds(task) if task.examples else None
+        if worlds is None or worlds.empty:
+            self._explain_bad_context(worlds.empty if worlds is not None else None)
+        return worlds.atoms
+
+    def validate(self) -> Domain:
+        """Check that every pair's context has exactly one answer set; return ``self``."""
+        self._worlds  # noqa: B018 -- computing it is the check
+        return self
+
+    def _explain_bad_context(self, empty: list[int] | None) -> None:
+        from symlearn.logic.asp.clingo_adapter import solve
+
+        candidates = empty if empty else range(len(self.pair_ids))
+        for index in candidates:
+            s, a = self.pair_ids[index]
+            program = self.background + self.bias.background + " ".join(self.facts(s, a))
+            n = len(solve(program, max_models=2).models)
+            if n != 1:
+                what = "makes the background unsatisfiable" if n == 0 else "gives more than one answer set"
+                line = self.grounding.state_line(s)
+                raise DataError(f"state {s} with action {self.action_names[a]!r}: its facts {what}",
+                                file=self.sources.get("states"), line=line,
+                                hint="with one state's facts and one action atom the background must have "
+                                     "exactly one answer set")
+        raise DataError(f"some state-action context of {self.name} does not have exactly one answer set")
+
+    def rule_mask(self, rules: RulesLike) -> np.ndarray:
+        """Boolean ``(S, A)``: every available pair on whose answer set some rule fires.
+
+        Rules are integrity constraints (the hypotheses of constraint learning); one grounding of
+        the tagged rules over the tagged answer sets of all pairs decides them all.
+        """
+        from symlearn.logic.asp import clingo_adapter as cl
+        from symlearn.logic.asp.program import Program
+        from symlearn.logic.ilp.encoding import ACTIVE
+
+        hypothesis = self.hypothesis(rules)
+        mask = np.zeros(self.unavailable.shape, dtype=bool)
+        if not hypothesis.rules:
+            return mask
+        text = "\n".join(hypothesis.rules)
+        if any(not r.lstrip().startswith(":-") for r in hypothesis.rules):
+            raise SymlearnError("only integrity constraints (':- body.') can be turned into forbidden pairs",
+                                hint="a rule with a head changes the answer sets rather than removing them")
+        tagged = cl.tag_program(Program.from_text(text, source="<rules>"), "E__", guard=[f"{ACTIVE}(E__)"],
+                                constraint_head="fires__")
+        atoms = self._worlds
+        facts = "\n".join(f"{x}." for x in atoms if x.name != ACTIVE)
+        facts += "\n" + "\n".join(f"{ACTIVE}({i})." for i in range(len(self.pair_ids)))
+        program = Program.from_text(facts, source="<answer sets>") + Program.from_text(tagged, source="<rules>")
+        for atom in cl.ground_atoms(program, [("fires__", 1)]):
+            s, a = self.pair_ids[atom.arguments[0].number]
+            mask[s, a] = True
+        return mask
+
+    @cached_property
+    def truth_forbidden(self) -> np.ndarray | None:
+        """The pairs the ground-truth rules forbid, or None without truth."""
+        if self.truth is None:
+            return None
+        mask = self.rule_mask(self.truth)
+        mask.setflags(write=False)
+        return mask
+
+    # --- demonstrations -----------------------------------------------------------------------
+    def episodes(self, demonstrations: Any) -> list:
+        """Demonstrations as checked integer episodes (state ids; action ids or atoms)."""
+        from symlearn.mdp.episodes import tabular_episodes
+
+        return tabular_episodes(demonstrations, self.mdp)
+
+    # --- files --------------------------------------------------------------------------------
+    @classmethod
+    def from_folder(cls, folder: str | os.PathLike[str], *, validate: bool = True) -> Domain:
+        """Read a domain folder (``domain.toml`` + the files it names; see ``docs/FORMATS.md``)."""
+        from symlearn.grounding.domain_folder import read_domain_folder
+
+        domain = read_domain_folder(Path(folder))
+        return domain.validate() if validate else domain
+
+    def save(self, folder: str | os.PathLike[str]) -> Path:
+        """Write this domain as a folder that :meth:`from_folder` reads back."""
+        from symlearn.grounding.domain_folder import write_domain_folder
+
+        return write_domain_folder(self, Path(folder))
+
+    def __repr__(self) -> str:
+        return (f"Domain({self.name!r}: {self.n_states} states x {self.n_actions} actions, "
+                f"{len(self.pair_ids)} pairs{', truth' if self.truth else ''})")
+
+
+def as_domain(value: Any) -> Domain:
+    """``value`` if it is a :class:`Domain`, or its ``.domain`` (bundled wrappers carry one)."""
+    if isinstance(value, Domain):
+        return value
+    inner = getattr(value, "domain", None)
+    if isinstance(inner, Domain):
+        return inner
+    raise ModelError(f"{type(value).__name__} is not a Domain",
+                     hint="build one with Domain(...) or Domain.from_folder(DIR); bundled: symlearn.envs.logic_mdp")
+
+
+__all__ = ["Domain", "as_domain"]

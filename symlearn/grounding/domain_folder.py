@@ -1,0 +1,184 @@
+"""A domain folder a user can author: ``domain.toml`` and the files it names.
+
+::
+
+    DIR/domain.toml
+      name = "warehouse"
+      description = "..."          # optional
+      background = "bk.lp"         # clingo; one state's facts + one action atom: exactly one answer set
+      bias = "bias.las"            # #modeb / #modec / #constant / #maxv, no examples
+      model = "model.npz"          # transitions [S,A,S], initial [S], terminal [S] bool;
+                                   #   optional available [S,A] bool, rewards [S,A] float
+      states = "states.jsonl"      # {"id": 0, "facts": "at(0,0). loaded."} per state id
+      actions = "actions.jsonl"    # {"id": 0, "atom": "move(north)"} per action id
+      truth = "truth.lp"           # optional ground-truth rules
+      labeling = "labeling.json"   # optional labeling (for specification learning)
+
+Paths are relative to ``DIR``. Every mistake is a one-line :class:`~symlearn.errors.DataError`
+naming the file (and the key of ``domain.toml`` that pointed there).
+"""
+
+from __future__ import annotations
+
+import json
+import tomllib
+from pathlib import Path
+import numpy as np
+
+from symlearn.atomic import write_bytes, write_text
+from symlearn.errors import DataError, ModelError, ParseError
+
+REQUIRED = ("name", "background", "bias", "model", "states", "actions")
+OPTIONAL = ("description", "truth", "labeling")
+MODEL_ARRAYS = {"transitions": 3, "initial": 1, "terminal": 1, "available": 2, "rewards": 2}
+
+
+def read_domain_folder(folder: Path):
+    from symlearn.grounding.domain import Domain
+    from symlearn.grounding.facts import FactGrounding
+
+    toml_path = folder / "domain.toml"
+    if not folder.is_dir():
+        raise DataError(f"{folder} is not a folder", file=str(folder), hint="a domain is a folder with domain.toml")
+    if not toml_path.is_file():
+        raise DataError("the domain folder has no domain.toml", file=str(folder))
+    try:
+        config = tomllib.loads(toml_path.read_text(encoding="utf-8"))
+    except tomllib.TOMLDecodeError as exc:
+        line = getattr(exc, "lineno", None)
+        column = getattr(exc, "colno", None)
+        raise ParseError(f"invalid TOML: {str(exc).split(' (at')[0]}", file=str(toml_path), line=line,
+                         column=column) from None
+    for key in REQUIRED:
+        if key not in config:
+            raise DataError(f"missing key {key!r}", file=str(toml_path),
+                            hint="required: " + ", ".join(REQUIRED) + "; optional: " + ", ".join(OPTIONAL))
+    unknown = sorted(set(config) - set(REQUIRED) - set(OPTIONAL))
+    if unknown:
+        raise DataError(f"unknown key {unknown[0]!r}", file=str(toml_path),
+                        hint="known keys: " + ", ".join(REQUIRED + OPTIONAL))
+    for key in config:
+        if not isinstance(config[key], str):
+            raise DataError(f"key {key!r} must be a string, got {type(config[key]).__name__}", file=str(toml_path))
+
+    def path(key: str) -> Path:
+        p = folder / config[key]
+        if not p.is_file():
+            raise DataError(f"key {key!r}: file {config[key]!r} not found in {folder}", file=str(toml_path))
+        return p
+
+    sources = {k: str(path(k)) for k in (*REQUIRED[1:], *[k for k in ("truth", "labeling") if k in config])}
+    background = _read_program(path("background"))
+    bias = path("bias").read_text(encoding="utf-8")
+    model = _read_model(path("model"))
+    grounding = FactGrounding.from_jsonl(path("states"), path("actions"))
+    n_s, n_a = model["transitions"].shape[:2]
+    if grounding.n_states != n_s:
+        raise DataError(f"{config['states']} lists {grounding.n_states} states, {config['model']} has {n_s}",
+                        file=sources["states"])
+    if grounding.n_actions != n_a:
+        raise DataError(f"{config['actions']} lists {grounding.n_actions} actions, {config['model']} has {n_a}",
+                        file=sources["actions"])
+    mdp = _model_mdp(model, sources["model"], grounding.action_atoms)
+    truth = path("truth").read_text(encoding="utf-8") if "truth" in config else None
+    labeling = None
+    if "labeling" in config:
+        from symlearn.grounding.labeling import load_labeling
+
+        labeling = load_labeling(path("labeling"))
+    domain = Domain(config["name"], background=background, bias=bias, grounding=grounding, mdp=mdp, truth=truth,
+                    labeling=labeling, available=model.get("available"), description=config.get("description", ""),
+                    sources=sources)
+    if truth is not None:  # a syntax error in the truth file should surface now, located
+        domain.hypothesis(Path(sources["truth"]))
+    return domain
+
+
+def _read_program(path: Path):
+    from symlearn.logic.asp.program import Program
+
+    return Program.from_file(path)
+
+
+def _read_model(path: Path) -> dict[str, np.ndarray]:
+    try:
+        with np.load(path, allow_pickle=False) as archive:
+            arrays = {k: np.asarray(archive[k]) for k in archive.files}
+    except (OSError, ValueError) as exc:
+        raise DataError(f"cannot read the model archive: {exc}", file=str(path),
+                        hint="write it with numpy.savez (no object arrays)") from None
+    for key in ("transitions", "initial", "terminal"):
+        if key not in arrays:
+            raise DataError(f"the model has no array {key!r}", file=str(path),
+                            hint="needed: transitions [S,A,S], initial [S], terminal [S]")
+    unknown = sorted(set(arrays) - set(MODEL_ARRAYS))
+    if unknown:
+        raise DataError(f"unknown array {unknown[0]!r} in the model", file=str(path),
+                        hint="known: " + ", ".join(MODEL_ARRAYS))
+    for key, ndim in MODEL_ARRAYS.items():
+        if key in arrays and arrays[key].ndim != ndim:
+            raise DataError(f"array {key!r} must have {ndim} dimension(s), got shape {arrays[key].shape}",
+                            file=str(path))
+    P = arrays["transitions"]
+    n_s, n_a, n_next = P.shape
+    if n_next != n_s:
+        raise DataError(f"transitions must have shape [S, A, S], got {P.shape}", file=str(path))
+    expected = {"initial": (n_s,), "terminal": (n_s,), "available": (n_s, n_a), "rewards": (n_s, n_a)}
+    for key, shape in expected.items():
+        if key in arrays and arrays[key].shape != shape:
+            raise DataError(f"array {key!r} must have shape {list(shape)} to match transitions {list(P.shape)}, "
+                            f"got {list(arrays[key].shape)}", file=str(path))
+    for key in ("terminal", "available"):
+        if key in arrays and arrays[key].dtype != bool:
+            raise DataError(f"array {key!r} must be boolean, got {arrays[key].dtype}", file=str(path))
+    if not np.isfinite(P).all() or (P < 0).any():
+        raise DataError("transitions must be finite and non-negative", file=str(path))
+    sums = P.sum(axis=2)
+    bad = np.argwhere(np.abs(sums - 1.0) > 1e-6)
+    if bad.size:
+        s, a = map(int, bad[0])
+        raise DataError(f"transition row (s, a) = ({s}, {a}) sums to {sums[s, a]:.6g}, not 1",
+                        file=str(path), hint=f"{len(bad)} row(s) in all; every P[s, a, :] is a distribution")
+    return arrays
+
+
+def _model_mdp(model: dict[str, np.ndarray], source: str, action_atoms):
+    from symlearn.mdp import TabularMDP
+
+    n_s, n_a = model["transitions"].shape[:2]
+    rewards = model.get("rewards", np.zeros((n_s, n_a)))
+    try:
+        return TabularMDP(model["transitions"].astype(np.float64), rewards.astype(np.float64),
+                          model["initial"].astype(np.float64), model["terminal"],
+                          tuple(str(s) for s in range(n_s)), tuple(action_atoms))
+    except (ModelError, DataError) as exc:
+        raise DataError(exc.message, file=source, hint=exc.hint) from None
+
+
+def write_domain_folder(domain, folder: Path) -> Path:
+    """Write ``domain`` as a folder (a per-pair fact grounding cannot be written: refused)."""
+    import io
+
+    folder.mkdir(parents=True, exist_ok=True)
+    mdp = domain.mdp
+    buffer = io.BytesIO()
+    arrays = {"transitions": mdp.transitions, "initial": mdp.initial, "terminal": np.asarray(mdp.terminal, bool),
+              "available": ~domain.unavailable | mdp.terminal[:, None], "rewards": mdp.rewards}
+    if np.asarray(mdp.rewards).ndim != 2:
+        arrays.pop("rewards")
+    np.savez(buffer, **arrays)
+    domain.grounding.save_jsonl(folder / "states.jsonl", folder / "actions.jsonl")
+    write_bytes(folder / "model.npz", buffer.getvalue())
+    write_text(folder / "bk.lp", domain.background.text)
+    write_text(folder / "bias.las", domain.bias_text)
+    lines = [f"name = {json.dumps(domain.name)}", f"description = {json.dumps(domain.description)}",
+             'background = "bk.lp"', 'bias = "bias.las"', 'model = "model.npz"', 'states = "states.jsonl"',
+             'actions = "actions.jsonl"']
+    if domain.truth is not None:
+        write_text(folder / "truth.lp", domain.truth)
+        lines.append('truth = "truth.lp"')
+    if domain.labeling is not None:
+        write_text(folder / "labeling.json", domain.labeling.to_json() + "\n")
+        lines.append('labeling = "labeling.json"')
+    write_text(folder / "domain.toml", "\n".join(lines) + "\n")
+    return folder

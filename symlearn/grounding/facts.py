@@ -1,0 +1,243 @@
+"""Fact groundings: which ASP facts describe a state, an action, or a state-action pair.
+
+A learned rule such as ``:- alarm, move(_).`` only means something together with the facts
+that say when ``alarm`` holds. A :class:`FactGrounding` is that translation for a finite domain
+with integer state and action ids:
+
+* ``state_facts[s]``: the facts of state ``s`` (``("at(0,0).", "loaded.")``);
+* ``action_atoms[a]``: the atom of action ``a`` (``"move(north)"``);
+* optionally ``pair_facts[(s, a)]``: the whole context of one pair, for domains whose action
+  atom depends on the state (Hanoi: "top disk of peg 0 to peg 2" is ``move(D, 2)`` with ``D``
+  the disk on top). A pair listed there ignores the two tables above.
+
+The example context of a pair is the state's facts followed by the action's atom as a fact.
+Every fact is checked with clingo's parser when the grounding is built, so a typo is reported
+where it was written. :meth:`FactGrounding.from_jsonl` reads the two files of a domain folder
+(``states.jsonl``: ``{"id": 0, "facts": "at(0,0). loaded."}``; ``actions.jsonl``:
+``{"id": 0, "atom": "move(north)"}``), :meth:`FactGrounding.save_jsonl` writes them.
+
+>>> g = FactGrounding({0: "at(0,0). loaded.", 1: ["at(0,1)."]}, ["move(north)", "drop"])
+>>> g.facts(0, 1)
+('at(0,0).', 'loaded.', 'drop.')
+>>> g.n_states, g.n_actions, g.action_index("move(north)")
+(2, 2, 0)
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Iterable, Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+from symlearn.atomic import write_text
+from symlearn.errors import DataError, ParseError, SymlearnError
+
+Facts = tuple[str, ...]
+
+
+def split_facts(text: str | Iterable[str], *, source: str = "<facts>", line: int = 1, column: int = 1) -> Facts:
+    """Normalised ground facts (``"p(1)."``) from program text or a list of facts.
+
+    Uses clingo's parser (a ``"."`` inside a string or a comment is handled correctly); anything
+    that is not a plain fact -- a rule, a variable, a constraint -- is a :class:`ParseError`
+    pointing at it.
+    """
+    from symlearn.logic.asp.clingo_adapter import parse_rules
+
+    pieces = [text] if isinstance(text, str) else list(text)
+    found: list[str] = []
+    for piece in pieces:
+        if not isinstance(piece, str):
+            raise DataError(f"facts must be text, got {type(piece).__name__}", file=source, line=line)
+        stripped = piece.strip()
+        if not stripped:
+            continue
+        if not stripped.endswith("."):  # a single atom written without its full stop
+            stripped += "."
+        try:
+            statements = parse_rules(stripped, source=source)
+        except ParseError as exc:
+            raise ParseError(exc.message, file=source, line=line, column=column, hint=exc.hint) from None
+        for statement in statements:
+            text_form = str(statement)
+            if statement.body or not text_form.endswith(".") or ":-" in text_form or _has_variable(statement):
+                raise ParseError(f"{text_form!r} is not a ground fact", file=source, line=line, column=column,
+                                 hint="write facts such as at(0,1). or loaded.")
+            found.append(text_form)
+    return tuple(found)
+
+
+def _has_variable(statement: Any) -> bool:
+    import clingo.ast
+
+    seen: list[bool] = []
+
+    class _Finder(clingo.ast.Transformer):
+        def visit_Variable(self, node):  # noqa: N802 -- clingo's visitor naming
+            seen.append(True)
+            return node
+
+    _Finder()(statement)
+    return bool(seen)
+
+
+def _atom(text: str, *, source: str, line: int, column: int = 1) -> str:
+    facts = split_facts(text, source=source, line=line, column=column)
+    if len(facts) != 1:
+        raise ParseError(f"an action atom must be exactly one atom, got {text!r}", file=source, line=line,
+                         column=column)
+    return facts[0][:-1]
+
+
+class FactGrounding:
+    """State facts, action atoms and optional per-pair contexts of a finite domain (see module)."""
+
+    def __init__(self, state_facts: Mapping[int, str | Iterable[str]] | Sequence[str | Iterable[str]],
+                 action_atoms: Mapping[int, str] | Sequence[str], *,
+                 pair_facts: Mapping[tuple[int, int], str | Iterable[str]] | None = None,
+                 source: str = "<fact grounding>") -> None:
+        self._states = _dense(state_facts, "state", source)
+        self._states = tuple(split_facts(f, source=source) if not _is_normal(f) else tuple(f) for f in self._states)
+        actions = _dense(action_atoms, "action", source)
+        self._actions = tuple(_atom(a, source=source, line=i + 1) if isinstance(a, str) else _bad_atom(a, source)
+                              for i, a in enumerate(actions))
+        if len(set(self._actions)) != len(self._actions):
+            dup = next(a for a in self._actions if self._actions.count(a) > 1)
+            raise DataError(f"action atom {dup!r} names two actions", file=source)
+        self._pairs: dict[tuple[int, int], Facts] = {}
+        for (s, a), facts in (pair_facts or {}).items():
+            if not (0 <= int(s) < len(self._states) and 0 <= int(a) < len(self._actions)):
+                raise DataError(f"pair ({s}, {a}) is outside {len(self._states)} states x {len(self._actions)} actions",
+                                file=source)
+            self._pairs[int(s), int(a)] = tuple(facts) if _is_normal(facts) else split_facts(facts, source=source)
+        self.source = source
+
+    # --- reading --------------------------------------------------------------------------
+    @property
+    def n_states(self) -> int:
+        return len(self._states)
+
+    @property
+    def n_actions(self) -> int:
+        return len(self._actions)
+
+    @property
+    def action_atoms(self) -> tuple[str, ...]:
+        return self._actions
+
+    def state_facts(self, state: int) -> Facts:
+        return self._states[int(state)]
+
+    def action_atom(self, action: int) -> str:
+        return self._actions[int(action)]
+
+    def action_index(self, atom: str) -> int:
+        """The id of the action whose atom is ``atom`` (spaces ignored)."""
+        key = atom.replace(" ", "").rstrip(".")
+        for i, known in enumerate(self._actions):
+            if known.replace(" ", "") == key:
+                return i
+        raise DataError(f"unknown action atom {atom!r}", hint="known: " + ", ".join(self._actions[:10]))
+
+    def facts(self, state: int, action: int) -> Facts:
+        """The example context of a pair: state facts, then the action atom as a fact."""
+        pair = self._pairs.get((int(state), int(action)))
+        if pair is not None:
+            return pair
+        return (*self._states[int(state)], f"{self._actions[int(action)]}.")
+
+    @property
+    def has_pair_facts(self) -> bool:
+        return bool(self._pairs)
+
+    def __eq__(self, other: object) -> bool:
+        if not isinstance(other, FactGrounding):
+            return NotImplemented
+        return (self._states, self._actions, self._pairs) == (other._states, other._actions, other._pairs)
+
+    def __repr__(self) -> str:
+        extra = f", {len(self._pairs)} pair contexts" if self._pairs else ""
+        return f"FactGrounding({self.n_states} states, {self.n_actions} actions{extra})"
+
+    # --- files ----------------------------------------------------------------------------
+    @classmethod
+    def from_jsonl(cls, states_path: str | os.PathLike[str], actions_path: str | os.PathLike[str]) -> FactGrounding:
+        """Read ``states.jsonl`` (``{"id", "facts"}``) and ``actions.jsonl`` (``{"id", "atom"}``)."""
+        states = _read_table(Path(states_path), "facts")
+        actions = _read_table(Path(actions_path), "atom")
+        facts = {i: split_facts(text, source=str(states_path), line=line) for i, (text, line) in states.items()}
+        atoms = {i: _atom(text, source=str(actions_path), line=line) for i, (text, line) in actions.items()}
+        grounding = cls(facts, atoms, source=str(states_path))
+        grounding._lines = {i: line for i, (_, line) in states.items()}
+        return grounding
+
+    def state_line(self, state: int) -> int | None:
+        """The line of ``states.jsonl`` a state was read from (None when built in Python)."""
+        return getattr(self, "_lines", {}).get(int(state))
+
+    def save_jsonl(self, states_path: str | os.PathLike[str], actions_path: str | os.PathLike[str]) -> None:
+        """Write the two tables (per-pair contexts have no place in this format: refused)."""
+        if self._pairs:
+            raise SymlearnError("this grounding has per-pair contexts, which states.jsonl/actions.jsonl cannot hold")
+        write_text(states_path, "".join(json.dumps({"id": i, "facts": " ".join(f)}) + "\n"
+                                        for i, f in enumerate(self._states)))
+        write_text(actions_path, "".join(json.dumps({"id": i, "atom": a}) + "\n" for i, a in enumerate(self._actions)))
+
+
+def _is_normal(facts: Any) -> bool:
+    return isinstance(facts, tuple) and all(isinstance(f, str) and f.endswith(".") for f in facts)
+
+
+def _bad_atom(value: Any, source: str) -> str:
+    raise DataError(f"an action atom must be text, got {value!r}", file=source)
+
+
+def _dense(table: Any, what: str, source: str) -> list[Any]:
+    """A mapping id -> value or a sequence, as a list indexed 0..n-1 (every id present)."""
+    if isinstance(table, Mapping):
+        ids = sorted(table)
+        if any(not isinstance(i, int) or isinstance(i, bool) for i in ids):
+            raise DataError(f"{what} ids must be integers", file=source)
+        missing = sorted(set(range(len(ids))) - set(ids))
+        if missing or (ids and ids[0] != 0):
+            raise DataError(f"{what} ids must be 0..{len(ids) - 1}; {what} {missing[0] if missing else ids[0]} "
+                            "is missing", file=source)
+        return [table[i] for i in ids]
+    return list(table)
+
+
+def _read_table(path: Path, key: str) -> dict[int, tuple[str, int]]:
+    """``{id: (value, line)}`` of a JSONL file with objects ``{"id": int, key: str}``."""
+    try:
+        lines = path.read_text(encoding="utf-8").splitlines()
+    except OSError as exc:
+        raise DataError(f"cannot read {path}: {exc.strerror}", file=str(path)) from None
+    table: dict[int, tuple[str, int]] = {}
+    for number, text in enumerate(lines, start=1):
+        if not text.strip():
+            continue
+        try:
+            item = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise ParseError(f"invalid JSON: {exc.msg}", file=str(path), line=number, column=exc.colno) from None
+        if not isinstance(item, dict) or "id" not in item or key not in item:
+            raise DataError(f"expected an object with \"id\" and \"{key}\"", file=str(path), line=number)
+        ident, value = item["id"], item[key]
+        if isinstance(ident, bool) or not isinstance(ident, int) or ident < 0:
+            raise DataError(f"\"id\" must be a non-negative integer, got {ident!r}", file=str(path), line=number)
+        if not isinstance(value, str):
+            raise DataError(f"\"{key}\" must be a string, got {type(value).__name__}", file=str(path), line=number)
+        if ident in table:
+            raise DataError(f"id {ident} appears twice (first on line {table[ident][1]})", file=str(path), line=number)
+        table[ident] = (value, number)
+    if not table:
+        raise DataError("the file lists nothing", file=str(path))
+    missing = sorted(set(range(max(table) + 1)) - set(table))
+    if missing:
+        raise DataError(f"ids must be 0..{max(table)} without gaps; id {missing[0]} is missing", file=str(path))
+    return table
+
+
+__all__ = ["FactGrounding", "Facts", "split_facts"]

@@ -1,0 +1,40 @@
+"""A learned constraint set as a file: the forbidden state-action pairs by name, as JSON.
+
+``{"format": "symlearn-constraints", "version": 1, "method": ..., "domain": ...,
+"forbidden": [[state, action], ...], "multipliers": {state: value}}`` (``multipliers`` only for
+MCE-ICRL). Names are the model's state and action names, so the file reads without the ids.
+
+>>> import numpy as np
+>>> from symlearn.mdp import TabularMDP
+>>> P = np.zeros((2, 2, 2)); P[:, :, 1] = 1
+>>> mdp = TabularMDP(P, np.zeros((2, 2)), [1, 0], [False, True], ("a", "b"), ("left", "right"))
+>>> print(constraint_set_text(np.array([[True, False], [False, False]]), mdp, method="ml"))
+{"format": "symlearn-constraints", "version": 1, "method": "ml", "forbidden": [["a", "left"]]}
+"""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+import numpy as np
+
+
+def constraint_set_document(forbidden: np.ndarray, mdp: Any, *, method: str, domain: str | None = None,
+                            multipliers: dict[str, float] | None = None) -> dict[str, Any]:
+    names_s = mdp.state_names or tuple(str(s) for s in range(mdp.n_states))
+    names_a = mdp.action_names or tuple(str(a) for a in range(mdp.n_actions))
+    doc: dict[str, Any] = {"format": "symlearn-constraints", "version": 1, "method": method}
+    if domain is not None:
+        doc["domain"] = domain
+    doc["forbidden"] = [[names_s[s], names_a[a]] for s, a in zip(*np.asarray(forbidden).nonzero())]
+    if multipliers is not None:
+        doc["multipliers"] = multipliers
+    return doc
+
+
+def constraint_set_text(forbidden: np.ndarray, mdp: Any, **kwargs: Any) -> str:
+    return json.dumps(constraint_set_document(forbidden, mdp, **kwargs))
+
+
+__all__ = ["constraint_set_document", "constraint_set_text"]

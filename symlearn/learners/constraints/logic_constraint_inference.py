@@ -1,0 +1,295 @@
+"""Logic constraint inference: maximum-likelihood constraint inference + ASP rule induction.
+
+The loop of the reference thesis (chapter 3, Algorithm 3.1), on any
+:class:`~symlearn.grounding.Domain` (a user's folder or a bundled one). Each iteration
+
+1. **infers** the most likely constraint: the unobserved state-action pair the nominal MaxEnt
+   policy visits most, plus the empty states it creates and the pairs leading into them
+   (:class:`~symlearn.learners.constraints.ml_constraint_inference.MLConstraintInference` does this step);
+2. **induces** an ASP hypothesis with our ILP learner: every demonstrated pair is a positive
+   example, every constraint inferred so far a negative one, the domain's background knowledge
+   and mode bias define the hypothesis space;
+3. **translates** the hypothesis back: every pair it forbids (answer sets of B that are no
+   answer sets of B u H) joins the constraint set, which is how a handful of inferred pairs
+   generalises to the whole domain;
+4. restricts the MDP, so the next inference step plans with what has been learned.
+
+Why the induction step matters: inference alone only removes the pairs a rule-free planner
+would use first; the rules remove every pair that shares their reason (all red-light crossings,
+not just the one the planner tried).
+
+The reward is inferred as sparse by default (1 for reaching a state where a demonstration
+ended), so only demonstrations, background knowledge and bias are needed.
+
+>>> from symlearn.envs.logic_mdp import logic_mdp
+>>> lm = logic_mdp("hanoi")
+>>> learner = LogicConstraintInference(iterations=3).fit(lm.expert_demonstrations(10, seed=0), lm.domain)
+>>> learner.rules_
+[':- on(V1,V2), V1 < V2.']
+>>> learner.score()["accuracy"]
+1.0
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from symlearn.errors import DataError, SymlearnError
+from symlearn.grounding import Domain, as_domain
+from symlearn.learners.base import Learner
+from symlearn.learners.constraints.constraint_metrics import constraint_metrics
+from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
+from symlearn.progress import progress
+from symlearn.rl.tabular import restrict
+
+
+@dataclass(frozen=True)
+class LogicIteration:
+    """One iteration: the inferred pair, the rules induced after it, sizes and times."""
+
+    iteration: int
+    inferred: str  # "state / action" of the pair chosen by maximum likelihood
+    visitation: float
+    rules: tuple[str, ...]
+    optimal: bool
+    n_positive: int
+    n_negative: int
+    n_constraints: int  # forbidden pairs after translating the rules back and closing the set
+    inference_seconds: float
+    induction_seconds: float
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"iteration": self.iteration, "inferred": self.inferred, "visitation": self.visitation,
+                "rules": list(self.rules), "optimal": self.optimal, "positives": self.n_positive,
+                "negatives": self.n_negative, "constraints": self.n_constraints,
+                "inference_seconds": self.inference_seconds, "induction_seconds": self.induction_seconds}
+
+
+@dataclass(frozen=True)
+class Induction:
+    """What one induction step produced."""
+
+    rules: tuple[str, ...]
+    optimal: bool
+    n_positive: int
+    n_negative: int
+    seconds: float
+
+
+class RuleInduction:
+    """The induction step of one fit, as the ``generalize`` hook of maximum-likelihood inference.
+
+    Called with the constraint set so far and the demonstrated pairs, it induces rules with the
+    ILP learner (demonstrated pairs positive, constraints negative at ``penalty``) and returns
+    every pair the rules forbid. It owns what the calls share: the hypothesis space (built once
+    from the bias), the pairs each rule set forbids (consecutive iterations often induce the same
+    rules), the best rules so far and one :class:`Induction` record per call.
+    """
+
+    def __init__(self, domain: Domain, *, noise: bool, penalty: int, timeout: float, bar: Any = None) -> None:
+        self.domain, self.noise, self.penalty, self.timeout = domain, noise, penalty, timeout
+        self.bar = iter(bar) if bar is not None else None
+        self.rule_masks: dict[tuple[str, ...], np.ndarray] = {}
+        self.best: tuple[tuple[str, ...], Any] = ((), None)
+        self.records: list[Induction] = []
+        self.last_negatives: np.ndarray | None = None
+
+    def __call__(self, forbidden: np.ndarray, seen: np.ndarray) -> np.ndarray:
+        from symlearn.logic.ilp import learn
+
+        d = self.domain
+        t0 = time.perf_counter()
+        if self.bar is not None:
+            next(self.bar, None)
+        available = ~d.unavailable
+        # Demonstrated pairs are taken as valid unless the data is declared noisy: then a rule may
+        # forbid one at a penalty too (an expert's slip should not block a rule every other
+        # demonstration supports).
+        positives = d.examples(map(tuple, np.argwhere(seen & available)), True,
+                               self.penalty if self.noise else None)
+        # Inferred constraints may be wrong (an allowed pair nobody happened to demonstrate), so
+        # each negative may be left uncovered at a penalty.
+        negatives = d.examples(map(tuple, np.argwhere(forbidden & available)), False, self.penalty)
+        self.last_negatives = forbidden & available
+        result = learn(d.ilp_task(positives + negatives), timeout=self.timeout, noise=True,
+                       space=d.hypothesis_space)
+        extra = np.zeros_like(forbidden)
+        rules: tuple[str, ...] = ()
+        optimal = False
+        if result.hypothesis is not None:
+            rules = tuple(result.hypothesis.rules)
+            optimal = result.optimal
+            self.best = (rules, result.hypothesis)
+            if rules not in self.rule_masks:
+                self.rule_masks[rules] = d.rule_mask(list(rules)) if rules else np.zeros_like(forbidden)
+            extra = self.rule_masks[rules]
+        self.records.append(Induction(rules, optimal, len(positives), len(negatives), time.perf_counter() - t0))
+        return extra
+
+    def final(self, closed: np.ndarray, seen: np.ndarray) -> tuple[np.ndarray, float]:
+        """Algorithm 3.1 closes the constraint set (pairs into empty states) *before* each
+        induction, so every closure is generalised. The inference loop closes after the hook, so
+        the pairs its last closure added (typically: every move into a state the last rules left
+        without a valid action, e.g. off the road) were never examples. Induce once more when
+        they exist, and close the result again. Returns the closed set and the seconds spent."""
+        d = self.domain
+        negatives = closed & ~d.unavailable
+        if self.last_negatives is None or np.array_equal(negatives, self.last_negatives):
+            return closed, 0.0
+        extra = self(closed, seen)
+        seconds = self.records.pop().seconds
+        return restrict(d.mdp, closed | (extra & ~seen), protected=seen).forbidden, seconds
+
+
+class LogicConstraintInference(Learner):
+    """``LogicConstraintInference(iterations=...).fit(demonstrations, domain)``.
+
+    ``domain``: a :class:`~symlearn.grounding.Domain` (or a bundled wrapper with ``.domain``).
+    ``iterations`` is the thesis' eta (one inferred constraint and one induction per iteration;
+    the loop ends earlier when no unobserved pair is likely any more). The ILP step must cover
+    every demonstrated pair but may leave an inferred constraint uncovered at ``penalty`` (a rule
+    costs its length), since inference can pick an allowed pair that no demonstration happened to
+    show. ``noise=True`` declares the demonstrations noisy: pairs that break ``known`` constraints
+    are counted in a warning instead of an error, and the ILP step may then also leave a
+    demonstrated pair uncovered at ``penalty``.
+
+    ``start`` is where the nominal visitation starts (see :class:`MLConstraintInference`): the
+    default 0.1 keeps 90 % of the mass on the demonstrations' starts (the thesis' objective) and
+    spreads 10 % over every state, so rules about regions the first rules make unreachable from
+    the demonstrated starts can still be induced; ``"demonstrations"`` is the thesis' objective
+    exactly, ``"uniform"`` starts everywhere (measurements in ``docs/BENCHMARKS.md``).
+
+    Results: ``hypothesis_`` (:class:`~symlearn.logic.asp.Hypothesis`, None if no rule was
+    induced), ``rules_``, ``rule_constraints_`` (the pairs the rules forbid), ``constraints_``
+    (forbidden ``(S, A)`` mask: the rules' pairs plus the inferred ones, closed), ``inferred_``
+    (the pairs chosen by inference alone), ``history_`` (:class:`LogicIteration` list),
+    ``seconds_``, ``final_induction_seconds_`` (the induction after the loop's last closure, 0 when
+    that closure added nothing), ``result_``.
+    """
+
+    artefact_suffix = ".lp"
+
+    def __init__(self, *, iterations: int = 10, horizon: int = 30, reward: str | np.ndarray = "sparse",
+                 rationality: float = 1.0, min_visitation: float = 1e-3, ilp_timeout: float = 30.0,
+                 noise: bool = False, penalty: int = 10, known: np.ndarray | None = None,
+                 start: str | float = 0.1) -> None:
+        self.iterations = iterations
+        self.horizon = horizon
+        self.reward = reward
+        self.rationality = rationality
+        self.start = start
+        self.min_visitation = min_visitation
+        self.ilp_timeout = ilp_timeout
+        self.noise = noise
+        self.penalty = penalty
+        self.known = known
+
+    def fit(self, demonstrations: Any, domain: Any = None) -> LogicConstraintInference:
+        if self.iterations < 1:
+            raise SymlearnError(f"iterations must be at least 1, got {self.iterations}")
+        if domain is None:
+            raise SymlearnError("logic constraint inference needs the domain: fit(demonstrations, domain)")
+        started = time.perf_counter()
+        d = as_domain(domain)
+        episodes = d.episodes(demonstrations)
+        _check_available(episodes, d)
+        bar = progress(range(self.iterations), total=self.iterations, desc=f"logic inference {d.name}")
+        induction = RuleInduction(d, noise=self.noise, penalty=self.penalty, timeout=self.ilp_timeout, bar=bar)
+        inference = MLConstraintInference(
+            reward=self.reward, horizon=self.horizon, max_iterations=self.iterations,
+            min_visitation=self.min_visitation, known_constraints=self.known,
+            on_violation="warn" if self.noise else "error", generalize=induction,
+            rationality=self.rationality, start=self.start)
+        try:
+            inference.fit(episodes, d)
+            closed, self.final_induction_seconds_ = induction.final(inference.constraints_, inference.demonstrated_)
+        finally:
+            close = getattr(bar, "close", None)
+            if close:
+                close()
+        history = []
+        n_known = int(inference.known_.sum())
+        for step, record in zip(inference.history_, induction.records):
+            history.append(LogicIteration(step.iteration, d.describe_pair(step.state, step.action), step.visitation,
+                                          record.rules, record.optimal, record.n_positive, record.n_negative,
+                                          step.n_forbidden - n_known, max(step.seconds - record.seconds, 0.0),
+                                          record.seconds))
+        rules, hypothesis = induction.best
+        self.domain_name_ = d.name
+        self.rules_ = list(rules)
+        self.hypothesis_ = hypothesis
+        self.constraints_ = closed & ~d.unavailable
+        self.rule_constraints_ = induction.rule_masks.get(rules, np.zeros_like(self.constraints_))
+        self.inferred_ = np.zeros_like(self.constraints_)
+        for step in inference.history_:
+            self.inferred_[step.state, step.action] = True
+        self.demonstrated_ = inference.demonstrated_
+        self.history_ = history
+        self.stopped_because_ = inference.stopped_because_
+        self.seconds_ = time.perf_counter() - started
+        self.truth_forbidden_ = d.truth_forbidden
+        self.pair_space_ = ~d.unavailable
+        metrics: dict[str, Any] = {"rules": len(self.rules_), "constraints": int(self.rule_constraints_.sum()),
+                                   "stopped_because": self.stopped_because_}
+        if self.truth_forbidden_ is not None:
+            metrics.update({k: v for k, v in self.score().items() if k != "forbidden"})
+        inference_seconds = sum(h.inference_seconds for h in history)
+        self._set_result(hypothesis, self._lp_text(),
+                         metrics=metrics, history=history,
+                         timings={"total": self.seconds_, "inference": inference_seconds,
+                                  "induction": sum(h.induction_seconds for h in history),
+                                  "final_induction": self.final_induction_seconds_})
+        return self
+
+    # --- using the result ----------------------------------------------------------------------
+    def score(self, truth_forbidden: np.ndarray | None = None, *, of: str = "rules") -> dict[str, float]:
+        """FPR, FNR and accuracy against the ground truth (the domain's truth rules unless
+        ``truth_forbidden`` is given) of the pairs the learned rules forbid (``of="rules"``), or of
+        the whole inferred constraint set (``of="constraints"``)."""
+        if "rules_" not in self.__dict__:
+            self.check_fitted()
+        truth = self.truth_forbidden_ if truth_forbidden is None else truth_forbidden
+        if truth is None:
+            raise SymlearnError("this domain has no ground truth to score against",
+                                hint="give truth rules in the domain (truth = ...) or pass truth_forbidden")
+        if of not in ("rules", "constraints"):
+            raise SymlearnError(f"unknown score target {of!r}", hint="use 'rules' or 'constraints'")
+        learned = {"rules": self.rule_constraints_, "constraints": self.constraints_}[of]
+        return constraint_metrics(learned, truth, self.pair_space_)
+
+    def _lp_text(self) -> str:
+        if self.hypothesis_ is None:
+            return ""
+        header = (f"Rules learned by logic constraint inference on {self.domain_name_} "
+                  f"({len(self.history_)} iterations, {self.seconds_:.1f} s). Edit freely; "
+                  "re-check them with `symlearn ilp check`.")
+        return self.hypothesis_.lp_text(header)
+
+    def to_lp(self, path: Any) -> Any:
+        """Write the rules as an editable ``.lp`` file with a provenance header (see :meth:`save`)."""
+        self.check_fitted()
+        if self.hypothesis_ is None:
+            raise SymlearnError("no rules were induced, so there is nothing to write",
+                                hint="give more demonstrations or more iterations")
+        return self.save(path)
+
+
+def _check_available(episodes, d: Domain) -> None:
+    """A demonstrated move that does not exist is a wrong file, not noise: say where it is."""
+    for i, e in enumerate(episodes):
+        n = len(e.actions)
+        bad = np.flatnonzero(d.unavailable[e.states[:n], e.actions])
+        if bad.size:
+            t = int(bad[0])
+            s, a = int(e.states[t]), int(e.actions[t])
+            where = "after the episode ended" if d.mdp.terminal[s] else "there"
+            raise DataError(f"demonstration {i}, step {t}: action {d.action_names[a]!r} is not available in "
+                            f"state {d.state_names[s]!r} ({where})",
+                            hint=f"{d.name}: were the demonstrations recorded in another environment?")
+
+
+__all__ = ["Induction", "LogicConstraintInference", "LogicIteration", "RuleInduction"]

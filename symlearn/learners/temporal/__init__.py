@@ -1,0 +1,1 @@
+"""Temporal learners: LTLf formulas that separate traces or specify the demonstrated task."""

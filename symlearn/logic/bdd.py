@@ -1,0 +1,195 @@
+"""The reduced ordered BDD engine of the symbolic core.
+
+A :class:`BDD` manager stores Boolean functions as hash-consed nodes, so two functions built
+in one manager are equal exactly when their node ids are equal. Variables are any totally
+ordered keys; a smaller key is nearer the root. Node ``0`` is false and ``1`` is true.
+
+Two kinds of manager use this one engine:
+
+* :mod:`symlearn.logic.guards` keeps *one shared manager* whose variables are proposition
+  names, so guards of different automata compare, combine and hash without conversion; it
+  frees the nodes no live guard reaches (:meth:`BDD.collect`).
+* the LTLf -> DFA translation builds a *fresh manager per formula* whose integer variables are
+  the letter's propositions followed by formula obligations. Most of its nodes are
+  obligations that never reach an edge guard: on the 201 benchmark formulas the translation
+  managers hold about 9 nodes for every guard node they produce (``python
+  benchmarks/bdd_engines.py``), so they live only as long as one translation, and only the
+  guard part is copied into the shared manager (:func:`symlearn.logic.guards.from_bdd`).
+
+>>> m = BDD()
+>>> a, b = m.var(0), m.var(1)
+>>> m.apply_or(m.apply_and(a, b), m.apply_and(a, m.negate(b))) == a
+True
+>>> m.collect([a]), len(m)
+(4, 3)
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Hashable, Iterable
+
+__all__ = ["BDD", "FALSE", "TRUE"]
+
+FALSE, TRUE = 0, 1
+
+
+class BDD:
+    """Nodes ``u >= 2`` test variable ``level[u]``: ``low[u]`` when it is false, ``high[u]`` when true.
+
+    The three lists are only ever changed in place, so callers in hot loops may keep
+    references to them. Terminals have level ``None``; no operation compares a terminal's
+    level (each checks ``u <= TRUE`` first), so any ordered key type works.
+    """
+
+    __slots__ = ("level", "low", "high", "_unique", "_and", "_or", "_not", "_support", "_free")
+
+    def __init__(self) -> None:
+        self.level: list = [None, None]
+        self.low: list[int] = [FALSE, TRUE]
+        self.high: list[int] = [FALSE, TRUE]
+        self._unique: dict[tuple, int] = {}
+        self._and: dict[tuple[int, int], int] = {}
+        self._or: dict[tuple[int, int], int] = {}
+        self._not: dict[int, int] = {}
+        self._support: dict[int, frozenset] = {FALSE: frozenset(), TRUE: frozenset()}
+        self._free: list[int] = []  # ids of collected nodes, reused before the lists grow
+
+    def __len__(self) -> int:
+        """Live nodes, terminals included."""
+        return len(self.level) - len(self._free)
+
+    # -- construction ---------------------------------------------------------------------------
+    def node(self, var: Hashable, low: int, high: int) -> int:
+        """The node testing ``var`` (which must precede the variables of ``low`` and ``high``)."""
+        if low == high:
+            return low
+        key = (var, low, high)
+        found = self._unique.get(key)
+        if found is None:
+            if self._free:
+                found = self._free.pop()
+                self.level[found], self.low[found], self.high[found] = var, low, high
+            else:
+                found = len(self.level)
+                self.level.append(var)
+                self.low.append(low)
+                self.high.append(high)
+            self._unique[key] = found
+        return found
+
+    def var(self, var: Hashable) -> int:
+        return self.node(var, FALSE, TRUE)
+
+    # -- Boolean operations -----------------------------------------------------------------------
+    def apply_and(self, u: int, v: int) -> int:
+        return self._apply(u, v, FALSE, self._and)
+
+    def apply_or(self, u: int, v: int) -> int:
+        return self._apply(u, v, TRUE, self._or)
+
+    def _apply(self, u: int, v: int, absorbing: int, cache: dict[tuple[int, int], int]) -> int:
+        """``u & v`` (absorbing FALSE) or ``u | v`` (absorbing TRUE) by Shannon expansion."""
+        if u == absorbing or v == absorbing:
+            return absorbing
+        if u <= TRUE:  # the neutral constant
+            return v
+        if v <= TRUE or u == v:
+            return u
+        key = (u, v) if u < v else (v, u)
+        found = cache.get(key)
+        if found is not None:
+            return found
+        level = self.level
+        lu, lv = level[u], level[v]
+        if lu == lv:
+            top, u0, u1, v0, v1 = lu, self.low[u], self.high[u], self.low[v], self.high[v]
+        elif lu < lv:
+            top, u0, u1, v0, v1 = lu, self.low[u], self.high[u], v, v
+        else:
+            top, u0, u1, v0, v1 = lv, u, u, self.low[v], self.high[v]
+        found = self.node(top, self._apply(u0, v0, absorbing, cache), self._apply(u1, v1, absorbing, cache))
+        cache[key] = found
+        return found
+
+    def negate(self, u: int) -> int:
+        if u <= TRUE:
+            return 1 - u
+        found = self._not.get(u)
+        if found is None:
+            found = self.node(self.level[u], self.negate(self.low[u]), self.negate(self.high[u]))
+            self._not[u] = found
+            self._not[found] = u
+        return found
+
+    def ite(self, f: int, g: int, h: int) -> int:
+        """``(f & g) | (!f & h)``."""
+        if f == TRUE:
+            return g
+        if f == FALSE:
+            return h
+        if g == h:
+            return g
+        return self.apply_or(self.apply_and(f, g), self.apply_and(self.negate(f), h))
+
+    def restrict(self, u: int, var: Hashable, value: bool) -> int:
+        """The cofactor of ``u`` with ``var`` fixed to ``value``."""
+        memo: dict[int, int] = {}
+
+        def walk(w: int) -> int:
+            if w <= TRUE:
+                return w
+            name = self.level[w]
+            if name == var:
+                return self.high[w] if value else self.low[w]
+            if var < name:
+                return w  # var cannot occur below a later variable
+            found = memo.get(w)
+            if found is None:
+                found = memo[w] = self.node(name, walk(self.low[w]), walk(self.high[w]))
+            return found
+
+        return walk(u)
+
+    # -- queries -----------------------------------------------------------------------------------
+    def evaluate(self, u: int, value: Callable[[Hashable], bool]) -> bool:
+        """Value of ``u`` when variable ``v`` has ``value(v)``."""
+        while u > TRUE:
+            u = self.high[u] if value(self.level[u]) else self.low[u]
+        return u == TRUE
+
+    def support(self, u: int) -> frozenset:
+        """The variables ``u`` depends on."""
+        found = self._support.get(u)
+        if found is None:
+            found = self.support(self.low[u]) | self.support(self.high[u]) | {self.level[u]}
+            self._support[u] = found
+        return found
+
+    # -- memory ------------------------------------------------------------------------------------
+    def collect(self, roots: Iterable[int]) -> int:
+        """Free every node no root reaches; return how many were freed.
+
+        Node ids of the reachable nodes do not change, so the caller's handles stay valid;
+        every operation cache is emptied (its entries may name freed ids, which get reused).
+        """
+        level, low, high = self.level, self.low, self.high
+        live = bytearray(len(level))
+        live[FALSE] = live[TRUE] = 1
+        stack = list(roots)
+        while stack:
+            u = stack.pop()
+            if not live[u]:
+                live[u] = 1
+                stack.append(low[u])
+                stack.append(high[u])
+        kept = {key: u for key, u in self._unique.items() if live[u]}
+        freed = [u for u in self._unique.values() if not live[u]]
+        for u in freed:
+            level[u], low[u], high[u] = None, FALSE, FALSE
+        self._unique = kept
+        self._free.extend(freed)
+        self._and.clear()
+        self._or.clear()
+        self._not.clear()
+        self._support = {FALSE: frozenset(), TRUE: frozenset()}
+        return len(freed)
