@@ -67,9 +67,9 @@ def run_one(p: float, seed: int, *, n_demos: int, iterations: int, episodes: int
     demos = record(env, lambda s: int(expert[s]), n_demos, seed=seed, max_steps=env.max_steps, desc=f"p={p} seed={seed}")
     results: dict[str, dict[str, float]] = {}
     learners = {
-        "MCE-ICRL": lambda: MCEICRL(mdp, n_iterations=iterations),
-        "ME-ICRL": lambda: MEICRL(mdp, n_iterations=iterations),
-        "ML-inference": lambda: MLConstraintInference(mdp, horizon=50, rationality=3.0, max_iterations=200),
+        "MCE-ICRL": lambda: MCEICRL(n_iterations=iterations),
+        "ME-ICRL": lambda: MEICRL(n_iterations=iterations),
+        "ML-inference": lambda: MLConstraintInference(horizon=50, rationality=3.0, max_iterations=200),
     }
     reward, violations = evaluate(env, np.eye(mdp.n_actions)[expert], episodes, 10_000 + seed)
     results["expert"] = {"reward": reward, "violation_rate": violations, "seconds": 0.0}
@@ -77,7 +77,7 @@ def run_one(p: float, seed: int, *, n_demos: int, iterations: int, episodes: int
         t0 = time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            learner = make().fit(demos)
+            learner = make().fit(demos, mdp)
         seconds = time.perf_counter() - t0
         reward, violations = evaluate(env, learner.policy_, episodes, 10_000 + seed)
         results[name] = {"reward": reward, "violation_rate": violations, "seconds": seconds, **recovery(env, learner)}

@@ -99,9 +99,9 @@ def run_one(job: tuple[str, int, int, list[int], int, tuple[str, ...]]) -> list[
     lm = _lm(name)
     demos = lm.expert_demonstrations(n, seed=seed)
     reach_truth = reachable_pairs(lm.mdp, lm.truth_forbidden) & ~lm.unavailable
-    known = lm.unavailable & ~lm.mdp.terminal[:, None]
+    known = lm.domain.known  # moves that do not exist
     # ML inference alone after eta iterations = the closure of its first eta inferred pairs
-    ml = _ml_only(lm, demos, max(etas), horizon, known)
+    ml = _ml_only(lm, demos, max(etas), horizon)
     ml_scores = {}
     for eta in etas:
         forbidden = known.copy()
@@ -117,7 +117,7 @@ def run_one(job: tuple[str, int, int, list[int], int, tuple[str, ...]]) -> list[
 
 def _logic_rows(lm, demos, name, n, seed, etas, horizon, start, reach_truth, ml_scores, ml) -> list[dict[str, Any]]:
     t0 = time.perf_counter()
-    learner = LogicConstraintInference(lm, iterations=max(etas), horizon=horizon, start=start).fit(demos)
+    learner = LogicConstraintInference(iterations=max(etas), horizon=horizon, start=start).fit(demos, lm.domain)
     wall = time.perf_counter() - t0
     history = learner.history_
     rows = []
@@ -140,11 +140,11 @@ def _logic_rows(lm, demos, name, n, seed, etas, horizon, start, reach_truth, ml_
     return rows + [{"timing": timing}]
 
 
-def _ml_only(lm: LogicMDP, demos, eta: int, horizon: int, known: np.ndarray) -> dict[str, Any]:
+def _ml_only(lm: LogicMDP, demos, eta: int, horizon: int) -> dict[str, Any]:
     from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
 
-    learner = MLConstraintInference(lm.mdp, reward="sparse", horizon=horizon, max_iterations=eta,
-                                    known_constraints=known).fit(demos)  # its own default start
+    # the domain's moves that do not exist are its known constraints; its own default start
+    learner = MLConstraintInference(reward="sparse", horizon=horizon, max_iterations=eta).fit(demos, lm.domain)
     return {"pairs": [(h.state, h.action) for h in learner.history_], "seen": learner.demonstrated_,
             "seconds": learner.seconds_}
 
@@ -156,8 +156,8 @@ def hanoi_rows(ns: list[int], seeds: list[int], starts: tuple[str, ...]) -> list
         for n in ns:
             for seed in seeds:
                 t0 = time.perf_counter()
-                learner = LogicConstraintInference(lm, iterations=3, start=start).fit(
-                    lm.expert_demonstrations(n, seed=seed))
+                learner = LogicConstraintInference(iterations=3, start=start).fit(
+                    lm.expert_demonstrations(n, seed=seed), lm.domain)
                 rows.append({"domain": "hanoi", "start": start, "n": n, "seed": seed, "rules": learner.rules_,
                              "exact": bool(np.array_equal(learner.rule_constraints_, lm.truth_forbidden)),
                              "seconds": time.perf_counter() - t0, **learner.score()})

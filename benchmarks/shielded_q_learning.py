@@ -84,12 +84,11 @@ def learn_constraints(variant: str, n_demos: int, iterations: int, demo_seed: in
     lm = logic_mdp(f"junction-{variant}")
     demos = lm.expert_demonstrations(n_demos, seed=demo_seed)
     t0 = time.perf_counter()
-    lc = LogicConstraintInference(lm, iterations=iterations, start=start).fit(demos)
+    lc = LogicConstraintInference(iterations=iterations, start=start).fit(demos, lm.domain)
     lc_seconds = time.perf_counter() - t0
     t0 = time.perf_counter()
-    ml = MLConstraintInference(lm.mdp, reward="sparse", horizon=lc.horizon, max_iterations=iterations,
-                               min_visitation=lc.min_visitation,
-                               known_constraints=lm.unavailable & ~lm.mdp.terminal[:, None]).fit(demos)
+    ml = MLConstraintInference(reward="sparse", horizon=lc.horizon, max_iterations=iterations,
+                               min_visitation=lc.min_visitation).fit(demos, lm.domain)  # moves that do not exist are known
     ml_seconds = time.perf_counter() - t0
     truth = lm.truth_forbidden
     valid = ~lm.unavailable
@@ -113,7 +112,7 @@ def learn_constraints(variant: str, n_demos: int, iterations: int, demo_seed: in
             "rules_forbid": int(rule_pairs.sum()), "rules_false_positive": int((rule_pairs & ~truth).sum()),
             "rules_missed": int(missed.sum()),
             "rules_missed_on_road_states": [f"{lm.states[s]} / {lm.actions[a]}" for s, a in np.argwhere(missed)
-                                            if lm.domain.model.road_of(lm.states[s].cell) is not None],
+                                            if lm.logic.model.road_of(lm.states[s].cell) is not None],
             "closed_rules_forbid": int(closed.sum()),
             "closed_rules_missed": int((truth[:n] & ~closed).sum()),
             "closed_false_positive": int((closed & ~truth[:n]).sum()),

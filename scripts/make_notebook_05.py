@@ -42,11 +42,12 @@ print(np.round(visits.reshape(env.shape), 2))"""),
     new_markdown_cell("""## Maximum-likelihood constraint inference (deterministic dynamics)
 
 Demonstrations from a MaxEnt expert (it spreads over all near-optimal valid paths). Each
-iteration forbids the unobserved state-action pair the nominal policy visits most."""),
+iteration forbids the unobserved state-action pair the nominal policy visits most. Like every
+learner it takes its settings in the constructor and the data in `fit(demonstrations, mdp)`."""),
     new_code_cell("""pi = env.maxent_expert_policy()
 rng = np.random.default_rng(0)
 demos = record(env, lambda s: int(rng.choice(4, p=pi[s])), 30, seed=0)
-ml = MLConstraintInference(mdp, horizon=30, rationality=3, min_visitation=1e-4).fit(demos)
+ml = MLConstraintInference(horizon=30, rationality=3, min_visitation=1e-4).fit(demos, mdp)
 print(len(ml.history_), "constraints added; stopped because", ml.stopped_because_)
 for step in ml.history_[:5]:
     print(f"  {env.state_name(step.state)} {ACTIONS[step.action]:5s} visitation {step.visitation:.3f}")
@@ -70,8 +71,8 @@ def run(policy):
     r = sample_rollouts(noisy_mdp, policy, EPISODES, 200, np.random.default_rng(0))
     return round(float(r.returns().mean()), 1), round(float(r.fraction_in(noisy.forbidden_states).mean()), 3)
 
-mce = MCEICRL(noisy_mdp, n_iterations=ITERATIONS).fit(demos)
-me = MEICRL(noisy_mdp, n_iterations=ITERATIONS).fit(demos)
+mce = MCEICRL(n_iterations=ITERATIONS).fit(demos, noisy_mdp)
+me = MEICRL(n_iterations=ITERATIONS).fit(demos, noisy_mdp)
 print("expert   (reward, violation rate):", run(np.eye(4)[expert]))
 print("MCE-ICRL (reward, violation rate):", run(mce.policy_))
 print("ME-ICRL  (reward, violation rate):", run(me.policy_))
@@ -93,12 +94,12 @@ print("cost of moving right from the start:", costed.step(1)[4]["cost"])"""),
     new_markdown_cell("""## Bad input is reported, not crashed on"""),
     new_code_cell("""from symlearn.data import Demonstrations, Trajectory
 try:
-    MLConstraintInference(mdp).fit(Demonstrations([Trajectory([42, 35, 99], [0, 0])]))
+    MLConstraintInference().fit(Demonstrations([Trajectory([42, 35, 99], [0, 0])]), mdp)
 except SymlearnError as error:
     print("error:", error)
 try:
     bad = Demonstrations([Trajectory([42, 43, 44], [1, 1])])
-    MLConstraintInference(mdp, known_constraints=truth).fit(bad)
+    MLConstraintInference(known_constraints=truth).fit(bad, mdp)
 except SymlearnError as error:
     print("error:", error)"""),
 ]

@@ -27,8 +27,11 @@ print(lm.mdp.n_states, "states x", lm.mdp.n_actions, "actions;", len(demos), "de
 print("first drive:", [lm.mdp.state_names[s] for s in demos[0].states])"""),
     new_markdown_cell("""## Learn
 
-Each iteration prints what inference chose and how many rules induction found."""),
-    new_code_cell("""learner = LogicConstraintInference(lm, iterations=15).fit(demos)
+The learner takes its settings in the constructor and the data in `fit(demonstrations, domain)`;
+`lm.domain` is the junction as a `symlearn.grounding.Domain` (nominal model, ASP facts of every
+pair, background, bias, truth), and its moves that do not exist are known constraints. Each
+iteration prints what inference chose and how many rules induction found."""),
+    new_code_cell("""learner = LogicConstraintInference(iterations=15).fit(demos, lm.domain)
 for step in learner.history_:
     print(f"{step.iteration:2d}  inferred {step.inferred:28s} -> {len(step.rules)} rules, "
           f"{step.n_constraints:3d} forbidden pairs  ({step.inference_seconds:.2f} s + {step.induction_seconds:.2f} s)")
@@ -82,7 +85,7 @@ print(constraint_metrics(transferred, combined.truth_forbidden, ~combined.unavai
 from symlearn.errors import SymlearnError
 
 try:
-    LogicConstraintInference(lm).fit(Demonstrations([Trajectory(states=[0, 999], actions=[0])]))
+    LogicConstraintInference().fit(Demonstrations([Trajectory(states=[0, 999], actions=[0])]), lm.domain)
 except SymlearnError as error:
     print("error:", error)"""),
 ]

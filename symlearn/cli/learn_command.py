@@ -35,7 +35,10 @@ def register_learn(commands, common) -> None:
         "spec", parents=[common()], help="learn an LTLf task specification from expert demonstrations",
         description="Alternate information-gain template search and CRM Q-learning of a nominal policy until "
                     "the learned LTLf formula separates expert from nominal behaviour.")
-    spec.add_argument("--env", required=True, help="task/environment name, e.g. office-1 or craft-2")
+    where = spec.add_mutually_exclusive_group(required=True)
+    where.add_argument("--env", help="task/environment name, e.g. office-1 or craft-2")
+    where.add_argument("--domain", metavar="DIR",
+                       help="your own domain folder (domain.toml with a labeling; deterministic moves)")
     source = spec.add_mutually_exclusive_group()
     source.add_argument("--demos", help="expert demonstrations (.jsonl or .npz) with environment state ids")
     source.add_argument("--n-demos", type=int, default=50, help="generate N optimal expert demonstrations (default 50)")
@@ -44,6 +47,8 @@ def register_learn(commands, common) -> None:
     spec.add_argument("--labeling", help="a labeling JSON file to use instead of the environment's (with --props given)")
     spec.add_argument("--threshold", type=float, default=0.2, help="stop when the best information gain is below (0.2)")
     spec.add_argument("--max-iterations", type=int, default=10, help="at most this many iterations (10)")
+    spec.add_argument("--horizon", type=int, default=None,
+                      help="length of nominal rollouts (default: the environment's, 200 for a domain)")
     spec.add_argument("--no-prune", action="store_true", help="keep every learned conjunct")
     spec.add_argument("-o", "--output", help="write the formula here (labeling and automaton next to it)")
     spec.set_defaults(handler=_spec)
@@ -69,19 +74,21 @@ def _spec(args: argparse.Namespace, out) -> None:
     from symlearn.envs.spec_tasks import get_task
     from symlearn.errors import DataError
     from symlearn.learners.temporal.spec_from_demos import SpecLearner
-    from symlearn.grounding.labeling import Labeling
+    from symlearn.grounding.labeling import load_labeling
 
-    task = get_task(args.env)
+    task = get_task(args.env) if args.env else None
     seed = getattr(args, "seed", 0)
     if args.demos:
         from symlearn.data import load
 
         demos = load(args.demos)
+    elif task is None:
+        raise DataError("a domain has no bundled expert: give your demonstrations with --demos FILE")
     else:
         if args.n_demos < 1:
             raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
         demos = expert_demonstrations(task, args.n_demos, seed=seed)
-    labeling = Labeling.load(args.labeling) if args.labeling else None
+    labeling = load_labeling(args.labeling) if args.labeling else None
     if labeling is not None and args.props == "learn":
         raise DataError("--labeling gives propositions, which contradicts --props learn")
 
@@ -95,8 +102,13 @@ def _spec(args: argparse.Namespace, out) -> None:
 
     learner = SpecLearner(propositions=args.props, labeling=labeling, threshold=args.threshold,
                           max_iterations=args.max_iterations, prune=not args.no_prune, random_state=seed,
-                          callback=report)
-    env = task.make_env()
+                          horizon=args.horizon, callback=report)
+    if task is not None:
+        env = task.make_env()
+    else:
+        from symlearn.grounding import Domain
+
+        env = Domain.from_folder(args.domain)
     try:
         learner.fit(demos, env)
     except DataError as exc:
@@ -107,10 +119,10 @@ def _spec(args: argparse.Namespace, out) -> None:
     meanings = learner.labeling_.meanings
     used = [p for p in learner.labeling_.propositions]
     doc = {
-        "env": task.name,
+        "env": task.name if task is not None else env.name,
         "formula": str(learner.formula_),
         "propositions": {p: meanings.get(p, "") for p in used},
-        "success_rate": learner.success_rate(task.formula),
+        "success_rate": learner.success_rate(task.formula) if task is not None else None,
         "entropy": learner.entropy_,
         "iterations": learner.iterations_,
         "length": learner.length_,

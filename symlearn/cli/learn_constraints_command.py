@@ -1,25 +1,45 @@
-"""``symlearn learn constraints``: learn the constraints an expert obeys in a discrete environment.
+"""``symlearn learn constraints``: learn the constraints an expert obeys in a discrete world.
 
-``symlearn learn constraints --env junction-lights [--demos D.jsonl | --n-demos N]
+``symlearn learn constraints (--env NAME | --domain DIR) [--demos D.jsonl | --n-demos N]
 [--method logic|ml|mce-icrl] [--iterations N] [-o rules.lp]``
 
-* ``logic`` (default where the environment has ASP facts): maximum-likelihood inference plus
-  ILP induction each iteration; ``-o`` writes the rules as an editable ``.lp`` file.
+* ``--env``: a bundled environment (``symlearn envs``); ``--domain DIR``: a user's domain folder
+  (``domain.toml``, see docs/FORMATS.md), with ``--demos`` (state ids; action ids or atoms).
+* ``logic`` (default where the world has ASP facts): maximum-likelihood inference plus ILP
+  induction each iteration; ``-o`` writes the rules as an editable ``.lp`` file.
 * ``ml``: maximum-likelihood constraint inference alone; ``-o`` writes the forbidden pairs.
-* ``mce-icrl``: maximum causal entropy inverse constrained RL (needs the environment's reward:
-  ``gridworld``); ``-o`` writes the forbidden pairs and the multipliers.
+* ``mce-icrl``: maximum causal entropy inverse constrained RL (needs the world's reward);
+  ``-o`` writes the forbidden pairs and the multipliers.
 
-The scores (``fpr``, ``fnr``, ``accuracy``) compare the learned forbidden pairs with the
-environment's ground truth over every pair that exists.
+The scores (``fpr``, ``fnr``, ``accuracy``) compare the learned forbidden pairs with the ground
+truth over every pair that exists; they are ``null`` for a domain without truth rules.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 METHODS = ("logic", "ml", "mce-icrl")
+
+
+@dataclass(frozen=True)
+class _World:
+    """What the command learns in: a bundled environment or a user's domain, read alike."""
+
+    name: str
+    mdp: Any
+    space: Any  # (S, A) pairs that exist
+    truth: Any  # (S, A) forbidden by the ground truth, or None
+    has_reward: bool
+    domain: Any = None  # a symlearn.grounding.Domain where rules can be learned
+    expert: Any = None  # (n, seed) -> Demonstrations, bundled worlds only
+    bundled: Any = None  # the LogicMDP of a bundled logic domain (SUMO experts)
+    rationality: float = 1.0
+    features: str = "state"
 
 
 def register_learn(commands, common) -> None:
@@ -29,8 +49,10 @@ def register_learn(commands, common) -> None:
         "constraints", parents=[common()], help="learn the constraints an expert obeys (rules, constraint sets)",
         description="Learn constraints from demonstrations in a discrete environment: ASP rules (logic constraint "
                     "inference), maximum-likelihood constraint sets, or MCE-ICRL cost maps.")
-    cmd.add_argument("--env", required=True, choices=tuple(CONSTRAINT_ENVS), metavar="ENV",
-                     help=f"one of {', '.join(CONSTRAINT_ENVS)} (see `symlearn envs`)")
+    where = cmd.add_mutually_exclusive_group(required=True)
+    where.add_argument("--env", choices=tuple(CONSTRAINT_ENVS), metavar="ENV",
+                       help=f"a bundled environment: {', '.join(CONSTRAINT_ENVS)} (see `symlearn envs`)")
+    where.add_argument("--domain", metavar="DIR", help="your own domain folder (domain.toml; see docs/FORMATS.md)")
     source = cmd.add_mutually_exclusive_group()
     source.add_argument("--demos", help="demonstrations (.jsonl or .npz) with the environment's state/action ids or names")
     source.add_argument("--n-demos", type=int, default=50, help="generate N demonstrations of the bundled expert (50)")
@@ -42,69 +64,98 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--iterations", type=int, default=None,
                      help="inference iterations (logic: 20, ml: 200) or dual steps (mce-icrl: 300)")
     cmd.add_argument("--horizon", type=int, default=30, help="planning horizon of the MaxEnt passes (30)")
+    cmd.add_argument("--reward", choices=("given", "sparse"), default=None,
+                     help="logic/ml: plan with the world's reward (default where it has one) or a sparse reward "
+                          "for reaching where demonstrations end")
+    cmd.add_argument("--rationality", type=float, default=None,
+                     help="logic/ml: inverse temperature of the MaxEnt model (1; 3 for gridworld); raise it when "
+                          "a small step cost lets long wandering paths outweigh short ones")
     cmd.add_argument("--known", help="an .lp file of rules known in advance (logic environments)")
     cmd.add_argument("--noise", action="store_true",
                      help="treat demonstrated steps that break --known rules as noise (warn) instead of an error")
     cmd.add_argument("--stochasticity", type=float, default=0.0, help="slip probability p of the gridworld (0)")
+    cmd.add_argument("--features", choices=("state", "state_action"), default=None,
+                     help="mce-icrl: one multiplier per state (gridworld default) or per state-action pair "
+                          "(default for --domain)")
     cmd.add_argument("-o", "--output", help="write the rules (.lp) or the forbidden pairs (.json) here")
     cmd.set_defaults(handler=_constraints)
 
 
-def _constraints(args: argparse.Namespace, out) -> None:
+def _world(args: argparse.Namespace) -> _World:
+    if args.domain:
+        import numpy as np
+
+        from symlearn.grounding import Domain
+
+        d = Domain.from_folder(args.domain)
+        return _World(d.name, d.mdp, ~d.unavailable, d.truth_forbidden, bool(np.any(d.mdp.rewards != 0)),
+                      domain=d, features="state_action")
     from symlearn.envs.constraint_envs import constraint_setting
-    from symlearn.errors import DataError, SymlearnError
 
     setting = constraint_setting(args.env, args.stochasticity)
-    method = args.method or ("logic" if setting.logic is not None else "mce-icrl")
-    if method == "logic" and setting.logic is None:
-        raise SymlearnError(f"{args.env} has no ASP facts, so no rules can be learned there",
+    lm = setting.logic
+    return _World(setting.name, setting.mdp, setting.space, setting.truth, setting.reward == "given",
+                  domain=lm.domain if lm is not None else None, expert=setting.expert, bundled=lm,
+                  rationality=setting.rationality)
+
+
+def _constraints(args: argparse.Namespace, out) -> None:
+    from symlearn.errors import DataError, SymlearnError
+
+    world = _world(args)
+    method = args.method or ("logic" if world.domain is not None else "mce-icrl")
+    if method == "logic" and world.domain is None:
+        raise SymlearnError(f"{world.name} has no ASP facts, so no rules can be learned there",
                             hint="use --method ml or --method mce-icrl")
-    if method == "mce-icrl" and setting.reward != "given":
-        raise SymlearnError(f"mce-icrl needs the environment's reward, which {args.env} does not define",
-                            hint="use --method logic or ml here, or --env gridworld")
-    if args.known and setting.logic is None:
-        raise SymlearnError("--known rules need an environment with ASP facts")
+    if method == "mce-icrl" and not world.has_reward:
+        raise SymlearnError(f"mce-icrl needs the world's reward, which {world.name} does not define",
+                            hint="use --method logic or ml, or give the domain's model.npz a rewards array")
+    if args.known and world.domain is None:
+        raise SymlearnError("--known rules need a world with ASP facts")
     seed = getattr(args, "seed", 0) or 0
     if args.demos:
         from symlearn.data import load
 
         demos = load(args.demos)
+    elif world.expert is None:
+        raise DataError(f"{world.name} has no bundled expert: give your demonstrations with --demos FILE")
     else:
         if args.n_demos < 1:
             raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
         if args.expert == "sumo":
-            if setting.logic is None:
+            if world.bundled is None:
                 raise DataError("--expert sumo drives the junctions only")
-            demos = setting.logic.expert_demonstrations(args.n_demos, seed, source="sumo")
+            demos = world.bundled.expert_demonstrations(args.n_demos, seed, source="sumo")
         else:
-            demos = setting.expert(args.n_demos, seed)
-    known = setting.known
+            demos = world.expert(args.n_demos, seed)
+    known = None
     if args.known:
-        known = known | setting.logic.rule_mask(Path(args.known))
+        known = world.domain.rule_mask(Path(args.known))
     try:
-        doc, learned, learner = _run(method, setting, demos, args, known, out)
+        doc, learned, learner = _run(method, world, demos, args, known, out)
     except DataError as exc:
         if args.demos and not exc.file:
             raise DataError(exc.message, file=args.demos, hint=exc.hint) from None
         raise
-    from symlearn.learners.constraints.constraint_metrics import constraint_metrics
+    scores = {"fpr": None, "fnr": None, "accuracy": None}
+    if world.truth is not None:
+        from symlearn.learners.constraints.constraint_metrics import constraint_metrics
 
-    scores = constraint_metrics(learned, setting.truth, setting.space)
-    doc.update({"env": args.env, "method": method, "constraints": scores["forbidden"],
+        scores = constraint_metrics(learned, world.truth, world.space)
+    doc.update({"env": world.name, "method": method, "constraints": int(learned.sum()),
                 "fpr": scores["fpr"], "fnr": scores["fnr"], "accuracy": scores["accuracy"]})
     if args.output:
-        doc["files"] = [_write(args.output, method, doc, learned, setting, learner)]
+        doc["files"] = [_write(args.output, method, doc, learned, world, learner)]
     out.result(doc, _render)
 
 
-def _run(method, setting, demos, args, known, out):
-    import numpy as np
-
+def _run(method: str, world: _World, demos, args, known, out):
     if method == "logic":
         from symlearn.learners.constraints.logic_constraint_inference import LogicConstraintInference
 
-        learner = LogicConstraintInference(setting.logic, iterations=args.iterations or 20, horizon=args.horizon,
-                                           noise=args.noise, known=known).fit(demos)
+        learner = LogicConstraintInference(iterations=args.iterations or 20, horizon=args.horizon,
+                                           reward=_reward(args, world), rationality=_rationality(args, world),
+                                           noise=args.noise, known=known).fit(demos, world.domain)
         for step in learner.history_:
             out.note(f"iteration {step.iteration}: inferred {step.inferred}; {len(step.rules)} rule(s), "
                      f"{step.n_constraints} forbidden pairs (inference {step.inference_seconds:.2f} s, "
@@ -112,40 +163,59 @@ def _run(method, setting, demos, args, known, out):
         doc = {"rules": learner.rules_, "iterations": len(learner.history_), "seconds": learner.seconds_,
                "history": [h.as_dict() for h in learner.history_]}
         return doc, learner.rule_constraints_, learner
+    target = world.domain if world.domain is not None else world.mdp
     if method == "ml":
         from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
 
-        learner = MLConstraintInference(setting.mdp, reward=setting.reward, horizon=args.horizon,
-                                        max_iterations=args.iterations or 200, known_constraints=known,
+        known_all = world.space == 0
+        if known is not None:
+            known_all = known_all | known
+        learner = MLConstraintInference(reward=_reward(args, world),
+                                        horizon=args.horizon, max_iterations=args.iterations or 200,
+                                        known_constraints=known_all & ~world.mdp.terminal[:, None],
                                         on_violation="warn" if args.noise else "error",
-                                        rationality=setting.rationality).fit(demos)
+                                        rationality=_rationality(args, world)).fit(demos, target)
         doc = {"rules": None, "iterations": len(learner.history_), "seconds": learner.seconds_}
-        return doc, learner.constraints_ & ~known, learner
+        return doc, learner.constraints_ & ~learner.known_, learner
     from symlearn.learners.constraints.mce_icrl import MCEICRL
 
-    learner = MCEICRL(setting.mdp, n_iterations=args.iterations or 300,
-                      on_violation="warn" if args.noise else "error").fit(demos)
-    # A state whose multiplier ends above the threshold is a forbidden cell: every move into it is.
-    targets = np.argmax(setting.mdp.transitions, axis=2)
-    learned = learner.constraint_map_[targets] & setting.space
-    doc = {"rules": None, "iterations": learner.n_iter_, "seconds": learner.seconds_,
-           "multipliers": {setting.mdp.state_names[s]: float(v) for s, v in enumerate(learner.lambda_) if v > 0}}
+    learner = MCEICRL(features=args.features or world.features, n_iterations=args.iterations or 300,
+                      known_constraints=known, on_violation="warn" if args.noise else "error").fit(demos, target)
+    learned = learner.forbidden_ & world.space
+    names = world.mdp.state_names or tuple(map(str, range(world.mdp.n_states)))
+    multipliers = {names[s]: float(v) for s, v in enumerate(learner.lambda_) if v > 0} \
+        if learner.lambda_.shape[0] == world.mdp.n_states else {}
+    doc = {"rules": None, "iterations": learner.n_iter_, "seconds": learner.seconds_, "multipliers": multipliers}
     return doc, learned, learner
 
 
-def _write(output: str, method: str, doc: dict, learned, setting, learner) -> str:
+def _reward(args: argparse.Namespace, world: _World) -> str:
+    from symlearn.errors import SymlearnError
+
+    if args.reward == "given" and not world.has_reward:
+        raise SymlearnError(f"{world.name} defines no reward", hint="use --reward sparse")
+    return args.reward or ("given" if world.has_reward else "sparse")
+
+
+def _rationality(args: argparse.Namespace, world: _World) -> float:
+    from symlearn.errors import SymlearnError
+
+    value = world.rationality if args.rationality is None else args.rationality
+    if not value > 0:
+        raise SymlearnError(f"--rationality must be positive, got {args.rationality}")
+    return value
+
+
+def _write(output: str, method: str, doc: dict, learned, world: _World, learner) -> str:
     from symlearn.atomic import write_text
+    from symlearn.learners.constraints.constraint_file import constraint_set_document
 
     path = Path(output)
     if method == "logic":
         learner.to_lp(path)
         return str(path)
-    names_s, names_a = setting.mdp.state_names, setting.mdp.action_names
-    pairs = [[names_s[s], names_a[a]] for s, a in zip(*learned.nonzero())]
-    payload = {"format": "symlearn-constraints", "version": 1, "env": setting.name, "method": method,
-               "forbidden": pairs}
-    if "multipliers" in doc:
-        payload["multipliers"] = doc["multipliers"]
+    payload = constraint_set_document(learned, world.mdp, method=method, domain=world.name,
+                                      multipliers=doc.get("multipliers") if method == "mce-icrl" else None)
     write_text(path, json.dumps(payload, indent=1) + "\n")
     return str(path)
 
@@ -155,7 +225,10 @@ def _render(doc: dict) -> str:
     if doc.get("rules") is not None:
         lines.append("rules:" if doc["rules"] else "rules: (none induced)")
         lines += [f"  {r}" for r in doc["rules"]]
-    lines.append(f"forbidden pairs: {doc['constraints']}   against the ground truth: FPR {doc['fpr']:.3f}  "
-                 f"FNR {doc['fnr']:.3f}  accuracy {doc['accuracy']:.3f}")
+    if doc["fpr"] is None:
+        lines.append(f"forbidden pairs: {doc['constraints']}   (no ground truth to score against)")
+    else:
+        lines.append(f"forbidden pairs: {doc['constraints']}   against the ground truth: FPR {doc['fpr']:.3f}  "
+                     f"FNR {doc['fnr']:.3f}  accuracy {doc['accuracy']:.3f}")
     lines += [f"wrote {f}" for f in doc.get("files", [])]
     return "\n".join(lines)

@@ -29,14 +29,14 @@ def run(context: DemoContext) -> Section:
         demos = setting.expert(n_demos, context.seed)
         demos_file = f"constraints/{name}_demos.jsonl"
         demos.save(context.path(*demos_file.split("/")))
-        learner = LogicConstraintInference(setting.logic, iterations=iterations).fit(demos)
+        learner = LogicConstraintInference(iterations=iterations).fit(demos, setting.logic)
         rules_file = f"constraints/{name}_rules.lp"
         learner.to_lp(context.path(*rules_file.split("/")))
         files += [demos_file, rules_file]
         scores = learner.score()
         inference = sum(h.inference_seconds for h in learner.history_)
         induction = sum(h.induction_seconds for h in learner.history_)
-        learned[name] = learner
+        learned[name] = (learner, setting.logic)
         rules_md = "<br>".join(f"`{r}`" for r in learner.rules_) or "(none)"
         rows.append(f"| {name} | {n_demos} | {len(learner.history_)} | {rules_md} | {scores['forbidden']} | "
                     f"{scores['fpr']:.3f} | {scores['fnr']:.3f} | {scores['accuracy']:.3f} | "
@@ -62,7 +62,8 @@ forbidden pairs; over every state-action pair of the domain. Rules: `constraints
 
 
 def _shielded_q_learning(context: DemoContext, learned: dict, figures: dict) -> str:
-    """Plain vs rule-shielded Q-learning in each junction whose rules were learned above."""
+    """Plain vs rule-shielded Q-learning in each junction whose rules were learned above
+    (``learned``: name -> (fitted learner, its LogicMDP))."""
     from symlearn.backends.masks import env_mask
     from symlearn.backends.shield import Shield
     from symlearn.envs.junction_env import JunctionEnv
@@ -70,14 +71,13 @@ def _shielded_q_learning(context: DemoContext, learned: dict, figures: dict) -> 
 
     episodes = 150 if context.quick else 400
     lines = []
-    for name, learner in learned.items():
+    for name, (learner, lm) in learned.items():
         if not name.startswith("junction-"):
             continue
         variant = name.removeprefix("junction-")
         plain = q_learning(JunctionEnv(variant), episodes, seed=context.seed)
-        domain = learner.domain
-        mask = env_mask(domain.mdp, learner.rule_constraints_, JunctionEnv(variant).state_names,
-                        unavailable=domain.unavailable)
+        mask = env_mask(lm.mdp, learner.rule_constraints_, JunctionEnv(variant).state_names,
+                        unavailable=lm.unavailable)
         shielded = q_learning(Shield(JunctionEnv(variant), mask, seed=context.seed), episodes, seed=context.seed)
         row = {"episodes": episodes, "plain_violations": int(plain.violations.sum()),
                "shielded_violations": int(shielded.violations.sum()),

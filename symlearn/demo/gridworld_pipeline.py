@@ -76,10 +76,10 @@ def run(context: DemoContext) -> Section:
                    desc="gridworld expert")
     demos.save(context.path("gridworld", "expert_demos.jsonl"))
 
-    mce = MCEICRL(mdp, n_iterations=iterations).fit(demos)
+    mce = MCEICRL(n_iterations=iterations).fit(demos, mdp)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        ml = MLConstraintInference(mdp, horizon=50, rationality=3.0).fit(demos)
+        ml = MLConstraintInference(horizon=50, rationality=3.0).fit(demos, mdp)
 
     rng = np.random.default_rng(context.seed)
     rows = {}

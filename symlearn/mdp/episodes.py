@@ -61,6 +61,30 @@ def tabular_episodes(demos: Iterable[Any], mdp: TabularMDP) -> list[TabularEpiso
     return episodes
 
 
+def state_sequences(demos: Iterable[Any], n_states: int, names: Sequence[str] = ()) -> list[np.ndarray]:
+    """The integer state ids of each demonstration (actions, when present, are not read).
+
+    The states-only reading of :func:`tabular_episodes`, with the same checks and messages, for
+    learners that look at visited states only (specification learning). Accepts
+    :class:`~symlearn.data.Demonstrations`, trajectories or plain state sequences.
+    """
+    if isinstance(demos, (str, bytes)) or not isinstance(demos, Iterable):
+        raise DataError(f"demonstrations must be Demonstrations or a list of trajectories, not {type(demos).__name__}")
+    sequences = []
+    for i, item in enumerate(demos):
+        states = item.states if hasattr(item, "states") else item
+        try:
+            array = np.asarray(states)
+        except (TypeError, ValueError):
+            raise DataError(f"demonstration {i}: states must be state ids") from None
+        if array.size == 0:
+            raise DataError(f"demonstration {i} is empty")
+        sequences.append(_ids(array, f"demonstration {i}: states", n_states, "state", names))
+    if not sequences:
+        raise DataError("no demonstrations were given")
+    return sequences
+
+
 def _check_goal_label(i: int, info: Any, states: np.ndarray, mdp: TabularMDP) -> None:
     """A demonstration may say which goal it pursued (``info["goal"]``, a state id or name).
 
@@ -79,6 +103,8 @@ def _check_goal_label(i: int, info: Any, states: np.ndarray, mdp: TabularMDP) ->
 
 def _ids(values: Any, where: str, size: int, what: str, names: Sequence[str]) -> np.ndarray:
     array = np.asarray(values)
+    if array.dtype.kind == "b" or array.dtype.kind == "O":
+        raise DataError(f"{where} must be integer {what} ids, got {array.dtype}")
     if array.ndim != 1:
         raise DataError(f"{where} must be one {what} id per step, got shape {array.shape}")
     if array.dtype.kind in "US":  # names: map through the model's names

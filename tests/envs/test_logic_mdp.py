@@ -53,9 +53,9 @@ def test_ids_and_pairs_round_trip(lm):
 
 
 def test_pairs_of_the_domain_are_exactly_the_available_ids(lm):
-    domain_pairs = list(lm.domain.state_actions())
+    domain_pairs = list(lm.logic.state_actions())
     if lm.name == "hanoi":  # the goal configuration is the end of the game: no pair of the MDP
-        goal = lm.domain.model.goal_state()
+        goal = lm.logic.model.goal_state()
         domain_pairs = [(s, a) for s, a in domain_pairs if s != goal]
     assert len(domain_pairs) == int((~lm.unavailable).sum())
     np.testing.assert_array_equal(lm.mask(domain_pairs), ~lm.unavailable)
@@ -65,13 +65,13 @@ def test_truth_mask_is_the_domain_truth(lm):
     assert not (lm.truth_forbidden & lm.unavailable).any()
     for s, a in np.argwhere(~lm.unavailable):
         state, action = lm.pair(int(s), int(a))
-        assert lm.truth_forbidden[s, a] == (not lm.domain.is_allowed(state, action))
+        assert lm.truth_forbidden[s, a] == (not lm.logic.is_allowed(state, action))
 
 
 @pytest.mark.parametrize("name", ["hanoi", "junction-lights", "junction-priority"])
 def test_truth_mask_equals_the_ground_truth_rules(name):
     lm = logic_mdp(name)
-    np.testing.assert_array_equal(lm.rule_mask(lm.domain.truth_path.read_text()), lm.truth_forbidden)
+    np.testing.assert_array_equal(lm.rule_mask(lm.logic.truth_path.read_text()), lm.truth_forbidden)
 
 
 def test_expert_demonstrations_obey_the_truth_and_end_at_a_goal(lm):

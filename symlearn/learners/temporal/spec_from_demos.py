@@ -32,8 +32,9 @@ proposition ``p0``, ``p1``, ... in order of discovery; :attr:`SpecLearner.labeli
 grown labeling.
 
 >>> from symlearn.envs.spec_experts import expert_demonstrations
+>>> from symlearn.envs.spec_tasks import get_task
 >>> demos = expert_demonstrations("office-1", 20, seed=0)
->>> learner = SpecLearner(random_state=0).fit(demos, "office-1")
+>>> learner = SpecLearner(random_state=0).fit(demos, get_task("office-1").make_env())
 >>> learner.success_rate("(f T g) & G !n")
 1.0
 """
@@ -42,20 +43,52 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
 
 from symlearn.errors import DataError, ModelError
+from symlearn.learners.base import Learner, NotFittedError
+from symlearn.learners.temporal.task_model import TaskModel, task_model
+from symlearn.mdp.episodes import state_sequences
 from symlearn.learners.temporal.spec_templates import ARITY, Choice, TraceBounds, best_candidate, instantiate, novelty_depth
 from symlearn.grounding.labeling import Labeling
 from symlearn.logic.ltlf.ast import Formula, conjunction, size
 
-__all__ = ["SpecLearner"]
+__all__ = ["SpecIteration", "SpecLearner"]
 
 
-class SpecLearner:
+@dataclass(frozen=True)
+class SpecIteration:
+    """One iteration: the best candidate, whether it was added, the nominal policy's success."""
+
+    iteration: int
+    spec: str  # the specification after this iteration
+    added: bool
+    template: str | None
+    formula: str | None
+    gain: float
+    expert_rate: float | None
+    nominal_rate: float | None
+    candidates: int | None
+    nominal_success: float  # share of nominal trajectories satisfying the specification before it
+    nominal_reproduced: float  # share of nominal trajectories identical to a demonstration
+    seconds: float
+
+    def as_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+    def __getitem__(self, key: str) -> Any:  # records also read like the JSON they print as
+        return getattr(self, key)
+
+
+class SpecLearner(Learner):
     """Learn ``formula_`` (and, without given propositions, ``labeling_``) from demonstrations.
+
+    ``fit(demonstrations, world)``: ``world`` is a :class:`~symlearn.grounding.Domain` with
+    deterministic moves, or a labelled tabular environment (see
+    :mod:`symlearn.learners.temporal.task_model`).
 
     Parameters: ``propositions`` is ``"given"`` (use ``labeling`` or the environment's),
     ``"learn"``, or a list of proposition names of the given labeling to search over;
@@ -66,15 +99,18 @@ class SpecLearner:
     some experts show by chance, such as one of two equally short detours, can win on gain
     when demonstrations are few); ``drop_reproduced`` leaves nominal trajectories identical to a
     demonstration out of the information-gain dataset (see the module docstring; ``False`` is
-    the plain thesis dataset).
+    the plain thesis dataset); ``horizon`` is the episode length of nominal rollouts (default:
+    the environment's ``max_steps``, 200 for a domain).
     """
+
+    artefact_suffix = ".ltl"
 
     def __init__(self, *, propositions: str | Sequence[str] = "given", labeling: Labeling | None = None,
                  threshold: float = 0.2, max_iterations: int = 10, n_nominal: int | None = None,
                  min_expert_rate: float = 0.9, drop_reproduced: bool = True, policy_updates: bool = True,
                  prune: bool = True, prune_threshold: float = 0.9,
                  q_steps: int | None = None, n_envs: int = 128, discount: float = 0.99, epsilon: float = 0.1,
-                 n_eval: int = 20, random_state: int | None = 0,
+                 n_eval: int = 20, horizon: int | None = None, random_state: int | None = 0,
                  callback: Callable[[dict[str, Any]], None] | None = None) -> None:
         self.propositions = propositions
         self.labeling = labeling
@@ -91,31 +127,27 @@ class SpecLearner:
         self.discount = discount
         self.epsilon = epsilon
         self.n_eval = n_eval
+        self.horizon = horizon
         self.random_state = random_state
         self.callback = callback
 
     # ------------------------------------------------------------------------------------------
-    def fit(self, demos, env) -> SpecLearner:
-        """Learn from ``demos`` (Demonstrations, trajectories or state sequences) in ``env``
-        (an environment with ``next_state`` and ``labeling``, or a task name such as ``office-1``)."""
+    def fit(self, demonstrations, domain=None) -> SpecLearner:
+        """Learn from ``demonstrations`` (Demonstrations, trajectories or state sequences) in
+        ``domain`` (a Domain or a labelled tabular environment, see :func:`task_model`)."""
         t_start = time.perf_counter()
         self._check_parameters()
-        env = self._environment(env)
-        from symlearn.envs.spec_experts import successor_table
-
-        self._env = env
-        self._succ = successor_table(env)
-        self._n_states = self._succ.shape[0]
-        self._start = int(env.reset(seed=0)[0])
-        self._horizon = int(getattr(env, "max_steps", 200))
+        if domain is None:
+            raise ModelError("specification learning needs the world: fit(demonstrations, domain_or_env)")
+        self.model_: TaskModel = task_model(domain, horizon=self.horizon)
         self._rng = np.random.default_rng(self.random_state)
-        experts = self._expert_traces(demos)
+        experts = state_sequences(demonstrations, self.model_.n_states)
         learn = self.propositions == "learn"
-        labeling, names = (Labeling({}), []) if learn else self._given_labeling(env)
+        labeling, names = (Labeling({}), []) if learn else self._given_labeling()
         n_nominal = self.n_nominal or len(experts)
 
         conjuncts: list[tuple[Formula, tuple[str, tuple[str, ...]]]] = []
-        self.history_: list[dict[str, Any]] = []
+        self.history_: list[SpecIteration] = []
         policy = last_policy = None
         self.stopped_because_ = "max_iterations"
         for iteration in range(1, self.max_iterations + 1):
@@ -126,13 +158,13 @@ class SpecLearner:
             if learn:
                 states = np.unique(np.concatenate([*experts, *nominal]))
                 atom_names = [self._state_name(labeling, int(s)) for s in states]
-                atom_of_state = np.zeros((self._n_states, len(states)), dtype=bool)
+                atom_of_state = np.zeros((self.model_.n_states, len(states)), dtype=bool)
                 atom_of_state[states, np.arange(len(states))] = True
             else:
                 atom_names = list(names)
-                atom_of_state = np.array([[p in labeling.label(s) for p in names] for s in range(self._n_states)],
-                                         dtype=bool).reshape(self._n_states, len(names))
-            covered = np.zeros(self._n_states, dtype=bool)
+                atom_of_state = np.array([[p in labeling.label(s) for p in names] for s in range(self.model_.n_states)],
+                                         dtype=bool).reshape(self.model_.n_states, len(names))
+            covered = np.zeros(self.model_.n_states, dtype=bool)
             covered[np.concatenate(nominal)] = True
             exclude = {(key[0], tuple(atom_names.index(a) for a in key[1]), False)
                        for _, key in conjuncts if all(a in atom_names for a in key[1])}
@@ -178,8 +210,12 @@ class SpecLearner:
         self.policy_ = last_policy if same else self._train(self.formula_, labeling, seed=10_000)
         self.entropy_ = self._entropy(self.policy_)
         self.dfa_ = self._dfa(self.formula_)
-        self.iterations_ = sum(1 for h in self.history_ if h["added"])
+        self.iterations_ = sum(1 for h in self.history_ if h.added)
         self.seconds_ = time.perf_counter() - t_start
+        self._set_result(self.formula_, str(self.formula_) + "\n",
+                         metrics={"length": self.length_, "iterations": self.iterations_, "entropy": self.entropy_,
+                                  "pruned": list(self.pruned_), "stopped_because": self.stopped_because_},
+                         timings={"total": self.seconds_}, history=self.history_)
         return self
 
     # --- results ------------------------------------------------------------------------------
@@ -196,7 +232,9 @@ class SpecLearner:
 
         self._check_fitted()
         truth = parse(truth) if isinstance(truth, str) else truth
-        labeling = self._env.labeling if labeling is None else labeling
+        labeling = self.model_.labeling if labeling is None else labeling
+        if labeling is None:
+            raise DataError("the world has no labeling to read the truth formula with; pass labeling=")
         paths = sample_episodes(self.policy_, n or self.n_eval, seed=self.random_state, greedy=True)
         return float(np.mean([holds(truth, [labeling.label(int(s)) for s in p]) for p in paths]))
 
@@ -210,51 +248,17 @@ class SpecLearner:
                 (not isinstance(self.propositions, str) and all(isinstance(p, str) for p in self.propositions))):
             raise ModelError(f"propositions must be 'given', 'learn' or a list of names, got {self.propositions!r}")
 
-    @staticmethod
-    def _environment(env):
-        if isinstance(env, str):
-            from symlearn.envs.spec_tasks import get_task
-
-            return get_task(env).make_env()
-        for attr in ("next_state", "labeling", "observation_space", "action_space", "reset"):
-            if not hasattr(env, attr):
-                raise ModelError(f"{type(env).__name__} is not a labelled tabular environment (no {attr})",
-                                 hint="use an office/craft world or a task name such as 'office-1'")
-        return env
-
-    def _expert_traces(self, demos) -> list[np.ndarray]:
-        from symlearn.data import Demonstrations, Trajectory
-
-        if isinstance(demos, (Demonstrations, list, tuple)):
-            items = list(demos)
-        else:
-            raise DataError(f"demonstrations must be Demonstrations or a list of trajectories, not {type(demos).__name__}")
-        if not items:
-            raise DataError("no demonstrations: at least one expert trajectory is needed")
-        traces = []
-        for i, item in enumerate(items):
-            states = item.states if isinstance(item, Trajectory) else item
-            try:
-                array = np.asarray(states)
-            except (TypeError, ValueError):
-                raise DataError(f"trajectory {i}: states must be environment state ids") from None
-            if array.ndim != 1 or array.size == 0 or not np.issubdtype(array.dtype, np.integer):
-                raise DataError(f"trajectory {i}: states must be a non-empty sequence of integer state ids",
-                                hint="specification learning works on discrete environment states")
-            bad = array[(array < 0) | (array >= self._n_states)]
-            if bad.size:
-                raise DataError(f"trajectory {i}: state {int(bad[0])} lies outside the environment's "
-                                f"{self._n_states} states (0..{self._n_states - 1})",
-                                hint="were these demonstrations recorded in another environment?")
-            traces.append(array.astype(np.int64))
-        return traces
-
-    def _given_labeling(self, env) -> tuple[Labeling, list[str]]:
-        labeling = self.labeling if self.labeling is not None else env.labeling
-        for state, _ in labeling.items():
-            if not (isinstance(state, (int, np.integer)) and 0 <= state < self._n_states):
+    def _given_labeling(self) -> tuple[Labeling, list[str]]:
+        labeling = self.labeling if self.labeling is not None else self.model_.labeling
+        if labeling is None:
+            raise DataError("the world has no labeling, so there are no given propositions",
+                            hint="give the domain a labeling (labeling = ... in domain.toml), pass labeling=, "
+                                 "or use propositions='learn'")
+        n_states = self.model_.n_states
+        for state, _ in getattr(labeling, "items", lambda: [])():
+            if not (isinstance(state, (int, np.integer)) and 0 <= state < n_states):
                 raise DataError(f"the labeling labels state {state!r}, which is not one of the environment's "
-                                f"{self._n_states} states")
+                                f"{n_states} states")
         names = list(labeling.propositions) if self.propositions == "given" else list(self.propositions)
         unknown = [p for p in names if p not in labeling.propositions]
         if unknown:
@@ -269,15 +273,14 @@ class SpecLearner:
         return found[0] if found else f"s{state}"
 
     def _meaning(self, state: int) -> str:
-        cell = getattr(self._env, "cell_of", None)
-        return f"agent in cell {cell(state)}" if cell else f"agent in state {state}"
+        return self.model_.describe(state)
 
     def _random_traces(self, n: int) -> list[np.ndarray]:
-        n_a = self._succ.shape[1]
-        s = np.full(n, self._start)
+        n_a = self.model_.successors.shape[1]
+        s = np.full(n, self.model_.start)
         path = [s]
-        for _ in range(self._horizon):
-            s = self._succ[s, self._rng.integers(0, n_a, n)]
+        for _ in range(self.model_.horizon):
+            s = self.model_.successors[s, self._rng.integers(0, n_a, n)]
             path.append(s)
         return list(np.stack(path, axis=1))
 
@@ -291,11 +294,11 @@ class SpecLearner:
         from symlearn.rl.crm_q_learning import crm_q_learning
 
         machine = RewardMachine.from_formula(formula)
-        steps = self.q_steps or min(400 * self._n_states * (1 + machine.n_states // 8), 4_000_000)
-        labels = [labeling.label(s) for s in range(self._n_states)]
+        steps = self.q_steps or min(400 * self.model_.n_states * (1 + machine.n_states // 8), 4_000_000)
+        labels = [labeling.label(s) for s in range(self.model_.n_states)]
         base = 0 if self.random_state is None else int(self.random_state)
-        return crm_q_learning(self._succ, labels, machine, self._start, n_steps=steps, n_envs=self.n_envs,
-                              horizon=self._horizon, discount=self.discount, epsilon=self.epsilon,
+        return crm_q_learning(self.model_.successors, labels, machine, self.model_.start, n_steps=steps, n_envs=self.n_envs,
+                              horizon=self.model_.horizon, discount=self.discount, epsilon=self.epsilon,
                               seed=base * 100_003 + seed)
 
     def _satisfaction(self, formula: Formula, labeling: Labeling, traces: Sequence[np.ndarray]) -> float:
@@ -340,13 +343,13 @@ class SpecLearner:
 
     def _log(self, record: dict[str, Any]) -> None:
         if "iteration" in record:
-            self.history_.append(record)
+            self.history_.append(SpecIteration(**{f: record.get(f) for f in SpecIteration.__dataclass_fields__}))
         if self.callback is not None:
             self.callback(record)
 
     def _check_fitted(self) -> None:
         if not hasattr(self, "formula_"):
-            raise ModelError("this SpecLearner is not fitted yet; call fit(demos, env) first")
+            raise NotFittedError("this SpecLearner is not fitted yet; call fit(demonstrations, domain) first")
 
 
 def _without_reproductions(nominal: Sequence[np.ndarray], experts: Sequence[np.ndarray]) -> list[np.ndarray]:

@@ -27,7 +27,7 @@ def expert_demos(env, n, seed):
 def test_ml_inference_recovers_the_block_in_a_deterministic_gridworld(seed):
     env = StochasticGridworld(0.0)
     demos = maxent_demos(env, 30, seed)
-    learner = MLConstraintInference(env.to_tabular(), horizon=30, rationality=3, min_visitation=1e-4).fit(demos)
+    learner = MLConstraintInference(horizon=30, rationality=3, min_visitation=1e-4).fit(demos, env.to_tabular())
     entries = env.constraint_mask() & ~env.forbidden_states[:, None]
     assert (learner.constraints_ & entries).sum() == entries.sum()  # every move into the block
     assert not (learner.constraints_ & learner.demonstrated_).any()
@@ -53,7 +53,7 @@ def test_ml_inference_recovers_the_block_in_a_deterministic_gridworld(seed):
 def test_ml_inference_with_the_sparse_inferred_reward():
     env = StochasticGridworld(0.0)
     demos = maxent_demos(env, 30, 0)
-    learner = MLConstraintInference(env.to_tabular(), reward="sparse", horizon=30, rationality=3).fit(demos)
+    learner = MLConstraintInference(reward="sparse", horizon=30, rationality=3).fit(demos, env.to_tabular())
     entries = env.constraint_mask() & ~env.forbidden_states[:, None]
     assert (learner.constraints_ & entries).sum() >= entries.sum() - 1
     assert learner.goals_ == (env.goal_state,)
@@ -70,7 +70,7 @@ def test_ml_inference_stops_after_max_iterations_and_calls_generalize():
         extra[env.cell_state((0, 0))] = True  # a rule that forbids a whole corner state
         return extra
 
-    learner = MLConstraintInference(env.to_tabular(), horizon=20, max_iterations=3, generalize=generalize).fit(demos)
+    learner = MLConstraintInference(horizon=20, max_iterations=3, generalize=generalize).fit(demos, env.to_tabular())
     assert learner.stopped_because_ == "max_iterations" and len(learner.history_) == 3 and len(calls) == 3
     assert learner.constraints_[env.cell_state((0, 0))].all() and learner.empty_states_[env.cell_state((0, 0))]
     assert learner.history_[0].n_generalized >= 4
@@ -79,7 +79,7 @@ def test_ml_inference_stops_after_max_iterations_and_calls_generalize():
 def test_ml_inference_closes_the_set_in_a_stochastic_gridworld():
     env = StochasticGridworld(0.3)
     demos = expert_demos(env, 10, 0)
-    learner = MLConstraintInference(env.to_tabular(), horizon=30, rationality=3, max_iterations=40).fit(demos)
+    learner = MLConstraintInference(horizon=30, rationality=3, max_iterations=40).fit(demos, env.to_tabular())
     again = restrict(env.to_tabular(), learner.constraints_, protected=learner.demonstrated_)
     np.testing.assert_array_equal(again.forbidden, learner.constraints_)  # already closed
 
@@ -92,10 +92,10 @@ def violation_rate(env, policy, seed=123):
 
 def test_mce_icrl_learns_the_block_without_noise():
     env = StochasticGridworld(0.0)
-    learner = MCEICRL(env.to_tabular(), n_iterations=150).fit(expert_demos(env, 20, 0))
+    learner = MCEICRL(n_iterations=150).fit(expert_demos(env, 20, 0), env.to_tabular())
     assert violation_rate(env, learner.policy_) < 0.01
     assert learner.constraint_map_[env.forbidden_states].mean() > 0.5
-    nominal = violation_rate(env, MCEICRL(env.to_tabular(), n_iterations=1).fit(expert_demos(env, 2, 0)).policy_)
+    nominal = violation_rate(env, MCEICRL(n_iterations=1).fit(expert_demos(env, 2, 0), env.to_tabular()).policy_)
     assert nominal > 0.1  # without learned costs the agent walks through the block
     assert (learner.lambda_ >= 0).all() and learner.cost_.shape == (49, 4)
     excess = [step.excess for step in learner.history_]
@@ -106,8 +106,8 @@ def test_mce_icrl_learns_the_block_without_noise():
 def test_mce_icrl_beats_me_icrl_on_violations_under_stochastic_dynamics(p):
     env = StochasticGridworld(p)
     demos = expert_demos(env, 50, 1)
-    mce = MCEICRL(env.to_tabular(), n_iterations=150).fit(demos)
-    me = MEICRL(env.to_tabular(), n_iterations=150).fit(demos)
+    mce = MCEICRL(n_iterations=150).fit(demos, env.to_tabular())
+    me = MEICRL(n_iterations=150).fit(demos, env.to_tabular())
     mce_rate, me_rate = violation_rate(env, mce.policy_), violation_rate(env, me.policy_)
     assert mce_rate < 0.08
     assert me_rate > 2 * mce_rate
@@ -116,8 +116,8 @@ def test_mce_icrl_beats_me_icrl_on_violations_under_stochastic_dynamics(p):
 def test_mce_icrl_with_state_action_features_and_known_constraints():
     env = StochasticGridworld(0.0)
     demos = expert_demos(env, 5, 0)
-    learner = MCEICRL(env.to_tabular(), features="state_action", n_iterations=50,
-                      known_constraints=env.constraint_mask()).fit(demos)
+    learner = MCEICRL(features="state_action", n_iterations=50,
+                      known_constraints=env.constraint_mask()).fit(demos, env.to_tabular())
     assert learner.lambda_.shape == (49 * 4,)
     assert (learner.policy_[env.constraint_mask() & ~env.forbidden_states[:, None]] == 0).all()
 
@@ -126,20 +126,20 @@ def test_mce_icrl_with_state_action_features_and_known_constraints():
 def test_states_outside_the_environment():
     env = StochasticGridworld(0.0)
     demos = Demonstrations([Trajectory([42, 35, 99], [0, 0])])
-    for learner in (MLConstraintInference(env.to_tabular()), MCEICRL(env.to_tabular())):
+    for learner in (MLConstraintInference(), MCEICRL()):
         with pytest.raises(DataError, match=r"demonstration 0: states: step 2: state 99 is outside the environment \(0..48\)"):
-            learner.fit(demos)
+            learner.fit(demos, env.to_tabular())
 
 
 def test_actions_not_available():
     env = StochasticGridworld(0.0)
     demos = Demonstrations([Trajectory([42, 35], [7])])
     with pytest.raises(DataError, match="action 7 is outside the environment"):
-        MLConstraintInference(env.to_tabular()).fit(demos)
+        MLConstraintInference().fit(demos, env.to_tabular())
     with pytest.raises(DataError, match="unknown action 'jump'"):
-        MCEICRL(env.to_tabular()).fit([(np.array([42, 35]), np.array(["jump"]))])
+        MCEICRL().fit([(np.array([42, 35]), np.array(["jump"]))], env.to_tabular())
     with pytest.raises(DataError, match="has no actions"):
-        MCEICRL(env.to_tabular()).fit(Demonstrations([Trajectory([42, 35])]))
+        MCEICRL().fit(Demonstrations([Trajectory([42, 35])]), env.to_tabular())
 
 
 def test_demonstrations_that_break_the_given_constraints():
@@ -147,13 +147,13 @@ def test_demonstrations_that_break_the_given_constraints():
     into_block = [env.start_state, env.cell_state((6, 1)), env.cell_state((6, 2))]
     bad = Demonstrations([Trajectory(into_block, [1, 1], rewards=[-1, -1])])
     with pytest.raises(DataError, match=r"demonstration 0, step 1: state 43, action 1 breaks the given constraints \(1 violating"):
-        MLConstraintInference(env.to_tabular(), known_constraints=env.constraint_mask()).fit(bad)
+        MLConstraintInference(known_constraints=env.constraint_mask()).fit(bad, env.to_tabular())
     with pytest.raises(DataError, match="breaks the given constraints"):
-        MCEICRL(env.to_tabular(), known_constraints=env.constraint_mask()).fit(bad)
+        MCEICRL(known_constraints=env.constraint_mask()).fit(bad, env.to_tabular())
     noisy = expert_demos(env, 3, 0) + bad
     with pytest.warns(UserWarning, match="1 demonstrated step"):
-        learner = MLConstraintInference(env.to_tabular(), known_constraints=env.constraint_mask(),
-                                        on_violation="warn", horizon=20).fit(noisy)
+        learner = MLConstraintInference(known_constraints=env.constraint_mask(),
+                                        on_violation="warn", horizon=20).fit(noisy, env.to_tabular())
     assert not learner.constraints_[env.cell_state((6, 1)), ACTIONS.index("right")]  # noise is kept allowed
 
 
@@ -161,20 +161,20 @@ def test_impossible_steps_are_counted_as_noise():
     env = StochasticGridworld(0.0)
     jump = Demonstrations([Trajectory([env.start_state, env.cell_state((0, 0)), env.cell_state((0, 1))], [0, 1])])
     with pytest.warns(UserWarning, match="1 demonstrated step"):
-        MLConstraintInference(env.to_tabular(), horizon=10, max_iterations=1).fit(jump)
+        MLConstraintInference(horizon=10, max_iterations=1).fit(jump, env.to_tabular())
 
 
 def test_bad_settings():
     env = StochasticGridworld(0.0)
     demos = expert_demos(env, 1, 0)
     with pytest.raises(SymlearnError, match="unknown features"):
-        MCEICRL(env.to_tabular(), features="pixels").fit(demos)
+        MCEICRL(features="pixels").fit(demos, env.to_tabular())
     with pytest.raises(ModelError, match="features must have shape"):
-        MCEICRL(env.to_tabular(), features=np.ones((3, 3, 3))).fit(demos)
+        MCEICRL(features=np.ones((3, 3, 3))).fit(demos, env.to_tabular())
     with pytest.raises(SymlearnError, match="unknown reward"):
-        MLConstraintInference(env.to_tabular(), reward="dense").fit(demos)
+        MLConstraintInference(reward="dense").fit(demos, env.to_tabular())
     with pytest.raises(DataError, match="no demonstrations"):
-        MLConstraintInference(env.to_tabular()).fit([])
+        MLConstraintInference().fit([], env.to_tabular())
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        MLConstraintInference(env, horizon=5, max_iterations=1).fit(demos)  # an env with to_tabular() works
+        MLConstraintInference(horizon=5, max_iterations=1).fit(demos, env)  # an env with to_tabular() works

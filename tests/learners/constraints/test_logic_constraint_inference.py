@@ -1,11 +1,14 @@
 """Logic constraint inference (ML inference + ILP induction) on the bundled logic domains."""
 
+import copy
+
 import numpy as np
 import pytest
 
 from symlearn.data import Demonstrations, Trajectory
 from symlearn.envs.logic_mdp import logic_mdp
 from symlearn.errors import DataError, SymlearnError
+from symlearn.learners.base import NotFittedError
 from symlearn.learners.constraints.constraint_metrics import constraint_metrics, reachable_pairs
 from symlearn.learners.constraints.logic_constraint_inference import LogicConstraintInference, LogicIteration
 
@@ -17,7 +20,7 @@ def hanoi():
 
 @pytest.fixture(scope="module")
 def hanoi_fit(hanoi):
-    return LogicConstraintInference(hanoi, iterations=3).fit(hanoi.expert_demonstrations(10, seed=0))
+    return LogicConstraintInference(iterations=3).fit(hanoi.expert_demonstrations(10, seed=0), hanoi)
 
 
 @pytest.fixture(scope="module")
@@ -27,7 +30,7 @@ def priority():
 
 @pytest.fixture(scope="module")
 def priority_fit(priority):
-    return LogicConstraintInference(priority, iterations=10).fit(priority.expert_demonstrations(30, seed=0))
+    return LogicConstraintInference(iterations=10).fit(priority.expert_demonstrations(30, seed=0), priority)
 
 
 # --- Hanoi: exactly the thesis' rule ------------------------------------------------------------
@@ -50,7 +53,7 @@ def test_hanoi_rule_by_start(hanoi, start, learns):
     """The thesis' start and mixtures learn the rule; a pure uniform start does not (documented
     limitation: started from every state, the most visited undemonstrated pairs are allowed moves
     far from the demonstrated path, e.g. onto an empty peg, and no rule is induced in 3 iterations)."""
-    learner = LogicConstraintInference(hanoi, iterations=3, start=start).fit(hanoi.expert_demonstrations(10, seed=0))
+    learner = LogicConstraintInference(iterations=3, start=start).fit(hanoi.expert_demonstrations(10, seed=0), hanoi)
     assert learner.rules_ == ([":- on(V1,V2), V1 < V2."] if learns else [])
 
 
@@ -102,7 +105,7 @@ def test_lights_junction_learns_the_off_road_rule_and_exactly_the_truth():
     rules (about 30 s). With start="demonstrations" the loop stops at 12 rules, full-space FNR
     0.816."""
     lights = logic_mdp("junction-lights")
-    learner = LogicConstraintInference(lights, iterations=13).fit(lights.expert_demonstrations(100, seed=0))
+    learner = LogicConstraintInference(iterations=13).fit(lights.expert_demonstrations(100, seed=0), lights)
     assert ":- not onRoad(V1) : dir(V1)." in learner.rules_
     assert len(learner.rules_) == 13
     np.testing.assert_array_equal(learner.rule_constraints_, lights.truth_forbidden)
@@ -112,9 +115,9 @@ def test_lights_junction_learns_the_off_road_rule_and_exactly_the_truth():
 
 def test_start_is_passed_to_the_inference_and_checked(hanoi):
     with pytest.raises(SymlearnError, match="unknown start"):
-        LogicConstraintInference(hanoi, iterations=1, start="anywhere").fit(hanoi.expert_demonstrations(2, seed=0))
+        LogicConstraintInference(iterations=1, start="anywhere").fit(hanoi.expert_demonstrations(2, seed=0), hanoi)
     with pytest.raises(SymlearnError, match=r"\[0, 1\]"):
-        LogicConstraintInference(hanoi, iterations=1, start=1.5).fit(hanoi.expert_demonstrations(2, seed=0))
+        LogicConstraintInference(iterations=1, start=1.5).fit(hanoi.expert_demonstrations(2, seed=0), hanoi)
 
 
 def test_reachable_pairs_follow_the_allowed_moves(priority):
@@ -126,14 +129,14 @@ def test_reachable_pairs_follow_the_allowed_moves(priority):
     assert truth_space[starts].all()
     # no off-road cell is reachable when the truth is obeyed
     for s in np.flatnonzero(truth_space[:, 0]):
-        assert priority.domain.model.road_of(priority.states[s].cell) is not None
+        assert priority.logic.model.road_of(priority.states[s].cell) is not None
 
 
 # --- bad input ----------------------------------------------------------------------------------
 def test_state_outside_the_mdp_is_a_data_error(hanoi):
     demos = Demonstrations([Trajectory(states=[0, hanoi.mdp.n_states + 5], actions=[0])])
     with pytest.raises(DataError):
-        LogicConstraintInference(hanoi, iterations=1).fit(demos)
+        LogicConstraintInference(iterations=1).fit(demos, hanoi)
 
 
 def _empty_peg_move(hanoi):
@@ -150,7 +153,7 @@ def test_a_move_that_does_not_exist_is_a_data_error_even_with_noise(hanoi, noise
     good = list(hanoi.expert_demonstrations(3, seed=1))
     bad = Trajectory(states=[s, s], actions=[a])
     with pytest.raises(DataError, match="not available"):
-        LogicConstraintInference(hanoi, iterations=1, noise=noise).fit(Demonstrations(good + [bad]))
+        LogicConstraintInference(iterations=1, noise=noise).fit(Demonstrations(good + [bad]), hanoi)
 
 
 def _known_broken(hanoi, demos):
@@ -165,14 +168,14 @@ def test_breaking_a_known_constraint_is_a_data_error(hanoi):
     demos = hanoi.expert_demonstrations(3, seed=1)
     known = _known_broken(hanoi, demos)
     with pytest.raises(DataError, match="breaks the given constraints"):
-        LogicConstraintInference(hanoi, iterations=1, known=known).fit(demos)
+        LogicConstraintInference(iterations=1, known=known).fit(demos, hanoi)
 
 
 def test_noise_turns_the_error_into_a_warning(hanoi):
     demos = hanoi.expert_demonstrations(5, seed=1)
     known = _known_broken(hanoi, demos)
     with pytest.warns(UserWarning, match="break the given constraints"):
-        learner = LogicConstraintInference(hanoi, iterations=1, noise=True, known=known).fit(demos)
+        learner = LogicConstraintInference(iterations=1, noise=True, known=known).fit(demos, hanoi)
     assert len(learner.history_) == 1
     s, a = int(demos[0].states[0]), int(demos[0].actions[0])
     assert not learner.constraints_[s, a]  # the noisy pair stays allowed
@@ -181,11 +184,16 @@ def test_noise_turns_the_error_into_a_warning(hanoi):
 @pytest.mark.parametrize("iterations", [0, -2])
 def test_iterations_must_be_positive(hanoi, iterations):
     with pytest.raises(SymlearnError, match="iterations"):
-        LogicConstraintInference(hanoi, iterations=iterations).fit(hanoi.expert_demonstrations(2, seed=0))
+        LogicConstraintInference(iterations=iterations).fit(hanoi.expert_demonstrations(2, seed=0), hanoi)
 
 
-def test_to_lp_without_rules_is_an_error(hanoi):
-    learner = LogicConstraintInference(hanoi, iterations=1)
+def test_to_lp_without_rules_is_an_error(hanoi_fit):
+    learner = copy.copy(hanoi_fit)  # a fitted learner (an unfitted one fails earlier, NotFittedError)
     learner.hypothesis_ = None
-    with pytest.raises(SymlearnError):
+    with pytest.raises(SymlearnError, match="no rules were induced"):
         learner.to_lp("unused.lp")
+
+
+def test_results_before_fit_are_a_not_fitted_error():
+    with pytest.raises(NotFittedError):
+        LogicConstraintInference(iterations=1).to_lp("unused.lp")

@@ -9,7 +9,9 @@ from hypothesis import strategies as st
 
 from symlearn.data import Demonstrations, Trajectory
 from symlearn.envs.spec_experts import expert_demonstrations
+from symlearn.envs.spec_tasks import get_task
 from symlearn.errors import DataError, ModelError
+from symlearn.learners.base import NotFittedError
 from symlearn.learners.temporal.spec_from_demos import SpecLearner, _without_reproductions
 from symlearn.learners.temporal.spec_templates import (
     TEMPLATES, TraceBounds, best_candidate, information_gain, instantiate, novelty_depth,
@@ -19,6 +21,11 @@ from symlearn.logic.ltlf import holds, parse
 from symlearn.logic.ltlf.vectorized import evaluate_many
 
 NAMES = ("p", "q", "r")
+
+
+def task_env(name):
+    """A fresh environment of a specification task (the learner takes an environment, not a name)."""
+    return get_task(name).make_env()
 
 
 # --- templates ---------------------------------------------------------------------------------
@@ -91,7 +98,7 @@ def office1_demos():
 
 
 def test_given_propositions_office1(office1_demos):
-    learner = SpecLearner(random_state=0).fit(office1_demos, "office-1")
+    learner = SpecLearner(random_state=0).fit(office1_demos, task_env("office-1"))
     assert learner.success_rate("(f T g) & G !n") == 1.0
     assert "g" in str(learner.formula_) and "G !n" in str(learner.formula_)
     added = [h for h in learner.history_ if h["added"]]
@@ -99,14 +106,15 @@ def test_given_propositions_office1(office1_demos):
     assert all(h["gain"] >= 0.2 for h in added)
     last = learner.history_[-1]
     assert not last["added"] and last["gain"] < 0.2  # the formula below the threshold is not added
-    assert {"template", "gain", "seconds", "nominal_success"} <= set(last)
+    assert {"template", "gain", "seconds", "nominal_success"} <= set(last.as_dict())
     assert learner.dfa_.accepts([{"g"}]) == learner.dfa_.accepts([set(), {"g"}])
     assert 0 <= learner.entropy_ <= 1 and learner.length_ <= 7
     assert learner.labeling_.propositions == ("a", "b", "c", "d", "e", "f", "g", "n")
 
 
 def test_learned_propositions_office1(office1_demos, tmp_path):
-    learner = SpecLearner(propositions="learn", random_state=0).fit(office1_demos, "office-1")
+    env = task_env("office-1")
+    learner = SpecLearner(propositions="learn", random_state=0).fit(office1_demos, env)
     assert learner.success_rate("(f T g) & G !n") == 1.0
     props = learner.labeling_.propositions
     assert props and all(p.startswith("p") for p in props)
@@ -114,7 +122,7 @@ def test_learned_propositions_office1(office1_demos, tmp_path):
     assert numbers == sorted(numbers)  # named in order of discovery
     for p in props:
         (state,) = learner.labeling_.states_where(p)
-        assert learner.labeling_.meanings[p] == f"agent in cell {learner._env.cell_of(state)}"
+        assert learner.labeling_.meanings[p] == f"agent in cell {env.cell_of(state)}"
     learner.labeling_.save(tmp_path / "lab.json")
     assert Labeling.load(tmp_path / "lab.json") == learner.labeling_
     assert json.loads((tmp_path / "lab.json").read_text())["symlearn"] == "labeling"
@@ -122,7 +130,7 @@ def test_learned_propositions_office1(office1_demos, tmp_path):
 
 def test_without_policy_updates_the_nominal_stays_random(office1_demos):
     learner = SpecLearner(policy_updates=False, max_iterations=3, prune=False, random_state=0)
-    learner.fit(office1_demos[:10], "office-1")
+    learner.fit(office1_demos[:10], task_env("office-1"))
     # a random walk never satisfies the growing spec, so every chosen conjunct keeps a high gain
     assert all(h["nominal_success"] <= 0.2 for h in learner.history_[1:])
     assert learner.iterations_ == 3
@@ -154,20 +162,22 @@ def test_learned_propositions_office2_close_the_undemonstrated_route():
     # learner has to forbid it without ever seeing the experts avoid it (threshold stays 0.2).
     demos = expert_demonstrations("office-2", 50, seed=0)
     for seed in (0, 1):
-        learner = SpecLearner(propositions="learn", random_state=seed).fit(demos, "office-2")
+        env = task_env("office-2")
+        learner = SpecLearner(propositions="learn", random_state=seed).fit(demos, env)
         assert learner.threshold == 0.2
         assert learner.success_rate("(e T g) & G !n") == 1.0
         assert all(h["gain"] >= 0.2 for h in learner.history_ if h["added"])
         assert learner.stopped_because_ in ("gain below threshold", "nominal reproduces the demonstrations")
-        cells = [learner._env.cell_of(s) for p in learner.labeling_.propositions
+        cells = [env.cell_of(s) for p in learner.labeling_.propositions
                  for s in learner.labeling_.states_where(p)]
         assert any(x >= 3 and y <= 2 for x, y in cells)  # a cell of the top corridor is forbidden
         assert any(h["nominal_reproduced"] > 0 for h in learner.history_)
 
 
 def test_pruning_drops_implied_conjuncts(office1_demos):
-    learner = SpecLearner(random_state=0).fit(office1_demos[:10], "office-1")
-    labeling = learner._env.labeling
+    env = task_env("office-1")
+    learner = SpecLearner(random_state=0).fit(office1_demos[:10], env)
+    labeling = env.labeling
     kept = learner._pruned([(parse("F f"), ("F", ("f",))), (parse("f T g"), ("T", ("f", "g")))], labeling)
     assert [str(f) for f, _ in kept] == ["f T g"]
     assert learner.pruned_ == ["F f"]
@@ -176,43 +186,43 @@ def test_pruning_drops_implied_conjuncts(office1_demos):
 # --- bad input ---------------------------------------------------------------------------------
 def test_states_outside_the_environment():
     demos = Demonstrations([Trajectory([13, 14, 500])])
-    with pytest.raises(DataError, match="state 500 lies outside the environment's 108 states"):
-        SpecLearner().fit(demos, "office-1")
+    with pytest.raises(DataError, match=r"step 2: state 500 is outside the environment \(0\.\.107\)"):
+        SpecLearner().fit(demos, task_env("office-1"))
 
 
 def test_empty_demonstrations():
     with pytest.raises(DataError, match="no demonstrations"):
-        SpecLearner().fit([], "office-1")
+        SpecLearner().fit([], task_env("office-1"))
 
 
 def test_non_integer_states():
     with pytest.raises(DataError, match="integer state ids"):
-        SpecLearner().fit([[0.5, 1.5]], "office-1")
+        SpecLearner().fit([[0.5, 1.5]], task_env("office-1"))
 
 
 def test_unknown_environment_name():
     with pytest.raises(DataError, match="unknown environment/task 'office-7'"):
-        SpecLearner().fit([[13]], "office-7")
+        task_env("office-7")
 
 
 def test_unknown_proposition_in_given_labeling():
     with pytest.raises(DataError, match="unknown proposition 'z'") as info:
-        SpecLearner(propositions=["f", "z"]).fit([[13, 14]], "office-1")
+        SpecLearner(propositions=["f", "z"]).fit([[13, 14]], task_env("office-1"))
     assert "known propositions: a, b" in info.value.hint
 
 
 def test_labeling_of_states_outside_the_environment():
     labeling = Labeling({3: {"x"}, 999: {"y"}})
     with pytest.raises(DataError, match="labels state 999"):
-        SpecLearner(labeling=labeling).fit([[13, 14]], "office-1")
+        SpecLearner(labeling=labeling).fit([[13, 14]], task_env("office-1"))
 
 
 def test_bad_parameters():
     with pytest.raises(ModelError, match="threshold"):
-        SpecLearner(threshold=2).fit([[13]], "office-1")
+        SpecLearner(threshold=2).fit([[13]], task_env("office-1"))
     with pytest.raises(ModelError, match="propositions"):
-        SpecLearner(propositions="maybe").fit([[13]], "office-1")
-    with pytest.raises(ModelError, match="not fitted"):
+        SpecLearner(propositions="maybe").fit([[13]], task_env("office-1"))
+    with pytest.raises(NotFittedError, match="not fitted"):
         SpecLearner().success_rate("F g")
 
 

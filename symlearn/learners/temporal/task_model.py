@@ -1,0 +1,86 @@
+"""What specification learning needs to know about a world, and how it is read from one.
+
+:class:`TaskModel` is the declared interface: a deterministic successor table, a labeling of
+states, a start state, an episode horizon and a way to say what a state is. It is read from
+
+* a :class:`~symlearn.grounding.Domain` whose transitions are deterministic (each ``P[s, a]``
+  puts all mass on one successor) and whose start is one state; its ``labeling`` gives the
+  propositions (only needed with given propositions);
+* a *labelled tabular environment*: anything with ``observation_space.n``, ``action_space.n``,
+  ``next_state(s, a) -> s'``, ``labeling`` and ``reset(seed=) -> (s, info)`` (the office and craft
+  worlds; ``max_steps`` and ``cell_of`` are used when present).
+
+>>> import numpy as np
+>>> from symlearn.grounding import Domain, FactGrounding, Labeling
+>>> from symlearn.mdp import TabularMDP
+>>> P = np.zeros((2, 1, 2)); P[0, 0, 1] = P[1, 0, 1] = 1
+>>> mdp = TabularMDP(P, np.zeros((2, 1)), [1, 0], [False, False])
+>>> d = Domain("line", background="", bias="", grounding=FactGrounding(["", ""], ["go"]), mdp=mdp,
+...            labeling=Labeling({1: {"end"}}))
+>>> m = task_model(d, horizon=5)
+>>> m.successors.tolist(), m.start, sorted(m.labeling.label(1))
+([[1], [1]], 0, ['end'])
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from symlearn.errors import ModelError
+
+
+@dataclass(frozen=True)
+class TaskModel:
+    successors: np.ndarray  # (S, A) int: the next state of each move
+    labeling: Any  # the world's own labeling (None if it has none)
+    start: int
+    horizon: int
+    describe: Callable[[int], str]  # "agent in cell (3, 4)" -- meaning of a learned proposition
+
+    @property
+    def n_states(self) -> int:
+        return int(self.successors.shape[0])
+
+
+def task_model(world: Any, *, horizon: int | None = None) -> TaskModel:
+    """A :class:`TaskModel` of a Domain or a labelled tabular environment (see module)."""
+    from symlearn.grounding import Domain
+
+    inner = getattr(world, "domain", None)
+    if isinstance(world, Domain) or isinstance(inner, Domain):
+        return _from_domain(world if isinstance(world, Domain) else inner, horizon)
+    missing = [a for a in ("next_state", "labeling", "observation_space", "action_space", "reset")
+               if not hasattr(world, a)]
+    if missing:
+        raise ModelError(f"{type(world).__name__} is neither a Domain nor a labelled tabular environment "
+                         f"(it has no {missing[0]})",
+                         hint="pass a symlearn.grounding.Domain with a labeling, or an office/craft world")
+    n_s, n_a = int(world.observation_space.n), int(world.action_space.n)
+    succ = np.array([[world.next_state(s, a) for a in range(n_a)] for s in range(n_s)], dtype=np.int64)
+    start = int(world.reset(seed=0)[0])
+    cell = getattr(world, "cell_of", None)
+    describe = (lambda s: f"agent in cell {cell(s)}") if cell else (lambda s: f"agent in state {s}")
+    return TaskModel(succ, world.labeling, start, int(horizon or getattr(world, "max_steps", 200)), describe)
+
+
+def _from_domain(domain: Any, horizon: int | None) -> TaskModel:
+    P = np.asarray(domain.mdp.transitions)
+    if not np.all(np.isclose(P.max(axis=2), 1.0)):
+        s, a = map(int, np.argwhere(~np.isclose(P.max(axis=2), 1.0))[0])
+        raise ModelError(f"specification learning needs deterministic moves; in {domain.name} the move "
+                         f"({domain.state_names[s]}, {domain.action_names[a]}) has several successors",
+                         hint="our nominal policies are trained on a successor table")
+    initial = np.asarray(domain.mdp.initial)
+    if np.count_nonzero(initial) != 1:
+        raise ModelError(f"specification learning starts every episode in one state; {domain.name} starts in "
+                         f"{np.count_nonzero(initial)} states", hint="give model.npz a one-hot initial array")
+    names = domain.state_names
+    return TaskModel(P.argmax(axis=2).astype(np.int64), domain.labeling, int(initial.argmax()),
+                     int(horizon or 200), lambda s: f"agent in state {names[s]}")
+
+
+__all__ = ["TaskModel", "task_model"]
