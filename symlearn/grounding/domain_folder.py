@@ -21,6 +21,7 @@ naming the file (and the key of ``domain.toml`` that pointed there).
 from __future__ import annotations
 
 import json
+import re
 import tomllib
 from pathlib import Path
 import numpy as np
@@ -45,8 +46,9 @@ def read_domain_folder(folder: Path):
     try:
         config = tomllib.loads(toml_path.read_text(encoding="utf-8"))
     except tomllib.TOMLDecodeError as exc:
-        line = getattr(exc, "lineno", None)
-        column = getattr(exc, "colno", None)
+        # Python 3.11's error has no line attributes; its message ends "(at line L, column C)"
+        where = re.search(r"\(at line (\d+), column (\d+)\)", str(exc))
+        line, column = (int(where.group(1)), int(where.group(2))) if where else (None, None)
         raise ParseError(f"invalid TOML: {str(exc).split(' (at')[0]}", file=str(toml_path), line=line,
                          column=column) from None
     for key in REQUIRED:

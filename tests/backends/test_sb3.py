@@ -72,10 +72,12 @@ def dqn(env, seed=0, **kwargs):
 
 
 def test_dqn_with_counterfactual_experiences_learns_a_two_stage_task():
+    """Seed 3 is one where plain DQN has not learned the task after these 4000 steps (measured:
+    without the callback 3 of seeds 0-5 fail, with it none)."""
     grid, machine = then_task()
     env = RewardMachineWrapper(grid, machine, grid.labeling, observation="discrete", counterfactual=True)
     callback = counterfactual_callback()
-    model = dqn(env).learn(4_000, callback=callback)
+    model = dqn(env, seed=3).learn(4_000, callback=callback)
     assert callback.n_added == 4_000  # one other machine state to replay each step for
     observation, _ = env.reset(seed=0)
     for step in range(1, 41):
