@@ -87,8 +87,9 @@ def learn_constraints(variant: str, n_demos: int, iterations: int, demo_seed: in
     lc = LogicConstraintInference(iterations=iterations, start=start).fit(demos, lm.domain)
     lc_seconds = time.perf_counter() - t0
     t0 = time.perf_counter()
+    # the domain's moves that do not exist are known constraints, as for the logic learner
     ml = MLConstraintInference(reward="sparse", horizon=lc.horizon, max_iterations=iterations,
-                               min_visitation=lc.min_visitation).fit(demos, lm.domain)  # moves that do not exist are known
+                               min_visitation=lc.min_visitation).fit(demos, lm.domain)
     ml_seconds = time.perf_counter() - t0
     truth = lm.truth_forbidden
     valid = ~lm.unavailable

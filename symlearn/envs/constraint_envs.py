@@ -23,16 +23,13 @@ from typing import Any
 
 import numpy as np
 
-from symlearn.errors import DataError
+from symlearn.envs.registry import Kind, entries, get
 from symlearn.mdp import TabularMDP
 
-#: name -> (logic domain name or None, one-line description)
+#: name -> (logic domain name or None, one-line description): a view of the registry's
+#: constraint-learning entries (:mod:`symlearn.envs.registry`), kept for existing callers.
 CONSTRAINT_ENVS: dict[str, tuple[str | None, str]] = {
-    "hanoi": ("hanoi", "Towers of Hanoi, 3 disks: no disk on a smaller one"),
-    "junction-lights": ("junction-lights", "5x5 junction with a traffic light, two-way roads"),
-    "junction-priority": ("junction-priority", "5x5 junction with priority to the right, one-way roads"),
-    "junction-combined": ("junction-combined", "7x7 junction: light + priority + one-way roads (transfer target)"),
-    "gridworld": (None, "7x7 stochastic gridworld with a forbidden block (--stochasticity p)"),
+    e.name: (e.name if Kind.RULES in e.kinds else None, e.description) for e in entries(Kind.CONSTRAINTS)
 }
 
 
@@ -54,17 +51,16 @@ class ConstraintSetting:
 
 
 def constraint_setting(name: str, stochasticity: float = 0.0) -> ConstraintSetting:
-    """The setting called ``name`` (one of :data:`CONSTRAINT_ENVS`)."""
-    if name not in CONSTRAINT_ENVS:
-        raise DataError(f"unknown environment {name!r} for constraint learning",
-                        hint=f"use one of {', '.join(CONSTRAINT_ENVS)} (see `symlearn envs`)")
-    domain, _ = CONSTRAINT_ENVS[name]
-    if domain is None:
+    """The setting called ``name`` (a registry entry of kind ``constraints``; see ``symlearn envs``).
+
+    An unknown name raises :class:`~symlearn.errors.UnknownNameError` listing the known ones."""
+    entry = get(name, Kind.CONSTRAINTS, what="environment")
+    if Kind.RULES not in entry.kinds:  # no ASP facts: the gridworld
         return _gridworld(stochasticity)
     from symlearn.envs.logic_mdp import logic_mdp
 
-    lm = logic_mdp(domain)
-    return ConstraintSetting(name, lm.mdp, ~lm.unavailable, lm.truth_forbidden, "sparse",
+    lm = logic_mdp(entry.name)
+    return ConstraintSetting(entry.name, lm.mdp, ~lm.unavailable, lm.truth_forbidden, "sparse",
                              lm.expert_demonstrations, lm)
 
 

@@ -55,6 +55,7 @@ _support = _MANAGER.support
 _guards: dict[int, weakref.ref] = {}
 _text_cache: dict[int, str] = {}
 _label_cache: dict[int, frozenset[str]] = {}
+_key_cache: dict[int, tuple] = {}
 
 # Collect when the node lists pass this length, then when they pass twice the nodes left live
 # (or their old length: freed ids are reused first). Each collection costs time linear in the
@@ -104,6 +105,7 @@ def collect() -> int:
     freed = _MANAGER.collect(_guards)
     _text_cache.clear()
     _label_cache.clear()
+    _key_cache.clear()
     _cover.cache_clear()
     _collect_at = max(_COLLECT_FROM, 2 * len(_MANAGER), len(_var))
     return freed
@@ -426,9 +428,13 @@ class Guard:
 
     @property
     def sort_key(self) -> tuple:
-        """A canonical total-order key (equal for equal guards), cheap to compute."""
-        label = self.satisfying_label()
-        return (0, ()) if label is None else (1, len(label), tuple(sorted(label)), len(self.propositions))
+        """A canonical order key (equal for equal guards; distinct for disjoint ones), cheap to compute."""
+        key = _key_cache.get(self._node)
+        if key is None:
+            label = self.satisfying_label()
+            key = (0, ()) if label is None else (1, len(label), tuple(sorted(label)), len(self.propositions))
+            _key_cache[self._node] = key
+        return key
 
 
 _GUARD_TRUE = _wrap(_TRUE)

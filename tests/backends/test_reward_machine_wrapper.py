@@ -229,3 +229,24 @@ def test_any_environment_and_a_plain_callable_labeling():
     wrapped = RewardMachineWrapper(corridor(), RewardMachine.from_formula("F a"), labeling)
     wrapped.reset(seed=0)
     assert [wrapped.step(RIGHT)[1] for _ in range(3)] == [0.0, 0.0, 1.0]
+
+
+def test_our_tabular_q_learning_runs_on_the_product_and_keeps_a_shield_s_mask():
+    """observation="discrete" makes the product a tabular task; a shield's mask passes through."""
+    from symlearn.backends import Shield
+    from symlearn.rl.q_learning import q_learning
+
+    grid = LabelledGridEnv(4, 4, {(3, 0): {"b"}, (0, 3): {"a"}}, (0, 0), max_steps=40)
+    no_down = np.zeros((16, 4), bool)
+    no_down[:, DOWN] = True
+    env = RewardMachineWrapper(Shield(grid, no_down), task_machine("b T a"), grid.labeling,
+                               observation="discrete")
+    _, info = env.reset(seed=0)
+    assert info["action_mask"].tolist() == [1, 1, 0, 1]
+    result = q_learning(env, 300, learning_rate=1.0, discount=0.9, epsilon=0.2, seed=0)
+    state, _ = env.reset(seed=0)
+    for step in range(1, 41):
+        state, reward, terminated, _, info = env.step(int(np.argmax(result.q_values[state])))
+        if terminated:
+            break
+    assert terminated and reward == 1.0 and step == 9

@@ -79,7 +79,7 @@ def test_method_needing_facts_or_reward_is_refused(capsys):
     code, _, err = run(capsys, "learn", "constraints", "--env", "gridworld", "--method", "logic")
     assert code == 2 and "no ASP facts" in err
     code, _, err = run(capsys, "learn", "constraints", "--env", "hanoi", "--method", "mce-icrl")
-    assert code == 2 and "needs the environment's reward" in err
+    assert code == 2 and "needs the world's reward" in err
 
 
 def test_envs_lists_both_kinds(capsys):

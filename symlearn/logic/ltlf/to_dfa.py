@@ -43,7 +43,6 @@ import sys
 
 from symlearn.errors import LimitExceededError
 from symlearn.logic.automata.dfa import DFA
-from symlearn.logic.automata.operations import canonical_order
 from symlearn.logic.bdd import BDD, FALSE, TRUE
 from symlearn.logic.guards import from_bdd
 from symlearn.logic.ltlf.ast import (
@@ -398,16 +397,20 @@ class _Translation:
         # the shared guard table (one conversion for the whole automaton)
         names = sorted(self.props, key=self.props.get)
         guards = iter(from_bdd(bdd, [g for row in rows for _, g in row], names))
-        table = [[(next(guards), b) for b, _ in row] for row in rows]
-        accepting_blocks = [order[block[q]] for q in representative if accepting[q]]
+        table = [sorted(((next(guards), b) for b, _ in row), key=lambda e: e[0].sort_key) for row in rows]
+        # renumber as DFA.minimize does (breadth-first, edges in guard order), so equal languages
+        # give equal DFAs whichever way they were built
+        index = {0: 0}
+        canonical = [0]
+        for q in canonical:
+            for _, t in table[q]:
+                if t not in index:
+                    index[t] = len(canonical)
+                    canonical.append(t)
+        accepting_blocks = [index[order[block[q]]] for q in representative if accepting[q]]
         # the edges are canonical already (disjoint, complete, one per target): skip validation
-        dfa = DFA._trusted(names, len(table), 0, accepting_blocks, table)
-        # number states as DFA.minimize does (breadth-first, edges in guard order), so equal
-        # languages give equal DFAs whichever way they were built
-        canonical = canonical_order(dfa)
-        index = {q: i for i, q in enumerate(canonical)}
-        return DFA._trusted(names, len(table), 0, [index[q] for q in accepting_blocks],
-                            [[(g, index[t]) for g, t in dfa.successors(q)] for q in canonical])
+        return DFA._trusted(names, len(table), 0, accepting_blocks,
+                            [[(g, index[t]) for g, t in table[q]] for q in canonical])
 
 
 def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFA:
