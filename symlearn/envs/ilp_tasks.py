@@ -23,7 +23,7 @@ Both are deterministic for a given seed.
 >>> examples = exhaustive_examples(domain)
 >>> len(examples), sum(e.positive for e in examples)
 (250, 54)
->>> examples[0].line()
+>>> examples[0].to_text()
 '#neg(n1, {}, {}, { at(1,1). tls0. go(zero). }).'
 """
 
@@ -31,7 +31,7 @@ from __future__ import annotations
 
 import os
 from collections.abc import Iterable, Sequence
-from dataclasses import dataclass
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -39,21 +39,7 @@ import numpy as np
 from symlearn.atomic import write_text
 from symlearn.envs.logic_domains import DOMAIN_NAMES, LogicDomain, logic_domain
 from symlearn.errors import DataError
-
-
-@dataclass(frozen=True)
-class Example:
-    """One labelled context: ``facts`` with ``positive`` True (allowed) or False (forbidden)."""
-
-    id: str
-    positive: bool
-    facts: tuple[str, ...]
-    penalty: int | None = None
-
-    def line(self) -> str:
-        kind = "#pos" if self.positive else "#neg"
-        ident = self.id if self.penalty is None else f"{self.id}@{self.penalty}"
-        return f"{kind}({ident}, {{}}, {{}}, {{ {' '.join(self.facts)} }})."
+from symlearn.logic.ilp.task import Example
 
 
 def number_examples(labelled: Iterable[tuple[tuple[str, ...], bool]], penalty: int | None = None) -> list[Example]:
@@ -63,7 +49,7 @@ def number_examples(labelled: Iterable[tuple[tuple[str, ...], bool]], penalty: i
     for facts, positive in labelled:
         counts[positive] += 1
         prefix = "p" if positive else "n"
-        examples.append(Example(f"{prefix}{counts[positive]}", positive, tuple(facts), penalty))
+        examples.append(Example.from_facts(f"{prefix}{counts[positive]}", positive, tuple(facts), penalty))
     return examples
 
 
@@ -125,7 +111,7 @@ def with_label_noise(examples: Sequence[Example], fraction: float, penalty: int,
         raise DataError(f"the penalty must be a positive integer, got {penalty}")
     rng = np.random.default_rng(seed)
     flipped = set(rng.choice(len(examples), size=round(fraction * len(examples)), replace=False).tolist())
-    return [Example(e.id, e.positive != (i in flipped), e.facts, penalty) for i, e in enumerate(examples)]
+    return [replace(e, positive=e.positive != (i in flipped), penalty=penalty) for i, e in enumerate(examples)]
 
 
 def task_text(domain: LogicDomain, examples: Sequence[Example], title: str | None = None) -> str:
@@ -144,7 +130,7 @@ def task_text(domain: LogicDomain, examples: Sequence[Example], title: str | Non
         f"% ---- background knowledge (background_kb/{domain.folder}/{domain.bk_file})\n"
         + domain.background().strip(),
         f"% ---- language bias (background_kb/{domain.folder}/{domain.bias_file})\n" + domain.bias().strip(),
-        "% ---- examples\n" + "\n".join(e.line() for e in examples),
+        "% ---- examples\n" + "\n".join(e.to_text() for e in examples),
     ]
     return "\n\n".join(sections) + "\n"
 

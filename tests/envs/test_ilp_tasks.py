@@ -62,7 +62,7 @@ def test_label_noise():
     assert noisy == with_label_noise(clean, 0.1, penalty=3, seed=1)
     assert sum(a.positive != b.positive for a, b in zip(clean, noisy)) == 25
     assert all(b.penalty == 3 and a.facts == b.facts and a.id == b.id for a, b in zip(clean, noisy))
-    assert with_label_noise(clean, 0.0, penalty=1) == [Example(e.id, e.positive, e.facts, 1) for e in clean]
+    assert with_label_noise(clean, 0.0, penalty=1) == [Example.from_facts(e.id, e.positive, e.facts, 1) for e in clean]
     with pytest.raises(DataError, match=r"noise fraction must be in \[0, 1\]"):
         with_label_noise(clean, 1.5, penalty=1)
     with pytest.raises(DataError, match="penalty must be a positive integer"):
@@ -70,8 +70,9 @@ def test_label_noise():
 
 
 def test_example_lines():
-    assert Example("n3", False, ("a.", "go(x).")).line() == "#neg(n3, {}, {}, { a. go(x). })."
-    assert Example("p1", True, ("a.",), penalty=10).line() == "#pos(p1@10, {}, {}, { a. })."
+    assert Example.from_facts("n3", False, ("a.", "go(x).")).to_text() == "#neg(n3, {}, {}, { a. go(x). })."
+    assert Example.from_facts("p1", True, ("a.",), penalty=10).to_text() == "#pos(p1@10, {}, {}, { a. })."
+    assert Example.from_facts("p2", True, ("at(1, 2).",)).facts == ("at(1,2).",)
 
 
 def test_bad_requests():

@@ -29,9 +29,30 @@ class Example:
     penalty: int | None = None  # None: must be covered (ILASP's infinite penalty)
     line: int | None = None
 
+    @classmethod
+    def from_facts(cls, id: str, positive: bool, facts: Sequence[str], penalty: int | None = None) -> Example:
+        """An example whose context is a list of ground facts (``("at(1,2).", "go(north).")``)."""
+        return cls(id, positive, context=Program.from_text(" ".join(facts), source=f"<example {id}>"),
+                   penalty=penalty)
+
     @property
     def kind(self) -> str:
         return "pos" if self.positive else "neg"
+
+    @property
+    def facts(self) -> tuple[str, ...]:
+        """The context's statements, one normalised string each (``"at(1,2)."``)."""
+        from symlearn.logic.asp.clingo_adapter import parse_rules
+
+        return tuple(str(s) for s in parse_rules(self.context.text, source=f"<example {self.id}>"))
+
+    def to_text(self) -> str:
+        """The example in ILASP syntax: ``#pos(id@penalty, {incl}, {excl}, { context }).``"""
+        ident = self.id if self.penalty is None else f"{self.id}@{self.penalty}"
+        inclusions = ", ".join(map(str, self.inclusions))
+        exclusions = ", ".join(map(str, self.exclusions))
+        context = self.context.text.strip()
+        return f"#{self.kind}({ident}, {{{inclusions}}}, {{{exclusions}}}, {{ {context} }})."
 
     def describe(self) -> str:
         return f"#{self.kind}({self.id}) at line {self.line}" if self.line else f"#{self.kind}({self.id})"

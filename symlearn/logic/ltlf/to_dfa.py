@@ -377,7 +377,7 @@ class _Translation:
                  initial: int) -> DFA:
         bdd = self.bdd
         block = self._refine(edges, accepting)
-        # renumber blocks breadth-first from the initial state so state 0 is initial
+        # the blocks reachable from the initial state (numbered as found), one representative each
         order: dict[int, int] = {block[initial]: 0}
         representative = [initial]
         for q in representative:
@@ -392,7 +392,7 @@ class _Translation:
             for target, guard in edges[q]:
                 b = order[block[target]]
                 merged[b] = bdd.apply_or(merged[b], guard) if b in merged else guard
-            rows.append(sorted(merged.items()))
+            rows.append(list(merged.items()))
         # propositions hold the top levels in name order, so each guard node maps to one node of
         # the shared guard table (one conversion for the whole automaton)
         names = sorted(self.props, key=self.props.get)
