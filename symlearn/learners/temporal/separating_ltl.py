@@ -37,14 +37,17 @@ machine a deadline may cut a phase at a different point.
 
 from __future__ import annotations
 
+import os
 import time
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
 from symlearn.data.ltl_samples import LtlSample, sample_from_traces
 from symlearn.errors import SymlearnError
+from symlearn.learners.base import Learner
 from symlearn.learners.temporal.ltl_bitsets import BINARY, UNARY, Frame, _pack, first_bits, unpack
 from symlearn.learners.temporal.ltl_enumeration import Enumerator
 from symlearn.logic.ltlf import ast
@@ -375,18 +378,35 @@ def _choose_pool(first: np.ndarray, sizes: np.ndarray, pos: np.ndarray, neg: np.
     return pool[np.lexsort((pool, sizes[pool]))]
 
 
-class SeparatingLtlLearner:
-    """Scikit-learn style wrapper: ``SeparatingLtlLearner(timeout=5).fit(sample).formula_``."""
+class SeparatingLtlLearner(Learner):
+    """``SeparatingLtlLearner(timeout=5).fit(sample).formula_``: the learner-contract form of
+    :func:`learn_from_sample` (the functions stay as one-call conveniences).
+
+    ``fit(sample)``: an :class:`~symlearn.data.ltl_samples.LtlSample` or the path of a sample file.
+    Results: ``formula_``, ``optimal_`` (no smaller separating formula exists), ``search_`` (the
+    :class:`LearnResult` with sizes and counts), ``result_``; ``save(path)`` writes the formula.
+    """
+
+    artefact_suffix = ".ltl"
 
     def __init__(self, *, max_size: int = 40, timeout: float = 10.0, operators: Sequence[str] = DEFAULT_OPERATORS,
                  max_work: float = 3e7) -> None:
         self.max_size = max_size
         self.timeout = timeout
-        self.operators = tuple(operators)
+        self.operators = operators
         self.max_work = max_work
 
-    def fit(self, sample: LtlSample) -> SeparatingLtlLearner:
-        self.result_ = learn_from_sample(sample, max_size=self.max_size, timeout=self.timeout,
-                                         operators=self.operators, max_work=self.max_work)
-        self.formula_ = self.result_.formula
+    def fit(self, sample: LtlSample | str | os.PathLike, domain: Any = None) -> SeparatingLtlLearner:
+        if not isinstance(sample, LtlSample):
+            from symlearn.data.ltl_samples import load_sample
+
+            sample = load_sample(sample)
+        search = learn_from_sample(sample, max_size=self.max_size, timeout=self.timeout,
+                                   operators=tuple(self.operators), max_work=self.max_work)
+        self.search_ = search
+        self.formula_ = search.formula
+        self.optimal_ = search.optimal
+        metrics = {k: v for k, v in search.to_json().items() if k not in ("formula", "seconds")}
+        self._set_result(search.formula, "" if search.formula is None else str(search.formula) + "\n",
+                         metrics=metrics, timings={"total": search.seconds})
         return self

@@ -1,0 +1,98 @@
+"""Every learner follows one contract (symlearn/learners/base.py), checked on small real fits."""
+
+from __future__ import annotations
+
+import inspect
+
+import pytest
+from sklearn.base import clone
+
+from symlearn.learners.base import Learner, LearnerResult, NotFittedError, record_dict
+
+
+def _ilp():
+    from symlearn.learners.constraints.ilp_learner import ILPLearner
+    from symlearn.logic.ilp import parse_task
+
+    task = parse_task("dir(n; s).\n#modeb(1, go(var(dir))). #modeb(1, blocked(var(dir))).\n"
+                      "#pos(p1, {}, {}, { go(n). blocked(s). }).\n#neg(n1, {}, {}, { go(s). blocked(s). }).\n")
+    return ILPLearner(timeout=10), (task,), ":- go(V1), blocked(V1)."
+
+
+def _separating():
+    from symlearn.data.ltl_samples import sample_from_traces
+    from symlearn.learners.temporal.separating_ltl import SeparatingLtlLearner
+
+    sample = sample_from_traces([[["a"], ["b"]], [["b"]]], [[["a"]], [[]]], propositions=["a", "b"])
+    return SeparatingLtlLearner(timeout=5), (sample,), "F b"
+
+
+def _gridworld(cls, **kw):
+    def build():
+        from symlearn.data import record
+        from symlearn.envs.gridworld import StochasticGridworld
+
+        env = StochasticGridworld(0.0)
+        policy = env.expert_policy()
+        demos = record(env, lambda s: int(policy[s]), 3, seed=0, max_steps=200)
+        return cls(**kw), (demos, env.to_tabular()), "symlearn-constraints"
+    return build
+
+
+def _ml():
+    from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
+
+    return _gridworld(MLConstraintInference, horizon=30)()
+
+
+def _mce():
+    from symlearn.learners.constraints.mce_icrl import MCEICRL
+
+    return _gridworld(MCEICRL, n_iterations=50)()
+
+
+def _logic():
+    from symlearn.envs.logic_mdp import logic_mdp
+    from symlearn.learners.constraints.logic_constraint_inference import LogicConstraintInference
+
+    lm = logic_mdp("hanoi")
+    return LogicConstraintInference(iterations=3), (lm.expert_demonstrations(10, seed=0), lm.domain), "V1 < V2"
+
+
+def _spec():
+    from symlearn.envs.spec_experts import expert_demonstrations
+    from symlearn.envs.spec_tasks import get_task
+    from symlearn.learners.temporal.spec_from_demos import SpecLearner
+
+    return (SpecLearner(random_state=0, max_iterations=3),
+            (expert_demonstrations("office-1", 10, seed=0), get_task("office-1").make_env()), "")
+
+
+BUILDERS = {"ilp": _ilp, "separating-ltl": _separating, "ml": _ml, "mce-icrl": _mce, "logic": _logic,
+            "spec": _spec}
+
+
+@pytest.mark.parametrize("name", sorted(BUILDERS))
+def test_learner_contract(name, tmp_path):
+    learner, data, expected_text = BUILDERS[name]()
+    assert isinstance(learner, Learner)
+    # __init__ stores hyper-parameters under their names and nothing else
+    init_names = [p for p in inspect.signature(type(learner).__init__).parameters if p != "self"]
+    assert set(learner.get_params()) == set(init_names)
+    assert set(vars(learner)) == set(init_names)
+    twin = clone(learner)
+    assert twin.get_params() == learner.get_params()
+    with pytest.raises(NotFittedError):
+        learner.save(tmp_path / "early")
+    before = dict(learner.get_params())
+    assert learner.fit(*data) is learner
+    assert learner.get_params() == before
+    result = learner.result_
+    assert isinstance(result, LearnerResult) and result.learner == type(learner).__name__
+    assert result.timings["total"] > 0
+    for record in result.history:
+        assert isinstance(record_dict(record), dict)
+    assert isinstance(result.as_dict()["metrics"], dict)
+    path = learner.save(tmp_path / f"out{learner.artefact_suffix}")
+    assert expected_text in path.read_text()
+    assert not twin.__dict__.keys() & {k for k in vars(learner) if k.endswith("_")}  # clones are unfitted
