@@ -289,7 +289,9 @@ wrongly allowed) compare them with `truth.lp`."""),
 
 The rules are a plain `.lp` file: review it, change it, keep it under version control. After
 an edit, check the file again, against the truth when you have one and always against the
-data: a rule that forbids something the expert did contradicts the demonstrations.
+data: a rule that forbids something the expert did contradicts the demonstrations. (The file's
+header suggests `symlearn ilp check`, which checks ILP task files; for a domain, the check is the
+few lines below.)
 
 Two edits to try: *dropping* the wet-floor rule (the check against the truth shows the
 forbidden pairs it lets through again), and *changing* the sleep rule into the stricter
