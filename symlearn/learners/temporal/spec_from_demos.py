@@ -80,6 +80,8 @@ class SpecIteration:
         return asdict(self)
 
     def __getitem__(self, key: str) -> Any:  # records also read like the JSON they print as
+        if not isinstance(key, str) or key not in self.__dataclass_fields__:
+            raise KeyError(f"{key!r} is no field of SpecIteration (use as_dict() for a mapping)")
         return getattr(self, key)
 
 
