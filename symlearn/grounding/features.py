@@ -32,7 +32,8 @@ from typing import Any
 import numpy as np
 
 from symlearn.atomic import write_text
-from symlearn.errors import DataError, ParseError, SymlearnError
+from symlearn.errors import DataError, SymlearnError
+from symlearn.grounding.json_document import read_document
 
 FORMAT_VERSION = 1
 MAGIC = "feature-map"
@@ -149,14 +150,7 @@ class FeatureMap:
 
     @classmethod
     def from_json(cls, text: str, *, source: str = "<string>") -> FeatureMap:
-        try:
-            doc = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise ParseError(f"invalid JSON: {exc.msg}", file=source, line=exc.lineno, column=exc.colno) from None
-        if not isinstance(doc, dict) or doc.get("symlearn") != MAGIC:
-            raise DataError(f"not a symlearn feature map (missing \"symlearn\": \"{MAGIC}\")", file=source)
-        if doc.get("format_version") != FORMAT_VERSION:
-            raise DataError(f"unsupported feature-map format_version {doc.get('format_version')!r}", file=source)
+        doc = read_document(text, MAGIC, FORMAT_VERSION, source=source)
         try:
             names = doc["names"]
             if "table" in doc:

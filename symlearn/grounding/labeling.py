@@ -23,7 +23,8 @@ from pathlib import Path
 from typing import Any
 
 from symlearn.atomic import write_text
-from symlearn.errors import DataError, ParseError
+from symlearn.errors import DataError
+from symlearn.grounding.json_document import read_document
 
 FORMAT_VERSION = 1
 MAGIC = "labeling"
@@ -145,14 +146,10 @@ class Labeling:
 
     @classmethod
     def from_json(cls, text: str, *, source: str = "<string>") -> Labeling:
-        try:
-            doc = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise ParseError(f"invalid JSON: {exc.msg}", file=source, line=exc.lineno, column=exc.colno) from None
-        if not isinstance(doc, dict) or doc.get("symlearn") != MAGIC:
-            raise DataError("not a symlearn labeling (missing \"symlearn\": \"labeling\")", file=source)
-        if doc.get("format_version") != FORMAT_VERSION:
-            raise DataError(f"unsupported labeling format_version {doc.get('format_version')!r}", file=source)
+        return cls.from_document(read_document(text, MAGIC, FORMAT_VERSION, source=source), source=source)
+
+    @classmethod
+    def from_document(cls, doc: dict[str, Any], *, source: str = "<string>") -> Labeling:
         if doc.get("kind", "table") != "table":
             raise DataError(f"this labeling is of kind {doc.get('kind')!r}, not a table", file=source,
                             hint="read it with symlearn.grounding.load_labeling")
@@ -179,20 +176,13 @@ class Labeling:
 def load_labeling_text(text: str, *, source: str = "<string>"):
     """A :class:`Labeling` or :class:`~symlearn.grounding.feature_labeling.FeatureLabeling`
     from its JSON text, chosen by the document's ``kind`` (``table`` when absent)."""
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ParseError(f"invalid JSON: {exc.msg}", file=source, line=exc.lineno, column=exc.colno) from None
-    if not isinstance(doc, dict) or doc.get("symlearn") != MAGIC:
-        raise DataError("not a symlearn labeling (missing \"symlearn\": \"labeling\")", file=source)
+    doc = read_document(text, MAGIC, FORMAT_VERSION, source=source)
     kind = doc.get("kind", "table")
     if kind == "table":
-        return Labeling.from_json(text, source=source)
+        return Labeling.from_document(doc, source=source)
     if kind == "features":
         from symlearn.grounding.feature_labeling import FeatureLabeling
 
-        if doc.get("format_version") != FORMAT_VERSION:
-            raise DataError(f"unsupported labeling format_version {doc.get('format_version')!r}", file=source)
         return FeatureLabeling.from_document(doc, source=source)
     raise DataError(f"unknown labeling kind {kind!r}", file=source, hint="use 'table' or 'features'")
 

@@ -1,0 +1,22 @@
+"""The envelope every grounding's JSON file shares: ``{"symlearn": MAGIC, "format_version": 1, ...}``."""
+
+from __future__ import annotations
+
+import json
+from typing import Any
+
+from symlearn.errors import DataError, ParseError
+
+
+def read_document(text: str, magic: str, version: int, *, source: str = "<string>") -> dict[str, Any]:
+    """The parsed document, after checking JSON syntax (line, column), magic and version."""
+    try:
+        doc = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ParseError(f"invalid JSON: {exc.msg}", file=source, line=exc.lineno, column=exc.colno) from None
+    if not isinstance(doc, dict) or doc.get("symlearn") != magic:
+        raise DataError(f"not a symlearn {magic.replace('-', ' ')} (missing \"symlearn\": \"{magic}\")", file=source)
+    if doc.get("format_version") != version:
+        raise DataError(f"unsupported {magic} format_version {doc.get('format_version')!r}", file=source,
+                        hint=f"this symlearn reads version {version}")
+    return doc
