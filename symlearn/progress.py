@@ -13,8 +13,6 @@ from contextlib import contextmanager
 from contextvars import ContextVar
 from typing import TypeVar
 
-from tqdm.auto import tqdm
-
 T = TypeVar("T")
 
 # None: decide from the terminal; True/False: forced (CLI --quiet, tests, notebooks).
@@ -48,4 +46,7 @@ def progress(
     if not progress_enabled():
         yield from iterable
         return
+    # the plain text bar on stderr: tqdm.auto would pick the notebook widget (and warn without ipywidgets)
+    from tqdm import tqdm
+
     yield from tqdm(iterable, total=total, desc=desc, unit=unit, file=sys.stderr, leave=False)

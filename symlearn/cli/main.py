@@ -30,6 +30,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "symlearn.cli.automaton_command",
     "symlearn.cli.doctor_command",
     "symlearn.cli.envs_command",
+    "symlearn.cli.domain_command",
 )
 
 EXIT_OK, EXIT_INTERNAL, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130

@@ -81,7 +81,7 @@ def read_domain_folder(folder: Path):
     if grounding.n_actions != n_a:
         raise DataError(f"{config['actions']} lists {grounding.n_actions} actions, {config['model']} has {n_a}",
                         file=sources["actions"])
-    mdp = _model_mdp(model, sources["model"], grounding.action_atoms)
+    mdp = _model_mdp(model, sources["model"], grounding.action_atoms, grounding.state_names)
     truth = path("truth").read_text(encoding="utf-8") if "truth" in config else None
     labeling = None
     if "labeling" in config:
@@ -144,7 +144,7 @@ def _read_model(path: Path) -> dict[str, np.ndarray]:
     return arrays
 
 
-def _model_mdp(model: dict[str, np.ndarray], source: str, action_atoms):
+def _model_mdp(model: dict[str, np.ndarray], source: str, action_atoms, state_names):
     from symlearn.mdp import TabularMDP
 
     n_s, n_a = model["transitions"].shape[:2]
@@ -152,7 +152,7 @@ def _model_mdp(model: dict[str, np.ndarray], source: str, action_atoms):
     try:
         return TabularMDP(model["transitions"].astype(np.float64), rewards.astype(np.float64),
                           model["initial"].astype(np.float64), model["terminal"],
-                          tuple(str(s) for s in range(n_s)), tuple(action_atoms))
+                          tuple(state_names or (str(s) for s in range(n_s))), tuple(action_atoms))
     except (ModelError, DataError) as exc:
         raise DataError(exc.message, file=source, hint=exc.hint) from None
 

@@ -113,6 +113,7 @@ class FactGrounding:
                                 file=source)
             self._pairs[int(s), int(a)] = tuple(facts) if _is_normal(facts) else split_facts(facts, source=source)
         self.source = source
+        self.state_names: tuple[str, ...] | None = None  # optional readable names ("name" in states.jsonl)
 
     # --- reading --------------------------------------------------------------------------
     @property
@@ -165,12 +166,17 @@ class FactGrounding:
     @classmethod
     def from_jsonl(cls, states_path: str | os.PathLike[str], actions_path: str | os.PathLike[str]) -> FactGrounding:
         """Read ``states.jsonl`` (``{"id", "facts"}``) and ``actions.jsonl`` (``{"id", "atom"}``)."""
-        states = _read_table(Path(states_path), "facts")
+        names: dict[int, str] = {}
+        states = _read_table(Path(states_path), "facts", names)
         actions = _read_table(Path(actions_path), "atom")
         facts = {i: split_facts(text, source=str(states_path), line=line) for i, (text, line) in states.items()}
         atoms = {i: _atom(text, source=str(actions_path), line=line) for i, (text, line) in actions.items()}
         grounding = cls(facts, atoms, source=str(states_path))
         grounding._lines = {i: line for i, (_, line) in states.items()}
+        grounding.state_names = tuple(names.get(i, str(i)) for i in range(len(states))) if names else None
+        if names and len(set(grounding.state_names)) != len(grounding.state_names):
+            raise DataError("state names must be unique", file=str(states_path),
+                            hint="\"name\" is optional; states without one are named by their id")
         return grounding
 
     def state_line(self, state: int) -> int | None:
@@ -181,7 +187,9 @@ class FactGrounding:
         """Write the two tables (per-pair contexts have no place in this format: refused)."""
         if self._pairs:
             raise SymlearnError("this grounding has per-pair contexts, which states.jsonl/actions.jsonl cannot hold")
-        write_text(states_path, "".join(json.dumps({"id": i, "facts": " ".join(f)}) + "\n"
+        names = self.state_names or ()
+        write_text(states_path, "".join(json.dumps({"id": i, "facts": " ".join(f),
+                                                    **({"name": names[i]} if names else {})}) + "\n"
                                         for i, f in enumerate(self._states)))
         write_text(actions_path, "".join(json.dumps({"id": i, "atom": a}) + "\n" for i, a in enumerate(self._actions)))
 
@@ -208,8 +216,9 @@ def _dense(table: Any, what: str, source: str) -> list[Any]:
     return list(table)
 
 
-def _read_table(path: Path, key: str) -> dict[int, tuple[str, int]]:
-    """``{id: (value, line)}`` of a JSONL file with objects ``{"id": int, key: str}``."""
+def _read_table(path: Path, key: str, names: dict[int, str] | None = None) -> dict[int, tuple[str, int]]:
+    """``{id: (value, line)}`` of a JSONL file with objects ``{"id": int, key: str}``; optional
+    ``"name"`` strings are collected into ``names`` when it is given."""
     try:
         lines = path.read_text(encoding="utf-8").splitlines()
     except OSError as exc:
@@ -231,6 +240,10 @@ def _read_table(path: Path, key: str) -> dict[int, tuple[str, int]]:
             raise DataError(f"\"{key}\" must be a string, got {type(value).__name__}", file=str(path), line=number)
         if ident in table:
             raise DataError(f"id {ident} appears twice (first on line {table[ident][1]})", file=str(path), line=number)
+        if names is not None and "name" in item:
+            if not isinstance(item["name"], str) or not item["name"]:
+                raise DataError("\"name\" must be a non-empty string", file=str(path), line=number)
+            names[ident] = item["name"]
         table[ident] = (value, number)
     if not table:
         raise DataError("the file lists nothing", file=str(path))

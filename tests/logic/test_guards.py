@@ -172,3 +172,65 @@ def test_large_support_prints_prime_implicants_in_natural_order():
         for name in cube:  # prime: no literal can be dropped
             rest = {n: v for n, v in cube.items() if n != name}
             assert not Guard.cube(rest).implies(g)
+
+
+# -- the shared table frees what no guard reaches ------------------------------------------------
+def _garbage(tag: str, n: int = 300) -> None:
+    """Build and drop guards over fresh proposition names (nodes nothing will reach)."""
+    for i in range(n):
+        _ = (Guard.var(f"{tag}{i}") & ~Guard.var(f"{tag}{i + 1}")) | Guard.var(f"{tag}{i + 2}")
+
+
+def test_collect_frees_dead_guards_and_keeps_live_ones():
+    from symlearn.logic import guards
+
+    keep = (Guard.var("k1") & ~Guard.var("k2")) | Guard.var("k3")
+    text, key, h = str(keep), keep.sort_key, hash(keep)
+    _garbage("dead")
+    before = guards.node_count()
+    assert guards.collect() > 0 and guards.node_count() < before
+    # a live guard keeps identity, meaning, printing and hash; equal guards rebuilt later are equal
+    assert str(keep) == text and keep.sort_key == key and hash(keep) == hash(keep)
+    assert keep.evaluate({"k1"}) and not keep.evaluate({"k1", "k2"})
+    again = (Guard.var("k3") | Guard.var("k1")) & (Guard.var("k3") | ~Guard.var("k2"))
+    assert again == keep and hash(again) == h and again is keep
+    assert Guard.parse("a | !b") == a | ~b  # cached parses survive as live guards
+
+
+def test_collection_runs_by_itself_and_bounds_the_table(monkeypatch):
+    from symlearn.logic import guards
+
+    guards.collect()
+    monkeypatch.setattr(guards, "_COLLECT_FROM", 2000)
+    monkeypatch.setattr(guards, "_collect_at", max(2000, len(guards._var)))
+    live = [Guard.var(f"live{i}") & Guard.var(f"live{i + 1}") for i in range(100)]
+    sizes = []
+    for round_ in range(20):
+        _garbage(f"r{round_}_")
+        sizes.append(len(guards._var))
+    assert max(sizes) < 3 * max(2000, sizes[0])  # freed ids are reused instead of growing
+    assert all(g == Guard.var(f"live{i}") & Guard.var(f"live{i + 1}") for i, g in enumerate(live))
+
+
+@settings(deadline=None, max_examples=60)
+@given(guards(), guards())
+def test_algebra_is_unchanged_by_collections(g, h):
+    from symlearn.logic import guards as module
+
+    expected = truth_table(g & ~h), truth_table(g | h)
+    _garbage("hyp", 20)
+    module.collect()
+    assert (truth_table(g & ~h), truth_table(g | h)) == expected
+    assert Guard.parse(str(g)) == g
+
+
+def test_from_bdd_converts_nodes_of_another_manager():
+    from symlearn.logic.bdd import BDD
+    from symlearn.logic.guards import from_bdd
+
+    m = BDD()
+    x, y = m.var(0), m.var(1)
+    both, either = m.apply_and(x, m.negate(y)), m.apply_or(x, y)
+    assert from_bdd(m, [both, either, x], ["a", "b"]) == [a & ~b, a | b, a]
+    with pytest.raises(ValueError, match="name order"):
+        from_bdd(m, [both], ["b", "a"])

@@ -99,6 +99,13 @@ def build_arrays(alarm_prob: float = 0.2) -> dict[str, np.ndarray]:
     return {"transitions": P, "initial": initial, "terminal": terminal, "available": available, "rewards": R}
 
 
+def state_name(state) -> str:
+    if state == "done":
+        return "done"
+    (x, y), alarm, loaded = state
+    return f"({x},{y})" + (" alarm" if alarm else "") + (" loaded" if loaded else "")
+
+
 def state_facts(state) -> str:
     if state == "done":
         return "finished."
@@ -132,8 +139,8 @@ def write_warehouse(folder: str | Path, *, alarm_prob: float = 0.2, truth: bool 
     (folder / "bk.lp").write_text(BACKGROUND)
     (folder / "bias.las").write_text(BIAS)
     np.savez(folder / "model.npz", **build_arrays(alarm_prob))
-    (folder / "states.jsonl").write_text("".join(json.dumps({"id": i, "facts": state_facts(s)}) + "\n"
-                                                 for i, s in enumerate(states())))
+    (folder / "states.jsonl").write_text("".join(json.dumps({"id": i, "facts": state_facts(s), "name": state_name(s)})
+                                                 + "\n" for i, s in enumerate(states())))
     (folder / "actions.jsonl").write_text("".join(json.dumps({"id": i, "atom": a}) + "\n"
                                                   for i, a in enumerate(ACTIONS)))
     toml = ['name = "warehouse"', 'description = "warehouse robot: shelves, stations, alarm"',

@@ -10,6 +10,12 @@ operations, without building formulas:
 * ``G p``   holds iff ``p`` holds at every position;
 * ``p T q`` = ``F(p & X F q)`` holds iff the first ``p`` comes strictly before the last ``q``.
 
+Why not the core's :mod:`symlearn.logic.ltlf.vectorized`: every instantiation is a comparison of
+per-trace bounds, so all of them are decided at once; evaluating the formulas one by one with
+:func:`~symlearn.logic.ltlf.vectorized.evaluate` gives the same counts @TPL@x slower (@TPL_N@
+instantiations over 100 atoms, 100 traces of 60 steps; ``python benchmarks/ltl_evaluators.py``,
+docs/BENCHMARKS.md).
+
 A negated template holds exactly where the template does not, and splits expert and nominal
 traces the same way, so it has the same information gain: :func:`best_candidate` keeps the
 polarity the experts agree with (``!F p`` is written ``G !p`` and ``!G p`` as ``F !p``).

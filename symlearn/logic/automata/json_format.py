@@ -14,8 +14,10 @@ One document per automaton::
 
 A PDFA adds ``"termination": [p_0, ...]`` and a ``"probability"`` per transition; a reward
 machine adds ``"terminal": [...]``, a ``"reward"`` per transition and optionally
-``"shaping": {"gamma": g, "potential": [...]}``. Guards are guard text
-(``grammars/guard.lark``); numbers are written with Python's shortest round-trip repr, so
+``"shaping": {"gamma": g, "potential": [...]}``. This one codec serves all three kinds:
+:func:`header`/:func:`read_header` and :func:`write_transitions`/:func:`read_transitions` cover
+the shared fields, each class's ``to_dict``/``from_dict`` adds only its own. Guards are guard
+text (``grammars/guard.lark``); numbers are written with Python's shortest round-trip repr, so
 ``from_json(to_json(x)) == x`` exactly. Reading never executes anything; every problem is
 reported with the JSON path of the offending field (``transitions[3].guard``) and, for JSON
 syntax errors, the line and column.
@@ -147,16 +149,27 @@ def read_header(document: Any, kind: str | None, source: str | None) -> tuple[_R
     return reader, fields
 
 
-def read_transitions(reader: _Reader, document: dict, extra: str | None) -> list[tuple]:
-    """``[(source, guard, target[, extra]), ...]`` with every field checked."""
-    result = []
+def write_transitions(automaton, extra: str | None = None) -> list[dict]:
+    """The ``transitions`` field: one object per edge, ``extra`` naming its number (PDFA, RM)."""
+    rows = []
+    for source, guard, target, *value in automaton.edges():
+        row = {"source": source, "target": target, "guard": str(guard)}
+        if extra:
+            row[extra] = value[0]
+        rows.append(row)
+    return rows
+
+
+def read_transitions(reader: _Reader, document: dict, extra: str | None) -> dict[int, list[tuple]]:
+    """``{source: [(guard, target[, extra]), ...]}``, as the constructors take it, every field checked."""
+    result: dict[int, list[tuple]] = {}
     for i, item in enumerate(reader.get(document, "", "transitions", "list")):
         path = f"transitions[{i}]"
         source = reader.get(item, path, "source", "int")
         target = reader.get(item, path, "target", "int")
         guard = reader.guard(reader.get(item, path, "guard", "str"), f"{path}.guard")
-        row = (source, guard, target) + ((reader.get(item, path, extra, "number"),) if extra else ())
-        result.append(row)
+        edge = (guard, target) + ((reader.get(item, path, extra, "number"),) if extra else ())
+        result.setdefault(source, []).append(edge)
     return result
 
 
@@ -173,7 +186,7 @@ def construct(reader: _Reader, build):
 # -- DFA -------------------------------------------------------------------------------------
 def dfa_to_dict(dfa) -> dict:
     document = header("dfa", dfa)
-    document["transitions"] = [{"source": s, "target": t, "guard": str(g)} for s, g, t in dfa.edges()]
+    document["transitions"] = write_transitions(dfa)
     return document
 
 
@@ -181,9 +194,7 @@ def dfa_from_dict(document: Any, *, source: str | None = None):
     from symlearn.logic.automata.dfa import DFA
 
     reader, f = read_header(document, "dfa", source)
-    transitions: dict[int, list] = {}
-    for s, g, t in read_transitions(reader, document, None):
-        transitions.setdefault(s, []).append((g, t))
+    transitions = read_transitions(reader, document, None)
     return construct(reader, lambda: DFA(f["alphabet"], f["n_states"], f["initial"], f["accepting"],
                                          transitions, f["state_names"]))
 

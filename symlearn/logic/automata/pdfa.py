@@ -195,12 +195,11 @@ class PDFA(GuardedAutomaton):
         return pdfa_to_dot(self, title=title, unicode=unicode)
 
     def to_dict(self) -> dict:
-        from symlearn.logic.automata.json_format import header
+        from symlearn.logic.automata.json_format import header, write_transitions
 
         document = header("pdfa", self)
         document["termination"] = list(self.termination)
-        document["transitions"] = [{"source": s, "target": t, "guard": str(g), "probability": p}
-                                   for s, g, t, p in self.edges()]
+        document["transitions"] = write_transitions(self, "probability")
         return document
 
     @classmethod
@@ -209,9 +208,7 @@ class PDFA(GuardedAutomaton):
 
         reader, f = read_header(document, "pdfa", source)
         termination = reader.list_of(document, "", "termination", "number")
-        transitions: dict[int, list] = {}
-        for s, g, t, p in read_transitions(reader, document, "probability"):
-            transitions.setdefault(s, []).append((g, t, p))
+        transitions = read_transitions(reader, document, "probability")
         return construct(reader, lambda: cls(f["alphabet"], f["n_states"], f["initial"], transitions,
                                              termination, f["accepting"], f["state_names"]))
 

@@ -166,15 +166,14 @@ class RewardMachine(GuardedAutomaton):
         return parse_rm_text(text, source=source, unmatched=unmatched)
 
     def to_dict(self) -> dict:
-        from symlearn.logic.automata.json_format import header
+        from symlearn.logic.automata.json_format import header, write_transitions
 
         document = header("reward_machine", self)
         document["terminal"] = sorted(self.terminal)
         document["default_reward"] = self.default_reward
         if self.potential is not None:
             document["shaping"] = {"gamma": self.gamma, "potential": list(self.potential)}
-        document["transitions"] = [{"source": s, "target": t, "guard": str(g), "reward": r}
-                                   for s, g, t, r in self.edges()]
+        document["transitions"] = write_transitions(self, "reward")
         return document
 
     @classmethod
@@ -189,9 +188,7 @@ class RewardMachine(GuardedAutomaton):
         if shaping is not None:
             gamma = reader.get(shaping, "shaping", "gamma", "number")
             potential = reader.list_of(shaping, "shaping", "potential", "number")
-        transitions: dict[int, list] = {}
-        for s, g, t, r in read_transitions(reader, document, "reward"):
-            transitions.setdefault(s, []).append((g, t, r))
+        transitions = read_transitions(reader, document, "reward")
         return construct(reader, lambda: cls(
             f["alphabet"], f["n_states"], f["initial"], transitions, terminal, f["accepting"], f["state_names"],
             default_reward=default, gamma=gamma, potential=potential))

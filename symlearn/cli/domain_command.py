@@ -1,0 +1,92 @@
+"""``symlearn domain check DIR``: read a domain folder, check it, and score a rule file against it.
+
+``symlearn domain check DIR [--rules RULES.lp] [--demos D.jsonl] [--json]``
+
+Without options it loads the folder (every error one line, naming file and line), checks that
+every state-action context has exactly one answer set, and prints the domain's size. With
+``--rules`` (learned, edited or hand-written integrity constraints) it counts the pairs they
+forbid, scores them against the folder's truth rules when there are any (FPR, FNR, accuracy,
+and which truth rules they miss), and, with ``--demos``, counts the demonstrated steps the rules
+would forbid: the re-check after editing a learned rule file.
+"""
+
+from __future__ import annotations
+
+import argparse
+
+
+def register(subparsers, common) -> None:
+    parser = subparsers.add_parser("domain", help="check a domain folder and score rules against it",
+                                   description="Work with your own domain folders (domain.toml; docs/FORMATS.md).")
+    commands = parser.add_subparsers(dest="domain_command", metavar="COMMAND", required=True)
+    check = commands.add_parser("check", parents=[common()], help="load and check a domain folder; score a rule file",
+                                description=__doc__.split("\n\n")[2].replace("\n", " ") if __doc__ else None)
+    check.add_argument("folder", metavar="DIR", help="the domain folder (with domain.toml)")
+    check.add_argument("--rules", help="an .lp file of integrity constraints to score against the domain")
+    check.add_argument("--demos", help="demonstrations (.jsonl/.npz): count the steps the rules forbid")
+    check.set_defaults(handler=_check)
+
+
+def _check(args: argparse.Namespace, out) -> None:
+    from pathlib import Path
+
+    import numpy as np
+
+    from symlearn.errors import DataError
+    from symlearn.grounding import Domain
+
+    domain = Domain.from_folder(args.folder)
+    doc = {"domain": domain.name, "description": domain.description, "states": domain.n_states,
+           "actions": domain.n_actions, "pairs": len(domain.pair_ids),
+           "forbidden_by_truth": None if domain.truth is None else int(domain.truth_forbidden.sum()),
+           "labeling": None if domain.labeling is None else list(domain.labeling.propositions)}
+    if args.demos and not args.rules:
+        raise DataError("--demos is scored against --rules: give the rule file too")
+    if args.rules:
+        from symlearn.learners.constraints.constraint_metrics import constraint_metrics
+
+        hypothesis = domain.hypothesis(Path(args.rules))
+        learned = domain.rule_mask(Path(args.rules))
+        doc.update({"rules": list(hypothesis.rules), "forbidden": int(learned.sum()),
+                    "fpr": None, "fnr": None, "accuracy": None, "missed_truth_rules": None})
+        if domain.truth is not None:
+            scores = constraint_metrics(learned, domain.truth_forbidden, ~domain.unavailable)
+            truth = domain.hypothesis(domain.truth)
+            missed = [rule for rule in truth.rules if (domain.rule_mask([rule]) & ~learned).any()]
+            doc.update({"fpr": scores["fpr"], "fnr": scores["fnr"], "accuracy": scores["accuracy"],
+                        "missed_truth_rules": missed})
+        if args.demos:
+            from symlearn.data import load
+
+            try:
+                episodes = domain.episodes(load(args.demos))
+            except DataError as exc:
+                raise DataError(exc.message, file=exc.file or args.demos, hint=exc.hint) from None
+            hits = [(i, t) for i, e in enumerate(episodes)
+                    for t in np.flatnonzero(learned[e.states[: len(e.actions)], e.actions]).tolist()]
+            doc["demonstrated_steps_forbidden"] = len(hits)
+            doc["first_forbidden_step"] = (None if not hits else
+                                           {"demonstration": hits[0][0], "step": hits[0][1],
+                                            "pair": domain.describe_pair(int(episodes[hits[0][0]].states[hits[0][1]]),
+                                                                         int(episodes[hits[0][0]].actions[hits[0][1]]))})
+    out.result(doc, _render)
+
+
+def _render(doc: dict) -> str:
+    lines = [f"{doc['domain']}: {doc['states']} states x {doc['actions']} actions, {doc['pairs']} state-action pairs; "
+             "every context has one answer set"]
+    if doc["forbidden_by_truth"] is not None:
+        lines.append(f"truth rules forbid {doc['forbidden_by_truth']} pairs")
+    if doc["labeling"] is not None:
+        lines.append("labeling: " + ", ".join(doc["labeling"]))
+    if "rules" in doc:
+        lines.append(f"rules ({len(doc['rules'])}) forbid {doc['forbidden']} pairs")
+        if doc["fpr"] is not None:
+            lines.append(f"against the truth: FPR {doc['fpr']:.3f}  FNR {doc['fnr']:.3f}  accuracy {doc['accuracy']:.3f}")
+            lines += [f"  misses (partly) the truth rule {r}" for r in doc["missed_truth_rules"]]
+        if "demonstrated_steps_forbidden" in doc:
+            n = doc["demonstrated_steps_forbidden"]
+            first = doc["first_forbidden_step"]
+            lines.append(f"demonstrated steps the rules forbid: {n}" + (
+                f" (first: demonstration {first['demonstration']}, step {first['step']}: {first['pair']})" if n else ""))
+    return "\n".join(lines)

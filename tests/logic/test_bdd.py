@@ -1,0 +1,71 @@
+"""The ROBDD engine shared by guards and the LTLf translation."""
+
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from symlearn.logic.bdd import BDD, FALSE, TRUE
+
+
+def build(m: BDD, expr):
+    """Build a nested tuple expression ('and'|'or'|'not', ...) or a variable key."""
+    if not isinstance(expr, tuple):
+        return m.var(expr)
+    if expr[0] == "not":
+        return m.negate(build(m, expr[1]))
+    left, right = build(m, expr[1]), build(m, expr[2])
+    return m.apply_and(left, right) if expr[0] == "and" else m.apply_or(left, right)
+
+
+def value(expr, env):
+    if not isinstance(expr, tuple):
+        return env[expr]
+    if expr[0] == "not":
+        return not value(expr[1], env)
+    return (value(expr[1], env) and value(expr[2], env)) if expr[0] == "and" else (
+        value(expr[1], env) or value(expr[2], env))
+
+
+VARS = ["p", "q", "r"]
+exprs = st.recursive(st.sampled_from(VARS), lambda inner: st.one_of(
+    st.tuples(st.just("not"), inner), st.tuples(st.sampled_from(["and", "or"]), inner, inner)), max_leaves=8)
+ENVS = [dict(zip(VARS, (bits >> 2 & 1, bits >> 1 & 1, bits & 1))) for bits in range(8)]
+
+
+@settings(deadline=None)
+@given(exprs, exprs)
+def test_canonical_with_any_ordered_keys(e, f):
+    m = BDD()  # string variables, as the guard table uses
+    u, v = build(m, e), build(m, f)
+    same = all(value(e, env) == value(f, env) for env in ENVS)
+    assert (u == v) == same
+    assert all(m.evaluate(u, env.get) == bool(value(e, env)) for env in ENVS)
+
+
+@settings(deadline=None)
+@given(exprs)
+def test_restrict_and_support(e):
+    m = BDD()
+    u = build(m, e)
+    for var in VARS:
+        for fixed in (False, True):
+            r = m.restrict(u, var, fixed)
+            assert all(m.evaluate(r, env.get) == bool(value(e, {**env, var: fixed})) for env in ENVS)
+    depends = {v for v in VARS if any(value(e, {**env, v: 0}) != value(e, {**env, v: 1}) for env in ENVS)}
+    assert m.support(u) == depends
+
+
+def test_collect_keeps_roots_and_reuses_freed_ids():
+    m = BDD()
+    x, y, z = m.var(0), m.var(1), m.var(2)
+    keep = m.apply_or(m.apply_and(x, y), z)
+    m.apply_and(m.negate(x), m.negate(z))  # garbage
+    size = len(m.level)
+    freed = m.collect([keep])
+    assert freed > 0 and len(m) == size - freed
+    assert [m.evaluate(keep, lambda v, bits=bits: bits >> v & 1) for bits in range(8)] == \
+        [bool((b & 1 and b >> 1 & 1) or b >> 2 & 1) for b in range(8)]
+    again = m.apply_or(m.apply_and(m.var(0), m.var(1)), m.var(2))
+    assert again == keep  # hash-consing still finds the surviving nodes
+    m.apply_and(m.negate(m.var(0)), m.var(1))
+    assert len(m.level) == size  # new nodes took freed ids
+    assert m.ite(TRUE, x, y) == x and m.ite(FALSE, x, y) == y
