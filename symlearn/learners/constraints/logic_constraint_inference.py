@@ -265,9 +265,9 @@ class LogicConstraintInference(Learner):
         if self.hypothesis_ is None:
             return ""
         header = (f"Rules learned by logic constraint inference on {self.domain_name_} "
-                  f"({len(self.history_)} iterations, {self.seconds_:.1f} s). Edit freely; "
-                  "re-check them with `symlearn ilp check`.")
-        return self.hypothesis_.lp_text(header)
+                  f"({len(self.history_)} iterations, {self.seconds_:.1f} s).")
+        return self.hypothesis_.lp_text(header, recheck="symlearn domain check DOMAIN_DIR --rules THIS.lp "
+                                                        "[--demos DEMOS.jsonl] (or Domain.rule_mask in Python)")
 
     def to_lp(self, path: Any) -> Any:
         """Write the rules as an editable ``.lp`` file with a provenance header (see :meth:`save`)."""

@@ -160,11 +160,12 @@ class Hypothesis:
                                         hint="raise the timeout or pass max_models")
 
     # -- files -----------------------------------------------------------------------------
-    def lp_text(self, header: str | None = None) -> str:
-        """The rules as editable ``.lp`` text with a comment header (what :meth:`to_lp` writes)."""
+    def lp_text(self, header: str | None = None, recheck: str = "symlearn ilp check TASK.las THIS.lp") -> str:
+        """The rules as editable ``.lp`` text with a comment header (what :meth:`to_lp` writes);
+        ``recheck`` is the command the header recommends after an edit."""
         lines = [f"% {line}" if line else "%" for line in (header or "learned by symlearn").splitlines()]
         lines.append(f"% cost (total rule length): {self.cost}")
-        lines.append("% edit the rules below; re-check with: symlearn ilp check TASK.las THIS.lp")
+        lines.append(f"% edit the rules below; re-check with: {recheck}")
         lines.append("")
         lines.extend(self.rules)
         return "\n".join(lines) + "\n"
