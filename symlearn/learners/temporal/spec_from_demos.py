@@ -11,19 +11,10 @@ policy trained without it still satisfies it with probability at least ``prune_t
 is implied by the rest and dropped.
 
 Nominal trajectories that reproduce a demonstration state for state are left out of the
-information-gain dataset (``drop_reproduced``): they are expert behaviour, every candidate
-formula treats them exactly like their expert twin, so they only add entropy no formula can
-remove. Kept, they hide the part of the nominal behaviour that is *not* the experts': when the
-nominal policy ties between a route the experts take and one they never take (Office-2 with
-learned propositions: the top corridor across decorations, taken a third of the time), the
-formula that forbids the second route satisfies every expert and every reproduction, yet its
-gain stays below the threshold (0.18 < 0.2). The stopping rule keeps its bite: the gain of any
-formula is at most the entropy of the reduced dataset, which is below 0.2 while fewer than 3 %
-of it are nominal trajectories (with 50 demonstrations: a single stray one), and when every
-nominal trajectory is a reproduction the loop stops. Where demonstrations are rarely reproduced
-exactly (large maps, many equally good paths) nothing changes. Only exact copies go: a nominal
-trajectory made of pieces the experts showed can still break their order (deliver before
-fetching), so "stays on expert cells" is not a reason to drop it.
+information-gain dataset (``drop_reproduced``): every candidate formula treats them exactly like
+their expert twin, so they only add entropy no formula can remove (only exact copies go; the
+measurements behind this, Office-2 with learned propositions, are in ``docs/BENCHMARKS.md``,
+"Specification learning").
 
 Propositions are either *given* (a :class:`~symlearn.grounding.labeling.Labeling`, by default the
 environment's) or *learned*: then every state visited by an expert or nominal trajectory is a
