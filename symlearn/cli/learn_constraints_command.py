@@ -8,8 +8,8 @@
 * ``logic`` (default where the world has ASP facts): maximum-likelihood inference plus ILP
   induction each iteration; ``-o`` writes the rules as an editable ``.lp`` file.
 * ``ml``: maximum-likelihood constraint inference alone; ``-o`` writes the forbidden pairs.
-* ``mce-icrl``: maximum causal entropy inverse constrained RL (needs the world's reward);
-  ``-o`` writes the forbidden pairs and the multipliers.
+* ``mce-icrl``: maximum causal entropy inverse constrained RL (with the world's reward, or a sparse
+  one for reaching where demonstrations end); ``-o`` writes the forbidden pairs and the multipliers.
 
 The scores (``fpr``, ``fnr``, ``accuracy``) compare the learned forbidden pairs with the ground
 truth over every pair that exists; they are ``null`` for a domain without truth rules.
@@ -65,8 +65,8 @@ def register_learn(commands, common) -> None:
                      help="inference iterations (logic: 20, ml: 200) or dual steps (mce-icrl: 300)")
     cmd.add_argument("--horizon", type=int, default=30, help="planning horizon of the MaxEnt passes (30)")
     cmd.add_argument("--reward", choices=("given", "sparse"), default=None,
-                     help="logic/ml: plan with the world's reward (default where it has one) or a sparse reward "
-                          "for reaching where demonstrations end")
+                     help="plan with the world's reward (default where it has one) or a sparse reward for "
+                          "reaching where demonstrations end")
     cmd.add_argument("--rationality", type=float, default=None,
                      help="logic/ml: inverse temperature of the MaxEnt model (1; 3 for gridworld); raise it when "
                           "a small step cost lets long wandering paths outweigh short ones")
@@ -107,9 +107,6 @@ def _constraints(args: argparse.Namespace, out) -> None:
     if method == "logic" and world.domain is None:
         raise SymlearnError(f"{world.name} has no ASP facts, so no rules can be learned there",
                             hint="use --method ml or --method mce-icrl")
-    if method == "mce-icrl" and not world.has_reward:
-        raise SymlearnError(f"mce-icrl needs the world's reward, which {world.name} does not define",
-                            hint="use --method logic or ml, or give the domain's model.npz a rewards array")
     if args.known and world.domain is None:
         raise SymlearnError("--known rules need a world with ASP facts")
     seed = getattr(args, "seed", 0) or 0
@@ -179,7 +176,8 @@ def _run(method: str, world: _World, demos, args, known, out):
         return doc, learner.constraints_ & ~learner.known_, learner
     from symlearn.learners.constraints.mce_icrl import MCEICRL
 
-    learner = MCEICRL(features=args.features or world.features, n_iterations=args.iterations or 300,
+    learner = MCEICRL(reward=_reward(args, world), features=args.features or world.features,
+                      n_iterations=args.iterations or 300,
                       known_constraints=known, on_violation="warn" if args.noise else "error").fit(demos, target)
     learned = learner.forbidden_ & world.space
     names = world.mdp.state_names or tuple(map(str, range(world.mdp.n_states)))

@@ -78,8 +78,16 @@ def test_demonstrations_breaking_known_rules(capsys, tmp_path):
 def test_method_needing_facts_or_reward_is_refused(capsys):
     code, _, err = run(capsys, "learn", "constraints", "--env", "gridworld", "--method", "logic")
     assert code == 2 and "no ASP facts" in err
-    code, _, err = run(capsys, "learn", "constraints", "--env", "hanoi", "--method", "mce-icrl")
-    assert code == 2 and "needs the world's reward" in err
+    code, _, err = run(capsys, "learn", "constraints", "--env", "hanoi", "--method", "mce-icrl", "--reward", "given")
+    assert code == 2 and "defines no reward" in err
+
+
+def test_mce_icrl_without_a_reward_heads_for_where_demonstrations_end(capsys):
+    code, out, err = run(capsys, "learn", "constraints", "--env", "junction-lights", "--method", "mce-icrl",
+                         "--n-demos", 20, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["constraints"] > 0 and doc["fnr"] < 0.5  # most true constraints found, at a cost in FPR
 
 
 def test_envs_lists_both_kinds(capsys):

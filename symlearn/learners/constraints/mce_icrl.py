@@ -78,7 +78,9 @@ class MCEICRL(Learner):
 
     ``domain``: a :class:`~symlearn.grounding.Domain`, a :class:`TabularMDP` or an environment
     with ``to_tabular()``; its rewards are the known reward, moves it does not have are known
-    constraints. Parameters: ``features`` (``"state"``,
+    constraints. Parameters: ``reward`` (``"given"``: the model's rewards; ``"sparse"``: 1 for
+    entering a state where a demonstration ended, which becomes terminal -- for worlds without a
+    reward), ``features`` (``"state"``,
     ``"state_action"`` or a non-negative array ``(S, A, k)``), ``beta`` (entropy weight),
     ``discount``, ``horizon`` (steps counted in feature expectations; demonstrations are cut
     there too), ``learning_rate`` (eta), ``n_iterations``, ``budget`` (alpha: the slack of the
@@ -102,6 +104,7 @@ class MCEICRL(Learner):
     def __init__(
         self,
         *,
+        reward: Literal["given", "sparse"] = "given",
         features: str | np.ndarray = "state",
         beta: float = 0.5,
         discount: float = 0.99,
@@ -115,6 +118,7 @@ class MCEICRL(Learner):
         on_violation: Literal["error", "warn"] = "error",
         max_sweeps: int = 50,
     ) -> None:
+        self.reward = reward
         self.features = features
         self.beta = beta
         self.discount = discount
@@ -147,6 +151,14 @@ class MCEICRL(Learner):
         started = time.perf_counter()
         mdp, known = tabular_model(domain)
         episodes = tabular_episodes(demonstrations, mdp)
+        if self.reward == "sparse":
+            # no reward given: the expert is taken to head for where its demonstrations end
+            # (reward 1 for entering such a state, which then ends the episode)
+            from symlearn.mdp.episodes import final_states
+
+            mdp = mdp.with_goal(sorted(set(final_states(episodes).tolist())), goal_reward=1.0)
+        elif self.reward != "given":
+            raise SymlearnError(f"unknown reward {self.reward!r}", hint="use 'given' or 'sparse'")
         if self.known_constraints is not None:
             given = check_mask(mdp, self.known_constraints, "known constraints")
             known = given if known is None else known | given
