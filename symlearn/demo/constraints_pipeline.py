@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from symlearn.atomic import write_text
 from symlearn.demo.registry import DemoContext, Pipeline, Section
 
 # (environment, demonstrations, iterations) -- full run / quick run

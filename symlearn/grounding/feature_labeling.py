@@ -30,18 +30,17 @@ from __future__ import annotations
 import json
 import math
 import operator
-import os
 import re
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from symlearn.atomic import write_text
 from symlearn.errors import DataError, ParseError, SymlearnError
 from symlearn.grounding.features import FeatureMap
+from symlearn.grounding.json_document import JsonFile
+from symlearn.grounding.labeling import LabelingBase
 
 FORMAT_VERSION = 1
 OPERATORS: dict[str, Callable[[float, float], bool]] = {"<=": operator.le, ">=": operator.ge, "<": operator.lt,
@@ -102,7 +101,7 @@ def parse_condition(text: str, *, where: str = "condition", source: str | None =
     return Condition(tuple(conjunctions))
 
 
-class FeatureLabeling:
+class FeatureLabeling(LabelingBase, JsonFile):
     """Propositions defined by inequality conditions over a feature map (see module docstring)."""
 
     def __init__(self, features: FeatureMap | Iterable[str], conditions: Mapping[str, str | Condition], *,
@@ -127,21 +126,12 @@ class FeatureLabeling:
     def propositions(self) -> tuple[str, ...]:
         return tuple(self._conditions)
 
-    @property
-    def meanings(self) -> dict[str, str]:
-        return dict(self._meanings)
-
     def condition(self, proposition: str) -> Condition:
         return self._conditions[proposition]
 
     def label(self, state: Any) -> frozenset[str]:
         values = dict(zip(self.feature_map.names, self.feature_map.features(state).tolist()))
         return frozenset(p for p, c in self._conditions.items() if c.holds(values))
-
-    __call__ = label
-
-    def label_word(self, states: Iterable[Any]) -> tuple[frozenset[str], ...]:
-        return tuple(self.label(s) for s in states)
 
     def label_matrix(self, features: np.ndarray) -> np.ndarray:
         """``(N, P)`` booleans for a feature matrix ``(N, k)``, vectorised over the rows."""
@@ -202,16 +192,9 @@ class FeatureLabeling:
             raise DataError("this labeling is not defined by features", file=source)
         return labeling
 
-    def save(self, path: str | os.PathLike[str]) -> None:
-        write_text(path, self.to_json() + "\n")
-
-    @classmethod
-    def load(cls, path: str | os.PathLike[str]) -> FeatureLabeling:
-        path = Path(path)
-        return cls.from_json(path.read_text(encoding="utf-8"), source=str(path))
 
 
-class CallableLabeling:
+class CallableLabeling(LabelingBase):
     """``CallableLabeling(function, propositions, meanings=None)``: ``function(state)`` returns the
     names of the true propositions; any name outside ``propositions`` is a :class:`DataError`.
 
@@ -232,10 +215,6 @@ class CallableLabeling:
     def propositions(self) -> tuple[str, ...]:
         return self._props
 
-    @property
-    def meanings(self) -> dict[str, str]:
-        return dict(self._meanings)
-
     def label(self, state: Any) -> frozenset[str]:
         found = frozenset(self.function(state))
         unknown = sorted(found - set(self._props))
@@ -243,11 +222,6 @@ class CallableLabeling:
             raise DataError(f"the labeling function returned undeclared proposition {unknown[0]!r}",
                             hint="declared: " + ", ".join(self._props))
         return found
-
-    __call__ = label
-
-    def label_word(self, states: Iterable[Any]) -> tuple[frozenset[str], ...]:
-        return tuple(self.label(s) for s in states)
 
     def to_json(self) -> str:
         raise SymlearnError("a labeling defined by a Python function cannot be saved",

@@ -24,22 +24,19 @@ True
 from __future__ import annotations
 
 import json
-import os
 from collections.abc import Callable, Hashable, Mapping, Sequence
-from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from symlearn.atomic import write_text
 from symlearn.errors import DataError, SymlearnError
-from symlearn.grounding.json_document import read_document
+from symlearn.grounding.json_document import JsonFile, read_document
 
 FORMAT_VERSION = 1
 MAGIC = "feature-map"
 
 
-class FeatureMap:
+class FeatureMap(JsonFile):
     """Named numeric features of a state (see the module docstring for the three forms)."""
 
     def __init__(self, names: Sequence[str], *, function: Callable[[Any], Any] | None = None,
@@ -163,13 +160,6 @@ class FeatureMap:
         except DataError as exc:
             raise DataError(exc.message, file=source, hint=exc.hint) from None
 
-    def save(self, path: str | os.PathLike[str]) -> None:
-        write_text(path, self.to_json() + "\n")
-
-    @classmethod
-    def load(cls, path: str | os.PathLike[str]) -> FeatureMap:
-        path = Path(path)
-        return cls.from_json(path.read_text(encoding="utf-8"), source=str(path))
 
 
 def _key(value: Any) -> Hashable:

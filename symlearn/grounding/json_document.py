@@ -3,8 +3,11 @@
 from __future__ import annotations
 
 import json
+import os
+from pathlib import Path
 from typing import Any
 
+from symlearn.atomic import write_text
 from symlearn.errors import DataError, ParseError
 
 
@@ -20,3 +23,19 @@ def read_document(text: str, magic: str, version: int, *, source: str = "<string
         raise DataError(f"unsupported {magic} format_version {doc.get('format_version')!r}", file=source,
                         hint=f"this symlearn reads version {version}")
     return doc
+
+
+class JsonFile:
+    """``save(path)`` / ``load(path)`` for a value with ``to_json()`` and ``from_json(text, source=)``."""
+
+    def save(self, path: str | os.PathLike[str]) -> Path:
+        return write_text(path, self.to_json() + "\n")
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str]):
+        path = Path(path)
+        try:
+            text = path.read_text(encoding="utf-8")
+        except OSError as exc:
+            raise DataError(f"cannot read {path}: {exc.strerror}", file=str(path)) from None
+        return cls.from_json(text, source=str(path))

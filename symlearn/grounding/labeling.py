@@ -22,9 +22,8 @@ from collections.abc import Hashable, Iterable, Mapping
 from pathlib import Path
 from typing import Any
 
-from symlearn.atomic import write_text
 from symlearn.errors import DataError
-from symlearn.grounding.json_document import read_document
+from symlearn.grounding.json_document import JsonFile, read_document
 
 FORMAT_VERSION = 1
 MAGIC = "labeling"
@@ -52,7 +51,31 @@ def _hashable(state: Any) -> Hashable:
     return state
 
 
-class Labeling:
+class LabelingBase:
+    """The interface every labeling shares: ``propositions`` (declared, in order), ``meanings``,
+    ``label(state) -> frozenset`` (also by calling the labeling) and ``label_word(states)``."""
+
+    _meanings: dict[str, str]
+
+    @property
+    def propositions(self) -> tuple[str, ...]:  # pragma: no cover - every labeling defines it
+        raise NotImplementedError
+
+    @property
+    def meanings(self) -> dict[str, str]:
+        return dict(self._meanings)
+
+    def label(self, state: Any) -> frozenset[str]:  # pragma: no cover - every labeling defines it
+        raise NotImplementedError
+
+    def __call__(self, state: Any) -> frozenset[str]:
+        return self.label(state)
+
+    def label_word(self, states: Iterable[Any]) -> tuple[frozenset[str], ...]:
+        return tuple(self.label(s) for s in states)
+
+
+class Labeling(LabelingBase, JsonFile):
     """A finite table from states to the propositions true in them.
 
     ``meanings`` says in words what each proposition stands for. States absent from the table
@@ -86,14 +109,8 @@ class Labeling:
         """Declared propositions: first those given in order, then the rest sorted."""
         return self._order
 
-    @property
-    def meanings(self) -> dict[str, str]:
-        return dict(self._meanings)
-
     def label(self, state: Any) -> frozenset[str]:
         return self._table.get(_hashable(state), frozenset())
-
-    __call__ = label
 
     def items(self) -> list[tuple[Hashable, frozenset[str]]]:
         """Every labelled state with its propositions (states with none are not listed)."""
@@ -111,9 +128,6 @@ class Labeling:
 
     def states_where(self, proposition: str) -> list[Hashable]:
         return [s for s, props in self._table.items() if proposition in props]
-
-    def label_word(self, states: Iterable[Any]) -> tuple[frozenset[str], ...]:
-        return tuple(self.label(s) for s in states)
 
     def with_proposition(self, name: str, states: Iterable[Any], meaning: str = "") -> Labeling:
         """A copy in which ``name`` is also true in ``states`` (learners grow labelings this way)."""
@@ -164,13 +178,6 @@ class Labeling:
         except DataError as exc:
             raise DataError(exc.message, file=source) from None
 
-    def save(self, path: str | os.PathLike[str]) -> None:
-        write_text(path, self.to_json() + "\n")
-
-    @classmethod
-    def load(cls, path: str | os.PathLike[str]) -> Labeling:
-        path = Path(path)
-        return cls.from_json(path.read_text(encoding="utf-8"), source=str(path))
 
 
 def load_labeling_text(text: str, *, source: str = "<string>"):
