@@ -168,26 +168,35 @@ class Domain:
         return Hypothesis(list(rules), background=background)
 
     @cached_property
-    def _worlds(self) -> dict[int, list]:
-        """The one answer set of background + context per available pair, tagged by pair index."""
-        from symlearn.logic.ilp.selection import single_worlds
+    def _worlds(self) -> list:
+        """The one answer set of background + context per available pair, as atoms tagged with
+        the pair's index (one solve for all pairs)."""
+        from symlearn.logic.asp import clingo_adapter as cl
+        from symlearn.logic.asp.program import Program
+        from symlearn.logic.ilp.encoding import ACTIVE, tagged_background
 
-        task = self.ilp_task(self.examples(self.pair_ids, True))
-        worlds = single_worlds(task) if task.examples else None
-        if worlds is None or worlds.empty:
-            self._explain_bad_context(worlds.empty if worlds is not None else None)
-        return worlds.atoms
+        if not self.pair_ids:
+            return []
+        # Contexts are ground facts already normalised by clingo's printer, so each is tagged as
+        # text (``at(1,2).`` -> ``at(7,1,2).``) instead of parsing thousands of them again.
+        lines = [tagged_background(self.ilp_task([]))]
+        for index, (s, a) in enumerate(self.pair_ids):
+            lines.append(f"{ACTIVE}({index}).")
+            lines.extend(_tag_fact(fact, index) for fact in self.facts(s, a))
+        outcome = cl.solve(Program.from_text("\n".join(lines), source=f"<{self.name} pair contexts>"), max_models=2)
+        if len(outcome.models) != 1:
+            self._explain_bad_context()
+        return [atom for atom in outcome.models[0] if atom.name != ACTIVE]
 
     def validate(self) -> Domain:
         """Check that every pair's context has exactly one answer set; return ``self``."""
         self._worlds  # noqa: B018 -- computing it is the check
         return self
 
-    def _explain_bad_context(self, empty: list[int] | None) -> None:
+    def _explain_bad_context(self) -> None:
         from symlearn.logic.asp.clingo_adapter import solve
 
-        candidates = empty if empty else range(len(self.pair_ids))
-        for index in candidates:
+        for index in range(len(self.pair_ids)):
             s, a = self.pair_ids[index]
             program = self.background + self.bias.background + " ".join(self.facts(s, a))
             n = len(solve(program, max_models=2).models)
@@ -220,8 +229,7 @@ class Domain:
                                 hint="a rule with a head changes the answer sets rather than removing them")
         tagged = cl.tag_program(Program.from_text(text, source="<rules>"), "E__", guard=[f"{ACTIVE}(E__)"],
                                 constraint_head="fires__")
-        atoms = self._worlds
-        facts = "\n".join(f"{x}." for x in atoms if x.name != ACTIVE)
+        facts = "\n".join(f"{x}." for x in self._worlds)
         facts += "\n" + "\n".join(f"{ACTIVE}({i})." for i in range(len(self.pair_ids)))
         program = Program.from_text(facts, source="<answer sets>") + Program.from_text(tagged, source="<rules>")
         for atom in cl.ground_atoms(program, [("fires__", 1)]):
@@ -263,6 +271,14 @@ class Domain:
     def __repr__(self) -> str:
         return (f"Domain({self.name!r}: {self.n_states} states x {self.n_actions} actions, "
                 f"{len(self.pair_ids)} pairs{', truth' if self.truth else ''})")
+
+
+def _tag_fact(fact: str, tag: int) -> str:
+    """``p(a,b).`` -> ``p(TAG,a,b).``, ``q.`` -> ``q(TAG).``, ``-p(a).`` -> ``-p(TAG,a).`` (a fact
+    as clingo prints it: the name runs up to the first parenthesis)."""
+    body = fact[:-1] if fact.endswith(".") else fact
+    name, paren, rest = body.partition("(")
+    return f"{name}({tag},{rest}." if paren else f"{name}({tag})."
 
 
 def as_domain(value: Any) -> Domain:
