@@ -11,7 +11,8 @@ measures, in one run:
    the first number to it on every call.
 2. **A long run.** A stream of random formulas over a pool of propositions is translated and
    each DFA dropped, once with the guard table's collection on (the default) and once with it
-   off, each in a fresh process: table size at the end, peak memory (RSS) and total time.
+   off, each in a fresh process: table size and memory at the end (the table's own structures,
+   by ``sys.getsizeof``), peak memory of the process (RSS) and total time.
 
     .venv/bin/python benchmarks/bdd_engines.py            # about a minute
     .venv/bin/python benchmarks/bdd_engines.py --quick    # collection threshold lowered to 2^14
@@ -82,6 +83,21 @@ def translation_versus_guards(quick: bool) -> list[dict]:
     return rows
 
 
+def table_bytes() -> int:
+    """Bytes held by the shared guard table: node lists, unique table, caches, guard registry."""
+    from symlearn.logic import guards
+
+    m = guards._MANAGER
+    total = sum(sys.getsizeof(x) for x in (m.level, m.low, m.high))
+    for table in (m._unique, m._and, m._or, m._not, m._support, guards._guards, guards._text_cache,
+                  guards._label_cache, guards._key_cache):
+        total += sys.getsizeof(table)
+        for key, value in table.items():
+            total += sys.getsizeof(key) if isinstance(key, tuple) else 0
+            total += sys.getsizeof(value) if not isinstance(value, int) else 0
+    return total
+
+
 def stream(n_formulas: int, collect: bool, collect_from: int) -> dict:
     """Translate random formulas, dropping each DFA; report the guard table and the peak memory."""
     import ltlf_to_dfa as bench
@@ -103,8 +119,9 @@ def stream(n_formulas: int, collect: bool, collect_from: int) -> dict:
             too_large += 1
         largest = max(largest, guards.node_count())
     seconds = time.perf_counter() - start
-    return {"collect": collect, "formulas": n_formulas, "over_2000_states": too_large, "seconds": seconds, "final_nodes": guards.node_count(),
-            "largest_nodes": largest, "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
+    return {"collect": collect, "formulas": n_formulas, "over_2000_states": too_large, "seconds": seconds,
+            "final_nodes": guards.node_count(), "largest_nodes": largest, "table_mb": table_bytes() / 2 ** 20,
+            "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}
 
 
 def main() -> None:
@@ -144,8 +161,9 @@ def main() -> None:
           f"collection from {collect_from} nodes")
     for r in runs:
         print(f"   collection {'on ' if r['collect'] else 'off'}: {r['seconds']:.2f} s, table {r['final_nodes']} nodes "
-              f"at the end (largest {r['largest_nodes']}), peak RSS {r['peak_rss_mb']:.0f} MB")
-    print(f"   collection: {off['final_nodes'] / on['final_nodes']:.1f}x fewer nodes at the end, "
+              f"({r['table_mb']:.0f} MB) at the end (largest {r['largest_nodes']}), peak RSS {r['peak_rss_mb']:.0f} MB")
+    print(f"   collection: {off['final_nodes'] / on['final_nodes']:.1f}x fewer nodes and "
+          f"{off['table_mb'] / on['table_mb']:.1f}x less table memory at the end, "
           f"time ratio on/off {on['seconds'] / off['seconds']:.3f}")
     if args.json:
         args.json.write_text(json.dumps({"command": " ".join(sys.argv), "translation_vs_guards": rows,

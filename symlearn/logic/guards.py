@@ -21,8 +21,9 @@ support (Quine-McCluskey via sympy for up to 8 propositions, a greedy cover by p
 computed on the BDD above that) and ``Guard.parse(str(g)) == g`` always holds.
 
 Memory: the shared table keeps the nodes that live guards reach. Nodes of guards that no longer
-exist are freed by :func:`collect`, which runs by itself each time the table has doubled
-(from 2^17 nodes on), so a long run that builds and drops automata does not grow without bound.
+exist are freed by :func:`collect`, which runs by itself once the table has doubled since the
+last collection (from 2^17 nodes on), so a long run that builds and drops automata does not
+grow without bound. The table is not thread-safe: build guards from one thread at a time.
 """
 
 from __future__ import annotations
@@ -58,8 +59,10 @@ _label_cache: dict[int, frozenset[str]] = {}
 _key_cache: dict[int, tuple] = {}
 
 # Collect when the node lists pass this length, then when they pass twice the nodes left live
-# (or their old length: freed ids are reused first). Each collection costs time linear in the
-# table and frees at least half of it, so it is amortised O(1) per node built.
+# (or their old length: freed ids are reused first). Either way at least half the lists' length
+# in new nodes is built between two collections, so their cost (linear in the table) is
+# amortised O(1) per node. benchmarks/bdd_engines.py measures table size and time with and
+# without collection (docs/BENCHMARKS.md).
 _COLLECT_FROM = 1 << 17
 _collect_at = _COLLECT_FROM
 

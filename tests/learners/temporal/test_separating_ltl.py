@@ -217,7 +217,7 @@ def test_cli_bad_options(tmp_path):
         _cli([path, "--operators", "F,Q"])
 
 
-BENCH = Path(__file__).resolve().parents[2].parent / "shared" / "benchmarks" / "ltlf_learning" / "dev"
+BENCH = Path(__file__).resolve().parents[3].parent / "shared" / "benchmarks" / "ltlf_learning" / "dev"
 
 
 @pytest.mark.skipif(not BENCH.exists(), reason="shared benchmarks absent")
