@@ -8,7 +8,7 @@ those into JSON files, drawings, equality and immutability.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
 from symlearn.errors import ModelError
