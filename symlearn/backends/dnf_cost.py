@@ -1,0 +1,172 @@
+"""A learned DNF constraint as the cost of a constrained RL agent, with rule pruning.
+
+:class:`DnfCostWrapper` adds ``info["cost"]`` to every step of any gymnasium environment: 1 (or
+``violation_cost``) when the DNF formula holds on the features of the state the step reached,
+0 otherwise (the Safety-Gym convention: the cost of entering an unsafe region). With
+``per_rule=True`` the cost is a vector with one entry per conjunction, so PPO-Lagrangian can
+keep one multiplier per rule.
+
+Features come from ``info["features"]`` (the SafeNav and toy environments report them), from
+the observation itself, or from a callable ``features(observation, info) -> vector``; names are
+matched to the formula's by a :class:`~symlearn.grounding.FeatureMap` or a list of names.
+
+**Pruning** (thesis section 4.3.4). Every step evaluates the conjunctions in ascending number of
+atoms and stops at the first that fires, so a short rule is preferred to a long one describing
+the same violation. :class:`RuleStats` counts, per conjunction, how often it was evaluated and
+how often it fired; after training, :meth:`RuleStats.prune` drops the rules whose fired /
+evaluated ratio stayed below a threshold (the thesis uses 0.001): a rule the reward-seeking
+agent never ran into describes a region it had no reason to visit, so it is probably not a real
+constraint. The report says, per rule, the counts, the ratio and the verdict.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from symlearn.errors import DataError, SymlearnError
+
+
+def _names(features: Any) -> tuple[str, ...]:
+    names = getattr(features, "names", features)
+    if names is None:
+        raise SymlearnError("the cost wrapper needs the feature names (a FeatureMap or a list)")
+    return tuple(names)
+
+
+@dataclass(frozen=True)
+class RuleVerdict:
+    rule: str
+    evaluated: int
+    fired: int
+    ratio: float
+    kept: bool
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"rule": self.rule, "evaluated": self.evaluated, "fired": self.fired, "ratio": self.ratio,
+                "kept": self.kept}
+
+
+class RuleStats:
+    """Per-conjunction evaluation and firing counts under ascending-complexity evaluation."""
+
+    def __init__(self, dnf: Any, features: Any) -> None:
+        self.dnf = dnf
+        self.feature_names = _names(features)
+        unknown = sorted(set(dnf.features) - set(self.feature_names))
+        if unknown:
+            raise DataError(f"the formula uses feature {unknown[0]!r}, which the environment does not provide",
+                            hint="features: " + ", ".join(self.feature_names))
+        sizes = [len(c.atoms) for c in dnf.conjunctions]
+        # stable: among rules of one size, the file's order decides
+        self.order = np.argsort(np.asarray(sizes, dtype=np.int64), kind="stable")
+        self.evaluated = np.zeros(len(sizes), dtype=np.int64)
+        self.fired = np.zeros(len(sizes), dtype=np.int64)
+
+    def update(self, features: np.ndarray) -> np.ndarray:
+        """Evaluate and count one batch ``[N, k]``; returns which rules hold, ``[N, m]`` in the
+        formula's order."""
+        X = np.atleast_2d(np.asarray(features, dtype=np.float64))
+        if not np.isfinite(X).all():
+            raise DataError("features must be finite (found NaN or inf)")
+        fires = self.dnf.evaluate(X, self.feature_names, per_conjunction=True)
+        self.count(fires)
+        return fires
+
+    def count(self, fires: np.ndarray) -> None:
+        """Count a precomputed ``[N, m]`` matrix of which rules hold (formula order)."""
+        if not len(self.order):
+            return
+        ordered = np.asarray(fires, dtype=bool)[:, self.order]
+        any_fire = ordered.any(axis=1)
+        first = np.where(any_fire, ordered.argmax(axis=1), len(self.order))
+        # a rule is evaluated when no simpler rule fired: sorted positions 0..first (inclusive)
+        positions = np.arange(len(self.order))
+        self.evaluated[self.order] += (positions[None, :] <= first[:, None]).sum(axis=0)
+        self.fired[self.order] += np.bincount(first[any_fire], minlength=len(self.order))
+
+    def ratios(self) -> np.ndarray:
+        return self.fired / np.maximum(self.evaluated, 1)
+
+    def prune(self, threshold: float = 1e-3, *, min_evaluations: int = 1) -> tuple[Any, list[RuleVerdict]]:
+        """The formula without the rules whose fired/evaluated ratio is below ``threshold``
+        (rules evaluated fewer than ``min_evaluations`` times are dropped too: nothing supports
+        them), and a verdict per rule in the formula's order."""
+        if not 0 <= threshold <= 1:
+            raise SymlearnError(f"the pruning threshold must lie in [0, 1], got {threshold}")
+        ratios = self.ratios()
+        keep = (ratios >= threshold) & (self.evaluated >= min_evaluations)
+        verdicts = [RuleVerdict(str(c), int(e), int(f), float(r), bool(k))
+                    for c, e, f, r, k in zip(self.dnf.conjunctions, self.evaluated, self.fired, ratios, keep)]
+        pruned = type(self.dnf)(tuple(c for c, k in zip(self.dnf.conjunctions, keep) if k))
+        return pruned, verdicts
+
+
+class DnfCostWrapper(gym.Wrapper):
+    """``DnfCostWrapper(env, dnf, features, source="info", violation_cost=1.0, per_rule=False,
+    penalty=0.0, track=True)`` (see the module docstring).
+
+    ``source``: ``"info"`` (``info["features"]``), ``"observation"``, or a callable
+    ``(observation, info) -> vector``. ``penalty`` subtracts ``penalty * cost`` (summed over
+    rules) from the reward, for learners that know no cost. ``stats`` holds the
+    :class:`RuleStats` of every step since the wrapper was built (``track=False`` skips them).
+    """
+
+    def __init__(self, env: gym.Env, dnf: Any, features: Any, *, source: str | Callable = "info",
+                 violation_cost: float = 1.0, per_rule: bool = False, penalty: float = 0.0,
+                 track: bool = True) -> None:
+        super().__init__(env)
+        if not (source in ("info", "observation") or callable(source)):
+            raise SymlearnError(f"unknown feature source {source!r}", hint="use 'info', 'observation' or a callable")
+        self.dnf = dnf
+        self.source = source
+        self.violation_cost = float(violation_cost)
+        self.per_rule = per_rule
+        self.penalty = float(penalty)
+        self.stats = RuleStats(dnf, features)
+        self.track = track
+        self.feature_names = self.stats.feature_names
+
+    def _features(self, observation: Any, info: dict[str, Any]) -> np.ndarray:
+        if self.source == "info":
+            if "features" not in info:
+                raise DataError("the environment reports no info['features']",
+                                hint="use source='observation' or a callable")
+            raw = info["features"]
+        elif self.source == "observation":
+            raw = observation
+        else:
+            raw = self.source(observation, info)
+        vector = np.asarray(raw, dtype=np.float64).reshape(-1)
+        if vector.shape[0] != len(self.feature_names):
+            raise DataError(f"expected {len(self.feature_names)} features ({', '.join(self.feature_names)}), "
+                            f"got {vector.shape[0]}")
+        return vector
+
+    def step(self, action: Any):
+        observation, reward, terminated, truncated, info = self.env.step(action)
+        features = self._features(observation, info)[None, :]
+        if self.track:
+            fires = self.stats.update(features)[0]
+        else:
+            if not np.isfinite(features).all():
+                raise DataError("features must be finite (found NaN or inf)")
+            fires = self.dnf.evaluate(features, self.feature_names, per_conjunction=True)[0]
+        info = dict(info)
+        if self.per_rule:
+            cost: Any = self.violation_cost * fires.astype(np.float64)
+            total = float(np.sum(cost))
+        else:
+            total = self.violation_cost * float(fires.any())
+            cost = total
+        if "cost" in info:
+            info["env_cost"] = info["cost"]  # the environment's own (ground-truth) cost stays readable
+        info["cost"] = cost
+        return observation, reward - self.penalty * total, terminated, truncated, info
+
+
+__all__ = ["DnfCostWrapper", "RuleStats", "RuleVerdict"]
