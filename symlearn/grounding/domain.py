@@ -10,7 +10,9 @@ wrote (:meth:`Domain.from_folder`, see ``docs/FORMATS.md``) are the same class.
   state and action (the *example context* of a pair is state facts + action atom).
 * ``background``: a clingo program that, with one pair's context, has exactly one answer set;
   ``bias``: the ILASP-style mode declarations (``#modeb``, ``#modec``, ``#constant``, ``#maxv``)
-  that span the hypothesis space; ``truth``: optional ground-truth rules to score against.
+  that span the hypothesis space; ``truth``: optional ground-truth rules to score against;
+  ``labeling`` (propositions, for specification learning) and ``feature_map`` (named numeric
+  features of the states, for feature-based learners) are optional groundings.
 * ``available``: optional ``(S, A)`` mask of moves that exist; pairs that are not available,
   and every pair of a terminal state, are *unavailable*: no example, no rule is about them.
 
@@ -54,7 +56,7 @@ class Domain:
 
     def __init__(self, name: str, *, background: Any, bias: str, grounding: FactGrounding, mdp: TabularMDP,
                  truth: str | None = None, labeling: Any = None, available: np.ndarray | None = None,
-                 description: str = "", sources: dict[str, str] | None = None) -> None:
+                 description: str = "", sources: dict[str, str] | None = None, feature_map: Any = None) -> None:
         from symlearn.logic.asp.program import Program, as_program
 
         self.name = str(name)
@@ -64,6 +66,7 @@ class Domain:
         self.bias_text = bias
         self.grounding = grounding
         self.labeling = labeling
+        self.feature_map = feature_map
         self.truth = truth
         if (grounding.n_states, grounding.n_actions) != (mdp.n_states, mdp.n_actions):
             raise DataError(f"the model has {mdp.n_states} states x {mdp.n_actions} actions, the fact grounding "

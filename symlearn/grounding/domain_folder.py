@@ -13,6 +13,7 @@
       actions = "actions.jsonl"    # {"id": 0, "atom": "move(north)"} per action id
       truth = "truth.lp"           # optional ground-truth rules
       labeling = "labeling.json"   # optional labeling (for specification learning)
+      features = "features.json"   # optional feature map (named numeric features of the states)
 
 Paths are relative to ``DIR``. Every mistake is a one-line :class:`~symlearn.errors.DataError`
 naming the file (and the key of ``domain.toml`` that pointed there).
@@ -30,7 +31,7 @@ from symlearn.atomic import write_bytes, write_text
 from symlearn.errors import DataError, ModelError, ParseError
 
 REQUIRED = ("name", "background", "bias", "model", "states", "actions")
-OPTIONAL = ("description", "truth", "labeling")
+OPTIONAL = ("description", "truth", "labeling", "features")
 MODEL_ARRAYS = {"transitions": 3, "initial": 1, "terminal": 1, "available": 2, "rewards": 2}
 
 
@@ -69,7 +70,7 @@ def read_domain_folder(folder: Path):
             raise DataError(f"key {key!r}: file {config[key]!r} not found in {folder}", file=str(toml_path))
         return p
 
-    sources = {k: str(path(k)) for k in (*REQUIRED[1:], *[k for k in ("truth", "labeling") if k in config])}
+    sources = {k: str(path(k)) for k in (*REQUIRED[1:], *[k for k in ("truth", "labeling", "features") if k in config])}
     background = _read_program(path("background"))
     bias = path("bias").read_text(encoding="utf-8")
     model = _read_model(path("model"))
@@ -88,9 +89,14 @@ def read_domain_folder(folder: Path):
         from symlearn.grounding.labeling import load_labeling
 
         labeling = load_labeling(path("labeling"))
+    feature_map = None
+    if "features" in config:
+        from symlearn.grounding.features import FeatureMap
+
+        feature_map = FeatureMap.load(path("features"))
     domain = Domain(config["name"], background=background, bias=bias, grounding=grounding, mdp=mdp, truth=truth,
                     labeling=labeling, available=model.get("available"), description=config.get("description", ""),
-                    sources=sources)
+                    sources=sources, feature_map=feature_map)
     if truth is not None:  # a syntax error in the truth file should surface now, located
         domain.hypothesis(Path(sources["truth"]))
     return domain
@@ -182,5 +188,8 @@ def write_domain_folder(domain, folder: Path) -> Path:
     if domain.labeling is not None:
         write_text(folder / "labeling.json", domain.labeling.to_json() + "\n")
         lines.append('labeling = "labeling.json"')
+    if domain.feature_map is not None:
+        domain.feature_map.save(folder / "features.json")
+        lines.append('features = "features.json"')
     write_text(folder / "domain.toml", "\n".join(lines) + "\n")
     return folder

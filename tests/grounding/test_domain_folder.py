@@ -157,3 +157,15 @@ def test_demonstration_outside_the_domain(folder):
     bad_action = Demonstrations([Trajectory(states=[0, 1], actions=["move(up)"])])
     with pytest.raises(DataError, match=r"demonstration 0: actions: unknown action 'move\(up\)'"):
         d.episodes(bad_action)
+
+
+def test_feature_map_in_the_folder(folder, tmp_path):
+    from symlearn.grounding import FeatureMap
+
+    cells = [s[0] if s != "done" else (-1, -1) for s in wh.states()]
+    FeatureMap(["x", "y"], table=np.array(cells, dtype=float)).save(folder / "features.json")
+    (folder / "domain.toml").write_text((folder / "domain.toml").read_text() + 'features = "features.json"\n')
+    d = Domain.from_folder(folder)
+    assert d.feature_map.features(0).tolist() == [0.0, 0.0]
+    again = Domain.from_folder(d.save(tmp_path / "copy"))
+    assert again.feature_map == d.feature_map
