@@ -1,10 +1,11 @@
 """``symlearn envs``: the bundled environments (:mod:`symlearn.envs.registry`) and what can be
 learned in each.
 
-``--json`` prints ``{"constraints": [...], "specs": [...], "gymnasium": [...]}``: one row per
-registry entry of kind ``constraints`` (with the size of its MDP and ground truth) or ``spec``
-(with its formula), each with ``kinds``, ``methods`` and ``gym_id`` (``null`` where there is no
-gymnasium environment), then one row per gymnasium id with the entries that use it.
+``--json`` prints ``{"constraints": [...], "specs": [...], "continuous": [...], "gymnasium": [...]}``:
+one row per registry entry of kind ``constraints`` (with the size of its MDP and ground truth),
+``spec`` (with its formula) or ``continuous`` (continuous states, constraints over named features),
+each with ``kinds``, ``methods`` and ``gym_id`` (``null`` where there is no gymnasium
+environment), then one row per gymnasium id with the entries that use it.
 """
 
 from __future__ import annotations
@@ -28,12 +29,14 @@ def _envs(args, out) -> None:
         constraints.append({**_row(entry), "states": setting.mdp.n_states, "actions": setting.mdp.n_actions,
                             "pairs": int(setting.space.sum()), "forbidden_by_truth": int(setting.truth.sum())})
     specs = [{**_row(entry), "env": entry.gym_name, "formula": entry.formula} for entry in entries(Kind.SPEC)]
+    continuous = [_row(entry) for entry in entries(Kind.CONTINUOUS)]
     gym_ids: dict[str, list[str]] = {}
     for entry in entries():
         if entry.gym_id is not None:
             gym_ids.setdefault(entry.gym_id, []).append(entry.name)
     gymnasium = [{"id": gym_id, "entries": used_by} for gym_id, used_by in gym_ids.items()]
-    out.result({"constraints": constraints, "specs": specs, "gymnasium": gymnasium}, _render)
+    out.result({"constraints": constraints, "specs": specs, "continuous": continuous, "gymnasium": gymnasium},
+               _render)
 
 
 def _row(entry) -> dict:
@@ -53,10 +56,14 @@ def _render(doc: dict) -> str:
     lines.append("task specifications (symlearn learn spec --env NAME):")
     for r in doc["specs"]:
         lines.append(f"  {r['name']:<18} {r['formula']:<40} {r['description']}")
+    if doc["continuous"]:
+        lines.append("continuous constraints (DNF over info['features'], ground truth in info['cost']):")
+        for r in doc["continuous"]:
+            lines.append(f"  {r['name']:<18} {r['description']}")
     lines.append("gymnasium environments (import symlearn.envs, then gymnasium.make(ID)):")
     for r in doc["gymnasium"]:
         lines.append(f"  {r['id']:<30} {', '.join(r['entries'])}")
-    without = [r["name"] for r in doc["constraints"] + doc["specs"] if r["gym_id"] is None]
+    without = [r["name"] for r in doc["constraints"] + doc["specs"] + doc["continuous"] if r["gym_id"] is None]
     if without:
         lines.append(f"  (no gymnasium environment: {', '.join(without)})")
     return "\n".join(lines)

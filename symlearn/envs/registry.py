@@ -11,7 +11,10 @@ An :class:`Entry` has one or more :class:`Kind`:
   (``--method logic``); such an entry names the factory of its
   :class:`~symlearn.envs.logic_domains.LogicDomain`;
 * ``spec`` -- a task specification with its ground-truth LTLf formula
-  (``symlearn learn spec --env NAME``).
+  (``symlearn learn spec --env NAME``);
+* ``continuous`` -- a continuous-state gymnasium environment whose ground-truth cost
+  (``info["cost"]``) is a region of its named features (``info["features"]``): constraints are
+  learned there as DNF formulas over features (thesis chapter 4).
 
 Factories are ``"module:attribute"`` strings resolved only when called, so importing this
 module loads neither gymnasium nor numpy; the same strings are the gymnasium entry points
@@ -47,11 +50,12 @@ class Kind(StrEnum):
     CONSTRAINTS = "constraints"
     RULES = "rules"
     SPEC = "spec"
+    CONTINUOUS = "continuous"
 
     @property
     def label(self) -> str:
         return {"constraints": "constraint-learning environment", "rules": "logic domain",
-                "spec": "specification task"}[self.value]
+                "spec": "specification task", "continuous": "continuous-constraint environment"}[self.value]
 
 
 @dataclass(frozen=True)
@@ -91,8 +95,10 @@ class Entry:
     def __post_init__(self) -> None:
         # A wrong row is a bug of ours, found by the import of this module (and its tests).
         problems = []
-        if not self.kinds & {Kind.CONSTRAINTS, Kind.SPEC}:
-            problems.append("is neither a constraint environment nor a specification task")
+        if not self.kinds & {Kind.CONSTRAINTS, Kind.SPEC, Kind.CONTINUOUS}:
+            problems.append("is no constraint environment, specification task or continuous-constraint environment")
+        if Kind.CONTINUOUS in self.kinds and self.env is None:
+            problems.append("is a continuous-constraint environment without an environment")
         if Kind.RULES in self.kinds and (Kind.CONSTRAINTS not in self.kinds or self.domain is None):
             problems.append("has rules but no constraint kind or no domain factory")
         if Kind.SPEC in self.kinds and (self.formula is None or self.env is None):
@@ -138,6 +144,15 @@ def _spec(name: str, world: str, formula: str, description: str) -> Entry:
                  formula=formula)
 
 
+_DNF_METHODS = ("dnf",)  # one-class tree -> DNF over the environment's info["features"]
+
+
+def _safenav(agent: str, task: str, description: str) -> Entry:
+    name = f"safenav-{agent}-{task}"
+    return Entry(name, frozenset({Kind.CONTINUOUS}), description, _DNF_METHODS, f"symlearn/{name}-v0",
+                 Factory("symlearn.envs.safenav.env:SafeNavEnv", {"agent": agent, "task": task}))
+
+
 #: Every bundled entry, in listing order. The formulas are those of the thesis, Table 5.1
 #: (``T`` is "then": ``a T b`` = ``F(a & X F b)``).
 ENTRIES: tuple[Entry, ...] = (
@@ -160,6 +175,15 @@ ENTRIES: tuple[Entry, ...] = (
     _spec("craft-2", "craft", "(a T e) & (f T e)", "get a and f, then use both at e"),
     _spec("craft-3", "craft", "(a T b) & (f T b) & (c T b)", "get a, f and c, then use them at b"),
     _spec("craft-4", "craft", "(a T e) & (f T e) & (e T g)", "get a and f, use them at e, then go to g"),
+    # Continuous constraints (thesis chapter 4): the toy of section 4.3.1 and SafeNav, a numpy
+    # re-creation of Safety-Gym's Point/Car x Goal1/Push1 (section 4.4.1).
+    Entry("toy-navigation", frozenset({Kind.CONTINUOUS}),
+          "point in [0,1]^2 from (0.1,0.1) to (0.9,0.9) along an L-shaped safe set (features x, y)",
+          _DNF_METHODS, "symlearn/toy-navigation-v0", Factory("symlearn.envs.toy_navigation:ToyNavigationEnv")),
+    _safenav("point", "goal", "Safety-Gym PointGoal1 in numpy: reach goals, avoid 8 hazards (20 features)"),
+    _safenav("point", "push", "Safety-Gym PointPush1 in numpy: push a box to the goal, avoid 8 hazards"),
+    _safenav("car", "goal", "Safety-Gym CarGoal1 in numpy: differential drive, reach goals, avoid hazards"),
+    _safenav("car", "push", "Safety-Gym CarPush1 in numpy: differential drive, push a box, avoid hazards"),
 )
 
 # Names used before the registry gave the junction one name everywhere (hints only).

@@ -24,10 +24,13 @@ GYM_IDS = sorted(registry.gym_entries())
 def test_names_are_unique_and_the_agreed_ones():
     names = [e.name for e in ENTRIES]
     assert len(names) == len(set(names))
+    safenav = [f"safenav-{agent}-{task}" for agent in ("point", "car") for task in ("goal", "push")]
     assert set(names) == {"hanoi", "junction-lights", "junction-priority", "junction-combined", "gridworld",
-                          *(f"{world}-{i}" for world in ("office", "craft") for i in range(1, 5))}
+                          *(f"{world}-{i}" for world in ("office", "craft") for i in range(1, 5)),
+                          "toy-navigation", *safenav}
     assert GYM_IDS == sorted(f"symlearn/{n}-v0" for n in ("junction-lights", "junction-priority",
-                                                          "junction-combined", "gridworld", "office", "craft"))
+                                                          "junction-combined", "gridworld", "office", "craft",
+                                                          "toy-navigation", *safenav))
 
 
 def test_the_other_tables_are_views_of_the_registry():
@@ -62,7 +65,12 @@ def test_every_spec_task_builds_and_its_formula_speaks_of_the_world(name):
 @pytest.mark.parametrize("entry", [e for e in ENTRIES if e.env], ids=lambda e: e.name)
 def test_every_entry_with_an_environment_builds_it(entry):
     env = entry.make_env()
-    assert env.reset(seed=0) is not None and env.action_space.n > 1
+    assert env.reset(seed=0) is not None
+    if Kind.CONTINUOUS in entry.kinds:  # continuous actions; the ground truth and features in info
+        _, _, _, _, info = env.step(env.action_space.sample())
+        assert info["cost"] in (0.0, 1.0) and len(info["features"]) == len(env.unwrapped.feature_names)
+    else:
+        assert env.action_space.n > 1
 
 
 def test_hanoi_has_no_gymnasium_environment():
@@ -159,7 +167,7 @@ def test_the_cli_lists_every_entry_and_gymnasium_id(capsys):
     code, out, err = run(capsys, "envs", "--json")
     assert code == 0, err
     doc = json.loads(out)
-    rows = doc["constraints"] + doc["specs"]
+    rows = doc["constraints"] + doc["specs"] + doc["continuous"]
     assert sorted(r["name"] for r in rows) == sorted(registry.names())
     assert {r["name"]: r["gym_id"] for r in rows} == {e.name: e.gym_id for e in ENTRIES}
     assert [r["id"] for r in doc["gymnasium"]] == list(registry.gym_entries())
