@@ -1,0 +1,159 @@
+"""``symlearn dnf``: read DNF constraint files and evaluate them on points.
+
+``symlearn dnf eval RULES.dnf --points P.npz [--features a,b,...] [--per-conjunction] [--json]``
+
+prints ``{"unsafe": [one bool per point], ...}``: a point is unsafe when one conjunction of the
+file holds on it. ``P.npz`` (read with ``allow_pickle=False``) holds either one array
+``points`` of shape ``(N, k)``, its columns named by ``--features`` (or by a 1-D string member
+``features``), or one 1-D array per feature, named after it. Every feature the rules use must
+be there, else a one-line error names the missing ones.
+
+``symlearn dnf show RULES.dnf [--simplify] [--style ascii|unicode|latex]`` prints the rules
+(canonical spelling), their features and size; ``--simplify`` prints the simplified rules and
+whether they are equivalent (always, checked by box algebra).
+"""
+
+from __future__ import annotations
+
+import argparse
+
+
+def register(subparsers, common) -> None:
+    group = subparsers.add_parser("dnf", help="show DNF constraint files and evaluate them on points",
+                                  description="DNF constraints over named features: one conjunction per line, "
+                                              "atoms 'feature op number' joined by '&' (docs/FORMATS.md).")
+    group.set_defaults(group_parser=group)
+    commands = group.add_subparsers(dest="dnf_command", metavar="SUBCOMMAND")
+
+    evaluate = commands.add_parser("eval", parents=[common()], help="which points the rules flag as unsafe",
+                                   description="Evaluate a DNF file on the points of an NPZ archive: one array "
+                                               "'points' (N, k) with --features naming its columns, or one 1-D "
+                                               "array per feature.")
+    evaluate.add_argument("rules", metavar="RULES", help="a .dnf text file (or its .json form)")
+    evaluate.add_argument("--points", required=True, metavar="P.npz", help="the points (NPZ, no pickle)")
+    evaluate.add_argument("--features", help="comma-separated names of the columns of 'points'")
+    evaluate.add_argument("--per-conjunction", action="store_true",
+                          help="also list, per point, which conjunctions hold")
+    evaluate.set_defaults(handler=_eval)
+
+    show = commands.add_parser("show", parents=[common()], help="print the rules, their features and size",
+                               description="Parse a DNF file and print it in canonical spelling.")
+    show.add_argument("rules", metavar="RULES")
+    show.add_argument("--simplify", action="store_true", help="print the simplified, equivalent rules")
+    show.add_argument("--style", choices=("ascii", "unicode", "latex"), default="ascii")
+    show.set_defaults(handler=_show)
+
+
+def read_points(path: str, features: str | None):
+    """``(columns, n)``: a ``name -> 1-D array`` mapping read from an NPZ file without pickle."""
+    import zipfile
+
+    import numpy as np
+
+    from symlearn.errors import DataError
+
+    try:
+        archive = np.load(path, allow_pickle=False)
+    except (zipfile.BadZipFile, OSError, ValueError, EOFError) as exc:
+        if isinstance(exc, (FileNotFoundError, PermissionError, IsADirectoryError)):
+            raise
+        raise DataError(f"not a readable NPZ file ({exc})", file=path) from None
+    try:
+        if isinstance(archive, np.ndarray):      # a bare .npy: the points array itself
+            members = {"points": archive}
+        else:
+            with archive:
+                members = {name: archive[name] for name in archive.files}
+    except ValueError as exc:  # object arrays refuse to load without pickle
+        raise DataError(f"malformed archive: {exc}", file=path) from None
+    if "points" in members:
+        points = members["points"]
+        if points.ndim != 2:
+            raise DataError(f"'points' must have shape (N, k), not {points.shape}", file=path)
+        if features is not None:
+            names = [n.strip() for n in features.split(",")]
+        elif "features" in members and members["features"].dtype.kind == "U" and members["features"].ndim == 1:
+            names = [str(n) for n in members["features"]]
+        else:
+            raise DataError(f"name the {points.shape[1]} columns of 'points'", file=path,
+                            hint="--features a,b,... (or store a 1-D string member 'features')")
+        if len(names) != points.shape[1] or len(set(names)) != len(names) or not all(names):
+            raise DataError(f"--features gives {len(names)} names ({', '.join(names)}) for the "
+                            f"{points.shape[1]} columns of 'points' (names must be distinct)", file=path)
+        columns = {name: points[:, j] for j, name in enumerate(names)}
+    else:
+        if features is not None:
+            raise DataError("--features names the columns of a 'points' array; this archive has one array "
+                            "per feature", file=path)
+        columns = {name: a for name, a in members.items()}
+        bad = [f"{name} {a.shape}" for name, a in columns.items() if a.ndim != 1]
+        if bad:
+            raise DataError(f"per-feature arrays must be 1-D: {', '.join(bad)}", file=path,
+                            hint="or store one (N, k) array named 'points'")
+        if len({a.shape[0] for a in columns.values()}) > 1:
+            raise DataError("per-feature arrays have different lengths: "
+                            + ", ".join(f"{n} {a.shape[0]}" for n, a in columns.items()), file=path)
+    n = len(next(iter(columns.values()))) if columns else 0
+    return columns, n
+
+
+def _eval(args: argparse.Namespace, out) -> None:
+    import numpy as np
+
+    from symlearn.errors import DataError
+    from symlearn.logic.dnf import load
+
+    rules = load(args.rules)
+    columns, n = read_points(args.points, args.features)
+    missing = [f for f in rules.features if f not in columns]
+    if missing:
+        raise DataError(f"the rules use feature{'s' if len(missing) > 1 else ''} {', '.join(missing)}, "
+                        f"which the points do not have (they have: {', '.join(columns) or 'none'})",
+                        file=args.points)
+    try:
+        per = rules.evaluate(columns, per_conjunction=True)
+    except DataError as exc:
+        raise DataError(exc.message, file=args.points, hint=exc.hint) from None
+    unsafe = per.any(axis=1)
+    doc = {"rules": str(args.rules), "points": str(args.points), "n_points": n,
+           "features": list(rules.features), "conjunctions": len(rules),
+           "unsafe_count": int(unsafe.sum()),
+           "conjunction_hits": per.sum(axis=0).astype(int).tolist(),
+           "unsafe": unsafe.tolist()}
+    if args.per_conjunction:
+        doc["holding"] = [np.flatnonzero(row).tolist() for row in per]
+    out.result(doc, _render_eval)
+
+
+def _render_eval(doc: dict) -> str:
+    lines = [f"{doc['rules']}: {doc['unsafe_count']} of {doc['n_points']} points unsafe "
+             f"({doc['conjunctions']} conjunctions over {', '.join(doc['features']) or 'no features'})"]
+    hits = [f"#{i + 1}: {h}" for i, h in enumerate(doc["conjunction_hits"])]
+    if hits:
+        lines.append("points per conjunction (in file order): " + ", ".join(hits))
+    flagged = [i for i, u in enumerate(doc["unsafe"]) if u]
+    if flagged:
+        shown = ", ".join(map(str, flagged[:50])) + (f", ... ({len(flagged) - 50} more)" if len(flagged) > 50 else "")
+        lines.append(f"unsafe points: {shown}")
+    return "\n".join(lines)
+
+
+def _show(args: argparse.Namespace, out) -> None:
+    from symlearn.logic.dnf import load
+
+    rules = load(args.rules)
+    doc = {"rules": str(args.rules), "text": rules.to_string(args.style), "features": list(rules.features),
+           "conjunctions": len(rules), "atoms": sum(len(c) for c in rules)}
+    if args.simplify:
+        simple = rules.simplify()
+        doc.update({"simplified": simple.to_string(args.style), "simplified_conjunctions": len(simple),
+                    "simplified_atoms": sum(len(c) for c in simple), "equivalent": simple.equivalent(rules)})
+
+    def render(d: dict) -> str:
+        text = d["simplified"] if "simplified" in d else d["text"]
+        size = (f"{d['simplified_conjunctions']} conjunctions, {d['simplified_atoms']} atoms "
+                f"(from {d['conjunctions']}, {d['atoms']})" if "simplified" in d
+                else f"{d['conjunctions']} conjunctions, {d['atoms']} atoms")
+        return f"{text}\n# {size}; features: {', '.join(d['features']) or 'none'}"
+
+    out.result(doc, render)

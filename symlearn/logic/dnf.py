@@ -1,0 +1,1177 @@
+"""DNF constraints: disjunctions of conjunctions of inequalities ``feature op number``.
+
+A one-class decision tree describes where the expert never goes as a union of boxes; each box
+is a conjunction of bounds on named features, the union is a formula in disjunctive normal
+form (thesis, chapter 4). The text format has one conjunction per line:
+
+>>> f = parse('''
+... # unsafe when too fast, or in the corner
+... v > 1.46
+... x0 > 0.1 & x0 < 0.7 & x1 > 0.3
+... ''')
+>>> print(f)
+v > 1.46
+x0 > 0.1 & x0 < 0.7 & x1 > 0.3
+>>> f.features
+('v', 'x0', 'x1')
+>>> parse(str(f)) == f
+True
+>>> import numpy as np
+>>> X = np.array([[0.0, 0.5, 0.5], [2.0, 0.0, 0.0], [0.0, 0.9, 0.5]])
+>>> f.evaluate(X, ["v", "x0", "x1"]).tolist()
+[True, True, False]
+>>> f.evaluate(X, ["v", "x0", "x1"], per_conjunction=True).tolist()
+[[False, True], [True, False], [False, False]]
+
+Text format (``grammars/dnf.lark``)
+-----------------------------------
+
+* one conjunction per line, atoms ``feature op number`` joined by ``&`` (also ``&&``, ``∧``);
+  ``op`` is one of ``< <= > >=`` (also ``≤ ≥``); ``#`` starts a comment; blank lines are
+  ignored. Several conjunctions may share a line joined by ``|`` (also ``||``, ``∨``), the
+  one-line form of feature labelings.
+* ``true`` (``⊤``) is the empty conjunction (always holds); a ``false`` (``⊥``) line adds
+  nothing; a file without conjunctions is the empty disjunction, false (printed ``false``).
+* feature names are identifiers ``[A-Za-z_][A-Za-z0-9_]*`` or double-quoted names with
+  ``\\"`` and ``\\\\`` escapes (``"door open" < 1``); ``true``/``false`` must be quoted.
+* numbers are decimal with an optional exponent and are read with Python's ``float``; they print
+  as the shortest text that reads back to the same double (integers without ``.0``), so
+  ``parse(str(f)) == f`` exactly. ``inf`` and ``nan`` are refused with their column.
+
+Values are immutable and compare structurally (order of atoms and conjunctions included, as it
+prints); :meth:`DNF.simplify` gives the canonical, smaller form and :meth:`DNF.equivalent`
+compares the sets of points. Set operations are exact box algebra:
+
+>>> g = parse("x0 > 0.1 & x0 < 0.4 & x1 > 0.3\\nx0 >= 0.4 & x0 < 0.7 & x1 > 0.3\\nv > 2")
+>>> print(g.simplify())
+x0 > 0.1 & x0 < 0.7 & x1 > 0.3
+v > 2
+>>> g.implies(f), f.implies(g), g.simplify().equivalent(g)
+(True, False, True)
+>>> f.volume({"v": (0, 2), "x0": (0, 1), "x1": (0, 1)})
+1.1532
+>>> print(parse("x < 1 | x >= 1").simplify())
+true
+>>> print(f.to_string("unicode", one_line=True))
+v > 1.46 ∨ x0 > 0.1 ∧ x0 < 0.7 ∧ x1 > 0.3
+>>> print(f.to_string("latex"))
+v > 1.46 \\lor \\left(x_{0} > 0.1 \\land x_{0} < 0.7 \\land x_{1} > 0.3\\right)
+
+``|`` (union), ``&`` (intersection), ``-`` (difference) and ``~`` (complement) build new
+formulas; :meth:`DNF.implies`, :meth:`DNF.contains` and :meth:`DNF.equivalent` decide set
+containment exactly by splitting boxes along the faces of the boxes that overlap them (bounded
+by ``limit=``, beyond which :class:`~symlearn.errors.LimitExceededError` is raised).
+
+Evaluation
+----------
+
+:meth:`DNF.evaluate` compiles the formula once (cached on the value): per feature, the sorted
+thresholds cut the line into cells (below, on and between thresholds) and each cell gets a
+bitmask of the conjunctions that allow it. A point is bucketed into its cell with a few
+vectorised float operations and exact comparisons against at most a few thresholds (two
+binary searches when thresholds are spread too unevenly for a grid), then the masks of its
+features are ANDed: the cost per point and feature does not grow with
+the number of conjunctions. Points go through in chunks that stay in cache. NaN in a used
+column is an error (it would compare false with every bound).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+from functools import cache, cached_property
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from symlearn.errors import DataError, LimitExceededError, ParseError
+
+__all__ = [
+    "OPS", "Interval", "Atom", "Conjunction", "DNF", "TRUE", "FALSE", "parse", "load", "from_json", "to_sympy",
+    "format_number", "format_feature", "MAGIC", "FORMAT_VERSION",
+]
+
+MAGIC = "dnf"
+FORMAT_VERSION = 1
+OPS = ("<", "<=", ">", ">=")
+STYLES = ("ascii", "unicode", "latex")
+_UNICODE_OPS = {"\u2264": "<=", "\u2265": ">="}
+_IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
+_KEYWORDS = frozenset({"true", "false"})
+_INF = math.inf
+#: box splits a containment check, difference or volume may make before giving up
+FRAGMENT_LIMIT = 200_000
+
+
+def format_number(value: float) -> str:
+    """The shortest text that reads back to exactly ``value``: integers without ``.0``.
+
+    >>> format_number(3.0), format_number(0.1), format_number(1e-7), format_number(2.0**60)
+    ('3', '0.1', '1e-07', '1.152921504606847e+18')
+    """
+    if value.is_integer() and abs(value) < 1e16:
+        return str(int(value))
+    return repr(value)
+
+
+def format_feature(name: str) -> str:
+    """``name`` as written in the text format: bare when an identifier, else double-quoted."""
+    if _IDENTIFIER.match(name) and name not in _KEYWORDS:
+        return name
+    return '"' + name.replace("\\", "\\\\").replace('"', '\\"') + '"'
+
+
+# -- intervals -----------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Interval:
+    """A set of reals between ``lo`` and ``hi``, each end open or closed; infinite ends are open.
+
+    >>> Interval(0, 1, True, False).intersect(Interval(0.5, 2))
+    Interval(lo=0.5, hi=1.0, lo_closed=False, hi_closed=False)
+    >>> Interval(0, 1, hi_closed=True).union(Interval(1, 2))
+    Interval(lo=0.0, hi=2.0, lo_closed=False, hi_closed=False)
+    >>> Interval(0, 1).union(Interval(1, 2)) is None     # the point 1 is missing
+    True
+    """
+
+    lo: float = -_INF
+    hi: float = _INF
+    lo_closed: bool = False
+    hi_closed: bool = False
+
+    def __post_init__(self) -> None:
+        lo, hi = float(self.lo) + 0.0, float(self.hi) + 0.0
+        if math.isnan(lo) or math.isnan(hi):
+            raise DataError("interval ends must not be NaN")
+        object.__setattr__(self, "lo", lo)
+        object.__setattr__(self, "hi", hi)
+        object.__setattr__(self, "lo_closed", bool(self.lo_closed) and math.isfinite(lo))
+        object.__setattr__(self, "hi_closed", bool(self.hi_closed) and math.isfinite(hi))
+
+    @property
+    def is_empty(self) -> bool:
+        return self.lo > self.hi or (self.lo == self.hi and not (self.lo_closed and self.hi_closed))
+
+    @property
+    def is_full(self) -> bool:
+        return self.lo == -_INF and self.hi == _INF
+
+    @property
+    def length(self) -> float:
+        return 0.0 if self.is_empty else self.hi - self.lo
+
+    def __contains__(self, x: float) -> bool:
+        return (self.lo < x or (self.lo_closed and x == self.lo)) and (x < self.hi or (self.hi_closed and x == self.hi))
+
+    def intersect(self, other: Interval) -> Interval:
+        lo, lc = _tighter_lo(self, other)
+        hi, hc = _tighter_hi(self, other)
+        return Interval(lo, hi, lc, hc)
+
+    def contains(self, other: Interval) -> bool:
+        """``other ⊆ self``."""
+        if other.is_empty:
+            return True
+        if self.is_empty:
+            return False
+        lo_ok = self.lo < other.lo or (self.lo == other.lo and (self.lo_closed or not other.lo_closed))
+        hi_ok = self.hi > other.hi or (self.hi == other.hi and (self.hi_closed or not other.hi_closed))
+        return lo_ok and hi_ok
+
+    def union(self, other: Interval) -> Interval | None:
+        """The union when it is one interval (the two overlap or touch), else ``None``."""
+        if other.is_empty:
+            return self
+        if self.is_empty:
+            return other
+        first, second = sorted((self, other), key=lambda i: (i.lo, not i.lo_closed))
+        if first.hi < second.lo or (first.hi == second.lo and not (first.hi_closed or second.lo_closed)):
+            return None
+        if first.hi > second.hi or (first.hi == second.hi and first.hi_closed):
+            hi, hc = first.hi, first.hi_closed
+        else:
+            hi, hc = second.hi, second.hi_closed
+        lc = first.lo_closed or (second.lo == first.lo and second.lo_closed)
+        return Interval(first.lo, hi, lc, hc)
+
+    def minus(self, other: Interval) -> list[Interval]:
+        """``self \\ other`` as at most two disjoint intervals (none empty)."""
+        if self.is_empty:
+            return []
+        if other.is_empty or self.intersect(other).is_empty:
+            return [self]
+        parts = [self.intersect(Interval(-_INF, other.lo, False, not other.lo_closed)),
+                 self.intersect(Interval(other.hi, _INF, not other.hi_closed, False))]
+        return [p for p in parts if not p.is_empty]
+
+    def atoms(self, feature: str) -> list[Atom]:
+        """The atoms that bound ``feature`` to this interval (none when it is unbounded)."""
+        out = []
+        if self.lo > -_INF:
+            out.append(Atom(feature, ">=" if self.lo_closed else ">", self.lo))
+        if self.hi < _INF:
+            out.append(Atom(feature, "<=" if self.hi_closed else "<", self.hi))
+        return out
+
+
+FULL = Interval()
+
+
+def _tighter_lo(a: Interval, b: Interval) -> tuple[float, bool]:
+    if a.lo != b.lo:
+        return (a.lo, a.lo_closed) if a.lo > b.lo else (b.lo, b.lo_closed)
+    return a.lo, a.lo_closed and b.lo_closed
+
+
+def _tighter_hi(a: Interval, b: Interval) -> tuple[float, bool]:
+    if a.hi != b.hi:
+        return (a.hi, a.hi_closed) if a.hi < b.hi else (b.hi, b.hi_closed)
+    return a.hi, a.hi_closed and b.hi_closed
+
+
+# -- the formula values --------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class Atom:
+    """``feature op value`` with ``op`` one of ``< <= > >=`` and a finite ``value``."""
+
+    feature: str
+    op: str
+    value: float
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.feature, str) or not self.feature or "\n" in self.feature or "\r" in self.feature:
+            raise DataError(f"a feature name must be a non-empty single-line string, not {self.feature!r}")
+        op = _UNICODE_OPS.get(self.op, self.op)
+        if op not in OPS:
+            raise DataError(f"unknown comparison {self.op!r}", hint="use one of: " + " ".join(OPS))
+        number = (int, float, np.integer, np.floating)
+        if isinstance(self.value, (bool, np.bool_)) or not isinstance(self.value, number):
+            raise DataError(f"the bound of {self.feature} {op} ... must be a number, not {self.value!r}")
+        value = float(self.value)
+        if not math.isfinite(value):
+            raise DataError(f"the bound of {self.feature} {op} ... must be finite, not {value!r}")
+        object.__setattr__(self, "op", op)
+        object.__setattr__(self, "value", value + 0.0)  # -0.0 -> 0.0
+
+    @property
+    def is_upper(self) -> bool:
+        """``True`` for ``<``/``<=`` (an upper bound on the feature)."""
+        return self.op[0] == "<"
+
+    @property
+    def strict(self) -> bool:
+        return len(self.op) == 1
+
+    @property
+    def interval(self) -> Interval:
+        """The values of the feature for which the atom holds."""
+        if self.is_upper:
+            return Interval(-_INF, self.value, False, not self.strict)
+        return Interval(self.value, _INF, not self.strict, False)
+
+    def holds(self, x: float) -> bool:
+        """Truth for one value of the feature."""
+        v = self.value
+        if self.op == "<":
+            return x < v
+        if self.op == "<=":
+            return x <= v
+        if self.op == ">":
+            return x > v
+        return x >= v
+
+    def negate(self) -> Atom:
+        return Atom(self.feature, {"<": ">=", "<=": ">", ">": "<=", ">=": "<"}[self.op], self.value)
+
+    def to_string(self, style: str = "ascii") -> str:
+        _check_style(style)
+        if style == "latex":
+            return f"{_latex_name(self.feature)} {_LATEX_OPS[self.op]} {_latex_number(self.value)}"
+        op = _PRETTY_OPS.get(self.op, self.op) if style == "unicode" else self.op
+        return f"{format_feature(self.feature)} {op} {format_number(self.value)}"
+
+    def __str__(self) -> str:
+        return self.to_string()
+
+
+@dataclass(frozen=True)
+class Conjunction:
+    """A conjunction of atoms; the empty conjunction is true. Atom order is kept (it prints)."""
+
+    atoms: tuple[Atom, ...] = ()
+
+    def __post_init__(self) -> None:
+        atoms = tuple(self.atoms)
+        for a in atoms:
+            if not isinstance(a, Atom):
+                raise DataError(f"a conjunction holds atoms, not {type(a).__name__}")
+        object.__setattr__(self, "atoms", atoms)
+
+    @classmethod
+    def from_box(cls, box: Mapping[str, Interval], order: Sequence[str] | None = None) -> Conjunction:
+        """The conjunction of the bounds of ``box`` (features in ``order``, then sorted)."""
+        first = [f for f in dict.fromkeys(order or ()) if f in box]
+        names = first + sorted(set(box) - set(first))
+        return cls(tuple(a for f in names for a in box[f].atoms(f)))
+
+    @property
+    def features(self) -> tuple[str, ...]:
+        return tuple(sorted({a.feature for a in self.atoms}))
+
+    def box(self) -> dict[str, Interval]:
+        """Feature -> the interval its atoms allow (intersected); unconstrained features are absent."""
+        box: dict[str, Interval] = {}
+        for a in self.atoms:
+            box[a.feature] = box.get(a.feature, FULL).intersect(a.interval)
+        return box
+
+    @property
+    def is_satisfiable(self) -> bool:
+        return not any(i.is_empty for i in self.box().values())
+
+    def simplify(self) -> Conjunction:
+        """One lower and one upper bound per feature at most (features in order of appearance)."""
+        return Conjunction.from_box(self.box(), [a.feature for a in self.atoms])
+
+    def holds(self, values: Any) -> bool:
+        """Truth for one point given as a mapping ``feature -> value``."""
+        return all(a.holds(float(values[a.feature])) for a in self.atoms)
+
+    def __len__(self) -> int:
+        return len(self.atoms)
+
+    def __iter__(self):
+        return iter(self.atoms)
+
+    def to_string(self, style: str = "ascii") -> str:
+        _check_style(style)
+        if not self.atoms:
+            return _TRUE_TEXT[style]
+        return _AND_TEXT[style].join(a.to_string(style) for a in self.atoms)
+
+    def __str__(self) -> str:
+        return self.to_string()
+
+
+@dataclass(frozen=True)
+class DNF:
+    """A disjunction of conjunctions; the empty disjunction is false. Order is kept (it prints)."""
+
+    conjunctions: tuple[Conjunction, ...] = ()
+
+    def __post_init__(self) -> None:
+        conjunctions = tuple(c if isinstance(c, Conjunction) else Conjunction(tuple(c)) for c in self.conjunctions)
+        object.__setattr__(self, "conjunctions", conjunctions)
+
+    @classmethod
+    def of(cls, *conjunctions: Iterable[tuple[str, str, float] | Atom]) -> DNF:
+        """Build from plain tuples: ``DNF.of([("x", "<", 1)], [("y", ">=", 0), ("x", ">", 2)])``."""
+        return cls(tuple(Conjunction(tuple(a if isinstance(a, Atom) else Atom(*a) for a in c)) for c in conjunctions))
+
+    @classmethod
+    def from_boxes(cls, boxes: Iterable[Mapping[str, Interval]], order: Sequence[str] | None = None) -> DNF:
+        """One conjunction per box (empty boxes are dropped)."""
+        return cls(tuple(Conjunction.from_box(b, order) for b in boxes
+                         if not any(i.is_empty for i in b.values())))
+
+    @property
+    def features(self) -> tuple[str, ...]:
+        """The sorted names of the features the formula uses."""
+        return tuple(sorted({a.feature for c in self.conjunctions for a in c.atoms}))
+
+    def __len__(self) -> int:
+        return len(self.conjunctions)
+
+    def __iter__(self):
+        return iter(self.conjunctions)
+
+    def __str__(self) -> str:
+        return self.to_string()
+
+    # -- truth ---------------------------------------------------------------------------
+    def holds(self, values: Any) -> bool:
+        """Truth for one point given as a mapping ``feature -> value``."""
+        return any(c.holds(values) for c in self.conjunctions)
+
+    def evaluate(self, X: Any, features: Any = None, per_conjunction: bool = False) -> np.ndarray:
+        """Truth on every row of ``X`` (``[N, k]``, columns named by ``features``).
+
+        ``features`` is a sequence of names, a comma-separated string or any object with a
+        ``names`` attribute (a ``FeatureMap``). ``X`` may also be a mapping ``name -> [N]``
+        array (then ``features`` is not needed). Returns a boolean array ``[N]``, or ``[N, m]``
+        (one column per conjunction, in order) with ``per_conjunction=True``. Unknown features
+        and NaN in a used column raise :class:`~symlearn.errors.DataError`; integer columns are
+        compared as float64. Cost per point and used feature does not grow with the number
+        of conjunctions (module docstring, "Evaluation").
+        """
+        columns, n = _columns(self, X, features)
+        return self._plan.run(columns, n, per_conjunction)
+
+    @cached_property
+    def _plan(self) -> _Plan:
+        return _compile(self)
+
+    # -- box algebra ---------------------------------------------------------------------
+    def boxes(self) -> list[dict[str, Interval]]:
+        """The satisfiable conjunctions as boxes (see :meth:`Conjunction.box`)."""
+        return [b for b in (c.box() for c in self.conjunctions) if not any(i.is_empty for i in b.values())]
+
+    def _order(self) -> list[str]:
+        return list(dict.fromkeys(a.feature for c in self.conjunctions for a in c.atoms))
+
+    def simplify(self) -> DNF:
+        """An equivalent, smaller formula in a canonical spelling.
+
+        Inside each conjunction the atoms on one feature are intersected to at most one lower
+        and one upper bound; unsatisfiable conjunctions are dropped, so are conjunctions
+        contained in another one; two boxes that agree on every feature but one and whose
+        intervals there overlap or touch are merged, until nothing changes. Features print in
+        their order of first appearance. The set of points is unchanged (exactly).
+        """
+        order = self._order()
+        boxes = _drop_contained(self.boxes())
+        while True:
+            before = len(boxes)
+            for name in sorted({n for b in boxes for n in b}):
+                boxes = _merge_along(boxes, name)
+            boxes = _drop_contained(boxes)
+            if len(boxes) == before:
+                return DNF.from_boxes(boxes, order)
+
+    def is_empty(self) -> bool:
+        """``True`` when no point satisfies the formula."""
+        return not self.boxes()
+
+    def is_valid(self) -> bool:
+        """``True`` when every point satisfies the formula."""
+        return TRUE.implies(self)
+
+    def union(self, other: DNF) -> DNF:
+        """The conjunctions of both (``f | g``), not simplified."""
+        return DNF(self.conjunctions + other.conjunctions)
+
+    def intersection(self, other: DNF) -> DNF:
+        """Pairwise intersections of the boxes (unsatisfiable pairs dropped)."""
+        order = list(dict.fromkeys(self._order() + other._order()))
+        boxes = [_box_intersect(a, b) for a in self.boxes() for b in other.boxes()]
+        return DNF.from_boxes([b for b in boxes if b is not None], order)
+
+    def difference(self, other: DNF, *, limit: int = FRAGMENT_LIMIT) -> DNF:
+        """The points of ``self`` outside ``other``, as disjoint boxes (then simplified)."""
+        order = list(dict.fromkeys(self._order() + other._order()))
+        pieces = [p for box in self.boxes() for p in _subtract(box, other.boxes(), limit)]
+        return DNF.from_boxes(pieces, order).simplify()
+
+    def complement(self, *, limit: int = FRAGMENT_LIMIT) -> DNF:
+        """The points that do not satisfy the formula."""
+        return TRUE.difference(self, limit=limit)
+
+    __or__ = union
+    __and__ = intersection
+    __sub__ = difference
+
+    def __invert__(self) -> DNF:
+        return self.complement()
+
+    def implies(self, other: DNF, *, limit: int = FRAGMENT_LIMIT) -> bool:
+        """``True`` when every point of ``self`` satisfies ``other`` (set containment, exact).
+
+        Raises :class:`~symlearn.errors.LimitExceededError` when the check would split boxes
+        more than ``limit`` times.
+        """
+        theirs = other.boxes()
+        return all(not _subtract(box, theirs, limit, stop_at_first=True) for box in self.boxes())
+
+    def contains(self, other: DNF, *, limit: int = FRAGMENT_LIMIT) -> bool:
+        """``True`` when every point of ``other`` satisfies ``self``."""
+        return other.implies(self, limit=limit)
+
+    def equivalent(self, other: DNF, *, limit: int = FRAGMENT_LIMIT) -> bool:
+        """``True`` when both formulas hold on exactly the same points."""
+        return self.implies(other, limit=limit) and other.implies(self, limit=limit)
+
+    def volume(self, bounds: Mapping[str, tuple[float, float]], *, limit: int = FRAGMENT_LIMIT) -> float:
+        """The volume of the formula's points inside the box ``bounds`` (``feature -> (lo, hi)``).
+
+        Every feature of the formula must be bounded; features of ``bounds`` the formula does
+        not use count with their full width, so ``volume / prod(hi - lo)`` is the fraction of
+        the bounding box the formula covers. Open and closed ends do not matter (measure).
+        """
+        clip: dict[str, Interval] = {}
+        for name, pair in bounds.items():
+            try:
+                lo, hi = (float(v) for v in pair)
+            except (TypeError, ValueError):
+                raise DataError(f"bounds of {name} must be a pair (lo, hi), not {pair!r}") from None
+            if not (math.isfinite(lo) and math.isfinite(hi)) or lo > hi:
+                raise DataError(f"bounds of {name} must be finite with lo <= hi, not {pair!r}")
+            clip[name] = Interval(lo, hi, True, True)
+        missing = [f for f in self.features if f not in clip]
+        if missing:
+            raise DataError(f"no bounds for feature{'s' if len(missing) > 1 else ''} {', '.join(missing)}")
+        boxes = [b for b in (_box_intersect(box, clip) for box in self.boxes()) if b is not None]
+        disjoint: list[dict[str, Interval]] = []
+        for box in boxes:
+            disjoint += _subtract(box, disjoint, limit)
+        total = 0.0
+        for box in disjoint:
+            part = 1.0
+            for name, interval in clip.items():
+                part *= box.get(name, interval).length
+            total += part
+        return total
+
+    # -- printing and files --------------------------------------------------------------
+    def to_string(self, style: str = "ascii", *, one_line: bool = False) -> str:
+        """``ascii`` (the text format), ``unicode`` (``≤ ≥ ∧``, also readable by :func:`parse`)
+        or ``latex`` (one math-mode expression). Conjunctions go one per line, or joined by
+        ``|``/``∨`` with ``one_line``.
+        """
+        _check_style(style)
+        if not self.conjunctions:
+            return _FALSE_TEXT[style]
+        parts = [c.to_string(style) for c in self.conjunctions]
+        if style == "latex":
+            if len(parts) > 1:
+                parts = [rf"\left({p}\right)" if len(c.atoms) > 1 else p for p, c in zip(parts, self.conjunctions)]
+            return r" \lor ".join(parts)
+        return (" \u2228 " if style == "unicode" else " | ").join(parts) if one_line else "\n".join(parts)
+
+    def to_latex(self) -> str:
+        return self.to_string("latex")
+
+    def to_dict(self) -> dict[str, Any]:
+        return {"symlearn": MAGIC, "format_version": FORMAT_VERSION,
+                "conjunctions": [[[a.feature, a.op, a.value] for a in c.atoms] for c in self.conjunctions]}
+
+    def to_json(self) -> str:
+        """``{"symlearn": "dnf", "format_version": 1, "conjunctions": [[[feature, op, value], ...], ...]}``."""
+        return json.dumps(self.to_dict())
+
+    @classmethod
+    def from_json(cls, text: str | Mapping, *, source: str | None = None) -> DNF:
+        return from_json(text, source=source)
+
+    def save(self, path: str | os.PathLike[str], *, header: str | None = None) -> Path:
+        """Write the text format (JSON when ``path`` ends in ``.json``) atomically.
+
+        ``header`` (any text) is written first as ``#`` comment lines in the text format.
+        """
+        from symlearn.atomic import write_text
+
+        if str(path).endswith(".json"):
+            return write_text(path, self.to_json() + "\n")
+        lines = [("# " + line).rstrip() for line in header.splitlines()] if header else []
+        return write_text(path, "\n".join(lines + [str(self)]) + "\n")
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str]) -> DNF:
+        return load(path)
+
+    def to_sympy(self, *, rational: bool = False):
+        return to_sympy(self, rational=rational)
+
+
+TRUE = DNF((Conjunction(()),))
+FALSE = DNF(())
+
+_PRETTY_OPS = {"<=": "\u2264", ">=": "\u2265"}
+_LATEX_OPS = {"<": "<", "<=": r"\leq", ">": ">", ">=": r"\geq"}
+_AND_TEXT = {"ascii": " & ", "unicode": " \u2227 ", "latex": r" \land "}
+_TRUE_TEXT = {"ascii": "true", "unicode": "\u22a4", "latex": r"\top"}
+_FALSE_TEXT = {"ascii": "false", "unicode": "\u22a5", "latex": r"\bot"}
+
+
+def _check_style(style: str) -> None:
+    if style not in STYLES:
+        raise DataError(f"unknown style {style!r}", hint="choose one of: " + ", ".join(STYLES))
+
+
+_LATEX_SPECIAL = {"\\": r"\textbackslash{}", "{": r"\{", "}": r"\}", "_": r"\_", "^": r"\^{}", "#": r"\#",
+                  "$": r"\$", "%": r"\%", "&": r"\&", "~": r"\~{}"}
+
+
+def _latex_escape(text: str) -> str:
+    return "".join(_LATEX_SPECIAL.get(ch, ch) for ch in text)
+
+
+def _latex_name(name: str) -> str:
+    """``x0`` -> ``x_{0}``, ``d_13`` -> ``d_{13}``, ``speed`` -> ``\\mathit{speed}``, else ``\\text{...}``."""
+    if not _IDENTIFIER.match(name):
+        return r"\text{" + _latex_escape(name) + "}"
+    m = re.fullmatch(r"([A-Za-z]+)(\d+)", name) or re.fullmatch(r"([A-Za-z]+)_([A-Za-z0-9]+)", name)
+    if m:
+        head = m.group(1) if len(m.group(1)) == 1 else r"\mathit{" + m.group(1) + "}"
+        return f"{head}_{{{m.group(2)}}}"
+    return name if len(name) == 1 else r"\mathit{" + _latex_escape(name) + "}"
+
+
+def _latex_number(value: float) -> str:
+    text = format_number(value)
+    if "e" not in text:
+        return text
+    mantissa, exponent = text.split("e")
+    return rf"{mantissa} \times 10^{{{int(exponent)}}}"
+
+
+# -- box algebra helpers -------------------------------------------------------------------
+
+Box = dict[str, Interval]
+
+
+def _box_intersect(a: Mapping[str, Interval], b: Mapping[str, Interval]) -> Box | None:
+    out = dict(a)
+    for name, interval in b.items():
+        out[name] = out[name].intersect(interval) if name in out else interval
+        if out[name].is_empty:
+            return None
+    return out
+
+
+def _box_contains(outer: Mapping[str, Interval], inner: Mapping[str, Interval]) -> bool:
+    return all(interval.contains(inner.get(name, FULL)) for name, interval in outer.items())
+
+
+def _subtract(box: Box, others: Sequence[Mapping[str, Interval]], limit: int, stop_at_first: bool = False) -> list[Box]:
+    """``box`` minus the union of ``others``, as disjoint boxes (only the first with ``stop_at_first``).
+
+    Splits ``box`` along the faces of the boxes that overlap it, keeping for each piece only the
+    boxes that still overlap it: a piece inside one of them is covered, a piece none of them
+    overlaps is uncovered. ``limit`` bounds the number of splits.
+    """
+    out: list[Box] = []
+    stack = [(box, [o for o in others if _box_intersect(box, o) is not None])]
+    splits = 0
+    while stack:
+        piece, near = stack.pop()
+        near = [o for o in near if _box_intersect(piece, o) is not None]
+        if not near:
+            out.append(piece)
+            if stop_at_first:
+                return out
+            continue
+        if any(_box_contains(o, piece) for o in near):
+            continue
+        other = near[0]
+        name = next(n for n in sorted(other) if not other[n].contains(piece.get(n, FULL)))
+        here = piece.get(name, FULL)
+        for part in here.minus(other[name]) + [here.intersect(other[name])]:
+            split = dict(piece)
+            if part.is_full:
+                split.pop(name, None)
+            else:
+                split[name] = part
+            stack.append((split, near))
+        splits += 1
+        if splits > limit:
+            raise LimitExceededError(f"box algebra would need more than {limit} splits",
+                                     hint="simplify the formulas first, or raise limit=")
+    return out
+
+
+def _drop_contained(boxes: list[Box]) -> list[Box]:
+    """Drop boxes contained in another (of equal boxes the first stays); vectorised over pairs."""
+    m = len(boxes)
+    if m < 2:
+        return list(boxes)
+    names = sorted({n for b in boxes for n in b})
+    k = len(names)
+    lo = np.array([[b.get(n, FULL).lo for n in names] for b in boxes], dtype=float).reshape(m, k)
+    hi = np.array([[b.get(n, FULL).hi for n in names] for b in boxes], dtype=float).reshape(m, k)
+    lc = np.array([[b.get(n, FULL).lo_closed for n in names] for b in boxes], dtype=bool).reshape(m, k)
+    hc = np.array([[b.get(n, FULL).hi_closed for n in names] for b in boxes], dtype=bool).reshape(m, k)
+    dropped = np.zeros(m, dtype=bool)
+    step = max(1, 2_000_000 // max(1, m * k))
+    index = np.arange(m)
+    for start in range(0, m, step):
+        i = slice(start, min(m, start + step))
+        # outer[a, j]: box start + a contains box j; inner[a, j]: box j contains box start + a
+        outer = _contains(lo[i, None], hi[i, None], lc[i, None], hc[i, None], lo[None], hi[None], lc[None], hc[None])
+        inner = _contains(lo[None], hi[None], lc[None], hc[None], lo[i, None], hi[i, None], lc[i, None], hc[i, None])
+        rows = index[i, None]
+        dropped |= (outer & (rows != index[None]) & ((rows < index[None]) | ~inner)).any(axis=0)
+    return [b for b, d in zip(boxes, dropped) if not d]
+
+
+def _contains(lo_a, hi_a, lc_a, hc_a, lo_b, hi_b, lc_b, hc_b) -> np.ndarray:
+    """Box a contains box b (arrays broadcast over boxes, last axis features)."""
+    lo_ok = (lo_a < lo_b) | ((lo_a == lo_b) & (lc_a | ~lc_b))
+    hi_ok = (hi_a > hi_b) | ((hi_a == hi_b) & (hc_a | ~hc_b))
+    return (lo_ok & hi_ok).all(axis=-1)
+
+
+def _merge_along(boxes: list[Box], name: str) -> list[Box]:
+    """Merge the boxes that agree on every feature but ``name`` and whose intervals on ``name``
+    overlap or touch; a merged box takes the place of the first of its parts."""
+    groups: dict[frozenset, list[int]] = {}
+    for position, box in enumerate(boxes):
+        key = frozenset((n, i) for n, i in box.items() if n != name)
+        groups.setdefault(key, []).append(position)
+    placed: dict[int, Box] = {}
+    for key, positions in groups.items():
+        if len(positions) == 1:
+            placed[positions[0]] = boxes[positions[0]]
+            continue
+        ordered = sorted(positions, key=lambda p: (boxes[p].get(name, FULL).lo, not boxes[p].get(name, FULL).lo_closed))
+        runs: list[tuple[int, Interval]] = []
+        for p in ordered:
+            interval = boxes[p].get(name, FULL)
+            union = runs[-1][1].union(interval) if runs else None
+            if union is None:
+                runs.append((p, interval))
+            else:
+                runs[-1] = (min(runs[-1][0], p), union)
+        for p, interval in runs:
+            box = dict(key)
+            if not interval.is_full:
+                box[name] = interval
+            placed[p] = box
+    return [placed[p] for p in sorted(placed)]
+
+
+# -- evaluation ----------------------------------------------------------------------------
+
+def _feature_names(features: Any) -> tuple[str, ...]:
+    names = getattr(features, "names", features)
+    if isinstance(names, str):
+        names = [n.strip() for n in names.split(",")]
+    names = tuple(str(n) for n in names)
+    if len(set(names)) != len(names):
+        raise DataError(f"feature names repeat: {', '.join(names)}")
+    return names
+
+
+def _unknown(missing: Sequence[str], known: Sequence[str]) -> DataError:
+    return DataError(f"unknown feature{'s' if len(missing) > 1 else ''} {', '.join(missing)}",
+                     hint="the points have: " + (", ".join(known) or "no features"))
+
+
+def _columns(formula: DNF, X: Any, features: Any) -> tuple[list[np.ndarray], int]:
+    """One 1-D array per feature of the plan (numbers; NaN is checked chunk by chunk)."""
+    used = formula._plan.features
+    if isinstance(X, Mapping):
+        known = tuple(X)
+        missing = [f for f in used if f not in X]
+        if missing:
+            raise _unknown(missing, known)
+        columns = [np.asarray(X[f]) for f in used]
+        lengths = {c.shape for c in columns}
+        if any(c.ndim != 1 for c in columns) or len(lengths) > 1:
+            raise DataError("named feature columns must be 1-D arrays of one length; got shapes "
+                            + ", ".join(f"{f}: {np.asarray(X[f]).shape}" for f in used))
+        n = columns[0].shape[0] if columns else (len(np.asarray(next(iter(X.values())))) if X else 0)
+    else:
+        if features is None:
+            raise DataError("name the columns of the points (features=[...])")
+        names = _feature_names(features)
+        X = np.asarray(X)
+        if X.ndim == 1 and X.shape[0] == len(names):
+            X = X[None, :]
+        if X.ndim != 2 or X.shape[1] != len(names):
+            raise DataError(f"points must have shape (N, {len(names)}) for features {', '.join(names)}; "
+                            f"got {X.shape}")
+        missing = [f for f in used if f not in names]
+        if missing:
+            raise _unknown(missing, names)
+        index = {n: i for i, n in enumerate(names)}
+        columns = [X[:, index[f]] for f in used]
+        n = X.shape[0]
+    for f, c in zip(used, columns):
+        if c.dtype.kind not in "biuf":
+            raise DataError(f"feature {f} must hold numbers, not {c.dtype}")
+    return columns, n
+
+
+@dataclass
+class _Step:
+    """How one feature's value selects its row of conjunction bitmasks.
+
+    ``grid``: a monotone bucket ``g = trunc(clip(x * scale + shift, 0, G + 1))`` and exact
+    comparisons against the (at most ``B``) thresholds in that bucket give the row
+    ``g * (2B + 1) + #{t < x} + #{t <= x}`` (over those thresholds). The thresholds were
+    bucketed with the same float64 operations, so bucketing is monotone and the row is exact.
+    ``search``: two binary searches over all thresholds (for thresholds spread so unevenly
+    that no grid keeps buckets small).
+    """
+
+    feature: str
+    mode: str
+    table: np.ndarray                 # row -> bitmask of the conjunctions the row allows
+    scale: float = 1.0
+    shift: float = 0.0
+    top: float = 0.0                  # G + 1
+    width: int = 1                    # 2B + 1
+    bucket_thresholds: tuple[np.ndarray, ...] = ()   # B arrays [G + 2], padded with +inf
+    thresholds: np.ndarray | None = None
+
+    def rows(self, x: np.ndarray, buffers: _Buffers, r: int) -> np.ndarray:
+        """The table row of every value of ``x`` (contiguous float64 without NaN)."""
+        g = buffers.g[:r]
+        if self.mode == "search":
+            np.copyto(g, np.searchsorted(self.thresholds, x, side="left"))
+            g += np.searchsorted(self.thresholds, x, side="right")
+            return g
+        u = buffers.u[:r]
+        np.multiply(x, self.scale, out=u)
+        np.add(u, self.shift, out=u)
+        np.clip(u, 0.0, self.top, out=u)
+        np.copyto(g, u, casting="unsafe")      # truncation == floor on [0, G + 1]
+        ts = [np.take(tb, g, out=buffers.t[i][:r], mode="clip") for i, tb in enumerate(self.bucket_thresholds)]
+        np.multiply(g, self.width, out=g)
+        below, at_most, count = buffers.below[:r], buffers.at_most[:r], buffers.count[:r]
+        for i, ti in enumerate(ts):
+            np.less(ti, x, out=below)
+            np.less_equal(ti, x, out=at_most)
+            if i == 0:
+                np.add(below.view(np.uint8), at_most.view(np.uint8), out=count)
+            else:
+                np.add(count, below.view(np.uint8), out=count)
+                np.add(count, at_most.view(np.uint8), out=count)
+        np.add(g, count, out=g)
+        return g
+
+
+def _container(nbytes: int) -> tuple[np.dtype, np.dtype]:
+    """A dtype holding ``nbytes`` of bitmask per row (one gather per row), and the unsigned
+    dtype its bytes are ANDed as."""
+    if nbytes <= 8:
+        size = 1 if nbytes <= 1 else 2 if nbytes <= 2 else 4 if nbytes <= 4 else 8
+        dtype = np.dtype(f"u{size}")
+        return dtype, dtype
+    if nbytes <= 16:
+        return np.dtype(np.complex128), np.dtype(np.uint64)  # 16 bytes, only ever copied
+    return np.dtype(f"V{8 * -(-nbytes // 8)}"), np.dtype(np.uint64)
+
+
+@dataclass
+class _Buffers:
+    """Scratch arrays for one chunk of points, reused across chunks and features."""
+
+    size: int
+    n_columns: int
+    container: np.dtype
+    per_bucket: int
+
+    def __post_init__(self) -> None:
+        size = self.size
+        self.columns = np.empty((self.n_columns, size))
+        self.u = np.empty(size)
+        self.g = np.empty(size, dtype=np.intp)
+        self.t = [np.empty(size) for _ in range(self.per_bucket)]
+        self.below = np.empty(size, dtype=bool)
+        self.at_most = np.empty(size, dtype=bool)
+        self.count = np.empty(size, dtype=np.uint8)
+        self.tmp = np.empty(size, dtype=self.container)
+        self.mask = np.empty(size, dtype=self.container)
+        self.either = np.empty(size, dtype=np.uint64)
+        self.holds = np.empty(size, dtype=bool)
+
+
+@dataclass
+class _Plan:
+    features: tuple[str, ...]
+    steps: list[_Step]
+    m: int
+    container: np.dtype
+    and_dtype: np.dtype
+    constant: np.ndarray              # per-conjunction truth when no feature is used
+    chunk: int = 1 << 15
+
+    def run(self, columns: list[np.ndarray], n: int, per_conjunction: bool) -> np.ndarray:
+        out = np.empty((n, self.m) if per_conjunction else n, dtype=bool)
+        if not self.steps:
+            out[...] = self.constant if per_conjunction else self.constant.any()
+            return out
+        per_bucket = max(len(s.bucket_thresholds) for s in self.steps)
+        buffers = _Buffers(min(self.chunk, max(n, 1)), len(self.steps), self.container, per_bucket)
+        size = buffers.size
+        for start in range(0, n, size):
+            stop = min(n, start + size)
+            r = stop - start
+            block = buffers.columns[:, :r]
+            for k, column in enumerate(columns):   # contiguous float64 copies of the used columns
+                np.copyto(block[k], column[start:stop], casting="unsafe")
+            if np.isnan(block.max()):  # NaN compares false with every bound: refuse it instead
+                k, row = divmod(int(np.flatnonzero(np.isnan(block))[0]), r)
+                raise DataError(f"feature {self.features[k]} is NaN in point {start + row}",
+                                hint="NaN compares false with every bound; clean or drop those points")
+            mask, tmp = buffers.mask[:r], buffers.tmp[:r]
+            mask_bits, tmp_bits = mask.view(self.and_dtype), tmp.view(self.and_dtype)
+            for k, step in enumerate(self.steps):
+                rows = step.rows(block[k], buffers, r)
+                if k == 0:
+                    np.take(step.table, rows, out=mask, mode="clip")
+                else:
+                    np.take(step.table, rows, out=tmp, mode="clip")
+                    np.bitwise_and(mask_bits, tmp_bits, out=mask_bits)
+            if per_conjunction:
+                bits = np.unpackbits(mask.view(np.uint8).reshape(r, -1), axis=1, bitorder="little")
+                out[start:stop] = bits[:, : self.m].view(bool)
+            else:
+                out[start:stop] = self._any(mask, buffers, r)
+        return out
+
+    def _any(self, mask: np.ndarray, buffers: _Buffers, live: int) -> np.ndarray:
+        """Whether any bit of each mask is set (a view of a scratch array)."""
+        holds = buffers.holds[:live]
+        if mask.dtype == self.and_dtype:
+            return np.not_equal(mask, 0, out=holds)
+        words = mask.view(self.and_dtype).reshape(live, -1)
+        either = buffers.either[:live]
+        np.bitwise_or(words[:, 0], words[:, 1], out=either)
+        for w in range(2, words.shape[1]):
+            np.bitwise_or(either, words[:, w], out=either)
+        return np.not_equal(either, 0, out=holds)
+
+
+def _compile(formula: DNF) -> _Plan:
+    """Per used feature: its sorted thresholds, and for every cell (below, on or between the
+    thresholds) a bitmask of the conjunctions that allow it. A point satisfies conjunction
+    ``c`` iff bit ``c`` survives the AND of its cells' masks over all features, so a point
+    costs one bucket lookup and one gather per feature, whatever the number of conjunctions."""
+    m = len(formula.conjunctions)
+    nbytes = max(1, -(-m // 8))
+    container, and_dtype = _container(nbytes)
+    features = formula.features
+    steps = []
+    for name in features:
+        values = sorted({a.value for c in formula.conjunctions for a in c.atoms if a.feature == name})
+        t = np.array(values, dtype=np.float64)
+        n_cells = 2 * len(t) + 1                       # cell 2i + 1 is x == t[i]
+        allowed = np.ones((n_cells, m), dtype=bool)
+        cells = np.arange(n_cells)
+        position = {v: i for i, v in enumerate(values)}
+        for j, c in enumerate(formula.conjunctions):
+            lo, hi = 0, n_cells - 1
+            for a in c.atoms:
+                if a.feature != name:
+                    continue
+                i = position[a.value]
+                if a.op == "<":
+                    hi = min(hi, 2 * i)
+                elif a.op == "<=":
+                    hi = min(hi, 2 * i + 1)
+                elif a.op == ">":
+                    lo = max(lo, 2 * i + 2)
+                else:
+                    lo = max(lo, 2 * i + 1)
+            allowed[:, j] = (cells >= lo) & (cells <= hi)
+        packed = np.zeros((n_cells, container.itemsize), dtype=np.uint8)
+        packed[:, :nbytes] = np.packbits(allowed, axis=1, bitorder="little") if m else 0
+        cell_table = packed.view(container).reshape(n_cells)
+        steps.append(_grid_step(name, t, cell_table) or _Step(name, "search", cell_table, thresholds=t))
+    constant = np.array([not c.atoms for c in formula.conjunctions], dtype=bool)
+    return _Plan(features, steps, m, container, and_dtype, constant)
+
+
+_MAX_BUCKETS = 1 << 16
+_MAX_TABLE_BYTES = 1 << 17        # grow the grid while its table stays cache-sized
+_MAX_PER_BUCKET = 4
+
+
+def _grid_step(name: str, t: np.ndarray, cell_table: np.ndarray) -> _Step | None:
+    """The smallest grid with one threshold per bucket within the size budget, else the grid
+    with the fewest thresholds per bucket (at most ``_MAX_PER_BUCKET``), else ``None``."""
+    T = len(t)
+    span = float(t[-1]) - float(t[0])          # Python floats: overflow gives inf, no warning
+    best = None
+    G = max(2, 2 * T)
+    while G <= _MAX_BUCKETS:
+        scale = G / span if span > 0 else 1.0
+        shift = 1.0 - float(t[0]) * scale
+        if not (math.isfinite(scale) and math.isfinite(shift) and scale > 0):
+            return None
+        top = float(G + 1)
+        bucket = np.clip(np.add(np.multiply(t, scale), shift), 0.0, top).astype(np.intp)
+        counts = np.bincount(bucket, minlength=G + 2)
+        B = int(counts.max())
+        if best is None or B < best[0]:
+            best = (B, G, scale, shift, counts)
+        if B == 1 or (G + 2) * 3 * cell_table.itemsize * 4 > _MAX_TABLE_BYTES:
+            break
+        G *= 4
+    B, G, scale, shift, counts = best
+    if B > _MAX_PER_BUCKET:
+        return None
+    width = 2 * B + 1
+    first = np.concatenate(([0], np.cumsum(counts)[:-1]))      # thresholds in earlier buckets
+    bucket_thresholds = []
+    for i in range(B):
+        tb = np.full(G + 2, np.inf)
+        has = counts > i
+        tb[has] = t[first[has] + i]
+        bucket_thresholds.append(tb)
+    rows = np.minimum((2 * first)[:, None] + np.arange(width)[None, :], 2 * T).ravel()
+    return _Step(name, "grid", np.ascontiguousarray(cell_table[rows]), scale=scale, shift=shift, top=float(G + 1),
+                 width=width, bucket_thresholds=tuple(bucket_thresholds))
+
+
+# -- JSON, files, sympy --------------------------------------------------------------------
+
+def from_json(text: str | Mapping, *, source: str | None = None) -> DNF:
+    """Read the JSON form (see :meth:`DNF.to_json`); mistakes name the member."""
+    if isinstance(text, Mapping):
+        doc = text
+    else:
+        try:
+            doc = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise ParseError(f"invalid JSON: {exc.msg}", file=source, line=exc.lineno, column=exc.colno) from None
+    if not isinstance(doc, Mapping) or doc.get("symlearn") != MAGIC:
+        raise DataError(f'not a symlearn DNF (missing "symlearn": "{MAGIC}")', file=source)
+    if doc.get("format_version") != FORMAT_VERSION:
+        raise DataError(f"unsupported dnf format_version {doc.get('format_version')!r}", file=source,
+                        hint=f"this symlearn reads version {FORMAT_VERSION}")
+    conjunctions = doc.get("conjunctions")
+    if not isinstance(conjunctions, list):
+        raise DataError('"conjunctions" must be a list of lists of [feature, op, value]', file=source)
+    out = []
+    for i, conj in enumerate(conjunctions):
+        if not isinstance(conj, list):
+            raise DataError(f"conjunctions[{i}] must be a list of [feature, op, value]", file=source)
+        atoms = []
+        for j, atom in enumerate(conj):
+            where = f"conjunctions[{i}][{j}]"
+            if not isinstance(atom, list) or len(atom) != 3:
+                raise DataError(f"{where} must be [feature, op, value], not {atom!r}", file=source)
+            if not isinstance(atom[0], str) or not isinstance(atom[1], str):
+                raise DataError(f"{where}: feature and op must be strings", file=source)
+            try:
+                atoms.append(Atom(*atom))
+            except DataError as exc:
+                raise DataError(f"{where}: {exc.message}", file=source, hint=exc.hint) from None
+        out.append(Conjunction(tuple(atoms)))
+    return DNF(tuple(out))
+
+
+def load(path: str | os.PathLike[str]) -> DNF:
+    """Read a ``.dnf`` text file (or ``.json``); errors name the file, line and column."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except OSError as exc:
+        raise DataError(f"cannot read {path}: {exc.strerror}", file=str(path)) from None
+    except UnicodeDecodeError as exc:
+        raise ParseError(f"not UTF-8 text ({exc.reason} at byte {exc.start})", file=str(path)) from None
+    if path.suffix == ".json":
+        return from_json(text, source=str(path))
+    return parse(text, source=str(path))
+
+
+def to_sympy(formula: DNF, *, rational: bool = False):
+    """The formula as a sympy ``Or`` of ``And`` of relationals over real symbols.
+
+    Bounds become ``sympy.Float`` with the double's exact value, or with ``rational=True`` the
+    rational number the text format prints (``0.1`` -> ``1/10``). sympy is imported here only.
+    """
+    import sympy
+
+    symbols: dict[str, Any] = {}
+    relation = {"<": sympy.Lt, "<=": sympy.Le, ">": sympy.Gt, ">=": sympy.Ge}
+
+    def number(v: float):
+        if rational:
+            return sympy.Rational(format_number(v))
+        return sympy.Integer(int(v)) if v.is_integer() else sympy.Float(v)
+
+    def atom(a: Atom):
+        symbol = symbols.setdefault(a.feature, sympy.Symbol(a.feature, real=True))
+        return relation[a.op](symbol, number(a.value))
+
+    return sympy.Or(*[sympy.And(*[atom(a) for a in c.atoms]) for c in formula.conjunctions])
+
+
+# -- parsing -------------------------------------------------------------------------------
+
+@cache
+def _parser():
+    from lark import Lark
+
+    from symlearn.resources import grammar_text
+
+    return Lark(grammar_text("dnf"), parser="lalr", maybe_placeholders=False)
+
+
+def parse(text: str, *, source: str | None = None) -> DNF:
+    """Read the text format (module docstring); ``source`` names the file in error messages."""
+    from lark.exceptions import UnexpectedInput
+
+    if not isinstance(text, str):
+        raise ParseError(f"a DNF formula must be text, not {type(text).__name__}", file=source)
+    try:
+        tree = _parser().parse(text)
+    except UnexpectedInput as exc:
+        raise _syntax_error(text, exc, source) from None
+    conjunctions: list[Conjunction] = []
+    for line in tree.children:
+        for disjunction in line.children:
+            for conj in disjunction.children:
+                if conj.data == "false":
+                    continue
+                if conj.data == "true":
+                    conjunctions.append(Conjunction(()))
+                    continue
+                conjunctions.append(Conjunction(tuple(_atom(node, source) for node in conj.children)))
+    return DNF(tuple(conjunctions))
+
+
+def _atom(node, source: str | None) -> Atom:
+    feature_node, op_token, value_node = node.children
+    name = str(feature_node.children[0])
+    if feature_node.data == "quoted_name":
+        name = re.sub(r"\\(.)", r"\1", name[1:-1])
+    token = value_node.children[0]
+    if value_node.data == "nonfinite":
+        raise ParseError(f"bounds must be finite numbers, not {str(token)!r}", file=source, line=token.line,
+                         column=token.column, hint="drop the atom: an infinite bound always or never holds")
+    value = float(str(token))
+    if not math.isfinite(value):
+        raise ParseError(f"the number {str(token)} is too large for a float", file=source, line=token.line,
+                         column=token.column)
+    return Atom(name, _UNICODE_OPS.get(str(op_token), str(op_token)), value)
+
+
+_TERMINALS = {
+    "NAME": "a feature name", "QUOTED": "a quoted feature name", "OP": "a comparison (< <= > >=)",
+    "NUMBER": "a number", "_AND": "'&'", "_OR": "'|'", "_NL": "end of line", "TRUE": "true", "FALSE": "false",
+    "$END": "end of input",
+}
+
+
+def _syntax_error(text: str, exc, source: str | None) -> ParseError:
+    from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedToken
+
+    lines = text.split("\n")
+    if isinstance(exc, UnexpectedEOF) or (isinstance(exc, UnexpectedToken) and exc.token.type == "$END"):
+        row = len(lines)
+        col = len(lines[-1].split("#")[0].rstrip()) + 1
+        what = "unexpected end of input"
+    elif isinstance(exc, UnexpectedToken) and exc.token.type == "_NL":
+        row, col = exc.line, exc.column
+        what = "unexpected end of line"
+    else:
+        row, col = max(exc.line, 1), max(exc.column, 1)
+        if isinstance(exc, UnexpectedCharacters):
+            what = f"unexpected character {text[exc.pos_in_stream]!r}"
+        else:
+            what = f"unexpected {str(exc.token)!r}"
+    expected_names = getattr(exc, "expected", None) or getattr(exc, "allowed", None) or ()
+    expected = sorted({_TERMINALS.get(n, n.lower()) for n in expected_names if n not in ("QUOTED", "NONFINITE")})
+    here = lines[row - 1] if 0 < row <= len(lines) else ""
+    message = what
+    if expected:
+        message += "; expected " + (expected[0] if len(expected) == 1 else "one of " + ", ".join(expected))
+    hint = None
+    rest = here[col - 1:] if col - 1 < len(here) else ""
+    if rest.startswith(("==", "!=", "=")):
+        hint = "only < <= > >= compare a feature with a number"
+    elif rest.split()[:1] and rest.split()[0].lower() in ("and", "or"):
+        hint = "write '&' between atoms and one conjunction per line (or '|' between conjunctions)"
+    return ParseError(message, file=source, line=row, column=col, hint=hint)

@@ -1,0 +1,92 @@
+"""``symlearn dnf eval`` / ``symlearn dnf show``: DNF rule files evaluated on NPZ points."""
+
+import json
+
+import numpy as np
+from cli_runner import run
+
+RULES = "# unsafe: too fast, or in the corner\nv > 1.46\nx0 > 0.1 & x0 < 0.7 & x1 > 0.3\n"
+POINTS = np.array([[0.0, 0.5, 0.5], [2.0, 0.0, 0.0], [0.0, 0.9, 0.5], [1.46, 0.1, 0.31]])
+
+
+def _files(tmp_path):
+    rules = tmp_path / "rules.dnf"
+    rules.write_text(RULES)
+    np.savez(tmp_path / "points.npz", points=POINTS)
+    np.savez(tmp_path / "named.npz", x1=POINTS[:, 2], v=POINTS[:, 0], x0=POINTS[:, 1], extra=np.zeros(4))
+    np.savez(tmp_path / "self_named.npz", points=POINTS, features=np.array(["v", "x0", "x1"]))
+    return rules
+
+
+def test_eval_points_array_and_named_columns(capsys, tmp_path):
+    rules = _files(tmp_path)
+    code, out, err = run(capsys, "dnf", "eval", rules, "--points", tmp_path / "points.npz", "--features", "v,x0,x1",
+                         "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["unsafe"] == [True, True, False, False]
+    assert (doc["n_points"], doc["unsafe_count"], doc["conjunction_hits"]) == (4, 2, [1, 1])
+    for archive in ("named.npz", "self_named.npz"):
+        code, out, err = run(capsys, "dnf", "eval", rules, "--points", tmp_path / archive, "--json",
+                             "--per-conjunction")
+        assert code == 0, err
+        doc = json.loads(out)
+        assert doc["unsafe"] == [True, True, False, False] and doc["holding"] == [[1], [0], [], []]
+    code, out, err = run(capsys, "dnf", "eval", rules, "--points", tmp_path / "named.npz")
+    assert code == 0 and "2 of 4 points unsafe" in out and "unsafe points: 0, 1" in out
+
+
+def test_eval_json_rules_and_true_false(capsys, tmp_path):
+    _files(tmp_path)
+    from symlearn.logic.dnf import FALSE, TRUE, parse
+
+    parse(RULES).save(tmp_path / "rules.json")
+    TRUE.save(tmp_path / "true.dnf")
+    FALSE.save(tmp_path / "false.dnf")
+    for name, want in (("rules.json", [True, True, False, False]), ("true.dnf", [True] * 4),
+                       ("false.dnf", [False] * 4)):
+        code, out, err = run(capsys, "dnf", "eval", tmp_path / name, "--points", tmp_path / "named.npz", "--json")
+        assert code == 0, err
+        assert json.loads(out)["unsafe"] == want
+
+
+def test_eval_errors_are_one_line(capsys, tmp_path):
+    rules = _files(tmp_path)
+
+    def fails(*args, words):
+        code, out, err = run(capsys, "dnf", "eval", *args)
+        assert code == 2 and out == "", (code, out, err)
+        assert len(err.strip().splitlines()) == 1 and words in err and "Traceback" not in err, err
+        return err
+
+    err = fails(rules, "--points", tmp_path / "points.npz", "--features", "v,a,b", words="features x0, x1")
+    assert "points.npz" in err and "they have: v, a, b" in err
+    fails(rules, "--points", tmp_path / "points.npz", words="--features")
+    fails(rules, "--points", tmp_path / "points.npz", "--features", "v,x0", words="3 columns")
+    fails(rules, "--points", tmp_path / "named.npz", "--features", "v,x0,x1", words="one array per feature")
+    bad = tmp_path / "bad.dnf"
+    bad.write_text("v > 1\nx0 >> 2\n")
+    err = fails(bad, "--points", tmp_path / "named.npz", words="bad.dnf:2:5")
+    nan = POINTS.copy()
+    nan[2, 1] = np.nan
+    np.savez(tmp_path / "nan.npz", points=nan)
+    fails(rules, "--points", tmp_path / "nan.npz", "--features", "v,x0,x1", words="x0 is NaN in point 2")
+    np.savez(tmp_path / "objects.npz", points=np.array([[1, "a"]], dtype=object))
+    fails(rules, "--points", tmp_path / "objects.npz", "--features", "v,x0", words="objects.npz")
+    (tmp_path / "junk.npz").write_bytes(b"not an archive")
+    fails(rules, "--points", tmp_path / "junk.npz", words="not a readable NPZ")
+    fails(rules, "--points", tmp_path / "missing.npz", words="missing.npz")
+    np.savez(tmp_path / "ragged.npz", v=np.zeros(3), x0=np.zeros(4), x1=np.zeros(4))
+    fails(rules, "--points", tmp_path / "ragged.npz", words="different lengths")
+
+
+def test_show_and_simplify(capsys, tmp_path):
+    rules = tmp_path / "rules.dnf"
+    rules.write_text("x > 0 & x < 1 & y > 0\nx >= 1 & x < 2 & y > 0\nx > 0.5 & x < 0.7 & y > 3\n")
+    code, out, err = run(capsys, "dnf", "show", rules, "--simplify", "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["simplified"] == "x > 0 & x < 2 & y > 0" and doc["equivalent"] is True
+    assert (doc["conjunctions"], doc["simplified_conjunctions"]) == (3, 1)
+    code, out, err = run(capsys, "dnf", "show", rules, "--style", "unicode")
+    assert code == 0 and out.splitlines()[0] == "x > 0 ∧ x < 1 ∧ y > 0" and "3 conjunctions, 9 atoms" in out
