@@ -19,7 +19,7 @@ with its declared propositions; it labels anything but cannot be saved.
 >>> lab = FeatureLabeling(FeatureMap(["x", "y"]), {"left": "x < 0", "corner": "x < 0 & y < 0 | x > 5 & y > 5"})
 >>> sorted(lab.label([-1, -2])), sorted(lab.label([6, 6])), sorted(lab.label([1, 0]))
 (['corner', 'left'], ['corner'], [])
->>> str(lab.condition("corner"))
+>>> lab.condition("corner").to_string(one_line=True)
 'x < 0 & y < 0 | x > 5 & y > 5'
 >>> FeatureLabeling.from_json(lab.to_json()) == lab
 True
@@ -28,11 +28,7 @@ True
 from __future__ import annotations
 
 import json
-import math
-import operator
-import re
 from collections.abc import Callable, Iterable, Mapping
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -41,64 +37,29 @@ from symlearn.errors import DataError, ParseError, SymlearnError
 from symlearn.grounding.features import FeatureMap
 from symlearn.grounding.json_document import JsonFile
 from symlearn.grounding.labeling import LabelingBase
+from symlearn.logic.dnf import DNF
+from symlearn.logic.dnf import parse as parse_dnf
 
 FORMAT_VERSION = 1
-OPERATORS: dict[str, Callable[[float, float], bool]] = {"<=": operator.le, ">=": operator.ge, "<": operator.lt,
-                                                        ">": operator.gt}
-_ATOM = re.compile(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*(<=|>=|<|>)\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*$")
+
+#: a proposition's condition is a DNF formula over the features (one value type for both uses)
+Condition = DNF
 
 
-@dataclass(frozen=True)
-class Inequality:
-    feature: str
-    op: str
-    value: float
-
-    def __str__(self) -> str:
-        return f"{self.feature} {self.op} {self.value!r}" if not float(self.value).is_integer() \
-            else f"{self.feature} {self.op} {int(self.value)}"
-
-
-@dataclass(frozen=True)
-class Condition:
-    """A disjunction of conjunctions of inequalities (a DNF over features)."""
-
-    conjunctions: tuple[tuple[Inequality, ...], ...]
-
-    def __str__(self) -> str:
-        return " | ".join(" & ".join(map(str, c)) for c in self.conjunctions)
-
-    @property
-    def features(self) -> frozenset[str]:
-        return frozenset(a.feature for c in self.conjunctions for a in c)
-
-    def holds(self, values: Mapping[str, float]) -> bool:
-        return any(all(OPERATORS[a.op](values[a.feature], a.value) for a in c) for c in self.conjunctions)
-
-
-def parse_condition(text: str, *, where: str = "condition", source: str | None = None) -> Condition:
-    """Read ``"x < 1 & y > 0 | z >= 2"``; a mistake is a :class:`ParseError` with its column."""
+def parse_condition(text: str, *, where: str = "condition", source: str | None = None) -> DNF:
+    """Read ``"x < 1 & y > 0 | z >= 2"`` (the one-line DNF syntax of :mod:`symlearn.logic.dnf`);
+    a mistake is a :class:`ParseError` naming ``where`` and the column."""
     if not isinstance(text, str) or not text.strip():
         raise ParseError(f"{where}: the condition is empty", file=source, hint="write e.g. 'x < 1 & y > 0'")
-    conjunctions = []
-    offset = 0
-    for disjunct in text.split("|"):
-        atoms = []
-        inner = 0
-        for piece in disjunct.split("&"):
-            column = offset + inner + 1 + (len(piece) - len(piece.lstrip()))
-            match = _ATOM.match(piece)
-            if not match:
-                raise ParseError(f"{where}: expected 'feature op number' at column {column}, got {piece.strip()!r}",
-                                 file=source, column=column, hint="operators: < <= > >=; join with & and |")
-            value = float(match.group(3))
-            if not math.isfinite(value):
-                raise ParseError(f"{where}: the number at column {column} is not finite", file=source, column=column)
-            atoms.append(Inequality(match.group(1), match.group(2), value))
-            inner += len(piece) + 1
-        conjunctions.append(tuple(atoms))
-        offset += len(disjunct) + 1
-    return Condition(tuple(conjunctions))
+    if "\n" in text.strip():
+        raise ParseError(f"{where}: a condition is one line; join conjunctions with |", file=source)
+    try:
+        condition = parse_dnf(text)
+    except ParseError as exc:
+        raise ParseError(f"{where}: {exc.message}", file=source, column=exc.column, hint=exc.hint) from None
+    if not condition.conjunctions:
+        raise ParseError(f"{where}: the condition is never true", file=source)
+    return condition
 
 
 class FeatureLabeling(LabelingBase, JsonFile):
@@ -113,8 +74,8 @@ class FeatureLabeling(LabelingBase, JsonFile):
         for name, condition in conditions.items():
             if not isinstance(name, str) or not name:
                 raise DataError(f"{name!r} is not a proposition name")
-            cond = condition if isinstance(condition, Condition) else parse_condition(condition, where=name)
-            unknown = sorted(cond.features - set(self.feature_map.names))
+            cond = condition if isinstance(condition, DNF) else parse_condition(condition, where=name)
+            unknown = sorted(set(cond.features) - set(self.feature_map.names))
             if unknown:
                 raise DataError(f"proposition {name!r} uses unknown feature {unknown[0]!r}",
                                 hint="features: " + ", ".join(self.feature_map.names))
@@ -130,20 +91,15 @@ class FeatureLabeling(LabelingBase, JsonFile):
         return self._conditions[proposition]
 
     def label(self, state: Any) -> frozenset[str]:
-        values = dict(zip(self.feature_map.names, self.feature_map.features(state).tolist()))
-        return frozenset(p for p, c in self._conditions.items() if c.holds(values))
+        row = self.feature_map.features(state)[None, :]
+        return frozenset(p for p, c in self._conditions.items() if c.evaluate(row, self.feature_map.names)[0])
 
     def label_matrix(self, features: np.ndarray) -> np.ndarray:
         """``(N, P)`` booleans for a feature matrix ``(N, k)``, vectorised over the rows."""
         features = np.asarray(features, dtype=np.float64)
-        columns = {n: features[:, i] for i, n in enumerate(self.feature_map.names)}
         out = np.zeros((features.shape[0], len(self._conditions)), dtype=bool)
         for j, cond in enumerate(self._conditions.values()):
-            for conjunction in cond.conjunctions:
-                holds = np.ones(features.shape[0], dtype=bool)
-                for a in conjunction:
-                    holds &= OPERATORS[a.op](columns[a.feature], a.value)
-                out[:, j] |= holds
+            out[:, j] = cond.evaluate(features, self.feature_map.names)
         return out
 
     def __eq__(self, other: object) -> bool:
@@ -161,7 +117,7 @@ class FeatureLabeling(LabelingBase, JsonFile):
             raise SymlearnError("this labeling's feature map is a Python function, which cannot be saved")
         return {"symlearn": "labeling", "format_version": FORMAT_VERSION, "kind": "features",
                 "features": json.loads(self.feature_map.to_json()),
-                "propositions": [{"name": p, "meaning": self._meanings[p], "when": str(c)}
+                "propositions": [{"name": p, "meaning": self._meanings[p], "when": c.to_string(one_line=True)}
                                  for p, c in self._conditions.items()]}
 
     def to_json(self) -> str:
@@ -231,4 +187,4 @@ class CallableLabeling(LabelingBase):
         return f"CallableLabeling({', '.join(self._props)})"
 
 
-__all__ = ["CallableLabeling", "Condition", "FeatureLabeling", "Inequality", "parse_condition"]
+__all__ = ["CallableLabeling", "Condition", "FeatureLabeling", "parse_condition"]
