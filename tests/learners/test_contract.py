@@ -68,8 +68,19 @@ def _spec():
             (expert_demonstrations("office-1", 10, seed=0), get_task("office-1").make_env()), "")
 
 
+def _one_class_tree():
+    import numpy as np
+
+    from symlearn.learners.trees import OneClassTreeConstraint
+
+    rng = np.random.default_rng(0)
+    bottom = np.column_stack([rng.uniform(0.1, 0.7, 300), rng.uniform(0.1, 0.3, 300)])
+    right = np.column_stack([rng.uniform(0.7, 0.9, 400), rng.uniform(0.1, 0.9, 400)])
+    return OneClassTreeConstraint(max_depth=3), (np.vstack([bottom, right]), ["x", "y"]), "x < 0.1"
+
+
 BUILDERS = {"ilp": _ilp, "separating-ltl": _separating, "ml": _ml, "mce-icrl": _mce, "logic": _logic,
-            "spec": _spec}
+            "spec": _spec, "one-class-tree": _one_class_tree}
 
 
 @pytest.mark.parametrize("name", sorted(BUILDERS))
