@@ -17,7 +17,7 @@ import importlib
 from pathlib import Path
 
 # Modules defining register_learn(commands, common); this module registers "spec" itself.
-LEARN_SUBCOMMANDS: tuple[str, ...] = ("symlearn.cli.learn_constraints_command",)
+LEARN_SUBCOMMANDS: tuple[str, ...] = ("symlearn.cli.learn_constraints_command", "symlearn.cli.learn_dnf_command")
 
 
 def register(subparsers, common) -> None:

@@ -1,0 +1,45 @@
+"""``symlearn learn dnf``: a one-class tree from demonstrations, the DNF written and re-read."""
+
+import json
+
+import numpy as np
+
+from cli_runner import run
+from symlearn.data import Demonstrations, Trajectory
+from symlearn.logic.dnf import load as load_dnf
+
+
+def test_toy_expert_gives_the_thesis_rule(capsys, tmp_path):
+    out_file = tmp_path / "toy.dnf"
+    code, out, err = run(capsys, "learn", "dnf", "--env", "toy-navigation", "--n-demos", 20, "--json", "-o", out_file)
+    assert code == 0, err
+    doc = json.loads(out)
+    assert {"formula", "conjunctions", "leaves", "features", "seconds"} <= set(doc)
+    assert doc["features"] == ["x", "y"] and len(doc["leaves"]) == 2
+    formula = load_dnf(out_file)
+    assert str(formula) == doc["formula"]
+    # the corridor above the bottom leg is unsafe, both legs and the corner are safe
+    points = np.array([[0.4, 0.6], [0.4, 0.2], [0.8, 0.5], [0.8, 0.2]])
+    assert formula.evaluate(points, ["x", "y"]).tolist() == [True, False, False, False]
+
+
+def test_vector_demonstrations_with_feature_names(capsys, tmp_path):
+    rng = np.random.default_rng(0)
+    trajectories = [Trajectory(states=rng.uniform(0, 1, (30, 2)) * [1, 0.2]) for _ in range(5)]
+    path = tmp_path / "demos.npz"
+    Demonstrations(trajectories).save(path)
+    code, out, err = run(capsys, "learn", "dnf", "--demos", path, "--features", "speed,gap", "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["features"] == ["speed", "gap"] and any("gap > " in c for c in doc["conjunctions"])
+
+
+def test_bad_input_is_one_line(capsys, tmp_path):
+    path = tmp_path / "demos.npz"
+    Demonstrations([Trajectory(states=np.ones((4, 2)))]).save(path)
+    code, _, err = run(capsys, "learn", "dnf", "--demos", path, "--max-depth", 0)
+    assert code == 2 and "max_depth" in err.replace("-", "_") and "Traceback" not in err
+    code, _, err = run(capsys, "learn", "dnf", "--demos", path, "--features", "a,b,c")
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    code, _, err = run(capsys, "learn", "dnf", "--env", "hanoi")
+    assert code == 2 and "no scripted expert" in err
