@@ -1,0 +1,119 @@
+"""Model files: a torch module's weights in ``safetensors`` and its configuration in JSON beside it.
+
+``save_torch_module("runs/agent.safetensors", module, config)`` writes two files:
+
+* ``runs/agent.safetensors``: every entry of ``module.state_dict()`` (parameters and buffers) as
+  a plain tensor. The safetensors format is a JSON header plus raw little-endian numbers, so
+  reading it never runs code (unlike ``torch.save`` pickles, which symlearn never writes).
+* ``runs/agent.json``: ``{"format": "symlearn-torch-module", "version": 1, "kind": ...,
+  "config": {...}}``, the JSON-able settings a builder needs to make an empty module of the
+  right shape again.
+
+``load_torch_module(path, build, kind=)`` reads the JSON, calls ``build(config)`` for an empty
+module and copies the tensors in. A file whose tensor names or shapes differ from the module's
+(a missing entry, an extra one, a shape that does not match) is refused with a
+:class:`~symlearn.errors.ModelError` naming the entry; nothing is partly loaded.
+
+Both files are written atomically (:mod:`symlearn.atomic`).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any, TypeVar
+
+import torch
+from safetensors import SafetensorError
+from safetensors.torch import load as load_tensors
+from safetensors.torch import save as save_tensors
+
+from symlearn.atomic import write_bytes, write_text
+from symlearn.errors import ModelError
+
+FORMAT = "symlearn-torch-module"
+VERSION = 1
+
+M = TypeVar("M", bound=torch.nn.Module)
+
+
+def model_paths(path: str | os.PathLike[str]) -> tuple[Path, Path]:
+    """``(weights, config)`` paths for ``path``: ``x.safetensors`` and ``x.json`` (a path
+    without a suffix gets ``.safetensors``)."""
+    weights = Path(path)
+    if weights.suffix != ".safetensors":
+        weights = weights.with_name(weights.name + ".safetensors")
+    return weights, weights.with_suffix(".json")
+
+
+def save_torch_module(
+    path: str | os.PathLike[str], module: torch.nn.Module, config: dict[str, Any], *, kind: str
+) -> Path:
+    """Write ``module``'s state dict as safetensors and ``config`` as JSON; returns the weights path."""
+    weights, config_path = model_paths(path)
+    try:
+        config_text = json.dumps({"format": FORMAT, "version": VERSION, "kind": kind, "config": config},
+                                 indent=1, allow_nan=False)
+    except (TypeError, ValueError) as exc:
+        raise ModelError(f"the model configuration is not plain JSON: {exc}") from None
+    # contiguous CPU copies: safetensors stores raw buffers and refuses views that share memory
+    tensors = {name: tensor.detach().to("cpu").contiguous().clone() for name, tensor in module.state_dict().items()}
+    write_bytes(weights, save_tensors(tensors, metadata={"format": FORMAT, "kind": kind}))
+    write_text(config_path, config_text + "\n")
+    return weights
+
+
+def read_model_config(path: str | os.PathLike[str], *, kind: str | None = None) -> dict[str, Any]:
+    """The ``config`` of the JSON file beside ``path``, checked for format, version and ``kind``."""
+    _, config_path = model_paths(path)
+    try:
+        document = json.loads(config_path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ModelError("no model configuration beside the weights", file=config_path,
+                         hint="a model is two files, NAME.safetensors and NAME.json") from None
+    except json.JSONDecodeError as exc:
+        raise ModelError(f"not JSON: {exc.msg}", file=config_path, line=exc.lineno, column=exc.colno) from None
+    if not isinstance(document, dict) or document.get("format") != FORMAT:
+        raise ModelError(f"not a {FORMAT} file", file=config_path)
+    if document.get("version") != VERSION:
+        raise ModelError(f"unsupported version {document.get('version')!r} (this symlearn reads {VERSION})",
+                         file=config_path)
+    if kind is not None and document.get("kind") != kind:
+        raise ModelError(f"the file holds a {document.get('kind')!r} model, not a {kind!r} one", file=config_path)
+    if not isinstance(document.get("config"), dict):
+        raise ModelError("'config' must be a JSON object", file=config_path)
+    return document["config"]
+
+
+def load_torch_module(
+    path: str | os.PathLike[str], build: Callable[[dict[str, Any]], M], *, kind: str | None = None
+) -> tuple[M, dict[str, Any]]:
+    """``(module, config)``: ``build(config)`` filled with the saved tensors, names and shapes checked."""
+    weights, _ = model_paths(path)
+    config = read_model_config(weights, kind=kind)
+    try:
+        tensors = load_tensors(weights.read_bytes())
+    except FileNotFoundError:
+        raise ModelError("no weights file", file=weights) from None
+    except (SafetensorError, ValueError, OSError) as exc:
+        raise ModelError(f"not a readable safetensors file: {exc}", file=weights) from None
+    module = build(config)
+    expected = module.state_dict()
+    missing = sorted(set(expected) - set(tensors))
+    unknown = sorted(set(tensors) - set(expected))
+    if missing or unknown:
+        parts = ([f"missing {', '.join(missing)}"] if missing else []) + \
+                ([f"unknown {', '.join(unknown)}"] if unknown else [])
+        raise ModelError(f"the weights do not fit the configured model: {'; '.join(parts)}", file=weights,
+                         hint="the .json and .safetensors files must come from the same save")
+    wrong = [f"{name} {tuple(tensors[name].shape)} {tensors[name].dtype} in the file, "
+             f"{tuple(want.shape)} {want.dtype} in the model"
+             for name, want in expected.items()
+             if tuple(tensors[name].shape) != tuple(want.shape) or tensors[name].dtype != want.dtype]
+    if wrong:
+        raise ModelError(f"the weights do not fit the configured model: {'; '.join(wrong)}", file=weights,
+                         hint="the .json and .safetensors files must come from the same save")
+    module.load_state_dict(tensors, strict=True)
+    return module, config
