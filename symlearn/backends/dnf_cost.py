@@ -113,12 +113,13 @@ class DnfCostWrapper(gym.Wrapper):
     ``source``: ``"info"`` (``info["features"]``), ``"observation"``, or a callable
     ``(observation, info) -> vector``. ``penalty`` subtracts ``penalty * cost`` (summed over
     rules) from the reward, for learners that know no cost. ``stats`` holds the
-    :class:`RuleStats` of every step since the wrapper was built (``track=False`` skips them).
+    :class:`RuleStats` of every step since the wrapper was built (``track=False`` skips them);
+    pass one ``stats`` object to several wrappers (vectorised training) to count them together.
     """
 
     def __init__(self, env: gym.Env, dnf: Any, features: Any, *, source: str | Callable = "info",
                  violation_cost: float = 1.0, per_rule: bool = False, penalty: float = 0.0,
-                 track: bool = True) -> None:
+                 track: bool = True, stats: RuleStats | None = None) -> None:
         super().__init__(env)
         if not (source in ("info", "observation") or callable(source)):
             raise SymlearnError(f"unknown feature source {source!r}", hint="use 'info', 'observation' or a callable")
@@ -127,7 +128,9 @@ class DnfCostWrapper(gym.Wrapper):
         self.violation_cost = float(violation_cost)
         self.per_rule = per_rule
         self.penalty = float(penalty)
-        self.stats = RuleStats(dnf, features)
+        if stats is not None and stats.dnf != dnf:
+            raise SymlearnError("the shared rule statistics belong to another formula")
+        self.stats = stats if stats is not None else RuleStats(dnf, features)
         self.track = track
         self.feature_names = self.stats.feature_names
 

@@ -31,6 +31,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "symlearn.cli.doctor_command",
     "symlearn.cli.envs_command",
     "symlearn.cli.domain_command",
+    "symlearn.cli.train_command",
     "symlearn.cli.dnf_command",
 )
 

@@ -1,0 +1,45 @@
+"""``symlearn train``: PPO / PPO-Lagrangian from the command line, a DNF cost, pruning, model files."""
+
+import json
+
+from cli_runner import run
+from symlearn.envs.toy_navigation import UNSAFE_DNF
+from symlearn.logic.dnf import load as load_dnf
+from symlearn.logic.dnf import parse
+
+
+def test_ppo_lag_on_a_dnf_cost_with_pruning(capsys, tmp_path):
+    rules = tmp_path / "toy.dnf"
+    rules.write_text(UNSAFE_DNF + "\nx > 5\n")  # a rule no agent can ever fire (x lies in [0, 1])
+    agent = tmp_path / "agent.safetensors"
+    code, out, err = run(capsys, "train", "--env", "toy-navigation", "--cost", rules, "--prune", "--steps", 2048,
+                         "--eval-episodes", 2, "-o", agent, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert {"return", "cost", "violation_rate", "pruned", "seconds"} <= set(doc)
+    assert 0 <= doc["violation_rate"] <= 1 and len(doc["multipliers"]) == 1
+    assert "x > 5" in doc["pruned"]
+    pruned = load_dnf(tmp_path / "toy.pruned.dnf")
+    assert "x > 5" not in str(pruned) and set(map(str, pruned.conjunctions)) == set(doc["kept"])
+    assert agent.exists() and agent.with_suffix(".json").exists()
+
+
+def test_plain_ppo_on_a_gymnasium_id(capsys):
+    code, out, err = run(capsys, "train", "--env", "CartPole-v1", "--algo", "ppo", "--steps", 1024,
+                         "--eval-episodes", 1, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["multipliers"] is None and doc["return"] > 0
+
+
+def test_bad_input_is_one_line(capsys, tmp_path):
+    code, _, err = run(capsys, "train", "--env", "toy-navigation", "--cost-limit", -1)
+    assert code == 2 and "--cost-limit" in err
+    code, _, err = run(capsys, "train", "--env", "nowhere-v9")
+    assert code == 2 and "Traceback" not in err
+    rules = tmp_path / "bad.dnf"
+    parse("speed > 1").save(rules)
+    code, _, err = run(capsys, "train", "--env", "toy-navigation", "--cost", rules)
+    assert code == 2 and "speed" in err and str(rules) in err
+    code, _, err = run(capsys, "train", "--env", "toy-navigation", "--prune")
+    assert code == 2 and "--cost" in err
