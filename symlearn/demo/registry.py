@@ -18,6 +18,7 @@ PIPELINE_MODULES: tuple[str, ...] = (
     "symlearn.demo.spec_pipeline",
     "symlearn.demo.ilp_pipeline",
     "symlearn.demo.constraints_pipeline",
+    "symlearn.demo.dnf_pipeline",
 )
 
 
