@@ -46,18 +46,13 @@ def register(subparsers, common) -> None:
 
 def read_points(path: str, features: str | None):
     """``(columns, n)``: a ``name -> 1-D array`` mapping read from an NPZ file without pickle."""
-    import zipfile
-
     import numpy as np
 
     from symlearn.errors import DataError
 
-    try:
-        archive = np.load(path, allow_pickle=False)
-    except (zipfile.BadZipFile, OSError, ValueError, EOFError) as exc:
-        if isinstance(exc, (FileNotFoundError, PermissionError, IsADirectoryError)):
-            raise
-        raise DataError(f"not a readable NPZ file ({exc})", file=path) from None
+    from symlearn.data.npz_format import open_npz
+
+    archive = open_npz(path)
     try:
         if isinstance(archive, np.ndarray):      # a bare .npy: the points array itself
             members = {"points": archive}

@@ -91,14 +91,20 @@ def write_npz(demos: Demonstrations, path: str | os.PathLike[str]) -> None:
     write_bytes(path, buffer.getvalue())
 
 
-def read_npz(path: str | os.PathLike[str]) -> Demonstrations:
-    path = Path(path)
+def open_npz(path: str | os.PathLike[str]) -> Any:
+    """``np.load(path, allow_pickle=False)`` with a located error for a file that is no NPZ (a
+    missing or unreadable file keeps its OS error, which the CLI reports as such)."""
     try:
-        archive = np.load(path, allow_pickle=False)
+        return np.load(path, allow_pickle=False)
     except (zipfile.BadZipFile, OSError, ValueError, EOFError) as exc:
         if isinstance(exc, (FileNotFoundError, PermissionError, IsADirectoryError)):
             raise
         raise DataError(f"not a readable NPZ file ({exc})", file=path) from None
+
+
+def read_npz(path: str | os.PathLike[str]) -> Demonstrations:
+    path = Path(path)
+    archive = open_npz(path)
     if not isinstance(archive, np.lib.npyio.NpzFile):
         raise DataError("holds a single array, not a symlearn NPZ archive", file=path)
     with archive:

@@ -35,7 +35,7 @@ import numpy as np
 
 from symlearn.errors import DataError, ParseError, SymlearnError
 from symlearn.grounding.features import FeatureMap
-from symlearn.grounding.json_document import JsonFile
+from symlearn.json_document import JsonFile
 from symlearn.grounding.labeling import LabelingBase
 from symlearn.logic.dnf import DNF
 from symlearn.logic.dnf import parse as parse_dnf

@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 
 from symlearn.errors import DataError, SymlearnError
-from symlearn.grounding.json_document import JsonFile, read_document
+from symlearn.json_document import JsonFile, read_document
 
 FORMAT_VERSION = 1
 MAGIC = "feature-map"

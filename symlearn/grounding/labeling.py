@@ -23,7 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from symlearn.errors import DataError
-from symlearn.grounding.json_document import JsonFile, read_document
+from symlearn.json_document import JsonFile, read_document
 
 FORMAT_VERSION = 1
 MAGIC = "labeling"

@@ -1017,18 +1017,9 @@ def _grid_step(name: str, t: np.ndarray, cell_table: np.ndarray) -> _Step | None
 
 def from_json(text: str | Mapping, *, source: str | None = None) -> DNF:
     """Read the JSON form (see :meth:`DNF.to_json`); mistakes name the member."""
-    if isinstance(text, Mapping):
-        doc = text
-    else:
-        try:
-            doc = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise ParseError(f"invalid JSON: {exc.msg}", file=source, line=exc.lineno, column=exc.colno) from None
-    if not isinstance(doc, Mapping) or doc.get("symlearn") != MAGIC:
-        raise DataError(f'not a symlearn DNF (missing "symlearn": "{MAGIC}")', file=source)
-    if doc.get("format_version") != FORMAT_VERSION:
-        raise DataError(f"unsupported dnf format_version {doc.get('format_version')!r}", file=source,
-                        hint=f"this symlearn reads version {FORMAT_VERSION}")
+    from symlearn.json_document import read_document
+
+    doc = read_document(text, MAGIC, FORMAT_VERSION, source=source)
     conjunctions = doc.get("conjunctions")
     if not isinstance(conjunctions, list):
         raise DataError('"conjunctions" must be a list of lists of [feature, op, value]', file=source)

@@ -148,7 +148,7 @@ def test_json_format_and_errors():
     f = parse("x > 0.1 & y <= 2\ntrue")
     assert json.loads(f.to_json()) == {"symlearn": "dnf", "format_version": 1,
                                        "conjunctions": [[["x", ">", 0.1], ["y", "<=", 2.0]], []]}
-    cases = [("[1, 2]", "not a symlearn DNF"), ('{"symlearn": "dnf", "format_version": 2}', "format_version"),
+    cases = [("[1, 2]", "not a symlearn dnf"), ('{"symlearn": "dnf", "format_version": 2}', "format_version"),
              ('{"symlearn": "dnf", "format_version": 1, "conjunctions": [[["x", "<", NaN]]]}', "conjunctions[0][0]"),
              ('{"symlearn": "dnf", "format_version": 1, "conjunctions": [[["x", "=", 1]]]}', "unknown comparison"),
              ('{"symlearn": "dnf", "format_version": 1, "conjunctions": [["x < 1"]]}', "[feature, op, value]"),

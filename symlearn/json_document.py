@@ -1,9 +1,11 @@
-"""The envelope every grounding's JSON file shares: ``{"symlearn": MAGIC, "format_version": 1, ...}``."""
+"""The envelope symlearn's JSON files share: ``{"symlearn": MAGIC, "format_version": 1, ...}`` (groundings,
+DNF formulas), read with located errors; ``JsonFile`` gives such a value ``save``/``load``."""
 
 from __future__ import annotations
 
 import json
 import os
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -11,13 +13,18 @@ from symlearn.atomic import write_text
 from symlearn.errors import DataError, ParseError
 
 
-def read_document(text: str, magic: str, version: int, *, source: str = "<string>") -> dict[str, Any]:
-    """The parsed document, after checking JSON syntax (line, column), magic and version."""
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ParseError(f"invalid JSON: {exc.msg}", file=source, line=exc.lineno, column=exc.colno) from None
-    if not isinstance(doc, dict) or doc.get("symlearn") != magic:
+def read_document(text: str | Mapping[str, Any], magic: str, version: int, *,
+                  source: str | None = "<string>") -> Mapping[str, Any]:
+    """The parsed document (text, or an already parsed mapping), after checking JSON syntax
+    (line, column), magic and version."""
+    if isinstance(text, Mapping):
+        doc = text
+    else:
+        try:
+            doc = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise ParseError(f"invalid JSON: {exc.msg}", file=source, line=exc.lineno, column=exc.colno) from None
+    if not isinstance(doc, Mapping) or doc.get("symlearn") != magic:
         raise DataError(f"not a symlearn {magic.replace('-', ' ')} (missing \"symlearn\": \"{magic}\")", file=source)
     if doc.get("format_version") != version:
         raise DataError(f"unsupported {magic} format_version {doc.get('format_version')!r}", file=source,
