@@ -164,12 +164,10 @@ def _run(method: str, world: _World, demos, args, known, out):
     if method == "ml":
         from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
 
-        known_all = world.space == 0
-        if known is not None:
-            known_all = known_all | known
+        # a Domain's moves that do not exist are known constraints inside the learner already
         learner = MLConstraintInference(reward=_reward(args, world),
                                         horizon=args.horizon, max_iterations=args.iterations or 200,
-                                        known_constraints=known_all & ~world.mdp.terminal[:, None],
+                                        known_constraints=known,
                                         on_violation="warn" if args.noise else "error",
                                         rationality=_rationality(args, world)).fit(demos, target)
         doc = {"rules": None, "iterations": len(learner.history_), "seconds": learner.seconds_}
@@ -180,10 +178,8 @@ def _run(method: str, world: _World, demos, args, known, out):
                       n_iterations=args.iterations or 300,
                       known_constraints=known, on_violation="warn" if args.noise else "error").fit(demos, target)
     learned = learner.forbidden_ & world.space
-    names = world.mdp.state_names or tuple(map(str, range(world.mdp.n_states)))
-    multipliers = {names[s]: float(v) for s, v in enumerate(learner.lambda_) if v > 0} \
-        if learner.lambda_.shape[0] == world.mdp.n_states else {}
-    doc = {"rules": None, "iterations": learner.n_iter_, "seconds": learner.seconds_, "multipliers": multipliers}
+    doc = {"rules": None, "iterations": learner.n_iter_, "seconds": learner.seconds_,
+           "multipliers": learner.multipliers_ or {}}
     return doc, learned, learner
 
 

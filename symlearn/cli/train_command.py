@@ -45,23 +45,22 @@ def register(subparsers, common) -> None:
 
 
 def _make_env(name: str):
+    """A constructor of ``name``: a bundled environment (its gymnasium id) or a gymnasium id."""
     import gymnasium as gym
 
-    from symlearn.errors import DataError
     from symlearn.envs.registry import get
+    from symlearn.errors import DataError
 
     try:
         entry = get(name)
-        gym_id = entry.gym_id
-        if gym_id is None:
-            raise DataError(f"{name} has no gymnasium environment to train in")
     except DataError as exc:
-        if name in gym.registry:
-            gym_id = name
-        else:
+        if name not in gym.registry:
             raise DataError(exc.message, hint=(exc.hint or "") + "; or a gymnasium id such as CartPole-v1") from None
+        return lambda: gym.make(name)
+    if entry.gym_id is None:
+        raise DataError(f"{name} has no gymnasium environment to train in")
     import symlearn.envs  # noqa: F401 -- registers the symlearn/ ids
-    return lambda: gym.make(gym_id)
+    return lambda: gym.make(entry.gym_id)
 
 
 def _train(args: argparse.Namespace, out) -> None:

@@ -38,10 +38,15 @@ def tabular_episodes(demos: Iterable[Any], mdp: TabularMDP) -> list[TabularEpiso
     """Integer state and action arrays of each demonstration, validated against ``mdp``.
 
     Accepts :class:`~symlearn.data.Demonstrations`, or any iterable of trajectories or of
-    ``(states, actions)`` pairs.
+    ``(states, actions)`` pairs. Episodes this function already returned for the same model
+    are handed back as they are (a learner that wraps another checks the data once, and its
+    noise warning is not repeated).
     """
+    items = list(demos)
+    if items and all(isinstance(item, TabularEpisode) for item in items):
+        return items
     episodes = []
-    for i, item in enumerate(demos):
+    for i, item in enumerate(items):
         states, actions = (item.states, item.actions) if hasattr(item, "states") else item
         if actions is None:
             raise DataError(f"demonstration {i} has no actions", hint="constraint inference needs state-action pairs")

@@ -92,7 +92,8 @@ class MCEICRL(Learner):
     count), ``max_sweeps`` (soft value iteration sweeps per round; the solve is warm-started).
 
     Results: ``lambda_`` (k,), ``cost_`` (S, A), ``policy_`` (S, A), ``constraint_map_``
-    (``lambda_ > threshold``; per state for state features), ``expert_features_``,
+    (``lambda_ > threshold``; per state for state features), ``multipliers_`` (positive multipliers by state name, state features only),
+    ``expert_features_``,
     ``policy_features_``, ``history_`` (one :class:`DualStep` per iteration), ``converged_``,
     ``n_iter_``, ``seconds_``.
     """
@@ -208,10 +209,11 @@ class MCEICRL(Learner):
         from symlearn.learners.constraints.constraint_file import constraint_set_text
 
         names = mdp.state_names or tuple(str(s) for s in range(mdp.n_states))
-        multipliers = ({names[s]: float(v) for s, v in enumerate(lam) if v > 0}
-                       if lam.shape[0] == mdp.n_states else None)
+        # by state name, for one multiplier per state (state features); None otherwise
+        self.multipliers_ = ({names[s]: float(v) for s, v in enumerate(lam) if v > 0}
+                             if lam.shape[0] == mdp.n_states else None)
         self._set_result(self.forbidden_, constraint_set_text(self.forbidden_, mdp, method="mce-icrl",
-                                                              multipliers=multipliers),
+                                                              multipliers=self.multipliers_),
                          metrics={"constraints": int(self.forbidden_.sum()), "converged": converged},
                          timings={"total": self.seconds_}, history=history)
         return self
