@@ -44,7 +44,7 @@ def split_facts(text: str | Iterable[str], *, source: str = "<facts>", line: int
     that is not a plain fact -- a rule, a variable, a constraint -- is a :class:`ParseError`
     pointing at it.
     """
-    from symlearn.logic.asp.clingo_adapter import parse_rules
+    from symlearn.logic.asp.clingo_adapter import is_ground_fact, parse_rules
 
     pieces = [text] if isinstance(text, str) else list(text)
     found: list[str] = []
@@ -62,25 +62,44 @@ def split_facts(text: str | Iterable[str], *, source: str = "<facts>", line: int
             raise ParseError(exc.message, file=source, line=line, column=column, hint=exc.hint) from None
         for statement in statements:
             text_form = str(statement)
-            if statement.body or not text_form.endswith(".") or ":-" in text_form or _has_variable(statement):
+            if not is_ground_fact(statement):
                 raise ParseError(f"{text_form!r} is not a ground fact", file=source, line=line, column=column,
                                  hint="write facts such as at(0,1). or loaded.")
             found.append(text_form)
     return tuple(found)
 
 
-def _has_variable(statement: Any) -> bool:
-    import clingo.ast
+def split_fact_groups(groups: Sequence[str | Iterable[str]], *, source: str = "<facts>",
+                      lines: Mapping[int, int] | None = None) -> list[Facts]:
+    """:func:`split_facts` of many groups (one per state or pair) with a single clingo parse.
 
-    seen: list[bool] = []
+    Each group is put on a line of its own and the statements are sorted back by line, so a
+    domain with thousands of contexts is checked in one call. When anything is wrong, the groups
+    are read one by one to report the first mistake where it was written (``lines[i]`` is the
+    file line of group ``i``).
+    """
+    from symlearn.logic.asp.clingo_adapter import is_ground_fact, parse_rules
 
-    class _Finder(clingo.ast.Transformer):
-        def visit_Variable(self, node):  # noqa: N802 -- clingo's visitor naming
-            seen.append(True)
-            return node
+    def one_by_one() -> list[Facts]:
+        return [split_facts(g, source=source, line=(lines or {}).get(i, 1)) for i, g in enumerate(groups)]
 
-    _Finder()(statement)
-    return bool(seen)
+    texts = []
+    for group in groups:
+        pieces = [group] if isinstance(group, str) else list(group)
+        if any(not isinstance(p, str) or "\n" in p for p in pieces):
+            return one_by_one()
+        stripped = [p.strip() for p in pieces if p.strip()]
+        texts.append(" ".join(p if p.endswith(".") else p + "." for p in stripped))
+    try:
+        statements = parse_rules("\n".join(texts), source=source)
+    except ParseError:
+        return one_by_one()
+    found: list[list[str]] = [[] for _ in texts]
+    for statement in statements:
+        if not is_ground_fact(statement):
+            return one_by_one()
+        found[statement.location.begin.line - 1].append(str(statement))
+    return [tuple(f) for f in found]
 
 
 def _atom(text: str, *, source: str, line: int, column: int = 1) -> str:
@@ -97,21 +116,24 @@ class FactGrounding:
     def __init__(self, state_facts: Mapping[int, str | Iterable[str]] | Sequence[str | Iterable[str]],
                  action_atoms: Mapping[int, str] | Sequence[str], *,
                  pair_facts: Mapping[tuple[int, int], str | Iterable[str]] | None = None,
-                 source: str = "<fact grounding>") -> None:
-        self._states = _dense(state_facts, "state", source)
-        self._states = tuple(split_facts(f, source=source) if not _is_normal(f) else tuple(f) for f in self._states)
+                 source: str = "<fact grounding>", lines: Mapping[int, int] | None = None) -> None:
+        # every fact is checked and normalised by clingo's parser, one call for all states
+        self._states = tuple(split_fact_groups(_dense(state_facts, "state", source), source=source, lines=lines))
+        self._lines = dict(lines or {})
         actions = _dense(action_atoms, "action", source)
         self._actions = tuple(_atom(a, source=source, line=i + 1) if isinstance(a, str) else _bad_atom(a, source)
                               for i, a in enumerate(actions))
         if len(set(self._actions)) != len(self._actions):
             dup = next(a for a in self._actions if self._actions.count(a) > 1)
             raise DataError(f"action atom {dup!r} names two actions", file=source)
-        self._pairs: dict[tuple[int, int], Facts] = {}
-        for (s, a), facts in (pair_facts or {}).items():
+        pairs = dict(pair_facts or {})
+        for s, a in pairs:
             if not (0 <= int(s) < len(self._states) and 0 <= int(a) < len(self._actions)):
                 raise DataError(f"pair ({s}, {a}) is outside {len(self._states)} states x {len(self._actions)} actions",
                                 file=source)
-            self._pairs[int(s), int(a)] = tuple(facts) if _is_normal(facts) else split_facts(facts, source=source)
+        self._pairs: dict[tuple[int, int], Facts] = {
+            (int(s), int(a)): facts
+            for (s, a), facts in zip(pairs, split_fact_groups(list(pairs.values()), source=source))}
         self.source = source
         self.state_names: tuple[str, ...] | None = None  # optional readable names ("name" in states.jsonl)
 
@@ -169,10 +191,9 @@ class FactGrounding:
         names: dict[int, str] = {}
         states = _read_table(Path(states_path), "facts", names)
         actions = _read_table(Path(actions_path), "atom")
-        facts = {i: split_facts(text, source=str(states_path), line=line) for i, (text, line) in states.items()}
         atoms = {i: _atom(text, source=str(actions_path), line=line) for i, (text, line) in actions.items()}
-        grounding = cls(facts, atoms, source=str(states_path))
-        grounding._lines = {i: line for i, (_, line) in states.items()}
+        grounding = cls({i: text for i, (text, _) in states.items()}, atoms, source=str(states_path),
+                        lines={i: line for i, (_, line) in states.items()})
         grounding.state_names = tuple(names.get(i, str(i)) for i in range(len(states))) if names else None
         if names and len(set(grounding.state_names)) != len(grounding.state_names):
             raise DataError("state names must be unique", file=str(states_path),
@@ -181,7 +202,7 @@ class FactGrounding:
 
     def state_line(self, state: int) -> int | None:
         """The line of ``states.jsonl`` a state was read from (None when built in Python)."""
-        return getattr(self, "_lines", {}).get(int(state))
+        return self._lines.get(int(state))
 
     def save_jsonl(self, states_path: str | os.PathLike[str], actions_path: str | os.PathLike[str]) -> None:
         """Write the two tables (per-pair contexts have no place in this format: refused)."""
@@ -192,10 +213,6 @@ class FactGrounding:
                                                     **({"name": names[i]} if names else {})}) + "\n"
                                         for i, f in enumerate(self._states)))
         write_text(actions_path, "".join(json.dumps({"id": i, "atom": a}) + "\n" for i, a in enumerate(self._actions)))
-
-
-def _is_normal(facts: Any) -> bool:
-    return isinstance(facts, tuple) and all(isinstance(f, str) and f.endswith(".") for f in facts)
 
 
 def _bad_atom(value: Any, source: str) -> str:
@@ -253,4 +270,4 @@ def _read_table(path: Path, key: str, names: dict[int, str] | None = None) -> di
     return table
 
 
-__all__ = ["FactGrounding", "Facts", "split_facts"]
+__all__ = ["FactGrounding", "Facts", "split_fact_groups", "split_facts"]

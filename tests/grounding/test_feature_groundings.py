@@ -114,5 +114,12 @@ def test_fact_grounding_files_and_errors(tmp_path):
     assert info.value.line == 2
     with pytest.raises(ParseError, match="not a ground fact"):
         FactGrounding(["p(X)."], ["go"])
+    # facts given as ready-made tuples are checked too, and a choice or directive is no fact
+    for bad in [("p(X).",), ("{ c }.",), ("#const n = 1.",), ("a :- b.",)]:
+        with pytest.raises(ParseError, match="not a ground fact"):
+            FactGrounding([bad], ["go"])
+    with pytest.raises(ParseError, match="not a ground fact"):
+        FactGrounding(["a."], ["go"], pair_facts={(0, 0): ("a.", "{ b }.")})
+    assert FactGrounding([("at(1, 2).", "-p(a).")], ["go"]).facts(0, 0) == ("at(1,2).", "-p(a).", "go.")
     with pytest.raises(DataError, match="names two actions"):
         FactGrounding([""], ["go", "go"])

@@ -304,6 +304,22 @@ def _ground_fact(statement: clingo.ast.AST) -> tuple[str, list[str], bool] | Non
     return term.name, args, negative
 
 
+def is_ground_fact(statement: clingo.ast.AST | str) -> bool:
+    """Whether a parsed statement (or its printed text) is a plain ground fact (``p(1,f(a)).``,
+    ``-q.``): no body, no variable, no aggregate or choice in the head.
+
+    Decided on the printed text by clingo's term parser, which accepts exactly ground terms;
+    walking the AST through its Python bindings costs about 30 times more per fact."""
+    text = str(statement)
+    if not text.endswith("."):
+        return False
+    try:
+        symbol = clingo.parse_term(text[:-1], logger=lambda _c, _m: None)
+    except RuntimeError:
+        return False
+    return symbol.type == clingo.SymbolType.Function and bool(symbol.name)
+
+
 def _ground_term_text(term: clingo.ast.AST) -> str | None:
     kind = term.ast_type
     if kind == clingo.ast.ASTType.SymbolicTerm:
