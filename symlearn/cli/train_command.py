@@ -93,8 +93,10 @@ def _train(args: argparse.Namespace, out) -> None:
         except DataError as exc:
             raise DataError(exc.message, file=args.cost, hint=exc.hint) from None
 
-        def env_fn():
+        def costed():
             return DnfCostWrapper(base(), dnf, names, per_rule=args.per_rule, stats=stats)
+
+        env_fn = costed
 
     lagrangian = None
     if args.algo == "ppo-lag":
