@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import argparse
 
+from symlearn.cli.output import blame_file
+
 
 def register(subparsers, common) -> None:
     group = subparsers.add_parser("dnf", help="show DNF constraint files and evaluate them on points",
@@ -105,10 +107,8 @@ def _eval(args: argparse.Namespace, out) -> None:
         raise DataError(f"the rules use feature{'s' if len(missing) > 1 else ''} {', '.join(missing)}, "
                         f"which the points do not have (they have: {', '.join(columns) or 'none'})",
                         file=args.points)
-    try:
+    with blame_file(args.points):
         per = rules.evaluate(columns, per_conjunction=True)
-    except DataError as exc:
-        raise DataError(exc.message, file=args.points, hint=exc.hint) from None
     unsafe = per.any(axis=1)
     doc = {"rules": str(args.rules), "points": str(args.points), "n_points": n,
            "features": list(rules.features), "conjunctions": len(rules),

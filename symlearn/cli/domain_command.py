@@ -14,6 +14,8 @@ from __future__ import annotations
 
 import argparse
 
+from symlearn.cli.output import blame_file
+
 
 def register(subparsers, common) -> None:
     parser = subparsers.add_parser("domain", help="check a domain folder and score rules against it",
@@ -58,10 +60,8 @@ def _check(args: argparse.Namespace, out) -> None:
         if args.demos:
             from symlearn.data import load
 
-            try:
+            with blame_file(args.demos):
                 episodes = domain.episodes(load(args.demos))
-            except DataError as exc:
-                raise DataError(exc.message, file=exc.file or args.demos, hint=exc.hint) from None
             hits = [(i, t) for i, e in enumerate(episodes)
                     for t in np.flatnonzero(learned[e.states[: len(e.actions)], e.actions]).tolist()]
             doc["demonstrated_steps_forbidden"] = len(hits)

@@ -16,6 +16,8 @@ import argparse
 import importlib
 from pathlib import Path
 
+from symlearn.cli.output import blame_file
+
 # Modules defining register_learn(commands, common); this module registers "spec" itself.
 LEARN_SUBCOMMANDS: tuple[str, ...] = ("symlearn.cli.learn_constraints_command", "symlearn.cli.learn_dnf_command")
 
@@ -109,12 +111,8 @@ def _spec(args: argparse.Namespace, out) -> None:
         from symlearn.grounding import Domain
 
         env = Domain.from_folder(args.domain)
-    try:
+    with blame_file(args.demos):
         learner.fit(demos, env)
-    except DataError as exc:
-        if args.demos and not exc.file:
-            raise DataError(exc.message, file=args.demos, hint=exc.hint) from None
-        raise
     files = _write_outputs(learner, args.output) if args.output else []
     meanings = learner.labeling_.meanings
     used = [p for p in learner.labeling_.propositions]

@@ -23,6 +23,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from symlearn.cli.output import blame_file
+
 METHODS = ("logic", "ml", "mce-icrl")
 
 
@@ -128,12 +130,8 @@ def _constraints(args: argparse.Namespace, out) -> None:
     known = None
     if args.known:
         known = world.domain.rule_mask(Path(args.known))
-    try:
+    with blame_file(args.demos):
         doc, learned, learner = _run(method, world, demos, args, known, out)
-    except DataError as exc:
-        if args.demos and not exc.file:
-            raise DataError(exc.message, file=args.demos, hint=exc.hint) from None
-        raise
     scores = {"fpr": None, "fnr": None, "accuracy": None}
     if world.truth is not None:
         from symlearn.learners.constraints.constraint_metrics import constraint_metrics

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import json
 import sys
-from collections.abc import Callable
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager
 from typing import Any, TextIO
 
 
@@ -51,3 +52,20 @@ def _json_default(value: Any) -> Any:
     if isinstance(value, (set, frozenset)):
         return sorted(value)
     raise TypeError(f"{type(value).__name__} is not JSON serialisable")
+
+
+@contextmanager
+def blame_file(path: Any) -> Iterator[None]:
+    """Name ``path`` in data errors raised inside the block that do not name a file themselves.
+
+    Learners and evaluators check arrays, not files; the command knows which file the arrays
+    came from, so the user reads ``demos.npz: episode 3 has NaN`` instead of a bare message.
+    """
+    from symlearn.errors import DataError
+
+    try:
+        yield
+    except DataError as exc:
+        if path is None or exc.file:
+            raise
+        raise type(exc)(exc.message, file=path, line=exc.line, column=exc.column, hint=exc.hint) from None
