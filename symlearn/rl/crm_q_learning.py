@@ -8,9 +8,11 @@ from transitions the agent made while it was in another one.
 
 The environment is given as a deterministic successor table ``successors[s, a] -> s'`` (what
 :meth:`LabelledGridEnv.next_state` computes) plus the label of every state, which lets many
-episodes run side by side as numpy arrays. An episode ends when the machine pays a reward
-(the task was just completed), when it falls into a non-accepting absorbing state (the task
-can no longer be completed), or at the horizon.
+episodes run side by side as numpy arrays. An episode ends when the machine enters an
+accepting state from a non-accepting one (the task was just completed), when it falls into a
+non-accepting absorbing state (the task can no longer be completed), or at the horizon. Ends
+are read from the machine's states, not its rewards: a shaped machine pays positive rewards
+for progress, which must not end the episode.
 
 >>> import numpy as np
 >>> from symlearn.logic.automata import DFA
@@ -48,13 +50,14 @@ def label_ids(state_labels: Sequence[frozenset[str]]) -> tuple[np.ndarray, list[
 class MachineTables:
     """A reward machine tabulated over the distinct labels of an environment.
 
-    ``next_u[u, l]``, ``reward[u, l]`` and ``done[u, l]`` (the episode ends) for machine state
-    ``u`` reading label number ``l``.
+    ``next_u[u, l]``, ``reward[u, l]``, ``done[u, l]`` (the episode ends) and ``completed[u, l]``
+    (the task was just completed) for machine state ``u`` reading label number ``l``.
     """
 
     next_u: np.ndarray
     reward: np.ndarray
     done: np.ndarray
+    completed: np.ndarray
     initial: int
     accepting: frozenset[int]
 
@@ -67,14 +70,17 @@ class MachineTables:
         n_u, n_l = machine.n_states, len(labels)
         next_u = np.zeros((n_u, n_l), dtype=np.int64)
         reward = np.zeros((n_u, n_l))
-        done = np.zeros((n_u, n_l), dtype=bool)
-        dead = {q for q in machine.terminal if q not in machine.accepting}
+        completed = np.zeros((n_u, n_l), dtype=bool)
+        dead = np.zeros((n_u, n_l), dtype=bool)
+        accepting = machine.accepting
+        dead_states = {q for q in machine.terminal if q not in accepting}
         for u in range(n_u):
             for j, label in enumerate(labels):
                 target, r = machine.step(u, label)
                 next_u[u, j], reward[u, j] = target, r
-                done[u, j] = r > 0 or target in dead
-        return cls(next_u, reward, done, int(machine.initial), frozenset(machine.accepting))
+                completed[u, j] = target in accepting and u not in accepting
+                dead[u, j] = target in dead_states
+        return cls(next_u, reward, completed | dead, completed, int(machine.initial), frozenset(accepting))
 
 
 @dataclass
@@ -178,7 +184,7 @@ def crm_q_learning(
         q[idx] += learning_rate * (target - q[idx])
         # the real machine state moves on
         ended = d[rows, u]
-        completed_now = r[rows, u] > 0
+        completed_now = tables.completed[u, l2]
         u = nu[rows, u]
         s = s2
         t += 1

@@ -43,6 +43,20 @@ def test_corridor_ordered_task_needs_both_ends():
     assert path.tolist() == [3, 2, 1, 0, 1, 2, 3, 4, 5]
 
 
+def test_shaping_rewards_do_not_end_episodes():
+    """A shaped machine pays for progress; only completing (or failing) the task ends an episode."""
+    succ, labels = _corridor()
+    distinct = label_ids(labels)[1]
+    machine = task_machine("a T b", shaping=True)
+    tables = MachineTables.compile(machine, distinct)
+    a = distinct.index(frozenset({"a"}))
+    u0 = tables.initial
+    assert tables.reward[u0, a] > 0 and not tables.done[u0, a]  # progress is paid, the task goes on
+    result = crm_q_learning(succ, labels, machine, 3, n_steps=20_000, horizon=30, seed=0)
+    path = sample_episodes(result, 1, seed=0, greedy=True)[0]
+    assert path.tolist() == [3, 2, 1, 0, 1, 2, 3, 4, 5]
+
+
 def test_every_machine_state_learns_from_counterfactual_experience():
     """Values of machine states the agent never occupies at the start cell match exact values."""
     task = get_task("office-2")
