@@ -1,7 +1,5 @@
 import pickle
 
-import pytest
-
 from symlearn.atomic import write_text
 from symlearn.errors import ParseError, SymlearnError
 from symlearn.progress import progress, progress_bars, progress_enabled

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from symlearn.data.ltl_samples import LtlSample, load_sample, parse_sample, sample_from_traces, sample_to_document, save_sample
+from symlearn.data.ltl_samples import load_sample, parse_sample, sample_from_traces, sample_to_document, save_sample
 from symlearn.errors import DataError
 
 BENCH = Path(__file__).resolve().parents[2].parent / "shared" / "benchmarks" / "ltlf_learning"

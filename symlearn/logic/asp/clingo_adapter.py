@@ -74,7 +74,7 @@ def _raise_clingo_error(program: Program, messages: _Messages, fallback: str) ->
         match = _POSITION.match(first)
         if not match or match.group(3) != "error":
             continue
-        line, column, _kind, message = int(match.group(1)), int(match.group(2)), match.group(3), match.group(4)
+        line, column, message = int(match.group(1)), int(match.group(2)), match.group(4)
         detail = " ".join(r.strip() for r in rest if r.strip() and not r.startswith(("<block>", "<string>")))
         notes = [r.split("note:", 1)[1].strip() for r in rest if "note:" in r]
         source, src_line, src_col = program.locate(line, column)

@@ -26,8 +26,7 @@ from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 
 from symlearn.errors import LimitExceededError, SymlearnError
-from symlearn.logic.ilp.modes import (Literal_, ModeAtom, ModeComparison, ModeConditional, ModeDeclaration,
-                                      ModeFunction, Placeholder)
+from symlearn.logic.ilp.modes import ModeAtom, ModeComparison, ModeDeclaration, ModeFunction, Placeholder
 from symlearn.logic.ilp.task import ILPTask
 
 DEFAULT_SPACE_LIMIT = 200_000

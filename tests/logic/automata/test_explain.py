@@ -2,7 +2,6 @@
 
 import itertools
 
-import pytest
 from automata_strategies import a_then_b_avoid_c, dfas, words
 from hypothesis import given, settings
 

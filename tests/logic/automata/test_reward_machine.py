@@ -4,7 +4,7 @@ import pytest
 from automata_strategies import a_then_b_avoid_c
 
 from symlearn.errors import ModelError
-from symlearn.logic.automata import DFA, RewardMachine
+from symlearn.logic.automata import RewardMachine
 from symlearn.logic.guards import Guard
 
 a, b, c = Guard.var("a"), Guard.var("b"), Guard.var("c")
