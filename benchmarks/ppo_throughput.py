@@ -1,4 +1,4 @@
-"""Our PPO (symlearn.rl.ppo) against stable-baselines3's PPO on CartPole-v1, in the same run.
+"""Our PPO (symlearn.rl.ppo) against stable-baselines3's PPO on CartPole-v1 or SafeNav, in the same run.
 
 Both get the same network (actor and critic: separate 64 x 64 tanh MLPs, orthogonal init), the
 same ``n_envs``, ``n_steps``, minibatch size, epochs, learning rate (schedule), gamma, GAE lambda,
@@ -16,9 +16,17 @@ the last 20 training episodes, and the mean return of 20 deterministic evaluatio
 the final policy (same evaluation seeds for both). Both libraries are warmed up once before any
 timed run (torch's one-time initialisation would otherwise land on whichever runs first).
 
+``--env symlearn/safenav-point-goal-v0`` (any gymnasium id; ours are registered on import) runs
+the same comparison on a continuous-action task: Box(-1, 1, (2,)) actions from a state-independent
+diagonal Gaussian (log std initialised to 0) in both libraries, clipped to the bounds before the
+environment sees them (SB3 clips too), float32 observations as they come (no normalisation in
+either). Its evaluation uses 10 episodes (SafeNav episodes are 1,000 steps).
+
     python benchmarks/ppo_throughput.py                     # 3 seeds x 100k steps, both configs
     python benchmarks/ppo_throughput.py --quick             # 1 seed x 20k steps
     python benchmarks/ppo_throughput.py --json benchmarks/results/ppo_throughput.json
+    python benchmarks/ppo_throughput.py --env symlearn/safenav-point-goal-v0 --configs sb3 --steps 50000 \
+        --json benchmarks/results/ppo_throughput_safenav.json
 """
 
 from __future__ import annotations
@@ -35,10 +43,11 @@ import gymnasium as gym
 import numpy as np
 import torch
 
+import symlearn.envs  # noqa: F401  (registers our gymnasium ids)
 from symlearn.atomic import write_text
 from symlearn.rl.ppo import PPOConfig, evaluate, train_ppo
 
-ENV_ID = "CartPole-v1"
+ENV_ID = "CartPole-v1"  # --env changes it
 CONFIGS = {
     "cleanrl": dict(n_envs=4, n_steps=128, batch_size=128, n_epochs=4, learning_rate=2.5e-4, anneal_lr=True,
                     ent_coef=0.01),
@@ -56,8 +65,9 @@ def run_ours(config: dict, seed: int, steps: int) -> dict:
     result = train_ppo(ENV_ID, steps, cfg)
     seconds = time.perf_counter() - start
     evaluation = evaluate(result.policy, gym.make(ENV_ID), EVAL_EPISODES, seed=EVAL_SEED)
+    n = min(LAST_EPISODES, len(result.episodes.returns))
     return {"steps": result.steps, "seconds": seconds, "steps_per_second": result.steps / seconds,
-            "train_return": float(result.episodes.returns[-LAST_EPISODES:].mean()),
+            "train_return": float(result.episodes.returns[-n:].mean()) if n else float("nan"),
             "eval_return": float(evaluation.returns.mean())}
 
 
@@ -79,19 +89,21 @@ def run_sb3(config: dict, seed: int, steps: int) -> dict:
     model.learn(steps)
     seconds = time.perf_counter() - start
     env = gym.make(ENV_ID)
+    discrete = isinstance(env.action_space, gym.spaces.Discrete)
     returns = []
     for episode in range(EVAL_EPISODES):
         obs, _ = env.reset(seed=EVAL_SEED + episode)
         total, done = 0.0, False
         while not done:
             action, _ = model.predict(obs, deterministic=True)
-            obs, reward, terminated, truncated, _ = env.step(int(action))
+            obs, reward, terminated, truncated, _ = env.step(int(action) if discrete else action)
             total += float(reward)
             done = terminated or truncated
         returns.append(total)
     train_returns = [info["r"] for info in model.ep_info_buffer][-LAST_EPISODES:]
     return {"steps": int(model.num_timesteps), "seconds": seconds, "steps_per_second": model.num_timesteps / seconds,
-            "train_return": float(np.mean(train_returns)), "eval_return": float(np.mean(returns))}
+            "train_return": float(np.mean(train_returns)) if train_returns else float("nan"),
+            "eval_return": float(np.mean(returns))}
 
 
 def _mean_sd(values: list[float]) -> dict:
@@ -99,13 +111,18 @@ def _mean_sd(values: list[float]) -> dict:
 
 
 def main(argv: list[str] | None = None) -> dict:
+    global ENV_ID, EVAL_EPISODES
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="1 seed x 20k steps")
     parser.add_argument("--seeds", type=int, default=None, help="number of seeds (default 3, quick 1)")
     parser.add_argument("--steps", type=int, default=None, help="environment steps per run (default 100k)")
     parser.add_argument("--configs", default="cleanrl,sb3", help="comma-separated: cleanrl, sb3")
     parser.add_argument("--json", metavar="OUT", help="write every run and the summary as JSON")
+    parser.add_argument("--env", default="CartPole-v1", help="gymnasium id (default CartPole-v1)")
+    parser.add_argument("--eval-episodes", type=int, default=None, help="default 20 (SafeNav: 10)")
     args = parser.parse_args(argv)
+    ENV_ID = args.env
+    EVAL_EPISODES = args.eval_episodes or (10 if "safenav" in ENV_ID else EVAL_EPISODES)
     seeds = args.seeds or (1 if args.quick else 3)
     steps = args.steps or (20_000 if args.quick else 100_000)
     import stable_baselines3
@@ -140,7 +157,7 @@ def main(argv: list[str] | None = None) -> dict:
               f"{peer['eval_return']['mean']:.1f} +- {peer['eval_return']['sd']:.1f}; last-{LAST_EPISODES} train return "
               f"{ours['train_return']['mean']:.1f} vs {peer['train_return']['mean']:.1f}")
     document = {
-        "benchmark": "ppo_throughput", "env": ENV_ID, "seeds": seeds, "steps": steps,
+        "benchmark": "ppo_throughput", "env": ENV_ID, "seeds": seeds, "steps": steps, "eval_episodes": EVAL_EPISODES,
         "configs": {name: {**CONFIGS[name], **SHARED} for name in args.configs.split(",")},
         "machine": {"python": platform.python_version(), "platform": platform.platform(), "cpus": os.cpu_count(),
                     "torch": torch.__version__, "stable_baselines3": stable_baselines3.__version__,

@@ -65,14 +65,13 @@ by ``limit=``, beyond which :class:`~symlearn.errors.LimitExceededError` is rais
 Evaluation
 ----------
 
-:meth:`DNF.evaluate` compiles the formula once (cached on the value): per feature, the sorted
-thresholds cut the line into cells (below, on and between thresholds) and each cell gets a
-bitmask of the conjunctions that allow it. A point is bucketed into its cell with a few
-vectorised float operations and exact comparisons against at most a few thresholds (two
-binary searches when thresholds are spread too unevenly for a grid), then the masks of its
-features are ANDed: the cost per point and feature does not grow with
-the number of conjunctions. Points go through in chunks that stay in cache. NaN in a used
-column is an error (it would compare false with every bound).
+:meth:`DNF.evaluate` compiles the formula once (cached on the value; :mod:`symlearn.logic.dnf_eval`,
+run by numba): per feature, the sorted thresholds cut the line into cells (below, on and between
+thresholds), so every conjunction is a box of cell intervals. A point finds its cell per feature
+through a uniform grid over the thresholds and one exact comparison, then either ANDs per-cell
+bitmasks of the conjunctions (few features) or tests the boxes on many points at once (many
+features). NaN in a used column is an error (it would compare false with every bound).
+:meth:`DNF.evaluator` binds the formula to one column order for cheap repeated calls.
 """
 
 from __future__ import annotations
@@ -408,15 +407,27 @@ class DNF:
         array (then ``features`` is not needed). Returns a boolean array ``[N]``, or ``[N, m]``
         (one column per conjunction, in order) with ``per_conjunction=True``. Unknown features
         and NaN in a used column raise :class:`~symlearn.errors.DataError`; integer columns are
-        compared as float64. Cost per point and used feature does not grow with the number
-        of conjunctions (module docstring, "Evaluation").
+        compared as float64. The formula is compiled once (module docstring, "Evaluation").
         """
-        columns, n = _columns(self, X, features)
-        return self._plan.run(columns, n, per_conjunction)
+        from symlearn.logic.dnf_eval import points
+
+        X, cols = points(self._plan, X, features)
+        return self._plan.run(X, cols, per_conjunction)
+
+    def evaluator(self, features: Any):
+        """The formula bound to one column order: ``ev = f.evaluator(names)``, then ``ev(X)`` or
+        ``ev(X, per_conjunction=True)`` for ``[N, k]`` (or ``[k]``) points in that order, as
+        :meth:`evaluate` but without resolving the names on every call (one point costs a few
+        microseconds: the cost wrapper calls it every environment step)."""
+        from symlearn.logic.dnf_eval import Evaluator, feature_names
+
+        return Evaluator(self._plan, feature_names(features))
 
     @cached_property
-    def _plan(self) -> _Plan:
-        return _compile(self)
+    def _plan(self):
+        from symlearn.logic.dnf_eval import compile_plan
+
+        return compile_plan(self)
 
     # -- box algebra ---------------------------------------------------------------------
     def boxes(self) -> list[dict[str, Interval]]:
@@ -734,283 +745,6 @@ def _merge_along(boxes: list[Box], name: str) -> list[Box]:
                 box[name] = interval
             placed[p] = box
     return [placed[p] for p in sorted(placed)]
-
-
-# -- evaluation ----------------------------------------------------------------------------
-
-def _feature_names(features: Any) -> tuple[str, ...]:
-    names = getattr(features, "names", features)
-    if isinstance(names, str):
-        names = [n.strip() for n in names.split(",")]
-    names = tuple(str(n) for n in names)
-    if len(set(names)) != len(names):
-        raise DataError(f"feature names repeat: {', '.join(names)}")
-    return names
-
-
-def _unknown(missing: Sequence[str], known: Sequence[str]) -> DataError:
-    return DataError(f"unknown feature{'s' if len(missing) > 1 else ''} {', '.join(missing)}",
-                     hint="the points have: " + (", ".join(known) or "no features"))
-
-
-def _columns(formula: DNF, X: Any, features: Any) -> tuple[list[np.ndarray], int]:
-    """One 1-D array per feature of the plan (numbers; NaN is checked chunk by chunk)."""
-    used = formula._plan.features
-    if isinstance(X, Mapping):
-        known = tuple(X)
-        missing = [f for f in used if f not in X]
-        if missing:
-            raise _unknown(missing, known)
-        columns = [np.asarray(X[f]) for f in used]
-        lengths = {c.shape for c in columns}
-        if any(c.ndim != 1 for c in columns) or len(lengths) > 1:
-            raise DataError("named feature columns must be 1-D arrays of one length; got shapes "
-                            + ", ".join(f"{f}: {np.asarray(X[f]).shape}" for f in used))
-        n = columns[0].shape[0] if columns else (len(np.asarray(next(iter(X.values())))) if X else 0)
-    else:
-        if features is None:
-            raise DataError("name the columns of the points (features=[...])")
-        names = _feature_names(features)
-        X = np.asarray(X)
-        if X.ndim == 1 and X.shape[0] == len(names):
-            X = X[None, :]
-        if X.ndim != 2 or X.shape[1] != len(names):
-            raise DataError(f"points must have shape (N, {len(names)}) for features {', '.join(names)}; "
-                            f"got {X.shape}")
-        missing = [f for f in used if f not in names]
-        if missing:
-            raise _unknown(missing, names)
-        index = {n: i for i, n in enumerate(names)}
-        columns = [X[:, index[f]] for f in used]
-        n = X.shape[0]
-    for f, c in zip(used, columns):
-        if c.dtype.kind not in "biuf":
-            raise DataError(f"feature {f} must hold numbers, not {c.dtype}")
-    return columns, n
-
-
-@dataclass
-class _Step:
-    """How one feature's value selects its row of conjunction bitmasks.
-
-    ``grid``: a monotone bucket ``g = trunc(clip(x * scale + shift, 0, G + 1))`` and exact
-    comparisons against the (at most ``B``) thresholds in that bucket give the row
-    ``g * (2B + 1) + #{t < x} + #{t <= x}`` (over those thresholds). The thresholds were
-    bucketed with the same float64 operations, so bucketing is monotone and the row is exact.
-    ``search``: two binary searches over all thresholds (for thresholds spread so unevenly
-    that no grid keeps buckets small).
-    """
-
-    feature: str
-    mode: str
-    table: np.ndarray                 # row -> bitmask of the conjunctions the row allows
-    scale: float = 1.0
-    shift: float = 0.0
-    top: float = 0.0                  # G + 1
-    width: int = 1                    # 2B + 1
-    bucket_thresholds: tuple[np.ndarray, ...] = ()   # B arrays [G + 2], padded with +inf
-    thresholds: np.ndarray | None = None
-
-    def rows(self, x: np.ndarray, buffers: _Buffers, r: int) -> np.ndarray:
-        """The table row of every value of ``x`` (contiguous float64 without NaN)."""
-        g = buffers.g[:r]
-        if self.mode == "search":
-            np.copyto(g, np.searchsorted(self.thresholds, x, side="left"))
-            g += np.searchsorted(self.thresholds, x, side="right")
-            return g
-        u = buffers.u[:r]
-        np.multiply(x, self.scale, out=u)
-        np.add(u, self.shift, out=u)
-        np.clip(u, 0.0, self.top, out=u)
-        np.copyto(g, u, casting="unsafe")      # truncation == floor on [0, G + 1]
-        ts = [np.take(tb, g, out=buffers.t[i][:r], mode="clip") for i, tb in enumerate(self.bucket_thresholds)]
-        np.multiply(g, self.width, out=g)
-        below, at_most, count = buffers.below[:r], buffers.at_most[:r], buffers.count[:r]
-        for i, ti in enumerate(ts):
-            np.less(ti, x, out=below)
-            np.less_equal(ti, x, out=at_most)
-            if i == 0:
-                np.add(below.view(np.uint8), at_most.view(np.uint8), out=count)
-            else:
-                np.add(count, below.view(np.uint8), out=count)
-                np.add(count, at_most.view(np.uint8), out=count)
-        np.add(g, count, out=g)
-        return g
-
-
-def _container(nbytes: int) -> tuple[np.dtype, np.dtype]:
-    """A dtype holding ``nbytes`` of bitmask per row (one gather per row), and the unsigned
-    dtype its bytes are ANDed as."""
-    if nbytes <= 8:
-        size = 1 if nbytes <= 1 else 2 if nbytes <= 2 else 4 if nbytes <= 4 else 8
-        dtype = np.dtype(f"u{size}")
-        return dtype, dtype
-    if nbytes <= 16:
-        return np.dtype(np.complex128), np.dtype(np.uint64)  # 16 bytes, only ever copied
-    return np.dtype(f"V{8 * -(-nbytes // 8)}"), np.dtype(np.uint64)
-
-
-@dataclass
-class _Buffers:
-    """Scratch arrays for one chunk of points, reused across chunks and features."""
-
-    size: int
-    n_columns: int
-    container: np.dtype
-    per_bucket: int
-
-    def __post_init__(self) -> None:
-        size = self.size
-        self.columns = np.empty((self.n_columns, size))
-        self.u = np.empty(size)
-        self.g = np.empty(size, dtype=np.intp)
-        self.t = [np.empty(size) for _ in range(self.per_bucket)]
-        self.below = np.empty(size, dtype=bool)
-        self.at_most = np.empty(size, dtype=bool)
-        self.count = np.empty(size, dtype=np.uint8)
-        self.tmp = np.empty(size, dtype=self.container)
-        self.mask = np.empty(size, dtype=self.container)
-        self.either = np.empty(size, dtype=np.uint64)
-        self.holds = np.empty(size, dtype=bool)
-
-
-@dataclass
-class _Plan:
-    features: tuple[str, ...]
-    steps: list[_Step]
-    m: int
-    container: np.dtype
-    and_dtype: np.dtype
-    constant: np.ndarray              # per-conjunction truth when no feature is used
-    chunk: int = 1 << 15
-
-    def run(self, columns: list[np.ndarray], n: int, per_conjunction: bool) -> np.ndarray:
-        out = np.empty((n, self.m) if per_conjunction else n, dtype=bool)
-        if not self.steps:
-            out[...] = self.constant if per_conjunction else self.constant.any()
-            return out
-        per_bucket = max(len(s.bucket_thresholds) for s in self.steps)
-        buffers = _Buffers(min(self.chunk, max(n, 1)), len(self.steps), self.container, per_bucket)
-        size = buffers.size
-        for start in range(0, n, size):
-            stop = min(n, start + size)
-            r = stop - start
-            block = buffers.columns[:, :r]
-            for k, column in enumerate(columns):   # contiguous float64 copies of the used columns
-                np.copyto(block[k], column[start:stop], casting="unsafe")
-            if np.isnan(block.max()):  # NaN compares false with every bound: refuse it instead
-                k, row = divmod(int(np.flatnonzero(np.isnan(block))[0]), r)
-                raise DataError(f"feature {self.features[k]} is NaN in point {start + row}",
-                                hint="NaN compares false with every bound; clean or drop those points")
-            mask, tmp = buffers.mask[:r], buffers.tmp[:r]
-            mask_bits, tmp_bits = mask.view(self.and_dtype), tmp.view(self.and_dtype)
-            for k, step in enumerate(self.steps):
-                rows = step.rows(block[k], buffers, r)
-                if k == 0:
-                    np.take(step.table, rows, out=mask, mode="clip")
-                else:
-                    np.take(step.table, rows, out=tmp, mode="clip")
-                    np.bitwise_and(mask_bits, tmp_bits, out=mask_bits)
-            if per_conjunction:
-                bits = np.unpackbits(mask.view(np.uint8).reshape(r, -1), axis=1, bitorder="little")
-                out[start:stop] = bits[:, : self.m].view(bool)
-            else:
-                out[start:stop] = self._any(mask, buffers, r)
-        return out
-
-    def _any(self, mask: np.ndarray, buffers: _Buffers, live: int) -> np.ndarray:
-        """Whether any bit of each mask is set (a view of a scratch array)."""
-        holds = buffers.holds[:live]
-        if mask.dtype == self.and_dtype:
-            return np.not_equal(mask, 0, out=holds)
-        words = mask.view(self.and_dtype).reshape(live, -1)
-        either = buffers.either[:live]
-        np.bitwise_or(words[:, 0], words[:, 1], out=either)
-        for w in range(2, words.shape[1]):
-            np.bitwise_or(either, words[:, w], out=either)
-        return np.not_equal(either, 0, out=holds)
-
-
-def _compile(formula: DNF) -> _Plan:
-    """Per used feature: its sorted thresholds, and for every cell (below, on or between the
-    thresholds) a bitmask of the conjunctions that allow it. A point satisfies conjunction
-    ``c`` iff bit ``c`` survives the AND of its cells' masks over all features, so a point
-    costs one bucket lookup and one gather per feature, whatever the number of conjunctions."""
-    m = len(formula.conjunctions)
-    nbytes = max(1, -(-m // 8))
-    container, and_dtype = _container(nbytes)
-    features = formula.features
-    steps = []
-    for name in features:
-        values = sorted({a.value for c in formula.conjunctions for a in c.atoms if a.feature == name})
-        t = np.array(values, dtype=np.float64)
-        n_cells = 2 * len(t) + 1                       # cell 2i + 1 is x == t[i]
-        allowed = np.ones((n_cells, m), dtype=bool)
-        cells = np.arange(n_cells)
-        position = {v: i for i, v in enumerate(values)}
-        for j, c in enumerate(formula.conjunctions):
-            lo, hi = 0, n_cells - 1
-            for a in c.atoms:
-                if a.feature != name:
-                    continue
-                i = position[a.value]
-                if a.op == "<":
-                    hi = min(hi, 2 * i)
-                elif a.op == "<=":
-                    hi = min(hi, 2 * i + 1)
-                elif a.op == ">":
-                    lo = max(lo, 2 * i + 2)
-                else:
-                    lo = max(lo, 2 * i + 1)
-            allowed[:, j] = (cells >= lo) & (cells <= hi)
-        packed = np.zeros((n_cells, container.itemsize), dtype=np.uint8)
-        packed[:, :nbytes] = np.packbits(allowed, axis=1, bitorder="little") if m else 0
-        cell_table = packed.view(container).reshape(n_cells)
-        steps.append(_grid_step(name, t, cell_table) or _Step(name, "search", cell_table, thresholds=t))
-    constant = np.array([not c.atoms for c in formula.conjunctions], dtype=bool)
-    return _Plan(features, steps, m, container, and_dtype, constant)
-
-
-_MAX_BUCKETS = 1 << 16
-_MAX_TABLE_BYTES = 1 << 17        # grow the grid while its table stays cache-sized
-_MAX_PER_BUCKET = 4
-
-
-def _grid_step(name: str, t: np.ndarray, cell_table: np.ndarray) -> _Step | None:
-    """The smallest grid with one threshold per bucket within the size budget, else the grid
-    with the fewest thresholds per bucket (at most ``_MAX_PER_BUCKET``), else ``None``."""
-    T = len(t)
-    span = float(t[-1]) - float(t[0])          # Python floats: overflow gives inf, no warning
-    best = None
-    G = max(2, 2 * T)
-    while G <= _MAX_BUCKETS:
-        scale = G / span if span > 0 else 1.0
-        shift = 1.0 - float(t[0]) * scale
-        if not (math.isfinite(scale) and math.isfinite(shift) and scale > 0):
-            return None
-        top = float(G + 1)
-        bucket = np.clip(np.add(np.multiply(t, scale), shift), 0.0, top).astype(np.intp)
-        counts = np.bincount(bucket, minlength=G + 2)
-        B = int(counts.max())
-        if best is None or B < best[0]:
-            best = (B, G, scale, shift, counts)
-        if B == 1 or (G + 2) * 3 * cell_table.itemsize * 4 > _MAX_TABLE_BYTES:
-            break
-        G *= 4
-    B, G, scale, shift, counts = best
-    if B > _MAX_PER_BUCKET:
-        return None
-    width = 2 * B + 1
-    first = np.concatenate(([0], np.cumsum(counts)[:-1]))      # thresholds in earlier buckets
-    bucket_thresholds = []
-    for i in range(B):
-        tb = np.full(G + 2, np.inf)
-        has = counts > i
-        tb[has] = t[first[has] + i]
-        bucket_thresholds.append(tb)
-    rows = np.minimum((2 * first)[:, None] + np.arange(width)[None, :], 2 * T).ravel()
-    return _Step(name, "grid", np.ascontiguousarray(cell_table[rows]), scale=scale, shift=shift, top=float(G + 1),
-                 width=width, bucket_thresholds=tuple(bucket_thresholds))
 
 
 # -- JSON, files, sympy --------------------------------------------------------------------
