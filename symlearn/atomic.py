@@ -2,11 +2,20 @@
 
 Writers create a temporary file in the destination directory (so the final rename never
 crosses file systems), flush and fsync it, then ``os.replace`` it over the target.
+
+Permissions: a new file gets ``0666`` minus the process umask (what ``open`` would give), and
+replacing an existing file keeps that file's mode, so converting a ``0644`` file onto itself
+leaves it ``0644`` (``tempfile.mkstemp`` alone would make every output ``0600``).
+
+Interruption: the temporary file is removed on any exception, ``KeyboardInterrupt`` included;
+the CLI turns SIGTERM into an exception too (``symlearn.cli.main``), so a terminated write
+leaves neither a partial target nor a ``.tmp`` file behind.
 """
 
 from __future__ import annotations
 
 import os
+import stat
 import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -23,6 +32,7 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
     target.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
     try:
+        os.fchmod(fd, _mode_for(target))
         with os.fdopen(fd, mode, encoding=None if "b" in mode else encoding) as handle:
             yield handle
             handle.flush()
@@ -34,6 +44,28 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
         except FileNotFoundError:
             pass
         raise
+
+
+def _umask() -> int:
+    """The process umask, read without changing it where Linux shows it (``/proc/self/status``)."""
+    try:
+        with open("/proc/self/status", encoding="ascii") as status:
+            for line in status:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError, IndexError):
+        pass
+    old = os.umask(0o022)  # elsewhere: set and restore (not thread-safe, but brief)
+    os.umask(old)
+    return old
+
+
+def _mode_for(target: Path) -> int:
+    """The mode the finished file gets: the existing target's, else ``0666 & ~umask``."""
+    try:
+        return stat.S_IMODE(os.stat(target).st_mode)
+    except OSError:
+        return 0o666 & ~_umask()
 
 
 def write_text(path: str | os.PathLike[str], text: str) -> Path:

@@ -3,14 +3,14 @@ DNF formulas), read with located errors; ``JsonFile`` gives such a value ``save`
 
 from __future__ import annotations
 
-import json
 import os
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 from symlearn.atomic import write_text
-from symlearn.errors import DataError, ParseError
+from symlearn.errors import DataError
+from symlearn.input_limits import load_json, read_input_text
 
 
 def read_document(text: str | Mapping[str, Any], magic: str, version: int, *,
@@ -20,10 +20,7 @@ def read_document(text: str | Mapping[str, Any], magic: str, version: int, *,
     if isinstance(text, Mapping):
         doc = text
     else:
-        try:
-            doc = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise ParseError(f"invalid JSON: {exc.msg}", file=source, line=exc.lineno, column=exc.colno) from None
+        doc = load_json(text, source=source)  # syntax, nesting and duplicate keys located
     if not isinstance(doc, Mapping) or doc.get("symlearn") != magic:
         raise DataError(f"not a symlearn {magic.replace('-', ' ')} (missing \"symlearn\": \"{magic}\")", file=source)
     if doc.get("format_version") != version:
@@ -42,7 +39,7 @@ class JsonFile:
     def load(cls, path: str | os.PathLike[str]):
         path = Path(path)
         try:
-            text = path.read_text(encoding="utf-8")
+            text = read_input_text(path)  # size cap, UTF-8 errors at line:col
         except OSError as exc:
             raise DataError(f"cannot read {path}: {exc.strerror}", file=str(path)) from None
         return cls.from_json(text, source=str(path))

@@ -23,25 +23,33 @@ class Engine:
     install_hint: str
 
 
+def _extra(name: str, make_test: bool = True) -> str:
+    """The install hint of an extra, worded as the README's table words it (a checkout's .venv;
+    the wheel form in parentheses)."""
+    command = f".venv/bin/pip install -e '.[{name}]'"
+    first = f"installed by `make test`; else {command}" if make_test else command
+    return f"{first} (from a wheel: pip install 'symlearn[{name}]')"
+
+
+# The hints say what the README's "Optional engines" table says (tests/hostile checks they agree).
 ENGINES: dict[str, Engine] = {
     e.name: e
     for e in (
         Engine("spot", ("spot",), (), "LTL/automata cross-checks and HOA interoperability",
-               "Spot is not on PyPI: install it from your distribution (e.g. conda-forge 'spot')"),
+               "not on PyPI; install it from your distribution or conda-forge ('spot')"),
         Engine("mona", ("ltlf2dfa",), ("mona",), "LTLf -> DFA oracle (LTLf2DFA + MONA)",
-               "pip install 'symlearn[peers]' and apt-get install mona"),
-        Engine("scarlet", ("Scarlet",), (), "LTL learning peer (Scarlet)", "pip install 'symlearn[peers]'"),
-        Engine("aalpy", ("aalpy",), (), "automata learning peer (AALpy)", "pip install 'symlearn[peers]'"),
-        Engine("dfa_identify", ("dfa_identify",), (), "DFA identification peer", "pip install 'symlearn[peers]'"),
-        Engine("sumo", ("traci", "sumo"), (), "SUMO traffic demonstrations", "pip install 'symlearn[sumo]'"),
-        Engine("mujoco", ("mujoco",), (), "MuJoCo environments", "pip install 'symlearn[mujoco]'"),
-        Engine("highway", ("highway_env",), (), "highway-env environments", "pip install 'symlearn[highway]'"),
+               _extra("peers") + " and apt-get install mona"),
+        Engine("scarlet", ("Scarlet",), (), "LTL learning peer (Scarlet)", _extra("peers")),
+        Engine("aalpy", ("aalpy",), (), "automata learning peer (AALpy)", _extra("peers")),
+        Engine("dfa_identify", ("dfa_identify",), (), "DFA identification peer", _extra("peers")),
+        Engine("sumo", ("traci", "sumo"), (), "SUMO traffic demonstrations", _extra("sumo")),
+        Engine("mujoco", ("mujoco",), (), "MuJoCo environments", _extra("mujoco", make_test=False)),
+        Engine("highway", ("highway_env",), (), "highway-env environments", _extra("highway", make_test=False)),
         Engine("sb3", ("stable_baselines3",), (), "stable-baselines3 agents on shields and reward machines",
-               "pip install 'symlearn[sb3]'"),
-        Engine("sb3_contrib", ("sb3_contrib",), (), "masked policies (MaskablePPO) on shields",
-               "pip install 'symlearn[sb3]'"),
+               _extra("sb3")),
+        Engine("sb3_contrib", ("sb3_contrib",), (), "masked policies (MaskablePPO) on shields", _extra("sb3")),
         Engine("graphviz", (), ("dot",), "rendering automata to SVG/PNG",
-               "apt-get install graphviz (or brew install graphviz)"),
+               "installed by `make demo` and `make test`; else apt-get install graphviz (macOS: brew install graphviz)"),
     )
 }
 

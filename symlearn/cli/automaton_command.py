@@ -142,16 +142,18 @@ def _render_show(doc: dict) -> str:
 def read_trace(text: str) -> list[frozenset[str]]:
     """A trace from JSON text or from a file holding it."""
     from symlearn.errors import DataError, ParseError
+    from symlearn.input_limits import load_json, read_input_text
 
     source = None
     path = Path(text)
     if not text.lstrip().startswith("[") and path.exists():
-        source, text = str(path), path.read_text(encoding="utf-8")
+        source, text = str(path), read_input_text(path, what="trace file")
     try:
-        value = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ParseError(f"the trace is not valid JSON: {exc.msg}", file=source, line=exc.lineno, column=exc.colno,
-                         hint='write it like [["a"], [], ["a", "b"]]') from None
+        value = load_json(text, source=source, syntax="the trace is not valid JSON")
+    except ParseError as exc:
+        if exc.hint is None and "not valid JSON" in exc.message:
+            exc.hint = 'write it like [["a"], [], ["a", "b"]]'
+        raise
     if not isinstance(value, list):
         raise DataError("a trace must be a JSON list of steps", file=source, hint='e.g. [["a"], [], ["b"]]')
     steps = []
@@ -212,6 +214,8 @@ def _convert(args: argparse.Namespace, out) -> None:
     elif suffix == ".hoa":
         dfa = automaton if isinstance(automaton, DFA) else automaton.dfa
         write_text(args.target, dfa.to_hoa(name=Path(args.source).stem))
+        out.note("note: HOA has no finite-word acceptance; the DFA is encoded as in Spot's from_ltlf (proposition "
+                 "'alive' holds along the word, Buchi acceptance on an extra 'end' state), as the file's header says")
     elif suffix == ".txt":
         if isinstance(automaton, DFA):
             automaton = RewardMachine.from_dfa(automaton, minimize=False)

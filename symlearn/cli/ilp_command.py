@@ -1,8 +1,27 @@
-"""``symlearn ilp``: learn ASP rules from an ILASP-style task file, check and inspect hypotheses."""
+"""``symlearn ilp``: learn ASP rules from an ILASP-style task file, check and inspect hypotheses.
+
+Every sub-command reads and grounds the user's programs in a worker process
+(:mod:`symlearn.worker`) bounded by ``--timeout`` and ``--max-memory``: clingo cannot
+interrupt grounding, and a recursive background grounds until memory is gone. The parent only
+parses arguments, waits, prints and writes the output file.
+"""
 
 from __future__ import annotations
 
 import argparse
+import re
+import shlex
+import sys
+import time
+
+_TIMEOUT_HELP = "time limit in seconds for the whole command, grounding included ('inf': none; default {})"
+_MEMORY_HELP = ("memory limit of the worker that grounds and solves, in MB (0: none; default: "
+                "$SYMLEARN_MAX_MEMORY_MB or 1024)")
+
+
+def _limits(parser: argparse.ArgumentParser, default_timeout: str) -> None:
+    parser.add_argument("--timeout", default=default_timeout, metavar="S", help=_TIMEOUT_HELP.format(default_timeout))
+    parser.add_argument("--max-memory", default=None, metavar="MB", help=_MEMORY_HELP)
 
 
 def register(subparsers, common) -> None:
@@ -12,10 +31,11 @@ def register(subparsers, common) -> None:
     commands = group.add_subparsers(dest="ilp_command", metavar="SUBCOMMAND")
 
     learn = commands.add_parser("learn", parents=[common()], help="learn a minimum-cost hypothesis",
-                                description="Learn the cheapest rules covering the task's examples.")
-    learn.add_argument("task", help="task file (.las)")
+                                description="Learn the cheapest rules covering the task's examples. Exit 2 when "
+                                            "no hypothesis covers them or time runs out before one is found.")
+    learn.add_argument("task", metavar="TASK.las", help="task file: background, #pos/#neg examples, mode bias")
     learn.add_argument("--bk", action="append", default=[], metavar="F.lp", help="extra background file (repeatable)")
-    learn.add_argument("--timeout", type=float, default=60.0, metavar="S", help="time limit in seconds (default 60)")
+    _limits(learn, "60")
     learn.add_argument("--noise", action="store_true", help="examples with @penalty may stay uncovered at that cost")
     learn.add_argument("--max-body", type=int, default=None, metavar="N", help="max body literals per rule (default 3)")
     learn.add_argument("--method", choices=("auto", "single", "general"), default="auto",
@@ -26,42 +46,164 @@ def register(subparsers, common) -> None:
     learn.add_argument("-o", "--output", metavar="OUT.lp", help="write the rules as an editable .lp file")
     learn.set_defaults(handler=_learn)
 
-    check = commands.add_parser("check", parents=[common()], help="re-score a (possibly edited) hypothesis",
-                                description="Load rules from an .lp file and report which examples they cover.")
-    check.add_argument("task")
-    check.add_argument("hypothesis", help="rules (.lp), e.g. written by 'ilp learn -o'")
-    check.add_argument("--bk", action="append", default=[], metavar="F.lp")
-    check.add_argument("--timeout", type=float, default=60.0, metavar="S")
+    check = commands.add_parser(
+        "check", parents=[common()], help="re-score a (possibly edited) hypothesis",
+        description="Load rules from an .lp file and report which examples of the task they cover, their cost "
+                    "and score. Exit 0 when every example without a penalty is covered, 2 otherwise (so a CI job "
+                    "fails on an edit that breaks a hard example); the report is printed either way.")
+    check.add_argument("task", metavar="TASK.las", help="the task file the rules are checked against")
+    check.add_argument("hypothesis", metavar="HYP.lp", help="rules (.lp), e.g. written by 'ilp learn -o'")
+    check.add_argument("--bk", action="append", default=[], metavar="F.lp", help="extra background file (repeatable)")
+    check.add_argument("--dialect", choices=("ilasp", "fastlas"), default="ilasp",
+                       help="how the task file is read (as for 'ilp learn')")
+    _limits(check, "60")
     check.set_defaults(handler=_check)
 
     space = commands.add_parser("space", parents=[common()], help="size and a sample of the hypothesis space",
                                 description="Generate the hypothesis space of the task's mode bias.")
-    space.add_argument("task")
-    space.add_argument("--max-body", type=int, default=None, metavar="N")
-    space.add_argument("--dialect", choices=("ilasp", "fastlas"), default="ilasp")
+    space.add_argument("task", metavar="TASK.las", help="task file with the mode bias")
+    space.add_argument("--max-body", type=int, default=None, metavar="N", help="max body literals per rule (default 3)")
+    space.add_argument("--dialect", choices=("ilasp", "fastlas"), default="ilasp",
+                       help="ilasp: #modeb atoms may also be negated unless (positive); fastlas: modes as written")
     space.add_argument("--sample", type=int, default=10, metavar="K", help="rules to show (default 10)")
+    _limits(space, "60")
     space.set_defaults(handler=_space)
 
 
-def _load(args):
+# -- words: the library speaks Python, the command line speaks flags ------------------------------
+
+_CLI_WORDS = [
+    (re.compile(r"noise=True"), "--noise"),
+    (re.compile(r"method='general'"), "--method general"),
+    (re.compile(r"\bmax_body\b"), "--max-body"),
+    (re.compile(r"\braise the timeout\b"), "raise --timeout"),
+    (re.compile(r"\bor raise the limit\b"), "or simplify the mode bias"),
+]
+
+
+def cli_words(text: str | None) -> str | None:
+    """A library message or hint with API names replaced by the command's flags."""
+    if text is None:
+        return None
+    for pattern, words in _CLI_WORDS:
+        text = pattern.sub(words, text)
+    return text
+
+
+def _translated(error):
+    """The same error with its message and hint in the command's words."""
+    from symlearn.errors import SymlearnError
+
+    if not isinstance(error, SymlearnError):
+        return error
+    return type(error)(cli_words(error.message), file=error.file, line=error.line, column=error.column,
+                       hint=cli_words(error.hint))
+
+
+# -- the worker side: everything that reads or grounds the user's programs ------------------------
+
+def _load(job: dict):
+    from symlearn.errors import SymlearnError
     from symlearn.logic.ilp import load_task
 
-    task = load_task(args.task, extra_background=getattr(args, "bk", []),
-                     dialect=getattr(args, "dialect", "ilasp"))
-    if getattr(args, "max_body", None) is not None:
-        if args.max_body < 1:
-            from symlearn.errors import SymlearnError
-
+    task = load_task(job["task"], extra_background=job.get("bk", []), dialect=job.get("dialect", "ilasp"))
+    if job.get("max_body") is not None:
+        if job["max_body"] < 1:
             raise SymlearnError("--max-body must be at least 1")
-        task.max_body = args.max_body
+        task.max_body = job["max_body"]
     return task
+
+
+def _learn_job(job: dict) -> dict:
+    from symlearn.errors import LimitExceededError
+    from symlearn.worker import remaining
+    from symlearn.logic.ilp import coverage_matrix, learn
+
+    task = _load(job)
+    result = learn(task, timeout=remaining(job["started"], job["seconds"]), noise=job["noise"],
+                   method=job["method"])
+    if result.hypothesis is None and result.timed_out:
+        raise LimitExceededError(f"time ran out: no hypothesis found within --timeout {job['seconds']:g} s "
+                                 f"({result.space_size} candidate rules)", file=job["task"], hint="raise --timeout")
+    doc = result.to_dict()
+    doc["diagnostics"]["hints"] = [cli_words(h) for h in doc["diagnostics"]["hints"]]
+    doc["diagnostics_text"] = cli_words(result.diagnostics.render())
+    if result.hypothesis is not None and job["coverage"]:
+        doc["matrix"] = coverage_matrix(task, result.hypothesis, timeout=remaining(job["started"], job["seconds"]))
+    if result.hypothesis is not None and job["output"]:
+        header = (f"learned by symlearn ilp learn from {job['task']}\n"
+                  f"score {result.score} ({'optimal' if result.optimal else 'not proven optimal'}), "
+                  f"{result.space_size} candidate rules")
+        doc["lp_text"] = result.hypothesis.lp_text(header, recheck=_recheck_command(job))
+    return doc
+
+
+def _recheck_command(job: dict) -> str:
+    words = ["symlearn", "ilp", "check", job["task"], job["output"]]
+    for extra in job.get("bk", []):
+        words += ["--bk", extra]
+    if job.get("dialect", "ilasp") != "ilasp":
+        words += ["--dialect", job["dialect"]]
+    return " ".join(shlex.quote(str(w)) for w in words)
+
+
+def _check_job(job: dict) -> dict:
+    from symlearn.logic.asp import Hypothesis
+    from symlearn.worker import remaining
+    from symlearn.logic.ilp import score
+
+    task = _load(job)
+    hypothesis = Hypothesis.from_lp(job["hypothesis"], background=task.background)
+    report = score(task, hypothesis, timeout=remaining(job["started"], job["seconds"]))
+    report["rules"] = hypothesis.rules
+    report["passed"] = not report["uncovered_without_penalty"]
+    return report
+
+
+def _space_job(job: dict) -> dict:
+    from symlearn.worker import remaining
+    from symlearn.logic.ilp import generate_space
+
+    task = _load(job)
+    space = generate_space(task, timeout=remaining(job["started"], job["seconds"]))
+    step = max(1, len(space) // max(job["sample"], 1))
+    sample = space.candidates[::step][:job["sample"]]
+    return {"size": len(space), "truncated": space.truncated, "notes": space.notes,
+            "sample": [{"rule": c.text, "cost": c.cost} for c in sample]}
+
+
+# -- the parent side -----------------------------------------------------------------------------
+
+def _run(function, args: argparse.Namespace, **job) -> dict:
+    """``function(job)`` in the bounded worker, with the command's limits and words."""
+    from symlearn.worker import memory_limit_mb, run_limited, seconds_limit
+
+    started = time.monotonic()
+    seconds = seconds_limit(args.timeout, name="--timeout")
+    memory = memory_limit_mb(args.max_memory, name="--max-memory")
+    job.update(task=args.task, bk=list(getattr(args, "bk", [])), dialect=getattr(args, "dialect", "ilasp"),
+               max_body=getattr(args, "max_body", None), seconds=seconds, started=started)
+    try:
+        return run_limited(function, job, seconds=seconds, memory_mb=memory, started=started,
+                           what=f"grounding and solving {args.task}", time_hint="raise --timeout",
+                           memory_hint="raise --max-memory (or SYMLEARN_MAX_MEMORY_MB; 0: no limit) if the task "
+                                       "is meant to be this large, else look for a recursive rule or a huge "
+                                       "interval in the background")
+    except Exception as error:  # noqa: BLE001 - re-raised in the command's words
+        translated = _translated(error)
+        if translated is error:
+            raise
+        raise translated from None
 
 
 def _render_learn(doc: dict) -> str:
     if not doc["rules"] and doc["score"] is None:
         return "no hypothesis found\n" + doc["diagnostics_text"]
     lines = list(doc["rules"]) or ["% (empty hypothesis)"]
-    lines.append(f"% score {doc['score']} ({'optimal' if doc['optimal'] else 'NOT proven optimal'}), "
+    proven = "optimal" if doc["optimal"] else "NOT proven optimal"
+    if not doc["optimal"] and doc["diagnostics"].get("timed_out"):
+        proven += ": time ran out (raise --timeout)"
+    lines.append(f"% score {doc['score']} ({proven}), "
                  f"{doc['seconds']:.2f} s, {doc['space_size']} candidate rules, {doc['method']} search")
     uncovered = [k for k, v in doc["coverage"].items() if not v]
     if uncovered:
@@ -75,22 +217,15 @@ def _render_learn(doc: dict) -> str:
 
 
 def _learn(args: argparse.Namespace, out) -> int | None:
-    from symlearn.logic.ilp import coverage_matrix, learn
+    doc = _run(_learn_job, args, noise=args.noise, method=args.method, coverage=args.coverage, output=args.output)
+    lp_text = doc.pop("lp_text", None)
+    if lp_text is not None:
+        from symlearn.atomic import write_text
 
-    task = _load(args)
-    result = learn(task, timeout=args.timeout, noise=args.noise, method=args.method)
-    doc = result.to_dict()
-    doc["diagnostics_text"] = result.diagnostics.render()
-    if result.hypothesis is not None and args.coverage:
-        doc["matrix"] = coverage_matrix(task, result.hypothesis, timeout=args.timeout)
-    if result.hypothesis is not None and args.output:
-        header = (f"learned by symlearn ilp learn from {args.task}\n"
-                  f"score {result.score} ({'optimal' if result.optimal else 'not proven optimal'}), "
-                  f"{result.space_size} candidate rules")
-        result.hypothesis.to_lp(args.output, header=header)
+        write_text(args.output, lp_text)
         doc["written"] = args.output
     out.result(doc, _render_learn)
-    return None if result.hypothesis is not None else 2  # like bad input: the task admits no solution
+    return None if doc["rules"] or doc["score"] is not None else 2  # like bad input: the task admits no solution
 
 
 def _render_check(doc: dict) -> str:
@@ -103,15 +238,15 @@ def _render_check(doc: dict) -> str:
 
 
 def _check(args: argparse.Namespace, out) -> int | None:
-    from symlearn.logic.asp import Hypothesis
-    from symlearn.logic.ilp import score
-
-    task = _load(args)
-    hypothesis = Hypothesis.from_lp(args.hypothesis, background=task.background)
-    report = score(task, hypothesis, timeout=args.timeout)
-    report["rules"] = hypothesis.rules
+    report = _run(_check_job, args, hypothesis=args.hypothesis)
     out.result(report, _render_check)
-    return None
+    if report["passed"]:
+        return None
+    missed = report["uncovered_without_penalty"]
+    shown = ", ".join(missed[:5]) + (f" and {len(missed) - 5} more" if len(missed) > 5 else "")
+    print(f"symlearn: error: {args.hypothesis}: {len(missed)} example{'s' if len(missed) > 1 else ''} without a "
+          f"penalty not covered: {shown}", file=sys.stderr)
+    return 2
 
 
 def _render_space(doc: dict) -> str:
@@ -122,11 +257,9 @@ def _render_space(doc: dict) -> str:
 
 
 def _space(args: argparse.Namespace, out) -> None:
-    from symlearn.logic.ilp import generate_space
+    if args.sample < 0:
+        from symlearn.errors import SymlearnError
 
-    task = _load(args)
-    space = generate_space(task)
-    step = max(1, len(space) // max(args.sample, 1))
-    sample = space.candidates[::step][:args.sample]
-    out.result({"size": len(space), "truncated": space.truncated, "notes": space.notes,
-                "sample": [{"rule": c.text, "cost": c.cost} for c in sample]}, _render_space)
+        raise SymlearnError(f"--sample must be at least 0, not {args.sample}")
+    doc = _run(_space_job, args, sample=args.sample)
+    out.result(doc, _render_space)

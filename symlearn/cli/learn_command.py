@@ -7,7 +7,10 @@ the tuple (``constraints`` lives in ``learn_constraints_command.py``).
 
 ``symlearn learn spec --env office-1 [--demos D.jsonl | --n-demos N] [--props given|learn] [-o spec.ltl]``
 writes the formula (``spec.ltl``), the labeling (``spec.labeling.json``) and the automaton
-(``spec.dot`` and, with Graphviz, ``spec.svg``).
+(``spec.dot`` and, with Graphviz, ``spec.svg``). ``-o`` must end in ``.ltl``: the other files are
+named after it, so ``-o notes.txt`` would overwrite ``notes.dot``/``notes.svg`` (refused before
+learning). Demonstrations given with ``--demos`` must come from the environment: a file whose
+metadata names another task, or whose labels disagree with the environment's labeling, is refused.
 """
 
 from __future__ import annotations
@@ -52,7 +55,8 @@ def register_learn(commands, common) -> None:
     spec.add_argument("--horizon", type=int, default=None,
                       help="length of nominal rollouts (default: the environment's, 200 for a domain)")
     spec.add_argument("--no-prune", action="store_true", help="keep every learned conjunct")
-    spec.add_argument("-o", "--output", help="write the formula here (labeling and automaton next to it)")
+    spec.add_argument("-o", "--output", metavar="SPEC.ltl",
+                      help="write the formula here; SPEC.labeling.json, SPEC.dot and SPEC.svg go next to it")
     spec.set_defaults(handler=_spec)
 
 
@@ -72,6 +76,8 @@ def _render(doc: dict) -> str:
 
 
 def _spec(args: argparse.Namespace, out) -> None:
+    if args.output:  # before anything is imported or learned
+        _check_output(args.output)
     from symlearn.envs.spec_experts import expert_demonstrations
     from symlearn.envs.spec_tasks import get_task
     from symlearn.errors import DataError
@@ -111,6 +117,8 @@ def _spec(args: argparse.Namespace, out) -> None:
         from symlearn.grounding import Domain
 
         env = Domain.from_folder(args.domain)
+    if args.demos:
+        _check_demos_world(demos, args.demos, task, env)
     with blame_file(args.demos):
         learner.fit(demos, env)
     files = _write_outputs(learner, args.output) if args.output else []
@@ -129,6 +137,46 @@ def _spec(args: argparse.Namespace, out) -> None:
         "files": files,
     }
     out.result(doc, _render)
+
+
+def _check_output(output: str) -> None:
+    """``-o`` names the formula file; the labeling and the automaton take its stem, so only
+    ``.ltl`` is accepted (``-o notes.txt`` would silently replace ``notes.dot``/``notes.svg``)."""
+    from symlearn.errors import SymlearnError
+
+    path = Path(output)
+    if path.suffix.lower() != ".ltl":
+        stem = path.stem if path.suffix else path.name
+        raise SymlearnError(f"-o {output}: learn spec writes an LTLf formula and names its companion files "
+                            f"after it, so the name must end in .ltl",
+                            hint=f"-o {stem}.ltl writes {stem}.ltl, {stem}.labeling.json, {stem}.dot and {stem}.svg")
+
+
+def _check_demos_world(demos, source: str, task, env) -> None:
+    """Refuse demonstrations recorded in another environment: metadata naming another task, or
+    labels that disagree with the environment's labeling of the same state."""
+    from symlearn.errors import DataError
+
+    recorded = demos.metadata.get("task") if isinstance(demos.metadata, dict) else None
+    if task is not None and isinstance(recorded, str) and recorded.lower() != task.name.lower():
+        raise DataError(f"the demonstrations were recorded in task {recorded!r}, not {task.name!r}", file=source,
+                        hint=f"use --env {recorded}, or record demonstrations in {task.name}")
+    labeling = getattr(env, "labeling", None)
+    if labeling is None or not demos.has_labels:
+        return
+    n_states = getattr(getattr(env, "observation_space", None), "n", None)
+    for i, trajectory in enumerate(demos):
+        if trajectory.state_kind != "discrete":
+            return
+        for t, (state, label) in enumerate(zip(trajectory.states, trajectory.labels)):
+            state = int(state)
+            if state < 0 or (n_states is not None and state >= n_states):
+                return  # the learner reports states outside the environment, naming them
+            expected = frozenset(labeling.label(state))
+            if frozenset(label) != expected:
+                raise DataError(f"trajectory {i}, step {t}: state {state} is labelled {sorted(label)} in the file but "
+                                f"{sorted(expected)} in {task.name if task is not None else 'the domain'}",
+                                file=source, hint="these demonstrations come from another environment or labeling")
 
 
 def _write_outputs(learner, output: str) -> list[str]:

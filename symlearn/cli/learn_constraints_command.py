@@ -9,7 +9,12 @@
   induction each iteration; ``-o`` writes the rules as an editable ``.lp`` file.
 * ``ml``: maximum-likelihood constraint inference alone; ``-o`` writes the forbidden pairs.
 * ``mce-icrl``: maximum causal entropy inverse constrained RL (with the world's reward, or a sparse
-  one for reaching where demonstrations end); ``-o`` writes the forbidden pairs and the multipliers.
+  one for reaching where demonstrations end); prints the learned cost map, and ``-o X.json`` writes
+  the forbidden pairs and the multipliers, the cost map as text (``X.costmap.txt``) and as a
+  picture (``X.costmap.dot``, ``X.costmap.svg`` with Graphviz).
+
+``-o`` must end in ``.lp`` for ``logic`` and in ``.json`` otherwise: a mismatch is refused before
+anything is learned (``--method ml -o X.lp`` would put JSON into a file named like rules).
 
 The scores (``fpr``, ``fnr``, ``accuracy``) compare the learned forbidden pairs with the ground
 truth over every pair that exists; they are ``null`` for a domain without truth rules.
@@ -79,7 +84,9 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--features", choices=("state", "state_action"), default=None,
                      help="mce-icrl: one multiplier per state (gridworld default) or per state-action pair "
                           "(default for --domain)")
-    cmd.add_argument("-o", "--output", help="write the rules (.lp) or the forbidden pairs (.json) here")
+    cmd.add_argument("-o", "--output", metavar="FILE",
+                     help="write the rules (logic: FILE.lp) or the forbidden pairs (ml, mce-icrl: FILE.json; "
+                          "mce-icrl also writes the cost map as FILE.costmap.txt/.dot/.svg)")
     cmd.set_defaults(handler=_constraints)
 
 
@@ -104,6 +111,8 @@ def _world(args: argparse.Namespace) -> _World:
 def _constraints(args: argparse.Namespace, out) -> None:
     from symlearn.errors import DataError, SymlearnError
 
+    if args.output and args.method:  # before the world is built: a mismatch costs nothing
+        _check_output(args.output, args.method)
     world = _world(args)
     method = args.method or ("logic" if world.domain is not None else "mce-icrl")
     if method == "logic" and world.domain is None:
@@ -111,6 +120,8 @@ def _constraints(args: argparse.Namespace, out) -> None:
                             hint="use --method ml or --method mce-icrl")
     if args.known and world.domain is None:
         raise SymlearnError("--known rules need a world with ASP facts")
+    if args.output:
+        _check_output(args.output, method)
     seed = getattr(args, "seed", 0) or 0
     if args.demos:
         from symlearn.data import load
@@ -139,9 +150,43 @@ def _constraints(args: argparse.Namespace, out) -> None:
         scores = constraint_metrics(learned, world.truth, world.space)
     doc.update({"env": world.name, "method": method, "constraints": int(learned.sum()),
                 "fpr": scores["fpr"], "fnr": scores["fnr"], "accuracy": scores["accuracy"]})
+    if method == "mce-icrl":
+        doc["cost_map"] = _cost_map(world, learner, args)
     if args.output:
-        doc["files"] = [_write(args.output, method, doc, learned, world, learner)]
+        doc["files"] = _write(args.output, method, doc, learned, world, learner)
     out.result(doc, _render)
+
+
+_SUFFIXES = {"logic": (".lp", "ASP rules"), "ml": (".json", "a JSON constraint set"),
+             "mce-icrl": (".json", "a JSON constraint set with the cost multipliers")}
+
+
+def _check_output(output: str, method: str) -> None:
+    """Refuse an output name whose suffix promises another format, before anything is learned."""
+    from symlearn.errors import SymlearnError
+
+    suffix, what = _SUFFIXES[method]
+    found = Path(output).suffix.lower()
+    if found != suffix:
+        raise SymlearnError(f"-o {output}: --method {method} writes {what}, which does not belong in a "
+                            f"{found or 'suffix-less'} file", hint=f"name the output {Path(output).stem}{suffix}")
+
+
+def _cost_map(world: _World, learner, args) -> dict:
+    """The learned cost per state (max over actions for state-action features), and the grid
+    drawing for the gridworld."""
+    import numpy as np
+
+    per_state = np.asarray(learner.cost_).max(axis=1)
+    names = world.mdp.state_names
+    doc = {"threshold": learner.threshold,
+           "cost": {str(names[s]): round(float(c), 6) for s, c in enumerate(per_state) if c > 0}}
+    if world.name == "gridworld":
+        from symlearn.demo.gridworld_pipeline import cost_map_text
+        from symlearn.envs.gridworld import StochasticGridworld
+
+        doc["grid"] = cost_map_text(StochasticGridworld(args.stochasticity), per_state, learner.threshold)
+    return doc
 
 
 def _run(method: str, world: _World, demos, args, known, out):
@@ -198,18 +243,55 @@ def _rationality(args: argparse.Namespace, world: _World) -> float:
     return value
 
 
-def _write(output: str, method: str, doc: dict, learned, world: _World, learner) -> str:
+def _write(output: str, method: str, doc: dict, learned, world: _World, learner) -> list[str]:
     from symlearn.atomic import write_text
     from symlearn.learners.constraints.constraint_file import constraint_set_document
 
     path = Path(output)
     if method == "logic":
         learner.to_lp(path)
-        return str(path)
+        return [str(path)]
     payload = constraint_set_document(learned, world.mdp, method=method, domain=world.name,
                                       multipliers=doc.get("multipliers") if method == "mce-icrl" else None)
     write_text(path, json.dumps(payload, indent=1) + "\n")
-    return str(path)
+    files = [str(path)]
+    if method == "mce-icrl":
+        files += _write_cost_map(path.with_suffix(""), doc["cost_map"], world, learner)
+    return files
+
+
+def _write_cost_map(stem: Path, cost_map: dict, world: _World, learner) -> list[str]:
+    """``STEM.costmap.txt`` (the grid, or one line per state with a cost) and, for the gridworld,
+    ``STEM.costmap.dot`` / ``.svg`` (darker = costlier, thick border = truly forbidden)."""
+    import numpy as np
+
+    from symlearn.atomic import write_text
+    from symlearn.rendering import dot_available, render_dot
+
+    base = stem.with_name(stem.name + ".costmap")
+    header = (f"# MCE-ICRL learned cost per state in {world.name} (max over actions); "
+              f"threshold {cost_map['threshold']}\n")
+    if "grid" in cost_map:
+        text = header + "# * = above the threshold, ! = truly forbidden, S start, G goal\n" + cost_map["grid"]
+    else:
+        rows = sorted(cost_map["cost"].items(), key=lambda kv: -kv[1])
+        text = header + "".join(f"{value:10.4f}  {name}\n" for name, value in rows) if rows else \
+            header + "# no state has a positive cost\n"
+    files = [str(write_text(base.parent / (base.name + ".txt"), text))]
+    if "grid" in cost_map:
+        from symlearn.demo.gridworld_pipeline import constraint_map_dot
+        from symlearn.envs.gridworld import StochasticGridworld
+
+        env = StochasticGridworld(0.0)
+        dot = constraint_map_dot(env, np.asarray(learner.cost_).max(axis=1), "MCE-ICRL learned cost per cell")
+        dot_path = base.parent / (base.name + ".dot")
+        write_text(dot_path, dot)
+        files.append(str(dot_path))
+        if dot_available():
+            svg_path = base.parent / (base.name + ".svg")
+            render_dot(dot, svg_path)
+            files.append(str(svg_path))
+    return files
 
 
 def _render(doc: dict) -> str:
@@ -222,5 +304,14 @@ def _render(doc: dict) -> str:
     else:
         lines.append(f"forbidden pairs: {doc['constraints']}   against the ground truth: FPR {doc['fpr']:.3f}  "
                      f"FNR {doc['fnr']:.3f}  accuracy {doc['accuracy']:.3f}")
+    if doc.get("cost_map"):
+        cost_map = doc["cost_map"]
+        if "grid" in cost_map:
+            lines.append(f"learned cost per cell (* above the threshold {cost_map['threshold']}, ! truly forbidden):")
+            lines += ["  " + row for row in cost_map["grid"].rstrip("\n").split("\n")]
+        else:
+            costly = sorted(cost_map["cost"].items(), key=lambda kv: -kv[1])
+            lines.append(f"learned cost: {len(costly)} state(s) with a positive cost"
+                         + ("; highest: " + ", ".join(f"{n} {v:.2f}" for n, v in costly[:5]) if costly else ""))
     lines += [f"wrote {f}" for f in doc.get("files", [])]
     return "\n".join(lines)

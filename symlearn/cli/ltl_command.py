@@ -25,7 +25,8 @@ def register(subparsers, common) -> None:
     parse.add_argument("formula")
     dialect_option(parse)
     parse.add_argument("--to", dest="to_dialect", choices=("ours", "spot", "ltlf2dfa"),
-                       help="print in this dialect (default: the input dialect)")
+                       help="print in this dialect (default: the input dialect); operators the tool cannot "
+                            "read are expanded: T for spot and ltlf2dfa, W for ltlf2dfa")
     parse.add_argument("--simplify", action="store_true", help="also print a simplified equivalent formula")
     parse.set_defaults(handler=_parse)
 
@@ -53,8 +54,19 @@ def register(subparsers, common) -> None:
 def _parse(args: argparse.Namespace, out) -> None:
     from symlearn.logic.ltlf import operator_count, parse, propositions, simplify, size, temporal_depth, to_string
 
+    from symlearn.logic.ltlf.printer import FOREIGN, for_dialect
+
     formula = parse(args.formula, args.dialect)
     target = args.to_dialect or args.dialect
+    if args.to_dialect and args.to_dialect != "ours":
+        expanded = for_dialect(formula, target)
+        if expanded != formula:
+            from symlearn.logic.ltlf.ast import subformulas
+
+            present = {type(node) for node in subformulas(formula)}
+            names = " and ".join(op.symbol for op in FOREIGN[target] if op in present)
+            out.note(f"note: {target} cannot read {names}; printed the equivalent expansion")
+            formula = expanded
     doc = {
         "formula": to_string(formula, target),
         "dialect": target,
@@ -82,8 +94,18 @@ def _eval(args: argparse.Namespace, out) -> None:
     from symlearn.logic.ltlf.traces_file import read_traces
     from symlearn.logic.ltlf.vectorized import evaluate_many
 
+    from symlearn.logic.ltlf import propositions
+
     formula = parse(args.formula, args.dialect)
     traces = read_traces(args.traces)
+    named = propositions(formula)
+    seen = set().union(*(step for trace in traces for step in trace)) if traces else set()
+    never = sorted(named - seen)
+    if never and traces:  # the traces' own names make a misspelling easy to spot
+        others = sorted(seen - named)
+        listed = ", ".join(others[:10]) + (" ..." if len(others) > 10 else "") if others else "none"
+        out.note(f"warning: proposition(s) {', '.join(never)} of the formula never hold in {args.traces}, so "
+                 f"they are false at every step (propositions in the traces but not in the formula: {listed})")
     results = [bool(v) for v in evaluate_many(formula, traces)] if traces else []
 
     def render(doc: dict) -> str:
@@ -107,8 +129,9 @@ def _dfa(args: argparse.Namespace, out) -> None:
     if args.file:
         if args.dot or args.svg or args.save:
             raise SymlearnError("--dot, --svg and --save write one automaton; they cannot be used with --file")
-        with open(args.file, encoding="utf-8") as handle:
-            lines = handle.read().split("\n")
+        from symlearn.input_limits import read_input_text
+
+        lines = read_input_text(args.file, what="formula file").split("\n")
         rows = []
         for number, text in enumerate(lines, start=1):
             if not text.strip() or text.lstrip().startswith("#"):

@@ -6,14 +6,19 @@ write such a module and list it in :data:`COMMAND_MODULES`; modules import heavy
 inside handlers, so ``symlearn --help`` stays fast.
 
 Exit codes: 0 success, 2 bad input or usage (:class:`SymlearnError`), 1 internal failure,
-130 interrupted.
+130 interrupted (SIGINT), 143 terminated (SIGTERM, turned into an exception so that files being
+written are cleaned up). With ``--json`` an error also prints ``{"error": {...}}`` on stdout
+(:func:`error_document`), besides the one line on stderr.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import json
+import signal
 import sys
+import threading
 import traceback
 from collections.abc import Sequence
 
@@ -35,7 +40,29 @@ COMMAND_MODULES: tuple[str, ...] = (
     "symlearn.cli.dnf_command",
 )
 
-EXIT_OK, EXIT_INTERNAL, EXIT_USAGE, EXIT_INTERRUPTED = 0, 1, 2, 130
+EXIT_OK, EXIT_INTERNAL, EXIT_USAGE, EXIT_INTERRUPTED, EXIT_TERMINATED = 0, 1, 2, 130, 143
+
+
+class Terminated(BaseException):
+    """SIGTERM, raised in the main thread so ``finally`` blocks and atomic writers clean up."""
+
+
+def _raise_terminated(signum, frame):  # pragma: no cover - exercised through a subprocess
+    raise Terminated()
+
+
+def error_document(exc: BaseException, kind: str | None = None) -> dict:
+    """The ``{"error": {...}}`` document ``--json`` prints for a failed command."""
+    if isinstance(exc, SymlearnError):
+        body = {"kind": kind or type(exc).__name__, "message": exc.message, "file": exc.file,
+                "line": exc.line, "column": exc.column, "hint": exc.hint}
+    elif isinstance(exc, OSError):
+        body = {"kind": kind or type(exc).__name__, "message": exc.strerror or str(exc),
+                "file": exc.filename, "line": None, "column": None, "hint": None}
+    else:
+        body = {"kind": kind or type(exc).__name__, "message": str(exc), "file": None, "line": None,
+                "column": None, "hint": None}
+    return {"error": body}
 
 
 def common_options(json_output: bool = True) -> argparse.ArgumentParser:
@@ -56,8 +83,19 @@ def common_options(json_output: bool = True) -> argparse.ArgumentParser:
     return parent
 
 
+class _Parser(argparse.ArgumentParser):
+    """Remembers its usage error, so ``--json`` can put the message in the error document
+    (sub-command parsers are of the same class)."""
+
+    last_error: str | None = None
+
+    def error(self, message: str):
+        _Parser.last_error = f"{self.prog}: {message}"
+        super().error(message)
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="symlearn",
         description="Learn interpretable symbolic models of behaviour from demonstrations.",
         epilog="Run 'symlearn COMMAND --help' for the options of a command.",
@@ -75,7 +113,26 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # argparse printed the usage error (or --help) on stderr
+        words = sys.argv[1:] if argv is None else list(argv)
+        if exc.code == EXIT_USAGE and "--json" in words:
+            message = _Parser.last_error or "invalid command line"
+            print(json.dumps({"error": {"kind": "usage", "message": message, "file": None, "line": None,
+                                        "column": None, "hint": "see the usage on stderr"}}))
+        raise
+    previous = None
+    if threading.current_thread() is threading.main_thread():
+        previous = signal.signal(signal.SIGTERM, _raise_terminated)
+    try:
+        return _run(parser, args)
+    finally:
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
+
+
+def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     if not getattr(args, "handler", None):
         if args.command:  # a command group such as 'symlearn data' without its sub-command
             args.group_parser.print_help(sys.stderr)
@@ -94,23 +151,38 @@ def main(argv: Sequence[str] | None = None) -> int:
         if args.debug:
             traceback.print_exc()
         print(f"symlearn: error: {exc}", file=sys.stderr)
+        _json_error(out, exc)
         return EXIT_USAGE
-    except (FileNotFoundError, IsADirectoryError, PermissionError) as exc:
+    except (FileNotFoundError, IsADirectoryError, PermissionError, NotADirectoryError) as exc:
         if args.debug:
             traceback.print_exc()
         where = f"{exc.filename}: " if exc.filename else ""
         print(f"symlearn: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        _json_error(out, exc)
         return EXIT_USAGE
     except KeyboardInterrupt:
         print("symlearn: interrupted", file=sys.stderr)
+        _json_error(out, KeyboardInterrupt("interrupted"), "interrupted")
         return EXIT_INTERRUPTED
+    except Terminated:
+        print("symlearn: terminated", file=sys.stderr)
+        _json_error(out, Terminated("terminated"), "terminated")
+        return EXIT_TERMINATED
     except Exception as exc:  # a bug in symlearn, not the user's fault
         if args.debug:
             traceback.print_exc()
         else:
             print(f"symlearn: internal error: {type(exc).__name__}: {exc} "
                   "(rerun with --debug for the traceback and please report it)", file=sys.stderr)
+        _json_error(out, exc, "internal")
         return EXIT_INTERNAL
+
+
+def _json_error(out: Output, exc: BaseException, kind: str | None = None) -> None:
+    """With ``--json``, the error as the one JSON document on stdout (unless one was printed)."""
+    if out.json_mode and not getattr(out, "_emitted", False):
+        out.stdout.write(json.dumps(error_document(exc, kind), indent=2) + "\n")
+        out.stdout.flush()
 
 
 def run() -> None:

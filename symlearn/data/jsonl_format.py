@@ -25,7 +25,8 @@ from symlearn.atomic import atomic_open
 from symlearn.data.demonstrations import Demonstrations
 from symlearn.data.kinds import KINDS
 from symlearn.data.trajectory import Trajectory
-from symlearn.errors import DataError, ParseError
+from symlearn.errors import DataError
+from symlearn.input_limits import MAX_JSON_DEPTH, depth, load_json, read_input_text
 
 FORMAT_VERSION = 1
 MAGIC = "demonstrations"
@@ -74,10 +75,7 @@ def write_jsonl(demos: Demonstrations, path: str | os.PathLike[str]) -> None:
 
 def read_jsonl(path: str | os.PathLike[str]) -> Demonstrations:
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except UnicodeDecodeError as exc:
-        raise ParseError(f"not UTF-8 text ({exc.reason})", file=path) from None
+    text = read_input_text(path, what="demonstrations file")  # size cap; bad bytes at line:col
     lines = text.splitlines()
     header, start = None, 0
     for number, raw in enumerate(lines, start=1):
@@ -101,10 +99,8 @@ def read_jsonl(path: str | os.PathLike[str]) -> Demonstrations:
 
 
 def _parse_line(path: Path, number: int, raw: str) -> Any:
-    try:
-        return json.loads(raw, parse_constant=_reject_constant)
-    except json.JSONDecodeError as exc:
-        raise ParseError(f"invalid JSON: {exc.msg}", file=path, line=number, column=exc.colno) from None
+    try:  # typed fields are checked below, free-form ones (metadata, info) with depth()
+        return load_json(raw, source=path, line=number, max_depth=None, parse_constant=_reject_constant)
     except ValueError as exc:  # from _reject_constant
         raise DataError(str(exc), file=path, line=number, column=_column_of(raw, "NaN", "Infinity")) from None
 
@@ -143,7 +139,33 @@ def _read_header(path: Path, number: int, raw: str) -> dict[str, Any]:
         raise DataError("header lacks state_kind", file=path, line=number)
     if not isinstance(header.get("metadata", {}), dict):
         raise DataError("header metadata must be an object", file=path, line=number, column=_column_of(raw, '"metadata"'))
+    if depth(header.get("metadata") or {}) > MAX_JSON_DEPTH - 1:
+        raise DataError(f"header metadata is nested more than {MAX_JSON_DEPTH} levels deep", file=path,
+                        line=number, column=_column_of(raw, '"metadata"'))
+    for key in ("state_dtype", "action_dtype"):
+        if header.get(key) is not None:
+            header[key] = _plain_dtype(header[key], key, path, number, raw)
     return header
+
+
+#: the dtypes a discrete or vector column may declare: plain numbers, nothing that could make one
+#: header line allocate gigabytes ("(1000,1000,100)f8" sub-arrays, "V2000000000", "<U1000000000").
+PLAIN_DTYPES = ("bool", "int8", "int16", "int32", "int64", "uint8", "uint16", "uint32", "uint64",
+                "float16", "float32", "float64")
+
+
+def _plain_dtype(value: Any, key: str, path: Path, number: int, raw: str) -> str:
+    dtype = None
+    if isinstance(value, str) and len(value) <= 16:
+        try:
+            dtype = np.dtype(value)
+        except Exception:  # numpy's dtype parser raises TypeError, ValueError, even SyntaxError (",int64")
+            dtype = None
+    if dtype is None or dtype.name not in PLAIN_DTYPES or dtype.shape or dtype.names is not None:
+        shown = json.dumps(value)
+        raise DataError(f"{key} {shown[:60]} is not a plain numeric dtype", file=path, line=number,
+                        column=_column_of(raw, f'"{key}"'), hint=f"use one of {', '.join(PLAIN_DTYPES)}")
+    return dtype.name
 
 
 def _read_trajectory(path: Path, number: int, raw: str, header: dict[str, Any]) -> Trajectory:
@@ -170,6 +192,8 @@ def _read_trajectory(path: Path, number: int, raw: str, header: dict[str, Any]) 
     for key in ("rewards", "labels", "info"):
         if key in obj:
             fields[key] = obj[key]
+    if isinstance(obj.get("info"), (dict, list)) and depth(obj["info"]) > MAX_JSON_DEPTH - 1:
+        raise fail(f"'info' is nested more than {MAX_JSON_DEPTH} levels deep", "info")
     try:
         traj = Trajectory(**fields)
     except DataError as exc:

@@ -179,11 +179,10 @@ def _bit(value: Any, path: str, source: str | None) -> bool:
 def load_sample(path: str | PathLike[str]) -> LtlSample:
     """Read a sample file (JSON in the benchmark schema)."""
     path = Path(path)
-    text = path.read_text(encoding="utf-8")
-    try:
-        document = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise DataError(f"not valid JSON: {exc.msg}", file=str(path), line=exc.lineno, column=exc.colno) from None
+    from symlearn.input_limits import load_json, read_input_text
+
+    document = load_json(read_input_text(path, what="sample file"), source=str(path), error=DataError,
+                         syntax="not valid JSON")
     return parse_sample(document, source=str(path))
 
 

@@ -11,6 +11,11 @@ Per-step columns of all trajectories are concatenated along axis 0; ``lengths`` 
 ``rewards``         float64, concatenated
 ``label_names``, ``labels``  string vocabulary ``(K,)`` and boolean matrix ``(total states, K)``
 ``info``            string ``(N,)``: each trajectory's info as JSON
+
+Reading checks before it decompresses: the archive's size, then every member's ``.npy``
+header (plain numeric, boolean or text dtypes only; declared sizes summed against
+``SYMLEARN_MAX_ARRAY_MB``, see :mod:`symlearn.input_limits`), then the row count every column
+declares against ``lengths``; only then are the columns read.
 """
 
 from __future__ import annotations
@@ -19,6 +24,7 @@ import io
 import json
 import os
 import zipfile
+import zlib
 from pathlib import Path
 from typing import Any
 
@@ -27,7 +33,9 @@ import numpy as np
 from symlearn.atomic import write_bytes
 from symlearn.data.demonstrations import Demonstrations
 from symlearn.data.trajectory import Trajectory
+from symlearn.data.kinds import KINDS
 from symlearn.errors import DataError
+from symlearn.input_limits import MAX_JSON_DEPTH, check_size, depth, load_json
 
 FORMAT_VERSION = 1
 MAGIC = "demonstrations"
@@ -102,42 +110,151 @@ def open_npz(path: str | os.PathLike[str]) -> Any:
         raise DataError(f"not a readable NPZ file ({exc})", file=path) from None
 
 
+def member_headers(path: str | os.PathLike[str]) -> dict[str, tuple[np.dtype, tuple[int, ...]]]:
+    """``{member: (dtype, shape)}`` of an NPZ archive read from the ``.npy`` headers only (a few
+    hundred bytes decompressed per member), after checking the archive's size and every declared
+    size against ``SYMLEARN_MAX_ARRAY_MB``; object, structured and sub-array dtypes are refused."""
+    path = Path(path)
+    if path.is_file():
+        check_size(path.stat().st_size, "SYMLEARN_MAX_ARRAY_MB", what="archive size", file=path)
+    headers: dict[str, tuple[np.dtype, tuple[int, ...]]] = {}
+    total = 0
+    try:
+        with zipfile.ZipFile(path) as archive:
+            for info in archive.infolist():
+                if not info.filename.endswith(".npy"):
+                    continue
+                name = info.filename[:-4]
+                with archive.open(info) as handle:
+                    version = np.lib.format.read_magic(handle)
+                    if version == (1, 0):
+                        shape, _, dtype = np.lib.format.read_array_header_1_0(handle)
+                    elif version == (2, 0):
+                        shape, _, dtype = np.lib.format.read_array_header_2_0(handle)
+                    else:
+                        raise DataError(f"member {name!r}: unsupported .npy version {version}", file=path)
+                if dtype.hasobject or dtype.names is not None or dtype.shape or dtype.kind not in "biufU":
+                    raise DataError(f"member {name!r} has dtype {dtype.str!r}; symlearn archives hold only "
+                                    "plain numbers, booleans and text", file=path)
+                count = 1
+                for extent in shape:
+                    count *= int(extent)
+                total += count * dtype.itemsize
+                check_size(total, "SYMLEARN_MAX_ARRAY_MB", what=f"decompressed size (member {name!r} and those "
+                           "before it)", file=path)
+                headers[name] = (dtype, tuple(int(x) for x in shape))
+    except (zipfile.BadZipFile, zipfile.LargeZipFile, OSError, ValueError, EOFError, NotImplementedError,
+            zlib.error, RuntimeError) as exc:  # RuntimeError: a member flagged as encrypted
+        if isinstance(exc, (FileNotFoundError, PermissionError, IsADirectoryError)):
+            raise
+        raise DataError(f"not a readable NPZ file ({exc})", file=path) from None
+    return headers
+
+
 def read_npz(path: str | os.PathLike[str]) -> Demonstrations:
     path = Path(path)
+    headers = member_headers(path)
     archive = open_npz(path)
     if not isinstance(archive, np.lib.npyio.NpzFile):
         raise DataError("holds a single array, not a symlearn NPZ archive", file=path)
     with archive:
         try:
-            return _unpack(path, archive)
-        except ValueError as exc:  # object arrays refuse to load without pickle, bad JSON ...
+            return _unpack(path, archive, headers)
+        except (ValueError, EOFError, zipfile.BadZipFile, OSError, zlib.error, RuntimeError) as exc:  # truncated ...
+            if isinstance(exc, DataError):
+                raise
             raise DataError(f"malformed archive: {exc}", file=path) from None
 
 
-def _unpack(path: Path, archive) -> Demonstrations:
+def _read_meta(path: Path, text: str) -> dict:
+    header = load_json(text, source=path)
+    if not isinstance(header, dict) or header.get("symlearn") != MAGIC:
+        raise DataError("not a symlearn demonstrations archive (bad __meta__)", file=path)
+    version = header.get("format_version")
+    if not isinstance(version, int) or isinstance(version, bool) or version > FORMAT_VERSION or version < 1:
+        raise DataError(f"format_version {version!r} is not readable by this symlearn (reads {FORMAT_VERSION})",
+                        file=path, hint="upgrade symlearn")
+    if header.get("state_kind") not in KINDS:
+        raise DataError(f"__meta__: state_kind {header.get('state_kind')!r} is not one of {', '.join(KINDS)}",
+                        file=path)
+    if header.get("action_kind") is not None and header.get("action_kind") not in KINDS:
+        raise DataError(f"__meta__: action_kind {header.get('action_kind')!r} is not one of {', '.join(KINDS)}",
+                        file=path)
+    for flag in ("has_actions", "has_rewards", "has_labels"):
+        if not isinstance(header.get(flag, False), bool):
+            raise DataError(f"__meta__: {flag} must be true or false", file=path)
+    if not isinstance(header.get("metadata", {}) or {}, dict):
+        raise DataError("__meta__: metadata must be an object", file=path)
+    for prefix in ("states", "actions"):
+        names = header.get(f"{prefix}_features")
+        encodings = header.get(f"{prefix}_feature_encodings")
+        if names is not None and (not isinstance(names, list) or not all(isinstance(n, str) for n in names)):
+            raise DataError(f"__meta__: {prefix}_features must be a list of names", file=path)
+        if encodings is not None and (not isinstance(encodings, list) or len(encodings) != len(names or [])
+                                      or not set(encodings) <= {"array", "json"}):
+            raise DataError(f"__meta__: {prefix}_feature_encodings must list 'array' or 'json' per feature",
+                            file=path)
+    return header
+
+
+def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
     def member(name: str) -> np.ndarray:
         if name not in archive.files:
             raise DataError(f"archive lacks member {name!r}", file=path)
         return archive[name]
 
-    header = json.loads(str(member("__meta__")))
-    if not isinstance(header, dict) or header.get("symlearn") != MAGIC:
-        raise DataError("not a symlearn demonstrations archive (bad __meta__)", file=path)
-    version = header.get("format_version")
-    if not isinstance(version, int) or version > FORMAT_VERSION:
-        raise DataError(f"format_version {version!r} is not readable by this symlearn (reads {FORMAT_VERSION})",
-                        file=path, hint="upgrade symlearn")
+    def rows(name: str, expected: int, what: str) -> None:
+        """Check a member's declared row count before decompressing it."""
+        if name not in headers:
+            raise DataError(f"archive lacks member {name!r}", file=path)
+        shape = headers[name][1]
+        if not shape or shape[0] != expected:
+            raise DataError(f"member {name!r} has {shape[0] if shape else 0} rows, expected {expected} ({what})",
+                            file=path)
 
+    meta = member("__meta__")
+    if meta.dtype.kind != "U" or meta.ndim != 0:
+        raise DataError("member '__meta__' must be one string", file=path)
+    header = _read_meta(path, str(meta))
+
+    if "lengths" not in headers or len(headers["lengths"][1]) != 1 or headers["lengths"][0].kind not in "iu":
+        raise DataError("member 'lengths' must be a 1-D integer array", file=path)
     lengths = member("lengths")
-    if lengths.dtype.kind not in "iu" or lengths.ndim != 1 or (lengths < 1).any():
-        raise DataError("member 'lengths' must be positive integers", file=path)
+    if (lengths < 1).any() or (lengths > 2**31).any():
+        raise DataError("member 'lengths' must be positive integers (below 2^31)", file=path)
+    if len(lengths) == 0:
+        raise DataError("member 'lengths' is empty: no trajectories", file=path)
+    n, total = len(lengths), int(lengths.sum())
+    rows("info", n, "one per trajectory")
+    if header["state_kind"] == "features":
+        for k in range(len(header.get("states_features") or [])):
+            rows(f"states.{k}", total, "one per state")
+    else:
+        rows("states", total, "one per state")
+    if header.get("has_labels"):
+        rows("labels", total, "one per state")
+        label_shape = headers["labels"][1]
+        names_shape = headers.get("label_names", (None, ()))[1]
+        if len(label_shape) != 2 or len(names_shape) != 1 or label_shape[1] != names_shape[0]:
+            raise DataError(f"member 'labels' has {label_shape[1] if len(label_shape) == 2 else '?'} columns but "
+                            f"'label_names' has {names_shape[0] if len(names_shape) == 1 else '?'} names",
+                            file=path, hint="one column per name in 'label_names'")
     states = _unpack_column(path, "states", header["state_kind"], lengths, archive, header, member)
-    n = len(lengths)
     actions: list[Any] = [None] * n
     if header.get("has_actions"):
+        rows("action_lengths", n, "one per trajectory")
         action_lengths = member("action_lengths")
-        if action_lengths.shape != lengths.shape:
+        if action_lengths.shape != lengths.shape or action_lengths.dtype.kind not in "iu":
             raise DataError("members 'action_lengths' and 'lengths' disagree in size", file=path)
+        if (action_lengths < 0).any() or (action_lengths > lengths).any():
+            raise DataError("member 'action_lengths': each trajectory has between 0 and its number of states "
+                            "actions", file=path)
+        n_actions = int(action_lengths.sum())
+        if header.get("action_kind") == "features":
+            for k in range(len(header.get("actions_features") or [])):
+                rows(f"actions.{k}", n_actions, "one per action")
+        elif header.get("action_kind") is not None:
+            rows("actions", n_actions, "one per action")
         if header.get("action_kind") is None:
             actions = [[] for _ in range(n)]
         else:
@@ -147,15 +264,19 @@ def _unpack(path: Path, archive) -> Demonstrations:
     rewards: list[Any] = [None] * n
     if header.get("has_rewards"):
         per = action_lengths if header.get("has_actions") else lengths
+        rows("rewards", int(per.sum()), "one per action, or per state without actions")
         rewards = _split(path, "rewards", member("rewards"), per)
     labels: list[Any] = [None] * n
     if header.get("has_labels"):
         names = [str(x) for x in member("label_names")]
-        rows = _split(path, "labels", member("labels"), lengths)
-        labels = [[frozenset(names[k] for k in np.flatnonzero(r)) for r in block] for block in rows]
-    infos = [json.loads(str(s)) for s in member("info")]
+        blocks = _split(path, "labels", member("labels"), lengths)
+        labels = [[frozenset(names[k] for k in np.flatnonzero(r)) for r in block] for block in blocks]
+    infos = [load_json(str(s), source=f"{path} (member 'info', trajectory {i})")
+             for i, s in enumerate(member("info"))]
     if len(infos) != n:
         raise DataError("member 'info' has the wrong number of entries", file=path)
+    if depth(header.get("metadata") or {}) > MAX_JSON_DEPTH - 1:
+        raise DataError(f"__meta__: metadata is nested more than {MAX_JSON_DEPTH} levels deep", file=path)
 
     trajectories = []
     for i in range(n):

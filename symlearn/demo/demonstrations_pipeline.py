@@ -14,7 +14,7 @@ import numpy as np
 from symlearn.atomic import write_text
 from symlearn.data import Demonstrations, load, record
 from symlearn.demo.registry import DemoContext, Pipeline, Section
-from symlearn.rendering import dot_available, quote, render_dot
+from symlearn.rendering import dot_available, render_dot
 
 _TILE_PROPS = {"S": ["start"], "F": [], "H": ["hole"], "G": ["goal"]}
 _ACTIONS = ("left", "down", "right", "up")
@@ -29,21 +29,44 @@ def _success(demos: Demonstrations) -> float:
     return float(np.mean([("goal" in t.labels[-1]) for t in demos]))
 
 
-def _state_graph_dot(demos: Demonstrations, desc: np.ndarray, max_edges: int = 80) -> str:
-    width = desc.shape[1]
+_ARROWS = ("\u2190", "\u2193", "\u2192", "\u2191")  # left, down, right, up (FrozenLake's action order)
+
+
+def _state_graph_dot(demos: Demonstrations, desc: np.ndarray) -> str:
+    """The map as a grid (one cell per tile, laid out as FrozenLake draws it): the tile, how
+    often the expert was there, and the arrow of the move it chose most often there; darker blue
+    = more visits. A graph of states and moves laid out left to right was 4291 x 1321 px for the
+    8 x 8 map and unreadable."""
+    height, width = desc.shape
     tiles = [c.decode() if isinstance(c, bytes) else c for c in desc.ravel()]
-    edges = Counter((t.state(i), t.state(i + 1)) for t in demos for i in range(len(t) - 1) if t.state(i) != t.state(i + 1))
-    visits = Counter(t.state(i) for t in demos for i in range(len(t)))
-    colour = {"S": "lightblue", "F": "white", "H": "gray60", "G": "palegreen"}
-    lines = ["digraph visits {", '  rankdir=LR; node [shape=box, style=filled, fontname="Helvetica"];']
-    for s, n in sorted(visits.items()):
-        label = f"({s // width},{s % width}) {tiles[s]}\\n{n} visits"
-        lines.append(f'  s{s} [label="{label}", fillcolor={colour[tiles[s]]}];')
-    top = max(edges.values()) if edges else 1
-    for (a, b), n in edges.most_common(max_edges):
-        lines.append(f"  s{a} -> s{b} [label={quote(str(n))}, penwidth={1 + 3 * n / top:.2f}];")
-    lines.append("}")
-    return "\n".join(lines) + "\n"
+    visits = Counter(int(t.state(i)) for t in demos for i in range(len(t)))
+    moves: dict[int, Counter] = {}
+    for t in demos:
+        for i in range(t.n_actions):
+            moves.setdefault(int(t.state(i)), Counter())[int(t.actions[i])] += 1
+    top = max(visits.values()) if visits else 1
+    fixed = {"H": "#9e9e9e", "G": "#a5e3a5"}
+    rows = []
+    for r in range(height):
+        cells = []
+        for c in range(width):
+            s = r * width + c
+            n = visits.get(s, 0)
+            if tiles[s] in fixed:
+                colour = fixed[tiles[s]]
+            else:
+                shade = int(255 - 150 * (n / top) ** 0.5) if n else 255
+                colour = f"#{shade:02x}{min(255, shade + 20):02x}ff"
+            arrow = _ARROWS[moves[s].most_common(1)[0][0]] if s in moves else ""
+            name = {"S": "start", "H": "hole", "G": "goal"}.get(tiles[s], "")
+            text = f"<b>{name or '&#160;'}</b><br/>{n if n else '&#160;'}<br/><font point-size=\"16\">{arrow or '&#160;'}</font>"
+            cells.append(f'<td width="56" height="56" fixedsize="true" bgcolor="{colour}">{text}</td>')
+        rows.append("<tr>" + "".join(cells) + "</tr>")
+    caption = (f'<tr><td colspan="{width}" border="0"><font point-size="12">Expert visits per tile ({len(demos)} '
+               "episodes)<br/>and its most frequent move there</font></td></tr>")
+    table = '<table border="0" cellborder="1" cellspacing="0">' + caption + "".join(rows) + "</table>"
+    return ("digraph visits {\n  fontname=\"Helvetica\";\n"
+            f"  map [shape=plaintext, fontname=\"Helvetica\", fontsize=10, label=<{table}>];\n}}\n")
 
 
 def run(context: DemoContext) -> Section:
@@ -109,7 +132,7 @@ episodes were recorded with per-step labels `start`, `hole`, `goal`.
 
 The expert demonstrations were saved as JSONL ({round_trip['jsonl']['bytes']} bytes) and NPZ
 ({round_trip['npz']['bytes']} bytes) and read back: round trip exact = {figures['round_trip_exact']}.
-`frozenlake_visits.dot` draws the states the expert visited and its most frequent moves.
+`frozenlake_visits.dot` draws the map with the expert's visits per tile and its most frequent move there.
 """
     return Section("Demonstrations: record, save, reload (FrozenLake)", markdown, figures, files)
 

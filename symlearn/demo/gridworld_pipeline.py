@@ -9,13 +9,14 @@ environment next to the expert, and the ML constraint set shields a Q-learning a
 
 from __future__ import annotations
 
+import html
 import warnings
 
 import numpy as np
 
 from symlearn.atomic import write_text
 from symlearn.demo.registry import DemoContext, Pipeline, Section
-from symlearn.rendering import dot_available, quote, render_dot
+from symlearn.rendering import dot_available, render_dot
 
 STOCHASTICITY = 0.3
 
@@ -36,10 +37,25 @@ def cost_map_text(env, cost: np.ndarray, threshold: float) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _wrap(title: str, width: int = 36) -> list[str]:
+    """The title in lines of at most about ``width`` characters (broken at spaces)."""
+    lines, line = [], ""
+    for word in title.split():
+        if line and len(line) + 1 + len(word) > width:
+            lines.append(line)
+            line = word
+        else:
+            line = f"{line} {word}".strip()
+    return lines + ([line] if line else [])
+
+
 def constraint_map_dot(env, cost: np.ndarray, title: str) -> str:
     """The grid as one HTML-table node: darker red = higher learned cost, thick border = truly
-    forbidden cell."""
+    forbidden cell. Whole-number values (counts) print without decimals; the title is the
+    table's first row, wrapped, so it is never wider than the picture (SVG viewers cut a graph
+    label that is)."""
     top = float(cost.max()) or 1.0
+    counts = bool(np.all(np.asarray(cost) == np.round(cost)))
     height, width = env.shape
     rows = []
     for r in range(height):
@@ -48,12 +64,16 @@ def constraint_map_dot(env, cost: np.ndarray, title: str) -> str:
             s = r * width + c
             shade = int(255 - 200 * min(cost[s] / top, 1.0))
             colour = f"#ff{shade:02x}{shade:02x}"
-            text = "S" if s == env.start_state else "G" if s == env.goal_state else f"{cost[s]:.1f}"
+            value = f"{int(round(cost[s]))}" if counts else f"{cost[s]:.1f}"
+            text = "S" if s == env.start_state else "G" if s == env.goal_state else value
             border = "3" if env.forbidden_states[s] else "1"
-            cells.append(f'<td width="36" height="36" bgcolor="{colour}" border="{border}">{text}</td>')
+            cells.append(f'<td width="36" height="36" fixedsize="true" bgcolor="{colour}" border="{border}">'
+                         f'{text}</td>')
         rows.append("<tr>" + "".join(cells) + "</tr>")
-    table = '<table border="0" cellspacing="2">' + "".join(rows) + "</table>"
-    return (f"digraph constraints {{\n  label={quote(title)}; labelloc=t; fontname=\"Helvetica\";\n"
+    heading = "<br/>".join(html.escape(line) for line in _wrap(title, max(20, 4 * width + 4)))
+    caption = f'<tr><td colspan="{width}" border="0" cellpadding="4"><font point-size="12">{heading}</font></td></tr>'
+    table = '<table border="0" cellspacing="2">' + caption + "".join(rows) + "</table>"
+    return (f"digraph constraints {{\n  fontname=\"Helvetica\";\n"
             f"  grid [shape=plaintext, fontname=\"Helvetica\", label=<{table}>];\n}}\n")
 
 

@@ -24,11 +24,14 @@ from __future__ import annotations
 import json
 import re
 import tomllib
+import zipfile
+import zlib
 from pathlib import Path
 import numpy as np
 
 from symlearn.atomic import write_bytes, write_text
 from symlearn.errors import DataError, ModelError, ParseError
+from symlearn.input_limits import read_input_text
 
 REQUIRED = ("name", "background", "bias", "model", "states", "actions")
 OPTIONAL = ("description", "truth", "labeling", "features")
@@ -45,7 +48,9 @@ def read_domain_folder(folder: Path):
     if not toml_path.is_file():
         raise DataError("the domain folder has no domain.toml", file=str(folder))
     try:
-        config = tomllib.loads(toml_path.read_text(encoding="utf-8"))
+        config = tomllib.loads(read_input_text(toml_path))
+    except RecursionError:
+        raise ParseError("domain.toml is nested too deeply", file=str(toml_path)) from None
     except tomllib.TOMLDecodeError as exc:
         # Python 3.11's error has no line attributes; its message ends "(at line L, column C)"
         where = re.search(r"\(at line (\d+), column (\d+)\)", str(exc))
@@ -72,7 +77,7 @@ def read_domain_folder(folder: Path):
 
     sources = {k: str(path(k)) for k in (*REQUIRED[1:], *[k for k in ("truth", "labeling", "features") if k in config])}
     background = _read_program(path("background"))
-    bias = path("bias").read_text(encoding="utf-8")
+    bias = read_input_text(path("bias"))
     model = _read_model(path("model"))
     grounding = FactGrounding.from_jsonl(path("states"), path("actions"))
     n_s, n_a = model["transitions"].shape[:2]
@@ -83,7 +88,7 @@ def read_domain_folder(folder: Path):
         raise DataError(f"{config['actions']} lists {grounding.n_actions} actions, {config['model']} has {n_a}",
                         file=sources["actions"])
     mdp = _model_mdp(model, sources["model"], grounding.action_atoms, grounding.state_names)
-    truth = path("truth").read_text(encoding="utf-8") if "truth" in config else None
+    truth = read_input_text(path("truth")) if "truth" in config else None
     labeling = None
     if "labeling" in config:
         from symlearn.grounding.labeling import load_labeling
@@ -109,10 +114,15 @@ def _read_program(path: Path):
 
 
 def _read_model(path: Path) -> dict[str, np.ndarray]:
+    from symlearn.data.npz_format import member_headers
+
+    headers = member_headers(path)  # declared sizes checked before anything is decompressed
+    if any(dtype.kind not in "biuf" for dtype, _ in headers.values()):
+        raise DataError("the model archive holds text arrays; it needs numbers and booleans only", file=str(path))
     try:
         with np.load(path, allow_pickle=False) as archive:
             arrays = {k: np.asarray(archive[k]) for k in archive.files}
-    except (OSError, ValueError) as exc:
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error, RuntimeError) as exc:
         raise DataError(f"cannot read the model archive: {exc}", file=str(path),
                         hint="write it with numpy.savez (no object arrays)") from None
     for key in ("transitions", "initial", "terminal"):

@@ -237,17 +237,18 @@ def _read_table(path: Path, key: str, names: dict[int, str] | None = None) -> di
     """``{id: (value, line)}`` of a JSONL file with objects ``{"id": int, key: str}``; optional
     ``"name"`` strings are collected into ``names`` when it is given."""
     try:
-        lines = path.read_text(encoding="utf-8").splitlines()
+        from symlearn.input_limits import read_input_text
+
+        lines = read_input_text(path).splitlines()
     except OSError as exc:
         raise DataError(f"cannot read {path}: {exc.strerror}", file=str(path)) from None
     table: dict[int, tuple[str, int]] = {}
     for number, text in enumerate(lines, start=1):
         if not text.strip():
             continue
-        try:
-            item = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise ParseError(f"invalid JSON: {exc.msg}", file=str(path), line=number, column=exc.colno) from None
+        from symlearn.input_limits import load_json
+
+        item = load_json(text, source=str(path), line=number)  # syntax, nesting, duplicate keys
         if not isinstance(item, dict) or "id" not in item or key not in item:
             raise DataError(f"expected an object with \"id\" and \"{key}\"", file=str(path), line=number)
         ident, value = item["id"], item[key]

@@ -169,15 +169,47 @@ class Labeling(LabelingBase, JsonFile):
                             hint="read it with symlearn.grounding.load_labeling")
         try:
             props = [(p["name"], p.get("meaning", "")) for p in doc["propositions"]]
-            table = {_state_from_json(state): names for state, names in doc["table"]}
-        except (KeyError, TypeError, ValueError) as exc:
+            entries = [(_state_from_json(state), names) for state, names in doc["table"]]
+            table = dict(entries)
+        except (KeyError, TypeError, ValueError, AttributeError) as exc:
             raise DataError(f"malformed labeling ({type(exc).__name__}: {exc})", file=source,
                             hint="expected 'propositions': [{name, meaning}], 'table': [[state, [props]]]") from None
+        _check_file_table(props, entries, source)
         try:
             return cls(table, meanings=dict(props), propositions=[name for name, _ in props])
         except DataError as exc:
             raise DataError(exc.message, file=source) from None
 
+
+
+def _check_file_table(props: list[tuple[Any, Any]], entries: list[tuple[Hashable, Any]], source: str) -> None:
+    """What a labeling *file* must get right (a labeling built in Python may grow propositions):
+    proposition names given once, each state listed once, only declared propositions used."""
+    declared: dict[Any, int] = {}
+    for i, (name, _) in enumerate(props):
+        if not isinstance(name, str) or not name:
+            raise DataError(f"propositions[{i}]: a name must be a non-empty string, got {json.dumps(name)}",
+                            file=source)
+        if name in declared:
+            raise DataError(f"propositions[{i}]: proposition {name!r} is declared twice (first at "
+                            f"propositions[{declared[name]}])", file=source)
+        declared[name] = i
+    seen: dict[Hashable, int] = {}
+    for i, (state, names) in enumerate(entries):
+        try:
+            key = _hashable(state)
+        except TypeError:
+            raise DataError(f"table[{i}]: state {json.dumps(state)} cannot be used as a state", file=source) from None
+        if key in seen:
+            raise DataError(f"table[{i}]: state {json.dumps(_state_to_json(state))} is listed twice (first at "
+                            f"table[{seen[key]}])", file=source, hint="merge the two entries")
+        seen[key] = i
+        if isinstance(names, str) or not isinstance(names, list):
+            raise DataError(f"table[{i}]: the propositions of a state must be a list of names", file=source)
+        for name in names:
+            if name not in declared:
+                raise DataError(f"table[{i}]: proposition {json.dumps(name)} is not declared in 'propositions'",
+                                file=source, hint="declare it with its meaning, or fix the name")
 
 
 def load_labeling_text(text: str, *, source: str = "<string>"):
@@ -198,7 +230,9 @@ def load_labeling(path: str | os.PathLike[str]):
     """Read a saved labeling of either kind (see :func:`load_labeling_text`)."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8")
+        from symlearn.input_limits import read_input_text
+
+        text = read_input_text(path, what="labeling file")
     except OSError as exc:
         raise DataError(f"cannot read the labeling: {exc.strerror}", file=str(path)) from None
     return load_labeling_text(text, source=str(path))

@@ -30,6 +30,8 @@ from __future__ import annotations
 
 from collections.abc import Callable, Hashable, Iterable
 
+from symlearn.errors import LimitExceededError
+
 __all__ = ["BDD", "FALSE", "TRUE"]
 
 FALSE, TRUE = 0, 1
@@ -43,9 +45,14 @@ class BDD:
     level (each checks ``u <= TRUE`` first), so any ordered key type works.
     """
 
-    __slots__ = ("level", "low", "high", "_unique", "_and", "_or", "_not", "_support", "_free")
+    __slots__ = ("level", "low", "high", "_unique", "_and", "_or", "_not", "_support", "_free", "max_nodes",
+                 "limit_hint")
 
-    def __init__(self) -> None:
+    def __init__(self, max_nodes: int | None = None, limit_hint: str | None = None) -> None:
+        #: building a node beyond this many raises LimitExceededError (None: no limit); about
+        #: 250 bytes a node, so the limit bounds the table's memory before the machine runs out.
+        self.max_nodes = max_nodes
+        self.limit_hint = limit_hint
         self.level: list = [None, None]
         self.low: list[int] = [FALSE, TRUE]
         self.high: list[int] = [FALSE, TRUE]
@@ -73,6 +80,9 @@ class BDD:
                 self.level[found], self.low[found], self.high[found] = var, low, high
             else:
                 found = len(self.level)
+                if self.max_nodes is not None and found >= self.max_nodes:
+                    raise LimitExceededError(f"the BDD needs more than {self.max_nodes:,} nodes",
+                                             hint=self.limit_hint)
                 self.level.append(var)
                 self.low.append(low)
                 self.high.append(high)
@@ -151,6 +161,40 @@ class BDD:
             return found
 
         return walk(u)
+
+    def simplify(self, u: int, care: int) -> int:
+        """A function equal to ``u`` wherever ``care`` holds, usually with fewer nodes (Coudert and
+        Madre's *restrict*): ``apply_and(simplify(u, c), c) == apply_and(u, c)``. Where ``care``
+        is false the result is arbitrary; ``simplify(u, FALSE)`` is ``FALSE``."""
+        memo: dict[tuple[int, int], int] = {}
+        level, low, high = self.level, self.low, self.high
+
+        def walk(f: int, c: int) -> int:
+            if c == FALSE:
+                return FALSE
+            if c == TRUE or f <= TRUE:
+                return f
+            if f == c:
+                return TRUE
+            key = (f, c)
+            found = memo.get(key)
+            if found is not None:
+                return found
+            lf, lc = level[f], level[c]
+            if lc < lf:  # the care set tests a variable f does not: forget it
+                found = walk(f, self.apply_or(low[c], high[c]))
+            else:
+                c0, c1 = (low[c], high[c]) if lc == lf else (c, c)
+                if c1 == FALSE:
+                    found = walk(low[f], c0)
+                elif c0 == FALSE:
+                    found = walk(high[f], c1)
+                else:
+                    found = self.node(lf, walk(low[f], c0), walk(high[f], c1))
+            memo[key] = found
+            return found
+
+        return walk(u, care)
 
     # -- queries -----------------------------------------------------------------------------------
     def evaluate(self, u: int, value: Callable[[Hashable], bool]) -> bool:

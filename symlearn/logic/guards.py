@@ -17,8 +17,16 @@ True
 Text syntax (``grammars/guard.lark``): ``true``, ``false``, names ``[A-Za-z_][A-Za-z0-9_]*`` or
 double-quoted strings, ``!``/``~``, ``&``/``&&``, ``|``/``||`` and parentheses; ``!`` binds
 tightest, then ``&``, then ``|``. ``str(g)`` prints a minimal sum of products over the guard's
-support (Quine-McCluskey via sympy for up to 8 propositions, a greedy cover by prime implicants
-computed on the BDD above that) and ``Guard.parse(str(g)) == g`` always holds.
+support (a single cube or clause directly, Quine-McCluskey via sympy for up to 8 propositions,
+a greedy cover by prime implicants computed on the BDD above that) and
+``Guard.parse(str(g)) == g`` always holds. A sum of products can be exponentially longer than
+the BDD (``!((p0 & q0) | ... | (p11 & q11))`` needs 4096 cubes), so above 8 propositions a
+cover needing more than 16 cubes is printed *factored* from the BDD instead: each node
+``x ? H : L`` becomes ``x & H``, ``!x & L``, ``x | L``, ``!x | H``, ``L & (!x | H')`` (when H
+implies L) or ``L | (x & H')`` (when L implies H), with ``H'`` simplified against the care set
+(:meth:`BDD.simplify`), and ``(x & H) | (!x & L)`` otherwise; that guard prints as
+``(!p0 | !q0) & ... & (!p11 | !q11)``. A printed form longer than 200,000 characters raises
+:class:`LimitExceededError` (:meth:`Guard.summary` describes such a guard in one line).
 
 Memory: the shared table keeps the nodes that live guards reach. Nodes of guards that no longer
 exist are freed by :func:`collect`, which runs by itself once the table has doubled since the
@@ -35,6 +43,7 @@ from functools import lru_cache
 from typing import AbstractSet
 
 from symlearn.errors import LimitExceededError, ParseError
+from symlearn.input_limits import limit as _limit
 from symlearn.logic.bdd import BDD
 
 __all__ = ["Guard", "GuardParseError", "from_bdd", "collect", "node_count"]
@@ -43,7 +52,11 @@ _FALSE, _TRUE = 0, 1
 # Every guard lives in this one manager (variables: proposition names), so guards of different
 # automata combine and compare without conversion. _var/_low/_high alias its node lists (changed
 # only in place) for the hot loops below.
-_MANAGER = BDD()
+# The table is bounded (SYMLEARN_MAX_BDD_NODES, see symlearn.input_limits): a guard whose BDD
+# explodes under the name order, e.g. (a0 & b0) | ... | (a40 & b40), stops with a clear error.
+_MANAGER = BDD(max_nodes=_limit("SYMLEARN_MAX_BDD_NODES"),
+               limit_hint="guards over many propositions can need exponentially many BDD nodes in name "
+                          "order; raise SYMLEARN_MAX_BDD_NODES (0: no limit) or use fewer propositions")
 _var, _low, _high = _MANAGER.level, _MANAGER.low, _MANAGER.high
 _and = _MANAGER.apply_and
 _or = _MANAGER.apply_or
@@ -69,6 +82,8 @@ _collect_at = _COLLECT_FROM
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _KEYWORDS = {"true", "false"}
 _SOP_LIMIT = 8  # beyond this many propositions, print BDD paths instead of a minimal cover
+_CUBE_BUDGET = 16  # beyond 8 propositions, a cover needing more cubes is printed factored
+_TEXT_LIMIT = 200_000  # characters; a guard whose printed form would be longer is refused
 
 
 class GuardParseError(ParseError):
@@ -396,8 +411,28 @@ class Guard:
         return frozenset(label)
 
     def cubes(self) -> list[dict[str, bool]]:
-        """A sum of products equal to the guard (minimal for small supports); ``[]`` is false."""
+        """A sum of products equal to the guard (minimal for small supports); ``[]`` is false.
+        It may have exponentially many cubes (``str(g)`` then prints a factored form)."""
         return [dict(c) for c in _cover(self._node)]
+
+    def summary(self) -> str:
+        """One line describing the guard without printing it: its text when that is short,
+        else the number of propositions and BDD nodes (for displays of huge guards)."""
+        try:
+            text = str(self)
+        except LimitExceededError:
+            text = None
+        if text is not None and len(text) <= 200:
+            return text
+        nodes, stack, seen = 0, [self._node], set()
+        while stack:
+            u = stack.pop()
+            if u > _TRUE and u not in seen:
+                seen.add(u)
+                nodes += 1
+                stack += [_low[u], _high[u]]
+        size = f"{len(text):,} characters" if text is not None else "too long to print"
+        return f"<guard over {len(self.propositions)} propositions, {nodes} BDD nodes; {size}>"
 
     def to_text(self, *, unicode: bool = False) -> str:
         text = str(self)
@@ -425,7 +460,12 @@ class Guard:
     def __str__(self) -> str:
         text = _text_cache.get(self._node)
         if text is None:
-            text = _format(_cover(self._node))
+            try:
+                text = _text(self._node)
+            except RecursionError:
+                raise LimitExceededError(
+                    f"guard over {len(self.propositions)} propositions is too deep to print",
+                    hint="guards over hundreds of propositions exceed the printer's recursion depth") from None
             _text_cache[self._node] = text
         return text
 
@@ -461,19 +501,136 @@ def _paths(u: int, prefix: tuple[tuple[str, bool], ...] = ()) -> Iterator[tuple[
         yield from _paths(_high[u], prefix + ((_var[u], True),))  # type: ignore[operator]
 
 
+def _single_path(u: int) -> list[tuple[str, bool]] | None:
+    """The literals of ``u`` when it is one cube (every node has a false child), else None."""
+    literals = []
+    while u > _TRUE:
+        if _low[u] == _FALSE:
+            literals.append((_var[u], True))
+            u = _high[u]
+        elif _high[u] == _FALSE:
+            literals.append((_var[u], False))
+            u = _low[u]
+        else:
+            return None
+    return literals if u == _TRUE else None
+
+
+def _sorted_cover(cubes) -> tuple[tuple[tuple[str, bool], ...], ...]:
+    cubes = [tuple(sorted(c, key=lambda lit: _natural(lit[0]))) for c in cubes]
+    return tuple(sorted(cubes, key=lambda c: (len(c), [(_natural(n), not v) for n, v in c])))
+
+
 @lru_cache(maxsize=4096)
-def _cover(u: int) -> tuple[tuple[tuple[str, bool], ...], ...]:
+def _cover(u: int, budget: int | None = None) -> tuple[tuple[tuple[str, bool], ...], ...] | None:
+    """A sum of products equal to ``u`` (minimal up to 8 propositions); None when ``budget`` is
+    given and a cover above 8 propositions needs more cubes than that."""
     if u == _FALSE:
         return ()
     if u == _TRUE:
         return ((),)
+    cube = _single_path(u)
+    if cube is not None:  # one cube: its own minimal cover
+        return _sorted_cover([cube])
+    clause = _single_path(_not(u))
+    if clause is not None:  # a clause: one literal per cube
+        return _sorted_cover([((name, not value),) for name, value in clause])
     support = sorted(_support(u))
     if len(support) <= _SOP_LIMIT:
         cubes = _minimal_cover(u, support)
     else:
-        cubes = _prime_cover(u)
-    cubes = [tuple(sorted(c, key=lambda lit: _natural(lit[0]))) for c in cubes]
-    return tuple(sorted(cubes, key=lambda c: (len(c), [(_natural(n), not v) for n, v in c])))
+        cubes = _prime_cover(u, budget)
+        if cubes is None:
+            return None
+    return _sorted_cover(cubes)
+
+
+def _text(u: int) -> str:
+    """``str`` of the guard at node ``u``: a (minimal) sum of products, or factored when that is big."""
+    cover = _cover(u, _CUBE_BUDGET)
+    if cover is not None:
+        text = _format(cover)
+    else:
+        text = _factored(u)[0]
+    if len(text) > _TEXT_LIMIT:
+        raise _too_long(u)
+    return text
+
+
+def _too_long(u: int) -> LimitExceededError:
+    return LimitExceededError(
+        f"guard over {len(_support(u))} propositions is longer than {_TEXT_LIMIT:,} characters when printed",
+        hint="split the formula or use fewer propositions; Guard.summary() describes it")
+
+
+_ATOM_TEXT, _AND_TEXT, _OR_TEXT = 0, 1, 2
+
+
+def _join(op: int, parts: list[tuple]) -> tuple:
+    """``parts`` joined by ``&`` (op _AND_TEXT) or ``|``: operands of the same operator are
+    flattened and sorted (names in natural order), a disjunction inside a conjunction (or the
+    reverse, for readability) is parenthesised. A part is ``(text, kind, operands)``."""
+    operands: list[str] = []
+    for text, kind, inner in parts:
+        if kind == op:
+            operands.extend(inner)
+        else:
+            operands.append(text if kind == _ATOM_TEXT else f"({text})")
+    operands.sort(key=lambda t: (t.startswith("("), _natural(t.lstrip("(!"))))
+    return (" & " if op == _AND_TEXT else " | ").join(operands), op, tuple(operands)
+
+
+def _piece(text: str, kind: int) -> tuple:
+    """A printed sum of products or cube as a part for :func:`_join`."""
+    if kind == _ATOM_TEXT:
+        return text, kind, (text,)
+    operands = [t if t.startswith("(") or " " not in t else f"({t})"
+                for t in (text.split(" & ") if kind == _AND_TEXT else text.split(" | "))]
+    return text, kind, tuple(operands)
+
+
+def _factored(u: int, memo: dict[int, tuple[str, int]] | None = None) -> tuple[str, int]:
+    """A factored form of ``u`` read off the BDD (see the module docstring), with its top operator."""
+    if memo is None:
+        memo = {}
+    found = memo.get(u)
+    if found is not None:
+        return found
+    if u <= _TRUE:
+        return _piece("true" if u == _TRUE else "false", _ATOM_TEXT)
+    cover = _cover(u, _CUBE_BUDGET)
+    sop = None
+    if cover is not None:
+        text = _format(cover)
+        sop = _piece(text, _OR_TEXT if len(cover) > 1 else _AND_TEXT if " & " in text else _ATOM_TEXT)
+    if cover is not None and len(cover) <= 1:  # a cube prints best as itself
+        result = sop
+    else:
+        name, low, high = _var[u], _low[u], _high[u]
+        pos, neg = _piece(_name_text(name), _ATOM_TEXT), _piece("!" + _name_text(name), _ATOM_TEXT)
+        if low == _FALSE:
+            result = _join(_AND_TEXT, [pos, _factored(high, memo)])
+        elif high == _FALSE:
+            result = _join(_AND_TEXT, [neg, _factored(low, memo)])
+        elif high == _TRUE:
+            result = _join(_OR_TEXT, [pos, _factored(low, memo)])
+        elif low == _TRUE:
+            result = _join(_OR_TEXT, [neg, _factored(high, memo)])
+        elif _and(high, _not(low)) == _FALSE:  # high implies low: u = low & (!x | high')
+            rest = _MANAGER.simplify(high, low)
+            result = _join(_AND_TEXT, [_factored(low, memo), _join(_OR_TEXT, [neg, _factored(rest, memo)])])
+        elif _and(low, _not(high)) == _FALSE:  # low implies high: u = low | (x & high')
+            rest = _MANAGER.simplify(high, _not(low))
+            result = _join(_OR_TEXT, [_factored(low, memo), _join(_AND_TEXT, [pos, _factored(rest, memo)])])
+        else:
+            result = _join(_OR_TEXT, [_join(_AND_TEXT, [pos, _factored(high, memo)]),
+                                      _join(_AND_TEXT, [neg, _factored(low, memo)])])
+        if sop is not None and len(sop[0]) <= len(result[0]):
+            result = sop
+    if len(result[0]) > _TEXT_LIMIT:
+        raise _too_long(u)
+    memo[u] = result
+    return result
 
 
 def _natural(name: str) -> tuple:
@@ -481,7 +638,27 @@ def _natural(name: str) -> tuple:
     return tuple(int(part) if part.isdigit() else part for part in re.split(r"(\d+)", name))
 
 
-def _prime_cover(u: int) -> list[tuple[tuple[str, bool], ...]]:
+def _cube_inside(cube: Mapping[str, bool], u: int) -> bool:
+    """Whether every label the cube allows satisfies ``u``: no path to false agrees with the
+    cube (a walk over ``u``'s nodes; nothing is built in the table)."""
+    stack, seen = [u], set()
+    while stack:
+        w = stack.pop()
+        if w == _TRUE or w in seen:
+            continue
+        if w == _FALSE:
+            return False
+        seen.add(w)
+        value = cube.get(_var[w])
+        if value is None:
+            stack.append(_low[w])
+            stack.append(_high[w])
+        else:
+            stack.append(_high[w] if value else _low[w])
+    return True
+
+
+def _prime_cover(u: int, budget: int | None = None) -> list[tuple[tuple[str, bool], ...]] | None:
     """An irredundant cover by prime implicants, found on the BDD (no truth table).
 
     Take a path to true of the still-uncovered part, drop every literal whose removal keeps
@@ -490,10 +667,12 @@ def _prime_cover(u: int) -> list[tuple[tuple[str, bool], ...]]:
     """
     cubes, remaining = [], u
     while remaining != _FALSE:
+        if budget is not None and len(cubes) >= budget:
+            return None
         cube = dict(next(_paths(remaining)))
         for name in sorted(cube):
             value = cube.pop(name)
-            if _and(_cube_node(cube), _not(u)) != _FALSE:
+            if not _cube_inside(cube, u):
                 cube[name] = value  # needed: without it the cube leaves u
         cubes.append(tuple(sorted(cube.items())))
         remaining = _and(remaining, _not(_cube_node(cube)))

@@ -30,6 +30,10 @@ def test_learn_prints_rules_and_writes_an_editable_file(run_cli, task_file, tmp_
     assert ":- wall(V1), go(V1)." in result.stdout and "score 2 (optimal)" in result.stdout
     text = out.read_text()
     assert text.startswith("% learned by symlearn ilp learn") and ":- wall(V1), go(V1)." in text
+    # the header's re-check line names this task and this file, ready to paste
+    assert f"% edit the rules below; re-check with: symlearn ilp check {task_file} {out}\n" in text
+    again = run_cli("ilp", "check", task_file, out)
+    assert again.returncode == 0 and "4/4 examples covered" in again.stdout
 
 
 def test_learn_json_keys(run_cli, task_file):
@@ -44,11 +48,17 @@ def test_check_rescores_an_edited_file(run_cli, task_file, tmp_path):
     hyp.write_text("% my edit: only forbid going north\n:- go(north).\n")
     result = run_cli("ilp", "check", task_file, hyp, "--json")
     doc = json.loads(result.stdout)
-    assert result.returncode == 0
+    # an uncovered example without a penalty fails the check (exit 2, one line on stderr), so CI notices
+    assert result.returncode == 2 and doc["passed"] is False
+    assert result.stderr.strip().splitlines() == [f"symlearn: error: {hyp}: 1 example without a penalty not "
+                                                   "covered: n2"]
     assert doc["coverage"] == {"p1": True, "p2": True, "n1": True, "n2": False}
     assert doc["score"] is None and doc["uncovered_without_penalty"] == ["n2"]
     text = run_cli("ilp", "check", task_file, hyp).stdout
     assert "3/4 examples covered" in text and "uncovered: n2" in text
+    hyp.write_text(":- wall(V1), go(V1).\n")
+    passed = run_cli("ilp", "check", task_file, hyp, "--json")
+    assert passed.returncode == 0 and json.loads(passed.stdout)["passed"] is True and passed.stderr == ""
 
 
 def test_space_prints_size_and_sample(run_cli, task_file):
@@ -102,3 +112,46 @@ def test_noise_flag_and_coverage_matrix(run_cli, tmp_path):
     assert result.returncode == 0 and doc["rules"] == [":- wall(V1), go(V1)."]
     assert doc["penalty"] == 4 and doc["score"] == 6 and doc["coverage"]["p3"] is False
     assert doc["matrix"][":- wall(V1), go(V1)."]["n2"] is True
+
+
+# -- issue 15 ---------------------------------------------------------------------------------------
+
+def test_check_help_documents_its_arguments(capsys):
+    from symlearn.cli.main import main
+
+    with pytest.raises(SystemExit):
+        main(["ilp", "check", "--help"])
+    text = capsys.readouterr().out
+    for words in ("TASK.las", "the task file the rules are checked", "HYP.lp", "rules (.lp)", "--bk F.lp",
+                  "--timeout S", "--max-memory MB", "Exit 0 when every example without a penalty is covered"):
+        assert words in " ".join(text.split()), words
+
+
+def test_hints_speak_in_flags_not_api_names(capsys, tmp_path):
+    from cli_runner import run
+
+    task = tmp_path / "t.las"
+    task.write_text("#pos(p, {}, {}, { go(n). }).\n#neg(q, {}, {}, { go(s). }).\n"
+                    "#modeb(1, go(var(d)), (positive)).\n#maxv(1).\n")
+    code, out, _err = run(capsys, "ilp", "learn", task)
+    assert code == 2 and "excludes p)" in out
+    assert "--noise" in out and "--max-body" in out and "noise=True" not in out and "max_body" not in out
+
+
+@pytest.mark.parametrize("command", ["learn", "check", "space"])
+def test_timeout_values_on_every_ilp_command(capsys, task_file, tmp_path, command):
+    from cli_runner import run
+
+    hyp = tmp_path / "h.lp"
+    hyp.write_text(":- wall(V1), go(V1).\n")
+    args = ["ilp", command, task_file] + ([hyp] if command == "check" else [])
+    for value in ("inf", "1e10", "1e308"):  # no limit, no overflow into "already expired"
+        code, out, err = run(capsys, *args, "--timeout", value, "--json")
+        assert code == 0, err
+        doc = json.loads(out)
+        assert doc.get("optimal", True) is True and doc.get("passed", True) is True
+    for value in ("0", "-1", "nan"):
+        code, out, err = run(capsys, *args, "--timeout", value)
+        assert code == 2 and out == ""
+        assert err.splitlines() == [f"symlearn: error: --timeout must be a positive number of seconds, not {value} "
+                                    "(hint: give a positive number of seconds ('inf' for no limit))"]

@@ -111,7 +111,7 @@ def test_npz_errors(tmp_path):
         load(_npz(tmp_path, lengths=np.array([1])))
     with pytest.raises(DataError, match="bad __meta__"):
         load(_npz(tmp_path, __meta__=np.asarray('{"hello": 1}')))
-    with pytest.raises(DataError, match="malformed archive"):  # object arrays need pickle: refused
+    with pytest.raises(DataError, match="dtype '\\|O'"):  # object arrays need pickle: refused from the header
         load(_npz(tmp_path, __meta__=np.array([{"a": 1}], dtype=object)))
 
 

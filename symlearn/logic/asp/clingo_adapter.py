@@ -19,6 +19,8 @@ timeouts, interrupts and error translation are handled once:
 from __future__ import annotations
 
 import bisect
+import copyreg
+import math
 import re
 import time
 from collections.abc import Callable, Iterable, Sequence
@@ -29,9 +31,29 @@ import clingo.ast
 
 from symlearn.errors import LimitExceededError, ParseError
 
-from symlearn.logic.asp.program import Program
+from symlearn.logic.asp.program import Part, Program
 
 Symbol = clingo.Symbol
+
+
+def _symbol_from_text(text: str) -> Symbol:
+    return clingo.parse_term(text)
+
+
+def _reduce_symbol(symbol: Symbol):
+    return _symbol_from_text, (str(symbol),)
+
+
+# clingo's own pickling of a Symbol copies a pointer into this process's symbol table, which
+# crashes another process (the worker of symlearn.worker); pickle the text instead
+copyreg.pickle(clingo.Symbol, _reduce_symbol)
+
+#: clingo statement kinds a learning task cannot hold, with the name users write
+UNSUPPORTED_STATEMENTS = {
+    "Minimize": "#minimize/#maximize", "Heuristic": "#heuristic", "ProjectAtom": "#project",
+    "ProjectSignature": "#project", "External": "#external", "Edge": "#edge", "TheoryDefinition": "#theory",
+    "Script": "#script", "Defined": "#defined",
+}
 
 # "<block>:3:5-9: error: syntax error, unexpected ..." ; also "<block>:3:5-4:2: ..." spans
 _POSITION = re.compile(r"^<(?:block|string)>:(\d+):(\d+)(?:-\d+(?::\d+)?)?:\s*(error|warning|info|note):\s*(.*)$")
@@ -80,6 +102,7 @@ def _raise_clingo_error(program: Program, messages: _Messages, fallback: str) ->
         source, src_line, src_col = program.locate(line, column)
         full = message.rstrip(":")
         if notes:
+            full = re.sub(r"\s+in$", "", full)  # "unsafe variables in:" is followed by the rule, dropped here
             full += " (" + "; ".join(notes) + ")"
         elif detail:
             full += ": " + detail
@@ -88,9 +111,90 @@ def _raise_clingo_error(program: Program, messages: _Messages, fallback: str) ->
     raise ParseError(f"clingo: {fallback}", file=program.first_source)
 
 
+class _Stop(Exception):
+    """Raised inside a clingo callback to stop it; the real exception is kept aside."""
+
+
+def parse_statements(text: str, callback: Callable[[clingo.ast.AST], None], *,
+                     program: Program | None = None, messages: _Messages | None = None) -> None:
+    """``clingo.ast.parse_string`` that lets exceptions of ``callback`` through unchanged.
+
+    clingo re-raises a callback's exception as ``type(exc)(exc)``, which turns our errors into
+    exceptions whose message is an exception object (``__str__ returned non-string``); here the
+    callback's exception is kept and re-raised once clingo has stopped. Syntax errors become
+    :class:`ParseError` located through ``program`` (default: ``text`` itself)."""
+    failure: list[BaseException] = []
+    messages = _Messages() if messages is None else messages
+
+    def guarded(statement: clingo.ast.AST) -> None:
+        if failure:
+            return
+        try:
+            callback(statement)
+        except BaseException as exc:  # noqa: BLE001 - re-raised below, outside clingo
+            failure.append(exc)
+            raise _Stop from None
+
+    try:
+        clingo.ast.parse_string(text, guarded, logger=messages)
+    except BaseException as exc:  # noqa: BLE001
+        if failure:
+            raise failure[0] from None
+        if isinstance(exc, RuntimeError):
+            _raise_clingo_error(program if program is not None else Program.from_text(text), messages, str(exc))
+        raise
+
+
+def unsupported_feature(statement: clingo.ast.AST, program: Program) -> ParseError:
+    """``unsupported feature #minimize at line L`` for ``statement`` of ``program``, located in the
+    user's file."""
+    kind = statement.ast_type.name
+    name = UNSUPPORTED_STATEMENTS.get(kind, kind)
+    loc = statement.location.begin
+    if kind == "Script":
+        name = f"#script ({getattr(statement, 'name', '') or 'python'})"
+    elif kind == "Minimize":
+        lines = program.text.split("\n", loc.line)
+        written = lines[loc.line - 1][loc.column - 1:] if len(lines) >= loc.line else ""
+        name = "weak constraint (:~)" if written.startswith(":~") else "#minimize/#maximize"
+    source, line, column = program.locate(loc.line, loc.column)
+    return ParseError(f"unsupported feature {name} at line {line}", file=source, line=line, column=column,
+                      hint="see docs/ILP.md for the supported subset of clingo programs")
+
+
+def check_no_scripts(program: Program) -> None:
+    """Refuse ``#script`` blocks: symlearn never runs code from a file (and the clingo wheel has no
+    Python or Lua inside anyway). A plain substring test first: almost every program has none."""
+    if "#script" not in program.text:
+        return
+
+    def visit(statement: clingo.ast.AST) -> None:
+        if statement.ast_type == clingo.ast.ASTType.Script:
+            raise unsupported_feature(statement, program)
+
+    parse_statements(program.text, visit, program=program)
+
+
+def check_supported(program: Program, *, allowed: Iterable[str] = ()) -> None:
+    """Refuse the statements of :data:`UNSUPPORTED_STATEMENTS` (except those ``allowed``) with
+    ``unsupported feature X at line L`` in the user's file. Only text with a ``#`` directive or a
+    weak constraint is parsed."""
+    text = program.text
+    if "#" not in text and ":~" not in text:
+        return
+    refused = set(UNSUPPORTED_STATEMENTS) - set(allowed)
+
+    def visit(statement: clingo.ast.AST) -> None:
+        if statement.ast_type.name in refused:
+            raise unsupported_feature(statement, program)
+
+    parse_statements(text, visit, program=program)
+
+
 def ground(program: Program, arguments: Sequence[str] = (), *,
            context: object | None = None) -> clingo.Control:
     """Add ``program`` to a new control object and ground it; clingo errors become ParseError."""
+    check_no_scripts(program)
     ctl, messages = control_for(arguments)
     try:
         ctl.add("base", [], program.text)
@@ -103,11 +207,19 @@ def ground(program: Program, arguments: Sequence[str] = (), *,
     return ctl
 
 
+def wait_seconds(timeout: float | None) -> float:
+    """The argument for ``SolveHandle.wait``: -1 (no limit) for None, ``inf`` and anything above
+    a billion seconds, which clingo would turn into a clock deadline that overflows into the past."""
+    if timeout is None or not math.isfinite(timeout) or timeout > 1e9:
+        return -1.0
+    return max(float(timeout), 0.0)
+
+
 def _solve(ctl: clingo.Control, *, timeout: float | None, on_model: Callable[[clingo.Model], bool | None],
            assumptions: Sequence[tuple[Symbol, bool]] = ()) -> tuple[bool, bool | None]:
     """Run one solve; returns (complete, satisfiable). Cancels when ``timeout`` seconds pass."""
     with ctl.solve(async_=True, on_model=on_model, assumptions=list(assumptions)) as handle:
-        finished = handle.wait(timeout if timeout is not None else -1.0)
+        finished = handle.wait(wait_seconds(timeout))
         if not finished:
             handle.cancel()
             handle.wait()
@@ -213,13 +325,7 @@ def parse_term(text: str) -> Symbol:
 def parse_rules(text: str, source: str = "<rules>") -> list[clingo.ast.AST]:
     """The clingo AST statements of ``text`` (the leading ``#program base.`` dropped)."""
     statements: list[clingo.ast.AST] = []
-    messages = _Messages()
-    try:
-        clingo.ast.parse_string(text, statements.append, logger=messages)
-    except RuntimeError as exc:
-        from symlearn.logic.asp.program import Program
-
-        _raise_clingo_error(Program.from_text(text, source=source), messages, str(exc))
+    parse_statements(text, statements.append, program=Program.from_text(text, source=source))
     skip = {clingo.ast.ASTType.Program, getattr(clingo.ast.ASTType, "Comment", None)}
     return [s for s in statements if s.ast_type not in skip]
 
@@ -332,10 +438,6 @@ def _ground_term_text(term: clingo.ast.AST) -> str | None:
     return None
 
 
-_UNTAGGABLE = {"Minimize", "Heuristic", "ProjectAtom", "ProjectSignature", "External", "Edge",
-               "TheoryDefinition", "Script", "Defined"}
-
-
 def tag_program(program: Program, tag: str, guard: Sequence[str] = (), constraint_head: str | None = None,
                 untagged: Iterable[str] = ()) -> str:
     """Rewrite ``program`` so that every predicate gets ``tag`` (a term or variable) as first argument.
@@ -343,7 +445,8 @@ def tag_program(program: Program, tag: str, guard: Sequence[str] = (), constrain
     Used to put many copies of a program side by side in one grounding (one copy per example,
     ``tag`` = the example id). Every rule body gets the ``guard`` literals, which must bind a
     variable tag (e.g. ``tag="E"``, ``guard=["active(E)"]``). ``#show`` is dropped; statements
-    that cannot be copied this way (``#minimize``, ``#external`` ...) raise ParseError.
+    that cannot be copied this way (``#minimize``, ``#external`` ...) raise ParseError
+    ``unsupported feature X at line L`` located in the user's file.
     Predicates named in ``untagged`` are left alone.
     With ``constraint_head`` an integrity constraint ``:- body.`` becomes ``constraint_head(tag) :- body.``
     """
@@ -353,10 +456,18 @@ def tag_program(program: Program, tag: str, guard: Sequence[str] = (), constrain
 def tag_programs(pieces: Sequence[tuple[Program, str, Sequence[str]]], *, constraint_head: str | None = None,
                  untagged: Iterable[str] = ()) -> list[str]:
     """:func:`tag_program` for many (program, tag, guard) pieces with a single clingo parse."""
+    return [p.text for p in tag_programs_located(pieces, constraint_head=constraint_head, untagged=untagged)]
+
+
+def tag_programs_located(pieces: Sequence[tuple[Program, str, Sequence[str]]], *,
+                         constraint_head: str | None = None, untagged: Iterable[str] = ()) -> list[Program]:
+    """:func:`tag_programs` returning programs whose every line maps back to the statement it was
+    made from, so clingo's errors on the tagged copy (an unsafe variable) name the user's file
+    and line, not the generated text."""
     untagged = frozenset(untagged)
-    combined = Program.compose(p for p, _t, _g in pieces) if pieces else None
-    if combined is None:
+    if not pieces:
         return []
+    combined = Program.compose(p for p, _t, _g in pieces)
     starts = []  # first line of each piece in the combined text
     line = 1
     for program, _tag, _guard in pieces:
@@ -365,8 +476,8 @@ def tag_programs(pieces: Sequence[tuple[Program, str, Sequence[str]]], *, constr
         if not program.parts:
             starts[-1] = -1
     outputs: list[list[str]] = [[] for _ in pieces]
+    positions: list[list[tuple[int, int]]] = [[] for _ in pieces]  # (line, column) in ``combined``
     taggers: dict[int, _Tagger] = {}
-    messages = _Messages()
 
     nonempty = [i for i, start in enumerate(starts) if start > 0]
     nonempty_starts = [starts[i] for i in nonempty]
@@ -389,12 +500,10 @@ def tag_programs(pieces: Sequence[tuple[Program, str, Sequence[str]]], *, constr
         kind = statement.ast_type.name
         if kind in ("Program", "Comment", "ShowSignature", "ShowTerm"):
             return
-        index = piece_of(statement.location.begin.line)
-        if kind in _UNTAGGABLE:
-            loc = statement.location.begin
-            source, src_line, column = combined.locate(loc.line, loc.column)
-            raise ParseError(f"'{kind}' statements are not supported in background knowledge of learning tasks",
-                             file=source, line=src_line, column=column)
+        begin = statement.location.begin
+        index = piece_of(begin.line)
+        if kind in UNSUPPORTED_STATEMENTS:
+            raise unsupported_feature(statement, combined)
         if kind == "Rule":
             fact = _ground_fact(statement)
             if fact is not None and fact[0] not in untagged:
@@ -402,17 +511,21 @@ def tag_programs(pieces: Sequence[tuple[Program, str, Sequence[str]]], *, constr
                 name, args, negative = fact
                 _program, tag, guard = pieces[index]
                 suffix = f" :- {', '.join(guard)}." if guard else "."
-                outputs[index].append(f"{'-' if negative else ''}{name}({','.join([tag, *args])}){suffix}")
-                return
-            outputs[index].append(str(tagger(index).visit(statement)))
+                text = f"{'-' if negative else ''}{name}({','.join([tag, *args])}){suffix}"
+            else:
+                text = str(tagger(index).visit(statement))
         else:
-            outputs[index].append(str(statement))
+            text = str(statement)
+        outputs[index].append(text)
+        where = (begin.line, begin.column)
+        positions[index].append(where)
+        if "\n" in text:
+            positions[index].extend([where] * text.count("\n"))
 
-    try:
-        clingo.ast.parse_string(combined.text, visit, logger=messages)
-    except RuntimeError as exc:
-        _raise_clingo_error(combined, messages, str(exc))
-    return ["\n".join(lines) for lines in outputs]
+    parse_statements(combined.text, visit, program=combined)
+    return [Program((Part("\n".join(lines), combined.first_source or "<tagged>", origin=combined,
+                          positions=tuple(where)),)) if lines else Program()
+            for lines, where in zip(outputs, positions)]
 
 
 class IncrementalOptimizer:

@@ -25,7 +25,7 @@ from typing import Any
 from symlearn.atomic import write_text
 from symlearn.errors import ParseError, SymlearnError
 from symlearn.logic.asp import clingo_adapter as cl
-from symlearn.logic.asp.program import Program, as_program
+from symlearn.logic.asp.program import Part, Program, as_program, check_nesting, find_include
 
 ASTType = cl.clingo.ast.ASTType
 
@@ -67,6 +67,9 @@ class Hypothesis:
     background: Program | str | None = None
     cost: int | None = None
     provenance: dict[str, Any] = field(default_factory=dict)
+    # where each rule was read: (file, line, column), so clingo's errors (an unsafe variable)
+    # name the user's file; None for rules built in code
+    origins: list[tuple[str, int, int]] | None = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         self.rules = [_normalise(r) for r in self.rules]
@@ -94,7 +97,21 @@ class Hypothesis:
                    for s in self._asts)
 
     def program(self) -> Program:
-        return Program.from_text("\n".join(self.rules), source="<hypothesis>")
+        """The rules as a program, one line per rule, located in their file when read from one."""
+        if self.origins is None or len(self.origins) != len(self.rules):
+            return Program.from_text("\n".join(self.rules), source="<hypothesis>")
+        return Program(tuple(Part(rule, source, line, column)
+                             for rule, (source, line, column) in zip(self.rules, self.origins)))
+
+    def __getstate__(self) -> dict[str, Any]:
+        # clingo AST objects point into this process: rebuild them from the text after unpickling
+        state = dict(self.__dict__)
+        state.pop("_asts", None)
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self._asts = cl.parse_rules("\n".join(self.rules), source="<hypothesis>") if self.rules else []
 
     def __len__(self) -> int:
         return len(self.rules)
@@ -160,9 +177,12 @@ class Hypothesis:
                                         hint="raise the timeout or pass max_models")
 
     # -- files -----------------------------------------------------------------------------
-    def lp_text(self, header: str | None = None, recheck: str = "symlearn ilp check TASK.las THIS.lp") -> str:
+    def lp_text(self, header: str | None = None, recheck: str | None = None) -> str:
         """The rules as editable ``.lp`` text with a comment header (what :meth:`to_lp` writes);
-        ``recheck`` is the command the header recommends after an edit."""
+        ``recheck`` is the command the header recommends after an edit (default: ``symlearn ilp
+        check`` with the task the rules were learned from, when known)."""
+        if recheck is None:
+            recheck = self._recheck("THIS.lp")
         lines = [f"% {line}" if line else "%" for line in (header or "learned by symlearn").splitlines()]
         lines.append(f"% cost (total rule length): {self.cost}")
         lines.append(f"% edit the rules below; re-check with: {recheck}")
@@ -170,29 +190,46 @@ class Hypothesis:
         lines.extend(self.rules)
         return "\n".join(lines) + "\n"
 
-    def to_lp(self, path: str | os.PathLike[str], header: str | None = None) -> Path:
-        """Write the rules as an editable ``.lp`` file with a comment header."""
-        return write_text(path, self.lp_text(header))
+    def to_lp(self, path: str | os.PathLike[str], header: str | None = None, recheck: str | None = None) -> Path:
+        """Write the rules as an editable ``.lp`` file with a comment header whose last line is
+        the command that re-checks them (naming the task they were learned from, when known)."""
+        return write_text(path, self.lp_text(header, recheck if recheck is not None else self._recheck(path)))
+
+    def _recheck(self, path: str | os.PathLike[str]) -> str:
+        import shlex
+
+        task = self.provenance.get("task")
+        task = task if isinstance(task, str) and task and not task.startswith("<") else "TASK.las"
+        return f"symlearn ilp check {shlex.quote(task)} {shlex.quote(str(path))}"
 
     @classmethod
     def from_lp(cls, path: str | os.PathLike[str], background: Program | str | None = None) -> Hypothesis:
         """Read rules back from an ``.lp`` file (comments ignored); errors point at the file."""
-        program = Program.from_file(path)
+        program = Program.from_file(path, expand=False)
         return cls.from_text(program.text, source=str(path), background=background)
 
     @classmethod
     def from_text(cls, text: str, source: str = "<hypothesis>",
                   background: Program | str | None = None) -> Hypothesis:
+        check_nesting(text, source)
+        include = find_include(text)
+        if include is not None:
+            raise ParseError("#include is not allowed in a hypothesis", file=source, line=include[0],
+                             column=include[1], hint="put the rules themselves in the file")
         statements = cl.parse_rules(text, source=source)
         lines = text.splitlines()
         rules = []
+        origins = []
         for statement in statements:
+            loc = statement.location.begin
+            if statement.ast_type.name in cl.UNSUPPORTED_STATEMENTS:
+                raise cl.unsupported_feature(statement, Program.from_text(text, source=source))
             if statement.ast_type != ASTType.Rule:
-                loc = statement.location.begin
                 raise ParseError(f"only rules are allowed in a hypothesis, found: {statement}",
                                  file=source, line=loc.line, column=loc.column)
             rules.append(_slice(lines, statement.location))
-        return cls(rules, background=background, provenance={"source": source})
+            origins.append((source, loc.line, loc.column))
+        return cls(rules, background=background, provenance={"source": source}, origins=origins)
 
 
 def _slice(lines: list[str], location: Any) -> str:

@@ -84,7 +84,9 @@ class GuardedAutomaton:
 
     @classmethod
     def load(cls, path: str | Path):
-        return cls.from_json(Path(path).read_text(encoding="utf-8"), source=str(path))
+        from symlearn.input_limits import read_input_text
+
+        return cls.from_json(read_input_text(path), source=str(path))
 
     # -- identity ---------------------------------------------------------------------------
     def __eq__(self, other: object) -> bool:
@@ -110,6 +112,13 @@ def check_names(state_names: Sequence[str] | None, n_states: int) -> tuple[str, 
     names = tuple(str(n) for n in state_names)
     if len(names) != n_states:
         raise ModelError(f"{len(names)} state names for {n_states} states")
+    if len(set(names)) != len(names):  # two states one name: no output could tell them apart
+        first: dict[str, int] = {}
+        for q, name in enumerate(names):
+            if name in first:
+                raise ModelError(f"states {first[name]} and {q} are both named {name!r}",
+                                 hint="state names must be unique")
+            first[name] = q
     return names
 
 

@@ -233,10 +233,13 @@ class DFA(GuardedAutomaton):
 
         return dfa_to_dot(self, title=title, unicode=unicode)
 
-    def to_hoa(self, name: str | None = None) -> str:
+    def to_hoa(self, name: str | None = None, *, encoding: str = "alive") -> str:
+        """HOA text; HOA has no finite-word acceptance, so ``encoding`` says how the DFA is
+        encoded (``alive``: Spot's LTLf convention, the default; ``final-marks``), see
+        :mod:`symlearn.logic.automata.hoa_export`."""
         from symlearn.logic.automata.hoa_export import to_hoa
 
-        return to_hoa(self, name=name)
+        return to_hoa(self, name=name, encoding=encoding)
 
     def to_dict(self) -> dict:
         from symlearn.logic.automata.json_format import dfa_to_dict

@@ -32,6 +32,7 @@ from pathlib import Path
 from typing import Any
 
 from symlearn.errors import ParseError, SymlearnError
+from symlearn.input_limits import check_size, load_json, read_input_text
 from symlearn.logic.guards import Guard
 
 FORMAT = "symlearn-automaton"
@@ -44,10 +45,8 @@ def dumps(document: Mapping) -> str:
 
 
 def loads(text: str, *, source: str | None = None) -> Any:
-    try:
-        return json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise ParseError(f"not valid JSON: {exc.msg}", file=source, line=exc.lineno, column=exc.colno) from None
+    """The JSON document; syntax errors, nesting and duplicate keys located (line, column)."""
+    return load_json(text, source=source, syntax="not valid JSON")
 
 
 class _Reader:
@@ -140,13 +139,40 @@ def read_header(document: Any, kind: str | None, source: str | None) -> tuple[_R
         raise reader.fail("kind", f"expected a {kind}, the file holds a {found}")
     fields = {
         "kind": found,
-        "alphabet": reader.list_of(document, "", "alphabet", "str"),
-        "n_states": reader.get(document, "", "states", "int"),
+        "alphabet": _unique(reader, "alphabet", reader.list_of(document, "", "alphabet", "str"), "proposition"),
+        "n_states": _state_count(reader, document),
         "initial": reader.get(document, "", "initial", "int"),
         "accepting": reader.list_of(document, "", "accepting", "int"),
-        "state_names": reader.list_of(document, "", "state_names", "str", optional=True),
+        "state_names": _unique(reader, "state_names",
+                               reader.list_of(document, "", "state_names", "str", optional=True), "state name"),
     }
     return reader, fields
+
+
+def _unique(reader: _Reader, path: str, values: list | None, what: str) -> list | None:
+    """``values`` when no entry repeats; a repeated proposition or state name is a mistake that a
+    set would hide (two states called "q1" cannot be told apart in any output)."""
+    if values is None:
+        return None
+    first: dict[Any, int] = {}
+    for i, value in enumerate(values):
+        if value in first:
+            raise reader.fail(f"{path}[{i}]", f"{what} {value!r} appears twice (first at {path}[{first[value]}])")
+        first[value] = i
+    return values
+
+
+def _state_count(reader: _Reader, document: dict) -> int:
+    """``states``, checked against ``SYMLEARN_MAX_STATES`` before anything is built for them."""
+    n = reader.get(document, "", "states", "int")
+    if n < 1:
+        raise reader.fail("states", f"an automaton needs at least one state, got {n}")
+    try:
+        check_size(n, "SYMLEARN_MAX_STATES", what="states: the declared number of states")
+    except SymlearnError as exc:
+        exc.file = reader.source
+        raise
+    return n
 
 
 def write_transitions(automaton, extra: str | None = None) -> list[dict]:
@@ -202,7 +228,7 @@ def dfa_from_dict(document: Any, *, source: str | None = None):
 def load_automaton(path: str | Path):
     """Read any automaton file (DFA, PDFA or reward machine), dispatching on ``kind``."""
     source = str(path)
-    document = loads(Path(path).read_text(encoding="utf-8"), source=source)
+    document = loads(read_input_text(path), source=source)
     _, fields = read_header(document, None, source)
     kind = fields["kind"]
     if kind == "dfa":

@@ -18,7 +18,10 @@ under two shapes keeps the first, as Graphviz does. The two differ in what matte
   variables: ..."), else they are called ``v1..vk``.
 
 States are renumbered ``0..n-1`` in increasing MONA order and keep their MONA numbers as
-state names. The reader is a line parser (no ``eval``, no Graphviz); problems raise
+state names. A state must be declared in a node list or have edges of its own (LTLf2DFA lists
+only some states, and MONA's automata are complete): an edge or ``init ->`` naming a state that
+is neither, a typo in a hand-edited file, is refused at its line instead of silently creating a
+dead-end state. The reader is a line parser (no ``eval``, no Graphviz); problems raise
 :class:`~symlearn.errors.ParseError` with the line and column.
 """
 
@@ -55,6 +58,7 @@ def parse_mona_dot(text: str, *, source: str | None = None, variables: Sequence[
     shape: dict[int, str] = {}
     edges: list[tuple[int, int, str, int, int]] = []  # source, target, label, line, label column
     initial = None
+    initial_at: tuple[int, str] | None = None
     seen_header = seen_end = False
     for number, line in enumerate(text.splitlines(), start=1):
         stripped = line.strip()
@@ -77,6 +81,7 @@ def parse_mona_dot(text: str, *, source: str | None = None, variables: Sequence[
             if initial is not None:
                 raise _error("a second 'init ->' edge: the automaton has one initial state", source, number, line)
             initial = int(match["target"])
+            initial_at = (number, line)
         elif match := _DEFAULTS.match(line):
             found = _SHAPE.search(match["attrs"])
             if found and match["states"]:
@@ -100,6 +105,18 @@ def parse_mona_dot(text: str, *, source: str | None = None, variables: Sequence[
     raw = dialect == "mona" or (dialect == "auto" and initial == 0 and edges
                                 and all(_BITS.fullmatch(label) for _, _, label, _, _ in edges))
     guards = _bit_guards(edges, variables, source) if raw else _expression_guards(edges, source)
+    known = set(shape) | {e[0] for e in edges}
+    if initial not in known:
+        number, line = initial_at
+        raise _error(f"'init ->' names state {initial}, which is neither declared in a node list nor has edges",
+                     source, number, line, str(initial))
+    for s, t, _, number, _ in edges:
+        if t not in known:
+            raise ParseError(f"the edge {s} -> {t} names state {t}, which is neither declared in a node list nor "
+                             "has edges of its own", file=source, line=number,
+                             column=_column_of_state(text.splitlines()[number - 1].split("->", 1)[1], t)
+                             + len(text.splitlines()[number - 1].split("->", 1)[0]) + 2,
+                             hint="fix the state number, or declare it in 'node [shape = circle]; ...;'")
 
     if raw:
         leaving = [(t, g) for (s, t, _, _, _), g in zip(edges, guards) if s == initial]
@@ -123,6 +140,11 @@ def parse_mona_dot(text: str, *, source: str | None = None, variables: Sequence[
     except SymlearnError as exc:
         exc.file = exc.file or source
         raise
+
+
+def _column_of_state(line: str, state: int) -> int:
+    found = re.search(rf"(?<!\d){state}(?!\d)", line)
+    return found.start() + 1 if found else 1
 
 
 def _expression_guards(edges, source) -> list[Guard]:
@@ -169,5 +191,7 @@ def _error(message: str, source, number: int, line: str, near: str | None = None
 
 def read_mona_dot(path: str | Path, *, variables: Sequence[str] | None = None, dialect: str = "auto"):
     """Read a DOT file written by MONA or LTLf2DFA."""
-    return parse_mona_dot(Path(path).read_text(encoding="utf-8"), source=str(path), variables=variables,
+    from symlearn.input_limits import read_input_text
+
+    return parse_mona_dot(read_input_text(path), source=str(path), variables=variables,
                           dialect=dialect)

@@ -215,7 +215,9 @@ def _guard(text: str, line: _Line, column: int) -> Guard:
 
 def read_rm_text(path: str | Path, *, unmatched: str = "terminal"):
     """Read a reward-machine text file."""
-    return parse_rm_text(Path(path).read_text(encoding="utf-8"), source=str(path), unmatched=unmatched)
+    from symlearn.input_limits import read_input_text
+
+    return parse_rm_text(read_input_text(path), source=str(path), unmatched=unmatched)
 
 
 def to_rm_text(rm) -> str:

@@ -23,7 +23,12 @@ def tag_symbol(symbol: cl.Symbol, tag: int) -> cl.Symbol:
 
 
 def tagged_background(task: ILPTask) -> str:
-    return cl.tag_program(task.background, "E__", [f"{ACTIVE}(E__)"])
+    return located_background(task).text
+
+
+def located_background(task: ILPTask) -> Program:
+    """The tagged background, each line mapped back to the user's file (for clingo's errors)."""
+    return cl.tag_programs_located([(task.background, "E__", (f"{ACTIVE}(E__)",))])[0]
 
 
 def tagged_context(example: Example, tag: int) -> str:
@@ -39,34 +44,35 @@ def acceptance_constraints(example: Example, tag: int) -> str:
     return "\n".join(lines)
 
 
-def tagged_rules(rules: Sequence[str], guard: Sequence[str] = ()) -> str:
-    """Hypothesis rules copied into every active example (``guard`` adds more body literals)."""
-    if not rules:
-        return ""
-    return cl.tag_program(Program.from_text("\n".join(rules), source="<hypothesis>"), "E__",
-                          [f"{ACTIVE}(E__)", *guard])
+def tagged_rules(rules: Sequence[str] | Program, guard: Sequence[str] = ()) -> Program:
+    """Hypothesis rules copied into every active example (``guard`` adds more body literals).
+    Given as a :class:`Program` (``Hypothesis.program()``), clingo's errors name the rule's file
+    and line."""
+    program = rules if isinstance(rules, Program) else Program.from_text("\n".join(rules), source="<hypothesis>")
+    if program.is_empty():
+        return Program()
+    return cl.tag_programs_located([(program, "E__", (f"{ACTIVE}(E__)", *guard))])[0]
 
 
 def examples_program(task: ILPTask, indexed: Iterable[tuple[int, Example]], *, accept: bool = True) -> Program:
     """Background once plus, per example, its context and (optionally) acceptance constraints."""
-    parts = [Program.from_text(tagged_background(task), source=f"{task.source} (background)")]
+    parts = [located_background(task)]
     indexed = [(tag, e) for tag, e in indexed]
     with_context = [(tag, e) for tag, e in indexed if not e.context.is_empty()]
-    contexts = cl.tag_programs([(e.context, str(tag), (f"{ACTIVE}({tag})",)) for tag, e in with_context])
-    chunks = list(contexts)
+    parts += cl.tag_programs_located([(e.context, str(tag), (f"{ACTIVE}({tag})",)) for tag, e in with_context])
     if accept:
-        chunks += [acceptance_constraints(e, tag) for tag, e in indexed]
-    parts.append(Program.from_text("\n".join(c for c in chunks if c), source=f"{task.source} (examples)"))
-    return Program.compose(parts)
+        chunks = [acceptance_constraints(e, tag) for tag, e in indexed]
+        parts.append(Program.from_text("\n".join(c for c in chunks if c), source=f"{task.source} (examples)"))
+    return Program.compose(p for p in parts if p.parts)
 
 
-def accepted_by(task: ILPTask, rules: Sequence[str], examples: Sequence[Example], *,
+def accepted_by(task: ILPTask, rules: Sequence[str] | Program, examples: Sequence[Example], *,
                 timeout: float | None = None) -> dict[str, bool]:
     """For each example: does B ∪ rules ∪ context have an answer set extending it?"""
     return {k: v is not None for k, v in witnesses(task, rules, examples, timeout=timeout).items()}
 
 
-def witnesses(task: ILPTask, rules: Sequence[str], examples: Sequence[Example], *,
+def witnesses(task: ILPTask, rules: Sequence[str] | Program, examples: Sequence[Example], *,
               timeout: float | None = None) -> dict[str, list[cl.Symbol] | None]:
     """Per example, an answer set of B ∪ rules ∪ context extending it (atoms tagged with the
     example's position in ``examples``), or None when there is none.
@@ -78,8 +84,8 @@ def witnesses(task: ILPTask, rules: Sequence[str], examples: Sequence[Example], 
     if not examples:
         return {}
     indexed = list(enumerate(examples))
-    program = examples_program(task, indexed) + Program.from_text(
-        tagged_rules(rules) + "\n" + "\n".join(f"{{ {ACTIVE}({i}) }}." for i, _ in indexed)
+    program = examples_program(task, indexed) + tagged_rules(rules) + Program.from_text(
+        "\n".join(f"{{ {ACTIVE}({i}) }}." for i, _ in indexed)
         + f"\n#maximize {{ 1,E : {ACTIVE}(E) }}.", source="<coverage check>")
     # core-guided optimisation: every copy that cannot be active is one small unsatisfiable core,
     # where branch-and-bound would improve the count one copy at a time

@@ -44,6 +44,7 @@ class SearchOutcome:
     uncovered: list[str] = field(default_factory=list)
     rounds: int = 0
     notes: list[str] = field(default_factory=list)
+    timed_out: bool = False  # the time limit cut the search
 
 
 def _soft(example, noise: bool) -> bool:
@@ -85,6 +86,7 @@ def search_general(task: ILPTask, space: HypothesisSpace, *, noise: bool, deadli
         remaining = deadline - time.perf_counter()
         if remaining <= 0:
             outcome.notes.append("time limit reached before a hypothesis was verified")
+            outcome.timed_out = True
             return outcome
         solved = optimizer.optimize(timeout=remaining)
         if not solved.models:
@@ -92,6 +94,7 @@ def search_general(task: ILPTask, space: HypothesisSpace, *, noise: bool, deadli
                 outcome.notes.append("no hypothesis in the space covers the examples")
             else:
                 outcome.notes.append("time limit reached before a hypothesis was found")
+                outcome.timed_out = True
             return outcome
         model = solved.models[-1]
         chosen = sorted(s.arguments[0].number for s in model if s.name == "use__")
@@ -103,6 +106,7 @@ def search_general(task: ILPTask, space: HypothesisSpace, *, noise: bool, deadli
             found = witnesses(task, rules, negatives, timeout=max(left, 0.001)) if negatives else {}
         except cl.LimitExceededError:
             outcome.notes.append("time limit reached while checking the negative examples")
+            outcome.timed_out = True
             return outcome
         wrong = [(j, e) for j, e in enumerate(negatives) if found.get(e.id) is not None]
         unpaid = [(j, e) for j, e in wrong if not _soft(e, noise) or j not in charged]
@@ -114,6 +118,7 @@ def search_general(task: ILPTask, space: HypothesisSpace, *, noise: bool, deadli
             outcome.optimal = solved.complete
             outcome.notes.append(f"{outcome.rounds} rounds, {n_cuts} counterexample cuts")
             if not solved.complete:
+                outcome.timed_out = True
                 outcome.notes.append("time limit reached: best hypothesis found so far, not proven optimal")
             return outcome
         chosen_set = set(chosen)

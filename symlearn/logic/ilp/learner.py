@@ -22,7 +22,9 @@ Two search paths (``method``):
 
 from __future__ import annotations
 
+import math
 import time
+from collections import Counter
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -44,15 +46,22 @@ class Diagnostics:
 
     space_size: int = 0
     uncoverable_positives: list[str] = field(default_factory=list)
-    unexcludable_negatives: dict[str, list[str]] = field(default_factory=dict)  # negative -> blocking positives
+    # negative -> the positives that every candidate excluding it also excludes (the blockers:
+    # each alone makes the negative unexcludable); empty when no single positive does that
+    unexcludable_negatives: dict[str, list[str]] = field(default_factory=dict)
+    # negative -> positives most often excluded with it, when no single positive blocks every candidate
+    frequent_blockers: dict[str, list[str]] = field(default_factory=dict)
     conflicts: list[tuple[str, str]] = field(default_factory=list)  # (positive, negative) indistinguishable
     hints: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
+    timed_out: bool = False  # the time limit cut the search (the result may not be the best)
 
     def to_dict(self) -> dict[str, Any]:
         return {"space_size": self.space_size, "uncoverable_positives": self.uncoverable_positives,
                 "unexcludable_negatives": self.unexcludable_negatives,
-                "conflicts": [list(c) for c in self.conflicts], "hints": self.hints, "notes": self.notes}
+                "frequent_blockers": self.frequent_blockers,
+                "conflicts": [list(c) for c in self.conflicts], "hints": self.hints, "notes": self.notes,
+                "timed_out": self.timed_out}
 
     def render(self) -> str:
         lines = [f"hypothesis space: {self.space_size} rules"]
@@ -60,14 +69,25 @@ class Diagnostics:
             lines.append("positives no hypothesis can accept (background + context alone already rejects them): "
                          + ", ".join(self.uncoverable_positives))
         for neg, blockers in self.unexcludable_negatives.items():
-            why = f" (every candidate that excludes it also excludes {', '.join(blockers)})" if blockers else \
-                " (no candidate fires on it)"
+            if blockers:
+                why = f" (every candidate that excludes it also excludes {_listing(blockers)})"
+            elif self.frequent_blockers.get(neg):
+                why = (" (every candidate that excludes it also excludes some positive; most often "
+                       f"{_listing(self.frequent_blockers[neg])})")
+            else:
+                why = " (no candidate fires on it)"
             lines.append(f"negative {neg} cannot be excluded{why}")
         for pos, neg in self.conflicts:
             lines.append(f"examples {pos} and {neg} conflict: same answer set, one positive, one negative")
         lines += [f"note: {n}" for n in self.notes]
         lines += [f"hint: {h}" for h in self.hints]
         return "\n".join(lines)
+
+
+def _listing(ids: list[str], shown: int = 5) -> str:
+    if len(ids) <= shown:
+        return ", ".join(ids)
+    return ", ".join(ids[:shown]) + f" and {len(ids) - shown} more"
 
 
 @dataclass
@@ -87,6 +107,12 @@ class LearningResult:
     @property
     def found(self) -> bool:
         return self.hypothesis is not None
+
+    @property
+    def timed_out(self) -> bool:
+        """The time limit cut the search: without a hypothesis, time ran out (the bias may be
+        fine); with one, it is the best found so far."""
+        return self.diagnostics.timed_out
 
     def to_dict(self) -> dict[str, Any]:
         return {"rules": list(self.hypothesis.rules) if self.hypothesis else [], "score": self.score,
@@ -112,10 +138,10 @@ def learn(task: ILPTask, timeout: float = 30.0, noise: bool = False, *, method: 
     if method not in METHODS:
         raise SymlearnError(f"unknown method {method!r}", hint=f"use one of {', '.join(METHODS)}")
     start = time.perf_counter()
-    deadline = start + timeout
+    deadline = start + _budget(timeout)
     _check_examples(task)
     if space is None:
-        space = generate_space(task, max_body=max_body)
+        space = generate_space(task, max_body=max_body, timeout=deadline - time.perf_counter())
     diagnostics = Diagnostics(space_size=len(space), notes=list(space.notes))
     if len(space) == 0:
         diagnostics.hints.append("the mode bias generates no rule: check that every variable can be bound by a "
@@ -134,6 +160,7 @@ def learn(task: ILPTask, timeout: float = 30.0, noise: bool = False, *, method: 
                 worlds = single_worlds(task, timeout=max(deadline - time.perf_counter(), 0.001))
             except LimitExceededError:
                 diagnostics.notes.append("time limit reached while solving the example contexts")
+                diagnostics.timed_out = True
                 return LearningResult(None, None, False, time.perf_counter() - start, len(space), {},
                                       diagnostics, "single")
             if worlds is None:
@@ -150,9 +177,12 @@ def learn(task: ILPTask, timeout: float = 30.0, noise: bool = False, *, method: 
         if outcome.selected is None and outcome.notes and "no hypothesis" in outcome.notes[-1]:
             _general_diagnostics(task, diagnostics)
     diagnostics.notes.extend(outcome.notes)
+    diagnostics.timed_out = diagnostics.timed_out or outcome.timed_out
     seconds = time.perf_counter() - start
     if outcome.selected is None:
-        if not diagnostics.hints:
+        if diagnostics.timed_out:
+            diagnostics.hints[:] = ["time ran out before a hypothesis was found: raise the timeout"]
+        elif not diagnostics.hints:
             diagnostics.hints.append(_relax_hint(task))
         return LearningResult(None, None, False, seconds, len(space), {}, diagnostics, chosen_method)
     by_index = {c.index: c for c in space.candidates}
@@ -193,10 +223,12 @@ def _single(task: ILPTask, space: HypothesisSpace, worlds, noise: bool, deadline
         _single_diagnostics(task, space, worlds, fires, hard_pos, hard_neg, diagnostics)
         return SearchOutcome(None, notes=["no hypothesis in the space covers the examples"])
     if time.perf_counter() >= deadline:
-        return SearchOutcome(None, notes=["time limit reached before the rule selection"])
+        return SearchOutcome(None, notes=["time limit reached before the rule selection"], timed_out=True)
     outcome = select_rules(task, space, fires, noise=noise, hard_pos=hard_pos, soft_pos=soft_pos,
                            hard_neg=hard_neg, soft_neg=soft_neg,
                            timeout=max(deadline - time.perf_counter(), 0.001))
+    if outcome.selected is None and outcome.timed_out:
+        return outcome
     if outcome.selected is None:
         _single_diagnostics(task, space, worlds, fires, hard_pos, hard_neg, diagnostics)
         return outcome
@@ -214,8 +246,16 @@ def _single_diagnostics(task, space, worlds, fires, hard_pos, hard_neg, diagnost
         rules = by_example.get(n, set())
         if any(not (fires[r] & hard_pos) for r in rules):
             continue
-        blockers = sorted({p for r in rules for p in fires[r] & hard_pos})
-        diagnostics.unexcludable_negatives[task.examples[n].id] = [task.examples[p].id for p in blockers[:5]]
+        name = task.examples[n].id
+        # the blockers: positives excluded by *every* candidate that excludes n (one of them
+        # mislabelled, or lacking the facts that tell it apart, is the usual cause)
+        common = set.intersection(*(fires[r] & hard_pos for r in rules)) if rules else set()
+        diagnostics.unexcludable_negatives[name] = [task.examples[p].id for p in sorted(common)]
+        if rules and not common:
+            counts = Counter(p for r in rules for p in fires[r] & hard_pos)
+            ranked = sorted(counts, key=lambda p: (-counts[p], p))
+            diagnostics.frequent_blockers[name] = [f"{task.examples[p].id} ({counts[p]} of {len(rules)} candidates)"
+                                                   for p in ranked[:5]]
     # positives and negatives whose answer sets coincide can never be separated by constraints
     signature: dict[frozenset, list[int]] = {}
     for atom in worlds.atoms:
@@ -235,9 +275,16 @@ def _single_diagnostics(task, space, worlds, fires, hard_pos, hard_neg, diagnost
         for p in pos[:3]:
             for n in neg[:3]:
                 diagnostics.conflicts.append((task.examples[p].id, task.examples[n].id))
+    blockers = sorted({p for names in diagnostics.unexcludable_negatives.values() for p in names})
     if diagnostics.conflicts:
         diagnostics.hints.append("conflicting examples have the same answer set: fix their labels, add the "
                                  "facts that tell them apart to the contexts, or learn with noise=True and penalties")
+    elif blockers:
+        negatives = [n for n, names in diagnostics.unexcludable_negatives.items() if names]
+        diagnostics.hints.append(f"no rule in the space excludes {_listing(negatives)} without excluding "
+                                 f"{_listing(blockers)}: if the labels are right, {_relax_bias(task)} so that a rule "
+                                 "can tell them apart; if a label is wrong, fix it or learn with noise=True and "
+                                 "penalties")
     elif diagnostics.uncoverable_positives:
         diagnostics.hints.append("a positive example is rejected by the background knowledge and its context alone; "
                                  "check its inclusions/exclusions and the background")
@@ -255,15 +302,30 @@ def _general_diagnostics(task: ILPTask, diagnostics: Diagnostics) -> None:
         diagnostics.uncoverable_positives = [e for e, ok in verdict.items() if not ok]
 
 
+def _budget(timeout: float | None) -> float:
+    """Seconds for a search: None, ``inf`` and huge values mean no limit; NaN is refused."""
+    if timeout is None:
+        return math.inf
+    timeout = float(timeout)
+    if math.isnan(timeout):
+        raise SymlearnError("timeout must be a number of seconds, not NaN",
+                            hint="give a positive number of seconds (None or inf: no limit)")
+    return max(timeout, 0.0)
+
+
+def _relax_bias(task: ILPTask) -> str:
+    return (f"relax the bias (raise #maxv (now {task.n_variables}), the recall of #modeb declarations or "
+            f"max_body (now {task.max_body}), add modes or #constant values)")
+
+
 def _relax_hint(task: ILPTask) -> str:
-    return (f"relax the bias: raise #maxv (now {task.n_variables}), the recall of #modeb declarations or "
-            f"max_body (now {task.max_body}), add modes or #constant values; or use noise=True with penalties")
+    return f"{_relax_bias(task)}; or use noise=True with penalties"
 
 
 def score(task: ILPTask, hypothesis: Hypothesis, *, timeout: float | None = 60.0) -> dict[str, Any]:
     """Coverage of each example by ``hypothesis`` (full ASP semantics) and its cost."""
     _check_examples(task)
-    accepted = accepted_by(task, hypothesis.rules, task.examples, timeout=timeout)
+    accepted = accepted_by(task, hypothesis.program(), task.examples, timeout=timeout)
     coverage = {e.id: (accepted[e.id] if e.positive else not accepted[e.id]) for e in task.examples}
     penalty = sum((e.penalty or 0) for e in task.examples if not coverage[e.id])
     hard_misses = [e.id for e in task.examples if not coverage[e.id] and e.penalty is None]

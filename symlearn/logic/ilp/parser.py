@@ -17,6 +17,7 @@ outside the supported subset are refused with ``unsupported feature X at line L`
 from __future__ import annotations
 
 import os
+import re
 from collections.abc import Iterable
 from dataclasses import replace
 from functools import cache
@@ -27,7 +28,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 
 from symlearn.errors import ParseError, SymlearnError
 from symlearn.logic.asp import clingo_adapter as cl
-from symlearn.logic.asp.program import Program, as_program
+from symlearn.logic.asp.program import Program, as_program, check_nesting, expand_includes
 from symlearn.logic.ilp.modes import (Literal_, ModeAtom, ModeComparison, ModeConditional, ModeDeclaration,
                                       ModeFunction, Placeholder)
 from symlearn.logic.ilp.task import ILPTask, Example
@@ -211,6 +212,8 @@ def parse_task(text: str, source: str = "<task>", extra_background: Iterable[Pro
     """
     if dialect not in DIALECTS:
         raise SymlearnError(f"unknown task dialect {dialect!r}", hint="use 'ilasp' or 'fastlas'")
+    _refuse_early(text, source)
+    check_nesting(text, source)
     try:
         tree = _parser().parse(text)
     except UnexpectedInput as exc:
@@ -233,6 +236,29 @@ def parse_task(text: str, source: str = "<task>", extra_background: Iterable[Pro
     if dialect == "fastlas":
         task.examples = [_context_inclusions(e) for e in task.examples]
     return task
+
+
+# comments and strings first, so that '#script' inside them is not taken for the directive
+_EARLY = re.compile(r'%\*.*?\*%|%[^\n]*|"(?:[^"\\\n]|\\.)*"|#script\s*\(\s*(\w*)|:~|#(?:heuristic|theory)\b',
+                    re.S)
+
+
+def _refuse_early(text: str, source: str) -> None:
+    """``#script`` blocks hold Python or Lua code with periods of their own; a weak constraint and
+    a ``#heuristic`` end in ``[...]`` after their period, a ``#theory`` has its own syntax: each
+    would cut the background statement apart before clingo could name the feature, so they are
+    refused first."""
+    if not any(word in text for word in ("#script", ":~", "#heuristic", "#theory")):
+        return
+    for match in _EARLY.finditer(text):
+        found = match.group(0)
+        if found.startswith(("#script", ":~", "#heuristic", "#theory")):
+            line = text.count("\n", 0, match.start()) + 1
+            column = match.start() - (text.rfind("\n", 0, match.start()) + 1) + 1
+            name = f"#script ({match.group(1) or '?'})" if found.startswith("#script") else \
+                "weak constraint (:~)" if found == ":~" else found
+            raise ParseError(f"unsupported feature {name} at line {line}", file=source, line=line, column=column,
+                             hint="see docs/ILP.md for the supported subset")
 
 
 def _context_inclusions(example: Example) -> Example:
@@ -276,6 +302,8 @@ def _assemble(items, source: str, extra_background) -> ILPTask:
             ctx = Program()
             if context is not None:
                 ctx = Program.from_text(str(context)[1:-1], source=source, line=context.line, column=context.column + 1)
+                ctx = expand_includes(ctx)
+                cl.check_supported(ctx)
             examples.append(Example(name, str(kw) == "#pos", tuple(incl), tuple(excl), ctx, penalty, meta.line))
         elif tag == "constant":
             _tag, type_, value, _meta = item
@@ -290,8 +318,10 @@ def _assemble(items, source: str, extra_background) -> ILPTask:
             task.max_penalty = item[1]
         elif tag == "bias":
             task.bias.append(item[1])
+    background = expand_includes(background)
     for extra in extra_background:
         background = background + as_program(Path(extra) if isinstance(extra, os.PathLike) else extra)
+    cl.check_supported(background)
     task.background = background
     return task
 
@@ -299,11 +329,10 @@ def _assemble(items, source: str, extra_background) -> ILPTask:
 def load_task(path: str | os.PathLike[str], extra_background: Iterable[str | os.PathLike | Program] = (),
               dialect: str = "ilasp") -> ILPTask:
     """Read a task file; ``extra_background`` paths (``.lp`` files) or programs are appended to B."""
+    from symlearn.input_limits import read_input_text
+
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except UnicodeDecodeError as exc:
-        raise ParseError(f"not UTF-8 text: {exc.reason}", file=path) from exc
+    text = read_input_text(path, what="task file")
     extras = [Path(e) if isinstance(e, str) else e for e in extra_background]
     return parse_task(text, source=str(path), extra_background=extras, dialect=dialect)
 

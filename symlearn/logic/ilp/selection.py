@@ -133,6 +133,7 @@ def select_rules(task: ILPTask, space: HypothesisSpace, fires: dict[int, set[int
     if not outcome.models:
         if not outcome.complete and outcome.satisfiable is None:
             result.notes.append("time limit reached before a hypothesis was found")
+            result.timed_out = True
         return result
     model = outcome.models[-1]
     chosen = sorted(s.arguments[0].number for s in model if s.name == "sel")
@@ -144,4 +145,5 @@ def select_rules(task: ILPTask, space: HypothesisSpace, fires: dict[int, set[int
         sum(soft_pos[e] for e in soft_pos if e in covered)
     result.uncovered = [task.examples[e].id for e in sorted(uncovered)]
     result.optimal = outcome.complete
+    result.timed_out = not outcome.complete
     return result

@@ -13,21 +13,30 @@ Generation, for each head choice (none for integrity constraints, else each ``#m
    trivially useless (a literal and its negation, ``X < X``, the head in its own body).
 
 Only when a mode is used twice can two partitions describe the same rule with its literals in
-another order; those rules are compared in a canonical form that minimises over *all* variable
-renamings and literal orders, so rules such as ``:- on(V1,V2), V1 < V2.`` and
-``:- on(V1,V2), V2 < V1.`` (not renamings of each other) both stay in the space.
+another order. Such a rule is kept only when its partition is the smallest among those of the
+same rule with the repeated literals reordered (each reordering's variables renumbered by first
+occurrence): a few reorderings per rule (at most ``max_body!``) instead of every renaming of up
+to ``#maxv`` variables (``8! = 40320``), which made ``#maxv 8`` with two 4-ary modes take minutes.
+Rules such as ``:- on(V1,V2), V1 < V2.`` and ``:- on(V1,V2), V2 < V1.`` (not renamings of each
+other) both stay in the space.
+
+Generation shows a progress bar (:mod:`symlearn.progress`) and stops with
+:class:`~symlearn.errors.LimitExceededError` when ``timeout`` runs out.
 """
 
 from __future__ import annotations
 
 import itertools
+import math
+import time
 from collections import Counter
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 
 from symlearn.errors import LimitExceededError, SymlearnError
-from symlearn.logic.ilp.modes import ModeAtom, ModeComparison, ModeDeclaration, ModeFunction, Placeholder
+from symlearn.logic.ilp.modes import ModeAtom, ModeComparison, ModeDeclaration, ModeFunction, Placeholder, render_mode
 from symlearn.logic.ilp.task import ILPTask
+from symlearn.progress import progress
 
 DEFAULT_SPACE_LIMIT = 200_000
 
@@ -225,12 +234,25 @@ def _body_modes(task: ILPTask) -> tuple[list[ModeDeclaration], list[int]]:
     return modes, groups
 
 
+def _first_occurrence(blocks: Sequence[int]) -> tuple[int, ...]:
+    """Renumber blocks in order of first occurrence (the restricted-growth form)."""
+    names: dict[int, int] = {}
+    return tuple(names.setdefault(b, len(names)) for b in blocks)
+
+
 class _Generator:
-    def __init__(self, task: ILPTask, max_body: int, limit: int) -> None:
+    def __init__(self, task: ILPTask, max_body: int, limit: int, deadline: float = math.inf) -> None:
         self.task = task
         self.max_body = max_body
         self.limit = limit
+        self.deadline = deadline
+        self._ticks = 0
         self.body_modes, self.groups = _body_modes(task)
+        # body modes whose literal reads like another mode's once types are dropped (a mode
+        # declared twice, or for two types): their rules may coincide up to renaming across
+        # different mode multisets, which only the full canonical form detects (rare, slow)
+        shapes = Counter(_shape(m.literal) for m in self.body_modes)
+        self.ambiguous = {i for i, m in enumerate(self.body_modes) if shapes[_shape(m.literal)] > 1}
         self.notes: list[str] = []
         self.seen: set[tuple] = set()
         self.rules: list[tuple[str | None, tuple[BodyLiteral, ...]]] = []
@@ -252,13 +274,57 @@ class _Generator:
 
     def generate(self) -> None:
         heads: list[ModeDeclaration | None] = list(self.task.modeh) if self.task.modeh else [None]
-        for head in heads:
-            for combo in self.body_multisets():
-                if head is None and not combo:
-                    continue
-                self._expand(head, combo)
-                if self.truncated:
-                    return
+        shapes = [(head, combo) for head in heads for combo in self.body_multisets() if head is not None or combo]
+        for head, combo in progress(shapes, total=len(shapes), desc="hypothesis space", unit="shapes"):
+            self._expand(head, combo)
+            if self.truncated:
+                return
+
+    def _check_time(self) -> None:
+        self._ticks += 1
+        if self._ticks % 512 == 0 and time.perf_counter() > self.deadline:
+            raise LimitExceededError(f"time limit reached while generating the hypothesis space "
+                                     f"({len(self.rules)} rules so far)", file=self.task.source,
+                                     hint="raise the timeout, or lower #maxv, the recalls or max_body")
+
+    def _reorderings(self, head: ModeDeclaration | None, combo: tuple[int, ...],
+                     slot_lists: list[list[Placeholder]]) -> list[tuple[list[int], list[int]]]:
+        """(var slot order, const slot order) for every reordering of equal body literals other
+        than the identity; empty when no literal template repeats."""
+        offset = 1 if head is not None else 0
+        templates = [self.body_modes[m].literal for m in combo]
+        groups: dict[object, list[int]] = {}
+        for position, template in enumerate(templates):
+            groups.setdefault(template, []).append(position)
+        movable = [g for g in groups.values() if len(g) > 1]
+        if not movable:
+            return []
+        # indices of each literal's var and const slots in the flat (var-only / const-only) orders
+        var_index: list[list[int]] = []
+        const_index: list[list[int]] = []
+        n_var = n_const = 0
+        for slots in slot_lists:
+            var_index.append([])
+            const_index.append([])
+            for slot in slots:
+                if slot.kind == "var":
+                    var_index[-1].append(n_var)
+                    n_var += 1
+                else:
+                    const_index[-1].append(n_const)
+                    n_const += 1
+        orders = []
+        for choice in itertools.product(*(itertools.permutations(g) for g in movable)):
+            order = list(range(len(templates)))
+            for group, permuted in zip(movable, choice):
+                for at, position in zip(group, permuted):
+                    order[at] = position
+            if order == list(range(len(templates))):
+                continue
+            literals = list(range(offset)) + [offset + p for p in order]
+            orders.append(([i for lit in literals for i in var_index[lit]],
+                           [i for lit in literals for i in const_index[lit]]))
+        return orders
 
     def _expand(self, head: ModeDeclaration | None, combo: tuple[int, ...]) -> None:
         literals = ([head.literal] if head else []) + [self.body_modes[m].literal for m in combo]
@@ -268,14 +334,22 @@ class _Generator:
         const_choices = [self.task.constants.get(s.type, []) for s in flat if s.kind == "const"]
         if any(not c for c in const_choices):
             return
-        repeated = len(combo) > 1
+        reorderings = self._reorderings(head, combo, slot_lists)
+        full_canonical = len(combo) > 1 and any(m in self.ambiguous for m in combo)
         for partition in _partitions(var_types, self.task.n_variables):
             for consts in itertools.product(*const_choices) if const_choices else [()]:
-                self._build(head, literals, slot_lists, partition, [str(c) for c in consts], repeated)
+                self._check_time()
+                if reorderings:
+                    own = (tuple(partition), tuple(str(c) for c in consts))
+                    if any((_first_occurrence([partition[i] for i in var_order]),
+                            tuple(str(consts[i]) for i in const_order)) < own
+                           for var_order, const_order in reorderings):
+                        continue  # the same rule comes (came) with its repeated literals in another order
+                self._build(head, literals, slot_lists, partition, [str(c) for c in consts], full_canonical)
                 if self.truncated:
                     return
 
-    def _build(self, head, literals, slot_lists, partition, consts, repeated) -> None:
+    def _build(self, head, literals, slot_lists, partition, consts, full_canonical=False) -> None:
         var_iter = iter(f"V{b + 1}" for b in partition)
         const_iter = iter(consts)
         filled: list[_Filled] = []
@@ -293,7 +367,8 @@ class _Generator:
             return
         head_text = head_filled.literal.text if head_filled else None
         body_lits = tuple(f.literal for f in body)
-        key = _canonical(head_text, body_lits) if repeated else (head_text, body_lits)
+        key = _canonical(head_text, body_lits) if full_canonical else \
+            (head_text, tuple(sorted(lit.render() for lit in body_lits)))
         if key in self.seen:
             return
         self.seen.add(key)
@@ -344,6 +419,13 @@ class _Generator:
         return True
 
 
+def _shape(literal) -> str:
+    """A mode literal with its placeholder types dropped: ``p(var,const)``."""
+    import re
+
+    return re.sub(r"\b(var|const)\([^()]*\)", r"\1", render_mode(literal))
+
+
 def _rename(text: str, mapping: dict[str, str]) -> str:
     import re
 
@@ -351,6 +433,8 @@ def _rename(text: str, mapping: dict[str, str]) -> str:
 
 
 def _canonical(head: str | None, body: tuple[BodyLiteral, ...]) -> tuple:
+    """The rule's form minimised over all variable renamings (the sorted literal texts): the slow
+    path, only for modes that read alike (see ``_Generator.ambiguous``)."""
     import re
 
     names = sorted({v for lit in body for v in re.findall(r"\bV\d+\b", lit.render())}
@@ -373,12 +457,15 @@ def _reading_order(literal: BodyLiteral) -> int:
 
 
 def generate_space(task: ILPTask, *, max_body: int | None = None, limit: int = DEFAULT_SPACE_LIMIT,
-                   on_limit: str = "raise") -> HypothesisSpace:
-    """All candidate rules of ``task``'s mode bias (see module docstring), scored by length or #bias."""
+                   on_limit: str = "raise", timeout: float | None = None) -> HypothesisSpace:
+    """All candidate rules of ``task``'s mode bias (see module docstring), scored by length or #bias.
+
+    ``timeout`` (seconds, None: none) bounds the generation: past it, LimitExceededError."""
     if not task.modeb and not task.modec and not task.modeh:
         raise SymlearnError("the task declares no #modeh, #modeb or #modec: the hypothesis space is empty",
                             file=task.source, hint="add mode declarations such as #modeb(1, p(var(t))).")
-    generator = _Generator(task, task.max_body if max_body is None else max_body, limit)
+    deadline = math.inf if timeout is None or math.isnan(timeout) else time.perf_counter() + timeout
+    generator = _Generator(task, task.max_body if max_body is None else max_body, limit, deadline)
     generator.generate()
     if generator.truncated and on_limit == "raise":
         raise LimitExceededError(f"the hypothesis space has more than {limit} rules",

@@ -13,8 +13,15 @@ The printer adds exactly the parentheses needed to rebuild the same tree under t
 precedence, so ``parse(to_string(f, dialect=d), dialect=d) == f`` for every formula and
 dialect. Propositions that are not plain lowercase names are printed double-quoted.
 The task operator ``T`` is symlearn's own: it is printed as ``T`` in every dialect (so the round
-trip holds), which Spot and LTLf2DFA cannot read; :func:`symlearn.logic.ltlf.mona.to_ltlf2dfa_text`
-expands it (``a T b`` = ``F(a & X F b)``) for LTLf2DFA.
+trip holds), which Spot and LTLf2DFA cannot read; :func:`for_dialect` rewrites a formula into
+the operators a tool reads (``a T b`` = ``F(a & X F b)`` for both, and for LTLf2DFA, which has
+no weak until, ``a W b`` = ``(a U b) | G a``; Spot reads ``W``), as ``symlearn ltl parse --to``
+does.
+
+>>> to_string(for_dialect(parse("a T b"), "spot"), "spot")
+'F(a & X[!] F b)'
+>>> to_string(for_dialect(parse("a W b"), "ltlf2dfa"), "ltlf2dfa")
+'a U b | G a'
 """
 
 from __future__ import annotations
@@ -23,11 +30,47 @@ import re
 
 from symlearn.logic.ltlf.ast import (
     Always, And, Binary, Const, Eventually, Formula, Iff, Implies, Next, Not, Or, Prop, Release, Then,
-    Until, WeakNext, WeakUntil, subformulas,
+    Until, WeakNext, WeakUntil,
 )
 from symlearn.logic.ltlf.parser import check_dialect
 
-__all__ = ["to_string", "to_latex"]
+__all__ = ["to_string", "to_latex", "for_dialect"]
+
+#: operators each dialect's own tool cannot read, which :func:`for_dialect` expands
+FOREIGN = {"ours": (), "spot": (Then,), "ltlf2dfa": (Then, WeakUntil)}
+
+
+def for_dialect(formula: Formula, dialect: str) -> Formula:
+    """An equivalent formula using only operators ``dialect``'s tool reads (see :data:`FOREIGN`):
+    ``a T b`` -> ``F(a & X F b)``, ``a W b`` -> ``(a U b) | G a``. Iterative, so deep formulas work."""
+    check_dialect(dialect)
+    foreign = FOREIGN[dialect]
+    if not foreign:
+        return formula
+    done: dict[int, Formula] = {}
+    stack: list[tuple[Formula, bool]] = [(formula, False)]
+    while stack:
+        node, expanded = stack.pop()
+        if id(node) in done:
+            continue
+        kids = node.children()
+        if kids and not expanded:
+            stack.append((node, True))
+            stack.extend((kid, False) for kid in kids)
+            continue
+        new_kids = [done[id(kid)] for kid in kids]
+        if isinstance(node, Then) and Then in foreign:
+            a, b = new_kids
+            result: Formula = Eventually(And(a, Next(Eventually(b))))
+        elif isinstance(node, WeakUntil) and WeakUntil in foreign:
+            a, b = new_kids
+            result = Or(Until(a, b), Always(a))
+        elif kids and any(new is not old for new, old in zip(new_kids, kids)):
+            result = type(node)(*new_kids)
+        else:
+            result = node
+        done[id(node)] = result
+    return done[id(formula)]
 
 _ATOM, _UNARY, _TEMPORAL, _AND, _OR, _IMPLIES, _IFF = 100, 90, 80, 70, 60, 50, 40
 _RIGHT_GROUPING = (Until, Release, WeakUntil, Then, Implies, Iff)
@@ -86,34 +129,37 @@ def to_string(formula: Formula, dialect: str = "ours", style: str = "ascii") -> 
     else:
         next_symbol, weak_next = "X", symbols[WeakNext]
     lparen, rparen = (r"\left(", r"\right)") if style == "latex" else ("(", ")")
-    text: dict[int, str] = {}  # id(node) -> text, filled children first (no recursion)
-    for node in subformulas(formula):
-        if isinstance(node, Const):
-            out = symbols[node.value]
+    # Emit pieces left to right from an explicit stack: linear time and memory, no recursion
+    # (a table of each sub-formula's text would hold O(n^2) characters for 100,000 nested `!`).
+    pieces: list[str] = []
+    stack: list[Formula | str] = [formula]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, str):
+            pieces.append(node)
+        elif isinstance(node, Const):
+            pieces.append(symbols[node.value])
         elif isinstance(node, Prop):
-            out = _prop_text(node.name, style)
+            pieces.append(_prop_text(node.name, style))
         elif isinstance(node, Binary):
             p = _precedence(node, dialect)
-            left, right = text[id(node.left)], text[id(node.right)]
             lp, rp = _precedence(node.left, dialect), _precedence(node.right, dialect)
             right_grouping = isinstance(node, _RIGHT_GROUPING)
             explicit = right_grouping and dialect == "ltlf2dfa"  # no chains for LTLf2DFA
-            if lp < p or (lp == p and right_grouping):
-                left = f"{lparen}{left}{rparen}"
-            if rp < p or (rp == p and (explicit or not right_grouping)):
-                right = f"{lparen}{right}{rparen}"
-            out = f"{left} {symbols[type(node)]} {right}"
+            wrap_left = lp < p or (lp == p and right_grouping)
+            wrap_right = rp < p or (rp == p and (explicit or not right_grouping))
+            right = [lparen, node.right, rparen] if wrap_right else [node.right]
+            left = [lparen, node.left, rparen] if wrap_left else [node.left]
+            stack.extend(reversed([*left, f" {symbols[type(node)]} ", *right]))
         else:
             op = next_symbol if isinstance(node, Next) else weak_next if isinstance(node, WeakNext) else symbols[type(node)]
-            arg = text[id(node.arg)]
             if _precedence(node.arg, dialect) < _UNARY:
-                out = f"{op}{lparen}{arg}{rparen}"
+                stack.extend((rparen, node.arg, lparen, op))
             elif isinstance(node, Not) and style != "latex":
-                out = f"{op}{arg}"
+                stack.extend((node.arg, op))
             else:
-                out = f"{op} {arg}"
-        text[id(node)] = out
-    return text[id(formula)]
+                stack.extend((node.arg, f"{op} "))
+    return "".join(pieces)
 
 
 def to_latex(formula: Formula) -> str:

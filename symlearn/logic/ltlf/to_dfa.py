@@ -181,7 +181,13 @@ class _Translation:
     def build(self, max_states: int) -> DFA:
         # a manager of its own, dropped after the translation: obligation nodes outnumber the edge
         # guards it produces (3.8x on the benchmark families, see symlearn/logic/bdd.py)
-        bdd = self.bdd = BDD()
+        from symlearn.input_limits import limit
+
+        # bounded like the guard table, so a formula whose obligations explode stops with a clear
+        # error before memory runs out (SYMLEARN_MAX_BDD_NODES, docs/FORMATS.md)
+        bdd = self.bdd = BDD(max_nodes=limit("SYMLEARN_MAX_BDD_NODES"),
+                             limit_hint="the formula's obligations need too many BDD nodes; split the formula "
+                                        "or raise SYMLEARN_MAX_BDD_NODES (0: no limit)")
         # propositions take the top levels in name order, the order of the shared guard table, so
         # converting an edge guard to a Guard is one node construction per node (guards.from_bdd)
         self.props = {name: level for level, name in enumerate(sorted(self.props))}

@@ -5,7 +5,8 @@
 [[['a'], [], ['a', 'b']], [['b']]]
 
 Blank lines are skipped. Mistakes raise :class:`~symlearn.errors.DataError` with
-``file:line:col`` (the column of the offending value where it can be found).
+``file:line:col`` (the column of the offending value where it can be found); an empty trace
+``[]`` is one (LTLf formulas are evaluated on non-empty traces, as ``semantics.holds`` does).
 """
 
 from __future__ import annotations
@@ -15,13 +16,15 @@ import re
 from pathlib import Path
 
 from symlearn.errors import DataError
+from symlearn.input_limits import load_json
 
 __all__ = ["read_traces", "read_traces_text"]
 
 
 def read_traces(path: str | Path) -> list[list[frozenset[str]]]:
-    with open(path, encoding="utf-8") as handle:
-        return read_traces_text(handle.read(), source=str(path))
+    from symlearn.input_limits import read_input_text
+
+    return read_traces_text(read_input_text(path, what="traces file"), source=str(path))
 
 
 def read_traces_text(text: str, source: str | None = None) -> list[list[frozenset[str]]]:
@@ -30,9 +33,10 @@ def read_traces_text(text: str, source: str | None = None) -> list[list[frozense
         if not line.strip():
             continue
         try:
-            value = json.loads(line)
-        except json.JSONDecodeError as exc:
-            raise DataError(f"not valid JSON: {exc.msg}", file=source, line=number, column=exc.colno,
+            value = load_json(line, source=source, line=number, max_depth=None,  # steps type-checked below
+                              error=DataError, syntax="not valid JSON")
+        except DataError as exc:
+            raise DataError(exc.message, file=source, line=exc.line, column=exc.column,
                             hint='each line is one trace, e.g. [["a"], [], ["a", "b"]]') from None
         traces.append(_trace(value, line, number, source))
     return traces
@@ -48,6 +52,10 @@ def _trace(value, line: str, number: int, source: str | None) -> list[frozenset[
         raise DataError(f"a trace must be a JSON list of steps, not {type(value).__name__}", file=source,
                         line=number, column=len(line) - len(line.lstrip()) + 1,
                         hint='write e.g. [["a"], [], ["a", "b"]]')
+    if not value:
+        raise DataError("an empty trace: LTLf formulas are evaluated on traces of at least one step", file=source,
+                        line=number, column=len(line) - len(line.lstrip()) + 1,
+                        hint='a step where nothing holds is written [], e.g. [[]] is a one-step trace')
     steps = []
     for index, step in enumerate(value):
         if not isinstance(step, list):

@@ -92,3 +92,72 @@ def test_lp_round_trip_and_edit(tmp_path):
     with pytest.raises(ParseError) as info:
         Hypothesis.from_lp(path)
     assert info.value.file == str(path) and info.value.line == 1
+
+
+# -- issue 15 ---------------------------------------------------------------------------------------
+
+def test_errors_raised_inside_a_clingo_callback_arrive_unchanged():
+    """clingo re-raises a callback's exception as ``type(exc)(exc)``: our ParseError used to come
+    out as ``TypeError: __str__ returned non-string`` (45 lines of traceback)."""
+    program = Program.from_text("a.\n#external e.\n", source="bk.lp")
+    with pytest.raises(ParseError) as info:
+        cl.tag_program(program, "E", ["ex(E)"])
+    assert str(info.value).startswith("bk.lp:2:1: unsupported feature #external at line 2")
+    with pytest.raises(ZeroDivisionError):
+        cl.parse_statements("a. b.", lambda statement: 1 / 0)
+
+
+def test_scripts_are_refused_before_clingo_sees_them():
+    with pytest.raises(ParseError, match=r"unsupported feature #script \(python\) at line 2") as info:
+        solve(Program.from_text("a.\n#script (python)\nimport os\n#end.\n", source="s.lp"))
+    assert (info.value.file, info.value.line) == ("s.lp", 2)
+    assert answer_sets(Program.from_text('a. % #script (python) in a comment\nb("#script").')) != []
+
+
+@pytest.mark.parametrize("timeout", [None, float("inf"), 1e10, 1e308])
+def test_huge_timeouts_do_not_overflow_into_the_past(timeout):
+    assert cl.wait_seconds(timeout) == -1.0
+    outcome = solve(Program.from_text("{a; b}."), timeout=timeout)
+    assert outcome.complete and len(outcome.models) == 4
+
+
+def test_tagged_copies_map_back_to_the_statements_they_came_from():
+    pieces = [(Program.from_text("a.\n\nq(Y) :- a.", source="ctx.las", line=7, column=5), "1", ("on(1)",))]
+    tagged = cl.tag_programs_located(pieces)[0]
+    assert tagged.text.splitlines()[1].startswith("q(1,Y)")
+    assert tagged.locate(2, 1) == ("ctx.las", 9, 1)
+
+
+def test_symbols_and_hypotheses_pickle_by_text():
+    """clingo's own pickling of a Symbol copies a pointer into the symbol table of the process;
+    unpickled in another process (the worker's result) it crashed the interpreter."""
+    import pickle
+    import subprocess
+    import sys
+
+    symbols = [cl.parse_term(t) for t in ('f(a,-1,"x\\"y")', "#inf", "(1,b)", "-g(c)")]
+    blob = pickle.dumps(symbols)
+    code = ("import pickle, sys; from symlearn.logic.asp import clingo_adapter; "
+            "print(' '.join(map(str, pickle.loads(sys.stdin.buffer.read()))))")
+    done = subprocess.run([sys.executable, "-c", code], input=blob, capture_output=True, timeout=60)
+    assert done.returncode == 0 and done.stdout.decode().strip() == " ".join(map(str, symbols))
+    hypothesis = Hypothesis.from_text(":- a.\nb :- c.", source="h.lp")
+    copy = pickle.loads(pickle.dumps(hypothesis))
+    assert copy == hypothesis and copy.lengths == [1, 2] and copy.program().locate(2, 1) == ("h.lp", 2, 1)
+
+
+def test_include_in_a_program_file(tmp_path):
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "inner.lp").write_text("b :- a.\n")
+    main = tmp_path / "main.lp"
+    main.write_text('a. #include "sub/inner.lp". c :- b.\n')
+    program = Program.from_file(main)
+    assert [sorted(map(str, m)) for m in answer_sets(program)] == [["a", "b", "c"]]
+    assert [p.source for p in program.parts] == [str(main), str(tmp_path / "sub" / "inner.lp"), str(main)]
+
+
+def test_lp_header_names_the_task_to_recheck_against(tmp_path):
+    path = tmp_path / "rules.lp"
+    Hypothesis([":- a."], provenance={"task": "kb/hanoi.las"}).to_lp(path)
+    assert f"% edit the rules below; re-check with: symlearn ilp check kb/hanoi.las {path}\n" in path.read_text()
+    assert "symlearn ilp check TASK.las THIS.lp" in Hypothesis([":- a."]).lp_text()  # task unknown

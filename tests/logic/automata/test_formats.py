@@ -105,13 +105,23 @@ def test_nondeterministic_json_is_a_model_error(tmp_path):
 
 
 def test_hoa_export_structure():
-    hoa = example().to_hoa(name="spec")
+    hoa = example().to_hoa(name="spec", encoding="final-marks")
     lines = hoa.splitlines()
-    assert lines[0] == "HOA: v1" and 'name: "spec"' in lines
+    assert lines[0] == "HOA: v1" and lines[1].startswith('name: "spec (finite words: marked states are FINAL')
     assert "States: 3" in lines and "Start: 0" in lines and 'AP: 2 "a" "b"' in lines
     assert 'State: 1 "goal" {0}' in lines and 'State: 0 "start"' in lines
     assert "[0&!1] 1" in lines and "[!0&!1] 0" in lines and "[1] 2" in lines and "[t] 2" in lines
     assert lines[-1] == "--END--"
+
+
+def test_hoa_export_encodes_finite_words_with_alive_by_default():
+    """HOA has no finite-word acceptance: the default is Spot's from_ltlf encoding, said in the header."""
+    hoa = example().to_hoa(name="spec")
+    lines = hoa.splitlines()
+    assert "alive" in lines[1] and 'AP: 3 "a" "b" "alive"' in lines and "States: 4" in lines
+    assert any(line.startswith("/*") and "from_ltlf" in line for line in lines)
+    assert 'State: 1 "goal"' in lines and "[0&!1&2] 1" in lines and "[!2] 3" in lines  # final -> end on !alive
+    assert 'State: 3 "end" {0}' in lines and lines[-2] == "[!2] 3"
 
 
 def test_hoa_labels_encode_the_guards_exactly():

@@ -85,7 +85,8 @@ def test_mona_dot_guard_error_column():
 
 def test_nondeterministic_mona_dot_is_model_error():
     with pytest.raises(ModelError, match="not deterministic"):
-        parse_mona_dot('digraph M {\n init -> 1;\n 1 -> 2 [label="a"];\n 1 -> 1 [label="true"];\n}', source="f.dot")
+        parse_mona_dot('digraph M {\n node [shape = circle]; 1; 2;\n init -> 1;\n 1 -> 2 [label="a"];\n'
+                       ' 1 -> 1 [label="true"];\n}', source="f.dot")
 
 
 # -- reward-machine text ---------------------------------------------------------------------------

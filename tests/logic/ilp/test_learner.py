@@ -151,3 +151,58 @@ def test_coverage_matrix_and_rescoring_an_edited_hypothesis():
     missed = report["total"] - report["covered"]
     assert missed > 0 and report["uncovered_without_penalty"] == []  # every example has a penalty here
     assert report["score"] == edited.cost + 5 * missed
+
+
+# -- issue 15: honest diagnostics (class 7) ---------------------------------------------------------
+
+def _grid_with_one_mislabelled_positive(extra_fact: str = "") -> tuple[str, str]:
+    """The grid task with one forbidden move (go west, no wall) labelled positive, late in the file,
+    so that a listing cut at five sorted ids would miss it."""
+    rng = random.Random(1)
+    dirs = ["north", "south", "east", "west"]
+    lines, bad = [GRID_BIAS], None
+    for i in range(60):
+        walls = [d for d in dirs if rng.random() < 0.4]
+        go = rng.choice(dirs)
+        ok = go not in walls and go != "west"
+        if not ok and i > 40 and bad is None and go == "west" and not walls:
+            ok, bad = True, f"e{i}"
+        facts = " ".join(f"wall({w})." for w in walls) + f" go({go})." + (f" {extra_fact}" if ok and i > 40 else "")
+        lines.append(f"#{'pos' if ok else 'neg'}(e{i}, {{}}, {{}}, {{ {facts} }}).")
+    return "\n".join(lines), bad
+
+
+@pytest.mark.parametrize("extra_fact", ["", "sunny."])  # same answer set as the negatives, or not
+def test_the_conflicting_positive_is_named_as_the_blocker(extra_fact):
+    text, bad = _grid_with_one_mislabelled_positive(extra_fact)
+    result = learn(parse_task(text))
+    d = result.diagnostics
+    assert result.hypothesis is None and not result.timed_out
+    assert d.unexcludable_negatives and all(blockers == [bad] for blockers in d.unexcludable_negatives.values())
+    rendered = d.render()
+    assert f"also excludes {bad})" in rendered
+    if extra_fact:  # not an exact conflict: the hint names the blocker itself
+        assert not d.conflicts and bad in d.hints[0] and "noise=True" in d.hints[0]
+    else:
+        assert all(pos == bad for pos, _neg in d.conflicts)
+
+
+def test_a_timed_out_search_says_time_ran_out_not_relax_the_bias():
+    result = learn(parse_task(_grid_task(40)), timeout=0.0, method="general")
+    assert result.hypothesis is None and result.timed_out
+    assert result.diagnostics.hints == ["time ran out before a hypothesis was found: raise the timeout"]
+    assert result.to_dict()["diagnostics"]["timed_out"] is True
+
+
+@pytest.mark.parametrize("timeout", [float("inf"), 1e10, 1e308, None])
+def test_huge_and_infinite_timeouts_mean_no_limit(timeout):
+    result = learn(parse_task(_grid_task(30)), timeout=timeout)
+    assert result.optimal and result.score == 3 and not result.timed_out
+    assert score(parse_task(_grid_task(30)), result.hypothesis, timeout=timeout)["score"] == 3
+
+
+def test_nan_timeout_is_refused():
+    from symlearn.errors import SymlearnError
+
+    with pytest.raises(SymlearnError, match="not NaN"):
+        learn(parse_task(_grid_task(5)), timeout=float("nan"))

@@ -119,3 +119,134 @@ def test_duplicate_example_ids_and_bad_numbers():
         parse_task("#maxv(0).\n")
     with pytest.raises(ParseError, match="recall must be at least 1"):
         parse_task("#modeb(0, p).\n")
+
+
+# -- issue 15: unsupported features refused in every place a program comes from (class 4) ----------
+
+_BASE = "#pos(p1, {}, {}, { a. }).\n#neg(n1, {}, {}, { b. }).\n#modeb(1, b).\n"
+_FEATURES = [("#script (python)\nimport os.path\nos.system('x')\n#end.", "#script (python)"),
+             ("#script (lua) function f() return 1 end #end.", "#script (lua)"),
+             ("#minimize { 1 : a }.", "#minimize/#maximize"),
+             (":~ a. [1@1]", "weak constraint (:~)"),
+             ("#external e.", "#external"),
+             ("#heuristic a. [1, level]", "#heuristic")]
+
+
+@pytest.mark.parametrize("statement, feature", _FEATURES)
+@pytest.mark.parametrize("place", ["background", "context", "bk", "include"])
+def test_unsupported_statement_named_at_its_file_and_line(tmp_path, statement, feature, place):
+    from symlearn.logic.ilp import learn
+
+    task_path, bk_path = tmp_path / "t.las", tmp_path / "bk.lp"
+    extra = []
+    if place == "background":
+        task_path.write_text("x.\n" + statement + "\n" + _BASE)
+        where, line = task_path, 2
+    elif place == "context":
+        task_path.write_text(_BASE + "#pos(p2, {}, {}, {\n  a.\n  " + statement + "\n}).\n")
+        where, line = task_path, 6
+    else:
+        bk_path.write_text("% extra knowledge\n" + statement + "\n")
+        where, line = bk_path, 2
+        if place == "bk":
+            task_path.write_text(_BASE)
+            extra = [bk_path]
+        else:
+            task_path.write_text('#include "bk.lp".\n' + _BASE)
+    with pytest.raises(ParseError) as info:
+        learn(load_task(task_path, extra_background=extra), timeout=10)
+    error = info.value
+    assert f"unsupported feature {feature} at line {line}" in error.message, str(error)
+    assert error.file == str(where) and error.line == line
+
+
+def test_unsupported_statement_in_a_hypothesis_file(tmp_path):
+    from symlearn.logic.asp import Hypothesis
+
+    path = tmp_path / "h.lp"
+    path.write_text(":- b.\n#external e.\n")
+    with pytest.raises(ParseError, match="unsupported feature #external at line 2") as info:
+        Hypothesis.from_lp(path)
+    assert info.value.file == str(path)
+
+
+# -- #include and locations (class 8) ----------------------------------------------------------------
+
+def test_include_is_resolved_next_to_the_including_file(tmp_path, monkeypatch):
+    from symlearn.logic.ilp import learn
+
+    (tmp_path / "kb").mkdir()
+    (tmp_path / "kb" / "rules.lp").write_text('#include "more/facts.lp".\nb :- c.\n')
+    (tmp_path / "kb" / "more").mkdir()
+    (tmp_path / "kb" / "more" / "facts.lp").write_text("d.\n")
+    task = tmp_path / "kb" / "t.las"
+    task.write_text('#include "rules.lp".\n#pos(p, {d}, {}, { a. }).\n#neg(n, {}, {}, { c. }).\n#modeb(1, b).\n')
+    monkeypatch.chdir(tmp_path)  # not the task's folder
+    result = learn(load_task(task), timeout=10)
+    assert result.hypothesis.rules == [":- b."]
+
+
+def test_include_errors_name_the_included_file_and_line(tmp_path):
+    from symlearn.logic.ilp import learn
+
+    (tmp_path / "bad.lp").write_text("ok.\nb :- c\nfoo(.\n")
+    task = tmp_path / "t.las"
+    task.write_text('#include "bad.lp".\n' + _BASE)
+    with pytest.raises(ParseError) as info:
+        learn(load_task(task), timeout=10)
+    assert info.value.file == str(tmp_path / "bad.lp") and info.value.line == 3
+    task.write_text('#include "missing.lp".\n' + _BASE)
+    with pytest.raises(ParseError, match="no such file") as info:
+        load_task(task)
+    assert info.value.file == str(task) and info.value.line == 1
+    task.write_text('#include <incmode>.\n' + _BASE)
+    with pytest.raises(ParseError, match="unsupported feature #include <incmode> at line 1"):
+        load_task(task)
+    task.write_text('#include "t.las".\n% #include "nowhere.lp". (a comment)\n' + _BASE)  # itself: once, as clingo
+    assert len(load_task(task).examples) == 2
+
+
+@pytest.mark.parametrize("place", ["background", "context", "bk", "hypothesis"])
+def test_unsafe_rule_is_reported_at_its_file_and_line(tmp_path, place):
+    from symlearn.logic.asp import Hypothesis
+    from symlearn.logic.ilp import learn, score
+
+    task_path, other = tmp_path / "t.las", tmp_path / "other.lp"
+    unsafe = "q(Y) :- a."
+    if place == "background":
+        task_path.write_text("x.\n\n" + unsafe + "\n" + _BASE)
+        where, line = task_path, 3
+    elif place == "context":
+        task_path.write_text(_BASE + "#pos(p2, {}, {}, {\n  a.\n  " + unsafe + "\n}).\n")
+        where, line = task_path, 6
+    else:
+        task_path.write_text(_BASE)
+        other.write_text("% comment\nz.\n" + unsafe + "\n")
+        where, line = other, 3
+    with pytest.raises(ParseError, match="unsafe variables") as info:
+        task = load_task(task_path, extra_background=[other] if place == "bk" else [])
+        if place == "hypothesis":
+            score(task, Hypothesis.from_lp(other, background=task.background))
+        else:
+            learn(task, timeout=10)
+    assert (info.value.file, info.value.line) == (str(where), line), str(info.value)
+
+
+def test_deep_nesting_is_refused_before_it_reaches_a_recursive_parser(tmp_path):
+    """Class 5 in ILP files: a term nested 3,000 deep raised RecursionError; clingo crashed
+    (segmentation fault) grounding one nested 100,000 deep."""
+    from symlearn.logic.asp import Hypothesis, Program
+
+    deep = "f(" * 3000 + "1" + ")" * 3000
+    for text, line in ((f"#pos(p, {{}}, {{}}, {{ a. }}).\n#modeb(1, p({deep})).\n", 2),
+                       (f"#pos(p, {{}}, {{}}, {{\n a({deep}). }}).\n#modeb(1, a(var(t))).\n", 2)):
+        with pytest.raises(ParseError, match="nested more than 100 levels deep") as info:
+            parse_task(text, source="deep.las")
+        assert info.value.line == line
+    lp = tmp_path / "deep.lp"
+    lp.write_text(f"ok.\n% {'(' * 500} a comment\nb({deep}).\n")
+    with pytest.raises(ParseError, match="nested more than 100") as info:
+        Program.from_file(lp)
+    assert (info.value.file, info.value.line) == (str(lp), 3)
+    with pytest.raises(ParseError, match="nested more than 100"):
+        Hypothesis.from_lp(lp)
