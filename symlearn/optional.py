@@ -44,7 +44,7 @@ ENGINES: dict[str, Engine] = {
         Engine("dfa_identify", ("dfa_identify",), (), "DFA identification peer", _extra("peers")),
         Engine("sumo", ("traci", "sumo"), (), "SUMO traffic demonstrations", _extra("sumo")),
         Engine("mujoco", ("mujoco",), (), "MuJoCo environments", _extra("mujoco", make_test=False)),
-        Engine("highway", ("highway_env",), (), "highway-env environments", _extra("highway", make_test=False)),
+        Engine("highway", ("highway_env",), (), "highway-env environments", _extra("highway")),
         Engine("sb3", ("stable_baselines3",), (), "stable-baselines3 agents on shields and reward machines",
                _extra("sb3")),
         Engine("sb3_contrib", ("sb3_contrib",), (), "masked policies (MaskablePPO) on shields", _extra("sb3")),

@@ -6,9 +6,10 @@
 * ``--demos``: demonstrations with vector states (columns named by ``--features``, default
   ``x0..x{k-1}``) or feature-dict states (names from the dicts); with ``--domain DIR`` the
   domain's feature map (``features = ...`` in ``domain.toml``) turns state ids into features.
-* ``--env``: a bundled continuous environment (``toy-navigation``, ``safenav-*``), whose scripted
-  expert records ``--n-demos`` episodes; features are the environment's (SafeNav: the thesis'
-  20: accelerations, velocities, 16 hazard lidar bins).
+* ``--env``: a bundled continuous environment (``toy-navigation``, ``safenav-*``, ``driving``),
+  whose scripted expert records ``--n-demos`` episodes; features are the environment's (SafeNav:
+  the thesis' 20: accelerations, velocities, 16 hazard lidar bins; driving: velocities, gaps to
+  the cars ahead/behind in three lanes, distances to the road edges, from an IDM/MOBIL driver).
 
 JSON keys: ``formula`` (the text), ``conjunctions`` (one string each), ``leaves`` (safe boxes as
 ``{feature: [low, high]}``), ``features``, ``seconds``; ``-o`` writes the editable ``.dnf`` file
@@ -27,7 +28,7 @@ def register_learn(commands, common) -> None:
     where = cmd.add_mutually_exclusive_group(required=True)
     where.add_argument("--demos", help="demonstrations (.npz or .jsonl) with vector or feature-dict states")
     where.add_argument("--env", help="a bundled continuous environment with a scripted expert "
-                                     "(toy-navigation, safenav-point-goal, ...; see `symlearn envs`)")
+                                     "(toy-navigation, safenav-point-goal, driving, ...; see `symlearn envs`)")
     cmd.add_argument("--n-demos", type=int, default=20, help="expert episodes to record with --env (20)")
     cmd.add_argument("--features", help="comma-separated names of the state vector's columns")
     cmd.add_argument("--domain", metavar="DIR", help="a domain folder whose feature map turns state ids into features")
@@ -73,8 +74,13 @@ def _demonstrations(args: argparse.Namespace):
         get(args.env, Kind.CONTINUOUS, what="continuous environment")
         _, agent, task = args.env.split("-")
         return expert_demonstrations(agent, task, args.n_demos, seed=seed), list(FEATURE_NAMES)
+    if args.env.strip().lower() == "driving":
+        from symlearn.envs.driving.expert import expert_demonstrations
+        from symlearn.envs.driving.features import FEATURE_NAMES
+
+        return expert_demonstrations(args.n_demos, seed=seed), list(FEATURE_NAMES)
     raise DataError(f"{args.env!r} has no scripted expert for learning DNF constraints",
-                    hint="use toy-navigation or safenav-<point|car>-<goal|push>, or give --demos")
+                    hint="use toy-navigation, safenav-<point|car>-<goal|push> or driving, or give --demos")
 
 
 def _dnf(args: argparse.Namespace, out) -> None:

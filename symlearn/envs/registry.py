@@ -184,6 +184,12 @@ ENTRIES: tuple[Entry, ...] = (
     _safenav("point", "push", "Safety-Gym PointPush1 in numpy: push a box to the goal, avoid 8 hazards"),
     _safenav("car", "goal", "Safety-Gym CarGoal1 in numpy: differential drive, reach goals, avoid hazards"),
     _safenav("car", "push", "Safety-Gym CarPush1 in numpy: differential drive, push a box, avoid hazards"),
+    # Section 4.4.2's highway (highD there, licensed): highway-env's highway, continuous action,
+    # IDM/MOBIL demonstrator; building it needs the `highway` extra.
+    Entry("driving", frozenset({Kind.CONTINUOUS}),
+          "highway-env highway, continuous action: avoid collisions and leaving the road (10 features; "
+          "needs symlearn[highway])", _DNF_METHODS, "symlearn/driving-v0",
+          Factory("symlearn.envs.driving.env:DrivingEnv")),
 )
 
 # Names used before the registry gave the junction one name everywhere (hints only).
