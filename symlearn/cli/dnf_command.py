@@ -16,6 +16,7 @@ whether they are equivalent (always, checked by box algebra).
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 from symlearn.cli.output import blame_file
 
@@ -52,8 +53,17 @@ def read_points(path: str, features: str | None):
 
     from symlearn.errors import DataError
 
-    from symlearn.data.npz_format import open_npz
+    import zipfile
 
+    from symlearn.data.npz_format import member_headers, open_npz
+    from symlearn.input_limits import check_size
+
+    # sizes and dtypes from the headers before anything is decompressed (a zip bomb stops here);
+    # a bare .npy is stored uncompressed, so its file size bounds what loading it takes
+    if zipfile.is_zipfile(path):
+        member_headers(path)
+    elif Path(path).is_file():
+        check_size(Path(path).stat().st_size, "SYMLEARN_MAX_ARRAY_MB", what="array file size", file=path)
     archive = open_npz(path)
     try:
         if isinstance(archive, np.ndarray):      # a bare .npy: the points array itself

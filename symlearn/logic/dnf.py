@@ -778,13 +778,13 @@ def from_json(text: str | Mapping, *, source: str | None = None) -> DNF:
 
 def load(path: str | os.PathLike[str]) -> DNF:
     """Read a ``.dnf`` text file (or ``.json``); errors name the file, line and column."""
+    from symlearn.input_limits import read_input_text
+
     path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
+    try:  # size-capped, a bad byte located at its line:col
+        text = read_input_text(path, what="rule file")
     except OSError as exc:
         raise DataError(f"cannot read {path}: {exc.strerror}", file=str(path)) from None
-    except UnicodeDecodeError as exc:
-        raise ParseError(f"not UTF-8 text ({exc.reason} at byte {exc.start})", file=str(path)) from None
     if path.suffix == ".json":
         return from_json(text, source=str(path))
     return parse(text, source=str(path))

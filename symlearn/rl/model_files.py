@@ -32,6 +32,7 @@ from safetensors.torch import save as save_tensors
 
 from symlearn.atomic import write_bytes, write_text
 from symlearn.errors import ModelError
+from symlearn.input_limits import load_json, read_input_text
 
 FORMAT = "symlearn-torch-module"
 VERSION = 1
@@ -68,13 +69,12 @@ def save_torch_module(
 def read_model_config(path: str | os.PathLike[str], *, kind: str | None = None) -> dict[str, Any]:
     """The ``config`` of the JSON file beside ``path``, checked for format, version and ``kind``."""
     _, config_path = model_paths(path)
-    try:
-        document = json.loads(config_path.read_text(encoding="utf-8"))
+    try:  # a user may bring this file: size-capped, nesting and duplicate keys refused
+        text = read_input_text(config_path, what="model configuration")
     except FileNotFoundError:
         raise ModelError("no model configuration beside the weights", file=config_path,
                          hint="a model is two files, NAME.safetensors and NAME.json") from None
-    except json.JSONDecodeError as exc:
-        raise ModelError(f"not JSON: {exc.msg}", file=config_path, line=exc.lineno, column=exc.colno) from None
+    document = load_json(text, source=config_path, error=ModelError, syntax="not JSON")
     if not isinstance(document, dict) or document.get("format") != FORMAT:
         raise ModelError(f"not a {FORMAT} file", file=config_path)
     if document.get("version") != VERSION:

@@ -90,3 +90,20 @@ def test_show_and_simplify(capsys, tmp_path):
     assert (doc["conjunctions"], doc["simplified_conjunctions"]) == (3, 1)
     code, out, err = run(capsys, "dnf", "show", rules, "--style", "unicode")
     assert code == 0 and out.splitlines()[0] == "x > 0 ∧ x < 1 ∧ y > 0" and "3 conjunctions, 9 atoms" in out
+
+
+def test_eval_refuses_a_compressed_bomb_before_decompressing(capsys, tmp_path, monkeypatch):
+    rules = _files(tmp_path)
+    # 8 MB of zeros compress to a few KB; the header declares the size, so a 1 MB cap refuses it
+    np.savez_compressed(tmp_path / "bomb.npz", points=np.zeros((1 << 20, 1)))
+    monkeypatch.setenv("SYMLEARN_MAX_ARRAY_MB", "1")
+    code, out, err = run(capsys, "dnf", "eval", rules, "--points", tmp_path / "bomb.npz", "--features", "v")
+    assert code == 2 and "bomb.npz" in err and "limit" in err and "Traceback" not in err
+
+
+def test_rule_file_that_is_not_utf8_is_located(capsys, tmp_path):
+    _files(tmp_path)
+    bad = tmp_path / "bad.dnf"
+    bad.write_bytes(b"v > 1\nx0 > \xff0.1\n")
+    code, out, err = run(capsys, "dnf", "show", bad)
+    assert code == 2 and "bad.dnf:2:" in err and "UTF-8" in err
