@@ -22,7 +22,7 @@ API (stable; other test files build on it)::
   around ``python -c CODE`` (``tests/support`` on ``sys.path``), for in-process checks of a
   library function that must not take the test process down with it.
 * ``HostileRun``: ``args``, ``returncode`` (negative: killed by that signal), ``stdout``,
-  ``stderr``, ``seconds``, ``max_rss_mb`` (peak resident memory of the child), ``timed_out``;
+  ``stderr``, ``seconds``, ``max_rss_mb`` (peak resident memory of the largest process of the child's group, polled from ``/proc``), ``timed_out``;
   ``stderr_lines`` (non-empty lines), ``describe()`` (for assertion messages).
 * ``assert_refused(result, *, names=None, location=False, contains=None, outputs=(),
   max_seconds=None, max_rss_mb=None, exit_code=2)``: the promise. ``names``: a string (or
@@ -141,7 +141,9 @@ def run_command(args: Sequence[object], *, cwd: str | os.PathLike | None = None,
         status, usage = 0, None
         deadline = start + timeout
         delay = 0.005
+        peaks: dict[int, int] = {}
         while True:
+            _poll_peaks(proc.pid, peaks)
             pid, status, usage = os.wait4(proc.pid, os.WNOHANG)
             if pid:
                 break
@@ -165,10 +167,38 @@ def run_command(args: Sequence[object], *, cwd: str | os.PathLike | None = None,
         err_file.seek(0)
         stdout = out_file.read().decode("utf-8", "replace")
         stderr = err_file.read().decode("utf-8", "replace")
-    max_rss_mb = (usage.ru_maxrss / 1024.0) if usage is not None else 0.0  # Linux: KB
+    if peaks:  # the largest process of the group, after its exec
+        max_rss_mb = max(peaks.values()) / 1024.0
+    else:  # no /proc: the kernel's figure, which counts the forked test process's memory too
+        max_rss_mb = (usage.ru_maxrss / 1024.0) if usage is not None else 0.0  # Linux: KB
     return HostileRun(args=args, returncode=proc.returncode, stdout=stdout, stderr=stderr,
                       seconds=seconds, max_rss_mb=max_rss_mb, timed_out=timed_out,
                       timeout=timeout, memory_mb=memory_mb, cwd=str(cwd) if cwd else None)
+
+
+def _poll_peaks(root: int, peaks: dict[int, int]) -> None:
+    """Record ``VmHWM`` (peak resident KB) of ``root`` and its descendants into ``peaks``.
+
+    Not ``wait4``'s ``ru_maxrss``: the child is forked from the test process, and Linux carries the
+    parent's high-water mark into the child's figure at exec, so after a few hundred tests every
+    child would "use" what pytest itself holds. ``VmHWM`` starts afresh with the exec'd program.
+    A peak between two polls of a process that then exits can be missed; ``RLIMIT_AS`` still
+    bounds it.
+    """
+    stack = [root]
+    while stack:
+        pid = stack.pop()
+        try:
+            with open(f"/proc/{pid}/status", "rb") as handle:
+                for line in handle:
+                    if line.startswith(b"VmHWM:"):
+                        peaks[pid] = max(peaks.get(pid, 0), int(line.split()[1]))
+                        break
+            for task in os.listdir(f"/proc/{pid}/task"):
+                with open(f"/proc/{pid}/task/{task}/children", "rb") as handle:
+                    stack.extend(int(c) for c in handle.read().split())
+        except (OSError, ValueError):
+            continue
 
 
 def _as_list(value: str | Iterable[str] | None) -> list[str]:
