@@ -16,11 +16,14 @@ the same violation. :class:`RuleStats` counts, per conjunction, how often it was
 how often it fired; after training, :meth:`RuleStats.prune` drops the rules whose fired /
 evaluated ratio stayed below a threshold (the thesis uses 0.001): a rule the reward-seeking
 agent never ran into describes a region it had no reason to visit, so it is probably not a real
-constraint. The report says, per rule, the counts, the ratio and the verdict.
+constraint. The report says, per rule, the counts, the ratio and the verdict. The thesis counts
+the whole training; :meth:`RuleStats.snapshot` / :meth:`RuleStats.since` give the counts of a
+later part only (the trained agent), :meth:`RuleStats.reset` starts again.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -81,6 +84,13 @@ class RuleStats:
         """Count a precomputed ``[N, m]`` matrix of which rules hold (formula order)."""
         if not len(self.order):
             return
+        if len(fires) == 1:          # one step (the cost wrapper's case): the same counts, fewer temporaries
+            hits = np.flatnonzero(np.asarray(fires[0], dtype=bool)[self.order])
+            first = int(hits[0]) if len(hits) else len(self.order)
+            self.evaluated[self.order[:first + 1]] += 1
+            if len(hits):
+                self.fired[self.order[first]] += 1
+            return
         ordered = np.asarray(fires, dtype=bool)[:, self.order]
         any_fire = ordered.any(axis=1)
         first = np.where(any_fire, ordered.argmax(axis=1), len(self.order))
@@ -91,6 +101,26 @@ class RuleStats:
 
     def ratios(self) -> np.ndarray:
         return self.fired / np.maximum(self.evaluated, 1)
+
+    def reset(self) -> None:
+        """Forget the counts (e.g. to count only what a trained agent does)."""
+        self.evaluated[:] = 0
+        self.fired[:] = 0
+
+    def snapshot(self) -> tuple[np.ndarray, np.ndarray]:
+        """The counts so far, ``(evaluated, fired)`` (copies), for :meth:`since`."""
+        return self.evaluated.copy(), self.fired.copy()
+
+    def since(self, snapshot: tuple[np.ndarray, np.ndarray]) -> RuleStats:
+        """A new :class:`RuleStats` holding only the counts made after ``snapshot`` (e.g. the last
+        part of training, when the agent has learned)."""
+        evaluated, fired = snapshot
+        if np.shape(evaluated) != self.evaluated.shape or np.shape(fired) != self.fired.shape:
+            raise SymlearnError("the snapshot belongs to another formula")
+        window = RuleStats(self.dnf, self.feature_names)
+        window.evaluated = self.evaluated - np.asarray(evaluated, dtype=np.int64)
+        window.fired = self.fired - np.asarray(fired, dtype=np.int64)
+        return window
 
     def prune(self, threshold: float = 1e-3, *, min_evaluations: int = 1) -> tuple[Any, list[RuleVerdict]]:
         """The formula without the rules whose fired/evaluated ratio is below ``threshold``
@@ -133,6 +163,7 @@ class DnfCostWrapper(gym.Wrapper):
         self.stats = stats if stats is not None else RuleStats(dnf, features)
         self.track = track
         self.feature_names = self.stats.feature_names
+        self._evaluate = dnf.evaluator(self.feature_names)   # names resolved once, not every step
 
     def _features(self, observation: Any, info: dict[str, Any]) -> np.ndarray:
         if self.source == "info":
@@ -152,19 +183,21 @@ class DnfCostWrapper(gym.Wrapper):
 
     def step(self, action: Any):
         observation, reward, terminated, truncated, info = self.env.step(action)
-        features = self._features(observation, info)[None, :]
-        if self.track:
-            fires = self.stats.update(features)[0]
-        else:
-            if not np.isfinite(features).all():
-                raise DataError("features must be finite (found NaN or inf)")
-            fires = self.dnf.evaluate(features, self.feature_names, per_conjunction=True)[0]
+        features = self._features(observation, info)
+        if not math.isfinite(features.sum()) and not np.isfinite(features).all():   # one sum, unless suspect
+            raise DataError("features must be finite (found NaN or inf)")
+        if self.track or self.per_rule:
+            fires = self._evaluate(features, per_conjunction=True)
+            if self.track:
+                self.stats.count(fires)     # what stats.update(features) does, without evaluating again
+            fires = fires[0]
         info = dict(info)
         if self.per_rule:
             cost: Any = self.violation_cost * fires.astype(np.float64)
             total = float(np.sum(cost))
         else:
-            total = self.violation_cost * float(fires.any())
+            fired = fires.any() if self.track else self._evaluate(features)[0]
+            total = self.violation_cost * float(fired)
             cost = total
         if "cost" in info:
             info["env_cost"] = info["cost"]  # the environment's own (ground-truth) cost stays readable

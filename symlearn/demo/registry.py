@@ -19,6 +19,7 @@ PIPELINE_MODULES: tuple[str, ...] = (
     "symlearn.demo.ilp_pipeline",
     "symlearn.demo.constraints_pipeline",
     "symlearn.demo.dnf_pipeline",
+    "symlearn.demo.safenav_pipeline",
 )
 
 

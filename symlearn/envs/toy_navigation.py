@@ -13,7 +13,11 @@ diagonal, is unsafe. The features are the position itself (``x``, ``y``: the the
 * **Action**: a velocity ``(dx, dy)`` in ``Box(-1, 1, (2,))``, clipped per entry and scaled by
   ``speed`` (0.05 per step); the position is clipped to the unit square.
 * **Observation**: the position, ``float32``; ``info["features"]`` the same as ``float64``.
-* **Reward**: progress to the goal (decrease of the distance to ``(0.9, 0.9)``).
+* **Reward**: progress to the goal (decrease of the distance to ``(0.9, 0.9)``), plus
+  ``goal_reward`` (1.0, as Safety-Gym's goal bonus) on the step that reaches it. Progress alone
+  pays almost nothing for *finishing*: an agent hovering just outside the goal circle earns all
+  but the last few hundredths, so under a cost (which the last steps near the learned border
+  may risk) hovering was as good as arriving. ``goal_reward=0`` gives the progress-only reward.
 * **Cost**: ``info["cost"]`` = 1.0 when the new position lies outside the safe set.
 * **Termination** within ``goal_radius`` (0.05) of the goal; truncation after ``max_steps``.
 
@@ -55,15 +59,18 @@ def is_safe(x: float, y: float) -> bool:
 
 
 class ToyNavigationEnv(gym.Env):
-    """``ToyNavigationEnv(speed=0.05, goal_radius=0.05, max_steps=200, render_mode=None)``."""
+    """``ToyNavigationEnv(speed=0.05, goal_radius=0.05, max_steps=200, goal_reward=1.0, render_mode=None)``."""
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
 
     def __init__(self, speed: float = 0.05, goal_radius: float = 0.05, max_steps: int = 200,
-                 render_mode: str | None = None) -> None:
+                 render_mode: str | None = None, goal_reward: float = 1.0) -> None:
         if not 0 < speed <= 1 or goal_radius <= 0 or max_steps < 1:
             raise DataError(f"need 0 < speed <= 1, goal_radius > 0, max_steps >= 1; got {speed}, {goal_radius}, "
                             f"{max_steps}")
+        if not math.isfinite(goal_reward):
+            raise DataError(f"goal_reward must be finite, got {goal_reward}")
+        self.goal_reward = float(goal_reward)
         if render_mode not in (None, "rgb_array"):
             raise DataError(f"unknown render mode {render_mode!r}", hint="use 'rgb_array' or None")
         self.speed, self.goal_radius, self.max_steps = float(speed), float(goal_radius), int(max_steps)
@@ -91,7 +98,8 @@ class ToyNavigationEnv(gym.Env):
         self.steps += 1
         after = self.distance()
         terminated = after <= self.goal_radius
-        return self._observation(), before - after, terminated, self.steps >= self.max_steps, self._info()
+        reward = before - after + (self.goal_reward if terminated else 0.0)
+        return self._observation(), reward, terminated, self.steps >= self.max_steps, self._info()
 
     def distance(self) -> float:
         return math.hypot(self.position[0] - GOAL[0], self.position[1] - GOAL[1])

@@ -35,6 +35,33 @@ corridor with two constraints of ``tests/rl/test_ppo.py`` (12k steps, ``"gradien
 that version stayed at cost 2 per episode (limit 1) while the multiplier climbed past 4; the mix
 above brought the greedy policy to cost 0 on all three seeds, with multipliers near 1.
 
+**Scale-free multipliers** (``LagrangianConfig(advantage_scale="returns")``; the default ``"raw"``
+is the mix above). Raw units make the multiplier's useful range depend on the ratio of the reward's
+scale to the cost's, which no step size fits: on the thesis' toy an episode earns about 2 and an
+exploring agent collects 100-200 cost steps, so the price that already makes the safe route pay is
+about 0.01 while Adam moves ``lambda`` by about ``lr`` = 0.035 per iteration; from the second
+iteration on the cost swamped the reward, and with a cost limit of 0 (no slack: ``lambda`` can only
+grow) the agent learned to stand still near the start. With ``"returns"`` each signal's advantage
+is divided by the running standard deviation of its own returns (:class:`_ReturnScales`: an average
+over about ten iterations, floored at 1 % of its largest value), so ``lambda`` weighs standard
+deviations of cost-to-go against those of reward-to-go: while the exploring agent's costs are large
+and spread, one unit of cost is cheap; as the agent becomes safe the cost's scale shrinks and the
+remaining violations get dearer. The constrained problem is unchanged (a positive rescaling of
+objective and constraint moves only the value of the multiplier at the saddle point);
+``PPOIteration.return_scales`` records the scales, so ``lambda_i * scale_r / scale_ci`` is the
+price in raw units.
+
+**Normalisation** (both off by default). ``normalize_observations``: the networks see the features
+standardised by their running mean and variance (every rollout joins the statistics before it is
+learned from; clipped to +-10; saved with the weights, applied by ``act``/``encode``). Without it,
+inputs that all lie on one side of zero (positions in ``[0, 1]^2``) meet a first layer whose zero
+biases put every hyperplane through the origin: a policy that must turn at ``x = 0.7`` is hard to
+represent and PPO stalled there. ``normalize_values``: the critics learn each signal's returns
+divided by the same running scale, the output layers being rescaled whenever the scale changes so
+that their values stay put (PopArt's trick, Hessel et al. 2019); after training they output returns
+again. Cost-to-go values of 50-100 are otherwise out of reach of an output layer moved by Adam at
+``2.5e-4`` a step, and the cost critic stayed flat.
+
 **Speed.** Actions are sampled during rollouts by a numpy copy of the actor (a forward pass for a
 few rows costs a few microseconds in numpy and tens in torch); everything learning needs (old
 log-probabilities, values, cost values) is computed afterwards in torch, over the whole rollout at
@@ -75,6 +102,11 @@ from symlearn.rl.model_files import load_torch_module, save_torch_module
 
 MODEL_KIND = "ppo-actor-critic"
 ACTIVATIONS = {"tanh": nn.Tanh, "relu": nn.ReLU}
+OBS_CLIP = 10.0  # normalised observations are clipped to +-OBS_CLIP (as SB3's VecNormalize)
+OBS_EPSILON = 1e-8  # added to the running variance before the square root
+ADVANTAGE_SCALES = ("raw", "returns")  # LagrangianConfig.advantage_scale
+RETURN_SCALE_MEMORY = 0.9  # per iteration, for the running standard deviation of each signal's returns
+RETURN_SCALE_FLOOR = 1e-2  # a signal's scale never drops below this share of the largest it had
 
 
 # --------------------------------------------------------------------------------------------------
@@ -102,6 +134,8 @@ class PPOConfig:
     hidden_sizes: tuple[int, ...] = (64, 64)
     activation: str = "tanh"  # "tanh" | "relu"
     log_std_init: float = 0.0  # Box actions
+    normalize_observations: bool = False  # standardise inputs by running mean/std (saved with the model)
+    normalize_values: bool = False  # critics learn returns / their running std (outputs kept, PopArt-style)
     seed: int | None = 0
     device: str = "cpu"
     torch_threads: int | None = 1  # None: leave torch's setting alone
@@ -142,7 +176,10 @@ class LagrangianConfig:
     ``kp``, ``ki``, ``kd`` with exponential averages ``p_ema``/``d_ema`` of the error and the cost
     and a derivative over ``d_delay`` updates (the defaults are OmniSafe's CPPOPID ones).
     ``max_multiplier`` caps every multiplier (``None``: no cap). ``cost_gamma`` discounts costs for
-    the cost critics (``None``: the reward's ``gamma``).
+    the cost critics (``None``: the reward's ``gamma``). ``advantage_scale``: ``"raw"`` mixes the
+    advantages in their own units (``lambda`` = the price of a unit of cost in reward); ``"returns"``
+    first divides each by the running standard deviation of its signal's returns, which makes the
+    multiplier's range independent of the units of reward and cost (module docstring).
     """
 
     cost_limit: float | Sequence[float]
@@ -157,6 +194,7 @@ class LagrangianConfig:
     d_ema: float = 0.95
     max_multiplier: float | None = None
     cost_gamma: float | None = None
+    advantage_scale: str = "raw"
 
     def __post_init__(self) -> None:
         limits = _numbers(self.cost_limit, "cost_limit")
@@ -182,6 +220,9 @@ class LagrangianConfig:
             raise SymlearnError(f"max_multiplier must be > 0 or None, got {self.max_multiplier!r}")
         if self.cost_gamma is not None and not 0 <= self.cost_gamma <= 1:
             raise SymlearnError(f"cost_gamma must be in [0, 1], got {self.cost_gamma!r}")
+        if self.advantage_scale not in ADVANTAGE_SCALES:
+            raise SymlearnError(f"advantage_scale must be one of {', '.join(map(repr, ADVANTAGE_SCALES))}, "
+                                f"got {self.advantage_scale!r}")
 
     @property
     def n_constraints(self) -> int | None:
@@ -314,7 +355,7 @@ class ActorCritic(nn.Module):
 
     def __init__(self, observation: dict[str, Any], action: dict[str, Any], hidden_sizes: Sequence[int] = (64, 64),
                  activation: str = "tanh", n_costs: int = 0, log_std_init: float = 0.0,
-                 generator: torch.Generator | None = None) -> None:
+                 generator: torch.Generator | None = None, *, obs_normalization: bool = False) -> None:
         super().__init__()
         self.observation_spec, self.action_spec = observation, action
         self.hidden_sizes, self.activation, self.log_std_init = tuple(hidden_sizes), activation, float(log_std_init)
@@ -331,6 +372,13 @@ class ActorCritic(nn.Module):
             low = [-np.inf if x is None else x for x in action["low"]]
             high = [np.inf if x is None else x for x in action["high"]]
             self._low, self._high = np.asarray(low, np.float32), np.asarray(high, np.float32)
+        # running mean and variance of the observation features (saved with the weights)
+        self.obs_normalization = bool(obs_normalization)
+        if self.obs_normalization:
+            self.register_buffer("obs_mean", torch.zeros(self.obs_dim, dtype=torch.float64))
+            self.register_buffer("obs_var", torch.ones(self.obs_dim, dtype=torch.float64))
+            self.register_buffer("obs_count", torch.zeros(1, dtype=torch.float64))
+        self._normalizer: tuple[np.ndarray, np.ndarray] | None = None  # numpy (mean, 1 / std), rebuilt on change
 
     @classmethod
     def for_spaces(cls, observation_space: Any, action_space: Any, **kwargs: Any) -> ActorCritic:
@@ -349,7 +397,46 @@ class ActorCritic(nn.Module):
     # --- observations and actions as arrays --------------------------------------------------------
 
     def encode(self, observations: Any) -> np.ndarray:
-        """A batch of raw observations -> float32 ``(B, obs_dim)`` (Discrete: one-hot)."""
+        """A batch of raw observations -> the networks' float32 input ``(B, obs_dim)``: the
+        :meth:`features`, standardised when the model normalises observations."""
+        return self.normalize(self.features(observations))
+
+    def normalize(self, features: np.ndarray) -> np.ndarray:
+        """``(features - mean) / std`` by the running statistics, clipped to +-:data:`OBS_CLIP`
+        (the features themselves when the model does not normalise observations)."""
+        if not self.obs_normalization:
+            return features
+        if self._normalizer is None:
+            mean = self.obs_mean.detach().cpu().numpy()
+            scale = 1.0 / np.sqrt(self.obs_var.detach().cpu().numpy() + OBS_EPSILON)
+            self._normalizer = (mean.astype(np.float32), scale.astype(np.float32))
+        mean, scale = self._normalizer
+        return np.clip((features - mean) * scale, -OBS_CLIP, OBS_CLIP).astype(np.float32, copy=False)
+
+    def update_observation_stats(self, features: np.ndarray) -> None:
+        """Fold a batch of :meth:`features` ``(B, obs_dim)`` into the running mean and variance
+        (the parallel update of Chan et al., in float64)."""
+        x = np.asarray(features, dtype=np.float64).reshape(-1, self.obs_dim)
+        if not self.obs_normalization or not len(x):
+            return
+        count, mean, var = float(self.obs_count[0]), self.obs_mean.cpu().numpy(), self.obs_var.cpu().numpy()
+        batch_mean, batch_var, n = x.mean(axis=0), x.var(axis=0), len(x)
+        total = count + n
+        delta = batch_mean - mean
+        new_mean = mean + delta * (n / total)
+        new_var = (var * count + batch_var * n + delta**2 * (count * n / total)) / total
+        with torch.no_grad():
+            self.obs_mean.copy_(torch.from_numpy(new_mean))
+            self.obs_var.copy_(torch.from_numpy(new_var))
+            self.obs_count.fill_(total)
+        self._normalizer = None
+
+    def load_state_dict(self, state_dict: Any, strict: bool = True, assign: bool = False) -> Any:
+        self._normalizer = None  # the statistics may change
+        return super().load_state_dict(state_dict, strict=strict, assign=assign)
+
+    def features(self, observations: Any) -> np.ndarray:
+        """A batch of raw observations -> float32 ``(B, obs_dim)`` (Box: flattened; Discrete: one-hot)."""
         if self.observation_spec["kind"] == "discrete":
             ids = np.asarray(observations, dtype=np.int64).reshape(-1) - self.observation_spec["start"]
             if ids.size and (ids.min() < 0 or ids.max() >= self.obs_dim):
@@ -407,13 +494,14 @@ class ActorCritic(nn.Module):
     def model_config(self) -> dict[str, Any]:
         return {"observation": self.observation_spec, "action": self.action_spec,
                 "hidden_sizes": list(self.hidden_sizes), "activation": self.activation, "n_costs": self.n_costs,
-                "log_std_init": self.log_std_init}
+                "log_std_init": self.log_std_init, "obs_normalization": self.obs_normalization}
 
     @classmethod
     def from_config(cls, config: dict[str, Any]) -> ActorCritic:
         try:
             return cls(config["observation"], config["action"], config["hidden_sizes"], config["activation"],
-                       config["n_costs"], config.get("log_std_init", 0.0))
+                       config["n_costs"], config.get("log_std_init", 0.0),
+                       obs_normalization=bool(config.get("obs_normalization", False)))
         except (KeyError, TypeError, IndexError) as exc:
             raise ModelError(f"not a PPO actor-critic configuration ({type(exc).__name__}: {exc})") from None
 
@@ -496,6 +584,9 @@ class PPOIteration:
     learning_rate: float
     steps_per_second: float
     seconds: float
+    # running standard deviation of the returns of the reward, then of each cost (PPO-Lagrangian;
+    # the divisors of the advantages under ``advantage_scale="returns"``)
+    return_scales: tuple[float, ...] = ()
 
     def as_dict(self) -> dict[str, Any]:
         return {f.name: _plain(getattr(self, f.name)) for f in fields(self)}
@@ -577,13 +668,38 @@ class _CostReader:
         return cost
 
 
+class _ReturnScales:
+    """The running standard deviation of each signal's returns (reward, then every cost): an
+    exponential average over iterations (memory :data:`RETURN_SCALE_MEMORY`), never below
+    :data:`RETURN_SCALE_FLOOR` times the largest value it reached, so a constraint the agent stopped
+    breaking keeps a finite scale; a signal whose returns never varied has scale 1."""
+
+    def __init__(self) -> None:
+        self.values: np.ndarray | None = None
+        self.peak: np.ndarray | None = None
+
+    def update(self, returns: np.ndarray) -> np.ndarray:
+        now = np.asarray(returns, dtype=np.float64).std(axis=0)
+        if self.values is None or self.values.shape != now.shape:
+            self.values, self.peak = now.copy(), now.copy()
+        else:
+            self.values = RETURN_SCALE_MEMORY * self.values + (1 - RETURN_SCALE_MEMORY) * now
+            self.peak = np.maximum(self.peak, self.values)
+        return self.scales()
+
+    def scales(self) -> np.ndarray:
+        if self.values is None:
+            return np.zeros(0)
+        return np.where(self.peak > 0, np.maximum(self.values, RETURN_SCALE_FLOOR * self.peak), 1.0)
+
+
 class _Rollouts:
     """``n_envs`` environments stepped in turn, each reset as soon as its episode ends."""
 
     def __init__(self, envs: list[Any], agent: ActorCritic, costs: _CostReader, seed: int | None) -> None:
         self.envs, self.agent, self.costs = envs, agent, costs
         first = [env.reset(seed=None if seed is None else seed + i)[0] for i, env in enumerate(envs)]
-        self.obs = agent.encode(np.stack([np.asarray(o) for o in first]))
+        self.obs = agent.features(np.stack([np.asarray(o) for o in first]))  # raw features, not normalised
         n = len(envs)
         self.ep_return, self.ep_length = np.zeros(n), np.zeros(n, dtype=np.int64)
         self.ep_cost = np.zeros((n, costs.n or 0))
@@ -591,6 +707,8 @@ class _Rollouts:
         self.finished: list[tuple[float, int, np.ndarray, int]] = []  # return, length, costs, end step
 
     def collect(self, n_steps: int, actor: NumpyActor, rng: np.random.Generator) -> dict[str, Any]:
+        """``n_steps`` rounds of steps. Observations come back as raw :meth:`ActorCritic.features`
+        (``obs``, ``last_obs`` and the truncated ones); actions are sampled from the normalised ones."""
         n_envs, agent = len(self.envs), self.agent
         obs = np.zeros((n_steps, n_envs, agent.obs_dim), dtype=np.float32)
         act_shape = () if agent.discrete else (agent.action_spec["shape"][0],)
@@ -602,7 +720,7 @@ class _Rollouts:
         episodes_before = len(self.finished)
         for t in range(n_steps):
             obs[t] = self.obs
-            actions[t] = actor.sample(self.obs, rng)
+            actions[t] = actor.sample(agent.normalize(self.obs), rng)
             next_obs = np.empty_like(self.obs)
             for i, env in enumerate(self.envs):
                 o, r, term, trunc, info = env.step(agent.env_action(actions[t, i]))
@@ -622,13 +740,13 @@ class _Rollouts:
                 if term or trunc:
                     dones[t, i] = 1.0
                     if trunc and not term:
-                        truncated.append((t, i, agent.encode(np.asarray(o)[None])[0]))
+                        truncated.append((t, i, agent.features(np.asarray(o)[None])[0]))
                     end = self.steps + (t + 1) * n_envs
                     self.finished.append((float(self.ep_return[i]), int(self.ep_length[i]),
                                           self.ep_cost[i].copy(), end))
                     self.ep_return[i], self.ep_length[i], self.ep_cost[i] = 0.0, 0, 0.0
                     o, _ = env.reset()
-                next_obs[i] = agent.encode(np.asarray(o)[None])[0]
+                next_obs[i] = agent.features(np.asarray(o)[None])[0]
             self.obs = next_obs
         self.steps += n_steps * n_envs
         return {"obs": obs, "actions": actions, "rewards": rewards, "dones": dones, "costs": costs,
@@ -710,7 +828,7 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
     device = torch.device(config.device)
     agent = ActorCritic.for_spaces(envs[0].observation_space, envs[0].action_space, hidden_sizes=config.hidden_sizes,
                                    activation=config.activation, log_std_init=config.log_std_init,
-                                   generator=generator)
+                                   generator=generator, obs_normalization=config.normalize_observations)
     costs = _CostReader(None if lagrangian is None else lagrangian.n_constraints)
     if lagrangian is not None and costs.n is not None:
         agent.add_cost_critics(costs.n, generator)
@@ -722,6 +840,7 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
     cost_optimizer = None if not agent.n_costs else \
         torch.optim.Adam(agent.cost_critics.parameters(), lr=config.learning_rate, eps=1e-5, foreach=True)
     multipliers = None
+    return_scales = _ReturnScales()
     rollouts = _Rollouts(envs, agent, costs, seed)
     batch = config.n_envs * config.n_steps
     n_iterations = -(-total_steps // batch)
@@ -735,6 +854,10 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
                 group["lr"] = lr
 
         data = rollouts.collect(config.n_steps, agent.numpy_actor(), rng)
+        if agent.obs_normalization:  # this rollout joins the statistics, then is learned from with them
+            agent.update_observation_stats(data["obs"].reshape(-1, agent.obs_dim))
+            data = {**data, "obs": agent.normalize(data["obs"]), "last_obs": agent.normalize(data["last_obs"]),
+                    "truncated": [(t, i, agent.normalize(x)) for t, i, x in data["truncated"]]}
         n_costs = costs.n or 0
         if lagrangian is not None:
             if not costs.seen:
@@ -756,7 +879,8 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
             multipliers.update(mean_cost)
         lambdas = multipliers.values.copy() if multipliers is not None else np.zeros(0)
 
-        stats = _update(agent, optimizer, cost_optimizer, data, config, lagrangian, lambdas, rng, device)
+        stats = _update(agent, optimizer, cost_optimizer, data, config, lagrangian, lambdas, rng, device,
+                        return_scales)
         seconds = time.perf_counter() - iteration_start
         record = PPOIteration(
             iteration=iteration, steps=rollouts.steps, episodes=len(episodes),
@@ -769,6 +893,8 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
             break
     agent.eval()
     n_costs = costs.n or 0
+    if config.normalize_values and return_scales.values is not None:  # the critics output returns again
+        _rescale_critics(agent, n_costs if lagrangian is not None else 0, return_scales.scales())
     return PPOResult(policy=agent, config=config, lagrangian=lagrangian, history=history,
                      episodes=rollouts.episode_stats(n_costs),
                      multipliers=np.zeros(0) if multipliers is None else multipliers.values.copy(),
@@ -783,7 +909,8 @@ def _env_name(env: Any) -> str:
 
 def _update(agent: ActorCritic, optimizer: torch.optim.Optimizer, cost_optimizer: torch.optim.Optimizer | None,
             data: dict[str, Any], config: PPOConfig, lagrangian: LagrangianConfig | None, lambdas: np.ndarray,
-            rng: np.random.Generator, device: torch.device) -> dict[str, Any]:
+            rng: np.random.Generator, device: torch.device, return_scales: _ReturnScales | None = None
+            ) -> dict[str, Any]:
     """Advantages for the rollout, then the clipped-surrogate epochs. Returns the diagnostics."""
     T, N = data["rewards"].shape
     n_costs = agent.n_costs if lagrangian is not None else 0
@@ -791,17 +918,27 @@ def _update(agent: ActorCritic, optimizer: torch.optim.Optimizer, cost_optimizer
     obs = as_tensor(data["obs"].reshape(T * N, -1))
     actions = as_tensor(data["actions"].reshape(T * N, *data["actions"].shape[2:]))
 
+    signals = np.concatenate([data["rewards"][..., None], data["costs"][..., :n_costs]], axis=2)
+    cost_gamma = config.gamma if lagrangian is None or lagrangian.cost_gamma is None else lagrangian.cost_gamma
+    gamma = np.array([config.gamma] + [cost_gamma] * n_costs)
+    # the critics' output unit (normalize_values: the running scale of each signal's returns, else 1)
+    n_signals = 1 + n_costs
+    old_scales = np.ones(n_signals)
+    if config.normalize_values and return_scales is not None:
+        if return_scales.scales().shape != (n_signals,):  # first update: scales of the returns without critics
+            zeros = np.zeros_like(signals)
+            return_scales.update(_gae(signals, zeros, zeros[0], data["dones"], gamma, 1.0)[1].reshape(T * N, -1))
+        old_scales = return_scales.scales()
+    unit = as_tensor(old_scales.astype(np.float32))
+
     # values, cost values and old log-probabilities of the whole rollout in one pass each
     with torch.no_grad():
         def signal_values(x: torch.Tensor) -> torch.Tensor:
-            return torch.cat([agent.value(x)[:, None], agent.cost_values(x)[:, :n_costs]], 1)
+            return torch.cat([agent.value(x)[:, None], agent.cost_values(x)[:, :n_costs]], 1) * unit
 
         values = signal_values(obs).double().cpu().numpy().reshape(T, N, 1 + n_costs)
         last_values = signal_values(as_tensor(data["last_obs"])).double().cpu().numpy()
         old_log_prob, _ = agent.log_prob_entropy(obs, actions)
-        signals = np.concatenate([data["rewards"][..., None], data["costs"][..., :n_costs]], axis=2)
-        cost_gamma = config.gamma if lagrangian is None or lagrangian.cost_gamma is None else lagrangian.cost_gamma
-        gamma = np.array([config.gamma] + [cost_gamma] * n_costs)
         if data["truncated"]:  # a time limit is not a terminal state: bootstrap with its value
             ts, envs, last = zip(*data["truncated"])
             final = signal_values(as_tensor(np.stack(last))).double().cpu().numpy()
@@ -809,10 +946,20 @@ def _update(agent: ActorCritic, optimizer: torch.optim.Optimizer, cost_optimizer
     advantages, returns = _gae(signals, values, last_values, data["dones"], gamma, config.gae_lambda)
     advantages, returns = advantages.reshape(T * N, -1), returns.reshape(T * N, -1)
 
-    # the Lagrangian's advantage, in reward units (see the module docstring); lambda = 0 is plain PPO
-    policy_adv = (advantages[:, 0] - advantages[:, 1:1 + len(lambdas)] @ lambdas) / (1.0 + lambdas.sum())
+    scales = np.zeros(0)
+    if return_scales is not None and (lagrangian is not None or config.normalize_values):
+        scales = return_scales.update(returns)
+    targets = returns
+    if config.normalize_values:  # new unit: rescale the critics' last layers so their values stay put
+        _rescale_critics(agent, n_costs, old_scales / scales)
+        targets = returns / scales
+    # the Lagrangian's advantage (see the module docstring); lambda = 0 is plain PPO
+    mixed = advantages
+    if lagrangian is not None and lagrangian.advantage_scale == "returns":  # in standard deviations of returns
+        mixed = advantages / scales
+    policy_adv = (mixed[:, 0] - mixed[:, 1:1 + len(lambdas)] @ lambdas) / (1.0 + lambdas.sum())
     policy_adv_t = as_tensor(policy_adv.astype(np.float32))
-    returns_t = as_tensor(returns.astype(np.float32))
+    returns_t = as_tensor(targets.astype(np.float32))
 
     main_params = [p for group in optimizer.param_groups for p in group["params"]]
     sums = {"policy_loss": 0.0, "value_loss": 0.0, "entropy": 0.0, "approx_kl": 0.0, "clip_fraction": 0.0}
@@ -862,8 +1009,21 @@ def _update(agent: ActorCritic, optimizer: torch.optim.Optimizer, cost_optimizer
     residual = returns[:, 0] - values.reshape(T * N, -1)[:, 0]
     explained = math.nan if variance == 0 else float(1 - np.var(residual) / variance)
     return {**means, "cost_value_loss": tuple(float(x) for x in cost_loss_sum / max(n_updates, 1)),
+            "return_scales": tuple(float(x) for x in scales),
             "explained_variance": explained, "epochs": n_updates / minibatches_per_epoch,
             "stopped_early": stopped_early}
+
+
+def _rescale_critics(agent: ActorCritic, n_costs: int, factors: np.ndarray) -> None:
+    """Multiply the output layer of the reward critic (``factors[0]``) and of each cost critic by a
+    factor: the outputs scale by it (how PopArt keeps a critic's values when their unit changes)."""
+    critics = [agent.critic, *list(agent.cost_critics)[:n_costs]]
+    with torch.no_grad():
+        for critic, factor in zip(critics, factors):
+            if factor != 1.0:
+                last = critic[-1]
+                last.weight.mul_(float(factor))
+                last.bias.mul_(float(factor))
 
 
 # --------------------------------------------------------------------------------------------------

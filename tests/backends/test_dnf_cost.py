@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from symlearn.backends.dnf_cost import DnfCostWrapper, RuleStats
-from symlearn.errors import DataError
+from symlearn.errors import DataError, SymlearnError
 from symlearn.logic.dnf import parse
 
 
@@ -61,6 +61,25 @@ def test_pruning_keeps_the_rule_an_agent_runs_into():
     stats.update(diagonal)
     pruned, _ = stats.prune(1e-3)
     assert str(pruned) == "x > 0.1 & x < 0.7 & y > 0.3"
+
+
+def test_counts_since_a_snapshot_and_reset():
+    """Pruning against the trained agent: the counts of the last part of training only."""
+    dnf = parse("x > 0.1 & x < 0.7 & y > 0.3\nx < 0.1")
+    stats = RuleStats(dnf, ["x", "y"])
+    stats.update(np.array([[0.5, 0.5], [0.05, 0.2]]))  # early: the diagonal and a step off the start
+    snapshot = stats.snapshot()
+    stats.update(np.array([[0.5, 0.2], [0.8, 0.5], [0.8, 0.8]]))  # late: the safe route
+    late = stats.since(snapshot)
+    assert stats.evaluated.tolist() == [4, 5] and stats.fired.tolist() == [1, 1]
+    assert late.evaluated.tolist() == [3, 3] and late.fired.tolist() == [0, 0]
+    assert str(stats.prune(1e-3)[0]) == str(dnf) and len(late.prune(1e-3)[0]) == 0
+    snapshot[0][:] = 99  # a copy: changing it changes nothing
+    assert stats.since(stats.snapshot()).evaluated.tolist() == [0, 0]
+    with pytest.raises(SymlearnError, match="another formula"):
+        stats.since((np.zeros(3, dtype=np.int64), np.zeros(3, dtype=np.int64)))
+    stats.reset()
+    assert stats.evaluated.tolist() == [0, 0] and stats.fired.tolist() == [0, 0]
 
 
 def test_bad_input():

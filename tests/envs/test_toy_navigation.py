@@ -58,7 +58,9 @@ def test_the_diagonal_is_unsafe_and_rewards_progress():
         rewards.append(reward)
         assert not truncated
     assert terminated and max(costs) == 1.0 and all(r > 0 for r in rewards)
-    assert sum(rewards) == pytest.approx(np.hypot(0.8, 0.8) - env.distance())
+    # progress, plus the goal bonus on the last step
+    assert sum(rewards) == pytest.approx(np.hypot(0.8, 0.8) - env.distance() + env.goal_reward)
+    assert env.goal_reward == 1.0 and rewards[-1] > 1.0 > max(rewards[:-1])
     assert np.hypot(*(env.position - GOAL)) <= env.goal_radius
     env.reset()
     _, reward, _, _, _ = env.step(np.array([-1.0, 0.0], dtype=np.float32))
@@ -79,6 +81,8 @@ def test_actions_are_clipped_and_the_square_bounds_the_agent():
 def test_bad_arguments_are_refused():
     with pytest.raises(DataError):
         ToyNavigationEnv(speed=0.0)
+    with pytest.raises(DataError, match="goal_reward"):
+        ToyNavigationEnv(goal_reward=float("nan"))
     with pytest.raises(DataError):
         expert_demonstrations(0)
     with pytest.raises(DataError):

@@ -314,6 +314,7 @@ def test_negative_cost_limit_is_refused(limit, where):
     ({"cost_limit": 1.0, "update": "newton"}, "update must be"),
     ({"cost_limit": [1.0, 2.0], "init": [0.0, 0.0, 0.0]}, "init has 3 entries but cost_limit has 2"),
     ({"cost_limit": 1.0, "init": -1.0}, "initial multipliers must be >= 0"),
+    ({"cost_limit": 1.0, "advantage_scale": "std"}, "advantage_scale must be one of 'raw', 'returns'"),
 ])
 def test_bad_lagrangian_settings(kwargs, message):
     with pytest.raises(SymlearnError, match=message):

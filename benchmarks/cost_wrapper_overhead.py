@@ -1,0 +1,143 @@
+"""Overhead of ``DnfCostWrapper`` per environment step, against the bare environment in the same run.
+
+The issue's target: the cost wrapper adds less than 5 % to an environment step. Every
+environment is made with ``gymnasium.make`` (as training sees it) and stepped with random
+actions drawn beforehand from its seeded action space (reset at each episode end); the wrapped
+variants step the same action sequence from the same seed:
+
+* ``bare``: the environment alone (the peer);
+* ``cost``: ``DnfCostWrapper(env, dnf, names, track=False)``: the cost only;
+* ``cost+stats``: the default, with the pruning statistics (``RuleStats``) counted every step;
+* ``per-rule+stats``: ``per_rule=True`` (one cost per conjunction, PPO-Lagrangian per rule).
+
+The DNFs are learned, as in the chapter's experiments: ``OneClassTreeConstraint(max_depth=d)``
+on the scripted expert's SafeNav demonstrations (``--episodes`` episodes of the environment's
+agent and task, 20 features) and on the toy's expert demonstrations (2 features), at several
+depths, so the formulas have realistic sizes (tens to thousands of conjunctions). Variants go
+round-robin, ``--repeats`` times, medians kept; the overhead is ``wrapped / bare - 1`` with both
+medians from the same run.
+
+    .venv/bin/python benchmarks/cost_wrapper_overhead.py [--quick] [--out benchmarks/results/cost_wrapper_overhead.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO))
+
+import gymnasium  # noqa: E402
+
+import symlearn.envs  # noqa: E402,F401  (registers the gymnasium ids)
+from symlearn.atomic import write_text  # noqa: E402
+from symlearn.backends.dnf_cost import DnfCostWrapper  # noqa: E402
+from symlearn.envs import toy_navigation  # noqa: E402
+from symlearn.envs.safenav_expert import expert_demonstrations  # noqa: E402
+from symlearn.learners.trees.one_class_tree import OneClassTreeConstraint  # noqa: E402
+
+ENVS = {  # gym id -> (demonstrations, feature names)
+    "symlearn/safenav-point-goal-v0": ("point", "goal"),
+    "symlearn/safenav-car-push-v0": ("car", "push"),
+    "symlearn/toy-navigation-v0": None,
+}
+VARIANTS = ("bare", "cost", "cost+stats", "per-rule+stats")
+
+
+def demonstrations(gym_id: str, episodes: int, seed: int):
+    spec = ENVS[gym_id]
+    if spec is None:
+        demos = toy_navigation.expert_demonstrations(n=max(episodes, 10), seed=seed)
+    else:
+        demos = expert_demonstrations(*spec, n=episodes, seed=seed, max_steps=1000)
+    return demos, list(demos.metadata["features"])
+
+
+def make(gym_id: str, variant: str, dnf, names):
+    env = gymnasium.make(gym_id)
+    if variant == "bare":
+        return env
+    return DnfCostWrapper(env, dnf, names, track=variant != "cost", per_rule=variant.startswith("per-rule"))
+
+
+def one_run(env, actions, seed: int) -> float:
+    """Seconds per step over ``actions`` (resets at episode ends included, as in training)."""
+    env.reset(seed=seed)
+    start = time.perf_counter()
+    for action in actions:
+        _, _, terminated, truncated, _ = env.step(action)
+        if terminated or truncated:
+            env.reset()
+    return (time.perf_counter() - start) / len(actions)
+
+
+def measure(gym_id: str, dnf, names, steps: int, repeats: int, seed: int) -> dict:
+    envs = {variant: make(gym_id, variant, dnf, names) for variant in VARIANTS}
+    space = envs["bare"].action_space
+    space.seed(seed)
+    actions = [space.sample() for _ in range(steps)]
+    for env in envs.values():                                  # warm-up (first evaluation loads the kernels)
+        one_run(env, actions[: min(200, steps)], seed)
+    times: dict[str, list[float]] = {variant: [] for variant in VARIANTS}
+    for _ in range(repeats):
+        for variant, env in envs.items():
+            times[variant].append(one_run(env, actions, seed))
+    median = {variant: statistics.median(values) for variant, values in times.items()}
+    bare = median["bare"]
+    return {
+        "step_us": {variant: value * 1e6 for variant, value in median.items()},
+        "overhead": {variant: median[variant] / bare - 1 for variant in VARIANTS if variant != "bare"},
+        "added_us": {variant: (median[variant] - bare) * 1e6 for variant in VARIANTS if variant != "bare"},
+        "runs_us": {variant: [v * 1e6 for v in values] for variant, values in times.items()},
+    }
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--quick", action="store_true", help="fewer steps, depths and repeats")
+    parser.add_argument("--steps", type=int, default=None)
+    parser.add_argument("--repeats", type=int, default=None)
+    parser.add_argument("--episodes", type=int, default=10, help="expert episodes to learn from")
+    parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--out", default=str(REPO / "benchmarks" / "results" / "cost_wrapper_overhead.json"))
+    args = parser.parse_args()
+    steps = args.steps or (2000 if args.quick else 10000)
+    repeats = args.repeats or (3 if args.quick else 7)
+    depths = (2, 6) if args.quick else (2, 4, 6, 8)
+    rows = []
+    for gym_id in ENVS:
+        demos, names = demonstrations(gym_id, 4 if args.quick else args.episodes, args.seed)
+        for depth in depths:
+            dnf = OneClassTreeConstraint(max_depth=depth).fit(demos, names).dnf_
+            result = measure(gym_id, dnf, names, steps, repeats, args.seed)
+            row = {"env": gym_id, "depth": depth, "conjunctions": len(dnf), "atoms": sum(len(c) for c in dnf),
+                   "features": len(names), "form": dnf._plan.mode, "demonstration_steps": int(sum(len(t) for t in demos)),
+                   **result}
+            rows.append(row)
+            step = row["step_us"]
+            print(f"{gym_id:32} depth {depth} m={row['conjunctions']:>5} atoms={row['atoms']:>6} | bare "
+                  f"{step['bare']:6.1f} us/step | " + " | ".join(
+                      f"{v} +{row['added_us'][v]:5.1f} us ({100 * row['overhead'][v]:5.1f} %)" for v in VARIANTS[1:]),
+                  flush=True)
+    doc = {"benchmark": "cost_wrapper_overhead",
+           "command": "benchmarks/cost_wrapper_overhead.py" + (" --quick" if args.quick else ""),
+           "machine": {"platform": platform.platform(), "processor": platform.processor() or platform.machine(),
+                       "cpus": os.cpu_count(), "python": platform.python_version(), "numpy": np.__version__,
+                       "gymnasium": gymnasium.__version__, "load_average": os.getloadavg()},
+           "steps": steps, "repeats": repeats, "seed": args.seed, "target_overhead": 0.05, "cases": rows}
+    Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+    write_text(args.out, json.dumps(doc, indent=2) + "\n")
+    print(f"wrote {args.out}")
+
+
+if __name__ == "__main__":
+    main()
