@@ -45,9 +45,11 @@ import numpy as np
 
 REPO = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(REPO))
+sys.path.insert(0, str(Path(__file__).resolve().parent))  # safenav_speed's timing loop
 
 import gymnasium  # noqa: E402
 
+from safenav_speed import one_run as _steps_per_second  # noqa: E402  (same timing loop as SafeNav's)
 from symlearn.atomic import write_bytes, write_text  # noqa: E402
 from symlearn.optional import require  # noqa: E402
 
@@ -56,18 +58,6 @@ EVAL_SEED = 10_000
 
 
 # --- 1. speed ---------------------------------------------------------------------------------
-
-
-def _steps_per_second(env, actions: np.ndarray, seed: int) -> tuple[float, int]:
-    env.reset(seed=seed)
-    ended = 0
-    start = time.perf_counter()
-    for action in actions:
-        _, _, terminated, truncated, _ = env.step(action)
-        if terminated or truncated:
-            env.reset()
-            ended += 1
-    return len(actions) / (time.perf_counter() - start), ended
 
 
 def measure_speed(steps: int, repeats: int) -> dict:
