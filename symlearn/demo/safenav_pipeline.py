@@ -101,6 +101,13 @@ def run(context: DemoContext) -> Section:
         f"{ev['learned_cost']:.0f} |" for name, (_, ev) in results.items())
     (_, ppo_eval), (lag_result, lag_eval) = results["PPO"], results["PPO-Lagrangian, learned DNF"]
     shown = "\n".join(str(c) for c in dnf.conjunctions[:8])
+    share = ppo_eval["learned_cost"] / max(ppo_eval["length"], 1)
+    lower = [what for what, key in (("learned cost", "learned_cost"), ("true cost", "true_cost"))
+             if lag_eval[key] < ppo_eval[key]]
+    verdict = (f"PPO-Lagrangian ends with a lower {' and a lower '.join(lower)} than plain PPO "
+               f"(return {lag_eval['return']:.1f} vs {ppo_eval['return']:.1f})." if lower else
+               f"PPO-Lagrangian is not safer than plain PPO at this budget (return {lag_eval['return']:.1f} vs "
+               f"{ppo_eval['return']:.1f}).")
     figures = {"demonstrations": n_demos, "episode_steps": max_steps, "rules": len(dnf),
                "safe_boxes": len(learner.safe_boxes_), "training_steps": steps, "eval_episodes": n_eval,
                "expert_return": round(expert_return, 3), "expert_true_cost": expert_cost,
@@ -124,11 +131,10 @@ velocity, then lidar readings the expert never had).
 
 {steps} steps each, the same PPO (value normalisation; `advantage_scale="returns"` for the
 multiplier), cost limit {_COST_LIMIT:g} learned-cost steps per episode. True cost = steps inside a
-hazard; evaluation on {n_eval} unseen layouts with the stochastic policy. A brief run: the
-constrained agent trades a little reward for fewer learned-unsafe steps, but the formula
-learned from {n_demos} episodes calls most of what a beginner does unsafe, and {steps} steps are
-far from the millions the thesis trains for (`benchmarks/safenav_transfer.py` for the full
-experiment).
+hazard; evaluation on {n_eval} unseen layouts with the stochastic policy. {verdict} A brief run:
+the formula learned from {n_demos} episodes calls {share:.0%} of plain PPO's evaluation steps unsafe
+(mostly by its bounds on acceleration and velocity), and {steps} steps are far from the millions the
+thesis trains for (`benchmarks/safenav_transfer.py` for the full experiment).
 
 | agent | return (last training episodes) | true cost | learned cost | return (evaluation) | true cost | learned cost |
 |---|---|---|---|---|---|---|
