@@ -26,29 +26,48 @@ def register(subparsers, common) -> None:
     check.add_argument("folder", metavar="DIR", help="the domain folder (with domain.toml)")
     check.add_argument("--rules", help="an .lp file of integrity constraints to score against the domain")
     check.add_argument("--demos", help="demonstrations (.jsonl/.npz): count the steps the rules forbid")
+    check.add_argument("--timeout", default="600", metavar="S",
+                       help="seconds for loading, grounding and scoring ('inf': no limit; default 600)")
+    check.add_argument("--max-memory", default=None, metavar="MB",
+                       help="memory limit of the worker that grounds the folder's programs (default "
+                            "SYMLEARN_MAX_MEMORY_MB or 1024; 0: none)")
     check.set_defaults(handler=_check)
 
 
 def _check(args: argparse.Namespace, out) -> None:
+    from symlearn.errors import DataError
+    from symlearn.worker import memory_limit_mb, run_limited, seconds_limit
+
+    if args.demos and not args.rules:
+        raise DataError("--demos is scored against --rules: give the rule file too")
+    # the folder's background and rules are the user's programs: a recursive rule grounds until
+    # memory is gone, and clingo cannot be interrupted, so the work runs in a bounded worker
+    doc = run_limited(_check_document, args.folder, args.rules, args.demos,
+                      seconds=seconds_limit(args.timeout, name="--timeout"),
+                      memory_mb=memory_limit_mb(args.max_memory, name="--max-memory"),
+                      what=f"grounding and scoring the domain {args.folder}", time_hint="raise --timeout",
+                      memory_hint="raise --max-memory (or SYMLEARN_MAX_MEMORY_MB; 0: no limit) if the "
+                                  "programs are meant to be this large")
+    out.result(doc, _render)
+
+
+def _check_document(folder: str, rules: str | None, demos: str | None) -> dict:
     from pathlib import Path
 
     import numpy as np
 
-    from symlearn.errors import DataError
     from symlearn.grounding import Domain
 
-    domain = Domain.from_folder(args.folder)
+    domain = Domain.from_folder(folder)
     doc = {"domain": domain.name, "description": domain.description, "states": domain.n_states,
            "actions": domain.n_actions, "pairs": len(domain.pair_ids),
            "forbidden_by_truth": None if domain.truth is None else int(domain.truth_forbidden.sum()),
            "labeling": None if domain.labeling is None else list(domain.labeling.propositions)}
-    if args.demos and not args.rules:
-        raise DataError("--demos is scored against --rules: give the rule file too")
-    if args.rules:
+    if rules:
         from symlearn.learners.constraints.constraint_metrics import constraint_metrics
 
-        hypothesis = domain.hypothesis(Path(args.rules))
-        learned = domain.rule_mask(Path(args.rules))
+        hypothesis = domain.hypothesis(Path(rules))
+        learned = domain.rule_mask(Path(rules))
         doc.update({"rules": list(hypothesis.rules), "forbidden": int(learned.sum()),
                     "fpr": None, "fnr": None, "accuracy": None, "missed_truth_rules": None})
         if domain.truth is not None:
@@ -57,11 +76,11 @@ def _check(args: argparse.Namespace, out) -> None:
             missed = [rule for rule in truth.rules if (domain.rule_mask([rule]) & ~learned).any()]
             doc.update({"fpr": scores["fpr"], "fnr": scores["fnr"], "accuracy": scores["accuracy"],
                         "missed_truth_rules": missed})
-        if args.demos:
+        if demos:
             from symlearn.data import load
 
-            with blame_file(args.demos):
-                episodes = domain.episodes(load(args.demos))
+            with blame_file(demos):
+                episodes = domain.episodes(load(demos))
             hits = [(i, t) for i, e in enumerate(episodes)
                     for t in np.flatnonzero(learned[e.states[: len(e.actions)], e.actions]).tolist()]
             doc["demonstrated_steps_forbidden"] = len(hits)
@@ -69,7 +88,7 @@ def _check(args: argparse.Namespace, out) -> None:
                                            {"demonstration": hits[0][0], "step": hits[0][1],
                                             "pair": domain.describe_pair(int(episodes[hits[0][0]].states[hits[0][1]]),
                                                                          int(episodes[hits[0][0]].actions[hits[0][1]]))})
-    out.result(doc, _render)
+    return doc
 
 
 def _render(doc: dict) -> str:
