@@ -39,6 +39,7 @@ from scipy.sparse import csr_matrix
 from scipy.sparse.csgraph import dijkstra
 
 from symlearn.data import Demonstrations, Trajectory
+from symlearn.envs.expert_episode import record_episode
 from symlearn.envs.safenav.agents import RADIUS
 from symlearn.envs.safenav.env import SafeNavEnv
 from symlearn.progress import progress
@@ -238,19 +239,8 @@ def expert_demonstrations(agent: str = "point", task: str = "goal", n: int = 10,
     expert = SafeNavExpert(env, margin=margin, noise=noise, rng=np.random.default_rng(seed))
     trajectories = []
     for episode_seed in progress(seeds, total=n, desc=f"safenav-{agent}-{task} expert", unit="episode"):
-        _, info = env.reset(seed=int(episode_seed))
-        expert.reset()
-        states, actions, rewards, labels = [info["features"]], [], [], [_label(info)]
-        done = False
-        while not done:
-            action = expert()
-            _, reward, terminated, truncated, info = env.step(action)
-            done = terminated or truncated
-            states.append(info["features"])
-            actions.append(action.astype(np.float64))
-            rewards.append(reward)
-            labels.append(_label(info))
-        trajectories.append(Trajectory(np.array(states), np.array(actions), rewards, labels,
+        states, actions, rewards, labels, _ = record_episode(env, expert, int(episode_seed), _label, start=expert.reset)
+        trajectories.append(Trajectory(states, actions, rewards, labels,
                                        info={"seed": int(episode_seed), "cost": sum(bool(lab) for lab in labels),
                                              "goals_reached": env.goals_reached}))
     metadata = {"env": f"symlearn/safenav-{agent}-{task}-v0", "expert": "scripted", "seed": seed, "n_episodes": n,

@@ -36,6 +36,7 @@ import numpy as np
 
 from symlearn.data import Demonstrations, Trajectory
 from symlearn.envs.driving.env import DrivingEnv
+from symlearn.envs.expert_episode import record_episode
 from symlearn.errors import DataError
 from symlearn.progress import progress
 
@@ -130,19 +131,9 @@ def expert_demonstrations(n: int = 10, seed: int | None = 0, *, target_speeds: t
 
 
 def _episode(env: DrivingEnv, expert: IdmMobilExpert, seed: int, target_speed: float) -> Trajectory:
-    _, info = env.reset(seed=seed)
-    expert.reset(target_speed)
-    states, actions, rewards, labels = [info["features"]], [], [], [_label(info)]
-    done = False
-    while not done:
-        action = expert()
-        _, reward, terminated, truncated, info = env.step(action)
-        done = terminated or truncated
-        states.append(info["features"])
-        actions.append(action)
-        rewards.append(reward)
-        labels.append(_label(info))
-    return Trajectory(np.array(states), np.array(actions), rewards, labels,
+    states, actions, rewards, labels, info = record_episode(env, expert, seed, _label,
+                                                            start=lambda: expert.reset(target_speed))
+    return Trajectory(states, actions, rewards, labels,
                       info={"seed": seed, "target_speed": target_speed, "lane_changes": expert.lane_changes,
                             "collision": bool(info["collision"]), "offroad": bool(info["offroad"])})
 
