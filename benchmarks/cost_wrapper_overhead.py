@@ -8,7 +8,11 @@ variants step the same action sequence from the same seed:
 * ``bare``: the environment alone (the peer);
 * ``cost``: ``DnfCostWrapper(env, dnf, names, track=False)``: the cost only;
 * ``cost+stats``: the default, with the pruning statistics (``RuleStats``) counted every step;
-* ``per-rule+stats``: ``per_rule=True`` (one cost per conjunction, PPO-Lagrangian per rule).
+* ``per-rule+stats``: ``per_rule=True`` (one cost per conjunction, PPO-Lagrangian per rule);
+* ``rollout+stats`` / ``rollout per-rule+stats``: what ``symlearn train`` does, ``train_ppo(...,
+  cost_fn=DnfRolloutCost(...))``: every step's ``info["features"]`` is copied into the rollout's
+  array (as PPO's rollout collection records it), and the cost and the rule counts are computed
+  once per rollout of ``--rollout`` steps (512: PPO's default 4 x 128) over all of them.
 
 The DNFs are learned, as in the chapter's experiments: ``OneClassTreeConstraint(max_depth=d)``
 on the scripted expert's SafeNav demonstrations (``--episodes`` episodes of the environment's
@@ -40,7 +44,8 @@ import gymnasium  # noqa: E402
 
 import symlearn.envs  # noqa: E402,F401  (registers the gymnasium ids)
 from symlearn.atomic import write_text  # noqa: E402
-from symlearn.backends.dnf_cost import DnfCostWrapper  # noqa: E402
+from symlearn.backends.dnf_cost import DnfCostWrapper, DnfRolloutCost  # noqa: E402
+from symlearn.rl.ppo import Rollout  # noqa: E402
 from symlearn.envs import toy_navigation  # noqa: E402
 from symlearn.envs.safenav_expert import expert_demonstrations  # noqa: E402
 from symlearn.learners.trees.one_class_tree import OneClassTreeConstraint  # noqa: E402
@@ -50,7 +55,8 @@ ENVS = {  # gym id -> (demonstrations, feature names)
     "symlearn/safenav-car-push-v0": ("car", "push"),
     "symlearn/toy-navigation-v0": None,
 }
-VARIANTS = ("bare", "cost", "cost+stats", "per-rule+stats")
+VARIANTS = ("bare", "cost", "cost+stats", "per-rule+stats", "rollout+stats", "rollout per-rule+stats")
+ROLLOUT = 512  # steps per PPO rollout (PPOConfig: n_envs 4 x n_steps 128)
 
 
 def demonstrations(gym_id: str, episodes: int, seed: int):
@@ -62,21 +68,58 @@ def demonstrations(gym_id: str, episodes: int, seed: int):
     return demos, list(demos.metadata["features"])
 
 
-def make(gym_id: str, variant: str, dnf, names):
+class PerRollout:
+    """The bare environment plus what PPO does for ``cost_fn=DnfRolloutCost``: record each step's
+    ``info["features"]``, evaluate the whole rollout at its end."""
+
+    def __init__(self, env, dnf, names, per_rule: bool, rollout: int) -> None:
+        self.env, self.rollout = env, rollout
+        self.cost = DnfRolloutCost(dnf, names, per_rule=per_rule)
+        self.features = np.zeros((rollout, 1, len(names)))
+
+    def batch(self, n: int) -> None:
+        X = self.features[:n]
+        zeros = np.zeros((n, 1))
+        self.cost(Rollout(obs=X, actions=zeros, next_obs=X, rewards=zeros, dones=zeros, info={"features": X}))
+
+
+def make(gym_id: str, variant: str, dnf, names, rollout: int = ROLLOUT):
     env = gymnasium.make(gym_id)
     if variant == "bare":
         return env
+    if variant.startswith("rollout"):
+        return PerRollout(env, dnf, names, per_rule="per-rule" in variant, rollout=rollout)
     return DnfCostWrapper(env, dnf, names, track=variant != "cost", per_rule=variant.startswith("per-rule"))
 
 
 def one_run(env, actions, seed: int) -> float:
     """Seconds per step over ``actions`` (resets at episode ends included, as in training)."""
+    if isinstance(env, PerRollout):
+        return one_rollout_run(env, actions, seed)
     env.reset(seed=seed)
     start = time.perf_counter()
     for action in actions:
         _, _, terminated, truncated, _ = env.step(action)
         if terminated or truncated:
             env.reset()
+    return (time.perf_counter() - start) / len(actions)
+
+
+def one_rollout_run(wrapped: PerRollout, actions, seed: int) -> float:
+    env, features, t = wrapped.env, wrapped.features, 0
+    env.reset(seed=seed)
+    start = time.perf_counter()
+    for action in actions:
+        _, _, terminated, truncated, info = env.step(action)
+        features[t, 0] = np.asarray(info["features"])   # PPO's per-step record of an info key
+        t += 1
+        if t == wrapped.rollout:
+            wrapped.batch(t)
+            t = 0
+        if terminated or truncated:
+            env.reset()
+    if t:
+        wrapped.batch(t)
     return (time.perf_counter() - start) / len(actions)
 
 

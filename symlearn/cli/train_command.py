@@ -1,6 +1,8 @@
 """``symlearn train``: train a PPO or PPO-Lagrangian agent, optionally with a learned DNF as its cost.
 
 ``symlearn train --env NAME --algo ppo|ppo-lag [--cost rules.dnf [--per-rule]] [--cost-limit C]
+[--multiplier-update gradient|adam|pid] [--multiplier-lr LR] [--advantage-scale raw|returns]
+[--normalize-observations] [--normalize-values] [--n-envs N] [--n-steps T]
 [--prune [--prune-threshold T]] [--steps N] [-o agent.safetensors] [--json]``
 
 * ``--env``: a bundled continuous environment (``toy-navigation``, ``safenav-*``; see
@@ -9,6 +11,9 @@
   (``info["features"]``); with ``--per-rule`` one cost (and, with ``ppo-lag``, one multiplier)
   per rule. Without it, ``ppo-lag`` uses the environment's own cost (the ground truth: the
   baseline "PPO-Lagrangian on the true cost").
+* ``--advantage-scale returns``, ``--normalize-observations``, ``--normalize-values``: the options
+  of :mod:`symlearn.rl.ppo` that made PPO-Lagrangian on the learned DNF solve the thesis' toy
+  (docs/BENCHMARKS.md); off by default, as in the library.
 * ``--prune``: after training, rules whose fired/evaluated ratio (conjunctions evaluated in
   ascending number of atoms) stayed below ``--prune-threshold`` (thesis: 0.001) are dropped; the
   pruned formula is written beside the cost file as ``NAME.pruned.dnf`` with a report.
@@ -36,6 +41,17 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--cost-limit", type=float, default=0.0,
                      help="ppo-lag: allowed expected cost per episode (default 0)")
     cmd.add_argument("--multiplier-lr", type=float, default=0.05, help="ppo-lag: multiplier step size (0.05)")
+    cmd.add_argument("--multiplier-update", choices=("gradient", "adam", "pid"), default="gradient",
+                     help="ppo-lag: multiplier update rule (gradient)")
+    cmd.add_argument("--advantage-scale", choices=("raw", "returns"), default="raw",
+                     help="ppo-lag: mix advantages in their own units (raw) or in standard deviations of "
+                          "their returns (returns: the multiplier's range no longer depends on the units)")
+    cmd.add_argument("--normalize-observations", action="store_true",
+                     help="standardise the policy's inputs by running mean/std (saved with the model)")
+    cmd.add_argument("--normalize-values", action="store_true",
+                     help="critics learn returns divided by their running std (PopArt-style)")
+    cmd.add_argument("--n-envs", type=int, default=4, help="environment copies stepped side by side (4)")
+    cmd.add_argument("--n-steps", type=int, default=128, help="steps per copy per iteration (128)")
     cmd.add_argument("--prune", action="store_true", help="prune rules the agent never ran into (needs --cost)")
     cmd.add_argument("--prune-threshold", type=float, default=1e-3, help="fired/evaluated ratio to keep a rule")
     cmd.add_argument("--steps", type=int, default=50_000, help="environment steps (50000)")
@@ -71,15 +87,18 @@ def _train(args: argparse.Namespace, out) -> None:
 
     if args.steps < 1:
         raise SymlearnError(f"--steps must be at least 1, got {args.steps}")
+    for flag, value in (("--n-envs", args.n_envs), ("--n-steps", args.n_steps)):
+        if value < 1:
+            raise SymlearnError(f"{flag} must be at least 1, got {value}")
     if args.cost_limit < 0:
         raise SymlearnError(f"--cost-limit must be >= 0, got {args.cost_limit}")
     if args.prune and not args.cost:
         raise SymlearnError("--prune needs the rules to prune: give --cost RULES.dnf")
     base = _make_env(args.env)
     seed = getattr(args, "seed", 0) or 0
-    env_fn, stats, dnf = base, None, None
+    stats, dnf, cost_fn = None, None, None
     if args.cost:
-        from symlearn.backends.dnf_cost import DnfCostWrapper, RuleStats
+        from symlearn.backends.dnf_cost import DnfRolloutCost, RuleStats
         from symlearn.logic.dnf import load
 
         dnf = load(args.cost)
@@ -93,15 +112,18 @@ def _train(args: argparse.Namespace, out) -> None:
         except DataError as exc:
             raise DataError(exc.message, file=args.cost, hint=exc.hint) from None
 
-        def costed():
-            return DnfCostWrapper(base(), dnf, names, per_rule=args.per_rule, stats=stats)
-
-        env_fn = costed
+        # evaluated once per rollout over all its steps (same costs and rule counts as the per-step
+        # DnfCostWrapper, a fraction of its overhead)
+        cost_fn = DnfRolloutCost(dnf, names, per_rule=args.per_rule, stats=stats)
 
     lagrangian = None
     if args.algo == "ppo-lag":
-        lagrangian = LagrangianConfig(cost_limit=args.cost_limit, update="gradient", lr=args.multiplier_lr)
-    result = train_ppo(env_fn, args.steps, PPOConfig(seed=seed), lagrangian=lagrangian)
+        lagrangian = LagrangianConfig(cost_limit=args.cost_limit, update=args.multiplier_update,
+                                      lr=args.multiplier_lr, advantage_scale=args.advantage_scale)
+    config = PPOConfig(seed=seed, n_envs=args.n_envs, n_steps=args.n_steps,
+                       batch_size=min(128, args.n_envs * args.n_steps),
+                       normalize_observations=args.normalize_observations, normalize_values=args.normalize_values)
+    result = train_ppo(base, args.steps, config, lagrangian=lagrangian, cost_fn=cost_fn)
     episodes = evaluate(result.policy, base(), args.eval_episodes, seed=seed + 10_000)
     true_cost = episodes.costs.sum(axis=1) if episodes.costs.size else np.zeros(len(episodes.returns))
     doc = {"env": args.env, "algo": args.algo, "return": float(np.mean(episodes.returns)),

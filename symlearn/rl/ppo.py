@@ -667,6 +667,16 @@ class _CostReader:
         self.seen = True
         return cost
 
+    def accept(self, k: int) -> None:
+        """A whole rollout's costs arrived at once (``cost_fn``): ``k`` per step, fixed once seen."""
+        if self.n is None:
+            self.n = k
+        elif k != self.n:
+            before = "the cost limits name" if not self.seen else "earlier rollouts had"
+            raise DataError(f"cost_fn returned {k} cost(s) per step, {before} {self.n}",
+                            hint="return one cost per constraint, always in the same order")
+        self.seen = True
+
 
 class _ReturnScales:
     """The running standard deviation of each signal's returns (reward, then every cost): an
@@ -693,11 +703,57 @@ class _ReturnScales:
         return np.where(self.peak > 0, np.maximum(self.values, RETURN_SCALE_FLOOR * self.peak), 1.0)
 
 
+@dataclass(frozen=True)
+class Rollout:
+    """One iteration's steps, as :func:`train_ppo` hands them to ``reward_fn`` / ``cost_fn``.
+
+    Arrays are ``[T, N, ...]`` (``T`` = ``n_steps`` rounds over ``N`` = ``n_envs`` copies):
+    ``obs`` the raw observation features of the state each step started in (not normalised),
+    ``actions`` the actions learned from (continuous ones before clipping to the bounds),
+    ``next_obs`` the state each step reached (the episode's last observation where it ended, not
+    the next episode's first), ``rewards`` the environment's, ``dones`` 1 where an episode ended,
+    ``info`` one array per key named in the callable's ``info_keys`` attribute.
+    """
+
+    obs: np.ndarray
+    actions: np.ndarray
+    next_obs: np.ndarray
+    rewards: np.ndarray
+    dones: np.ndarray
+    info: dict[str, np.ndarray]
+
+
+def _info_keys(*fns: Any) -> tuple[str, ...]:
+    keys: list[str] = []
+    for fn in fns:
+        for key in getattr(fn, "info_keys", ()) if fn is not None else ():
+            if not isinstance(key, str):
+                raise SymlearnError(f"info_keys must be strings, got {key!r}")
+            if key not in keys:
+                keys.append(key)
+    return tuple(keys)
+
+
+def _signal(value: Any, what: str, shape: tuple[int, int]) -> np.ndarray:
+    """``reward_fn``/``cost_fn`` output checked: ``[T, N]`` or ``[T, N, k]``, finite, as float64."""
+    try:
+        array = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise DataError(f"{what} must return an array of numbers, got {type(value).__name__}") from None
+    if array.shape[:2] != shape or array.ndim not in (2, 3):
+        raise DataError(f"{what} returned shape {array.shape}; expected {shape} or {shape + ('k',)}")
+    if not np.isfinite(array).all():
+        raise DataError(f"{what} returned NaN or inf")
+    return array
+
+
 class _Rollouts:
     """``n_envs`` environments stepped in turn, each reset as soon as its episode ends."""
 
-    def __init__(self, envs: list[Any], agent: ActorCritic, costs: _CostReader, seed: int | None) -> None:
+    def __init__(self, envs: list[Any], agent: ActorCritic, costs: _CostReader, seed: int | None,
+                 info_keys: tuple[str, ...] = (), read_costs: bool = True) -> None:
         self.envs, self.agent, self.costs = envs, agent, costs
+        self.info_keys, self.read_costs = info_keys, read_costs
         first = [env.reset(seed=None if seed is None else seed + i)[0] for i, env in enumerate(envs)]
         self.obs = agent.features(np.stack([np.asarray(o) for o in first]))  # raw features, not normalised
         n = len(envs)
@@ -706,51 +762,108 @@ class _Rollouts:
         self.steps = 0
         self.finished: list[tuple[float, int, np.ndarray, int]] = []  # return, length, costs, end step
 
-    def collect(self, n_steps: int, actor: NumpyActor, rng: np.random.Generator) -> dict[str, Any]:
+    def collect(self, n_steps: int, actor: NumpyActor, rng: np.random.Generator,
+                cost_fn: Callable[[Rollout], Any] | None = None) -> dict[str, Any]:
         """``n_steps`` rounds of steps. Observations come back as raw :meth:`ActorCritic.features`
-        (``obs``, ``last_obs`` and the truncated ones); actions are sampled from the normalised ones."""
+        (``obs``, ``next_obs``, ``last_obs`` and the truncated ones); actions are sampled from the
+        normalised ones. The costs are every step's ``info["cost"]``, or ``cost_fn``'s verdict on
+        the whole rollout at once (one vectorised call instead of one per step)."""
         n_envs, agent = len(self.envs), self.agent
         obs = np.zeros((n_steps, n_envs, agent.obs_dim), dtype=np.float32)
         act_shape = () if agent.discrete else (agent.action_spec["shape"][0],)
         actions = np.zeros((n_steps, n_envs, *act_shape), dtype=np.int64 if agent.discrete else np.float32)
         rewards = np.zeros((n_steps, n_envs))
         dones = np.zeros((n_steps, n_envs))
+        reached = np.zeros((n_steps, n_envs, agent.obs_dim), dtype=np.float32)
         costs = np.zeros((n_steps, n_envs, self.costs.n or 0))
+        info_arrays: dict[str, np.ndarray] = {}
         truncated: list[tuple[int, int, np.ndarray]] = []  # (t, env, last observation) to bootstrap
-        episodes_before = len(self.finished)
+        ends: list[tuple[int, int]] = []  # (t, env) where an episode ended
+        read_costs = self.read_costs
         for t in range(n_steps):
             obs[t] = self.obs
             actions[t] = actor.sample(agent.normalize(self.obs), rng)
             next_obs = np.empty_like(self.obs)
             for i, env in enumerate(self.envs):
                 o, r, term, trunc, info = env.step(agent.env_action(actions[t, i]))
-                step = self.steps + t * n_envs + i
                 if not math.isfinite(r):
-                    raise DataError(f"the reward is not finite: {r} (environment {i}, step {step})")
+                    raise DataError(f"the reward is not finite: {r} "
+                                    f"(environment {i}, step {self.steps + t * n_envs + i})")
                 rewards[t, i] = r
-                self.ep_return[i] += r
-                self.ep_length[i] += 1
-                cost = self.costs.read(info, i, step)
-                if cost is not None:
-                    if costs.shape[2] != cost.size:  # the first cost ever: widen the zero-width buffers
-                        costs = np.zeros((n_steps, n_envs, cost.size))
-                        self.ep_cost = np.zeros((n_envs, cost.size))
-                    costs[t, i] = cost
-                    self.ep_cost[i] += cost
+                if read_costs:
+                    cost = self.costs.read(info, i, self.steps + t * n_envs + i)
+                    if cost is not None:
+                        if costs.shape[2] != cost.size:  # the first cost ever: widen the zero-width buffer
+                            costs = np.zeros((n_steps, n_envs, cost.size))
+                        costs[t, i] = cost
+                for key in self.info_keys:
+                    self._record(info_arrays, key, info, t, i, n_steps, n_envs)
+                next_obs[i] = agent.features(np.asarray(o)[None])[0]
                 if term or trunc:
                     dones[t, i] = 1.0
+                    ends.append((t, i))
                     if trunc and not term:
-                        truncated.append((t, i, agent.features(np.asarray(o)[None])[0]))
-                    end = self.steps + (t + 1) * n_envs
-                    self.finished.append((float(self.ep_return[i]), int(self.ep_length[i]),
-                                          self.ep_cost[i].copy(), end))
-                    self.ep_return[i], self.ep_length[i], self.ep_cost[i] = 0.0, 0, 0.0
+                        truncated.append((t, i, next_obs[i].copy()))
+                    reached[t, i] = next_obs[i]
                     o, _ = env.reset()
-                next_obs[i] = agent.features(np.asarray(o)[None])[0]
+                    next_obs[i] = agent.features(np.asarray(o)[None])[0]
+                else:
+                    reached[t, i] = next_obs[i]
             self.obs = next_obs
+        rollout = Rollout(obs, actions, reached, rewards, dones, info_arrays)
+        if cost_fn is not None:
+            costs = _signal(cost_fn(rollout), "cost_fn", (n_steps, n_envs))
+            if costs.ndim == 2:
+                costs = costs[..., None]
+            self.costs.accept(costs.shape[2])
+        self._account(rewards, costs, ends, n_steps)
         self.steps += n_steps * n_envs
         return {"obs": obs, "actions": actions, "rewards": rewards, "dones": dones, "costs": costs,
-                "truncated": truncated, "last_obs": self.obs.copy(), "episodes": self.finished[episodes_before:]}
+                "truncated": truncated, "last_obs": self.obs.copy(), "rollout": rollout,
+                "episodes": self.finished[len(self.finished) - len(ends):]}
+
+    def _record(self, arrays: dict[str, np.ndarray], key: str, info: dict[str, Any], t: int, i: int,
+                n_steps: int, n_envs: int) -> None:
+        if key not in info:
+            raise DataError(f"the environment reports no info[{key!r}] (environment {i}, "
+                            f"step {self.steps + t * n_envs + i})",
+                            hint="reward_fn/cost_fn name it in info_keys")
+        value = np.asarray(info[key])
+        if key not in arrays:
+            arrays[key] = np.zeros((n_steps, n_envs, *value.shape),
+                                   dtype=np.float64 if value.dtype.kind in "fiub" else value.dtype)
+        if value.shape != arrays[key].shape[2:]:
+            raise DataError(f"info[{key!r}] has shape {value.shape}, earlier steps {arrays[key].shape[2:]} "
+                            f"(environment {i}, step {self.steps + t * n_envs + i})")
+        arrays[key][t, i] = value
+
+    def _account(self, rewards: np.ndarray, costs: np.ndarray, ends: list[tuple[int, int]], n_steps: int) -> None:
+        """Episode returns, lengths and cost sums, per environment in one pass over its segments
+        between episode ends (episodes carry over from one rollout to the next)."""
+        if self.ep_cost.shape[1] != costs.shape[2]:  # the first costs ever arrived in this rollout
+            self.ep_cost = np.zeros((len(self.envs), costs.shape[2]))
+        by_env: list[list[int]] = [[] for _ in self.envs]
+        for t, i in ends:
+            by_env[i].append(t)
+        finished: list[tuple[int, int, tuple[float, int, np.ndarray, int]]] = []
+        for i, times in enumerate(by_env):
+            starts = [0] + [t + 1 for t in times]
+            segments = starts if starts[-1] < n_steps else starts[:-1]
+            reward_sums = np.add.reduceat(rewards[:, i], segments)
+            cost_sums = np.add.reduceat(costs[:, i], segments, axis=0) if costs.shape[2] else \
+                np.zeros((len(segments), 0))
+            for j, t in enumerate(times):
+                ret = self.ep_return[i] + reward_sums[j]
+                length = self.ep_length[i] + (t + 1 - starts[j])
+                cost = self.ep_cost[i] + cost_sums[j]
+                finished.append((t, i, (float(ret), int(length), cost, self.steps + (t + 1) * len(self.envs))))
+                self.ep_return[i], self.ep_length[i], self.ep_cost[i] = 0.0, 0, 0.0
+            if starts[-1] < n_steps:  # the unfinished episode carries over
+                self.ep_return[i] += reward_sums[-1]
+                self.ep_length[i] += n_steps - starts[-1]
+                self.ep_cost[i] += cost_sums[-1]
+        finished.sort(key=lambda row: (row[0], row[1]))  # in the order the steps happened
+        self.finished.extend(row for _, _, row in finished)
 
     def episode_stats(self, n_costs: int) -> EpisodeStats:
         rows = self.finished
@@ -798,21 +911,37 @@ def train_ppo(
     config: PPOConfig | None = None,
     lagrangian: LagrangianConfig | None = None,
     callback: Callable[[PPOIteration, ActorCritic], bool | None] | None = None,
+    *,
+    reward_fn: Callable[[Rollout], Any] | None = None,
+    cost_fn: Callable[[Rollout], Any] | None = None,
+    policy: ActorCritic | None = None,
 ) -> PPOResult:
     """Train PPO (or PPO-Lagrangian) for at least ``total_steps`` environment steps.
 
     ``env_fn`` returns a fresh environment (it is called ``n_envs`` times) or is a gymnasium id.
     ``callback(record, policy)`` runs after every iteration; returning ``False`` stops training.
+
+    ``reward_fn(rollout)`` and ``cost_fn(rollout)`` see each iteration's :class:`Rollout` once,
+    after it was collected, and return the rewards to learn from (``[T, N]``; the episode returns
+    reported stay the environment's) and the costs (``[T, N]`` or ``[T, N, k]``, instead of
+    ``info["cost"]``): a learned reward or cost is then one vectorised evaluation per rollout,
+    not a call per step. Info keys they need are named in their ``info_keys`` attribute.
+    ``policy`` continues training an existing :class:`ActorCritic` (same spaces) in place.
     """
     config = config or PPOConfig()
     if not isinstance(total_steps, (int, np.integer)) or total_steps < 1:
         raise SymlearnError(f"total_steps must be a positive integer, got {total_steps!r}")
+    for name, fn in (("reward_fn", reward_fn), ("cost_fn", cost_fn)):
+        if fn is not None and not callable(fn):
+            raise SymlearnError(f"{name} must be callable, got {fn!r}")
+    if policy is not None and not isinstance(policy, ActorCritic):
+        raise SymlearnError(f"policy must be an ActorCritic, got {type(policy).__name__}")
     envs = _make_envs(env_fn, config.n_envs)
     previous_threads = torch.get_num_threads()
     try:
         if config.torch_threads is not None:
             torch.set_num_threads(config.torch_threads)
-        return _train(envs, int(total_steps), config, lagrangian, callback)
+        return _train(envs, int(total_steps), config, lagrangian, callback, reward_fn, cost_fn, policy)
     finally:
         torch.set_num_threads(previous_threads)
         for env in envs:
@@ -820,17 +949,27 @@ def train_ppo(
 
 
 def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: LagrangianConfig | None,
-           callback: Callable[[PPOIteration, ActorCritic], bool | None] | None) -> PPOResult:
+           callback: Callable[[PPOIteration, ActorCritic], bool | None] | None,
+           reward_fn: Callable[[Rollout], Any] | None = None, cost_fn: Callable[[Rollout], Any] | None = None,
+           policy: ActorCritic | None = None) -> PPOResult:
     started = time.perf_counter()
     seed = config.seed
     rng = np.random.default_rng(seed)
     generator = torch.Generator().manual_seed(seed if seed is not None else int(rng.integers(2**62)))
     device = torch.device(config.device)
-    agent = ActorCritic.for_spaces(envs[0].observation_space, envs[0].action_space, hidden_sizes=config.hidden_sizes,
-                                   activation=config.activation, log_std_init=config.log_std_init,
-                                   generator=generator, obs_normalization=config.normalize_observations)
+    if policy is None:
+        agent = ActorCritic.for_spaces(envs[0].observation_space, envs[0].action_space,
+                                       hidden_sizes=config.hidden_sizes, activation=config.activation,
+                                       log_std_init=config.log_std_init, generator=generator,
+                                       obs_normalization=config.normalize_observations)
+    else:
+        agent = _continued(policy, envs[0], config)
     costs = _CostReader(None if lagrangian is None else lagrangian.n_constraints)
-    if lagrangian is not None and costs.n is not None:
+    if policy is not None and lagrangian is not None and agent.n_costs:
+        if costs.n is not None and costs.n != agent.n_costs:
+            raise SymlearnError(f"the policy has {agent.n_costs} cost critic(s) but the cost limits name {costs.n}")
+        costs.n = agent.n_costs
+    elif lagrangian is not None and costs.n is not None:
         agent.add_cost_critics(costs.n, generator)
     agent.to(device)
     main_params = [p for name, p in agent.named_parameters() if not name.startswith("cost_critics.")]
@@ -841,7 +980,8 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
         torch.optim.Adam(agent.cost_critics.parameters(), lr=config.learning_rate, eps=1e-5, foreach=True)
     multipliers = None
     return_scales = _ReturnScales()
-    rollouts = _Rollouts(envs, agent, costs, seed)
+    rollouts = _Rollouts(envs, agent, costs, seed, _info_keys(reward_fn, cost_fn), read_costs=cost_fn is None)
+    fresh_critics = policy is not None  # their outputs are in returns, not yet in the running scales
     batch = config.n_envs * config.n_steps
     n_iterations = -(-total_steps // batch)
     history: list[PPOIteration] = []
@@ -853,7 +993,12 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
             for group in (opt.param_groups if opt is not None else ()):
                 group["lr"] = lr
 
-        data = rollouts.collect(config.n_steps, agent.numpy_actor(), rng)
+        data = rollouts.collect(config.n_steps, agent.numpy_actor(), rng, cost_fn)
+        if reward_fn is not None:  # the agent learns from these; the episode returns stay the environment's
+            learned = _signal(reward_fn(data["rollout"]), "reward_fn", data["rewards"].shape)
+            if learned.ndim != 2:
+                raise DataError(f"reward_fn returned shape {learned.shape}; expected {data['rewards'].shape}")
+            data = {**data, "rewards": learned}
         if agent.obs_normalization:  # this rollout joins the statistics, then is learned from with them
             agent.update_observation_stats(data["obs"].reshape(-1, agent.obs_dim))
             data = {**data, "obs": agent.normalize(data["obs"]), "last_obs": agent.normalize(data["last_obs"]),
@@ -880,7 +1025,8 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
         lambdas = multipliers.values.copy() if multipliers is not None else np.zeros(0)
 
         stats = _update(agent, optimizer, cost_optimizer, data, config, lagrangian, lambdas, rng, device,
-                        return_scales)
+                        return_scales, fresh_critics)
+        fresh_critics = False
         seconds = time.perf_counter() - iteration_start
         record = PPOIteration(
             iteration=iteration, steps=rollouts.steps, episodes=len(episodes),
@@ -902,6 +1048,21 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
                      provenance={"environment": _env_name(envs[0]), "torch": torch.__version__})
 
 
+def _continued(policy: ActorCritic, env: Any, config: PPOConfig) -> ActorCritic:
+    """``policy`` checked against the environment's spaces before training goes on with it."""
+    want_obs = _space_spec(env.observation_space, "observation")
+    want_act = _space_spec(env.action_space, "action")
+    if policy.observation_spec != want_obs or policy.action_spec != want_act:
+        raise SymlearnError("the policy was made for other spaces than this environment's",
+                            hint=f"policy: observation {policy.observation_spec}, action {policy.action_spec}; "
+                                 f"environment: observation {want_obs}, action {want_act}")
+    if policy.obs_normalization != config.normalize_observations:
+        raise SymlearnError(f"the policy {'has' if policy.obs_normalization else 'has no'} observation "
+                            f"normalisation but PPOConfig.normalize_observations={config.normalize_observations}")
+    policy.train()
+    return policy
+
+
 def _env_name(env: Any) -> str:
     spec = getattr(env, "spec", None)
     return getattr(spec, "id", None) or type(getattr(env, "unwrapped", env)).__name__
@@ -909,8 +1070,8 @@ def _env_name(env: Any) -> str:
 
 def _update(agent: ActorCritic, optimizer: torch.optim.Optimizer, cost_optimizer: torch.optim.Optimizer | None,
             data: dict[str, Any], config: PPOConfig, lagrangian: LagrangianConfig | None, lambdas: np.ndarray,
-            rng: np.random.Generator, device: torch.device, return_scales: _ReturnScales | None = None
-            ) -> dict[str, Any]:
+            rng: np.random.Generator, device: torch.device, return_scales: _ReturnScales | None = None,
+            critics_in_returns: bool = False) -> dict[str, Any]:
     """Advantages for the rollout, then the clipped-surrogate epochs. Returns the diagnostics."""
     T, N = data["rewards"].shape
     n_costs = agent.n_costs if lagrangian is not None else 0
@@ -929,6 +1090,8 @@ def _update(agent: ActorCritic, optimizer: torch.optim.Optimizer, cost_optimizer
             zeros = np.zeros_like(signals)
             return_scales.update(_gae(signals, zeros, zeros[0], data["dones"], gamma, 1.0)[1].reshape(T * N, -1))
         old_scales = return_scales.scales()
+        if critics_in_returns:  # a continued policy's critics output returns: put them in the new unit
+            _rescale_critics(agent, n_costs, 1.0 / old_scales)
     unit = as_tensor(old_scales.astype(np.float32))
 
     # values, cost values and old log-probabilities of the whole rollout in one pass each

@@ -43,3 +43,21 @@ def test_bad_input_is_one_line(capsys, tmp_path):
     assert code == 2 and "speed" in err and str(rules) in err
     code, _, err = run(capsys, "train", "--env", "toy-navigation", "--prune")
     assert code == 2 and "--cost" in err
+
+
+def test_ppo_options_reach_the_trainer_and_the_model_file(capsys, tmp_path):
+    rules = tmp_path / "toy.dnf"
+    rules.write_text(UNSAFE_DNF)
+    agent = tmp_path / "agent.safetensors"
+    code, out, err = run(capsys, "train", "--env", "toy-navigation", "--cost", rules, "--steps", 256,
+                         "--n-envs", 2, "--n-steps", 64, "--advantage-scale", "returns", "--multiplier-update", "adam",
+                         "--normalize-observations", "--normalize-values", "--eval-episodes", 1, "-o", agent, "--json")
+    assert code == 0, err
+    assert json.loads(out)["steps"] == 256
+    training = json.loads(agent.with_suffix(".json").read_text())
+    text = json.dumps(training)
+    for needle in ('"advantage_scale": "returns"', '"update": "adam"', '"normalize_observations": true',
+                   '"normalize_values": true', '"n_envs": 2', '"n_steps": 64'):
+        assert needle in text, needle
+    code, _, err = run(capsys, "train", "--env", "toy-navigation", "--n-envs", 0)
+    assert code == 2 and "--n-envs" in err
