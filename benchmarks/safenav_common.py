@@ -216,17 +216,20 @@ class Budget:
     n_epochs: int = 5
 
 
-def ppo_config(budget: Budget, seed: int):
+def ppo_config(budget: Budget, seed: int, normalize: bool = False):
+    """``normalize``: standardised observations and PopArt-scaled critics (PPOConfig's
+    ``normalize_observations`` / ``normalize_values``)."""
     from symlearn.rl.ppo import PPOConfig
 
     return PPOConfig(n_envs=budget.n_envs, n_steps=budget.n_steps, batch_size=budget.batch_size,
-                     n_epochs=budget.n_epochs, learning_rate=3e-4, seed=seed, torch_threads=1)
+                     n_epochs=budget.n_epochs, learning_rate=3e-4, seed=seed, torch_threads=1,
+                     normalize_observations=normalize, normalize_values=normalize)
 
 
-def lagrangian_config(cost_limit: float, multiplier_lr: float):
+def lagrangian_config(cost_limit: float, multiplier_lr: float, advantage_scale: str = "raw"):
     from symlearn.rl.ppo import LagrangianConfig
 
-    return LagrangianConfig(cost_limit=cost_limit, update="adam", lr=multiplier_lr)
+    return LagrangianConfig(cost_limit=cost_limit, update="adam", lr=multiplier_lr, advantage_scale=advantage_scale)
 
 
 def _binned(episodes: list[tuple[int, float, float, float]], total: int, bins: int) -> dict[str, list]:
@@ -288,8 +291,10 @@ def run(spec: dict[str, Any]) -> dict[str, Any]:
 
     lagrangian = None
     if spec["algo"] == "ppo-lag":
-        lagrangian = lagrangian_config(spec["cost_limit"], spec["multiplier_lr"])
-    result = train_ppo(env_fn, budget.steps, ppo_config(budget, spec["seed"]), lagrangian=lagrangian)
+        lagrangian = lagrangian_config(spec["cost_limit"], spec["multiplier_lr"],
+                                       spec.get("advantage_scale", "raw"))
+    result = train_ppo(env_fn, budget.steps, ppo_config(budget, spec["seed"], spec.get("normalize", False)),
+                       lagrangian=lagrangian)
     for w in wrappers:
         w.flush()
     train_seconds = time.perf_counter() - started

@@ -67,13 +67,16 @@ def label(key: str) -> str:
 def run_suffix(args: argparse.Namespace) -> str:
     """The end of every run id: the settings a logged run must share to be reused."""
     lr = "" if args.multiplier_lr == 0.035 else f"|mlr{args.multiplier_lr:g}"
-    return f"{args.steps}|L{args.cost_limit:g}{lr}"
+    scale = "" if args.advantage_scale == "raw" else f"|{args.advantage_scale}"
+    norm = "|norm" if args.normalize else ""
+    return f"{args.steps}|L{args.cost_limit:g}{lr}{scale}{norm}"
 
 
 def common(args: argparse.Namespace, seed: int) -> dict[str, Any]:
     return {"seed": seed, "budget": {"steps": args.steps, "eval_episodes": args.eval_episodes},
             "n_demos": args.n_demos, "demo_seed": args.demo_seed, "cost_limit": args.cost_limit,
-            "multiplier_lr": args.multiplier_lr}
+            "multiplier_lr": args.multiplier_lr, "advantage_scale": args.advantage_scale,
+            "normalize": args.normalize}
 
 
 def table_specs(args: argparse.Namespace, keys: list[str]) -> list[dict[str, Any]]:
@@ -367,6 +370,10 @@ def main() -> None:
     parser.add_argument("--demo-seed", type=int, default=0)
     parser.add_argument("--cost-limit", type=float, default=25.0, help="PPO-Lagrangian cost limit per episode (25)")
     parser.add_argument("--multiplier-lr", type=float, default=0.035, help="Adam step of the multiplier (0.035)")
+    parser.add_argument("--advantage-scale", choices=("raw", "returns"), default="raw",
+                        help="PPO-Lagrangian advantage units (LagrangianConfig.advantage_scale; raw)")
+    parser.add_argument("--normalize", action="store_true",
+                        help="normalise observations and values (PPOConfig normalize_observations/values)")
     parser.add_argument("--eval-episodes", type=int, default=10)
     parser.add_argument("--prune-tasks", default="point-goal,car-push", help="tasks for the pruning experiment")
     parser.add_argument("--prune-threshold", type=float, default=1e-3)

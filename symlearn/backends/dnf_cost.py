@@ -112,6 +112,18 @@ class RuleStats:
         hit = fires[fires.any(axis=1)]
         self._add(hit.argmax(axis=1), len(fires) - len(hit))
 
+    def count_first(self, first: np.ndarray) -> None:
+        """Count points given, per point, the position (in ascending-complexity order, i.e. the
+        column of :attr:`ordered_dnf`) of the first rule that fired on it, ``m`` when none did."""
+        first = np.asarray(first, dtype=np.int64)
+        if len(first) == 1:     # one step (the cost wrapper's case): touch only the rules evaluated
+            f = int(first[0])
+            self.evaluated[self.order[:f + 1]] += 1
+            if f < len(self.order):
+                self.fired[self.order[f]] += 1
+            return
+        self._add(first, 0)
+
     def _add(self, first: np.ndarray, n_clean: int) -> None:
         """Count points given the sorted position of their first firing rule, plus ``n_clean``
         points no rule fired on."""
@@ -186,6 +198,7 @@ class DnfCostWrapper(gym.Wrapper):
         self.track = track
         self.feature_names = self.stats.feature_names
         self._evaluate = dnf.evaluator(self.feature_names)   # names resolved once, not every step
+        self._evaluate_ordered = self.stats.ordered_dnf.evaluator(self.feature_names)
 
     def _features(self, observation: Any, info: dict[str, Any]) -> np.ndarray:
         if self.source == "info":
@@ -208,12 +221,17 @@ class DnfCostWrapper(gym.Wrapper):
         features = self._features(observation, info)
         if not math.isfinite(features.sum()) and not np.isfinite(features).all():   # one sum, unless suspect
             raise DataError("features must be finite (found NaN or inf)")
+        info = dict(info)
+        if self.track and not self.per_rule:   # the first firing rule in ascending complexity decides
+            first = self._evaluate_ordered.first(features)
+            self.stats.count_first(first)
+            total = self.violation_cost * float(first[0] < len(self.stats.order))
+            return self._finish(observation, reward, terminated, truncated, info, total, total)
         if self.track or self.per_rule:
             fires = self._evaluate(features, per_conjunction=True)
             if self.track:
                 self.stats.count(fires)     # what stats.update(features) does, without evaluating again
             fires = fires[0]
-        info = dict(info)
         if self.per_rule:
             cost: Any = self.violation_cost * fires.astype(np.float64)
             total = float(np.sum(cost))
@@ -221,6 +239,9 @@ class DnfCostWrapper(gym.Wrapper):
             fired = fires.any() if self.track else self._evaluate(features)[0]
             total = self.violation_cost * float(fired)
             cost = total
+        return self._finish(observation, reward, terminated, truncated, info, cost, total)
+
+    def _finish(self, observation, reward, terminated, truncated, info, cost, total):
         if "cost" in info:
             info["env_cost"] = info["cost"]  # the environment's own (ground-truth) cost stays readable
         info["cost"] = cost
@@ -266,6 +287,10 @@ class DnfRolloutCost:
                             f"got {X.shape[1]}")
         if not math.isfinite(X.sum()) and not np.isfinite(X).all():
             raise DataError("features must be finite (found NaN or inf)")
+        if self.track and not self.per_rule:   # the first firing rule per point is all we need
+            first = self._evaluate_ordered.first(X)
+            self.stats.count_first(first)
+            return (self.violation_cost * (first < len(self.stats.order))).astype(np.float64).reshape(shape)
         if self.track or self.per_rule:
             ordered = self._evaluate_ordered(X, per_conjunction=True)
             if self.track:

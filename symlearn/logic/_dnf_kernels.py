@@ -18,6 +18,9 @@ _U = np.uintp
 _L1_BYTES = 16384
 _FEW = 8           # up to this many points go the bitmask way whatever the plan's form
 _SCAN = 8          # thresholds scanned one by one in a bucket before a binary search takes over
+# what a kernel writes per point: whether any conjunction holds ([N, 1] bool), which ones hold
+# ([N, m] bool), or the index of the first that holds, m when none does ([N, 1] int64)
+ANY, EACH, FIRST = 0, 1, 2
 
 
 @njit(**_OPTIONS)
@@ -92,14 +95,15 @@ def codes(X, start, stop, cols, grid, offsets, first, thresholds, out):
 
 
 @njit(**_OPTIONS)
-def combine_masks(codes_, r, offsets, masks, done, init, out, start, per_conjunction, m):
+def combine_masks(codes_, r, offsets, masks, done, init, out, start, mode, m):
     """Bitmask form: AND the rows of conjunction bits that each feature's cell allows. One or
     two words stay in registers and every point takes every step (no branch to mispredict);
     wider masks stop a point as soon as no bit is left or, for the disjunction, a conjunction
-    whose features are all done kept its bit."""
+    whose features are all done kept its bit. ``FIRST``: the lowest bit left."""
     S = codes_.shape[0]
     W = masks.shape[1]
-    if W <= 2 and not per_conjunction:
+    per_conjunction = mode != ANY
+    if W <= 2 and mode == ANY:
         i0 = init[0]
         i1 = init[1] if W == 2 else np.uint64(0)
         for i in range(r):
@@ -134,29 +138,52 @@ def combine_masks(codes_, r, offsets, masks, done, init, out, start, per_conjunc
                 if fired != 0 and not per_conjunction:
                     hit = True
                     break
-        if per_conjunction:
+        if mode == EACH:
             for c in range(m):
                 out[start + i, c] = ((acc[c >> 6] >> np.uint64(c & 63)) & np.uint64(1)) != 0
+        elif mode == FIRST:
+            first = m
+            for w in range(W):
+                v = acc[w]
+                if v != 0:
+                    b = 0
+                    while (v & np.uint64(1)) == 0:
+                        v >>= np.uint64(1)
+                        b += 1
+                    first = min(m, w * 64 + b)
+                    break
+            out[start + i, 0] = first
         else:
             out[start + i, 0] = hit
 
 
 @njit(**_OPTIONS)
-def combine_boxes(codes_, r, test_start, test_step, lo, hi, always, out, start, per_conjunction, res, tmp):
+def combine_boxes(codes_, r, test_start, test_step, lo, hi, always, out, start, mode, res, tmp, firsts):
     """Box form: conjunction ``c`` holds where every code lies in its interval; vectorised over
     the points of the chunk (codes are small unsigned integers, many to a SIMD register).
-    ``res`` and ``tmp`` are uint8 scratch rows."""
+    ``res`` and ``tmp`` are uint8 scratch rows, ``firsts`` an int64 one (``FIRST``)."""
     m = test_start.shape[0] - 1
+    per_conjunction = mode != ANY
     for i in range(r):
         res[i] = 0
+        firsts[i] = m
+    open_ = r                    # FIRST: points no conjunction has held on yet
     for c in range(m):
+        if mode == FIRST and open_ == 0:
+            break
         a = test_start[c]
         b = test_start[c + 1]
         if b == a:
             value = np.uint8(always[c])
-            if per_conjunction:
+            if mode == EACH:
                 for i in range(r):
                     out[start + i, c] = value != 0
+            elif mode == FIRST:
+                if value != 0:
+                    for i in range(r):
+                        if firsts[i] == m:
+                            firsts[i] = c
+                            open_ -= 1
             else:
                 for i in range(r):
                     res[i] |= value
@@ -189,13 +216,21 @@ def combine_boxes(codes_, r, test_start, test_step, lo, hi, always, out, start, 
                     for i in range(r):
                         tmp[i] &= (f[i] >= l0) & (f[i] <= h0)
                 j += 2
-        if per_conjunction:
+        if mode == EACH:
             for i in range(r):
                 out[start + i, c] = tmp[i] != 0
+        elif mode == FIRST:
+            for i in range(r):
+                if tmp[i] != 0 and firsts[i] == m:
+                    firsts[i] = c
+                    open_ -= 1
         else:
             for i in range(r):
                 res[i] |= tmp[i]
-    if not per_conjunction:
+    if mode == FIRST:
+        for i in range(r):
+            out[start + i, 0] = firsts[i]
+    elif mode == ANY:
         for i in range(r):
             out[start + i, 0] = res[i] != 0
 
@@ -206,9 +241,9 @@ H_I, H_F, H_FIRST, H_MASK_BYTES, H_ALWAYS, H_END = 7, 8, 9, 10, 11, 12
 
 
 @njit(**_OPTIONS)
-def evaluate(X, cols, per_conjunction, out, P, bounds):
-    """The whole evaluation, chunk by chunk, into ``out`` (``[N, m]`` per conjunction, else
-    ``[N, 1]``); returns the flat index of the first NaN or -1. The plan comes packed in one
+def evaluate(X, cols, mode, out, P, bounds):
+    """The whole evaluation, chunk by chunk, into ``out`` (``[N, m]`` bool for ``EACH``, ``[N, 1]``
+    bool for ``ANY``, ``[N, 1]`` int64 for ``FIRST``); returns the flat index of the first NaN or -1. The plan comes packed in one
     byte array ``P`` and the code intervals ``bounds`` (their dtype is the codes'): every
     argument costs at a call, and one point should cost about a microsecond."""
     h = P[:8 * 16].view(np.int64)
@@ -236,6 +271,7 @@ def evaluate(X, cols, per_conjunction, out, P, bounds):
     scratch = np.empty((S, chunk), bounds.dtype)
     res = np.empty(chunk, np.uint8)
     tmp = np.empty(chunk, np.uint8)
+    firsts = np.empty(chunk, np.int64)
     # codes go feature by feature over rows that fit in L1 (a strided column read misses it
     # once per value when the rows are long)
     rows = max(16, min(chunk, _L1_BYTES // max(1, X.shape[1] * X.itemsize)))
@@ -246,8 +282,8 @@ def evaluate(X, cols, per_conjunction, out, P, bounds):
             if codes(X, a, b, cols, grid, offsets, first, thresholds, scratch[:, a - start:b - start]):
                 return first_nan(X, a, b, cols)
         if use_masks:
-            combine_masks(scratch, stop - start, offsets, masks, done, init, out, start, per_conjunction, m)
+            combine_masks(scratch, stop - start, offsets, masks, done, init, out, start, mode, m)
         else:
             combine_boxes(scratch, stop - start, test_start, test_step, lo, hi, always, out, start,
-                          per_conjunction, res, tmp)
+                          mode, res, tmp, firsts)
     return -1

@@ -111,21 +111,31 @@ class Plan:
     def packed(self) -> tuple[np.ndarray, ...]:
         return self.pack()
 
-    def run(self, X: np.ndarray, cols: np.ndarray, per_conjunction: bool, *, chunk: int = CHUNK) -> np.ndarray:
+    def run(self, X: np.ndarray, cols: np.ndarray, per_conjunction: bool, *, chunk: int = CHUNK,
+            first: bool = False) -> np.ndarray:
         """Truth of every row of ``X`` (``[N, k]`` float64 without NaN in ``cols``), ``cols[s]``
-        the column of step ``s``."""
+        the column of step ``s``; ``first=True``: per row the index of the first conjunction
+        that holds (``m`` when none does), int64 ``[N]``, without the ``[N, m]`` matrix."""
         n = X.shape[0]
         if not self.features or n == 0:
+            if first:
+                holding = np.flatnonzero(self.always)
+                return np.full(n, holding[0] if len(holding) else self.m, dtype=np.int64)
             if per_conjunction:
                 return np.broadcast_to(self.always, (n, self.m)).copy()
             return np.full(n, bool(self.always.any()))
         packed = self.packed if chunk == CHUNK else self.pack(chunk)
-        if per_conjunction:
+        k = _kernels or kernels()
+        if first:
+            out2 = np.empty((n, 1), dtype=np.int64)
+            bad = k.evaluate(X, cols, k.FIRST, out2, *packed)
+            out = out2.reshape(n)
+        elif per_conjunction:
             out = np.empty((n, self.m), dtype=bool)
-            bad = (_kernels or kernels()).evaluate(X, cols, True, out, *packed)
+            bad = k.evaluate(X, cols, k.EACH, out, *packed)
         else:
             out2 = np.empty((n, 1), dtype=bool)
-            bad = (_kernels or kernels()).evaluate(X, cols, False, out2, *packed)
+            bad = k.evaluate(X, cols, k.ANY, out2, *packed)
             out = out2.reshape(n)
         if bad >= 0:
             row, step = divmod(int(bad), len(self.features))
@@ -154,6 +164,16 @@ class Evaluator:
         else:
             X = _as_points(X, len(self.names))
         return self.plan.run(X, self.cols, per_conjunction)
+
+    def first(self, X: Any) -> np.ndarray:
+        """Per point, the index of the first conjunction (in the formula's order) that holds, or
+        ``m`` when none does: int64 ``[N]`` (what rule counting in ascending complexity needs,
+        without an ``[N, m]`` matrix)."""
+        if type(X) is np.ndarray and X.dtype == np.float64 and X.shape == self._one:
+            X = X.reshape(1, -1)
+        else:
+            X = _as_points(X, len(self.names))
+        return self.plan.run(X, self.cols, False, first=True)
 
 
 # -- inputs ----------------------------------------------------------------------------------

@@ -45,8 +45,14 @@ def check_all_ways(formula: DNF, X: np.ndarray, names) -> None:
             assert per.shape == want.shape and per.dtype == bool
             assert np.array_equal(per, want), (mode, chunk)
             assert np.array_equal(plan.run(Xp, cols, False, chunk=chunk), want.any(axis=1)), (mode, chunk)
+            first = plan.run(Xp, cols, False, chunk=chunk, first=True)     # the first holding conjunction
+            assert first.dtype == np.int64
+            assert np.array_equal(first, np.where(want.any(axis=1), want.argmax(axis=1), len(formula))), (mode, chunk)
     assert np.array_equal(formula.evaluate(X, names), want.any(axis=1))
     assert np.array_equal(formula.evaluate(X, names, per_conjunction=True), want)
+    if len(X):
+        assert np.array_equal(formula.evaluator(names).first(X),
+                              np.where(want.any(axis=1), want.argmax(axis=1), len(formula)))
 
 
 @pytest.mark.parametrize("seed", range(12))
