@@ -92,26 +92,31 @@ def make(gym_id: str, variant: str, dnf, names, rollout: int = ROLLOUT):
     return DnfCostWrapper(env, dnf, names, track=variant != "cost", per_rule=variant.startswith("per-rule"))
 
 
-def one_run(env, actions, seed: int) -> float:
-    """Seconds per step over ``actions`` (resets at episode ends included, as in training)."""
+def one_run(env, actions, seed: int) -> tuple[float, float]:
+    """Wall and CPU seconds per step over ``actions`` (resets at episode ends included, as in
+    training). CPU time (this process only) is what other jobs on the machine disturb least."""
     if isinstance(env, PerRollout):
         return one_rollout_run(env, actions, seed)
     env.reset(seed=seed)
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     for action in actions:
         _, _, terminated, truncated, _ = env.step(action)
         if terminated or truncated:
             env.reset()
-    return (time.perf_counter() - start) / len(actions)
+    return (time.perf_counter() - start) / len(actions), (time.process_time() - cpu) / len(actions)
 
 
-def one_rollout_run(wrapped: PerRollout, actions, seed: int) -> float:
+def one_rollout_run(wrapped: PerRollout, actions, seed: int) -> tuple[float, float]:
     env, features, t = wrapped.env, wrapped.features, 0
+    shape = features.shape[2:]
     env.reset(seed=seed)
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     for action in actions:
         _, _, terminated, truncated, info = env.step(action)
-        features[t, 0] = np.asarray(info["features"])   # PPO's per-step record of an info key
+        value = info["features"]        # PPO's per-step record of an info key (its fast path)
+        if type(value) is not np.ndarray or value.shape != shape:
+            value = np.asarray(value, dtype=np.float64).reshape(features.shape[2:])
+        features[t, 0] = value
         t += 1
         if t == wrapped.rollout:
             wrapped.batch(t)
@@ -120,7 +125,7 @@ def one_rollout_run(wrapped: PerRollout, actions, seed: int) -> float:
             env.reset()
     if t:
         wrapped.batch(t)
-    return (time.perf_counter() - start) / len(actions)
+    return (time.perf_counter() - start) / len(actions), (time.process_time() - cpu) / len(actions)
 
 
 def measure(gym_id: str, dnf, names, steps: int, repeats: int, seed: int) -> dict:
@@ -131,16 +136,23 @@ def measure(gym_id: str, dnf, names, steps: int, repeats: int, seed: int) -> dic
     for env in envs.values():                                  # warm-up (first evaluation loads the kernels)
         one_run(env, actions[: min(200, steps)], seed)
     times: dict[str, list[float]] = {variant: [] for variant in VARIANTS}
+    cpu: dict[str, list[float]] = {variant: [] for variant in VARIANTS}
     for _ in range(repeats):
         for variant, env in envs.items():
-            times[variant].append(one_run(env, actions, seed))
+            wall, used = one_run(env, actions, seed)
+            times[variant].append(wall)
+            cpu[variant].append(used)
     median = {variant: statistics.median(values) for variant, values in times.items()}
-    bare = median["bare"]
+    median_cpu = {variant: statistics.median(values) for variant, values in cpu.items()}
+    bare, bare_cpu = median["bare"], median_cpu["bare"]
     return {
         "step_us": {variant: value * 1e6 for variant, value in median.items()},
         "overhead": {variant: median[variant] / bare - 1 for variant in VARIANTS if variant != "bare"},
         "added_us": {variant: (median[variant] - bare) * 1e6 for variant in VARIANTS if variant != "bare"},
+        "cpu_step_us": {variant: value * 1e6 for variant, value in median_cpu.items()},
+        "cpu_overhead": {variant: median_cpu[variant] / bare_cpu - 1 for variant in VARIANTS if variant != "bare"},
         "runs_us": {variant: [v * 1e6 for v in values] for variant, values in times.items()},
+        "cpu_runs_us": {variant: [v * 1e6 for v in values] for variant, values in cpu.items()},
     }
 
 
@@ -169,7 +181,8 @@ def main() -> None:
             step = row["step_us"]
             print(f"{gym_id:32} depth {depth} m={row['conjunctions']:>5} atoms={row['atoms']:>6} | bare "
                   f"{step['bare']:6.1f} us/step | " + " | ".join(
-                      f"{v} +{row['added_us'][v]:5.1f} us ({100 * row['overhead'][v]:5.1f} %)" for v in VARIANTS[1:]),
+                      f"{v} +{row['added_us'][v]:5.1f} us ({100 * row['overhead'][v]:5.1f} %, CPU "
+                      f"{100 * row['cpu_overhead'][v]:5.1f} %)" for v in VARIANTS[1:]),
                   flush=True)
     doc = {"benchmark": "cost_wrapper_overhead",
            "command": "benchmarks/cost_wrapper_overhead.py" + (" --quick" if args.quick else ""),

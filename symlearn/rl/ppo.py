@@ -754,6 +754,7 @@ class _Rollouts:
                  info_keys: tuple[str, ...] = (), read_costs: bool = True) -> None:
         self.envs, self.agent, self.costs = envs, agent, costs
         self.info_keys, self.read_costs = info_keys, read_costs
+        self._shapes: dict[str, tuple[int, ...]] = {}   # per recorded info key, once seen
         first = [env.reset(seed=None if seed is None else seed + i)[0] for i, env in enumerate(envs)]
         self.obs = agent.features(np.stack([np.asarray(o) for o in first]))  # raw features, not normalised
         n = len(envs)
@@ -777,6 +778,7 @@ class _Rollouts:
         reached = np.zeros((n_steps, n_envs, agent.obs_dim), dtype=np.float32)
         costs = np.zeros((n_steps, n_envs, self.costs.n or 0))
         info_arrays: dict[str, np.ndarray] = {}
+        self._shapes = {}                 # the arrays are new: their first step takes the slow path
         truncated: list[tuple[int, int, np.ndarray]] = []  # (t, env, last observation) to bootstrap
         ends: list[tuple[int, int]] = []  # (t, env) where an episode ended
         read_costs = self.read_costs
@@ -828,7 +830,12 @@ class _Rollouts:
             raise DataError(f"the environment reports no info[{key!r}] (environment {i}, "
                             f"step {self.steps + t * n_envs + i})",
                             hint="reward_fn/cost_fn name it in info_keys")
-        value = np.asarray(info[key])
+        value = info[key]
+        # fast path (every step after the first): an array of the recorded shape is copied as is
+        if type(value) is np.ndarray and value.shape == self._shapes.get(key):
+            arrays[key][t, i] = value
+            return
+        value = np.asarray(value)
         if key not in arrays:
             arrays[key] = np.zeros((n_steps, n_envs, *value.shape),
                                    dtype=np.float64 if value.dtype.kind in "fiub" else value.dtype)
@@ -836,6 +843,7 @@ class _Rollouts:
             raise DataError(f"info[{key!r}] has shape {value.shape}, earlier steps {arrays[key].shape[2:]} "
                             f"(environment {i}, step {self.steps + t * n_envs + i})")
         arrays[key][t, i] = value
+        self._shapes[key] = value.shape
 
     def _account(self, rewards: np.ndarray, costs: np.ndarray, ends: list[tuple[int, int]], n_steps: int) -> None:
         """Episode returns, lengths and cost sums, per environment in one pass over its segments

@@ -31,7 +31,9 @@ class Line(gym.Env):
     def step(self, action):
         self.x = float(np.clip(self.x + (0.1 if action else -0.1), 0.0, 1.0))
         self.t += 1
-        info = {"features": [self.x], "t": self.t, "cost": float(self.x > 0.75)}
+        # features as an array on odd steps, a list on even ones: both recording paths are taken
+        features = np.array([self.x]) if self.t % 2 else [self.x]
+        info = {"features": features, "t": self.t, "cost": float(self.x > 0.75)}
         return np.array([self.x]), float(action), False, self.t >= 20, info
 
 
