@@ -22,7 +22,8 @@ from pathlib import Path
 from symlearn.cli.output import blame_file
 
 # Modules defining register_learn(commands, common); this module registers "spec" itself.
-LEARN_SUBCOMMANDS: tuple[str, ...] = ("symlearn.cli.learn_constraints_command", "symlearn.cli.learn_dnf_command")
+LEARN_SUBCOMMANDS: tuple[str, ...] = ("symlearn.cli.learn_constraints_command", "symlearn.cli.learn_dnf_command",
+                                      "symlearn.cli.learn_pdfa_command")
 
 
 def register(subparsers, common) -> None:

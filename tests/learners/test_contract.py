@@ -79,8 +79,25 @@ def _one_class_tree():
     return OneClassTreeConstraint(max_depth=3), (np.vstack([bottom, right]), ["x", "y"]), "x < 0.1"
 
 
+def _subgoal_pdfa():
+    from symlearn.envs.block_world import Demonstrator, place_task
+    from symlearn.learners.subgoals import SubgoalPDFALearner
+
+    task = place_task(2)
+    runs, _ = Demonstrator(task, seed=0).demonstrations(20)
+    return SubgoalPDFALearner(subsets=task.subsets()), (runs, task.feature_names()), '"kind": "pdfa"'
+
+
+def _positive_only_ltl():
+    from symlearn.learners.temporal.positive_only_ltl import PositiveOnlyLtlLearner
+
+    traces = [[{"a"}, {"b"}], [{"a"}, {"a"}, {"b"}]]
+    return PositiveOnlyLtlLearner(max_size=4), (traces, ["a", "b"]), "a & F b"
+
+
 BUILDERS = {"ilp": _ilp, "separating-ltl": _separating, "ml": _ml, "mce-icrl": _mce, "logic": _logic,
-            "spec": _spec, "one-class-tree": _one_class_tree}
+            "spec": _spec, "one-class-tree": _one_class_tree, "subgoal-pdfa": _subgoal_pdfa,
+            "positive-only-ltl": _positive_only_ltl}
 
 
 @pytest.mark.parametrize("name", sorted(BUILDERS))

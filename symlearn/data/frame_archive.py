@@ -1,0 +1,96 @@
+"""Frame archives: numeric demonstrations where NaN means "not observed" (NPZ, no pickle).
+
+Sub-goal learning reads object positions from a camera that sometimes misses an object; those
+frames carry NaN, which :class:`~symlearn.data.Demonstrations` (rightly) refuses. A frame
+archive is the plain numeric form of such demonstrations, read and written with
+``allow_pickle=False``. Members:
+
+``states``         float ``(total frames, k)``: every demonstration's frames, concatenated (NaN allowed)
+``lengths``        int ``(N,)``: frames per demonstration (each >= 1, summing to ``total frames``)
+``feature_names``  optional text ``(k,)``
+
+Reading checks the members' ``.npy`` headers first (dtypes, declared sizes against
+``SYMLEARN_MAX_ARRAY_MB``, through :func:`symlearn.data.npz_format.member_headers`), then shapes
+and lengths; infinite values are refused (unknown is NaN).
+
+>>> import numpy as np, tempfile, os
+>>> path = os.path.join(tempfile.mkdtemp(), "frames.npz")
+>>> _ = save_frames(path, [np.array([[0.0, np.nan], [1.0, 2.0]]), np.zeros((3, 2))], ["x", "y"])
+>>> runs, names = load_frames(path)
+>>> [r.shape for r in runs], names, bool(np.isnan(runs[0][0, 1]))
+([(2, 2), (3, 2)], ('x', 'y'), True)
+"""
+
+from __future__ import annotations
+
+import io
+import os
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+
+from symlearn.atomic import write_bytes
+from symlearn.errors import DataError
+
+
+def is_frame_archive(path: str | os.PathLike[str]) -> bool:
+    """An NPZ archive with ``states`` and ``lengths`` but no symlearn demonstrations header."""
+    from symlearn.data.npz_format import member_headers
+
+    members = member_headers(path)
+    return "__meta__" not in members and {"states", "lengths"} <= set(members)
+
+
+def save_frames(path: str | os.PathLike[str], runs: Sequence[np.ndarray],
+                feature_names: Sequence[str] | None = None) -> Path:
+    """Write demonstrations (one ``(T_i, k)`` float array each) atomically."""
+    arrays = [np.asarray(r, dtype=np.float64) for r in runs]
+    if not arrays or any(a.ndim != 2 or len(a) == 0 for a in arrays) or len({a.shape[1] for a in arrays}) != 1:
+        raise DataError("frames must be non-empty (T, k) arrays with one k")
+    members = {"states": np.concatenate(arrays), "lengths": np.asarray([len(a) for a in arrays], dtype=np.int64)}
+    if feature_names is not None:
+        if len(feature_names) != arrays[0].shape[1]:
+            raise DataError(f"{len(feature_names)} feature names for {arrays[0].shape[1]} features")
+        members["feature_names"] = np.asarray(list(feature_names), dtype=str)
+    buffer = io.BytesIO()
+    np.savez_compressed(buffer, **members)
+    return write_bytes(path, buffer.getvalue())
+
+
+def load_frames(path: str | os.PathLike[str]) -> tuple[list[np.ndarray], tuple[str, ...] | None]:
+    """``(runs, feature names or None)``; every problem a :class:`DataError` naming the file."""
+    from symlearn.data.npz_format import member_headers
+
+    source = str(path)
+    headers = member_headers(path)
+    for name in ("states", "lengths"):
+        if name not in headers:
+            raise DataError(f"a frame archive needs a member {name!r}", file=source,
+                            hint="members: states (frames x features, NaN = unobserved), lengths (frames per "
+                                 "demonstration), optional feature_names")
+    (s_dtype, s_shape), (l_dtype, l_shape) = headers["states"], headers["lengths"]
+    if s_dtype.kind not in "iuf" or len(s_shape) != 2 or s_shape[1] < 1:
+        raise DataError(f"member 'states' must be a numeric (frames, features) array, got {s_dtype.str} "
+                        f"{s_shape}", file=source)
+    if l_dtype.kind not in "iu" or len(l_shape) != 1 or l_shape[0] < 1:
+        raise DataError(f"member 'lengths' must be a non-empty integer vector, got {l_dtype.str} {l_shape}",
+                        file=source)
+    with np.load(path, allow_pickle=False) as archive:
+        lengths = archive["lengths"].astype(np.int64)
+        if (lengths < 1).any() or int(lengths.sum()) != s_shape[0]:
+            raise DataError(f"'lengths' must be positive and sum to the {s_shape[0]} rows of 'states', "
+                            f"they sum to {int(lengths.sum())}", file=source)
+        states = archive["states"].astype(np.float64)
+        names = None
+        if "feature_names" in headers:
+            raw = archive["feature_names"]
+            if raw.dtype.kind != "U" or raw.shape != (s_shape[1],):
+                raise DataError(f"'feature_names' must be {s_shape[1]} strings", file=source)
+            names = tuple(str(n) for n in raw)
+    if np.isinf(states).any():
+        row = int(np.flatnonzero(np.isinf(states).any(axis=1))[0])
+        demo = int(np.searchsorted(np.cumsum(lengths), row, side="right"))
+        raise DataError(f"demonstration {demo} has an infinite feature value (row {row} of 'states')",
+                        file=source, hint="NaN marks an unobserved feature; infinity is not allowed")
+    return np.split(states, np.cumsum(lengths)[:-1]), names

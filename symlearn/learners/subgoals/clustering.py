@@ -1,0 +1,205 @@
+"""Sub-goals by clustering (thesis, section 6.4.1), on weighted collapsed frames.
+
+For each candidate feature subset, every observed frame of every demonstration is projected on
+the subset and the projections are clustered with DBSCAN; clusters holding the first frame of a
+demonstration (an initial state) are dropped; each remaining cluster is a sub-goal: its centre is
+the mean of its frames, its radius the largest distance from the centre to one of its core points
+(plus the collapse resolution).
+
+**Collapsed frames.** A demonstrator dwells: an object that was put down sits still for the rest
+of the demonstration, and thousands of demonstrations repeat the same places. Clustering every
+raw frame makes time and memory grow with the number of frames (DBSCAN's neighbourhoods are
+quadratic in a dense place). So the projections are first snapped to a grid of cell
+``cell_fraction * eps / sqrt(d)`` (a cell's diagonal is ``cell_fraction * eps``), and each
+occupied cell becomes *one* point at the mean of its frames, weighted by their number
+(DBSCAN's ``sample_weight``: a point is core when the *weight* within ``eps`` reaches
+``min_samples``). The number of points is then bounded by the occupied volume, not by the number
+of frames; a neighbourhood is distorted by at most one cell diagonal. Centres are computed from
+the raw frames (the cells keep coordinate sums), so collapsing does not move them.
+
+**Defaults from the data** (per subset, overridable):
+
+* ``eps``: ``max(0.02 * diagonal of the projections' bounding box, 4 * lower-quartile step)``,
+  the step being the distance between consecutive observed frames of a demonstration. Where a
+  demonstrator dwells for at least a quarter of the frames, the lower quartile of the steps is
+  detection noise; the median is not, when more than half the frames are in motion (a drone
+  flying between places), and then an ``eps`` from it chains the places together;
+* ``min_samples`` (a weight, in frames): ``max(3, ceil(1.5 * number of demonstrations))``. A
+  sub-goal is a place where demonstrations dwell: on average more than one frame per
+  demonstration (every demonstration dwelling two frames, or half of them four). A place a
+  demonstration merely passes through gets at most about one frame from each demonstration that
+  passes there (the first and last frames of a carry lie close to where it starts and ends), so
+  its weight grows with the number of demonstrations too: a fixed ``min_samples`` would turn
+  busy transit paths into sub-goals once there are enough demonstrations, a share of them does
+  not.
+
+``method="hdbscan"`` runs scikit-learn's HDBSCAN instead (``min_cluster_size`` = ``min_samples``;
+``eps`` then only sets the collapse resolution); it has no sample weights, so each collapsed
+point is repeated in proportion to its weight (at most about ``HDBSCAN_POINTS`` points in all):
+an approximation, offered for comparison.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass
+
+import numpy as np
+
+from symlearn.errors import DataError
+from symlearn.grounding.subgoals import SubGoal, SubGoalSet
+from symlearn.learners.subgoals.subsets import FeatureSubset
+from symlearn.progress import progress
+
+HDBSCAN_POINTS = 20_000
+METHODS = ("dbscan", "hdbscan")
+
+
+@dataclass(frozen=True)
+class ClusterRecord:
+    """What clustering one feature subset did."""
+
+    subset: str
+    frames: int  # observed frames projected on the subset
+    points: int  # weighted points after collapsing
+    eps: float
+    min_samples: float
+    clusters: int  # found by DBSCAN
+    dropped_initial: int  # of those, holding an initial state
+    noise_weight: float  # frames in no cluster
+    seconds: float
+
+    def as_dict(self) -> dict:
+        return asdict(self)
+
+
+@dataclass(frozen=True)
+class CollapsedFrames:
+    """Grid-collapsed projections of one subset: point = mean of its cell's frames."""
+
+    points: np.ndarray  # (P, d)
+    weights: np.ndarray  # (P,) frames per point
+    sums: np.ndarray  # (P, d) coordinate sums of those frames
+    initial: np.ndarray  # (P,) bool: the cell holds a demonstration's first frame
+
+
+def collapse(projected: np.ndarray, initial: np.ndarray, cell: float) -> CollapsedFrames:
+    """Snap ``projected`` (``(N, d)``, no NaN) to cells of side ``cell``; one weighted point per cell."""
+    if len(projected) == 0:
+        d = projected.shape[1]
+        return CollapsedFrames(np.zeros((0, d)), np.zeros(0), np.zeros((0, d)), np.zeros(0, dtype=bool))
+    keys = np.floor(projected / cell).astype(np.int64)
+    _, inverse, counts = np.unique(keys, axis=0, return_inverse=True, return_counts=True)
+    inverse = inverse.reshape(-1)
+    sums = np.zeros((len(counts), projected.shape[1]))
+    np.add.at(sums, inverse, projected)
+    has_initial = np.zeros(len(counts), dtype=bool)
+    has_initial[inverse[initial]] = True
+    weights = counts.astype(np.float64)
+    return CollapsedFrames(sums / weights[:, None], weights, sums, has_initial)
+
+
+def default_eps(runs: Sequence[np.ndarray]) -> float:
+    """``max(0.02 * bounding-box diagonal, 4 * lower-quartile consecutive step)`` of projected runs."""
+    observed = [r[~np.isnan(r).any(axis=1)] for r in runs]
+    stacked = np.concatenate([r for r in observed if len(r)]) if any(len(r) for r in observed) else None
+    if stacked is None:
+        return 1.0
+    diagonal = float(np.linalg.norm(stacked.max(axis=0) - stacked.min(axis=0)))
+    steps = [np.linalg.norm(np.diff(r, axis=0), axis=1) for r in observed if len(r) > 1]
+    step = float(np.quantile(np.concatenate(steps), 0.25)) if steps else 0.0
+    eps = max(0.02 * diagonal, 4 * step)
+    return eps if eps > 0 else 1e-6
+
+
+def default_min_samples(n_demonstrations: int) -> float:
+    return float(max(3, math.ceil(1.5 * n_demonstrations)))
+
+
+def find_subgoals(frames: Sequence[np.ndarray], subsets: Sequence[FeatureSubset], *, eps: float | None = None,
+                  min_samples: float | None = None, method: str = "dbscan", cell_fraction: float = 0.25,
+                  feature_names: Sequence[str] | None = None) -> tuple[SubGoalSet, list[ClusterRecord]]:
+    """Sub-goals of ``frames`` (one ``(T_i, k)`` array per demonstration, NaN = unobserved)."""
+    if method not in METHODS:
+        raise DataError(f"unknown clustering method {method!r}", hint="use " + " or ".join(METHODS))
+    if eps is not None and not (isinstance(eps, (int, float)) and math.isfinite(eps) and eps > 0):
+        raise DataError(f"eps must be a positive number, got {eps!r}")
+    if min_samples is not None and not (isinstance(min_samples, (int, float)) and min_samples >= 1):
+        raise DataError(f"min_samples must be at least 1, got {min_samples!r}")
+    if not 0 < cell_fraction <= 1:
+        raise DataError(f"cell_fraction must be in (0, 1], got {cell_fraction!r}")
+    goals: list[SubGoal] = []
+    records: list[ClusterRecord] = []
+    never_observed = []
+    for subset in progress(subsets, total=len(subsets), desc="clustering"):
+        started = time.perf_counter()
+        runs = [f[:, subset.features] for f in frames]
+        subset_eps = float(eps) if eps is not None else default_eps(runs)
+        subset_min = float(min_samples) if min_samples is not None else default_min_samples(len(frames))
+        observed = [~np.isnan(r).any(axis=1) for r in runs]
+        projected = np.concatenate([r[m] for r, m in zip(runs, observed)])
+        # a demonstration's first frame, where it is observed: the initial states
+        initial = np.concatenate([np.arange(m.sum()) < int(m[0]) for m in observed])
+        if len(projected) == 0:
+            never_observed.append(subset.name)
+            records.append(ClusterRecord(subset.name, 0, 0, subset_eps, subset_min, 0, 0, 0.0,
+                                         time.perf_counter() - started))
+            continue
+        cell = cell_fraction * subset_eps / math.sqrt(len(subset.features))
+        collapsed = collapse(projected, initial, cell)
+        labels, core = _cluster(collapsed, subset_eps, subset_min, method)
+        found, dropped = [], 0
+        for label in range(labels.max() + 1 if len(labels) else 0):
+            members = labels == label
+            if collapsed.initial[members].any():
+                dropped += 1
+                continue
+            weight = collapsed.weights[members].sum()
+            centre = collapsed.sums[members].sum(axis=0) / weight
+            inner = members & core if (members & core).any() else members
+            distances = np.linalg.norm(collapsed.points[inner] - centre, axis=1)
+            found.append((tuple(centre.tolist()), float(distances.max()) + cell_fraction * subset_eps))
+        # names in the order of the centres, so a re-run on the same data names them alike
+        for k, (centre, radius) in enumerate(sorted(found)):
+            goals.append(SubGoal(f"{subset.name}_{k}", subset.name, subset.features, centre, radius))
+        records.append(ClusterRecord(subset.name, int(len(projected)), int(len(collapsed.weights)), subset_eps,
+                                     subset_min, int(labels.max() + 1) if len(labels) else 0, dropped,
+                                     float(collapsed.weights[labels < 0].sum()), time.perf_counter() - started))
+    if not goals:
+        if len(never_observed) == len(subsets):
+            raise DataError("every frame is unobserved (NaN) on every feature subset: nothing to cluster",
+                            hint="check the demonstrations and the subsets' columns")
+        described = "; ".join(f"{r.subset}: {r.clusters} clusters, {r.dropped_initial} holding an initial state, "
+                              f"eps={r.eps:.3g}, min_samples={r.min_samples:.3g}" for r in records)
+        raise DataError(f"no sub-goal found ({described})",
+                        hint="lower min_samples (--min-samples) so sparser places count, or raise eps (--eps) "
+                             "so a dwelling place forms one cluster")
+    return SubGoalSet(goals, feature_names=feature_names), records
+
+
+def _cluster(collapsed: CollapsedFrames, eps: float, min_samples: float, method: str) -> tuple[np.ndarray, np.ndarray]:
+    """Cluster label per collapsed point (-1 = noise) and whether it is a core point."""
+    if method == "dbscan":
+        from sklearn.cluster import DBSCAN
+
+        model = DBSCAN(eps=eps, min_samples=max(1, math.ceil(min_samples))).fit(collapsed.points, sample_weight=collapsed.weights)
+        core = np.zeros(len(collapsed.weights), dtype=bool)
+        core[model.core_sample_indices_] = True
+        return model.labels_, core
+    from sklearn.cluster import HDBSCAN
+
+    total = collapsed.weights.sum()
+    scale = min(1.0, HDBSCAN_POINTS / total)
+    repeats = np.maximum(1, np.round(collapsed.weights * scale)).astype(np.int64)
+    expanded = np.repeat(collapsed.points, repeats, axis=0)
+    size = max(2, int(round(min_samples * scale)))
+    labels = HDBSCAN(min_cluster_size=size, copy=True).fit(expanded).labels_
+    point_labels = np.full(len(repeats), -1)
+    # a collapsed point takes the label most of its copies got (copies are consecutive)
+    for p, values in enumerate(np.split(labels, np.cumsum(repeats)[:-1])):
+        values = values[values >= 0]
+        if len(values):
+            point_labels[p] = np.bincount(values).argmax()
+    return point_labels, point_labels >= 0

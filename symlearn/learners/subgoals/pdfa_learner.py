@@ -1,0 +1,120 @@
+"""Learning a sub-goal PDFA from demonstrations (thesis, chapter 6): the learner.
+
+``SubgoalPDFALearner().fit(demonstrations, features)`` runs the three steps:
+
+1. sub-goals by clustering each candidate feature subset (:mod:`.clustering`);
+2. every demonstration as a word of sub-goals (Algorithm 6.1, :mod:`.words`);
+3. the PDFA of their orderings (Algorithm 6.2 and eqs. 6.2/6.3, :mod:`.ordering_automaton`),
+
+and the greedy plan of the result (:mod:`symlearn.backends.subgoal_plan` executes plans).
+
+The saved artefact (``save(path.json)``, also ``result_.text``) is the PDFA's
+``symlearn-automaton`` JSON with three more keys -- ``subgoals`` (name -> centre, radius,
+subset, features), ``plan`` and ``words`` (each distinct word and how often it was seen) -- so
+``symlearn automaton show`` reads it as a PDFA and the sub-goals travel with it.
+
+>>> import numpy as np
+>>> rng = np.random.default_rng(0)
+>>> def demo(order):  # an object at 0 visits 1 and 2 on a line, dwelling 10 frames at each
+...     path = [0.0] * 5 + sum(([float(g)] * 10 for g in order), [])
+...     return np.array(path)[:, None] + rng.normal(0, 0.01, (len(path), 1))
+>>> learner = SubgoalPDFALearner(eps=0.1).fit([demo([1, 2])] * 3 + [demo([2, 1])], ["x"])
+>>> [round(g.centre[0], 1) for g in learner.subgoals_], learner.plan_
+([1.0, 2.0], ['all_0', 'all_1'])
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from collections import Counter
+from typing import Any
+
+from symlearn.backends.subgoal_plan import greedy_plan
+from symlearn.errors import DataError
+from symlearn.learners.base import Learner
+from symlearn.learners.subgoals.clustering import METHODS, find_subgoals
+from symlearn.learners.subgoals.frames import demonstration_frames
+from symlearn.learners.subgoals.ordering_automaton import PROBABILITIES, count_orderings, ordering_pdfa
+from symlearn.learners.subgoals.subsets import feature_subsets
+from symlearn.learners.subgoals.words import demonstration_words
+
+
+class SubgoalPDFALearner(Learner):
+    """Sub-goals by clustering, a PDFA of their orderings, and its greedy plan.
+
+    Parameters: ``subsets`` (candidate feature subsets: ``"red=0,1,2;blue=3,4,5"``, a mapping, or
+    None for all features as one subset), ``eps`` and ``min_samples`` (DBSCAN; None: derived from
+    the data per subset, see :mod:`.clustering`), ``method`` (``dbscan`` or ``hdbscan``),
+    ``cell_fraction`` (collapse resolution as a fraction of ``eps``), ``probabilities``
+    (``consistent`` or ``thesis``).
+
+    Results: ``subgoals_`` (:class:`~symlearn.grounding.subgoals.SubGoalSet`), ``words_`` (one
+    tuple of sub-goal names per demonstration), ``counts_`` (Algorithm 6.2's counts), ``pdfa_``,
+    ``plan_`` (greedy plan, sub-goal names), ``history_`` (one ``ClusterRecord`` per subset).
+    """
+
+    artefact_suffix = ".json"
+
+    def __init__(self, subsets: Any = None, eps: float | None = None, min_samples: float | None = None,
+                 method: str = "dbscan", cell_fraction: float = 0.25, probabilities: str = "consistent") -> None:
+        self.subsets = subsets
+        self.eps = eps
+        self.min_samples = min_samples
+        self.method = method
+        self.cell_fraction = cell_fraction
+        self.probabilities = probabilities
+
+    def fit(self, demonstrations: Any, features: Any = None) -> SubgoalPDFALearner:
+        """``demonstrations``: see :func:`.frames.demonstration_frames` (NaN = unobserved);
+        ``features``: a FeatureMap, feature names, or None."""
+        if self.probabilities not in PROBABILITIES:
+            raise DataError(f"unknown probabilities {self.probabilities!r}", hint="use " + " or ".join(PROBABILITIES))
+        if self.method not in METHODS:
+            raise DataError(f"unknown clustering method {self.method!r}", hint="use " + " or ".join(METHODS))
+        started = time.perf_counter()
+        frames, names = demonstration_frames(demonstrations, features)
+        subsets = feature_subsets(self.subsets, names)
+        t_read = time.perf_counter()
+        subgoals, records = find_subgoals(frames, subsets, eps=self.eps, min_samples=self.min_samples,
+                                          method=self.method, cell_fraction=self.cell_fraction, feature_names=names)
+        t_cluster = time.perf_counter()
+        words = demonstration_words(subgoals, frames)
+        t_words = time.perf_counter()
+        counts = count_orderings(words, subgoals.propositions)
+        pdfa = ordering_pdfa(counts, self.probabilities)
+        t_automaton = time.perf_counter()
+        plan = greedy_plan(pdfa)
+        t_plan = time.perf_counter()
+
+        self.feature_names_ = names
+        self.subgoals_ = subgoals
+        self.words_ = words
+        self.counts_ = counts
+        self.pdfa_ = pdfa
+        self.plan_ = list(plan.subgoals)
+        self.history_ = records
+        metrics = {"demonstrations": len(frames), "frames": int(sum(len(f) for f in frames)),
+                   "subgoals": len(subgoals), "states": pdfa.n_states, "edges": pdfa.n_edges,
+                   "accepting": len(pdfa.accepting), "distinct_words": len(set(words)),
+                   "empty_words": sum(1 for w in words if not w), "plan_probability": plan.probability}
+        timings = {"read": t_read - started, "clustering": t_cluster - t_read, "words": t_words - t_cluster,
+                   "automaton": t_automaton - t_words, "plan": t_plan - t_automaton,
+                   "total": max(time.perf_counter() - started, 1e-9)}
+        self._set_result(pdfa, plan_document_text(pdfa, subgoals, words, self.plan_), metrics=metrics,
+                         timings=timings, history=records)
+        return self
+
+
+def plan_document(pdfa, subgoals, words, plan) -> dict[str, Any]:
+    """The PDFA's automaton JSON plus ``subgoals``, ``plan`` and ``words`` (see the module doc)."""
+    document = pdfa.to_dict()
+    document["subgoals"] = {g.name: {"subset": g.subset, "features": list(g.features), "centre": list(g.centre),
+                                     "radius": g.radius} for g in subgoals}
+    document["plan"] = list(plan)
+    document["words"] = [{"word": list(w), "count": n} for w, n in Counter(words).most_common()]
+    return document
+
+
+def plan_document_text(pdfa, subgoals, words, plan) -> str:
+    return json.dumps(plan_document(pdfa, subgoals, words, plan), indent=1, allow_nan=False) + "\n"

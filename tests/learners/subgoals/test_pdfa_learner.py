@@ -1,0 +1,62 @@
+"""The learner's inputs: Demonstrations (vector and feature-dict states), arrays, FeatureMaps; its outputs."""
+
+import json
+
+import numpy as np
+import pytest
+
+from symlearn.data import Demonstrations, Trajectory
+from symlearn.errors import DataError
+from symlearn.grounding.features import FeatureMap
+from symlearn.learners.subgoals import SubgoalPDFALearner
+
+
+def line_demo(order, rng):
+    path = [0.0] * 5 + sum(([float(g)] * 10 for g in order), [])
+    return np.column_stack([np.array(path) + rng.normal(0, 0.01, len(path)), rng.normal(5, 0.01, len(path))])
+
+
+@pytest.fixture(scope="module")
+def runs():
+    rng = np.random.default_rng(0)
+    return [line_demo([1, 2], rng) for _ in range(6)] + [line_demo([2, 1], rng) for _ in range(2)]
+
+
+def test_arrays_demonstrations_and_feature_dicts_give_the_same_automaton(runs):
+    a = SubgoalPDFALearner(subsets="pos=0", eps=0.1).fit(runs, ["x", "y"])
+    b = SubgoalPDFALearner(subsets="pos=x", eps=0.1).fit(Demonstrations([Trajectory(states=r) for r in runs]),
+                                                        FeatureMap(["x", "y"]))
+    dicts = Demonstrations([Trajectory(states=[{"x": float(s[0]), "y": float(s[1])} for s in r]) for r in runs])
+    c = SubgoalPDFALearner(subsets={"pos": ["x"]}, eps=0.1).fit(dicts)
+    assert a.pdfa_ == b.pdfa_ == c.pdfa_ and a.plan_ == ["pos_0", "pos_1"]
+    assert a.words_.count(("pos_0", "pos_1")) == 6 and a.result_.metrics["distinct_words"] == 2
+    array = SubgoalPDFALearner(subsets="pos=0", eps=0.1).fit(np.stack([r[:25] for r in runs]))
+    assert array.subgoals_.propositions == ("pos_0", "pos_1")
+
+
+def test_saved_document_is_an_automaton_with_subgoals(runs, tmp_path):
+    learner = SubgoalPDFALearner(subsets="pos=0", eps=0.1).fit(runs, ["x", "y"])
+    document = json.loads(learner.save(tmp_path / "plan.json").read_text())
+    assert document["kind"] == "pdfa" and document["plan"] == ["pos_0", "pos_1"]
+    assert document["words"][0] == {"word": ["pos_0", "pos_1"], "count": 6}
+    assert abs(document["subgoals"]["pos_0"]["centre"][0] - 1.0) < 0.02
+    assert set(learner.result_.timings) >= {"clustering", "words", "automaton", "total"}
+
+
+@pytest.mark.parametrize("kw, message", [({"probabilities": "bayes"}, "unknown probabilities"),
+                                         ({"method": "optics"}, "unknown clustering method")])
+def test_bad_parameters(runs, kw, message):
+    with pytest.raises(DataError, match=message):
+        SubgoalPDFALearner(**kw).fit(runs)
+
+
+@pytest.mark.parametrize("data, message", [
+    ([np.zeros((3, 2)), np.zeros((3, 3))], "demonstration 1 has 3 features"),
+    ([np.array([[0.0, np.inf]])], "infinite"),
+    ([np.zeros((0, 2))], "has no frames"),
+    ([], "no demonstrations"),
+    ("frames", "cannot read demonstrations"),
+])
+def test_bad_demonstrations(data, message):
+    with pytest.raises(DataError, match=message):
+        SubgoalPDFALearner().fit(data)
