@@ -113,9 +113,9 @@ def one_rollout_run(wrapped: PerRollout, actions, seed: int) -> tuple[float, flo
     start, cpu = time.perf_counter(), time.process_time()
     for action in actions:
         _, _, terminated, truncated, info = env.step(action)
-        value = info["features"]        # PPO's per-step record of an info key (its fast path)
-        if type(value) is not np.ndarray or value.shape != shape:
-            value = np.asarray(value, dtype=np.float64).reshape(features.shape[2:])
+        value = np.asarray(info["features"])     # PPO's per-step record of an info key
+        if value.shape != shape:
+            raise ValueError(f"features of shape {value.shape}")
         features[t, 0] = value
         t += 1
         if t == wrapped.rollout:

@@ -830,12 +830,10 @@ class _Rollouts:
             raise DataError(f"the environment reports no info[{key!r}] (environment {i}, "
                             f"step {self.steps + t * n_envs + i})",
                             hint="reward_fn/cost_fn name it in info_keys")
-        value = info[key]
-        # fast path (every step after the first): an array of the recorded shape is copied as is
-        if type(value) is np.ndarray and value.shape == self._shapes.get(key):
+        value = np.asarray(info[key])
+        if value.shape == self._shapes.get(key):   # every step after the first
             arrays[key][t, i] = value
             return
-        value = np.asarray(value)
         if key not in arrays:
             arrays[key] = np.zeros((n_steps, n_envs, *value.shape),
                                    dtype=np.float64 if value.dtype.kind in "fiub" else value.dtype)
