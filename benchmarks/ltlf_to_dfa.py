@@ -127,8 +127,8 @@ def measure(text: str, dialect: str, peer: bool) -> dict:
         start = time.perf_counter()
         dfa = translate(f, max_states=500_000)
         best = min(best, time.perf_counter() - start)
-    row = {"formula": text, "operators": operator_count(f), "states": dfa.n_states, "edges": dfa.n_edges,
-           "ours_s": best}
+    row = {"formula": text, "operators": operator_count(f), "states": dfa.n_states, "edges": dfa.count_edges(),
+           "symbolic": dfa.is_symbolic(), "ours_s": best}
     mona = mona_dfa(f)
     row["mona_s"] = mona.seconds
     row["mona_states"] = len(mona.word_states())

@@ -7,17 +7,14 @@ exhausted machine.
 
 Limits (each overridable by an environment variable, documented in ``docs/FORMATS.md``):
 
-=========================  ==========================================================  =======
-variable                   bounds                                                      default
-=========================  ==========================================================  =======
-``SYMLEARN_MAX_INPUT_MB``  bytes read from one text input (JSON, JSONL, formulas, DOT)   64
-``SYMLEARN_MAX_ARRAY_MB``  bytes one NPZ archive may decompress to (declared by its       256
-                           member headers, checked before anything is decompressed),
-                           and the size of the archive file itself
-``SYMLEARN_MAX_STATES``    states an automaton file may declare                          1000000
-``SYMLEARN_MAX_BDD_NODES`` nodes of the shared guard table (about 250 bytes each; read 2000000
-                           once, when :mod:`symlearn.logic.guards` is imported)
-=========================  ==========================================================  =======
+* ``SYMLEARN_MAX_INPUT_MB`` (64): bytes read from one text input (JSON, JSONL, formulas, DOT);
+* ``SYMLEARN_MAX_ARRAY_MB`` (256): bytes one NPZ archive may decompress to (declared by its member
+  headers, checked before anything is decompressed), and the size of the archive file itself;
+* ``SYMLEARN_MAX_STATES`` (1000000): states an automaton file may declare;
+* ``SYMLEARN_MAX_BDD_NODES`` (2000000): nodes of the shared guard table (about 250 bytes each;
+  read once, when :mod:`symlearn.logic.guards` is imported);
+* ``SYMLEARN_MAX_TRANSLATION_NODES`` (8000000): nodes of one LTLf -> DFA translation's own BDD,
+  dropped when it is done (``F p1 & ... & F p18``, 262,144 states, peaks near 1.2 GB).
 
 A value of ``0`` or ``none`` lifts a limit. :func:`limit` reads them at call time, so a test
 (or a long-running service) can change them between reads.
@@ -46,6 +43,7 @@ _DEFAULTS = {
     "SYMLEARN_MAX_ARRAY_MB": 256 * 2**20,
     "SYMLEARN_MAX_STATES": 1_000_000,
     "SYMLEARN_MAX_BDD_NODES": 2_000_000,
+    "SYMLEARN_MAX_TRANSLATION_NODES": 8_000_000,
 }
 _IN_MEGABYTES = {"SYMLEARN_MAX_INPUT_MB", "SYMLEARN_MAX_ARRAY_MB"}
 

@@ -116,6 +116,18 @@ def _eval(args: argparse.Namespace, out) -> None:
     out.result({"results": results}, render)
 
 
+_MATERIALISED = 1_000_000  # symlearn.logic.automata.transition_diagram.MAX_MATERIALISED_EDGES (not imported: start-up)
+
+
+def _edges(dfa) -> int | None:
+    """The DFA's edge count, ``None`` when its symbolic transitions have more than we would list."""
+    return dfa.count_edges(_MATERIALISED)
+
+
+def _edge_text(edges: int | None) -> str:
+    return str(edges) if edges is not None else f">{_MATERIALISED:,}"
+
+
 def _dfa(args: argparse.Namespace, out) -> None:
     import time
 
@@ -143,12 +155,12 @@ def _dfa(args: argparse.Namespace, out) -> None:
             except SymlearnError as exc:
                 exc.file, exc.line = args.file, number
                 raise
-            rows.append({"formula": text.strip(), "states": dfa.n_states, "edges": dfa.n_edges,
+            rows.append({"formula": text.strip(), "states": dfa.n_states, "edges": _edges(dfa),
                          "seconds": round(time.perf_counter() - start, 6)})
 
         def render_rows(doc: list) -> str:
-            return "\n".join(f"{r['states']:6d} states {r['edges']:6d} edges {r['seconds'] * 1000:9.2f} ms  "
-                             f"{r['formula']}" for r in doc)
+            return "\n".join(f"{r['states']:6d} states {_edge_text(r['edges']):>6s} edges "
+                             f"{r['seconds'] * 1000:9.2f} ms  {r['formula']}" for r in doc)
 
         out.result(rows, render_rows)
         return
@@ -171,19 +183,26 @@ def _dfa(args: argparse.Namespace, out) -> None:
     if args.save:
         dfa.save(args.save)
         written.append(args.save)
-    dead = set(dfa.states) - dfa.live_states()  # a minimal complete DFA has at most one: the sink
+    dead = dfa.sink_states()  # a minimal complete DFA has at most one dead state: the rejecting sink
+    symbolic = dfa.is_symbolic()  # large: transitions kept as a decision diagram, not listed
     doc = {
-        "formula": args.formula, "states": dfa.n_states, "edges": dfa.n_edges,
+        "formula": args.formula, "states": dfa.n_states, "edges": _edges(dfa),
         "accepting": sorted(dfa.accepting), "sink": min(dead, default=None), "propositions": sorted(dfa.alphabet),
-        "seconds": round(seconds, 6), "written": written,
-        "transitions": [[{"guard": str(g), "target": t} for g, t in dfa.successors(q)] for q in dfa.states],
+        "seconds": round(seconds, 6), "written": written, "symbolic": symbolic,
+        "diagram_nodes": dfa.diagram_nodes(),
+        "transitions": None if symbolic else [[{"guard": str(g), "target": t} for g, t in dfa.successors(q)]
+                                              for q in dfa.states],
     }
 
     def render(d: dict) -> str:
-        lines = [f"minimal DFA: {d['states']} states, {d['edges']} edges "
-                 f"(accepting: {', '.join(map(str, d['accepting'])) or 'none'}"
+        accepting = d["accepting"] if len(d["accepting"]) <= 20 else d["accepting"][:20] + ["..."]
+        lines = [f"minimal DFA: {d['states']} states, {_edge_text(d['edges'])} edges "
+                 f"(accepting: {', '.join(map(str, accepting)) or 'none'}"
                  + (f"; rejecting sink: {d['sink']}" if d["sink"] is not None else "") + ")"]
-        for q, edges in enumerate(d["transitions"]):
+        if d["transitions"] is None:
+            lines.append(f"  transitions kept symbolic: one shared decision diagram of {d['diagram_nodes']:,} nodes "
+                         f"(too many edges to list; --dot/--save write them up to {_MATERIALISED:,} edges)")
+        for q, edges in enumerate(d["transitions"] or ()):
             mark = "*" if q in d["accepting"] else " "
             lines.append(f" {mark}{q}: " + "; ".join(f"{e['guard']} -> {e['target']}" for e in edges))
         lines += [f"wrote {path}" for path in d["written"]]

@@ -5,6 +5,11 @@ adds its parser and sets ``handler`` (``handler(args, out) -> int | None``). To 
 write such a module and list it in :data:`COMMAND_MODULES`; modules import heavy libraries only
 inside handlers, so ``symlearn --help`` stays fast.
 
+Start-up: a module ``symlearn.cli.NAME_command`` registers the top-level command ``NAME``, so
+when the command line names one, :func:`main` imports only that module (``symlearn ltl dfa``
+never imports the learners' or environments' modules); ``--help``, no command or an unknown
+one import them all, so usage messages list every command.
+
 Exit codes: 0 success, 2 bad input or usage (:class:`SymlearnError`), 1 internal failure,
 130 interrupted (SIGINT), 143 terminated (SIGTERM, turned into an exception so that files being
 written are cleaned up). With ``--json`` an error also prints ``{"error": {...}}`` on stdout
@@ -94,7 +99,33 @@ class _Parser(argparse.ArgumentParser):
         super().error(message)
 
 
-def build_parser() -> argparse.ArgumentParser:
+def command_name(module: str) -> str:
+    """The top-level command a module registers: ``symlearn.cli.ltl_command`` -> ``ltl``."""
+    return module.rsplit(".", 1)[-1].removesuffix("_command")
+
+
+# top-level options that take a value (so the word after them is not the command name)
+_VALUED_OPTIONS = ("--seed",)
+
+
+def requested_command(argv: Sequence[str]) -> str | None:
+    """The command named on the command line, if it is one of :data:`COMMAND_MODULES`."""
+    words = iter(argv)
+    for word in words:
+        if word in ("-h", "--help", "--version"):
+            return None
+        if word in _VALUED_OPTIONS:
+            next(words, None)
+            continue
+        if word.startswith("-"):
+            continue
+        known = {command_name(m): m for m in COMMAND_MODULES}
+        return known.get(word)
+    return None
+
+
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The full parser, or with ``only`` (a module of :data:`COMMAND_MODULES`) just that command."""
     parser = _Parser(
         prog="symlearn",
         description="Learn interpretable symbolic models of behaviour from demonstrations.",
@@ -106,13 +137,13 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     parser.add_argument("--json", action="store_true", help="print exactly one JSON document on stdout")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND")
-    for name in COMMAND_MODULES:
+    for name in COMMAND_MODULES if only is None else (only,):
         importlib.import_module(name).register(subparsers, common_options)
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = build_parser()
+    parser = build_parser(requested_command(sys.argv[1:] if argv is None else list(argv)))
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse printed the usage error (or --help) on stderr

@@ -15,8 +15,9 @@ Two kinds of manager use this one engine:
   an edge guard: on the LTLf -> DFA benchmark families a finished translation's manager holds
   3.8x as many nodes as the guards it produces (9.6x on the 201 formulas of the public LTLf
   learning benchmark, 109x on random formulas; ``python benchmarks/bdd_engines.py``). So it
-  lives for one translation only, and just the guards are copied into the shared manager
-  (:func:`symlearn.logic.guards.from_bdd`).
+  lives for one translation only: its proposition layer is copied into the automaton's
+  :class:`~symlearn.logic.automata.transition_diagram.TransitionDiagram`, and guards reach the
+  shared manager only when edges are asked for (:func:`symlearn.logic.guards.from_bdd`).
 
 >>> m = BDD()
 >>> a, b = m.var(0), m.var(1)

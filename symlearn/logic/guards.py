@@ -70,6 +70,7 @@ _guards: dict[int, weakref.ref] = {}
 _text_cache: dict[int, str] = {}
 _label_cache: dict[int, frozenset[str]] = {}
 _key_cache: dict[int, tuple] = {}
+_cost_cache: dict[int, float] = {_FALSE: float("inf"), _TRUE: 0}  # see Guard.satisfying_label
 
 # Collect when the node lists pass this length, then when they pass twice the nodes left live
 # (or their old length: freed ids are reused first). Either way at least half the lists' length
@@ -124,6 +125,8 @@ def collect() -> int:
     _text_cache.clear()
     _label_cache.clear()
     _key_cache.clear()
+    _cost_cache.clear()
+    _cost_cache.update({_FALSE: float("inf"), _TRUE: 0})  # freed ids are reused for other functions
     _cover.cache_clear()
     _collect_at = max(_COLLECT_FROM, 2 * len(_MANAGER), len(_var))
     return freed
@@ -323,12 +326,15 @@ class Guard:
         cached = _label_cache.get(self._node)
         if cached is not None:
             return cached
-        cost: dict[int, float] = {_FALSE: float("inf"), _TRUE: 0}
+        # fewest true propositions below each node: a property of the node alone, so shared by
+        # every guard (sorting the edges of a large automaton asks for tens of thousands)
+        cost = _cost_cache
 
         def best(u: int) -> float:
-            if u not in cost:
-                cost[u] = min(best(_low[u]), 1 + best(_high[u]))
-            return cost[u]
+            found = cost.get(u)
+            if found is None:
+                found = cost[u] = min(best(_low[u]), 1 + best(_high[u]))
+            return found
 
         best(self._node)
         label, u = set(), self._node

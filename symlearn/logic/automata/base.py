@@ -1,7 +1,8 @@
 """What every guarded automaton (DFA, PDFA, reward machine) shares.
 
-Subclasses store ``_edges``: one tuple per state of edges ``(guard, target, *extra)`` where
-``extra`` is empty (DFA), a probability (PDFA) or a reward (reward machine). They provide
+Subclasses provide ``_edges``: one tuple per state of edges ``(guard, target, *extra)`` where
+``extra`` is empty (DFA), a probability (PDFA) or a reward (reward machine); PDFAs and reward
+machines store it, a DFA with symbolic transitions produces it on first use. They provide
 ``to_dict``/``from_dict``, ``to_dot`` and ``_key()`` (what equality compares); this base turns
 those into JSON files, drawings, equality and immutability.
 """
@@ -134,16 +135,24 @@ def as_guard(value: Guard | str | bool) -> Guard:
 
 
 def check_deterministic(source: int, edges: Sequence[tuple], what: str = "DFA") -> None:
-    """Raise :class:`ModelError` if two edges of ``source`` share a label (targets differ)."""
-    for i, first in enumerate(edges):
-        for second in edges[i + 1:]:
-            overlap = first[0] & second[0]
-            if not overlap.is_false():
-                witness = sorted(overlap.satisfying_label() or ())
-                raise ModelError(
-                    f"{what} is not deterministic: from state {source}, guards {str(first[0])!r} (to {first[1]}) "
-                    f"and {str(second[0])!r} (to {second[1]}) both match the label {{{', '.join(witness)}}}",
-                    hint="make the guards of one state mutually exclusive")
+    """Raise :class:`ModelError` if two edges of ``source`` share a label (targets differ).
+
+    One pass: each guard is tested against the union of the guards before it, so the cost is
+    linear in the number of edges (two BDD operations each), not quadratic in pairs; the pair
+    that overlaps is searched only when the check fails, to name it in the message.
+    """
+    seen = Guard.false()
+    for i, edge in enumerate(edges):
+        guard = edge[0]
+        if not (guard & seen).is_false():
+            first = next(e for e in edges[:i] if not (e[0] & guard).is_false())
+            overlap = first[0] & guard
+            witness = sorted(overlap.satisfying_label() or ())
+            raise ModelError(
+                f"{what} is not deterministic: from state {source}, guards {str(first[0])!r} (to {first[1]}) "
+                f"and {str(guard)!r} (to {edge[1]}) both match the label {{{', '.join(witness)}}}",
+                hint="make the guards of one state mutually exclusive")
+        seen = seen | guard
 
 
 def check_state(state, n_states: int, what: str) -> int:

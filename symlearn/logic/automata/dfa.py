@@ -17,6 +17,17 @@ adds an explicit rejecting sink.
 Edges to the same target are merged into one guard and ordered canonically, so two DFAs built
 from the same transition function compare ``==``. Objects are immutable; every operation
 returns a new DFA. The algorithms live in :mod:`symlearn.logic.automata.operations`.
+
+A DFA holds its transitions in one of two forms. *Explicit*: per state, guarded edges, as
+given to the constructor. *Symbolic* (large automata from the LTLf translation, products and
+minimisation of symbolic DFAs): a shared decision diagram per automaton whose leaves are
+states (:mod:`~symlearn.logic.automata.transition_diagram`), always complete. Running, products,
+minimisation, complement, emptiness, shortest words and equivalence work on the diagram
+directly; ``successors``/``edges``/``transitions`` (DOT, JSON, ``explain``) produce guarded
+edges on first use, refusing beyond
+:data:`~symlearn.logic.automata.transition_diagram.MAX_MATERIALISED_EDGES` with a
+:class:`~symlearn.errors.LimitExceededError` that says so. :meth:`DFA.is_symbolic` tells them
+apart; :meth:`DFA.count_edges` counts edges without producing them.
 """
 
 from __future__ import annotations
@@ -24,7 +35,7 @@ from __future__ import annotations
 from collections.abc import Iterable, Mapping, Sequence
 from typing import AbstractSet
 
-from symlearn.errors import ModelError
+from symlearn.errors import LimitExceededError, ModelError
 from symlearn.logic.automata.base import (
     GuardedAutomaton, as_guard, check_alphabet, check_deterministic, check_n_states, check_names, check_state,
 )
@@ -67,7 +78,7 @@ def normalise_edges(
 class DFA(GuardedAutomaton):
     """A deterministic finite automaton with states ``0..n_states-1`` and guarded edges."""
 
-    __slots__ = ("alphabet", "n_states", "initial", "accepting", "state_names", "_edges")
+    __slots__ = ("alphabet", "n_states", "initial", "accepting", "state_names", "_explicit", "_diagram", "_roots")
     _what = "DFA"
 
     def __init__(
@@ -86,8 +97,9 @@ class DFA(GuardedAutomaton):
             n_states=n_states,
             initial=check_state(initial, n_states, "initial state"),
             accepting=frozenset(check_state(q, n_states, "accepting state") for q in accepting),
-            _edges=normalise_edges(n_states, transitions, alphabet),
+            _explicit=normalise_edges(n_states, transitions, alphabet),
             state_names=check_names(state_names, n_states),
+            _diagram=None, _roots=None,
         )
 
     @classmethod
@@ -96,20 +108,93 @@ class DFA(GuardedAutomaton):
         dfa = object.__new__(cls)
         dfa._init_fields(alphabet=frozenset(alphabet), n_states=n_states, initial=initial,
                          accepting=frozenset(accepting),
-                         _edges=tuple(tuple(sorted(row, key=lambda e: e[0].sort_key)) for row in edges),
+                         _explicit=tuple(tuple(sorted(row, key=lambda e: e[0].sort_key)) for row in edges),
+                         state_names=None if state_names is None else tuple(state_names),
+                         _diagram=None, _roots=None)
+        return dfa
+
+    @classmethod
+    def _symbolic(cls, alphabet, n_states, initial, accepting, diagram, roots, state_names=None) -> DFA:
+        """A complete DFA whose state ``q`` moves by ``diagram`` from ``roots[q]`` (internal)."""
+        dfa = object.__new__(cls)
+        dfa._init_fields(alphabet=frozenset(alphabet), n_states=n_states, initial=initial,
+                         accepting=frozenset(accepting), _explicit=None, _diagram=diagram, _roots=tuple(roots),
                          state_names=None if state_names is None else tuple(state_names))
         return dfa
+
+    # -- the two forms of transitions --------------------------------------------------------
+    @property
+    def _edges(self) -> tuple[tuple[tuple[Guard, int], ...], ...]:
+        """Guarded edges per state, produced from the diagram on first use (symbolic DFAs)."""
+        if self._explicit is None:
+            from symlearn.logic.automata.transition_diagram import materialise
+
+            rows = materialise(self._diagram, self._roots)
+            object.__setattr__(self, "_explicit",
+                               tuple(tuple(sorted(row, key=lambda e: e[0].sort_key)) for row in rows))
+        return self._explicit
+
+    def is_symbolic(self) -> bool:
+        """Whether the transitions are a decision diagram (edges only produced on demand)."""
+        return self._diagram is not None
+
+    def transition_diagram(self):
+        """``(diagram, roots)`` of the *completed* DFA (:meth:`complete` adds a sink when needed;
+        its state numbers then follow ``self.complete()``)."""
+        if self._diagram is not None:
+            return self._diagram, self._roots
+        from symlearn.logic.automata.transition_diagram import from_guarded
+
+        total = self.complete()
+        return from_guarded(sorted(total.alphabet), [total.successors(q) for q in total.states])
+
+    def count_edges(self, limit: int | None = None) -> int | None:
+        """Number of guarded edges without producing them; ``None`` when above ``limit``."""
+        if self._explicit is not None:
+            n = sum(len(row) for row in self._explicit)
+            return None if limit is not None and n > limit else n
+        from symlearn.logic.automata.transition_diagram import count_edges
+
+        return count_edges(self._diagram, self._roots, limit)
+
+    @property
+    def n_edges(self) -> int:
+        if self._explicit is None:
+            from symlearn.logic.automata.transition_diagram import MAX_MATERIALISED_EDGES, count_edges
+
+            n = count_edges(self._diagram, self._roots, MAX_MATERIALISED_EDGES)
+            if n is None:
+                raise LimitExceededError(
+                    f"this symbolic DFA ({self.n_states:,} states) has more than {MAX_MATERIALISED_EDGES:,} edges",
+                    hint="count_edges(limit=None) counts them all (slowly); diagram_nodes() is the symbolic size")
+            return n
+        return sum(len(row) for row in self._explicit)
+
+    def sink_states(self) -> frozenset[int]:
+        """Rejecting states that every label keeps in place (in a minimal DFA: the dead state)."""
+        if self._diagram is not None:
+            return frozenset(q for q, root in enumerate(self._roots) if root == ~q and q not in self.accepting)
+        return frozenset(q for q, row in enumerate(self._explicit)
+                         if q not in self.accepting and len(row) == 1 and row[0][1] == q and row[0][0].is_true())
+
+    def diagram_nodes(self) -> int | None:
+        """Internal nodes of the transition diagram (``None`` for an explicit DFA)."""
+        return None if self._diagram is None else len(self._diagram)
 
     # -- structure (states, edges, successors, transitions, n_edges, name: see GuardedAutomaton)
     def is_accepting(self, state: int) -> bool:
         return state in self.accepting
 
     def is_complete(self) -> bool:
+        if self._diagram is not None:
+            return True  # diagrams map every label somewhere
         return all(Guard.any_of(g for g, _ in row).is_true() for row in self._edges)
 
     # -- running ----------------------------------------------------------------------------
     def step(self, state: int, label: Label) -> int | None:
         """The successor of ``state`` under ``label``, or ``None`` if no edge matches."""
+        if self._diagram is not None:
+            return self._diagram.step(self._roots[state], label)
         for guard, target in self._edges[state]:
             if guard.evaluate(label):
                 return target
@@ -218,6 +303,9 @@ class DFA(GuardedAutomaton):
     def rename_states(self, names: Sequence[str] | None) -> DFA:
         if names is not None and len(names) != self.n_states:
             raise ModelError(f"{len(names)} state names for {self.n_states} states")
+        if self._diagram is not None:
+            return DFA._symbolic(self.alphabet, self.n_states, self.initial, self.accepting, self._diagram,
+                                 self._roots, names)
         return DFA._trusted(self.alphabet, self.n_states, self.initial, self.accepting, self._edges, names)
 
     def with_alphabet(self, alphabet: Iterable[str]) -> DFA:
@@ -225,6 +313,9 @@ class DFA(GuardedAutomaton):
         alphabet = check_alphabet(alphabet)
         if not self.alphabet <= alphabet:
             raise ModelError(f"cannot drop propositions {sorted(self.alphabet - alphabet)} from the alphabet")
+        if self._diagram is not None:  # the diagram keeps its own proposition list
+            return DFA._symbolic(alphabet, self.n_states, self.initial, self.accepting, self._diagram,
+                                 self._roots, self.state_names)
         return DFA._trusted(alphabet, self.n_states, self.initial, self.accepting, self._edges, self.state_names)
 
     # -- formats ----------------------------------------------------------------------------
@@ -256,11 +347,34 @@ class DFA(GuardedAutomaton):
     def _key(self) -> tuple:
         return (self.alphabet, self.n_states, self.initial, self.accepting, self._edges, self.state_names)
 
+    def _transitions_equal(self, other: DFA) -> bool:
+        if self._diagram is None and other._diagram is None:
+            return self._explicit == other._explicit
+        if not (self.is_complete() and other.is_complete()):
+            return False  # symbolic DFAs are complete
+        from symlearn.logic.automata.transition_diagram import canonical_form
+
+        return canonical_form(*self.transition_diagram()) == canonical_form(*other.transition_diagram())
+
+    def __eq__(self, other: object) -> bool:
+        """Structural equality (same numbering, transitions, names), whichever form holds them."""
+        return (type(other) is type(self) and (self.alphabet, self.n_states, self.initial, self.accepting,
+                                               self.state_names)
+                == (other.alphabet, other.n_states, other.initial, other.accepting, other.state_names)
+                and self._transitions_equal(other))
+
+    def __hash__(self) -> int:  # transitions left out: equal DFAs of the two forms must hash alike
+        return hash((self.alphabet, self.n_states, self.initial, self.accepting, self.state_names))
+
     def same_structure(self, other: DFA) -> bool:
         """Structural equality ignoring state names."""
-        return (self.alphabet, self.n_states, self.initial, self.accepting, self._edges) == (
-            other.alphabet, other.n_states, other.initial, other.accepting, other._edges)
+        return ((self.alphabet, self.n_states, self.initial, self.accepting)
+                == (other.alphabet, other.n_states, other.initial, other.accepting)
+                and self._transitions_equal(other))
 
     def __repr__(self) -> str:
+        if self._explicit is None:
+            return (f"DFA({self.n_states} states, symbolic transitions ({len(self._diagram)} diagram nodes), "
+                    f"alphabet {sorted(self.alphabet)}, initial {self.initial}, accepting {len(self.accepting)} states)")
         return (f"DFA({self.n_states} states, {self.n_edges} edges, alphabet {sorted(self.alphabet)}, "
                 f"initial {self.initial}, accepting {sorted(self.accepting)})")

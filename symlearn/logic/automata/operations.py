@@ -8,6 +8,12 @@ fewest true propositions), so words are deterministic and small.
 
 Minimisation is Hopcroft's algorithm with symbolic splitters (:func:`coarsest_partition`);
 Moore's round-based refinement is kept as :func:`minimize_moore` for cross-checking.
+
+A DFA with symbolic transitions (:meth:`DFA.is_symbolic`) is handled by the diagram algorithms
+of :mod:`~symlearn.logic.automata.transition_diagram` instead (an explicit operand of a product
+is converted), so none of these produces its guarded edges. So is an explicit DFA with more
+than :data:`~symlearn.logic.automata.transition_diagram.EXPLICIT_EDGES` edges in
+:func:`minimize`, so that it numbers states as the LTLf translation does.
 """
 
 from __future__ import annotations
@@ -17,6 +23,7 @@ from collections.abc import Iterable
 
 from symlearn.errors import LimitExceededError, ModelError
 from symlearn.logic.automata.dfa import DFA
+from symlearn.logic.automata import transition_diagram as td
 from symlearn.logic.guards import Guard
 
 SINK_NAME = "sink"
@@ -24,6 +31,8 @@ SINK_NAME = "sink"
 
 def complete(dfa: DFA) -> DFA:
     """Add a rejecting sink catching every label no edge matches (unchanged if already total)."""
+    if dfa.is_symbolic():
+        return dfa  # diagrams are total
     missing = [~Guard.any_of(g for g, _ in dfa.successors(q)) for q in dfa.states]
     if all(g.is_false() for g in missing):
         return dfa
@@ -44,6 +53,8 @@ def _fresh_name(names: Iterable[str]) -> str:
 
 def reachable_states(dfa: DFA, start: int | None = None) -> frozenset[int]:
     start = dfa.initial if start is None else start
+    if dfa.is_symbolic():
+        return frozenset(td.reachable(dfa._diagram, dfa._roots, start))
     seen, queue = {start}, deque([start])
     while queue:
         for _, target in dfa.successors(queue.popleft()):
@@ -55,6 +66,8 @@ def reachable_states(dfa: DFA, start: int | None = None) -> frozenset[int]:
 
 def live_states(dfa: DFA) -> frozenset[int]:
     """States from which some accepting state is reachable (backward search)."""
+    if dfa.is_symbolic():
+        return frozenset(td.live(dfa._diagram, dfa._roots, dfa.accepting))
     predecessors: list[set[int]] = [set() for _ in dfa.states]
     for source, _, target in dfa.edges():
         predecessors[target].add(source)
@@ -122,6 +135,10 @@ def minimize(dfa: DFA) -> DFA:
     Two DFAs with the same language (and alphabet) give structurally equal results
     (:meth:`DFA.same_structure`). A merged block keeps the name of its lowest-numbered state.
     """
+    if dfa.is_symbolic() or (dfa.state_names is None and dfa.count_edges(td.EXPLICIT_EDGES) is None):
+        diagram, roots = dfa.transition_diagram()
+        accepting = [q in dfa.accepting for q in range(len(roots))]  # complete() appends a rejecting sink
+        return td.minimal(diagram, roots, accepting, dfa.initial, dfa.alphabet, state_names=dfa.state_names)
     total = complete(dfa)
     dfa = _renumber(total, reachable_states(total))
     block = coarsest_partition(dfa)
@@ -240,6 +257,8 @@ def product(left: DFA, right: DFA, mode: str = "and", *, max_states: int | None 
         raise ModelError(f"unknown product mode {mode!r}", hint=f"use one of {', '.join(_MODES)}")
     accept = _MODES[mode]
     left, right = complete(left), complete(right)
+    if left.is_symbolic() or right.is_symbolic():
+        return _symbolic_product(left, right, accept, max_states)
     start = (left.initial, right.initial)
     index = {start: 0}
     pairs, edges = [start], []
@@ -269,10 +288,25 @@ def product(left: DFA, right: DFA, mode: str = "and", *, max_states: int | None 
     return DFA._trusted(left.alphabet | right.alphabet, len(pairs), 0, accepting, edges, names)
 
 
+def _symbolic_product(left: DFA, right: DFA, accept, max_states: int | None) -> DFA:
+    """The product on transition diagrams (both operands complete), states in discovery order."""
+    d1, r1 = left.transition_diagram()
+    d2, r2 = right.transition_diagram()
+    diagram, roots, pairs = td.product((d1, r1, left.initial), (d2, r2, right.initial), max_states=max_states)
+    accepting = [k for k, (p, q) in enumerate(pairs) if accept(p in left.accepting, q in right.accepting)]
+    names = None
+    if left.state_names is not None or right.state_names is not None:
+        names = [f"({left.name(p)}, {right.name(q)})" for p, q in pairs]
+    return DFA._symbolic(left.alphabet | right.alphabet, len(pairs), 0, accepting, diagram, roots, names)
+
+
 def complement(dfa: DFA) -> DFA:
     """The DFA accepting exactly the words (over the same alphabet) ``dfa`` rejects."""
     total = complete(dfa)
     accepting = set(total.states) - set(total.accepting)
+    if total.is_symbolic():
+        return DFA._symbolic(total.alphabet, total.n_states, total.initial, accepting, total._diagram, total._roots,
+                             total.state_names)
     return DFA._trusted(total.alphabet, total.n_states, total.initial, accepting,
                         [total.successors(q) for q in total.states], total.state_names)
 
@@ -281,6 +315,8 @@ def shortest_word(dfa: DFA, targets: Iterable[int], start: int | None = None) ->
     """A shortest word leading from ``start`` into one of ``targets`` (BFS), or ``None``."""
     targets = set(targets)
     start = dfa.initial if start is None else start
+    if dfa.is_symbolic():
+        return td.shortest_word(dfa._diagram, dfa._roots, start, targets)
     parent: dict[int, tuple[int, Guard] | None] = {start: None}
     queue = deque([start])
     while queue:

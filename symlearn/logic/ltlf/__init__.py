@@ -8,7 +8,8 @@ True
 >>> translate(f).n_states
 3
 
-Modules: ``ast`` (nodes), ``parser`` / ``printer`` (dialects ours, spot, ltlf2dfa),
+Modules: ``ast`` (nodes), ``parser`` / ``printer`` (dialects ours, spot, ltlf2dfa; ``fast_parser``
+reads well-formed formulas without lark),
 ``semantics`` (``holds``), ``vectorized`` (one formula on many traces), ``progression``,
 ``simplify``, ``to_dfa`` (LTLf -> minimal :class:`~symlearn.logic.automata.DFA`), ``mona`` (LTLf2DFA + MONA oracle adapter).
 Heavy or optional pieces (numpy evaluation, sympy, MONA) load only when used.

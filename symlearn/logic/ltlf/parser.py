@@ -29,6 +29,10 @@ In the ``ltlf2dfa`` dialect the printer also parenthesises every chain of ``U``/
 Syntax errors raise :class:`~symlearn.errors.ParseError` naming the column, showing the
 formula with a caret under it, listing what was expected and, for common spellings from other
 tools (``=>``, ``<>``, ``[]``, ``&&&``, ``and``...), the right one.
+
+Well-formed formulas are read by :mod:`~symlearn.logic.ltlf.fast_parser` (no lark import, which
+with the LALR construction was a third of a CLI command's start-up); the lark parser reads the
+rest (it words the errors) and is built on first use.
 """
 
 from __future__ import annotations
@@ -36,27 +40,14 @@ from __future__ import annotations
 import re
 from functools import cache
 
-from lark import Lark, Token, Transformer
-from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
-
 from symlearn.errors import ParseError
-from symlearn.logic.ltlf.ast import (
-    FALSE, TRUE, Always, And, Eventually, Formula, Iff, Implies, Next, Not, Or, Prop, Release, Then,
-    Until, WeakNext, WeakUntil,
-)
-from symlearn.resources import grammar_text
+from symlearn.logic.ltlf.ast import FALSE, TRUE, And, Formula, Next, Or, Prop, WeakNext
+from symlearn.logic.ltlf.fast_parser import UNARY as _UNARY
+from symlearn.logic.ltlf.fast_parser import fold_left, group_arrows, group_temporal, read
 
 __all__ = ["DIALECTS", "parse", "check_dialect"]
 
 DIALECTS = ("ours", "spot", "ltlf2dfa")
-
-_UNARY = {
-    "!": Not, "~": Not, "\u00ac": Not,
-    "X[!]": Next, "\u25cb": Next, "N": WeakNext, "WX": WeakNext,
-    "F": Eventually, "\u25c7": Eventually, "G": Always, "\u25a1": Always,
-}
-_TEMPORAL = {"U": Until, "R": Release, "W": WeakUntil, "T": Then}
-
 
 def check_dialect(dialect: str) -> str:
     if dialect not in DIALECTS:
@@ -64,94 +55,55 @@ def check_dialect(dialect: str) -> str:
     return dialect
 
 
-class _Build(Transformer):
-    """Turns the chains of the grammar into nodes, grouping as the dialect says."""
-
-    def __init__(self, dialect: str) -> None:
-        super().__init__()
-        self.bare_x = WeakNext if dialect == "spot" else Next
-        self.flat_arrows = dialect == "spot"
-        self.release_binds_tighter = dialect == "ltlf2dfa"
-
-    def true(self, _):
-        return TRUE
-
-    def false(self, _):
-        return FALSE
-
-    def prop(self, items):
-        return Prop(str(items[0]))
-
-    def quoted_prop(self, items):
-        return Prop(re.sub(r"\\(.)", r"\1", str(items[0])[1:-1]))
-
-    def group(self, items):
-        return items[0]
-
-    def unary(self, items):
-        if len(items) == 1:
-            return items[0]
-        op, arg = str(items[0]), items[1]
-        return (self.bare_x if op == "X" else _UNARY[op])(arg)
-
-    def temporal_chain(self, items):
-        if not self.release_binds_tighter:
-            return _fold_right(items, lambda op: _TEMPORAL[op])
-        # LTLf2DFA's grammar: R binds tighter than U (and our W, T)
-        parts: list[list] = [[]]
-        joins: list = []
-        for item in items:
-            if isinstance(item, Token) and str(item) != "R":
-                joins.append(item)
-                parts.append([])
-            else:
-                parts[-1].append(item)
-        folded = [_fold_right(part, lambda op: Release) for part in parts]
-        chain = [folded[0]]
-        for op, part in zip(joins, folded[1:]):
-            chain += [op, part]
-        return _fold_right(chain, lambda op: _TEMPORAL[op])
-
-    def and_chain(self, items):
-        return _fold_left(items, And)
-
-    def or_chain(self, items):
-        return _fold_left(items, Or)
-
-    def arrow_chain(self, items):
-        if self.flat_arrows:
-            return _fold_right(items, lambda op: Iff if op in ("<->", "\u2194") else Implies)
-        # <-> is looser: split on it first, then group each part's -> chain
-        parts: list[list] = [[]]
-        for item in items:
-            if isinstance(item, Token) and item.type == "IFF":
-                parts.append([])
-            else:
-                parts[-1].append(item)
-        groups = [_fold_right(part, lambda op: Implies) for part in parts]
-        result = groups[-1]
-        for g in reversed(groups[:-1]):
-            result = Iff(g, result)
-        return result
-
-
-def _fold_left(items, node):
-    result = items[0]
-    for i in range(2, len(items), 2):
-        result = node(result, items[i])
-    return result
-
-
-def _fold_right(items, node_for):
-    result = items[-1]
-    for i in range(len(items) - 3, -1, -2):
-        result = node_for(str(items[i + 1]))(items[i], result)
-    return result
-
-
 @cache
-def _parser(dialect: str) -> Lark:
-    return Lark(grammar_text("ltlf"), parser="lalr", transformer=_Build(dialect), maybe_placeholders=False)
+def _parser(dialect: str):
+    """The lark parser of ``grammars/ltlf.lark`` for ``dialect`` (imports lark on first use: the
+    fast reader handles well-formed formulas, this one the rest and every error message)."""
+    from lark import Lark, Transformer
+
+    from symlearn.resources import grammar_text
+
+    class _Build(Transformer):
+        """Turns the chains of the grammar into nodes, grouping as the dialect says."""
+
+        def __init__(self) -> None:
+            super().__init__()
+            self.bare_x = WeakNext if dialect == "spot" else Next
+
+        def true(self, _):
+            return TRUE
+
+        def false(self, _):
+            return FALSE
+
+        def prop(self, items):
+            return Prop(str(items[0]))
+
+        def quoted_prop(self, items):
+            return Prop(re.sub(r"\\(.)", r"\1", str(items[0])[1:-1]))
+
+        def group(self, items):
+            return items[0]
+
+        def unary(self, items):
+            if len(items) == 1:
+                return items[0]
+            op, arg = str(items[0]), items[1]
+            return (self.bare_x if op == "X" else _UNARY[op])(arg)
+
+        def temporal_chain(self, items):
+            return group_temporal(items, dialect == "ltlf2dfa")  # LTLf2DFA: R binds tighter than U
+
+        def and_chain(self, items):
+            return fold_left(items, And)
+
+        def or_chain(self, items):
+            return fold_left(items, Or)
+
+        def arrow_chain(self, items):
+            return group_arrows(items, dialect == "spot")
+
+    return Lark(grammar_text("ltlf"), parser="lalr", transformer=_Build(), maybe_placeholders=False)
 
 
 def parse(text: str, dialect: str = "ours", *, source: str | None = None, line: int | None = None) -> Formula:
@@ -161,6 +113,11 @@ def parse(text: str, dialect: str = "ours", *, source: str | None = None, line: 
         raise ParseError(f"an LTLf formula must be text, not {type(text).__name__}")
     if not text.strip():
         raise ParseError("empty formula", file=source, line=line, hint="write e.g. 'F goal'")
+    formula = read(text, dialect)
+    if formula is not None:
+        return formula
+    from lark.exceptions import UnexpectedInput, VisitError
+
     try:
         return _parser(dialect).parse(text)
     except UnexpectedInput as exc:
@@ -213,7 +170,9 @@ _WORD_HINTS = {
 _OPERATOR_CHARS = set("&|=<>-![]~^/\\")
 
 
-def _syntax_error(text: str, exc: UnexpectedInput, source: str | None, line_offset: int | None) -> ParseError:
+def _syntax_error(text: str, exc, source: str | None, line_offset: int | None) -> ParseError:
+    from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedToken
+
     lines = text.split("\n")
     if isinstance(exc, UnexpectedEOF) or (isinstance(exc, UnexpectedToken) and exc.token.type == "$END"):
         row = len(lines)
@@ -240,13 +199,13 @@ def _syntax_error(text: str, exc: UnexpectedInput, source: str | None, line_offs
                       column=col, hint=hint)
 
 
-def _describe_token(token: Token) -> str:
+def _describe_token(token) -> str:
     if token.type in ("NAME", "QUOTED"):
         return f"proposition {str(token)!r}"
     return repr(str(token))
 
 
-def _expected(exc: UnexpectedInput) -> str:
+def _expected(exc) -> str:
     names = getattr(exc, "expected", None) or getattr(exc, "allowed", None) or ()
     friendly = sorted({_TERMINAL_NAMES.get(n, n.lower()) for n in names
                        if n not in ("QUOTED", "TOP", "BOTTOM")})

@@ -11,9 +11,11 @@ Construction (our own; sound by the progression identities, exact by minimisatio
 3. Reading one letter replaces every elementary formula by its one-step unfolding, e.g.
    ``F f`` -> ``f_now | F f``, ``f U g`` -> ``g_now | (f_now & (f U g))``, where ``*_now`` are
    BDD variables of the *current letter's propositions*, ordered above the obligation
-   variables. Walking the top (proposition) layer of the composed BDD yields each successor
-   obligation together with its guard, so the letters are never enumerated one by one: the
-   alphabet 2^|AP| is split only where the formula looks at a proposition.
+   variables. The top (proposition) layer of the composed BDD *is* the state's transition
+   function: its nodes test propositions and the first node below them is the successor
+   obligation. Layer nodes are shared between states, so exploration walks each of them once
+   for the whole automaton and never lists (state, successor) pairs: ``F p1 & ... & F pn`` has
+   2^n states and 3^n such pairs, but about n 2^(n-1) layer nodes.
 4. The remaining suffix may be empty, so each state also decides the empty suffix: literals,
    ``X``, ``F``, ``U`` are false there and ``WX``, ``G``, ``R`` true. Strong ``X f`` unfolds to
    ``f & NE`` and weak ``WX f`` to ``f | !NE`` where ``NE`` ("the rest is not empty") is needed
@@ -22,13 +24,24 @@ Construction (our own; sound by the progression identities, exact by minimisatio
    :func:`~symlearn.logic.ltlf.progression.holds_at_end` (negation as complement, as MONA does),
    which can differ from the start obligation's verdict (``!a``: true; NNF ``!a``: false); then
    the start state is split off before minimisation.
-5. The reachable states are minimised by partition refinement whose signatures compare
-   canonical guard BDDs per target block, so the result is the unique minimal complete DFA
-   (the rejecting sink, when there is one, is a state like any other).
+5. When the explored automaton has at most
+   :data:`~symlearn.logic.automata.transition_diagram.EXPLICIT_EDGES` (state, successor) pairs,
+   each layer is split into guarded edges and the states are minimised by partition refinement
+   whose signatures compare canonical guard BDDs per target block (Hopcroft). Otherwise the
+   layer is copied into a :class:`~symlearn.logic.automata.transition_diagram.TransitionDiagram`
+   (leaves: state numbers), the obligation manager is dropped, and the states are minimised there
+   (:func:`~symlearn.logic.automata.transition_diagram.minimal`: Moore refinement on hash-consed
+   signatures). Either way the result is the unique minimal complete DFA (the rejecting sink,
+   when there is one, is a state like any other).
 
 The result is a :class:`~symlearn.logic.automata.dfa.DFA` over the formula's propositions,
-complete and minimal, numbered as :meth:`~symlearn.logic.automata.dfa.DFA.minimize` numbers
-states (state 0 initial, then breadth-first in guard order).
+complete and minimal. With at most
+:data:`~symlearn.logic.automata.transition_diagram.EXPLICIT_EDGES` guarded edges it has explicit
+edges, numbered as :meth:`~symlearn.logic.automata.dfa.DFA.minimize` numbers states (state 0
+initial, then breadth-first in guard order); above, its transitions stay symbolic
+(:meth:`~symlearn.logic.automata.dfa.DFA.is_symbolic`; state 0 initial, breadth-first in diagram
+order) and guarded edges are produced only on request. The translation checks nothing it builds
+by construction (disjoint, complete transitions): tests assert that, not every call.
 
 >>> from symlearn.logic.ltlf.parser import parse
 >>> dfa = translate(parse("F a & F b"))
@@ -43,6 +56,7 @@ import sys
 
 from symlearn.errors import LimitExceededError
 from symlearn.logic.automata.dfa import DFA
+from symlearn.logic.automata.transition_diagram import EXPLICIT_EDGES, TransitionDiagram, minimal
 from symlearn.logic.bdd import BDD, FALSE, TRUE
 from symlearn.logic.guards import from_bdd
 from symlearn.logic.ltlf.ast import (
@@ -178,16 +192,19 @@ class _Translation:
         return arg if self.nodes[arg][0] == _TT else self._mk((_WX, arg))
 
     # -- symbolic automaton --------------------------------------------------------------------
-    def build(self, max_states: int) -> DFA:
+    def explore(self, max_states: int) -> tuple | DFA:
+        """``(diagram, roots, accepting, initial, propositions)`` of the reachable obligations, or
+        the minimal DFA itself when it has at most EXPLICIT_EDGES edges before minimisation)."""
         # a manager of its own, dropped after the translation: obligation nodes outnumber the edge
         # guards it produces (3.8x on the benchmark families, see symlearn/logic/bdd.py)
         from symlearn.input_limits import limit
 
         # bounded like the guard table, so a formula whose obligations explode stops with a clear
-        # error before memory runs out (SYMLEARN_MAX_BDD_NODES, docs/FORMATS.md)
-        bdd = self.bdd = BDD(max_nodes=limit("SYMLEARN_MAX_BDD_NODES"),
+        # error before memory runs out (SYMLEARN_MAX_TRANSLATION_NODES, docs/FORMATS.md); a limit
+        # of its own, as large minimal DFAs (2^18 states) need more nodes than the guard table ever holds
+        bdd = self.bdd = BDD(max_nodes=limit("SYMLEARN_MAX_TRANSLATION_NODES"),
                              limit_hint="the formula's obligations need too many BDD nodes; split the formula "
-                                        "or raise SYMLEARN_MAX_BDD_NODES (0: no limit)")
+                                        "or raise SYMLEARN_MAX_TRANSLATION_NODES (0: no limit)")
         # propositions take the top levels in name order, the order of the shared guard table, so
         # converting an edge guard to a Guard is one node construction per node (guards.from_bdd)
         self.props = {name: level for level, name in enumerate(sorted(self.props))}
@@ -217,31 +234,104 @@ class _Translation:
         start = self._now(self.root)
         index = {start: 0}
         states = [start]
-        edges: list[list[tuple[int, int]]] = []
+        # the composed obligation's proposition layer *is* the state's transition function: its
+        # nodes test this letter's propositions, and the first node below them (an obligation)
+        # is the successor. While the automaton is small, each layer is split into guarded edges
+        # (one guard per successor); past EXPLICIT_EDGES edges the splitting stops and the layers
+        # are only walked, each node once overall: successors are then found without listing
+        # (state, successor) pairs, which F p1 & ... & F pn has 3^n of, against n 2^(n-1) nodes.
+        n_props = len(self.props)
+        level, low, high = bdd.level, bdd.low, bdd.high
+        walked: set[int] = set()
+        roots = []
+        edges: list[list[tuple[int, int]]] | None = []
+        n_edges = 0
+
+        def register(u: int) -> int:
+            j = index.get(u)
+            if j is None:
+                if len(states) >= max_states:
+                    raise LimitExceededError(
+                        f"the automaton of this formula needs more than {max_states} states",
+                        hint="raise max_states (CLI: --max-states) or split the formula")
+                j = index[u] = len(states)
+                states.append(u)
+            return j
+
         for state in states:  # grows while we iterate: breadth-first exploration
-            out = []
-            for target, guard in self._split(self._compose(state)).items():
-                j = index.get(target)
-                if j is None:
-                    if len(states) >= max_states:
-                        raise LimitExceededError(
-                            f"the automaton of this formula needs more than {max_states} states",
-                            hint="raise max_states (CLI: --max-states) or split the formula")
-                    j = index[target] = len(states)
-                    states.append(target)
-                out.append((j, guard))
-            edges.append(out)
+            top = self._compose(state)
+            roots.append(top)
+            if edges is not None:
+                out = self._split(top)
+                get = index.get
+                edges.append([(get(t) if t in index else register(t), g) for t, g in out.items()])
+                n_edges += len(out)
+                if n_edges > EXPLICIT_EDGES:
+                    edges = None  # large: symbolic from here on (the successors so far are registered)
+                    self.split_memo = {}
+                continue
+            stack = [top]
+            while stack:  # discover the successors below nodes not walked before
+                u = stack.pop()
+                if u <= TRUE or level[u] >= n_props:
+                    if u not in index:
+                        register(u)
+                elif u not in walked:
+                    walked.add(u)
+                    stack.append(high[u])
+                    stack.append(low[u])
         accepting = [self._end(s) for s in states]
         initial = 0
         empty_word = holds_at_end(self.formula)
+        if edges is not None:
+            # few edges: minimise them explicitly (Hopcroft on canonical guards), which beats the
+            # diagram passes on small automata and on long chains, where Moore's rounds are many
+            if empty_word != accepting[0]:
+                # the start obligation may recur later with the other verdict on "the rest is
+                # empty", so the empty word gets a start state of its own (same edges)
+                initial = len(states)
+                states.append(states[0])
+                edges.append(list(edges[0]))
+                accepting.append(empty_word)
+            return self._minimal(states, edges, accepting, initial)
+        # the proposition layer as a diagram whose leaves are state numbers (now all known). The
+        # BDD is reduced and distinct obligations are distinct states, so distinct nodes stay
+        # distinct: no hash-consing needed, ids assigned children first
+        memo: dict[int, int] = {}
+        dvar: list[int] = []
+        dlow: list[int] = []
+        dhigh: list[int] = []
+        for k, top in enumerate(roots):  # children first, by an explicit stack (no closure cycles)
+            stack = [top]
+            while stack:
+                u = stack[-1]
+                if u <= TRUE or level[u] >= n_props or u in memo:
+                    stack.pop()
+                    continue
+                lo, hi = low[u], high[u]
+                waiting = [c for c in (hi, lo) if not (c <= TRUE or level[c] >= n_props or c in memo)]
+                if waiting:
+                    stack.extend(waiting)
+                    continue
+                stack.pop()
+                memo[u] = len(dvar)
+                dvar.append(level[u])
+                dlow.append(~index[lo] if lo <= TRUE or level[lo] >= n_props else memo[lo])
+                dhigh.append(~index[hi] if hi <= TRUE or level[hi] >= n_props else memo[hi])
+            roots[k] = ~index[top] if top <= TRUE or level[top] >= n_props else memo[top]
+        diagram = TransitionDiagram.from_arrays(sorted(self.props, key=self.props.get), dvar, dlow, dhigh)
         if empty_word != accepting[0]:
             # the start obligation may recur later with the other verdict on "the rest is empty",
-            # so the empty word gets a start state of its own (same edges)
+            # so the empty word gets a start state of its own (same transitions)
             initial = len(states)
-            states.append(start)
-            edges.append(list(edges[0]))
+            roots.append(roots[0])
             accepting.append(empty_word)
-        return self._minimal(states, edges, accepting, initial)
+        return diagram, roots, accepting, initial, sorted(self.props)
+
+    def build(self, max_states: int) -> DFA:
+        """The minimal DFA (the translation object keeps its manager: benchmarks count its nodes)."""
+        explored = self.explore(max_states)
+        return explored if isinstance(explored, DFA) else minimal(*explored)
 
     def _end(self, u: int) -> bool:
         ev = self.end_value
@@ -436,7 +526,12 @@ def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFA:
     collecting = gc.isenabled()
     gc.disable()
     try:
-        return _Translation(formula).build(max_states)
+        translation = _Translation(formula)
+        explored = translation.explore(max_states)
+        # the obligation manager and its caches go before minimisation, whose peak memory then
+        # does not add to the exploration's
+        del translation
+        return explored if isinstance(explored, DFA) else minimal(*explored)
     except RecursionError:
         raise LimitExceededError("the formula is nested too deeply to translate",
                                  hint="split it into smaller conjuncts") from None

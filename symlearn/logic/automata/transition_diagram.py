@@ -1,0 +1,560 @@
+"""Symbolic transitions: every state's transition function as one shared decision diagram.
+
+A :class:`TransitionDiagram` is a reduced, ordered, hash-consed multi-terminal decision
+diagram. Internal nodes (ids ``>= 0``) test proposition ``names[var[u]]`` (``names`` sorted, the
+order of the shared guard table) and go to ``high[u]`` when it is true, ``low[u]`` when false;
+*leaves* are states, encoded as negative ids: state ``s`` is leaf ``~s`` (``-s - 1``). A
+complete DFA over it is one root per state (``step(q, label)`` walks ``roots[q]`` down to a
+leaf). Nodes are shared between states, so a DFA with 2^n states and 3^n letter classes (``F p1
+& ... & F pn``) needs n·2^(n-1) nodes instead of 3^n guarded edges: this is how MONA stores
+automata, here in three flat integer lists (typed arrays once an automaton is finished). No
+pass recurses: a diagram can test hundreds of propositions.
+
+Nothing here enumerates (state, successor) pairs unless asked to:
+
+* exploring states (``reachable``, shortest words, products) walks each diagram node once for
+  the whole automaton, not once per state: a node met again was already walked from a state
+  no later in breadth-first order, so every leaf below it is already found (and at no greater
+  distance, which keeps breadth-first search exact);
+* minimisation (:func:`coarsest_blocks`) is Moore's refinement on *signatures*: a state's
+  diagram with every leaf replaced by its block, hash-consed per round, so one round costs one
+  pass over the nodes and equal signatures are equal ids;
+* guarded edges are produced only by :func:`materialise`, with a size limit that says so.
+
+The canonical numbering of a symbolic DFA (:func:`canonical_numbering`) is breadth-first from
+the initial state, a state's successors taken in the order a low-first walk of its diagram first
+meets them (nodes walked once overall). Explicit DFAs keep their guard-order numbering
+(:func:`symlearn.logic.automata.operations.canonical_order`); :func:`finish` decides which one a
+minimal DFA gets by its number of edges (:data:`EXPLICIT_EDGES`).
+"""
+
+from __future__ import annotations
+
+import sys
+from array import array
+from collections import deque
+from contextlib import contextmanager
+from collections.abc import Iterable, Sequence
+from typing import AbstractSet
+
+from symlearn.errors import LimitExceededError
+
+__all__ = ["TransitionDiagram", "EXPLICIT_EDGES", "MAX_MATERIALISED_EDGES", "materialise", "count_edges",
+           "coarsest_blocks", "canonical_numbering", "finish", "from_guarded", "product", "reachable",
+           "shortest_word", "live", "minimal", "quotient", "canonical_form"]
+
+#: a minimal DFA with at most this many guarded edges is returned with explicit edges (numbered
+#: in guard order, as before symbolic transitions existed); above, its transitions stay symbolic
+EXPLICIT_EDGES = 10_000
+#: producing more guarded edges than this from a symbolic DFA raises LimitExceededError
+MAX_MATERIALISED_EDGES = 1_000_000
+
+
+class TransitionDiagram:
+    """Hash-consed nodes ``(var, low, high)``; leaves ``~state``. Grows only (no collection):
+    a diagram belongs to the automata built on it and dies with them.
+
+    Children are always built before their parents, so *a node's children have smaller ids*:
+    the passes below (signatures, renaming) are plain loops over ``range(len(diagram))``
+    instead of memoised recursions, which is what makes them cheap in Python.
+    """
+
+    __slots__ = ("names", "var", "low", "high", "_unique")
+
+    def __init__(self, names: Sequence[str]) -> None:
+        self.names: tuple[str, ...] = tuple(names)
+        self.var: list[int] = []
+        self.low: list[int] = []
+        self.high: list[int] = []
+        self._unique: dict[tuple[int, int, int], int] | None = {}
+
+    @classmethod
+    def from_arrays(cls, names: Sequence[str], var: list[int], low: list[int], high: list[int]) -> TransitionDiagram:
+        """A diagram from node lists that are already reduced, unique and children-first (not
+        checked: for the passes here, which produce them so); the unique table is built only if
+        a node is ever added."""
+        diagram = cls(names)
+        diagram.var, diagram.low, diagram.high, diagram._unique = var, low, high, None
+        return diagram
+
+    def __len__(self) -> int:
+        """Internal nodes (leaves are not stored)."""
+        return len(self.var)
+
+    def node(self, var: int, low: int, high: int) -> int:
+        """The node testing proposition index ``var`` (above the variables of ``low``/``high``)."""
+        if low == high:
+            return low
+        key = (var, low, high)
+        unique = self._unique
+        if unique is None:
+            unique = self._unique = {k: u for u, k in enumerate(zip(self.var, self.low, self.high))}
+        found = unique.get(key)
+        if found is None:
+            found = unique[key] = len(self.var)
+            self.var.append(var)
+            self.low.append(low)
+            self.high.append(high)
+        return found
+
+    def step(self, root: int, label: AbstractSet[str]) -> int:
+        """The state reached from diagram ``root`` under ``label``."""
+        var, low, high, names = self.var, self.low, self.high, self.names
+        u = root
+        while u >= 0:
+            u = high[u] if names[var[u]] in label else low[u]
+        return ~u
+
+    def leaves(self, root: int) -> list[int]:
+        """The states below ``root``, in low-first order (one walk of this root alone)."""
+        found: list[int] = []
+        seen_leaves: set[int] = set()
+        seen: set[int] = set()
+        stack = [root]
+        low, high = self.low, self.high
+        while stack:
+            u = stack.pop()
+            if u < 0:
+                if u not in seen_leaves:
+                    seen_leaves.add(u)
+                    found.append(~u)
+            elif u not in seen:
+                seen.add(u)
+                stack.append(high[u])
+                stack.append(low[u])
+        return found
+
+    def memory_bytes(self) -> int:
+        """Bytes held by the node lists and the unique table (``sys.getsizeof``, keys included)."""
+        size = sum(sys.getsizeof(x) for x in (self.var, self.low, self.high))
+        if self._unique is not None:
+            size += sys.getsizeof(self._unique) + len(self._unique) * sys.getsizeof((0, 0, 0))
+        return size
+
+
+def _walk_new(diagram: TransitionDiagram, root: int, visited: set[int]) -> Iterable[tuple[int, tuple[int, ...]]]:
+    """Leaves met walking ``root`` low-first, skipping nodes in ``visited`` (which grows), each
+    with the proposition indices set true on the path that met it."""
+    low, high, var = diagram.low, diagram.high, diagram.var
+    stack: list[tuple[int, tuple[int, ...]]] = [(root, ())]
+    while stack:
+        u, path = stack.pop()
+        if u < 0:
+            yield ~u, path
+        elif u not in visited:
+            visited.add(u)
+            stack.append((high[u], path + (var[u],)))
+            stack.append((low[u], path))
+
+
+def reachable(diagram: TransitionDiagram, roots: Sequence[int], start: int) -> list[int]:
+    """States reachable from ``start``, in canonical breadth-first order."""
+    return _explore(diagram, roots, start)[0]
+
+
+def _explore(diagram: TransitionDiagram, roots: Sequence[int], start: int) -> tuple[list[int], bytearray]:
+    """States reachable from ``start`` in canonical order, and which nodes their roots reach."""
+    low, high = diagram.low, diagram.high
+    order, seen = [start], {start}
+    visited = bytearray(len(diagram))
+    for q in order:
+        stack = [roots[q]]
+        while stack:
+            u = stack.pop()
+            if u < 0:
+                t = ~u
+                if t not in seen:
+                    seen.add(t)
+                    order.append(t)
+            elif not visited[u]:
+                visited[u] = 1
+                stack.append(high[u])
+                stack.append(low[u])
+    return order, visited
+
+
+def canonical_numbering(diagram: TransitionDiagram, roots: Sequence[int], initial: int) -> list[int]:
+    """The states reachable from ``initial`` in the canonical order of symbolic DFAs."""
+    return _explore(diagram, roots, initial)[0]
+
+
+def shortest_word(diagram: TransitionDiagram, roots: Sequence[int], start: int,
+                  targets: AbstractSet[int]) -> list[frozenset[str]] | None:
+    """A shortest word from ``start`` into ``targets`` (breadth-first), or ``None``.
+
+    Each letter is the path label of the first diagram path found to the next state: the
+    propositions tested true on it, every other one false.
+    """
+    names = diagram.names
+    parent: dict[int, tuple[int, tuple[int, ...]] | None] = {start: None}
+    queue, visited = deque([start]), set()
+    while queue:
+        q = queue.popleft()
+        if q in targets:
+            word = []
+            while parent[q] is not None:
+                q, path = parent[q]  # type: ignore[misc]
+                word.append(frozenset(names[i] for i in path))
+            return word[::-1]
+        for t, path in _walk_new(diagram, roots[q], visited):
+            if t not in parent:
+                parent[t] = (q, path)
+                queue.append(t)
+    return None
+
+
+def live(diagram: TransitionDiagram, roots: Sequence[int], accepting: Iterable[int]) -> set[int]:
+    """States from which an accepting state is reachable (backward fixpoint, one loop over the
+    nodes per pass)."""
+    alive = set(accepting)
+    low, high = diagram.low, diagram.high
+    changed = True
+    while changed:
+        reaches = bytearray(len(low))  # node -> some leaf below it is a live state
+        for u in range(len(low)):  # children first
+            lo, hi = low[u], high[u]
+            reaches[u] = ((reaches[lo] if lo >= 0 else ~lo in alive)
+                          or (reaches[hi] if hi >= 0 else ~hi in alive))
+        changed = False
+        for q, root in enumerate(roots):
+            if q not in alive and (reaches[root] if root >= 0 else ~root in alive):
+                alive.add(q)
+                changed = True
+    return alive
+
+
+def coarsest_blocks(diagram: TransitionDiagram, roots: Sequence[int], accepting: Sequence[bool]) -> list[int]:
+    """Block of every state in the language-equivalence partition (Moore, symbolic signatures)."""
+    n = len(roots)
+    first = bool(accepting[0]) if n else False
+    block = [0 if bool(a) == first else 1 for a in accepting]  # block ids 0..n_blocks-1
+    n_blocks = len(set(block))
+    var, low, high = diagram.var, diagram.low, diagram.high
+    n_nodes = len(var)
+    while True:
+        # a node's signature: the node with every leaf replaced by its state's block, hash-consed
+        # (ids >= 0; a leaf's signature is ~block); children first, so one loop per round
+        unique: dict[tuple[int, int, int], int] = {}
+        sig = [0] * n_nodes
+        for u in range(n_nodes):
+            lo, hi = low[u], high[u]
+            lo = sig[lo] if lo >= 0 else ~block[~lo]
+            hi = sig[hi] if hi >= 0 else ~block[~hi]
+            if lo == hi:
+                sig[u] = lo
+            else:
+                key = (var[u], lo, hi)
+                found = unique.get(key)
+                if found is None:
+                    found = unique[key] = len(unique)
+                sig[u] = found
+        classes: dict[tuple[int, int], int] = {}
+        new_block = [classes.setdefault((block[q], sig[r] if r >= 0 else ~block[~r]), len(classes))
+                     for q, r in enumerate(roots)]
+        if len(classes) == n_blocks:
+            return block
+        block, n_blocks = new_block, len(classes)
+
+
+def quotient(diagram: TransitionDiagram, roots: Sequence[int], block: Sequence[int],
+             accepting: Sequence[bool], initial: int) -> tuple[TransitionDiagram, list[int], list[bool], int, list[int]]:
+    """The DFA on blocks (one representative each), renumbered canonically, in a fresh diagram:
+    ``(diagram, roots, accepting, initial, order)``, ``order[i]`` the block that became state ``i``."""
+    representative: dict[int, int] = {}
+    for q, b in enumerate(block):
+        representative.setdefault(b, q)
+    names = diagram.names
+    if len(representative) == len(roots):  # nothing merged: the states are the blocks
+        block = range(len(roots))
+        representative = {q: q for q in block}
+        staged, block_roots = diagram, list(roots)
+    else:
+        # leaves replaced by blocks; merged states can make nodes equal, so hash-cons again
+        staged = TransitionDiagram(names)
+        var, low, high = diagram.var, diagram.low, diagram.high
+        new_id = [0] * len(var)
+        node = staged.node
+        for u in range(len(var)):
+            lo, hi = low[u], high[u]
+            new_id[u] = node(var[u], new_id[lo] if lo >= 0 else ~block[~lo], new_id[hi] if hi >= 0 else ~block[~hi])
+        block_roots = [0] * len(representative)
+        for b, q in representative.items():
+            r = roots[q]
+            block_roots[b] = new_id[r] if r >= 0 else ~block[~r]
+    order, keep = _explore(staged, block_roots, block[initial])
+    index = [0] * len(block_roots)
+    for i, b in enumerate(order):
+        index[b] = i
+    # keep the nodes the reachable blocks use, children first as before; rename leaves
+    svar, slow, shigh = staged.var, staged.low, staged.high
+    position = [0] * len(svar)
+    nvar: list[int] = []
+    nlow: list[int] = []
+    nhigh: list[int] = []
+    for u in range(len(svar)):
+        if keep[u]:
+            lo, hi = slow[u], shigh[u]
+            position[u] = len(nvar)
+            nvar.append(svar[u])
+            nlow.append(position[lo] if lo >= 0 else ~index[~lo])
+            nhigh.append(position[hi] if hi >= 0 else ~index[~hi])
+    # typed arrays: 4 bytes a field instead of a pointer and an int object (36 bytes): the
+    # diagram of a minimal DFA is what lives on with it
+    result = TransitionDiagram.from_arrays(names, array("i", nvar), array("i", nlow), array("i", nhigh))
+    new_roots = []
+    for b in order:
+        r = block_roots[b]
+        new_roots.append(position[r] if r >= 0 else ~index[~r])
+    new_accepting = [accepting[representative[b]] for b in order]
+    return result, new_roots, new_accepting, 0, order
+
+
+def canonical_form(diagram: TransitionDiagram, roots: Sequence[int]) -> tuple:
+    """A value equal for two diagrams exactly when their states have the same transitions:
+    nodes renumbered in the order a walk from the roots (in state order) finishes them."""
+    names, var, low, high = diagram.names, diagram.var, diagram.low, diagram.high
+    ids: dict[int, int] = {}
+    nodes: list[tuple[str, int, int]] = []
+    encoded = []
+    for root in roots:
+        stack = [root]
+        while stack:
+            u = stack[-1]
+            if u < 0 or u in ids:
+                stack.pop()
+                continue
+            lo, hi = low[u], high[u]
+            waiting = [c for c in (hi, lo) if c >= 0 and c not in ids]
+            if waiting:
+                stack.extend(waiting)
+                continue
+            stack.pop()
+            ids[u] = len(nodes)
+            nodes.append((names[var[u]], lo if lo < 0 else ids[lo], hi if hi < 0 else ids[hi]))
+        encoded.append(root if root < 0 else ids[root])
+    return tuple(encoded), tuple(nodes)
+
+
+def _successor_sets(diagram: TransitionDiagram, roots: Sequence[int], limit: int | None):
+    """Per root, the frozenset of leaves below it; ``None`` once their sizes sum past ``limit``
+    (only the nodes below the roots looked at so far are visited)."""
+    low, high = diagram.low, diagram.high
+    below: dict[int, frozenset[int]] = {}
+    result = []
+    total = 0
+    for root in roots:
+        stack = [root]
+        while stack:  # children first, by an explicit stack
+            u = stack[-1]
+            if u in below:
+                stack.pop()
+            elif u < 0:
+                below[u] = frozenset((u,))
+                stack.pop()
+            else:
+                lo, hi = low[u], high[u]
+                if lo in below and hi in below:
+                    below[u] = below[lo] | below[hi]
+                    stack.pop()
+                    if limit is not None and len(below[u]) > limit:
+                        return None
+                else:
+                    stack.append(hi)
+                    stack.append(lo)
+        result.append(below[root])
+        total += len(below[root])
+        if limit is not None and total > limit:
+            return None
+    return result
+
+
+def count_edges(diagram: TransitionDiagram, roots: Sequence[int], limit: int | None = None) -> int | None:
+    """Guarded edges of the DFA (distinct successors summed over states); ``None`` beyond ``limit``."""
+    sets = _successor_sets(diagram, roots, limit)
+    return None if sets is None else sum(len(x) for x in sets)
+
+
+def materialise(diagram: TransitionDiagram, roots: Sequence[int], limit: int | None = MAX_MATERIALISED_EDGES):
+    """Per state ``[(Guard, target), ...]`` (one guard per target, canonical BDD guards).
+
+    Raises :class:`LimitExceededError` when the DFA has more than ``limit`` edges.
+    """
+    from symlearn.logic.bdd import BDD, FALSE, TRUE
+    from symlearn.logic.guards import from_bdd
+
+    if limit is not None and count_edges(diagram, roots, limit) is None:
+        raise LimitExceededError(
+            f"this DFA ({len(roots):,} states) has more than {limit:,} guarded edges; its transitions are "
+            "kept symbolic (one decision diagram per state) and are not materialised",
+            hint="use what works on the symbolic form (run, accepts, product, minimize, complement, "
+                 "is_empty, shortest words, equivalent) or pass a larger limit to materialise()")
+    bdd = BDD()
+    var, low, high = diagram.var, diagram.low, diagram.high
+    memo: dict[int, dict[int, int]] = {}
+
+    def split(root: int) -> dict[int, int]:
+        """target -> guard node of ``root`` (children first, by an explicit stack)."""
+        stack = [root]
+        while stack:
+            u = stack[-1]
+            if u in memo:
+                stack.pop()
+            elif u < 0:
+                memo[u] = {~u: TRUE}
+                stack.pop()
+            else:
+                lo_u, hi_u = low[u], high[u]
+                if lo_u in memo and hi_u in memo:
+                    lo, hi = memo[lo_u], memo[hi_u]
+                    memo[u] = {t: bdd.node(var[u], lo.get(t, FALSE), hi.get(t, FALSE)) for t in {**lo, **hi}}
+                    stack.pop()
+                else:
+                    stack.append(hi_u)
+                    stack.append(lo_u)
+        return memo[root]
+
+    rows = [list(split(root).items()) for root in roots]
+    guards = iter(from_bdd(bdd, [g for row in rows for _, g in row], list(diagram.names)))
+    return [[(next(guards), t) for t, _ in row] for row in rows]
+
+
+@contextmanager
+def _recursion_for(depth: int):
+    """Room for a recursion one frame per proposition (apply and Shannon expansion recurse)."""
+    limit = sys.getrecursionlimit()
+    sys.setrecursionlimit(max(limit, 4 * depth + 1000))
+    try:
+        yield
+    finally:
+        sys.setrecursionlimit(limit)
+
+
+def from_guarded(names: Sequence[str], rows: Sequence[Sequence[tuple]]) -> tuple[TransitionDiagram, list[int]]:
+    """The diagram of a complete DFA given as guarded edges ``[(Guard, target), ...]`` per state.
+
+    Shannon expansion on the first proposition any remaining guard tests; the edges of one
+    state are disjoint and cover every label (the caller completes the DFA first).
+    """
+    from symlearn.logic.guards import _MANAGER
+
+    names = tuple(names)
+    position = {name: i for i, name in enumerate(names)}
+    level, glow, ghigh = _MANAGER.level, _MANAGER.low, _MANAGER.high
+    diagram = TransitionDiagram(names)
+    memo: dict[tuple, int] = {}
+
+    def build(cases: tuple[tuple[int, int], ...]) -> int:
+        live_cases = tuple(c for c in cases if c[0] != 0)
+        if len(live_cases) == 1:
+            return ~live_cases[0][1]
+        if not live_cases:
+            raise ValueError("from_guarded needs a complete DFA")  # pragma: no cover - callers complete first
+        found = memo.get(live_cases)
+        if found is None:
+            top = min((level[g] for g, _ in live_cases if g > 1), key=position.__getitem__)
+            lo = tuple((glow[g] if g > 1 and level[g] == top else g, t) for g, t in live_cases)
+            hi = tuple((ghigh[g] if g > 1 and level[g] == top else g, t) for g, t in live_cases)
+            found = memo[live_cases] = diagram.node(position[top], build(lo), build(hi))
+        return found
+
+    with _recursion_for(len(names)):
+        roots = [build(tuple((g._node, t) for g, t in row)) for row in rows]
+    return diagram, roots
+
+
+def product(left: tuple[TransitionDiagram, Sequence[int], int], right: tuple[TransitionDiagram, Sequence[int], int],
+            *, max_states: int | None = None) -> tuple[TransitionDiagram, list[int], list[tuple[int, int]]]:
+    """Synchronous product of two complete symbolic DFAs ``(diagram, roots, initial)``.
+
+    Returns the product's diagram (over the union of the propositions), one root per reachable
+    pair and the pairs, numbered in discovery order. Pairs of nodes are combined once for the
+    whole product (memoised apply), so the work is the size of the result's diagram.
+    """
+    d1, roots1, start1 = left
+    d2, roots2, start2 = right
+    names = tuple(sorted(set(d1.names) | set(d2.names)))
+    position = {name: i for i, name in enumerate(names)}
+    map1 = [position[n] for n in d1.names]
+    map2 = [position[n] for n in d2.names]
+    result = TransitionDiagram(names)
+    start = (start1, start2)
+    index = {start: 0}
+    pairs = [start]
+    memo: dict[tuple[int, int], int] = {}
+    v1, l1, h1 = d1.var, d1.low, d1.high
+    v2, l2, h2 = d2.var, d2.low, d2.high
+    big = len(names)
+
+    def apply(u: int, v: int) -> int:
+        key = (u, v)
+        found = memo.get(key)
+        if found is not None:
+            return found
+        if u < 0 and v < 0:
+            pair = (~u, ~v)
+            j = index.get(pair)
+            if j is None:
+                if max_states is not None and len(pairs) >= max_states:
+                    raise LimitExceededError(f"the product automaton exceeds {max_states} states",
+                                             hint="raise max_states or minimise the operands first")
+                j = index[pair] = len(pairs)
+                pairs.append(pair)
+            found = ~j
+        else:
+            a = map1[v1[u]] if u >= 0 else big
+            b = map2[v2[v]] if v >= 0 else big
+            top = min(a, b)
+            u0, u1 = (l1[u], h1[u]) if a == top else (u, u)
+            w0, w1 = (l2[v], h2[v]) if b == top else (v, v)
+            found = result.node(top, apply(u0, w0), apply(u1, w1))
+        memo[key] = found
+        return found
+
+    roots: list[int] = []
+    i = 0
+    with _recursion_for(len(names)):
+        while i < len(pairs):
+            p, q = pairs[i]
+            roots.append(apply(roots1[p], roots2[q]))
+            i += 1
+    return result, roots, pairs
+
+
+def minimal(diagram: TransitionDiagram, roots: Sequence[int], accepting: Sequence[bool], initial: int,
+            alphabet: Iterable[str], *, explicit_edges: int = EXPLICIT_EDGES, state_names=None):
+    """The minimal complete DFA of a complete automaton given symbolically (see :func:`finish`);
+    a block is named after its lowest-numbered state."""
+    # unreachable states only add blocks that quotient() leaves out (it numbers from the initial one)
+    block = coarsest_blocks(diagram, roots, accepting)
+    names = None
+    if state_names is not None:
+        first: dict[int, str] = {}
+        for q, b in enumerate(block):
+            first.setdefault(b, state_names[q] if q < len(state_names) else "sink")
+        names = first
+    diagram, new_roots, new_accepting, new_initial, order = quotient(diagram, roots, block, accepting, initial)
+    return finish(diagram, new_roots, new_accepting, new_initial, alphabet, explicit_edges=explicit_edges,
+                  state_names=None if names is None else [names[b] for b in order])
+
+
+def finish(diagram: TransitionDiagram, roots: Sequence[int], accepting: Sequence[bool], initial: int,
+           alphabet: Iterable[str], *, explicit_edges: int = EXPLICIT_EDGES, state_names=None):
+    """The DFA of a minimal complete automaton numbered by :func:`quotient`: explicit guarded
+    edges numbered in guard order (as :meth:`DFA.minimize` numbers them) when it has at most
+    ``explicit_edges`` edges, else symbolic transitions in the canonical symbolic order."""
+    from symlearn.logic.automata.dfa import DFA
+
+    if count_edges(diagram, roots, explicit_edges) is not None:
+        table = [sorted(row, key=lambda e: e[0].sort_key) for row in materialise(diagram, roots, None)]
+        index = {initial: 0}
+        order = [initial]
+        for q in order:  # breadth-first, edges in guard order
+            for _, t in table[q]:
+                if t not in index:
+                    index[t] = len(order)
+                    order.append(t)
+        names = None if state_names is None else [state_names[q] for q in order]
+        return DFA._trusted(alphabet, len(order), 0, [index[q] for q in order if accepting[q]],
+                            [[(g, index[t]) for g, t in table[q]] for q in order], names)
+    return DFA._symbolic(alphabet, len(roots), initial, [q for q, a in enumerate(accepting) if a], diagram, roots,
+                         state_names)
