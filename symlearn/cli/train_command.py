@@ -9,7 +9,9 @@
   ``symlearn envs``) or any gymnasium id (``CartPole-v1``).
 * ``--cost rules.dnf``: the cost is 1 when the formula holds on the features of the state reached
   (``info["features"]``); with ``--per-rule`` one cost (and, with ``ppo-lag``, one multiplier)
-  per rule. Without it, ``ppo-lag`` uses the environment's own cost (the ground truth: the
+  per rule. ``--cost cost.safetensors``: a cost learned by ``symlearn learn icrl`` (refused when
+  it was learned for other observation/action spaces), the constrained signal of ``ppo-lag`` or,
+  with ``ppo``, subtracted from the reward (the thesis' transfer experiment). Without it, ``ppo-lag`` uses the environment's own cost (the ground truth: the
   baseline "PPO-Lagrangian on the true cost").
 * ``--advantage-scale returns``, ``--normalize-observations``, ``--normalize-values``: the options
   of :mod:`symlearn.rl.ppo` that made PPO-Lagrangian on the learned DNF solve the thesis' toy
@@ -18,7 +20,7 @@
   ascending number of atoms) stayed below ``--prune-threshold`` (thesis: 0.001) are dropped; the
   pruned formula is written beside the cost file as ``NAME.pruned.dnf`` with a report.
 
-JSON keys: ``return`` and ``cost`` (mean per episode of greedy evaluation episodes; cost is the
+JSON keys: ``cost_kind`` (``dnf``, ``neural`` or null), ``return`` and ``cost`` (mean per episode of greedy evaluation episodes; cost is the
 environment's ground-truth cost), ``violation_rate`` (share of evaluation steps with ground-truth
 cost), ``pruned`` (the dropped rules, or null), ``seconds``, ``steps``, ``files``.
 """
@@ -36,7 +38,9 @@ def register(subparsers, common) -> None:
                     "the agent never ran into can be pruned afterwards.")
     cmd.add_argument("--env", required=True, help="a bundled continuous environment or a gymnasium id")
     cmd.add_argument("--algo", choices=("ppo", "ppo-lag"), default="ppo-lag", help="ppo or ppo-lag (default)")
-    cmd.add_argument("--cost", metavar="RULES.dnf", help="a DNF formula over the environment's features as the cost")
+    cmd.add_argument("--cost", metavar="RULES.dnf|COST.safetensors",
+                     help="a DNF formula over the environment's features, or a cost learned by "
+                          "`symlearn learn icrl` (.safetensors), as the cost")
     cmd.add_argument("--per-rule", action="store_true", help="one cost (and multiplier) per rule of --cost")
     cmd.add_argument("--cost-limit", type=float, default=0.0,
                      help="ppo-lag: allowed expected cost per episode (default 0)")
@@ -96,8 +100,24 @@ def _train(args: argparse.Namespace, out) -> None:
         raise SymlearnError("--prune needs the rules to prune: give --cost RULES.dnf")
     base = _make_env(args.env)
     seed = getattr(args, "seed", 0) or 0
-    stats, dnf, cost_fn = None, None, None
-    if args.cost:
+    stats, dnf, cost_fn, reward_fn = None, None, None, None
+    neural = bool(args.cost) and str(args.cost).endswith(".safetensors")
+    if neural:
+        if args.per_rule or args.prune:
+            raise SymlearnError("--per-rule and --prune apply to DNF rules, not to a learned neural cost")
+        from symlearn.learners.neural import NeuralCost
+
+        probe = base()
+        try:
+            cost = NeuralCost.load(args.cost, probe)   # refuses a cost learned for other spaces
+        finally:
+            probe.close()
+        # one batched forward pass per rollout: the cost of PPO-Lagrangian, or r - C for plain PPO
+        if args.algo == "ppo-lag":
+            cost_fn = cost.cost_fn()
+        else:
+            reward_fn = cost.reward_fn()
+    elif args.cost:
         from symlearn.backends.dnf_cost import DnfRolloutCost, RuleStats
         from symlearn.logic.dnf import load
 
@@ -123,10 +143,11 @@ def _train(args: argparse.Namespace, out) -> None:
     config = PPOConfig(seed=seed, n_envs=args.n_envs, n_steps=args.n_steps,
                        batch_size=min(128, args.n_envs * args.n_steps),
                        normalize_observations=args.normalize_observations, normalize_values=args.normalize_values)
-    result = train_ppo(base, args.steps, config, lagrangian=lagrangian, cost_fn=cost_fn)
+    result = train_ppo(base, args.steps, config, lagrangian=lagrangian, cost_fn=cost_fn, reward_fn=reward_fn)
     episodes = evaluate(result.policy, base(), args.eval_episodes, seed=seed + 10_000)
     true_cost = episodes.costs.sum(axis=1) if episodes.costs.size else np.zeros(len(episodes.returns))
-    doc = {"env": args.env, "algo": args.algo, "return": float(np.mean(episodes.returns)),
+    doc = {"env": args.env, "algo": args.algo, "cost_kind": "neural" if neural else ("dnf" if args.cost else None),
+           "return": float(np.mean(episodes.returns)),
            "cost": float(np.mean(true_cost)),
            "violation_rate": float(np.sum(true_cost) / max(int(np.sum(episodes.lengths)), 1)),
            "multipliers": [float(m) for m in np.atleast_1d(result.multipliers)] if lagrangian else None,

@@ -145,6 +145,7 @@ def _spec(name: str, world: str, formula: str, description: str) -> Entry:
 
 
 _DNF_METHODS = ("dnf",)  # one-class tree -> DNF over the environment's info["features"]
+_ICRL_METHODS = ("mce-icrl",)  # neural ICRL on the environment's observations (symlearn learn icrl)
 
 
 def _safenav(agent: str, task: str, description: str) -> Entry:
@@ -190,6 +191,14 @@ ENTRIES: tuple[Entry, ...] = (
           "highway-env highway, continuous action: avoid collisions and leaving the road (10 features; "
           "needs symlearn[highway])", _DNF_METHODS, "symlearn/driving-v0",
           Factory("symlearn.envs.driving.env:DrivingEnv")),
+    # Neural MCE-ICRL (thesis chapter 2) at CPU size: a numpy stand-in for the blocked MuJoCo robots
+    # (section 2.5.2) and the kinematic point of the transfer experiment (section 2.5.4).
+    Entry("blocked-point", frozenset({Kind.CONTINUOUS}),
+          "point mass paid for moving along x; the easy direction is forbidden behind a wall at x = wall (-3)",
+          _ICRL_METHODS, "symlearn/blocked-point-v0", Factory("symlearn.envs.blocked_point:BlockedPoint")),
+    Entry("point-circle", frozenset({Kind.CONTINUOUS}),
+          "kinematic point paid for running a circle of radius 10, wall at x = -3 (cost-transfer target)",
+          _ICRL_METHODS, "symlearn/point-circle-v0", Factory("symlearn.envs.point_circle:PointCircle")),
 )
 
 # Names used before the registry gave the junction one name everywhere (hints only).

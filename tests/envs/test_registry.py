@@ -37,10 +37,11 @@ def test_names_are_unique_and_the_agreed_ones():
     safenav = [f"safenav-{agent}-{task}" for agent in ("point", "car") for task in ("goal", "push")]
     assert set(names) == {"hanoi", "junction-lights", "junction-priority", "junction-combined", "gridworld",
                           *(f"{world}-{i}" for world in ("office", "craft") for i in range(1, 5)),
-                          "toy-navigation", *safenav, "driving"}
+                          "toy-navigation", *safenav, "driving", "blocked-point", "point-circle"}
     assert GYM_IDS == sorted(f"symlearn/{n}-v0" for n in ("junction-lights", "junction-priority",
                                                           "junction-combined", "gridworld", "office", "craft",
-                                                          "toy-navigation", *safenav, "driving"))
+                                                          "toy-navigation", *safenav, "driving", "blocked-point",
+                                                          "point-circle"))
 
 
 def test_the_other_tables_are_views_of_the_registry():

@@ -1,0 +1,211 @@
+"""Neural MCE-ICRL on BlockedPoint: issue 12's CI-sized targets, against peers in the same run.
+
+For every seed: record the scripted expert's demonstrations, then
+
+* **MCE-ICRL** (``NeuralMCEICRL``, cost reading the position ``x, y``; 240k PPO steps in all),
+* **ME-ICRL** (``NeuralMEICRL``, Malik et al. 2021: feasibility network, PPO-Lagrangian forward
+  step with cost limit 0, importance-weighted backward step with KL early stopping; same inputs
+  and budget),
+* **GACL**: a GAIL discriminator between expert and policy pairs, the policy learning from
+  ``r + log D`` (same inputs and budget),
+* **MCE-ICRL, all inputs**: MCE-ICRL with the cost reading the whole observation (velocities
+  too) -- the ablation that shows what the choice of cost inputs does to recovery,
+* **unconstrained PPO**: the nominal policy of the MCE-ICRL run (PPO on the reward alone),
+* **PPO-Lagrangian on the true cost** (cost limit 0, as many steps as MCE-ICRL's policy phases):
+  what a learner told the constraint reaches with the same budget,
+
+and evaluate each policy on 20 episodes (mean action) against the ground truth: reward,
+violation rate per step, feasible reward (before the first violation); for the learned costs the
+recovery AUC/IoU of the unsafe set on states sampled around the expert's, and the time split of
+an iteration (policy update vs cost update). The targets of issue 12 are checked per seed.
+
+    python benchmarks/icrl_blocked_point.py                 # seeds 0-2
+    python benchmarks/icrl_blocked_point.py --seeds 1 --no-peers
+    python benchmarks/icrl_blocked_point.py --json out.json
+    python benchmarks/icrl_blocked_point.py --ablations      # beta sweep and pre-training off (MCE-ICRL only)
+
+``--ablations`` writes ``benchmarks/results/icrl_blocked_point_ablations.json``: MCE-ICRL with
+``beta`` in {0.001, 0.01, 0.1, 0.5} (the thesis' inverted U of reward over beta, Table 2.1) and
+with the autoencoder pre-training switched off, same seeds and budget.
+
+Timings are wall-clock on a shared machine: the load average is recorded before and after.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import torch
+
+from symlearn.atomic import write_text
+from symlearn.envs.blocked_point import BlockedPoint, expert_demonstrations
+from symlearn.learners.neural import NeuralMCEICRL
+from symlearn.learners.neural.episodes import demonstration_batch, sample_episodes
+from symlearn.learners.neural.icrl_metrics import episode_metrics, recovery
+from symlearn.learners.neural.gacl import NeuralGACL
+from symlearn.learners.neural.me_icrl import NeuralMEICRL
+from symlearn.rl.ppo import LagrangianConfig, PPOConfig, train_ppo
+
+RESULTS = Path(__file__).resolve().parent / "results" / "icrl_blocked_point.json"
+ABLATIONS = RESULTS.with_name("icrl_blocked_point_ablations.json")
+BETAS = (0.001, 0.01, 0.1, 0.5)
+N_DEMOS = 20
+EVAL_EPISODES = 20
+STEPS = 240_000  # as `symlearn learn icrl`'s default: 1/8 nominal, the rest over the iterations
+ITERATIONS = 10
+TARGETS = {"violation_rate": 0.05, "unconstrained_violation_rate": 0.5, "reward_share": 0.7, "recovery_auc": 0.9,
+           "cost_share_of_policy_time": 0.10, "seconds": 120.0}
+
+
+def evaluate(policy, seed: int) -> dict:
+    return episode_metrics(sample_episodes(policy, BlockedPoint, EVAL_EPISODES, seed=seed,
+                                           deterministic=True)).as_dict()
+
+
+def icrl_run(demos, seed: int, obs_dims, method=NeuralMCEICRL, **settings) -> tuple[dict, NeuralMCEICRL]:
+    nominal = STEPS // 8
+    started = time.perf_counter()
+    learner = method(n_iterations=ITERATIONS, nominal_steps=nominal, policy_steps=(STEPS - nominal) // ITERATIONS,
+                     obs_dims=obs_dims, random_state=seed, **settings).fit(demos, BlockedPoint)
+    seconds = time.perf_counter() - started
+    states = np.concatenate([np.asarray(t.states) for t in demos])
+    rec = recovery(learner.cost_, BlockedPoint().is_unsafe, states, seed=seed)
+    timings = learner.result_.timings
+    return {"seconds": seconds, **evaluate(learner.policy_, 50_000 + seed), "recovery": rec.as_dict(),
+            "lambda": [float(x) for x in learner.cost_.lambdas.numpy()], "timings": timings,
+            "cost_share_of_policy_time": timings["cost"] / timings["policy"],
+            "history": [h.as_dict() for h in learner.history_]}, learner
+
+
+def lagrangian_run(seed: int) -> dict:
+    config = PPOConfig(n_envs=4, n_steps=256, batch_size=256, learning_rate=1e-3, anneal_lr=False,
+                       normalize_values=True, ent_coef=0.01, seed=seed)
+    started = time.perf_counter()
+    result = train_ppo(BlockedPoint, STEPS, config, LagrangianConfig(cost_limit=0.0))
+    return {"seconds": time.perf_counter() - started, **evaluate(result.policy, 50_000 + seed),
+            "multiplier": float(result.multipliers[0])}
+
+
+def check_targets(run: dict, expert_reward: float) -> dict:
+    icrl = run["mce-icrl"]
+    return {"violation_rate <= 0.05": icrl["violation_rate"] <= TARGETS["violation_rate"],
+            "unconstrained violation_rate >= 0.5":
+                run["unconstrained"]["violation_rate"] >= TARGETS["unconstrained_violation_rate"],
+            "reward >= 0.7 x expert": icrl["reward"] >= TARGETS["reward_share"] * expert_reward,
+            "recovery AUC >= 0.9": (icrl["recovery"]["auc"] or 0) >= TARGETS["recovery_auc"],
+            "cost update <= 10% of policy update": icrl["cost_share_of_policy_time"] <= TARGETS[
+                "cost_share_of_policy_time"],
+            "<= 2 minutes": icrl["seconds"] <= TARGETS["seconds"]}
+
+
+def ablations(args: argparse.Namespace, argv: list[str] | None) -> dict:
+    """MCE-ICRL over beta and without pre-training (same seeds, budget and evaluation)."""
+    started, load_before = time.perf_counter(), os.getloadavg()
+    variants = {f"beta={b:g}": {"beta": b} for b in BETAS}
+    variants["no pre-training (beta=0.01)"] = {"pretrain": False}
+    runs = []
+    for seed in range(args.seeds):
+        demos = expert_demonstrations(N_DEMOS, seed=seed)
+        for name, settings in variants.items():
+            result, _ = icrl_run(demos, seed, obs_dims=[0, 1], **settings)
+            result.pop("history")
+            runs.append({"seed": seed, "variant": name, **result})
+            print(f"seed {seed} {name}: reward {result['reward']:.1f} violations {result['violation_rate']:.3f} "
+                  f"AUC {result['recovery']['auc']:.3f} ({result['seconds']:.0f} s)", flush=True)
+    summary = {name: {key: float(np.mean([r[key] if key in r else r["recovery"][key.split("_")[1]]
+                                          for r in runs if r["variant"] == name]))
+                      for key in ("reward", "violation_rate", "feasible_reward", "recovery_auc", "recovery_iou")}
+               for name in variants}
+    document = {
+        "benchmark": "icrl_blocked_point_ablations",
+        "command": "python benchmarks/icrl_blocked_point.py " + " ".join(argv if argv is not None else sys.argv[1:]),
+        "settings": {"n_demos": N_DEMOS, "eval_episodes": EVAL_EPISODES, "steps": STEPS, "iterations": ITERATIONS,
+                     "seeds": args.seeds, "env": "BlockedPoint(wall=-3)", "cost_inputs": ["x", "y"]},
+        "machine": {"python": platform.python_version(), "platform": platform.platform(), "cpus": os.cpu_count(),
+                    "torch": torch.__version__, "load_average_before": load_before,
+                    "load_average_after": os.getloadavg()},
+        "summary": summary, "runs": runs, "seconds": round(time.perf_counter() - started, 1)}
+    write_text(ABLATIONS, json.dumps(document, indent=1) + "\n")
+    print(f"\nwrote {ABLATIONS} ({document['seconds']:.0f} s)")
+    return document
+
+
+def main(argv: list[str] | None = None) -> dict:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--seeds", type=int, default=3, help="seeds 0..N-1 (3)")
+    parser.add_argument("--no-peers", action="store_true", help="skip the all-inputs ablation and PPO-Lagrangian")
+    parser.add_argument("--json", type=Path, default=RESULTS, help=f"output (default {RESULTS})")
+    parser.add_argument("--ablations", action="store_true", help=f"beta sweep and no pre-training -> {ABLATIONS.name}")
+    args = parser.parse_args(argv)
+    torch.set_num_threads(1)
+    if args.ablations:
+        return ablations(args, argv)
+    started = time.perf_counter()
+    load_before = os.getloadavg()
+    runs = []
+    for seed in range(args.seeds):
+        demos = expert_demonstrations(N_DEMOS, seed=seed)
+        expert = episode_metrics(demonstration_batch(demos)).as_dict()
+        run: dict = {"seed": seed, "expert": expert}
+        run["mce-icrl"], learner = icrl_run(demos, seed, obs_dims=[0, 1])
+        run["unconstrained"] = evaluate(learner.nominal_policy_, 50_000 + seed)
+        if not args.no_peers:
+            run["me-icrl"], _ = icrl_run(demos, seed, obs_dims=[0, 1], method=NeuralMEICRL)
+            run["gacl"], _ = icrl_run(demos, seed, obs_dims=[0, 1], method=NeuralGACL)
+            run["mce-icrl all inputs"], _ = icrl_run(demos, seed, obs_dims=None)
+            run["ppo-lagrangian true cost"] = lagrangian_run(seed)
+        run["targets"] = check_targets(run, expert["reward"])
+        runs.append(run)
+        icrl = run["mce-icrl"]
+        print(f"seed {seed}: expert reward {expert['reward']:.1f}; MCE-ICRL reward {icrl['reward']:.1f} violations "
+              f"{icrl['violation_rate']:.3f} AUC {icrl['recovery']['auc']:.3f} IoU {icrl['recovery']['iou']:.3f} "
+              f"({icrl['seconds']:.0f} s, cost/policy time {icrl['cost_share_of_policy_time']:.3f}); unconstrained "
+              f"violations {run['unconstrained']['violation_rate']:.3f}", flush=True)
+        for name in ("me-icrl", "gacl", "mce-icrl all inputs", "ppo-lagrangian true cost"):
+            if name in run:
+                r = run[name]
+                extra = f" AUC {r['recovery']['auc']:.3f}" if "recovery" in r else ""
+                print(f"  {name}: reward {r['reward']:.1f} violations {r['violation_rate']:.3f}{extra} "
+                      f"({r['seconds']:.0f} s)", flush=True)
+        print("  targets: " + ", ".join(f"{k}: {'met' if v else 'NOT met'}" for k, v in run["targets"].items()),
+              flush=True)
+
+    def mean(method: str, key: str) -> float | None:
+        values = [r[method][key] for r in runs if method in r]
+        return float(np.mean(values)) if values else None
+
+    summary = {method: {key: mean(method, key) for key in ("reward", "violation_rate", "feasible_reward")}
+               for method in ("expert", "mce-icrl", "me-icrl", "gacl", "mce-icrl all inputs", "unconstrained",
+                              "ppo-lagrangian true cost") if any(method in r for r in runs)}
+    for method in ("mce-icrl", "me-icrl", "gacl", "mce-icrl all inputs"):
+        if method in summary:
+            summary[method]["recovery_auc"] = float(np.mean([r[method]["recovery"]["auc"] for r in runs]))
+            summary[method]["recovery_iou"] = float(np.mean([r[method]["recovery"]["iou"] for r in runs]))
+            summary[method]["seconds"] = mean(method, "seconds")
+            summary[method]["cost_share_of_policy_time"] = mean(method, "cost_share_of_policy_time")
+    document = {
+        "benchmark": "icrl_blocked_point",
+        "command": "python benchmarks/icrl_blocked_point.py " + " ".join(argv if argv is not None else sys.argv[1:]),
+        "settings": {"n_demos": N_DEMOS, "eval_episodes": EVAL_EPISODES, "steps": STEPS, "iterations": ITERATIONS,
+                     "seeds": args.seeds, "env": "BlockedPoint(wall=-3)", "targets": TARGETS},
+        "machine": {"python": platform.python_version(), "platform": platform.platform(), "cpus": os.cpu_count(),
+                    "numpy": np.__version__, "torch": torch.__version__,
+                    "load_average_before": load_before, "load_average_after": os.getloadavg()},
+        "summary": summary,
+        "targets_met": {k: all(r["targets"][k] for r in runs) for k in runs[0]["targets"]},
+        "runs": runs, "seconds": round(time.perf_counter() - started, 1)}
+    args.json.parent.mkdir(parents=True, exist_ok=True)
+    write_text(args.json, json.dumps(document, indent=1) + "\n")
+    print(f"\nwrote {args.json} ({document['seconds']:.0f} s)")
+    return document
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,231 @@
+"""``symlearn learn icrl``: learn a neural cost by inverse constrained RL in a continuous environment.
+
+``symlearn learn icrl --env NAME [--method mce-icrl|me-icrl|gacl] [--demos D.npz | --n-demos N] [--steps N]
+[--iterations I] [--beta B] [--cost-inputs x,y] [--env-kwargs JSON] [-o cost.safetensors] [--json]``
+
+* ``--env``: a bundled environment with ``mce-icrl`` among its methods (``blocked-point``,
+  ``point-circle``; see ``symlearn envs``), built with ``--env-kwargs`` (a JSON object of its
+  constructor's keyword arguments, e.g. ``'{"wall": -4.0}'``; an unknown key is refused).
+* ``--demos``: expert demonstrations (``.npz``/``.jsonl``) whose states are the environment's
+  observations and which carry actions; otherwise ``--n-demos`` episodes of the environment's
+  scripted expert (BlockedPoint: full speed away from the wall), generated from ``--seed``.
+* ``--method``: ``mce-icrl`` (thesis chapter 2, the default), ``me-icrl`` (Malik et al.'s
+  baseline: feasibility network, PPO-Lagrangian with cost limit 0) or ``gacl`` (a GAIL
+  discriminator, the policy learning from ``r + log D``).
+* ``--steps``: PPO steps in all: one eighth for the nominal policy, the rest split evenly over
+  the ``--iterations``. ``--beta``: the entropy coefficient (> 0). ``--cost-inputs``: the
+  observation entries the cost reads, by name (``x,y``) or index (default: all).
+
+After learning, the policy is evaluated on 20 episodes (mean action) against the environment's
+ground truth (``info["cost"]``), and the cost's recovery of the true unsafe set is measured on
+states sampled around the expert's (:mod:`symlearn.learners.neural.icrl_metrics`).
+
+JSON keys: ``reward``, ``violation_rate``, ``feasible_reward``, ``recovery_auc``,
+``recovery_iou``, ``expert_reward``, ``lambda``, ``iterations``, ``seconds``, ``timings``
+(``nominal``, ``pretrain``, ``policy``, ``cost``), ``history`` (per iteration), ``files``.
+``-o`` must end in ``.safetensors``; the configuration goes to the ``.json`` beside it.
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+METHODS = ("mce-icrl", "me-icrl", "gacl")
+EVAL_EPISODES = 20
+
+
+def register_learn(commands, common) -> None:
+    cmd = commands.add_parser(
+        "icrl", parents=[common()], help="learn a neural cost by inverse constrained RL (continuous spaces)",
+        description="Maximum causal entropy inverse constrained RL with a neural feature network (thesis "
+                    "chapter 2, Algorithm 2.1): PPO on r - lambda.phi(s,a) alternating with steps on lambda "
+                    "and phi that match the expert's discounted feature sums; --method me-icrl / gacl run the "
+                    "baselines (Malik et al.'s maximum entropy ICRL, a GAIL-style discriminator) instead. Reports reward, violation rate, feasible reward and the recovery "
+                    "of the environment's unsafe set.")
+    cmd.add_argument("--env", required=True, help="a bundled environment (blocked-point, point-circle)")
+    cmd.add_argument("--method", choices=METHODS, default="mce-icrl",
+                     help="mce-icrl (maximum causal entropy, default), me-icrl (Malik et al.'s baseline) or gacl "
+                          "(GAIL-style discriminator)")
+    source = cmd.add_mutually_exclusive_group()
+    source.add_argument("--demos", help="expert demonstrations (.npz or .jsonl) with observations and actions")
+    source.add_argument("--n-demos", type=int, default=20, help="episodes of the scripted expert to record (20)")
+    cmd.add_argument("--steps", type=int, default=240_000,
+                     help="PPO steps in all: 1/8 nominal, the rest over the iterations (240000)")
+    cmd.add_argument("--iterations", type=int, default=10, help="ICRL iterations (10)")
+    cmd.add_argument("--beta", type=float, default=0.01, help="entropy coefficient, > 0 (0.01)")
+    cmd.add_argument("--cost-inputs", help="observation entries the cost reads: names (x,y) or indices (default all)")
+    cmd.add_argument("--env-kwargs", default="{}", metavar="JSON", help="keyword arguments of the environment")
+    cmd.add_argument("-o", "--output", metavar="COST.safetensors",
+                     help="write the learned cost here (and COST.json beside it)")
+    cmd.set_defaults(handler=_icrl)
+
+
+# --- arguments -------------------------------------------------------------------------------------
+
+
+def _check_arguments(args: argparse.Namespace) -> None:
+    """Everything that can be refused before any work."""
+    import math
+
+    from symlearn.errors import DataError
+
+    if args.output and not str(args.output).endswith(".safetensors"):
+        raise DataError(f"-o must end in .safetensors, got {args.output!r}",
+                        hint="the cost is two files, NAME.safetensors and NAME.json")
+    if not (math.isfinite(args.beta) and args.beta > 0):
+        raise DataError(f"--beta must be a number > 0, got {args.beta:g}",
+                        hint="beta weighs the policy's entropy; MCE-ICRL needs some (e.g. 0.01)")
+    if args.iterations < 1:
+        raise DataError(f"--iterations must be at least 1, got {args.iterations}")
+    if args.n_demos < 1:
+        raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
+    if args.steps < 8 * args.iterations:
+        raise DataError(f"--steps {args.steps} is too few for {args.iterations} iterations")
+
+
+def env_kwargs(text: str, factory: Any, env_name: str) -> dict[str, Any]:
+    """``--env-kwargs`` parsed and checked against the environment's constructor."""
+    import inspect
+    import json
+
+    from symlearn.errors import DataError
+
+    try:
+        kwargs = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise DataError(f"--env-kwargs is not JSON: {exc.msg}", line=exc.lineno, column=exc.colno,
+                        hint='give a JSON object, e.g. \'{"wall": -3.0}\'') from None
+    if not isinstance(kwargs, dict):
+        raise DataError(f"--env-kwargs must be a JSON object, got {type(kwargs).__name__}")
+    parameters = inspect.signature(factory.resolve()).parameters
+    known = [name for name, p in parameters.items() if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    unknown = [key for key in kwargs if key not in known]
+    if unknown:
+        from difflib import get_close_matches
+
+        close = get_close_matches(unknown[0], known, n=1)
+        raise DataError(f"unknown --env-kwargs key {unknown[0]!r} for {env_name}",
+                        hint=(f"did you mean {close[0]!r}? " if close else "") + "known: " + ", ".join(known))
+    return kwargs
+
+
+def _cost_inputs(text: str | None, names: Any, width: int) -> list[int] | None:
+    from symlearn.errors import DataError
+
+    if not text:
+        return None
+    dims = []
+    for item in (part.strip() for part in text.split(",")):
+        if item.lstrip("-").isdigit():
+            index = int(item)
+        elif names is not None and item in names:
+            index = list(names).index(item)
+        else:
+            raise DataError(f"--cost-inputs: unknown observation entry {item!r}",
+                            hint="observation entries: " + (", ".join(names) if names else f"0..{width - 1}"))
+        if not 0 <= index < width:
+            raise DataError(f"--cost-inputs: index {index} outside the observation's {width} entries")
+        dims.append(index)
+    return dims
+
+
+def _demonstrations(args: argparse.Namespace, env_name: str, kwargs: dict[str, Any], env: Any):
+    from symlearn.errors import DataError
+
+    if args.demos:
+        from symlearn.data import load
+
+        return load(args.demos)
+    if env_name == "blocked-point":
+        from symlearn.envs.blocked_point import expert_demonstrations
+
+        return expert_demonstrations(args.n_demos, seed=getattr(args, "seed", 0) or 0, env=env)
+    raise DataError(f"{env_name} has no scripted expert", hint="give expert demonstrations with --demos")
+
+
+# --- the command -----------------------------------------------------------------------------------
+
+
+def _icrl(args: argparse.Namespace, out) -> None:
+    import time
+
+    import numpy as np
+
+    from symlearn.cli.output import blame_file
+    from symlearn.envs.registry import Kind, entries, get
+
+    _check_arguments(args)
+    started = time.perf_counter()
+    entry = get(args.env)
+    # continuous ones only: the tabular gridworld's mce-icrl is `symlearn learn constraints`
+    usable = [e.name for e in entries(Kind.CONTINUOUS) if "mce-icrl" in e.methods]
+    if entry.name not in usable:
+        from symlearn.errors import DataError
+
+        raise DataError(f"{entry.name} is no environment for neural ICRL", hint="use " + " or ".join(usable))
+    kwargs = env_kwargs(args.env_kwargs, entry.env, entry.name)
+    try:
+        env = entry.make_env(**kwargs)
+    except (TypeError, ValueError) as exc:  # a value of the wrong type ("wall": "left")
+        from symlearn.errors import DataError
+
+        raise DataError(f"--env-kwargs does not fit {entry.name}: {exc}") from None
+    names = getattr(env.unwrapped, "observation_names", None)
+    width = int(np.prod(env.observation_space.shape))
+    obs_dims = _cost_inputs(args.cost_inputs, names, width)
+    demos = _demonstrations(args, entry.name, kwargs, env)
+
+    import torch
+
+    from symlearn.learners.neural import NeuralGACL, NeuralMCEICRL, NeuralMEICRL
+    from symlearn.learners.neural.episodes import demonstration_batch, sample_episodes
+    from symlearn.learners.neural.icrl_metrics import episode_metrics, recovery
+
+    torch.set_num_threads(1)  # small networks: a second thread only contends on 2 shared cores
+
+    seed = getattr(args, "seed", 0) or 0
+    nominal = max(args.steps // 8, 1)
+    method = {"mce-icrl": NeuralMCEICRL, "me-icrl": NeuralMEICRL, "gacl": NeuralGACL}[args.method]
+    learner = method(beta=args.beta, n_iterations=args.iterations, nominal_steps=nominal,
+                     policy_steps=max((args.steps - nominal) // args.iterations, 1), obs_dims=obs_dims,
+                     random_state=seed)
+
+    def env_fn():
+        return entry.make_env(**kwargs)
+
+    with blame_file(args.demos):
+        learner.fit(demos, env_fn)
+    evaluation = episode_metrics(sample_episodes(learner.policy_, env_fn, EVAL_EPISODES, seed=seed + 50_000,
+                                                 deterministic=True))
+    expert_obs, _ = demonstration_batch(demos).pairs()
+    unsafe = getattr(env.unwrapped, "is_unsafe", None)
+    rec = None if unsafe is None else recovery(learner.cost_, unsafe, expert_obs.reshape(len(expert_obs), -1),
+                                               seed=seed)
+    result = learner.result_
+    doc = {"env": entry.name, "method": args.method, "reward": evaluation.reward,
+           "violation_rate": evaluation.violation_rate, "feasible_reward": evaluation.feasible_reward,
+           "recovery_auc": None if rec is None else rec.as_dict()["auc"],
+           "recovery_iou": None if rec is None else rec.as_dict()["iou"],
+           "expert_reward": result.metrics["expert_reward"],
+           "lambda": [float(x) for x in learner.cost_.lambdas.numpy()],
+           "iterations": len(learner.history_), "seconds": time.perf_counter() - started,
+           "timings": {k: v for k, v in result.timings.items() if k != "total"},
+           "history": [h.as_dict() for h in learner.history_], "files": []}
+    if args.output:
+        path = learner.save(args.output)
+        doc["files"] = [str(path), str(path.with_suffix(".json"))]
+    out.result(doc, _render)
+
+
+def _render(doc: dict) -> str:
+    def number(x: Any) -> str:
+        return "n/a" if x is None else f"{x:.3f}"
+
+    lines = [f"{doc['method']} on {doc['env']}: {doc['iterations']} iterations in {doc['seconds']:.1f} s",
+             f"  reward {doc['reward']:.2f} (expert {doc['expert_reward']:.2f}), violation rate "
+             f"{doc['violation_rate']:.3f}, feasible reward {doc['feasible_reward']:.2f}",
+             f"  recovery of the unsafe set: AUC {number(doc['recovery_auc'])}, IoU {number(doc['recovery_iou'])}",
+             "  lambda " + ", ".join(f"{x:.3g}" for x in doc["lambda"])]
+    lines += [f"wrote {f}" for f in doc["files"]]
+    return "\n".join(lines)

@@ -1,0 +1,207 @@
+"""GACL: generative adversarial constraint learning, the GAIL-style ICRL baseline of the thesis.
+
+Section 2.5 (after Malik et al. 2021): a discriminator ``D(s, a)`` in ``(0, 1)`` learns to tell
+expert state-action pairs (``D -> 1``) from the current policy's (``D -> 0``), and the policy is
+trained on ``r + log D(s, a)``: pairs only the policy produces become very expensive (``log D ->
+-inf``), so the agent is pushed toward what the expert does. After a nominal PPO phase, each
+iteration takes ``disc_steps`` full-batch Adam steps on the binary cross-entropy of the
+discriminator (policy episodes sampled from the current policy, the demonstrations), then
+continues the policy with PPO for ``policy_steps`` steps.
+
+The discriminator is a one-feature :class:`~symlearn.learners.neural.feature_network.FeatureNetwork`
+whose sigmoid output is ``phi = 1 - D``; the learned cost is saved as a
+:class:`~symlearn.learners.neural.NeuralCost` ``C = phi = 1 - D`` (``lambda = 1``), so the
+file, the transfer checks and the recovery metrics (AUC depends only on the ordering, which
+``1 - D`` and ``-log D`` share) are the same as for the other learners; the penalty the policy
+learned from is ``-log(1 - C)`` (``log D`` is floored at ``log 1e-6``).
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import torch
+
+from symlearn.errors import SymlearnError
+from symlearn.learners.base import Learner
+from symlearn.learners.neural.episodes import demonstration_batch, sample_episodes
+from symlearn.learners.neural.feature_network import INPUTS, FeatureNetwork
+from symlearn.learners.neural.icrl_metrics import episode_metrics
+from symlearn.learners.neural.mce_icrl import (PPO_DEFAULTS, action_bound_penalty, environment_factory,
+                                               jsonable_params, seed_offset)
+from symlearn.learners.neural.neural_cost import NeuralCost, encode, space_spec, spec_width
+from symlearn.progress import progress
+
+LOG_FLOOR = 1e-6
+
+
+@dataclass(frozen=True)
+class GACLIteration:
+    """One iteration: the sampled policy's reward and violation rate (ground truth, reported
+    only; the policy before this iteration's PPO phase), the discriminator's mean ``D`` on expert
+    and policy pairs after its update, and the seconds of the policy and discriminator updates."""
+
+    iteration: int
+    reward: float
+    violation_rate: float
+    expert_d: float
+    policy_d: float
+    policy_seconds: float
+    cost_seconds: float
+
+    def as_dict(self) -> dict[str, Any]:
+        return {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in asdict(self).items()}
+
+
+class NeuralGACL(Learner):
+    """GACL: ``NeuralGACL(...).fit(demonstrations, env)`` (module docstring). Parameters as
+    :class:`~symlearn.learners.neural.NeuralMCEICRL` where they share a meaning, and
+    ``learning_rate``, ``disc_steps`` (discriminator Adam steps per iteration)."""
+
+    artefact_suffix = ".safetensors"
+
+    def __init__(self, *, beta: float = 0.01, n_iterations: int = 10, nominal_steps: int = 30_000,
+                 policy_steps: int = 20_480, features: str = "state", obs_dims: Sequence[int] | None = None,
+                 hidden_sizes: Sequence[int] = (64, 64), learning_rate: float = 3e-3, disc_steps: int = 20,
+                 n_policy_episodes: int = 16, bound_penalty: float = 1.0, ppo: dict[str, Any] | None = None,
+                 random_state: int | None = 0) -> None:
+        self.beta = beta
+        self.n_iterations = n_iterations
+        self.nominal_steps = nominal_steps
+        self.policy_steps = policy_steps
+        self.features = features
+        self.obs_dims = obs_dims
+        self.hidden_sizes = hidden_sizes
+        self.learning_rate = learning_rate
+        self.disc_steps = disc_steps
+        self.n_policy_episodes = n_policy_episodes
+        self.bound_penalty = bound_penalty
+        self.ppo = ppo
+        self.random_state = random_state
+
+    def _check_parameters(self) -> None:
+        if not (isinstance(self.beta, (int, float)) and math.isfinite(self.beta) and self.beta >= 0):
+            raise SymlearnError(f"beta must be a number >= 0, got {self.beta!r}")
+        if self.features not in INPUTS:
+            raise SymlearnError(f"unknown features {self.features!r}", hint=f"use one of {list(INPUTS)}")
+        for name in ("n_iterations", "nominal_steps", "policy_steps", "disc_steps", "n_policy_episodes"):
+            value = getattr(self, name)
+            if not isinstance(value, (int, np.integer)) or value < 1:
+                raise SymlearnError(f"{name} must be a positive integer, got {value!r}")
+        if not (self.learning_rate > 0 and self.bound_penalty >= 0):
+            raise SymlearnError("learning_rate must be > 0 and bound_penalty >= 0")
+
+    def fit(self, demonstrations: Any, domain: Any = None) -> NeuralGACL:
+        from symlearn.rl.ppo import PPOConfig, train_ppo
+
+        self._check_parameters()
+        started = time.perf_counter()
+        env_fn = environment_factory(domain)
+        probe = env_fn()
+        obs_spec, act_spec = space_spec(probe.observation_space), space_spec(probe.action_space, bounds=True)
+        expert = demonstration_batch(demonstrations)
+        expert_obs, expert_act = expert.pairs()
+        expert_x = encode(expert_obs, obs_spec, "demonstration observations")
+        expert_a = encode(expert_act, act_spec, "demonstration actions")
+        width = spec_width(obs_spec)
+        obs_dims = list(range(width)) if self.obs_dims is None else [int(i) for i in self.obs_dims]
+        if not obs_dims or min(obs_dims) < 0 or max(obs_dims) >= width:
+            raise SymlearnError(f"obs_dims {obs_dims} outside the observation's {width} entries")
+        seed = self.random_state
+        generator = torch.Generator().manual_seed(0 if seed is None else int(seed))
+        penalty = action_bound_penalty(act_spec, self.bound_penalty)  # see mce_icrl's docstring
+
+        def ppo_config(offset: int) -> Any:
+            return PPOConfig(**{**PPO_DEFAULTS, **(self.ppo or {}), "ent_coef": float(self.beta),
+                                "seed": seed_offset(seed, offset)})
+
+        def reward_fn(cost: NeuralCost | None) -> Any:
+            def reward(rollout: Any) -> np.ndarray:
+                r = rollout.rewards
+                if cost is not None:  # r + log D, D = 1 - C
+                    r = r + np.log(np.maximum(1.0 - cost.cost_of_rollout(rollout), LOG_FLOOR))
+                return r if penalty is None else r - penalty(rollout.actions)
+            return reward
+
+        previous_threads = torch.get_num_threads()
+        torch.set_num_threads(1)
+        try:
+            timings: dict[str, float] = {}
+            t0 = time.perf_counter()
+            policy = train_ppo(env_fn, int(self.nominal_steps), ppo_config(0), reward_fn=reward_fn(None)).policy
+            timings["nominal"] = time.perf_counter() - t0
+            nominal_policy = copy.deepcopy(policy)
+            action_dim = spec_width(act_spec) if self.features == "state_action" else 0
+            phi = FeatureNetwork(obs_dims, action_dim, 1, self.hidden_sizes, generator)  # phi = 1 - D
+            cost = NeuralCost.for_env(probe, phi, provenance={"learner": type(self).__name__,
+                                                              "parameters": jsonable_params(self.get_params())})
+            cost.set_lambdas([1.0])
+            batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes), seed=seed_offset(seed, 10_000))
+            nominal_x, nominal_a = cost.tensors(*batch.pairs())
+            phi.fit_standardisation(np.concatenate([expert_x, nominal_x.numpy()]),
+                                    None if not action_dim else np.concatenate([expert_a, nominal_a.numpy()]))
+            expert_in = (torch.from_numpy(expert_x), None if not action_dim else torch.from_numpy(expert_a))
+            optimizer = torch.optim.Adam(phi.parameters(), lr=self.learning_rate)
+            history: list[GACLIteration] = []
+            for iteration in progress(range(1, int(self.n_iterations) + 1), total=int(self.n_iterations),
+                                      desc="GACL", unit="iter"):
+                t0 = time.perf_counter()
+                expert_d, policy_d = discriminator_step(phi, optimizer, expert_in, cost.tensors(*batch.pairs()),
+                                                        steps=int(self.disc_steps))
+                cost_seconds = time.perf_counter() - t0
+                metrics = episode_metrics(batch)
+                t0 = time.perf_counter()
+                policy = train_ppo(env_fn, int(self.policy_steps), ppo_config(iteration), reward_fn=reward_fn(cost),
+                                   policy=policy).policy
+                policy_seconds = time.perf_counter() - t0
+                batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes),
+                                        seed=seed_offset(seed, 10_000 + 100 * iteration))
+                history.append(GACLIteration(iteration, metrics.reward, metrics.violation_rate, expert_d, policy_d,
+                                             policy_seconds, cost_seconds))
+            final = episode_metrics(batch)
+        finally:
+            torch.set_num_threads(previous_threads)
+            probe.close()
+        phi.eval()
+        policy.eval()
+        self.cost_, self.policy_, self.nominal_policy_ = cost, policy, nominal_policy
+        self.history_ = history
+        self.seconds_ = time.perf_counter() - started
+        timings.update(policy=sum(h.policy_seconds for h in history), cost=sum(h.cost_seconds for h in history),
+                       total=self.seconds_)
+        expert_reward = float(np.where(expert.mask, expert.rewards, 0.0).sum(axis=1).mean())
+        self._set_result(cost, "", metrics={"expert_reward": expert_reward, "final_sample": final.as_dict()},
+                         timings=timings, history=history)
+        return self
+
+    def save(self, path: Any) -> Path:
+        """Write the learned cost ``1 - D``: ``path`` (``.safetensors``) and its JSON beside it."""
+        self.check_fitted()
+        return Path(self.cost_.save(path))
+
+
+def discriminator_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer,
+                       expert_in: tuple[torch.Tensor, torch.Tensor | None],
+                       policy_in: tuple[torch.Tensor, torch.Tensor | None], *, steps: int) -> tuple[float, float]:
+    """``steps`` full-batch Adam steps on the binary cross-entropy of ``D = 1 - phi`` (expert
+    pairs labelled 1, policy pairs 0; each class weighted equally). Returns the mean ``D`` on
+    expert and policy pairs afterwards."""
+    bce = torch.nn.functional.binary_cross_entropy
+    for _ in range(steps):
+        expert_phi, policy_phi = phi(*expert_in), phi(*policy_in)
+        loss = bce(expert_phi, torch.zeros_like(expert_phi)) + bce(policy_phi, torch.ones_like(policy_phi))
+        optimizer.zero_grad(set_to_none=True)
+        loss.backward()
+        optimizer.step()
+    with torch.no_grad():
+        return float(1.0 - phi(*expert_in).mean()), float(1.0 - phi(*policy_in).mean())
+
+
+__all__ = ["GACLIteration", "NeuralGACL", "discriminator_step"]

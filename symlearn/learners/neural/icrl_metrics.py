@@ -1,0 +1,123 @@
+"""What an ICRL run is judged by: reward, violations, feasible reward and recovery of the constraint.
+
+* **reward**: mean episode return (the environment's reward).
+* **violation rate**: per episode the fraction of its steps whose ``info["cost"]`` is positive
+  (the thesis' "fraction of all timesteps of a trajectory that violate at least one constraint",
+  section 2.5), averaged over episodes.
+* **feasible reward**: per episode the reward collected before the first violating step (that
+  step's own reward excluded; the whole return when nothing was violated), averaged.
+* **recovery** (:func:`recovery`): how well the learned cost separates the true unsafe set from
+  the safe one on states sampled uniformly from the box around the expert's states, widened by
+  ``margin`` times its width on every side (so the sample reaches past where the expert went --
+  into the unsafe set the expert avoided -- without drifting to states no one would visit).
+  ``auc`` is the ROC AUC of the cost as a score for "unsafe" (``sklearn.metrics.roc_auc_score``:
+  1 = every unsafe state costs more than every safe one; threshold-free); ``iou`` the
+  intersection over union of the predicted unsafe set (normalised cost ``C / sum(lambda)`` at
+  least ``threshold``, 0.5 by default: the ``lambda``-weighted feature average is above one half)
+  with the true one. A state-action cost is scored per state by its mean over ``n_actions``
+  uniformly sampled actions.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from symlearn.errors import DataError
+from symlearn.learners.neural.episodes import EpisodeBatch
+
+
+@dataclass(frozen=True)
+class EpisodeMetrics:
+    reward: float
+    violation_rate: float
+    feasible_reward: float
+    episodes: int
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"reward": self.reward, "violation_rate": self.violation_rate,
+                "feasible_reward": self.feasible_reward, "episodes": self.episodes}
+
+
+def episode_metrics(batch: EpisodeBatch) -> EpisodeMetrics:
+    """Reward, violation rate and feasible reward of a batch of episodes (module docstring)."""
+    mask = batch.mask
+    lengths = mask.sum(axis=1)
+    if not len(lengths) or lengths.min() == 0:
+        raise DataError("metrics need at least one episode, each with at least one step")
+    rewards = np.where(mask, batch.rewards, 0.0)
+    violating = mask & (batch.costs > 0)
+    # reward before the first violation: steps strictly before the first violating one
+    first = np.where(violating.any(axis=1), violating.argmax(axis=1), lengths)
+    before = np.arange(mask.shape[1])[None, :] < first[:, None]
+    return EpisodeMetrics(reward=float(rewards.sum(axis=1).mean()),
+                          violation_rate=float((violating.sum(axis=1) / lengths).mean()),
+                          feasible_reward=float(np.where(before, rewards, 0.0).sum(axis=1).mean()),
+                          episodes=int(len(lengths)))
+
+
+@dataclass(frozen=True)
+class Recovery:
+    auc: float  # NaN when the sample holds only safe or only unsafe states
+    iou: float
+    unsafe_share: float  # share of the sampled states that are truly unsafe
+    samples: int
+    threshold: float
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"auc": _plain(self.auc), "iou": _plain(self.iou), "unsafe_share": self.unsafe_share,
+                "samples": self.samples, "threshold": self.threshold}
+
+
+def sample_around(states: np.ndarray, n: int, margin: float, rng: np.random.Generator) -> np.ndarray:
+    """``n`` states uniform in the bounding box of ``states`` ``(m, d)`` widened by ``margin``
+    times its width on each side (an entry the states never vary in is widened by ``margin``)."""
+    states = np.asarray(states, dtype=np.float64).reshape(len(states), -1)
+    if not len(states) or not np.isfinite(states).all():
+        raise DataError("recovery needs finite reference states")
+    low, high = states.min(axis=0), states.max(axis=0)
+    width = np.where(high > low, high - low, 1.0)
+    return rng.uniform(low - margin * width, high + margin * width, size=(n, states.shape[1]))
+
+
+def recovery(cost: Any, unsafe: Callable[[np.ndarray], np.ndarray], reference_states: np.ndarray, *,
+             n: int = 20_000, margin: float = 0.25, threshold: float = 0.5, n_actions: int = 8,
+             action_sampler: Callable[[int, np.random.Generator], np.ndarray] | None = None,
+             seed: int | None = 0) -> Recovery:
+    """Recovery of the true unsafe set by a learned :class:`~symlearn.learners.neural.NeuralCost`
+    (module docstring). ``unsafe(states) -> bool array`` is the ground truth; ``reference_states``
+    the expert's (flattened) observations; ``action_sampler(k, rng) -> (k, ...)`` actions for a
+    state-action cost."""
+    from sklearn.metrics import roc_auc_score
+
+    if not 0 < threshold < 1:
+        raise DataError(f"threshold must be in (0, 1), got {threshold}")
+    rng = np.random.default_rng(seed)
+    states = sample_around(reference_states, n, margin, rng).astype(np.float32)
+    truth = np.asarray(unsafe(states), dtype=bool).reshape(-1)
+    if truth.shape != (n,):
+        raise DataError(f"the ground truth gave {truth.size} verdicts for {n} states")
+    if getattr(cost, "uses_actions", False):
+        if action_sampler is None:
+            raise DataError("a state-action cost needs an action_sampler for recovery")
+        scores = np.mean([cost(states, action_sampler(n, rng)) for _ in range(n_actions)], axis=0)
+    else:
+        scores = np.asarray(cost(states), dtype=np.float64)
+    total = float(np.sum(np.asarray(cost.lambdas))) if hasattr(cost, "lambdas") else 1.0
+    predicted = scores >= threshold * total if total > 0 else np.zeros(n, dtype=bool)
+    both = truth.any() and (~truth).any()
+    auc = float(roc_auc_score(truth, scores)) if both else math.nan
+    union = np.sum(predicted | truth)
+    iou = float(np.sum(predicted & truth) / union) if union else math.nan
+    return Recovery(auc, iou, float(truth.mean()), n, threshold)
+
+
+def _plain(x: float) -> float | None:
+    return None if isinstance(x, float) and math.isnan(x) else x
+
+
+__all__ = ["EpisodeMetrics", "Recovery", "episode_metrics", "recovery", "sample_around"]

@@ -1,0 +1,386 @@
+"""Neural maximum causal entropy inverse constrained RL (thesis chapter 2, Algorithm 2.1).
+
+The tabular learner (:mod:`symlearn.learners.constraints.mce_icrl`) solves the dual of
+
+    max_pi  E_pi[R(tau) + beta H(tau)]   s.t.   E_D[phi(tau)] - E_pi[phi(tau)] >= -alpha
+
+exactly. Here every exact step has its sampled, neural counterpart:
+
+1. a **nominal policy** is trained with PPO on the reward alone;
+2. the **feature network** ``phi_zeta(s, a)`` (ReLU MLP, sigmoid output, ``n_features`` wide)
+   is pre-trained as the encoder of an autoencoder on nominal and expert state(-action) pairs
+   (:func:`~symlearn.learners.neural.feature_network.pretrain_autoencoder`);
+3. then ``n_iterations`` times:
+
+   * **dual step** on samples of the current policy (``n_policy_episodes`` whole episodes) and
+     the demonstrations, with discounted feature sums ``F = E[sum_t gamma^t phi(s_t, a_t)]``:
+     ``lambda <- max(0, lambda - lambda_lr * (F_D - F_pi - alpha))`` (eq. 2.12, projected on
+     ``lambda >= 0``; the same sign convention as the tabular learner -- note that with it a
+     budget ``alpha > 0`` raises ``lambda`` even when the sums match, i.e. it tightens the
+     constraint; a slack would enter as ``+ alpha``. The default ``alpha = 0`` is unaffected),
+     then ``zeta_steps``
+     Adam steps on ``zeta`` down the gradient ``lambda . (E_D[grad phi] - E_pi[grad phi])``
+     (eq. 2.13: the features rise where the policy goes and the expert does not), with a
+     learning rate ``zeta_lr * zeta_decay^(i-1)`` that decays every iteration;
+   * **policy step**: PPO continues the same policy (``train_ppo(policy=...)``) for
+     ``policy_steps`` steps on the reward ``r - lambda . phi(s, a)`` with entropy coefficient
+     ``beta`` (eq. 2.11), the learned reward computed in one forward pass per rollout
+     (``reward_fn``).
+
+   Both PPO phases learn from the reward minus ``bound_penalty * sum(max(|a| - bound, 0)^2)`` on
+   the sampled (unclipped) Gaussian actions of a bounded Box action space. PPO samples actions
+   from an unbounded Gaussian and the environment clips them, so every sample beyond a bound has
+   the bound's effect; samples inside it move slower and earn less, and the mean drifts until
+   almost no sample lands inside (measured on BlockedPoint: mean -2.7, standard deviation 0.8 for
+   an action box of [-1, 1] after the nominal phase). Such a policy can hardly turn round when the
+   cost starts to forbid that direction: only ~1 % of its samples carry a signal. The penalty,
+   zero for every action the environment can tell apart, keeps the mean at the bound (-1.06,
+   standard deviation 0.4 on the same run). ``bound_penalty=0`` turns it off.
+
+   The first dual step uses the nominal policy's samples (Algorithm 2.1 with its first PPO
+   phase, which would run on ``lambda = 0`` and so repeat the nominal one, left out), so the
+   cost returned is the one the returned policy was trained on last.
+
+``fit(demonstrations, env)``: ``env`` is a function returning a fresh gymnasium environment,
+a gymnasium id, or an environment (copied for PPO's parallel copies); the demonstrations'
+states must be that environment's observations and they must carry the actions. The learner
+reads the environment's reward; ``info["cost"]`` (the ground truth, when there is one) is only
+*reported* in the history (violation rate), never learned from.
+
+Results: ``cost_`` (:class:`~symlearn.learners.neural.NeuralCost`, callable, ``save``),
+``policy_`` and ``nominal_policy_`` (:class:`~symlearn.rl.ppo.ActorCritic`), ``lambda_``,
+``expert_features_``, ``pretrain_`` (:class:`PretrainRecord` or None), ``history_`` (one
+:class:`ICRLIteration` per iteration), ``seconds_``, ``result_``. ``save(path)`` writes the cost
+as ``path`` (``.safetensors``) and the JSON beside it.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import os
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import asdict, dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import torch
+
+from symlearn.errors import DataError, SymlearnError
+from symlearn.learners.base import Learner
+from symlearn.learners.neural.episodes import demonstration_batch, sample_episodes
+from symlearn.learners.neural.feature_network import INPUTS, FeatureNetwork, pretrain_autoencoder
+from symlearn.learners.neural.icrl_metrics import episode_metrics
+from symlearn.learners.neural.neural_cost import NeuralCost, encode, space_spec, spec_width
+from symlearn.progress import progress
+
+#: PPO settings of the policy phases unless ``ppo=`` overrides them (a shorter rollout and a
+#: larger step than PPOConfig's defaults: the phases are short, and each continues the last)
+PPO_DEFAULTS: dict[str, Any] = {"n_envs": 4, "n_steps": 256, "batch_size": 256, "n_epochs": 4,
+                                "learning_rate": 1e-3, "anneal_lr": False, "normalize_values": True}
+
+
+@dataclass(frozen=True)
+class ICRLIteration:
+    """One iteration: the multipliers after its dual step, the discounted feature sums it
+    matched (expert, policy before the step), the reward and violation rate (ground truth,
+    reported only) of the sampled episodes the dual step used -- those of the policy before this
+    iteration's PPO phase --, and the seconds of its policy update, cost update and sampling."""
+
+    iteration: int
+    lambdas: tuple[float, ...]
+    expert_features: tuple[float, ...]
+    policy_features: tuple[float, ...]
+    reward: float
+    violation_rate: float
+    zeta_lr: float
+    policy_seconds: float
+    cost_seconds: float
+    sampling_seconds: float
+
+    def as_dict(self) -> dict[str, Any]:
+        return {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in asdict(self).items()}
+
+
+class NeuralMCEICRL(Learner):
+    """Neural MCE-ICRL: ``NeuralMCEICRL(...).fit(demonstrations, env)`` (module docstring).
+
+    Parameters: ``beta`` (entropy coefficient of the policy phases, > 0), ``n_iterations``,
+    ``nominal_steps`` / ``policy_steps`` (PPO steps of the nominal phase / of every iteration),
+    ``features`` (``"state"`` or ``"state_action"``), ``obs_dims`` (observation entries ``phi``
+    reads; None = all), ``n_features`` (width of ``phi``, one multiplier each),
+    ``hidden_sizes``, ``pretrain`` (autoencoder pre-training on/off) and ``pretrain_epochs``,
+    ``lambda_lr``, ``zeta_lr``, ``zeta_decay`` (per iteration), ``zeta_steps`` (Adam steps per
+    iteration), ``alpha`` (the budget; 0 = hard constraints), ``discount`` (of the feature
+    sums), ``n_policy_episodes`` (episodes sampled per dual step), ``bound_penalty`` (module
+    docstring), ``ppo`` (a dict of
+    :class:`~symlearn.rl.ppo.PPOConfig` fields over :data:`PPO_DEFAULTS`; ``ent_coef`` is
+    ``beta``), ``random_state``.
+    """
+
+    artefact_suffix = ".safetensors"
+
+    def __init__(self, *, beta: float = 0.01, n_iterations: int = 10, nominal_steps: int = 30_000,
+                 policy_steps: int = 20_480, features: str = "state", obs_dims: Sequence[int] | None = None,
+                 n_features: int = 4, hidden_sizes: Sequence[int] = (64, 64), pretrain: bool = True,
+                 pretrain_epochs: int = 30, lambda_lr: float = 0.02, zeta_lr: float = 3e-3, zeta_decay: float = 0.9,
+                 zeta_steps: int = 20, alpha: float = 0.0, discount: float = 0.99, n_policy_episodes: int = 16,
+                 bound_penalty: float = 1.0, ppo: dict[str, Any] | None = None,
+                 random_state: int | None = 0) -> None:
+        self.beta = beta
+        self.n_iterations = n_iterations
+        self.nominal_steps = nominal_steps
+        self.policy_steps = policy_steps
+        self.features = features
+        self.obs_dims = obs_dims
+        self.n_features = n_features
+        self.hidden_sizes = hidden_sizes
+        self.pretrain = pretrain
+        self.pretrain_epochs = pretrain_epochs
+        self.lambda_lr = lambda_lr
+        self.zeta_lr = zeta_lr
+        self.zeta_decay = zeta_decay
+        self.zeta_steps = zeta_steps
+        self.alpha = alpha
+        self.discount = discount
+        self.n_policy_episodes = n_policy_episodes
+        self.bound_penalty = bound_penalty
+        self.ppo = ppo
+        self.random_state = random_state
+
+    # --- settings ----------------------------------------------------------------------------------
+
+    def _check_parameters(self) -> None:
+        if not (isinstance(self.beta, (int, float)) and math.isfinite(self.beta) and self.beta > 0):
+            raise SymlearnError(f"beta must be a number > 0, got {self.beta!r}",
+                                hint="beta weighs the policy's causal entropy; MCE-ICRL needs some (e.g. 0.01)")
+        if self.features not in INPUTS:
+            raise SymlearnError(f"unknown features {self.features!r}", hint=f"use one of {list(INPUTS)}")
+        for name in ("n_iterations", "nominal_steps", "policy_steps", "n_features", "zeta_steps",
+                     "n_policy_episodes", "pretrain_epochs"):
+            value = getattr(self, name)
+            if not isinstance(value, (int, np.integer)) or value < (0 if name == "pretrain_epochs" else 1):
+                raise SymlearnError(f"{name} must be a positive integer, got {value!r}")
+        for name, ok in (("lambda_lr", self.lambda_lr > 0), ("zeta_lr", self.zeta_lr > 0),
+                         ("zeta_decay", 0 < self.zeta_decay <= 1), ("alpha", self.alpha >= 0),
+                         ("discount", 0 < self.discount <= 1), ("bound_penalty", self.bound_penalty >= 0)):
+            if not ok:
+                raise SymlearnError(f"{name} out of range: {getattr(self, name)!r}")
+
+    def _ppo_config(self, seed: int | None, entropy: float) -> Any:
+        from symlearn.rl.ppo import PPOConfig
+
+        settings = {**PPO_DEFAULTS, **(self.ppo or {}), "ent_coef": float(entropy), "seed": seed}
+        try:
+            return PPOConfig(**settings)
+        except TypeError as exc:
+            raise SymlearnError(f"ppo: {exc}", hint="ppo= takes PPOConfig fields") from None
+
+    # --- fit -----------------------------------------------------------------------------------------
+
+    def fit(self, demonstrations: Any, domain: Any = None) -> NeuralMCEICRL:
+        """Learn a cost and a policy from ``demonstrations`` in the environment ``domain``."""
+        from symlearn.rl.ppo import train_ppo
+
+        self._check_parameters()
+        started = time.perf_counter()
+        env_fn = environment_factory(domain)
+        probe = env_fn()
+        obs_spec, act_spec = space_spec(probe.observation_space), space_spec(probe.action_space, bounds=True)
+        expert = demonstration_batch(demonstrations)
+        expert_obs, expert_act = expert.pairs()
+        expert_x = encode(expert_obs, obs_spec, "demonstration observations")  # shape and NaN checks
+        expert_a = encode(expert_act, act_spec, "demonstration actions")
+        obs_width = spec_width(obs_spec)
+        obs_dims = list(range(obs_width)) if self.obs_dims is None else [int(i) for i in self.obs_dims]
+        if not obs_dims or min(obs_dims) < 0 or max(obs_dims) >= obs_width:
+            raise SymlearnError(f"obs_dims {obs_dims} outside the observation's {obs_width} entries")
+        seed = self.random_state
+        generator = torch.Generator().manual_seed(0 if seed is None else int(seed))
+        previous_threads = torch.get_num_threads()
+        torch.set_num_threads(1)
+        try:
+            timings: dict[str, float] = {}
+            t0 = time.perf_counter()
+            penalty = action_bound_penalty(act_spec, self.bound_penalty)
+            nominal = train_ppo(env_fn, int(self.nominal_steps), self._ppo_config(seed, self.beta),
+                                reward_fn=penalised(None, penalty))
+            timings["nominal"] = time.perf_counter() - t0
+            policy = nominal.policy
+            nominal_policy = copy.deepcopy(policy)
+            t0 = time.perf_counter()
+            batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes), seed=seed_offset(seed, 10_000))
+            sampling = time.perf_counter() - t0
+
+            action_dim = spec_width(act_spec) if self.features == "state_action" else 0
+            phi = FeatureNetwork(obs_dims, action_dim, int(self.n_features), self.hidden_sizes, generator)
+            cost = NeuralCost.for_env(probe, phi, provenance={"learner": type(self).__name__,
+                                                              "parameters": jsonable_params(self.get_params())})
+            nominal_x, nominal_a = cost.tensors(*batch.pairs())
+            all_x = np.concatenate([expert_x, nominal_x.numpy()])
+            all_a = None if not action_dim else np.concatenate([expert_a, nominal_a.numpy()])
+            phi.fit_standardisation(all_x, all_a)
+            pretrain = None
+            if self.pretrain and self.pretrain_epochs:
+                pretrain = pretrain_autoencoder(phi, all_x, all_a, epochs=int(self.pretrain_epochs),
+                                                generator=generator)
+                timings["pretrain"] = pretrain.seconds
+
+            expert_t = (torch.from_numpy(expert_x), None if not action_dim else torch.from_numpy(expert_a))
+            expert_w = torch.from_numpy(expert.discount_weights(self.discount)[expert.mask]).float()
+            optimizer = torch.optim.Adam(phi.parameters(), lr=self.zeta_lr)
+            lambdas = np.zeros(int(self.n_features))
+            history: list[ICRLIteration] = []
+            expert_features = np.zeros_like(lambdas)
+            for iteration in progress(range(1, int(self.n_iterations) + 1), total=int(self.n_iterations),
+                                      desc="MCE-ICRL", unit="iter"):
+                # dual step on the current policy's samples
+                t0 = time.perf_counter()
+                policy_t = cost.tensors(*batch.pairs())
+                policy_w = torch.from_numpy(batch.discount_weights(self.discount)[batch.mask]).float()
+                zeta_lr = self.zeta_lr * self.zeta_decay ** (iteration - 1)
+                lambdas, expert_features, policy_features = dual_step(
+                    phi, optimizer, lambdas, (expert_t, expert_w), (policy_t, policy_w), lambda_lr=self.lambda_lr,
+                    alpha=self.alpha, zeta_lr=zeta_lr, zeta_steps=int(self.zeta_steps))
+                cost.set_lambdas(lambdas)
+                cost_seconds = time.perf_counter() - t0
+                metrics = episode_metrics(batch)
+
+                # policy step on r - lambda . phi
+                t0 = time.perf_counter()
+                trained = train_ppo(env_fn, int(self.policy_steps), self._ppo_config(seed_offset(seed, iteration),
+                                                                                     self.beta),
+                                    reward_fn=penalised(cost, penalty), policy=policy)
+                policy = trained.policy
+                policy_seconds = time.perf_counter() - t0
+                t0 = time.perf_counter()
+                batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes),
+                                        seed=seed_offset(seed, 10_000 + 100 * iteration))
+                sampling = time.perf_counter() - t0
+                history.append(ICRLIteration(iteration, tuple(map(float, lambdas)),
+                                             tuple(map(float, expert_features)), tuple(map(float, policy_features)),
+                                             metrics.reward, metrics.violation_rate, zeta_lr, policy_seconds,
+                                             cost_seconds, sampling))
+            final = episode_metrics(batch)
+        finally:
+            torch.set_num_threads(previous_threads)
+            probe.close()
+        phi.eval()
+        self.cost_ = cost
+        self.policy_ = policy
+        self.policy_.eval()
+        self.nominal_policy_ = nominal_policy
+        self.lambda_ = lambdas
+        self.expert_features_ = expert_features
+        self.pretrain_ = pretrain
+        self.history_ = history
+        self.seconds_ = time.perf_counter() - started
+        timings["policy"] = sum(h.policy_seconds for h in history)
+        timings["cost"] = sum(h.cost_seconds for h in history)
+        timings["total"] = self.seconds_
+        expert_reward = float(np.where(expert.mask, expert.rewards, 0.0).sum(axis=1).mean())
+        self._set_result(cost, "", metrics={"lambda": [float(x) for x in lambdas], "expert_reward": expert_reward,
+                                            "final_sample": final.as_dict(),
+                                            "pretrain": None if pretrain is None else pretrain.as_dict()},
+                         timings=timings, history=history)
+        return self
+
+    def save(self, path: str | os.PathLike[str]) -> Path:
+        """Write the learned cost: ``path`` (``.safetensors``) and its JSON configuration beside it."""
+        self.check_fitted()
+        return Path(self.cost_.save(path))
+
+
+# --- helpers -------------------------------------------------------------------------------------
+
+
+def environment_factory(env: Any) -> Callable[[], Any]:
+    """A function returning a fresh environment, from such a function, a gymnasium id, or an
+    environment (deep-copied)."""
+    if isinstance(env, str):
+        import gymnasium
+
+        return lambda: gymnasium.make(env)
+    if isinstance(env, type):  # an environment class: its constructor makes fresh ones
+        return env
+    if hasattr(env, "reset") and hasattr(env, "step"):
+        template = copy.deepcopy(env)
+        return lambda: copy.deepcopy(template)
+    if callable(env):
+        return env
+    raise DataError(f"need an environment, a function returning one, or a gymnasium id; got {env!r}")
+
+
+def action_bound_penalty(action_spec: dict[str, Any], weight: float) -> Callable[[np.ndarray], np.ndarray] | None:
+    """``actions [T, N, d] -> weight * sum_d max(|a| - bound, 0)^2`` for a Box action space with
+    finite bounds (None for Discrete, unbounded or ``weight = 0``): see the module docstring."""
+    if not weight or action_spec["kind"] != "box" or "low" not in action_spec:
+        return None
+    low = np.array([-np.inf if x is None else x for x in action_spec["low"]])
+    high = np.array([np.inf if x is None else x for x in action_spec["high"]])
+
+    def penalty(actions: np.ndarray) -> np.ndarray:
+        a = np.asarray(actions, dtype=np.float64).reshape(*actions.shape[:2], -1)
+        excess = np.maximum(a - high, 0.0) + np.maximum(low - a, 0.0)
+        return weight * (excess ** 2).sum(-1)
+    return penalty
+
+
+def penalised(cost: NeuralCost | None, penalty: Callable[[np.ndarray], np.ndarray] | None) -> Any:
+    """``train_ppo``'s ``reward_fn``: the environment's reward minus the learned cost (if any)
+    and the action-bound penalty (if any); None when there is neither."""
+    if cost is None and penalty is None:
+        return None
+
+    def reward(rollout: Any) -> np.ndarray:
+        r = rollout.rewards if cost is None else rollout.rewards - cost.cost_of_rollout(rollout)
+        return r if penalty is None else r - penalty(rollout.actions)
+    return reward
+
+
+def dual_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer, lambdas: np.ndarray,
+              expert: tuple[tuple[torch.Tensor, torch.Tensor | None], torch.Tensor],
+              policy: tuple[tuple[torch.Tensor, torch.Tensor | None], torch.Tensor], *, lambda_lr: float,
+              alpha: float, zeta_lr: float, zeta_steps: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """One step on the dual variables: ``lambda`` (eq. 2.12, projected on ``lambda >= 0``), then
+    ``zeta_steps`` steps of ``optimizer`` (on ``phi``'s parameters, learning rate ``zeta_lr``)
+    down ``lambda . (F_D - F_pi)`` (eq. 2.13). ``expert``/``policy``: ``((obs, actions), weights)``
+    with the per-row weights of :meth:`EpisodeBatch.discount_weights`, so ``weights @ phi`` is a
+    mean discounted feature sum. Returns the new ``lambda`` and the feature sums ``F_D``,
+    ``F_pi`` it was computed from."""
+    (expert_in, expert_w), (policy_in, policy_w) = expert, policy
+    with torch.no_grad():
+        expert_features = (expert_w @ phi(*expert_in)).double().numpy()
+        policy_features = (policy_w @ phi(*policy_in)).double().numpy()
+    gradient = expert_features - policy_features - alpha  # eq. 2.12
+    lambdas = np.maximum(0.0, np.asarray(lambdas, dtype=np.float64) - lambda_lr * gradient)
+    for group in optimizer.param_groups:
+        group["lr"] = zeta_lr
+    if lambdas.any():
+        lam = torch.from_numpy(lambdas).float()
+        for _ in range(zeta_steps):
+            loss = lam @ (expert_w @ phi(*expert_in) - policy_w @ phi(*policy_in))
+            optimizer.zero_grad(set_to_none=True)
+            loss.backward()
+            optimizer.step()
+    return lambdas, expert_features, policy_features
+
+
+def seed_offset(seed: int | None, k: int) -> int | None:
+    return None if seed is None else int(seed) + k
+
+
+def jsonable_params(params: dict[str, Any]) -> dict[str, Any]:
+    out: dict[str, Any] = {}
+    for key, value in params.items():
+        if isinstance(value, tuple):
+            value = list(value)
+        if value is None or isinstance(value, (bool, int, float, str, list, dict)):
+            out[key] = value
+    return out
+
+
+__all__ = ["ICRLIteration", "NeuralMCEICRL", "PPO_DEFAULTS", "action_bound_penalty", "dual_step", "environment_factory",
+           "jsonable_params", "penalised", "seed_offset"]

@@ -1,0 +1,264 @@
+"""ME-ICRL (Malik et al., 2021): maximum (trajectory) entropy ICRL with a feasibility network.
+
+The baseline the thesis compares MCE-ICRL with (section 2.5). A feasibility network
+``zeta(s, a)`` in ``(0, 1)`` defines the cost ``1 - zeta(s, a)``; the expert's trajectories are
+modelled as ``P(tau) ~ exp(R(tau)) * prod_t zeta(s_t, a_t)`` (a trajectory-level maximum entropy
+model in which infeasible steps have probability 0). After a nominal PPO phase, each iteration
+
+1. **forward**: PPO-Lagrangian continues the policy with the cost ``1 - zeta`` and a cost limit
+   of 0 (hard constraints; the multiplier carried over from the previous iteration);
+2. **backward**: ``backward_epochs`` Adam steps on the network's weights maximising the
+   demonstrations' log-likelihood under the model, whose gradient is
+   ``E_D[sum_t grad log zeta] - E_pi[w(tau) sum_t grad log zeta]`` with the policy's sampled
+   episodes reweighted by importance weights ``w(tau) ~ prod_t zeta_new / zeta_old`` (normalised
+   to mean 1; the samples came from the policy of the weights at the start of the step), plus a
+   regulariser ``regularizer * E[1 - zeta]`` on expert and policy steps that keeps the network
+   from calling everything infeasible. The epochs stop early once the importance weights drift
+   too far from uniform: ``KL(old || new) = -mean log w`` or ``KL(new || old) = mean w log w``
+   above ``target_kl`` (the samples no longer describe the reweighted policy).
+
+The learned cost is a :class:`~symlearn.learners.neural.NeuralCost` with one feature
+``phi = 1 - zeta`` (the network's sigmoid output read as the cost) and ``lambda = 1``, so files,
+transfer checks and recovery metrics are the same as MCE-ICRL's. Results: ``cost_``, ``policy_``,
+``nominal_policy_``, ``multiplier_`` (PPO-Lagrangian's), ``history_`` (:class:`MEIteration`),
+``result_``.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass
+from typing import Any
+
+import numpy as np
+import torch
+
+from symlearn.errors import SymlearnError
+from symlearn.learners.base import Learner
+from symlearn.learners.neural.episodes import EpisodeBatch, demonstration_batch, sample_episodes
+from symlearn.learners.neural.feature_network import INPUTS, FeatureNetwork
+from symlearn.learners.neural.icrl_metrics import episode_metrics
+from symlearn.learners.neural.mce_icrl import (PPO_DEFAULTS, action_bound_penalty, environment_factory,
+                                               jsonable_params, penalised, seed_offset)
+from symlearn.learners.neural.neural_cost import NeuralCost, encode, space_spec, spec_width
+from symlearn.progress import progress
+
+LOG_FLOOR = 1e-6  # log(zeta) is taken of max(zeta, LOG_FLOOR): a step called infeasible costs log(1e-6), not -inf
+
+
+@dataclass(frozen=True)
+class MEIteration:
+    """One iteration: the sampled policy's reward and violation rate (ground truth, reported
+    only), the mean feasibility of expert and policy steps after the backward step, the backward
+    epochs run (fewer than asked when stopped by the KL test), the final KL estimates, the
+    PPO-Lagrangian multiplier, and the seconds of forward (policy) and backward (cost) updates."""
+
+    iteration: int
+    reward: float
+    violation_rate: float
+    expert_feasibility: float
+    policy_feasibility: float
+    epochs: int
+    kl_old_new: float
+    kl_new_old: float
+    multiplier: float
+    policy_seconds: float
+    cost_seconds: float
+
+    def as_dict(self) -> dict[str, Any]:
+        return {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in asdict(self).items()}
+
+
+class NeuralMEICRL(Learner):
+    """ME-ICRL: ``NeuralMEICRL(...).fit(demonstrations, env)`` (module docstring).
+
+    Parameters as :class:`~symlearn.learners.neural.NeuralMCEICRL` where they share a meaning
+    (``beta`` is PPO's entropy coefficient; ``bound_penalty`` as there), and ``learning_rate`` (Adam, backward step),
+    ``backward_epochs``, ``regularizer``, ``target_kl``, ``lagrangian`` (a dict of
+    :class:`~symlearn.rl.ppo.LagrangianConfig` fields; the cost limit is 0).
+    """
+
+    artefact_suffix = ".safetensors"
+    #: outputs of the network (the first is the cost ``1 - zeta``); the history's record type
+    _n_outputs = 1
+    _record_type: type = MEIteration
+    _label = "ME-ICRL"
+
+    def __init__(self, *, beta: float = 0.01, n_iterations: int = 10, nominal_steps: int = 30_000,
+                 policy_steps: int = 20_480, features: str = "state", obs_dims: Sequence[int] | None = None,
+                 hidden_sizes: Sequence[int] = (64, 64), learning_rate: float = 3e-3, backward_epochs: int = 20,
+                 regularizer: float = 0.1, target_kl: float = 10.0, n_policy_episodes: int = 16,
+                 bound_penalty: float = 1.0, ppo: dict[str, Any] | None = None,
+                 lagrangian: dict[str, Any] | None = None,
+                 random_state: int | None = 0) -> None:
+        self.beta = beta
+        self.n_iterations = n_iterations
+        self.nominal_steps = nominal_steps
+        self.policy_steps = policy_steps
+        self.features = features
+        self.obs_dims = obs_dims
+        self.hidden_sizes = hidden_sizes
+        self.learning_rate = learning_rate
+        self.backward_epochs = backward_epochs
+        self.regularizer = regularizer
+        self.target_kl = target_kl
+        self.n_policy_episodes = n_policy_episodes
+        self.bound_penalty = bound_penalty
+        self.ppo = ppo
+        self.lagrangian = lagrangian
+        self.random_state = random_state
+
+    def _check_parameters(self) -> None:
+        if not (isinstance(self.beta, (int, float)) and math.isfinite(self.beta) and self.beta >= 0):
+            raise SymlearnError(f"beta must be a number >= 0, got {self.beta!r}")
+        if self.features not in INPUTS:
+            raise SymlearnError(f"unknown features {self.features!r}", hint=f"use one of {list(INPUTS)}")
+        for name in ("n_iterations", "nominal_steps", "policy_steps", "backward_epochs", "n_policy_episodes"):
+            value = getattr(self, name)
+            if not isinstance(value, (int, np.integer)) or value < 1:
+                raise SymlearnError(f"{name} must be a positive integer, got {value!r}")
+        if not (self.learning_rate > 0 and self.regularizer >= 0 and self.target_kl > 0 and self.bound_penalty >= 0):
+            raise SymlearnError("learning_rate and target_kl must be > 0, regularizer and bound_penalty >= 0")
+
+    def _backward(self, phi: FeatureNetwork, optimizer: torch.optim.Optimizer,
+                  expert_in: tuple[torch.Tensor, torch.Tensor | None], batch: EpisodeBatch,
+                  cost: NeuralCost) -> tuple[Any, ...]:
+        """The backward step of one iteration; its first five values fill :class:`MEIteration`'s
+        fields after the violation rate, any further ones a subclass record's extra fields."""
+        return backward_step(phi, optimizer, expert_in, batch, cost, epochs=int(self.backward_epochs),
+                             regularizer=self.regularizer, target_kl=self.target_kl)
+
+    def fit(self, demonstrations: Any, domain: Any = None) -> NeuralMEICRL:
+        from symlearn.rl.ppo import LagrangianConfig, PPOConfig, train_ppo
+
+        self._check_parameters()
+        started = time.perf_counter()
+        env_fn = environment_factory(domain)
+        probe = env_fn()
+        obs_spec, act_spec = space_spec(probe.observation_space), space_spec(probe.action_space, bounds=True)
+        expert = demonstration_batch(demonstrations)
+        expert_obs, expert_act = expert.pairs()
+        expert_x = encode(expert_obs, obs_spec, "demonstration observations")
+        expert_a = encode(expert_act, act_spec, "demonstration actions")
+        width = spec_width(obs_spec)
+        obs_dims = list(range(width)) if self.obs_dims is None else [int(i) for i in self.obs_dims]
+        if not obs_dims or min(obs_dims) < 0 or max(obs_dims) >= width:
+            raise SymlearnError(f"obs_dims {obs_dims} outside the observation's {width} entries")
+        seed = self.random_state
+        generator = torch.Generator().manual_seed(0 if seed is None else int(seed))
+
+        def ppo_config(offset: int) -> Any:
+            return PPOConfig(**{**PPO_DEFAULTS, **(self.ppo or {}), "ent_coef": float(self.beta),
+                                "seed": seed_offset(seed, offset)})
+
+        previous_threads = torch.get_num_threads()
+        torch.set_num_threads(1)
+        try:
+            timings: dict[str, float] = {}
+            t0 = time.perf_counter()
+            penalty = action_bound_penalty(act_spec, self.bound_penalty)  # see mce_icrl's docstring
+            policy = train_ppo(env_fn, int(self.nominal_steps), ppo_config(0),
+                               reward_fn=penalised(None, penalty)).policy
+            timings["nominal"] = time.perf_counter() - t0
+            nominal_policy = copy.deepcopy(policy)
+            action_dim = spec_width(act_spec) if self.features == "state_action" else 0
+            # phi = 1 - zeta: the network's sigmoid output is the cost; zeta = 1 - phi
+            phi = FeatureNetwork(obs_dims, action_dim, self._n_outputs, self.hidden_sizes, generator)
+            cost = NeuralCost.for_env(probe, phi, provenance={"learner": type(self).__name__,
+                                                              "parameters": jsonable_params(self.get_params())})
+            cost.set_lambdas([1.0] + [0.0] * (self._n_outputs - 1))  # the cost is the first output
+            batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes), seed=seed_offset(seed, 10_000))
+            nominal_x, nominal_a = cost.tensors(*batch.pairs())
+            phi.fit_standardisation(np.concatenate([expert_x, nominal_x.numpy()]),
+                                    None if not action_dim else np.concatenate([expert_a, nominal_a.numpy()]))
+            expert_in = (torch.from_numpy(expert_x), None if not action_dim else torch.from_numpy(expert_a))
+            optimizer = torch.optim.Adam(phi.parameters(), lr=self.learning_rate)
+            multiplier = float((self.lagrangian or {}).get("init", 0.0))
+            history: list[MEIteration] = []
+            for iteration in progress(range(1, int(self.n_iterations) + 1), total=int(self.n_iterations),
+                                      desc=self._label, unit="iter"):
+                t0 = time.perf_counter()
+                record = self._backward(phi, optimizer, expert_in, batch, cost)
+                cost_seconds = time.perf_counter() - t0
+                metrics = episode_metrics(batch)
+                t0 = time.perf_counter()
+                lagrangian = LagrangianConfig(**{**(self.lagrangian or {}), "cost_limit": 0.0, "init": multiplier})
+                trained = train_ppo(env_fn, int(self.policy_steps), ppo_config(iteration), lagrangian,
+                                    cost_fn=cost.cost_fn(), reward_fn=penalised(None, penalty), policy=policy)
+                policy, multiplier = trained.policy, float(trained.multipliers[0])
+                policy_seconds = time.perf_counter() - t0
+                batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes),
+                                        seed=seed_offset(seed, 10_000 + 100 * iteration))
+                history.append(self._record_type(iteration, metrics.reward, metrics.violation_rate, *record[:5],
+                                                 multiplier, policy_seconds, cost_seconds, *record[5:]))
+            final = episode_metrics(batch)
+        finally:
+            torch.set_num_threads(previous_threads)
+            probe.close()
+        phi.eval()
+        policy.eval()
+        self.cost_, self.policy_, self.nominal_policy_ = cost, policy, nominal_policy
+        self.multiplier_ = multiplier
+        self.history_ = history
+        self.seconds_ = time.perf_counter() - started
+        timings.update(policy=sum(h.policy_seconds for h in history), cost=sum(h.cost_seconds for h in history),
+                       total=self.seconds_)
+        expert_reward = float(np.where(expert.mask, expert.rewards, 0.0).sum(axis=1).mean())
+        self._set_result(cost, "", metrics={"multiplier": multiplier, "expert_reward": expert_reward,
+                                            "final_sample": final.as_dict()}, timings=timings, history=history)
+        return self
+
+    def save(self, path: Any) -> Any:
+        """Write the learned cost: ``path`` (``.safetensors``) and its JSON configuration beside it."""
+        from pathlib import Path
+
+        self.check_fitted()
+        return Path(self.cost_.save(path))
+
+
+def backward_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer,
+                  expert_in: tuple[torch.Tensor, torch.Tensor | None], batch: EpisodeBatch, cost: NeuralCost, *,
+                  epochs: int, regularizer: float, target_kl: float) -> tuple[float, float, int, float, float]:
+    """ME-ICRL's backward step on ``phi = 1 - zeta`` (module docstring). Returns the mean
+    feasibility of expert and policy steps afterwards, the epochs run and the last KL estimates."""
+    policy_in = cost.tensors(*batch.pairs())
+    episode_of = np.repeat(np.arange(batch.n_episodes), batch.lengths)  # the episode of every flattened step
+    episode_t = torch.from_numpy(episode_of)
+
+    def log_zeta(inputs: tuple[torch.Tensor, torch.Tensor | None]) -> torch.Tensor:
+        return torch.log((1.0 - phi(*inputs)[:, 0]).clamp_min(LOG_FLOOR))
+
+    def episode_sums(values: torch.Tensor) -> torch.Tensor:
+        return torch.zeros(batch.n_episodes, dtype=values.dtype).index_add_(0, episode_t, values)
+
+    with torch.no_grad():
+        old = episode_sums(log_zeta(policy_in))
+    epochs_run, kl_old_new, kl_new_old = 0, 0.0, 0.0
+    for _ in range(epochs):
+        with torch.no_grad():  # importance weights of the sampled episodes under the current zeta
+            log_w = episode_sums(log_zeta(policy_in)) - old
+            log_w = log_w - torch.logsumexp(log_w, 0) + math.log(batch.n_episodes)  # mean weight 1
+            weights = log_w.exp()
+            kl_old_new, kl_new_old = float(-log_w.mean()), float((weights * log_w).mean())
+        if kl_old_new > target_kl or kl_new_old > target_kl:
+            break
+        expert_log = log_zeta(expert_in)
+        policy_log = log_zeta(policy_in)
+        step_weights = weights[episode_t]
+        loss = -expert_log.mean() + (step_weights * policy_log).mean()
+        if regularizer:
+            loss = loss + regularizer * (phi(*expert_in).mean() + phi(*policy_in).mean())
+        optimizer.zero_grad(set_to_none=True)
+        loss.backward()
+        optimizer.step()
+        epochs_run += 1
+    with torch.no_grad():
+        expert_feasibility = float(1.0 - phi(*expert_in).mean())
+        policy_feasibility = float(1.0 - phi(*policy_in).mean())
+    return expert_feasibility, policy_feasibility, epochs_run, kl_old_new, kl_new_old
+
+
+__all__ = ["MEIteration", "NeuralMEICRL", "backward_step"]

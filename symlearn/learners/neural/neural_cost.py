@@ -1,0 +1,240 @@
+"""A learned cost ``C(s, a) = lambda . phi_zeta(s, a)``: callable on arrays, saved without pickle.
+
+:class:`NeuralCost` holds the feature network (:mod:`~symlearn.learners.neural.feature_network`),
+the multipliers ``lambda`` and a description of the observation (and action) space it was
+learned for. ``cost(obs, actions)`` evaluates a whole batch in one torch forward pass;
+:meth:`NeuralCost.reward_fn` and :meth:`NeuralCost.cost_fn` turn it into the per-rollout
+callables of :func:`symlearn.rl.ppo.train_ppo` (``r - C`` to learn from, or ``C`` as the cost of
+PPO-Lagrangian when a learned cost trains a fresh agent).
+
+Files: ``NAME.safetensors`` (the network's weights and standardisation, and ``lambda``) and
+``NAME.json`` (kind ``neural-icrl-cost``: the network's shape, the spaces, the observation entry
+names when the environment has them, provenance) through :mod:`symlearn.rl.model_files`; loading
+reads numbers and JSON only. :meth:`NeuralCost.check_environment` refuses an environment whose
+observation space (kind, shape; entry names where both sides have them) or action space differs
+from the one the cost was learned in.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+
+import numpy as np
+import torch
+from torch import nn
+
+from symlearn.errors import DataError, ModelError
+from symlearn.learners.neural.feature_network import FeatureNetwork
+from symlearn.rl.model_files import load_torch_module, save_torch_module
+
+MODEL_KIND = "neural-icrl-cost"
+
+
+def space_spec(space: Any, bounds: bool = False) -> dict[str, Any]:
+    """What a cost needs to know of a gymnasium Box or Discrete space, as JSON (with ``bounds``, a
+    Box's ``low``/``high`` too, an unbounded side as null)."""
+    kind = type(space).__name__
+    if kind == "Discrete":
+        return {"kind": "discrete", "n": int(space.n), "start": int(getattr(space, "start", 0))}
+    if kind == "Box":
+        spec: dict[str, Any] = {"kind": "box", "shape": [int(n) for n in space.shape]}
+        if bounds:
+            spec["low"] = [float(x) if np.isfinite(x) else None for x in np.asarray(space.low, np.float64).ravel()]
+            spec["high"] = [float(x) if np.isfinite(x) else None for x in np.asarray(space.high, np.float64).ravel()]
+        return spec
+    raise DataError(f"a learned cost needs Box or Discrete spaces, got {kind}",
+                    hint="flatten dict/tuple spaces with a gymnasium wrapper (e.g. FlattenObservation)")
+
+
+def spec_width(spec: dict[str, Any]) -> int:
+    """Width of the flattened (Box) or one-hot (Discrete) encoding of a space."""
+    return int(spec["n"]) if spec["kind"] == "discrete" else int(np.prod(spec["shape"], dtype=np.int64))
+
+
+def encode(values: Any, spec: dict[str, Any], what: str) -> np.ndarray:
+    """A batch of raw observations or actions -> float32 ``(B, width)`` (one-hot for Discrete).
+    Wrong shapes, ids out of range and non-finite numbers are :class:`DataError`."""
+    width = spec_width(spec)
+    if spec["kind"] == "discrete":
+        ids = np.asarray(values).reshape(-1)
+        if ids.size and not np.issubdtype(ids.dtype, np.integer):
+            if not np.all(np.isfinite(ids.astype(np.float64))) or np.any(ids != np.round(ids)):
+                raise DataError(f"{what} must be whole ids of a Discrete({width}) space")
+        ids = ids.astype(np.int64) - spec.get("start", 0)
+        if ids.size and (ids.min() < 0 or ids.max() >= width):
+            raise DataError(f"{what} ids outside Discrete({width}): {sorted(set(ids[(ids < 0) | (ids >= width)]))[:5]}")
+        out = np.zeros((ids.size, width), dtype=np.float32)
+        out[np.arange(ids.size), ids] = 1.0
+        return out
+    array = np.asarray(values, dtype=np.float32)
+    shape = tuple(spec["shape"])
+    if array.shape[array.ndim - len(shape):] != shape:
+        raise DataError(f"{what} have shape {array.shape[1:] if array.ndim > len(shape) else array.shape}, "
+                        f"the space's is {shape}")
+    array = array.reshape(-1, width)
+    if not np.isfinite(array).all():
+        rows = np.flatnonzero(~np.isfinite(array).all(1))
+        raise DataError(f"{what} are not finite (NaN or inf) in {rows.size} row(s), the first at row {rows[0]}")
+    return array
+
+
+class NeuralCost(nn.Module):
+    """``lambda . phi(s, a)`` for one observation/action space (see the module docstring)."""
+
+    def __init__(self, phi: FeatureNetwork, observation: dict[str, Any], action: dict[str, Any],
+                 observation_names: list[str] | None = None, provenance: dict[str, Any] | None = None) -> None:
+        super().__init__()
+        self.phi = phi
+        self.observation_spec, self.action_spec = dict(observation), dict(action)
+        self.observation_names = None if observation_names is None else [str(n) for n in observation_names]
+        self.provenance = dict(provenance or {})
+        self.register_buffer("lambdas", torch.zeros(phi.n_features, dtype=torch.float64))
+        if self.observation_names is not None and len(self.observation_names) != spec_width(self.observation_spec):
+            raise ModelError(f"{len(self.observation_names)} observation names for an observation of width "
+                             f"{spec_width(self.observation_spec)}")
+        if max(phi.obs_dims) >= spec_width(self.observation_spec) or min(phi.obs_dims) < 0:
+            raise ModelError(f"the feature network reads observation entries {list(phi.obs_dims)}, but the "
+                             f"observation has {spec_width(self.observation_spec)}")
+        if phi.action_dim not in (0, spec_width(self.action_spec)):
+            raise ModelError(f"the feature network reads actions of width {phi.action_dim}, the action space's "
+                             f"is {spec_width(self.action_spec)}")
+
+    @classmethod
+    def for_env(cls, env: Any, phi: FeatureNetwork, **kwargs: Any) -> NeuralCost:
+        names = getattr(getattr(env, "unwrapped", env), "observation_names", None)
+        return cls(phi, space_spec(env.observation_space), space_spec(env.action_space, bounds=True),
+                   None if names is None else list(names), **kwargs)
+
+    # --- evaluation -------------------------------------------------------------------------------
+
+    @property
+    def uses_actions(self) -> bool:
+        return self.phi.action_dim > 0
+
+    def set_lambdas(self, values: np.ndarray) -> None:
+        with torch.no_grad():
+            self.lambdas.copy_(torch.as_tensor(np.asarray(values, dtype=np.float64)))
+
+    def tensors(self, obs: Any, actions: Any = None) -> tuple[torch.Tensor, torch.Tensor | None]:
+        """Checked float32 tensors ``(B, obs_width)``, ``(B, action_width)`` (or None) of a batch."""
+        x = torch.from_numpy(encode(obs, self.observation_spec, "observations"))
+        if not self.uses_actions:
+            return x, None
+        if actions is None:
+            raise DataError("this cost reads actions too (state_action features), but no actions were given")
+        a = torch.from_numpy(encode(actions, self.action_spec, "actions"))
+        if len(a) != len(x):
+            raise DataError(f"{len(x)} observations but {len(a)} actions")
+        return x, a
+
+    def features(self, obs: Any, actions: Any = None) -> np.ndarray:
+        """``phi`` of a batch, ``(B, k)``."""
+        x, a = self.tensors(obs, actions)
+        with torch.no_grad():
+            return self.phi(x, a).double().numpy()
+
+    def __call__(self, obs: Any, actions: Any = None) -> np.ndarray:  # type: ignore[override]
+        """The cost ``lambda . phi`` of a batch, ``(B,)`` (one forward pass)."""
+        return self.features(obs, actions) @ self.lambdas.numpy()
+
+    def cost_of_rollout(self, rollout: Any) -> np.ndarray:
+        """``[T, N]`` costs of a :class:`~symlearn.rl.ppo.Rollout` (its ``obs`` and ``actions``)."""
+        T, N = rollout.rewards.shape
+        obs = rollout.obs.reshape(T * N, -1)
+        actions = None if not self.uses_actions else rollout.actions.reshape(T * N, *rollout.actions.shape[2:])
+        if actions is not None and "low" in self.action_spec:  # PPO's are unclipped; the env saw them clipped
+            low = [-np.inf if x is None else x for x in self.action_spec["low"]]
+            high = [np.inf if x is None else x for x in self.action_spec["high"]]
+            actions = np.clip(actions.reshape(T * N, -1), low, high)
+        return self(obs, actions).reshape(T, N)
+
+    def reward_fn(self) -> Any:
+        """``rollout -> rewards - cost`` for ``train_ppo(reward_fn=...)``."""
+        def learned_reward(rollout: Any) -> np.ndarray:
+            return rollout.rewards - self.cost_of_rollout(rollout)
+        return learned_reward
+
+    def cost_fn(self) -> Any:
+        """``rollout -> cost`` for ``train_ppo(cost_fn=...)`` (a learned cost under PPO-Lagrangian)."""
+        return self.cost_of_rollout
+
+    # --- compatibility -----------------------------------------------------------------------------
+
+    def check_environment(self, env: Any, *, source: str | os.PathLike[str] | None = None) -> None:
+        """Refuse an environment whose spaces differ from the ones this cost was learned in."""
+        observation, action = space_spec(env.observation_space), space_spec(env.action_space, bounds=True)
+        where = {"file": None if source is None else str(source)}
+        if observation != self.observation_spec:
+            raise ModelError(f"this cost was learned for observations {_describe(self.observation_spec)}, "
+                             f"the environment's are {_describe(observation)}", **where,
+                             hint="a learned cost only applies to the observation space it was trained on")
+        names = getattr(getattr(env, "unwrapped", env), "observation_names", None)
+        if names is not None and self.observation_names is not None and list(names) != self.observation_names:
+            raise ModelError(f"this cost reads observation entries {self.observation_names}, the environment's "
+                             f"are {list(names)}", **where)
+        if self.uses_actions and _shape_of(action) != _shape_of(self.action_spec):
+            raise ModelError(f"this cost was learned for actions {_describe(self.action_spec)}, the environment's "
+                             f"are {_describe(action)}", **where)
+
+    # --- files -------------------------------------------------------------------------------------
+
+    def model_config(self) -> dict[str, Any]:
+        return {"phi": self.phi.config(), "observation": self.observation_spec, "action": self.action_spec,
+                "observation_names": self.observation_names, "provenance": self.provenance}
+
+    @classmethod
+    def from_config(cls, config: dict[str, Any]) -> NeuralCost:
+        try:
+            phi = FeatureNetwork.from_config(config["phi"])
+            return cls(phi, _checked_spec(config["observation"]), _checked_spec(config["action"]),
+                       config.get("observation_names"), config.get("provenance"))
+        except (KeyError, TypeError, ValueError, AttributeError) as exc:
+            raise ModelError(f"not a learned-cost configuration ({type(exc).__name__}: {exc})") from None
+
+    def save(self, path: str | os.PathLike[str]) -> os.PathLike[str]:
+        """Write ``path`` (``.safetensors``) and the JSON configuration beside it, atomically."""
+        return save_torch_module(path, self, self.model_config(), kind=MODEL_KIND)
+
+    @classmethod
+    def load(cls, path: str | os.PathLike[str], env: Any = None) -> NeuralCost:
+        """Read a saved cost (numbers and JSON only); with ``env``, check it fits its spaces."""
+        cost, _ = load_torch_module(path, cls.from_config, kind=MODEL_KIND)
+        cost.eval()
+        if not torch.isfinite(cost.lambdas).all() or (cost.lambdas < 0).any():
+            raise ModelError("the multipliers must be finite and >= 0", file=str(path))
+        if env is not None:
+            cost.check_environment(env, source=path)
+        return cost
+
+
+def _checked_spec(spec: Any) -> dict[str, Any]:
+    if not isinstance(spec, dict) or spec.get("kind") not in ("box", "discrete"):
+        raise ValueError(f"a space must be a box or discrete description, got {spec!r}")
+    if spec["kind"] == "box":
+        shape = spec.get("shape")
+        if not isinstance(shape, list) or not shape or not all(isinstance(n, int) and n >= 1 for n in shape):
+            raise ValueError(f"box shape must be a list of positive integers, got {shape!r}")
+        out: dict[str, Any] = {"kind": "box", "shape": shape}
+        for side in ("low", "high"):
+            if side in spec:
+                values = spec[side]
+                if not isinstance(values, list) or len(values) != int(np.prod(shape)) or not all(
+                        v is None or (isinstance(v, (int, float)) and np.isfinite(v)) for v in values):
+                    raise ValueError(f"box {side} must be a list of numbers or nulls, one per entry")
+                out[side] = values
+        return out
+    if not isinstance(spec.get("n"), int) or spec["n"] < 1 or not isinstance(spec.get("start", 0), int):
+        raise ValueError(f"discrete n must be a positive integer, got {spec.get('n')!r}")
+    return {"kind": "discrete", "n": spec["n"], "start": spec.get("start", 0)}
+
+
+def _shape_of(spec: dict[str, Any]) -> dict[str, Any]:
+    return {k: v for k, v in spec.items() if k not in ("low", "high")}
+
+
+def _describe(spec: dict[str, Any]) -> str:
+    return f"Discrete({spec['n']})" if spec["kind"] == "discrete" else f"Box{tuple(spec['shape'])}"
+
+
+__all__ = ["MODEL_KIND", "NeuralCost", "encode", "space_spec", "spec_width"]

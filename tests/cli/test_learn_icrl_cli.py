@@ -1,0 +1,109 @@
+"""``symlearn learn icrl``: a short run end to end, and the bad input of issue 12 as one-line errors."""
+
+import json
+
+import numpy as np
+import pytest
+
+from cli_runner import run
+from symlearn.data import Demonstrations, Trajectory
+from symlearn.envs.blocked_point import expert_demonstrations
+
+MODULE = "symlearn.cli.learn_icrl_command"
+
+
+@pytest.fixture(autouse=True)
+def icrl_registered(monkeypatch):
+    """The command until ``learn_command.LEARN_SUBCOMMANDS`` lists it."""
+    from symlearn.cli import learn_command
+
+    if MODULE not in learn_command.LEARN_SUBCOMMANDS:
+        monkeypatch.setattr(learn_command, "LEARN_SUBCOMMANDS", (*learn_command.LEARN_SUBCOMMANDS, MODULE))
+
+
+def test_short_run_writes_the_cost_and_reports_the_metrics(capsys, tmp_path):
+    out = tmp_path / "cost.safetensors"
+    code, stdout, err = run(capsys, "learn", "icrl", "--env", "blocked-point", "--n-demos", 3, "--steps", 2048,
+                            "--iterations", 2, "--cost-inputs", "x,y", "--env-kwargs", '{"wall": -4.0}',
+                            "-o", out, "--json")
+    assert code == 0, err
+    doc = json.loads(stdout)
+    for key in ("reward", "violation_rate", "feasible_reward", "recovery_auc", "iterations", "seconds"):
+        assert key in doc
+    assert doc["iterations"] == 2 and 0 <= doc["violation_rate"] <= 1 and 0 <= doc["recovery_auc"] <= 1
+    assert out.is_file() and out.with_suffix(".json").is_file() and doc["files"] == [str(out),
+                                                                                        str(out.with_suffix(".json"))]
+    from symlearn.envs.blocked_point import BlockedPoint
+    from symlearn.learners.neural import NeuralCost
+
+    cost = NeuralCost.load(out, BlockedPoint())
+    assert cost.phi.obs_dims == (0, 1) and len(cost.lambdas) == len(doc["lambda"])
+
+
+def _save(tmp_path, states, name="demos.npz"):
+    path = tmp_path / name
+    Demonstrations([Trajectory(states=states, actions=np.zeros((len(states) - 1, 2)))]).save(path)
+    return path
+
+
+def _refused(capsys, *args, match):
+    code, stdout, err = run(capsys, "learn", "icrl", *args)
+    assert code == 2 and "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    assert match in err, err
+    return err
+
+
+def test_demonstrations_of_another_observation_shape(capsys, tmp_path):
+    path = _save(tmp_path, np.zeros((5, 3)))
+    err = _refused(capsys, "--env", "blocked-point", "--demos", path, match="shape (3,), the space's is (4,)")
+    assert str(path) in err
+
+
+def test_nan_observations(capsys, tmp_path):
+    path = _save(tmp_path, np.zeros((5, 4)))
+    with np.load(path, allow_pickle=False) as archive:
+        arrays = {k: archive[k] for k in archive.files}
+    arrays["states"] = arrays["states"].astype(np.float64)
+    arrays["states"][2, 1] = np.nan
+    np.savez(path, **arrays)
+    err = _refused(capsys, "--env", "blocked-point", "--demos", path, match="non-finite value (nan) at step 2")
+    assert str(path) in err
+
+
+def test_unknown_env_kwargs_key_and_bad_json(capsys):
+    _refused(capsys, "--env", "blocked-point", "--env-kwargs", '{"wal": -3}', match="unknown --env-kwargs key 'wal'")
+    _refused(capsys, "--env", "blocked-point", "--env-kwargs", '{"wall": ', match="not JSON")
+    _refused(capsys, "--env", "blocked-point", "--env-kwargs", '{"wall": 99}', match="wall must be")
+    _refused(capsys, "--env", "blocked-point", "--env-kwargs", '{"wall": "left"}', match="does not fit blocked-point")
+    _refused(capsys, "--env", "blocked-point", "--env-kwargs", '[1]', match="must be a JSON object")
+
+
+@pytest.mark.parametrize("beta", ["0", "-0.5", "nan"])
+def test_beta_must_be_positive(capsys, beta):
+    _refused(capsys, "--env", "blocked-point", "--beta", beta, match="--beta must be a number > 0")
+
+
+def test_other_refusals(capsys, tmp_path):
+    _refused(capsys, "--env", "blocked-point", "-o", tmp_path / "cost.pt", match="must end in .safetensors")
+    _refused(capsys, "--env", "blocked-pont", match="did you mean 'blocked-point'")
+    _refused(capsys, "--env", "gridworld", match="no environment for neural ICRL")
+    _refused(capsys, "--env", "point-circle", match="no scripted expert")
+    _refused(capsys, "--env", "blocked-point", "--cost-inputs", "x,z", match="unknown observation entry 'z'")
+    assert not (tmp_path / "cost.pt").exists()
+
+
+def test_demonstrations_without_actions(capsys, tmp_path):
+    path = tmp_path / "states.npz"
+    Demonstrations([Trajectory(states=np.zeros((5, 4)))]).save(path)
+    _refused(capsys, "--env", "blocked-point", "--demos", path, match="needs actions")
+
+
+@pytest.mark.parametrize("method", ["mce-icrl", "me-icrl", "gacl"])
+def test_recorded_expert_demonstrations_are_accepted(capsys, tmp_path, method):
+    path = tmp_path / "expert.npz"
+    expert_demonstrations(2, seed=1).save(path)
+    code, stdout, err = run(capsys, "learn", "icrl", "--env", "blocked-point", "--demos", path, "--steps", 2048,
+                            "--iterations", 1, "--method", method, "--json")
+    assert code == 0, err
+    doc = json.loads(stdout)
+    assert doc["iterations"] == 1 and doc["method"] == method and doc["recovery_auc"] is not None
