@@ -27,6 +27,7 @@ would compare false with every bound); a chunk is swept for NaN before its codes
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -39,6 +40,9 @@ from symlearn.errors import DataError
 __all__ = ["Plan", "Evaluator", "compile_plan"]
 
 CHUNK = 2048                 # rows per chunk: codes and results of a chunk stay in L1/L2
+PARALLEL_MIN_POINTS = 1 << 16  # from this many points, row blocks are evaluated in threads
+_THREADS: int | None = None
+_POOL = None
 _MAX_BUCKETS = 1 << 14       # per feature, 4 bytes a bucket: the tables stay in L1/L2
 _BUCKETS_PER_THRESHOLD = 16  # few buckets hold two thresholds of spread-out ones
 _kernels = None
@@ -128,20 +132,58 @@ class Plan:
         k = _kernels or kernels()
         if first:
             out2 = np.empty((n, 1), dtype=np.int64)
-            bad = k.evaluate(X, cols, k.FIRST, out2, *packed)
+            bad = _evaluate(k, X, cols, k.FIRST, out2, packed, chunk)
             out = out2.reshape(n)
         elif per_conjunction:
             out = np.empty((n, self.m), dtype=bool)
-            bad = k.evaluate(X, cols, k.EACH, out, *packed)
+            bad = _evaluate(k, X, cols, k.EACH, out, packed, chunk)
         else:
             out2 = np.empty((n, 1), dtype=bool)
-            bad = k.evaluate(X, cols, k.ANY, out2, *packed)
+            bad = _evaluate(k, X, cols, k.ANY, out2, packed, chunk)
             out = out2.reshape(n)
         if bad >= 0:
             row, step = divmod(int(bad), len(self.features))
             raise DataError(f"feature {self.features[step]} is NaN in point {row}",
                             hint="NaN compares false with every bound; clean or drop those points")
         return out
+
+
+def _threads() -> int:
+    """Threads for one large evaluation: the CPUs this process may run on (at most 8)."""
+    global _THREADS
+    if _THREADS is None:
+        try:
+            _THREADS = max(1, min(8, len(os.sched_getaffinity(0))))
+        except (AttributeError, OSError):
+            _THREADS = max(1, min(8, os.cpu_count() or 1))
+    return _THREADS
+
+
+def _evaluate(k: Any, X: np.ndarray, cols: np.ndarray, mode: int, out: np.ndarray, packed: tuple, chunk: int) -> int:
+    """The kernel over all rows; from :data:`PARALLEL_MIN_POINTS` rows on, over row blocks in
+    threads (the kernel releases the GIL, and rows are independent). Returns the flat index
+    ``row * S + step`` of the first NaN, or -1."""
+    n = X.shape[0]
+    threads = _threads() if n >= PARALLEL_MIN_POINTS else 1
+    if threads == 1:
+        return k.evaluate(X, cols, mode, out, *packed)
+    global _POOL
+    if _POOL is None:
+        from concurrent.futures import ThreadPoolExecutor
+
+        _POOL = ThreadPoolExecutor(max_workers=_threads(), thread_name_prefix="symlearn-dnf")
+    # blocks of whole chunks, so every thread's chunks are the serial run's chunks
+    per = -(-(-(-n // chunk)) // threads) * chunk
+    starts = list(range(0, n, per))
+    jobs = [_POOL.submit(k.evaluate, X[a:a + per], cols, mode, out[a:a + per], *packed) for a in starts]
+    S = int(packed[0][:8].view(np.int64)[0])       # the header's first word: steps per point
+    for a, job in zip(starts, jobs):                # the first NaN in row order, as the serial run finds it
+        bad = job.result()
+        if bad >= 0:
+            for later in jobs:
+                later.result()
+            return bad + a * S
+    return -1
 
 
 class Evaluator:

@@ -156,3 +156,26 @@ def test_learned_sized_formula_both_forms():
     formula = random_formula(rng, names, 700, max_atoms=10)
     X = np.round(rng.normal(size=(700, 12)), 2)
     check_all_ways(formula, X, names)
+
+
+@pytest.mark.parametrize("threads", [2, 3])
+def test_row_blocks_in_threads_give_the_serial_results(monkeypatch, threads):
+    """Large inputs are evaluated as row blocks in threads: same results, same first NaN."""
+    import symlearn.logic.dnf_eval as dnf_eval
+
+    rng = np.random.default_rng(5)
+    names = [f"f{i}" for i in range(4)]
+    formula = random_formula(rng, names, 40)
+    X = np.round(rng.normal(size=(20_000, 4)), 2)
+    want = plain(formula, X, names)
+    monkeypatch.setattr(dnf_eval, "PARALLEL_MIN_POINTS", 1000)
+    monkeypatch.setattr(dnf_eval, "_THREADS", threads)
+    ev = formula.evaluator(names)
+    assert np.array_equal(ev(X), want.any(axis=1))
+    assert np.array_equal(ev(X, per_conjunction=True), want)
+    assert np.array_equal(ev.first(X), np.where(want.any(axis=1), want.argmax(axis=1), len(formula)))
+    used = formula.features[0]
+    X[17_001, names.index(used)] = np.nan       # in the last block
+    X[9_999, names.index(used)] = np.nan        # and an earlier one: the first in row order is named
+    with pytest.raises(DataError, match=f"{used} is NaN in point 9999"):
+        ev(X)
