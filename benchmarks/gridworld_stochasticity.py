@@ -60,28 +60,51 @@ def recovery(env: StochasticGridworld, learner) -> dict[str, float]:
             "iterations": learner.n_iter_}
 
 
-def run_one(p: float, seed: int, *, n_demos: int, iterations: int, episodes: int) -> dict[str, dict[str, float]]:
+LEARNERS = {
+    "MCE-ICRL": lambda iterations: MCEICRL(n_iterations=iterations),
+    "ME-ICRL": lambda iterations: MEICRL(n_iterations=iterations),
+    "ML-inference": lambda iterations: MLConstraintInference(horizon=50, rationality=3.0, max_iterations=200),
+}
+
+
+def demonstrations(p: float, seed: int, n_demos: int):
     env = StochasticGridworld(p)
-    mdp = env.to_tabular()
     expert = env.expert_policy()
     demos = record(env, lambda s: int(expert[s]), n_demos, seed=seed, max_steps=env.max_steps, desc=f"p={p} seed={seed}")
-    results: dict[str, dict[str, float]] = {}
-    learners = {
-        "MCE-ICRL": lambda: MCEICRL(n_iterations=iterations),
-        "ME-ICRL": lambda: MEICRL(n_iterations=iterations),
-        "ML-inference": lambda: MLConstraintInference(horizon=50, rationality=3.0, max_iterations=200),
-    }
-    reward, violations = evaluate(env, np.eye(mdp.n_actions)[expert], episodes, 10_000 + seed)
-    results["expert"] = {"reward": reward, "violation_rate": violations, "seconds": 0.0}
-    for name, make in learners.items():
-        t0 = time.perf_counter()
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
-            learner = make().fit(demos, mdp)
-        seconds = time.perf_counter() - t0
-        reward, violations = evaluate(env, learner.policy_, episodes, 10_000 + seed)
-        results[name] = {"reward": reward, "violation_rate": violations, "seconds": seconds, **recovery(env, learner)}
-    return results
+    return env, expert, demos
+
+
+def run_method(env: StochasticGridworld, expert: np.ndarray, demos, method: str, seed: int, *, iterations: int,
+               episodes: int) -> dict[str, float]:
+    """One method on one seed's demonstrations: its policy's reward and violation rate (the
+    expert's own for ``expert``), learning time and recovery of the constraints."""
+    mdp = env.to_tabular()
+    if method == "expert":
+        reward, violations = evaluate(env, np.eye(mdp.n_actions)[expert], episodes, 10_000 + seed)
+        return {"reward": reward, "violation_rate": violations, "seconds": 0.0}
+    t0 = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        learner = LEARNERS[method](iterations).fit(demos, mdp)
+    seconds = time.perf_counter() - t0
+    reward, violations = evaluate(env, learner.policy_, episodes, 10_000 + seed)
+    return {"reward": reward, "violation_rate": violations, "seconds": seconds, **recovery(env, learner)}
+
+
+def run_one(p: float, seed: int, *, n_demos: int, iterations: int, episodes: int) -> dict[str, dict[str, float]]:
+    env, expert, demos = demonstrations(p, seed, n_demos)
+    return {method: run_method(env, expert, demos, method, seed, iterations=iterations, episodes=episodes)
+            for method in METHODS}
+
+
+def cell(p: float, method: str, seed: int, n_demos: int = 50, iterations: int = 300,
+         episodes: int = 1000) -> dict[str, float]:
+    """One cell of ``benchmarks/sweeps/gridworld_stochasticity*.toml``: the numbers :func:`run_one`
+    gives ``method`` for this p and seed (the same demonstrations and evaluation seeds)."""
+    if method not in METHODS:
+        raise ValueError(f"unknown method {method!r} (one of {', '.join(METHODS)})")
+    env, expert, demos = demonstrations(p, seed, n_demos)
+    return run_method(env, expert, demos, method, seed, iterations=iterations, episodes=episodes)
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -140,6 +140,33 @@ def _logic_rows(lm, demos, name, n, seed, etas, horizon, start, reach_truth, ml_
     return rows + [{"timing": timing}]
 
 
+#: the scores a sweep cell keeps per eta (``fpr_eta20``, ...)
+CELL_SCORES = ("fpr", "fnr", "accuracy", "forbidden", "reach_fpr", "reach_fnr", "fnr_at_learned", "ml_fpr", "ml_fnr",
+               "ml_reach_fnr", "ml_forbidden")
+
+
+def cell(domain: str, n: int, seed: int, etas: list[int], horizon: int = 30, start: str | float = "default") -> dict:
+    """One cell of ``benchmarks/sweeps/logic_constraints*.toml``: :func:`run_one` for one
+    (domain, n, seed, start), its rows as metrics ``<score>_eta<eta>`` plus the rules and the
+    timing of the run."""
+    start = DEFAULT_START if start == "default" else start
+    rows = run_one((domain, n, seed, sorted(etas), horizon, (start,)))
+    timing = next(r["timing"] for r in rows if "timing" in r)
+    metrics: dict[str, Any] = {}
+    for row in (r for r in rows if "timing" not in r):
+        for key in CELL_SCORES:
+            metrics[f"{key}_eta{row['eta']}"] = row[key]
+        metrics[f"rules_eta{row['eta']}"] = len(row["rules"])
+        metrics[f"iterations_run_eta{row['eta']}"] = row["iterations_run"]
+    metrics["rules"] = row["rules"]
+    metrics["wall_seconds"] = timing["wall_seconds"]
+    metrics["inference_seconds_per_iteration"] = float(np.mean(timing["inference_seconds"])) \
+        if timing["inference_seconds"] else None
+    metrics["induction_seconds_per_iteration"] = float(np.mean(timing["induction_seconds"])) \
+        if timing["induction_seconds"] else None
+    return metrics
+
+
 def _ml_only(lm: LogicMDP, demos, eta: int, horizon: int) -> dict[str, Any]:
     from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
 

@@ -55,6 +55,43 @@ def select(rows: list[dict], per_family: int) -> list[dict]:
     return chosen
 
 
+def solve(folder: Path, file: str, family: str, *, timeout: float, max_size: int, peer: bool,
+          peer_timeout: float) -> dict:
+    """One problem: our formula (checked to separate), its size against the known one, and
+    Scarlet's run on the same sample when ``peer``."""
+    sample = load_sample(folder / file)
+    result = learn_from_sample(sample, timeout=timeout, max_size=max_size)
+    separates = None
+    if result.formula is not None:
+        verdicts = evaluate_many(result.formula, list(sample.positive) + list(sample.negative))
+        n_pos = len(sample.positive)
+        separates = bool(verdicts[:n_pos].all() and not verdicts[n_pos:].any())
+    record = {"file": file, "family": family, "known": known_size(sample.smallest_known_formula or ""),
+              "formula": None if result.formula is None else str(result.formula), "size": result.size,
+              "optimal": result.optimal, "seconds": result.seconds, "separates": separates,
+              "method": result.method}
+    record["solved"] = bool(separates) and result.seconds <= timeout
+    if peer:
+        from symlearn.learners.temporal.scarlet_peer import run_scarlet
+
+        found = run_scarlet(sample, timeout=peer_timeout)
+        record.update(peer_formula=found.formula, peer_size=found.size, peer_seconds=found.seconds,
+                      peer_finished=found.finished)
+    return record
+
+
+def cell(problem: str, family: str, seed: int, split: str = "test", timeout: float = 10.0, max_size: int = 40,
+         peer: bool = False, peer_timeout: float = 10.0, data: str = "") -> dict:
+    """One cell of ``benchmarks/sweeps/ltl_separation*.toml``: :func:`solve` on one problem file
+    (the learner is deterministic: ``seed`` only names the cell); ``solved`` as 0/1, so its mean
+    over problems is the solved share, and the size over the known size as ``size_ratio``."""
+    record = solve(Path(data) if data else DEFAULT_DATA / split, problem, family, timeout=timeout,
+                   max_size=max_size, peer=peer, peer_timeout=peer_timeout)
+    record["solved"] = int(record["solved"])
+    record["size_ratio"] = record["size"] / record["known"] if record["solved"] and record["known"] else None
+    return record
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--data", type=Path, default=DEFAULT_DATA)
@@ -76,28 +113,12 @@ def main(argv=None) -> int:
           + ("" if args.no_peer else f"; Scarlet timeout {args.peer_timeout} s"), flush=True)
     results = []
     for row in rows:
-        sample = load_sample(folder / row["file"])
-        result = learn_from_sample(sample, timeout=args.timeout, max_size=args.max_size)
-        separates = None
-        if result.formula is not None:
-            verdicts = evaluate_many(result.formula, list(sample.positive) + list(sample.negative))
-            n_pos = len(sample.positive)
-            separates = bool(verdicts[:n_pos].all() and not verdicts[n_pos:].any())
-        record = {"file": row["file"], "family": row["family"], "known": known_size(sample.smallest_known_formula or ""),
-                  "formula": None if result.formula is None else str(result.formula), "size": result.size,
-                  "optimal": result.optimal, "seconds": result.seconds, "separates": separates,
-                  "method": result.method}
-        record["solved"] = bool(separates) and result.seconds <= args.timeout
-        if not args.no_peer:
-            from symlearn.learners.temporal.scarlet_peer import run_scarlet
-
-            peer = run_scarlet(sample, timeout=args.peer_timeout)
-            record.update(peer_formula=peer.formula, peer_size=peer.size, peer_seconds=peer.seconds,
-                          peer_finished=peer.finished)
+        record = solve(folder, row["file"], row["family"], timeout=args.timeout, max_size=args.max_size,
+                       peer=not args.no_peer, peer_timeout=args.peer_timeout)
         results.append(record)
         peer_text = "" if args.no_peer else \
             f" | scarlet {record['peer_seconds']:5.2f}s size={record['peer_size']} finished={record['peer_finished']}"
-        print(f"{row['file'][:58]:58s} {result.seconds:6.2f}s size={result.size} known={record['known']} "
+        print(f"{row['file'][:58]:58s} {record['seconds']:6.2f}s size={record['size']} known={record['known']} "
               f"{'ok' if record['solved'] else 'UNSOLVED'}{peer_text}", flush=True)
     report(results, args)
     if args.json_out:

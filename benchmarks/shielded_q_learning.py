@@ -175,33 +175,39 @@ def curve_converged_at(costs: np.ndarray) -> int:
     return int(inside[0]) + WINDOW if inside.size else len(mean)
 
 
+def run_agent(variant: str, mask: np.ndarray | None, seed: int, episodes: int, test_episodes: int, max_steps: int,
+              test_at: tuple[int, ...] = ()) -> dict:
+    """One agent: seed ``seed`` drives route ``seed mod routes``; its training curve, greedy test
+    and the greedy tests after the first ``test_at`` episodes."""
+    env_routes = routes(JunctionEnv(variant).model)
+    route = env_routes[seed % len(env_routes)]
+    env = make_env(variant, route, mask, seed, max_steps)
+    result = q_learning(env, episodes, seed=seed, **SETTINGS)
+    v, c, s = greedy_rollouts(make_env(variant, route, mask, seed + 10_000, max_steps), result.q_values,
+                              test_episodes, seed + 10_000)
+    early = {}
+    for k in test_at:
+        if k >= episodes:
+            continue
+        # q_learning is prefix-consistent: k episodes with this seed = the first k above.
+        q_k = q_learning(make_env(variant, route, mask, seed, max_steps), k, seed=seed, **SETTINGS).q_values
+        early[k] = greedy_rollouts(make_env(variant, route, mask, seed + 10_000, max_steps), q_k, test_episodes,
+                                   seed + 10_000)[:2]
+    return {"costs": -result.returns, "train_violations": result.violations, "test_violations": v, "test_cost": c,
+            "success": s, "converged_at": converged_at(-result.returns), "early": early}
+
+
 def run_agents(variant: str, masks: dict, seeds: int, episodes: int, test_episodes: int, max_steps: int,
                test_at: tuple[int, ...] = ()) -> dict:
-    env_routes = routes(JunctionEnv(variant).model)
     results = {}
     for method, mask in masks.items():
         t0 = time.perf_counter()
-        costs, train_viol, test_viol, test_cost, success, conv = [], [], [], [], [], []
-        early = {k: ([], []) for k in test_at if k < episodes}  # greedy test after k episodes
-        for seed in range(seeds):
-            route = env_routes[seed % len(env_routes)]
-            env = make_env(variant, route, mask, seed, max_steps)
-            result = q_learning(env, episodes, seed=seed, **SETTINGS)
-            costs.append(-result.returns)
-            train_viol.append(result.violations)
-            v, c, s = greedy_rollouts(make_env(variant, route, mask, seed + 10_000, max_steps), result.q_values,
-                                      test_episodes, seed + 10_000)
-            test_viol.append(v)
-            test_cost.append(c)
-            success.append(s)
-            conv.append(converged_at(-result.returns))
-            for k, (viol_k, cost_k) in early.items():
-                # q_learning is prefix-consistent: k episodes with this seed = the first k above.
-                q_k = q_learning(make_env(variant, route, mask, seed, max_steps), k, seed=seed, **SETTINGS).q_values
-                v, c, _ = greedy_rollouts(make_env(variant, route, mask, seed + 10_000, max_steps), q_k,
-                                          test_episodes, seed + 10_000)
-                viol_k.append(v)
-                cost_k.append(c)
+        agents = [run_agent(variant, mask, seed, episodes, test_episodes, max_steps, test_at) for seed in range(seeds)]
+        costs, train_viol = [a["costs"] for a in agents], [a["train_violations"] for a in agents]
+        test_viol, test_cost = [a["test_violations"] for a in agents], [a["test_cost"] for a in agents]
+        success, conv = [a["success"] for a in agents], [a["converged_at"] for a in agents]
+        early = {k: ([a["early"][k][0] for a in agents], [a["early"][k][1] for a in agents])
+                 for k in test_at if k < episodes}
         costs_a, train_a, test_a = np.array(costs), np.array(train_viol), np.array(test_viol)
         per_agent = train_a.sum(axis=1)
         results[method] = {
@@ -229,6 +235,67 @@ def run_agents(variant: str, masks: dict, seeds: int, episodes: int, test_episod
               f"  test cost {results[method]['test_cost']:.2f}  ({results[method]['seconds']:.0f} s)",
               file=sys.stderr, flush=True)
     return results
+
+
+def transfer_masks(r1: list[str], r2: list[str]) -> tuple[dict, dict]:
+    """The rules of ``lights`` (1) and ``priority`` (2) translated to the combined junction:
+    the agents' masks and how they compare with its truth."""
+    target = logic_mdp("junction-combined")
+    masks: dict = {"QL": None}
+    recovery = {}
+    for name, rules in (("LC-QL(1)", r1), ("LC-QL(2)", r2), ("LC-QL(1+2)", r1 + r2)):
+        raw = target.rule_mask(rules) if rules else np.zeros_like(target.unavailable)
+        closed = junction_mask(target, "combined", raw)
+        masks[name] = closed
+        n = closed.shape[0]
+        truth = target.truth_forbidden[:n]
+        recovery[name] = {"rules": len(rules), "forbid": int(closed.sum()),
+                          "false_positive": int((closed & ~truth).sum()),
+                          "missed": int((truth & ~closed).sum()), "truth_forbidden": int(truth.sum())}
+    return masks, recovery
+
+
+_LEARNED: dict = {}
+
+
+def _learned(variant: str, demos: int, iterations: int, demo_seed: int, start) -> dict:
+    """:func:`learn_constraints`, once per worker process (deterministic for these arguments;
+    every agent of the variant needs it)."""
+    key = (variant, demos, iterations, demo_seed, start)
+    if key not in _LEARNED:
+        _LEARNED[key] = learn_constraints(variant, demos, iterations, demo_seed, start)
+    return _LEARNED[key]
+
+
+def cell(junction: str, method: str, seed: int, episodes: int = 300, test_episodes: int = 20, max_steps: int = 50,
+         test_at: list[int] | None = None, demos: int = 100, iterations: int = 20, demo_seed: int = 0,
+         start: str | float = DEFAULT_START) -> dict:
+    """One agent of ``benchmarks/sweeps/shielded_q_learning*.toml``: what :func:`run_agents`
+    computes for agent ``seed`` of ``method`` in ``junction`` (``lights``, ``priority``, or
+    ``combined`` for the transfer), as per-agent metrics whose mean over seeds is the script's
+    number (``violated_training`` -> P(viol.) training, ...); ``training_cost`` is the curve."""
+    test_at = tuple(test_at if test_at is not None else (10, 30))
+    learned = {v: _learned(v, demos, iterations, demo_seed, start) for v in
+               (("lights", "priority") if junction == "combined" else (junction,))}
+    if junction == "combined":
+        masks = transfer_masks(learned["lights"]["rules"], learned["priority"]["rules"])[0]
+    else:
+        masks = {"QL": None, **learned[junction]["masks"]}
+    if method not in masks:
+        raise ValueError(f"no method {method!r} in the {junction} junction (one of {', '.join(masks)})")
+    agent = run_agent(junction, masks[method], seed, episodes, test_episodes, max_steps, test_at)
+    costs = agent["costs"]
+    metrics = {"violated_training": int(agent["train_violations"].sum() > 0),
+               "violated_test": int(agent["test_violations"] > 0),
+               "violations_per_training_episode": float(agent["train_violations"].mean()),
+               "episodes_to_convergence": agent["converged_at"],
+               "training_cost_first_50": float(costs[:50].mean()), "training_cost_last_50": float(costs[-50:].mean()),
+               "total_training_cost": float(costs.sum()), "test_cost": float(agent["test_cost"]),
+               "test_success": float(agent["success"]), "training_cost": [float(c) for c in costs]}
+    for k, (violations, cost) in agent["early"].items():
+        metrics[f"violated_test_after_{k}"] = int(violations > 0)
+        metrics[f"test_cost_after_{k}"] = float(cost)
+    return metrics
 
 
 def table(results: dict, title: str) -> str:
@@ -306,23 +373,11 @@ def main(argv: list[str] | None = None) -> int:
                                                test_at)
 
     print("transfer: translating the rules to the combined junction", file=sys.stderr, flush=True)
-    target = logic_mdp("junction-combined")
     t0 = time.perf_counter()
-    r1, r2 = learned["lights"]["rules"], learned["priority"]["rules"]
-    transfer_masks = {"QL": None}
-    transfer_recovery = {}
-    for name, rules in (("LC-QL(1)", r1), ("LC-QL(2)", r2), ("LC-QL(1+2)", r1 + r2)):
-        raw = target.rule_mask(rules) if rules else np.zeros_like(target.unavailable)
-        closed = junction_mask(target, "combined", raw)
-        transfer_masks[name] = closed
-        n = closed.shape[0]
-        truth = target.truth_forbidden[:n]
-        transfer_recovery[name] = {"rules": len(rules), "forbid": int(closed.sum()),
-                                   "false_positive": int((closed & ~truth).sum()),
-                                   "missed": int((truth & ~closed).sum()), "truth_forbidden": int(truth.sum())}
+    transfer, transfer_recovery = transfer_masks(learned["lights"]["rules"], learned["priority"]["rules"])
     out["transfer_translation_seconds"] = time.perf_counter() - t0
     out["transfer_recovery"] = transfer_recovery
-    out["transfer"] = run_agents("combined", transfer_masks, seeds, episodes, args.test_episodes, args.max_steps,
+    out["transfer"] = run_agents("combined", transfer, seeds, episodes, args.test_episodes, args.max_steps,
                                  test_at)
     out["seconds"] = time.perf_counter() - started
 

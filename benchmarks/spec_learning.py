@@ -162,6 +162,17 @@ def run_job(job: dict) -> dict:
     return row
 
 
+def cell(task: str, props: str, method: str, seed: int, n_demos: int = 50, scarlet_timeout: float = 120.0) -> dict:
+    """One cell of ``benchmarks/sweeps/spec_learning*.toml``: :func:`run_job`'s row for one
+    (task, propositions, method, seed) as metrics (a failed run keeps success 0 and its error,
+    as in the script's table)."""
+    row = run_job(dict(task=task, props=props, method=method, seed=seed, n_demos=n_demos,
+                       scarlet_timeout=scarlet_timeout))
+    keys = ("success", "entropy", "length", "unpruned_length", "iterations", "seconds", "formula", "error",
+            "finished")
+    return {k: row.get(k) for k in keys}
+
+
 # --- aggregation -------------------------------------------------------------------------------
 def _mean(values):
     values = [v for v in values if v is not None]

@@ -51,12 +51,12 @@ if [[ ! -x .venv/bin/python ]]; then
 fi
 
 extras="peers"
-(( with_tests )) && extras="peers,test,sumo,sb3,highway"
+(( with_tests )) && extras="peers,test,sumo,sb3,highway,sweep,mujoco"
 stamp=".venv/.symlearn-installed"
 want="$(sha256sum pyproject.toml | cut -d' ' -f1) $extras"
 have="$(cat "$stamp" 2>/dev/null || true)"
 # A test install also satisfies a plain one.
-if [[ "$have" == "$want" ]] || { (( ! with_tests )) && [[ "$have" == "$(sha256sum pyproject.toml | cut -d' ' -f1) peers,test,sumo,sb3,highway" ]]; }; then
+if [[ "$have" == "$want" ]] || { (( ! with_tests )) && [[ "$have" == "$(sha256sum pyproject.toml | cut -d' ' -f1) peers,test,sumo,sb3,highway,sweep,mujoco" ]]; }; then
     exit 0
 fi
 say "installing symlearn[$extras] into .venv (first run takes a few minutes)"

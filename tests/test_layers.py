@@ -17,17 +17,19 @@ PACKAGE = Path(__file__).resolve().parents[1] / "symlearn"
 # layer -> module prefixes it must never import
 FORBIDDEN = {
     "symlearn.logic": ("torch", "gymnasium", "symlearn.learners", "symlearn.envs", "symlearn.backends",
-                       "symlearn.grounding", "symlearn.rl", "symlearn.cli", "symlearn.demo"),
+                       "symlearn.grounding", "symlearn.rl", "symlearn.cli", "symlearn.demo", "symlearn.sweep"),
     "symlearn.grounding": ("torch", "gymnasium", "symlearn.learners", "symlearn.envs", "symlearn.backends",
-                           "symlearn.rl", "symlearn.cli", "symlearn.demo"),
+                           "symlearn.rl", "symlearn.cli", "symlearn.demo", "symlearn.sweep"),
     "symlearn.mdp": ("torch", "gymnasium", "symlearn.learners", "symlearn.envs", "symlearn.backends",
-                     "symlearn.grounding", "symlearn.cli", "symlearn.demo"),
+                     "symlearn.grounding", "symlearn.cli", "symlearn.demo", "symlearn.sweep"),
     "symlearn.data": ("torch", "symlearn.learners", "symlearn.envs", "symlearn.backends", "symlearn.grounding",
-                      "symlearn.cli", "symlearn.demo"),
-    "symlearn.rl": ("symlearn.learners", "symlearn.envs", "symlearn.backends", "symlearn.cli", "symlearn.demo"),
-    "symlearn.learners": ("symlearn.envs", "symlearn.cli", "symlearn.demo"),
-    "symlearn.envs": ("symlearn.learners", "symlearn.backends", "symlearn.cli", "symlearn.demo"),
-    "symlearn.backends": ("symlearn.learners", "symlearn.cli", "symlearn.demo"),
+                      "symlearn.cli", "symlearn.demo", "symlearn.sweep"),
+    "symlearn.rl": ("symlearn.learners", "symlearn.envs", "symlearn.backends", "symlearn.cli", "symlearn.demo",
+                    "symlearn.sweep"),
+    "symlearn.learners": ("symlearn.envs", "symlearn.cli", "symlearn.demo", "symlearn.sweep"),
+    "symlearn.envs": ("symlearn.learners", "symlearn.backends", "symlearn.cli", "symlearn.demo", "symlearn.sweep"),
+    "symlearn.backends": ("symlearn.learners", "symlearn.cli", "symlearn.demo", "symlearn.sweep"),
+    "symlearn.sweep": ("symlearn.cli", "symlearn.demo"),
 }
 
 

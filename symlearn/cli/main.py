@@ -43,6 +43,7 @@ COMMAND_MODULES: tuple[str, ...] = (
     "symlearn.cli.domain_command",
     "symlearn.cli.train_command",
     "symlearn.cli.dnf_command",
+    "symlearn.cli.sweep_command",
 )
 
 EXIT_OK, EXIT_INTERNAL, EXIT_USAGE, EXIT_INTERRUPTED, EXIT_TERMINATED = 0, 1, 2, 130, 143

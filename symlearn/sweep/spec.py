@@ -1,0 +1,386 @@
+"""A sweep file: what to run, over which parameters and seeds, what to keep.
+
+.. code-block:: toml
+
+    [sweep]
+    name = "gridworld stochasticity"
+    function = "../gridworld_stochasticity.py:cell"  # or "package.module:function", or
+    # command = ["symlearn", "ltl", "learn", "{sample}", "--json"]
+    seeds = 5                 # 0..4, or a list: [0, 3, 7]
+    metrics = ["reward"]      # keys of the function's result to keep (default: all)
+    timeout = 600             # seconds per attempt of a cell (default: none)
+    retries = 2               # further attempts after a crash or a timeout (default 2)
+    cpus = 1                  # CPUs one cell uses (Ray reserves them; OMP threads follow)
+
+    [fixed]                   # passed to every cell
+    episodes = 300
+
+    [grid]                    # every combination (the cartesian product), in file order
+    p = [0.0, 0.3, 0.5]
+    method = ["MCE-ICRL", "ME-ICRL"]
+
+    [[cases]]                 # optional: explicit parameter sets, each crossed with the grid
+    demos = 10
+
+    [report]                  # optional: how `symlearn sweep report` draws it
+    x = "p"                   # the parameter on the x axis of line plots
+    group = "method"          # one line / bar per value of this parameter
+    plot = ["reward"]         # the metrics that get figures (default: every one)
+    curve_x = { returns = "training episode" }   # x axis of a list-valued metric
+    [report.labels]           # axis text with units, by parameter or metric name
+    p = "slip probability p"
+
+A cell is one parameter set and one seed; the function is called as ``function(**params,
+seed=seed)`` and returns a mapping of metrics (numbers, strings, lists of numbers for curves).
+Every parameter must be one the function accepts (checked against its signature before anything
+runs, so a typo does not cost a grid of failed cells). A command gets its parameters and
+``{seed}`` through ``{name}`` placeholders in its words and must print one JSON document;
+``metrics`` then are dotted paths into it (``result.score``).
+
+Mistakes are :class:`~symlearn.errors.ParseError` / :class:`~symlearn.errors.DataError` with the
+file and, where a key is to blame, its line.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import inspect
+import itertools
+import json
+import re
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from symlearn.errors import DataError, ParseError
+from symlearn.input_limits import read_input_text
+
+SECTIONS = {"sweep", "fixed", "grid", "cases", "report"}
+SWEEP_KEYS = {"name", "function", "command", "seeds", "metrics", "timeout", "retries", "cpus"}
+REPORT_KEYS = {"x", "group", "labels", "curve_x", "plot"}
+#: the parameter every cell receives; a grid may not set it
+SEED = "seed"
+DEFAULT_RETRIES = 2
+_NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
+_PLACEHOLDER = re.compile(r"\{([A-Za-z_][A-Za-z0-9_]*)\}")
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One unit of work: a parameter set and a seed; ``id`` is stable across runs and machines."""
+
+    id: str
+    params: dict[str, Any]
+    seed: int
+    index: int
+
+    def label(self) -> str:
+        shown = ", ".join(f"{k}={v}" for k, v in self.params.items())
+        return f"{shown}{', ' if shown else ''}seed={self.seed}"
+
+
+@dataclass
+class SweepSpec:
+    """A parsed sweep file (see the module docstring)."""
+
+    path: Path
+    name: str
+    function: str | None
+    command: list[str] | None
+    seeds: list[int]
+    metrics: list[str] | None
+    timeout: float | None
+    retries: int
+    cpus: float
+    fixed: dict[str, Any]
+    grid: dict[str, list[Any]]
+    cases: list[dict[str, Any]]
+    report: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def target(self) -> str:
+        """What runs, as recorded in cell ids: the function reference or the command words."""
+        return self.function if self.function is not None else json.dumps(self.command)
+
+    def identity(self) -> dict[str, Any]:
+        """What decides the results: a folder written for another identity is another experiment.
+        Timeouts, retries, CPUs and report settings may change between runs of one sweep."""
+        return {"target": self.target, "fixed": self.fixed, "grid": self.grid, "cases": self.cases,
+                "seeds": self.seeds, "metrics": self.metrics}
+
+    def fingerprint(self) -> str:
+        return hashlib.sha256(_canonical(self.identity()).encode()).hexdigest()
+
+    def parameter_names(self) -> list[str]:
+        names = list(self.fixed)
+        for case in self.cases:
+            names += [k for k in case if k not in names]
+        return names + [k for k in self.grid if k not in names]
+
+    def cells(self) -> list[Cell]:
+        """Every cell, in a fixed order: cases, then the grid in file order, then seeds."""
+        cells = []
+        grid_keys = list(self.grid)
+        for case in self.cases or [{}]:
+            for values in itertools.product(*(self.grid[k] for k in grid_keys)):
+                params = {**self.fixed, **case, **dict(zip(grid_keys, values))}
+                for seed in self.seeds:
+                    cells.append(Cell(cell_id(self.target, params, seed, self.metrics), params, seed, len(cells)))
+        return cells
+
+    def to_json(self) -> dict[str, Any]:
+        return {"name": self.name, "function": self.function, "command": self.command, "seeds": self.seeds,
+                "metrics": self.metrics, "timeout": self.timeout, "retries": self.retries, "cpus": self.cpus,
+                "fixed": self.fixed, "grid": self.grid, "cases": self.cases, "report": self.report,
+                "path": str(self.path)}
+
+    @classmethod
+    def from_json(cls, doc: dict[str, Any]) -> "SweepSpec":
+        return cls(path=Path(doc["path"]), name=doc["name"], function=doc["function"], command=doc["command"],
+                   seeds=list(doc["seeds"]), metrics=doc["metrics"], timeout=doc["timeout"],
+                   retries=doc["retries"], cpus=doc["cpus"], fixed=dict(doc["fixed"]),
+                   grid={k: list(v) for k, v in doc["grid"].items()}, cases=[dict(c) for c in doc["cases"]],
+                   report=dict(doc.get("report") or {}))
+
+
+def _canonical(value: Any) -> str:
+    return json.dumps(value, sort_keys=True, separators=(",", ":"), ensure_ascii=True)
+
+
+def cell_id(target: str, params: dict[str, Any], seed: int, metrics: list[str] | None = None) -> str:
+    """16 hex digits of the hash of what the cell computes and keeps: the same cell in another
+    sweep file (a grid grown by a value, more seeds) has the same id, so its record can be
+    reused; one that keeps other metrics has another (its old records lack them)."""
+    key = {"target": target, "params": params, "seed": seed, "metrics": metrics}
+    return hashlib.sha256(_canonical(key).encode()).hexdigest()[:16]
+
+
+# -- reading ----------------------------------------------------------------------------------------
+
+def read_spec(path: str | Path, *, check_target: bool = True) -> SweepSpec:
+    """Parse and check the sweep file at ``path``. ``check_target``: import the function and check
+    the parameters against its signature (off when only the recorded spec is re-read)."""
+    path = Path(path)
+    text = read_input_text(path)
+    try:
+        doc = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        line, column = _toml_position(str(exc), text)
+        message = re.sub(r"\s*\(at (line \d+, column \d+|end of document)\)", "", str(exc))
+        raise ParseError(f"invalid TOML: {message}", file=path, line=line, column=column) from None
+    where = _Locator(path, text)
+    for section in doc:
+        if section not in SECTIONS:
+            raise where.error(f"unknown section [{section}]", None, section,
+                              hint=f"the sections are {', '.join(sorted(SECTIONS))}")
+    sweep = doc.get("sweep")
+    if not isinstance(sweep, dict):
+        raise DataError("a sweep file needs a [sweep] table", file=path,
+                        hint='[sweep] with function = "module:function" (or command = [...]) and seeds')
+    for key in sweep:
+        if key not in SWEEP_KEYS:
+            raise where.error(f"unknown key {key!r} in [sweep]", "sweep", key,
+                              hint=f"the keys are {', '.join(sorted(SWEEP_KEYS))}")
+    function, command = sweep.get("function"), sweep.get("command")
+    if (function is None) == (command is None):
+        raise where.error("[sweep] needs exactly one of function = \"module:function\" and command = [...]",
+                          "sweep", "function" if function is not None else None)
+    if function is not None and (not isinstance(function, str) or ":" not in function):
+        raise where.error(f"function must be \"module:function\" or \"file.py:function\", not {function!r}",
+                          "sweep", "function")
+    if command is not None and (not isinstance(command, list) or not command
+                                or not all(isinstance(w, str) for w in command)):
+        raise where.error("command must be a non-empty list of strings", "sweep", "command")
+    seeds = _seeds(sweep.get("seeds", 1), where)
+    metrics = sweep.get("metrics")
+    if metrics is not None and (not isinstance(metrics, list) or not metrics
+                                or not all(isinstance(m, str) and m for m in metrics)):
+        raise where.error("metrics must be a non-empty list of names", "sweep", "metrics")
+    timeout = _positive(sweep.get("timeout"), "timeout", where)
+    retries = sweep.get("retries", DEFAULT_RETRIES)
+    if not isinstance(retries, int) or isinstance(retries, bool) or retries < 0:
+        raise where.error(f"retries must be a whole number >= 0, not {retries!r}", "sweep", "retries")
+    cpus = _positive(sweep.get("cpus", 1), "cpus", where)
+    fixed = _table(doc, "fixed", where)
+    grid = _table(doc, "grid", where)
+    for key, values in grid.items():
+        if not isinstance(values, list):
+            raise where.error(f"grid parameter {key!r} must be a list of values", "grid", key,
+                              hint=f"put a single value under [fixed]: {key} = {_canonical(values)}")
+        if not values:
+            raise where.error(f"grid parameter {key!r} is an empty list: the grid has 0 cells", "grid", key)
+        if len({_canonical(v) for v in values}) != len(values):
+            raise where.error(f"grid parameter {key!r} lists a value twice", "grid", key)
+        if key in fixed:
+            raise where.error(f"parameter {key!r} is both in [fixed] and in [grid]", "grid", key)
+    cases = doc.get("cases", [])
+    if not isinstance(cases, list) or not all(isinstance(c, dict) for c in cases):
+        raise where.error("cases must be [[cases]] tables", None, "cases")
+    for case in cases:
+        for key in case:
+            _check_name(key, "cases", where)
+            if key in grid:
+                raise where.error(f"parameter {key!r} is both in [[cases]] and in [grid]", "cases", key)
+    report = doc.get("report", {})
+    if not isinstance(report, dict):
+        raise where.error("[report] must be a table", None, "report")
+    for key in report:
+        if key not in REPORT_KEYS:
+            raise where.error(f"unknown key {key!r} in [report]", "report", key,
+                              hint=f"the keys are {', '.join(sorted(REPORT_KEYS))}")
+    spec = SweepSpec(path=path, name=str(sweep.get("name") or path.stem), function=function, command=command,
+                     seeds=seeds, metrics=metrics, timeout=timeout, retries=retries, cpus=cpus, fixed=fixed,
+                     grid=grid, cases=[dict(c) for c in cases], report=dict(report))
+    names = spec.parameter_names()
+    for key in ("x", "group"):
+        if key in report and report[key] not in names:
+            raise where.error(f"[report] {key} = {report[key]!r} is not a parameter of the sweep", "report", key,
+                              hint=f"the parameters are {', '.join(names) or '(none)'}")
+    plot = report.get("plot")
+    if plot is not None and (not isinstance(plot, list) or not all(isinstance(m, str) for m in plot)):
+        raise where.error("[report] plot must be a list of metric names", "report", "plot")
+    if check_target:
+        if function is not None:
+            check_parameters(resolve_function(function, path.parent, where), names, where)
+        else:
+            _check_command(command, names, where)
+    return spec
+
+
+def _seeds(value: Any, where: "_Locator") -> list[int]:
+    if isinstance(value, int) and not isinstance(value, bool):
+        if value < 1:
+            raise where.error(f"seeds = {value}: the grid has 0 cells", "sweep", "seeds",
+                              hint="seeds = N runs seeds 0..N-1; give at least 1")
+        return list(range(value))
+    if isinstance(value, list) and all(isinstance(s, int) and not isinstance(s, bool) for s in value):
+        if not value:
+            raise where.error("seeds is an empty list: the grid has 0 cells", "sweep", "seeds")
+        if len(set(value)) != len(value):
+            raise where.error("seeds lists a seed twice", "sweep", "seeds")
+        return list(value)
+    raise where.error(f"seeds must be a count or a list of whole numbers, not {value!r}", "sweep", "seeds")
+
+
+def _positive(value: Any, name: str, where: "_Locator") -> float | None:
+    if value is None:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not value > 0 or value == float("inf"):
+        raise where.error(f"{name} must be a positive number, not {value!r}", "sweep", name)
+    return float(value)
+
+
+def _table(doc: dict, section: str, where: "_Locator") -> dict[str, Any]:
+    table = doc.get(section, {})
+    if not isinstance(table, dict):
+        raise where.error(f"[{section}] must be a table", None, section)
+    for key in table:
+        _check_name(key, section, where)
+    return dict(table)
+
+
+def _check_name(key: str, section: str, where: "_Locator") -> None:
+    if not _NAME.match(key):
+        raise where.error(f"parameter name {key!r} is not an identifier", section, key)
+    if key == SEED:
+        raise where.error("'seed' is set per cell from [sweep] seeds, not as a parameter", section, key)
+
+
+# -- the target -----------------------------------------------------------------------------------
+
+def resolve_function(reference: str, base: Path, where: "_Locator | None" = None):
+    """The callable named by ``module:function`` or ``file.py:function`` (relative to ``base``)."""
+    from symlearn.sweep.cell import load_function
+
+    try:
+        return load_function(reference, str(base))
+    except (ImportError, AttributeError, OSError, SyntaxError) as exc:
+        message = f"cannot load function {reference!r}: {type(exc).__name__}: {exc}"
+        if where is None:
+            raise DataError(message) from None
+        raise where.error(message, "sweep", "function") from None
+
+
+def check_parameters(function, names: list[str], where: "_Locator") -> None:
+    """Every parameter of the sweep (and ``seed``) must be one ``function`` accepts, and every
+    parameter it requires must be given."""
+    try:
+        signature = inspect.signature(function)
+    except (TypeError, ValueError):
+        return  # a builtin without a signature: it will say so itself
+    accepted = signature.parameters
+    open_keywords = any(p.kind is p.VAR_KEYWORD for p in accepted.values())
+    keyword_ok = {n for n, p in accepted.items() if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)}
+    qualified = getattr(function, "__qualname__", str(function))
+    for name in [*names, SEED]:
+        if name not in keyword_ok and not open_keywords:
+            section, key = where.section_of(name)
+            raise where.error(f"unknown parameter {name!r}: {qualified}() takes "
+                              f"{', '.join(sorted(keyword_ok)) or 'no keyword parameters'}", section, key,
+                              hint="every cell is seeded: the function needs a 'seed' parameter"
+                              if name == SEED else "check the spelling, or add the parameter to the function")
+    missing = [n for n, p in accepted.items() if p.default is p.empty
+               and p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY) and n not in names and n != SEED]
+    if missing:
+        raise where.error(f"{qualified}() needs parameter{'s' if len(missing) > 1 else ''} "
+                          f"{', '.join(missing)}, which the sweep does not give", "sweep", "function",
+                          hint="add them under [fixed] or [grid]")
+
+
+def _check_command(command: list[str], names: list[str], where: "_Locator") -> None:
+    used = {m for word in command for m in _PLACEHOLDER.findall(word)}
+    for name in names:
+        if name not in used:
+            section, key = where.section_of(name)
+            raise where.error(f"unknown parameter {name!r}: the command has no {{{name}}} placeholder", section, key)
+    for name in sorted(used - set(names) - {SEED}):
+        raise where.error(f"the command's placeholder {{{name}}} is no parameter of the sweep", "sweep", "command")
+
+
+# -- locating keys in the file ----------------------------------------------------------------------
+
+def _toml_position(message: str, text: str) -> tuple[int | None, int | None]:
+    found = re.search(r"at line (\d+), column (\d+)", message)
+    if found:
+        return int(found.group(1)), int(found.group(2))
+    if "end of document" in message:  # an unclosed value: point at the end
+        lines = text.splitlines() or [""]
+        return len(lines), len(lines[-1]) + 1
+    return None, None
+
+
+class _Locator:
+    """Finds the line of ``key`` in ``[section]`` (tomllib keeps no positions) for located errors."""
+
+    def __init__(self, path: Path, text: str) -> None:
+        self.path = path
+        self.lines = text.splitlines()
+
+    def line_of(self, section: str | None, key: str | None) -> tuple[int | None, int | None]:
+        current = None
+        for number, line in enumerate(self.lines, 1):
+            stripped = line.strip()
+            header = re.match(r"^\[\[?\s*([A-Za-z0-9_.\-]+)\s*\]\]?", stripped)
+            if header:
+                current = header.group(1)
+                if section is None and key is not None and current == key:
+                    return number, 1
+                continue
+            if key is not None and current is not None and current.split(".")[0] == section:
+                match = re.match(r"^(\s*)([A-Za-z0-9_\-]+|\"[^\"]*\")\s*=", line)
+                if match and match.group(2).strip('"') == key:
+                    return number, len(match.group(1)) + 1
+            if key is None and current == section:
+                return number - 1 if number > 1 else number, 1
+        return None, None
+
+    def section_of(self, name: str) -> tuple[str, str]:
+        for section in ("grid", "fixed", "cases"):
+            if self.line_of(section, name)[0] is not None:
+                return section, name
+        return "grid", name
+
+    def error(self, message: str, section: str | None, key: str | None, *, hint: str | None = None) -> DataError:
+        line, column = self.line_of(section, key) if (section or key) else (None, None)
+        return DataError(message, file=self.path, line=line, column=column, hint=hint)
