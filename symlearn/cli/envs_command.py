@@ -1,9 +1,10 @@
 """``symlearn envs``: the bundled environments (:mod:`symlearn.envs.registry`) and what can be
 learned in each.
 
-``--json`` prints ``{"constraints": [...], "specs": [...], "continuous": [...], "gymnasium": [...]}``:
-one row per registry entry of kind ``constraints`` (with the size of its MDP and ground truth),
-``spec`` (with its formula) or ``continuous`` (continuous states, constraints over named features),
+``--json`` prints ``{"constraints": [...], "specs": [...], "continuous": [...], "machines": [...],
+"gymnasium": [...]}``: one row per registry entry of kind ``constraints`` (with the size of its MDP
+and ground truth), ``spec`` (with its formula), ``continuous`` (continuous states, constraints over
+named features, or learned costs) or ``machine`` (reward machines from image demonstrations),
 each with ``kinds``, ``methods`` and ``gym_id`` (``null`` where there is no gymnasium
 environment), then one row per gymnasium id with the entries that use it.
 """
@@ -30,13 +31,14 @@ def _envs(args, out) -> None:
                             "pairs": int(setting.space.sum()), "forbidden_by_truth": int(setting.truth.sum())})
     specs = [{**_row(entry), "env": entry.gym_name, "formula": entry.formula} for entry in entries(Kind.SPEC)]
     continuous = [_row(entry) for entry in entries(Kind.CONTINUOUS)]
+    machines = [_row(entry) for entry in entries(Kind.MACHINE)]
     gym_ids: dict[str, list[str]] = {}
     for entry in entries():
         if entry.gym_id is not None:
             gym_ids.setdefault(entry.gym_id, []).append(entry.name)
     gymnasium = [{"id": gym_id, "entries": used_by} for gym_id, used_by in gym_ids.items()]
-    out.result({"constraints": constraints, "specs": specs, "continuous": continuous, "gymnasium": gymnasium},
-               _render)
+    out.result({"constraints": constraints, "specs": specs, "continuous": continuous, "machines": machines,
+                "gymnasium": gymnasium}, _render)
 
 
 def _row(entry) -> dict:
@@ -57,13 +59,19 @@ def _render(doc: dict) -> str:
     for r in doc["specs"]:
         lines.append(f"  {r['name']:<18} {r['formula']:<40} {r['description']}")
     if doc["continuous"]:
-        lines.append("continuous constraints (DNF over info['features'], ground truth in info['cost']):")
+        lines.append("continuous constraints (DNF over info['features'] or learned costs, ground truth in "
+                     "info['cost']):")
         for r in doc["continuous"]:
+            lines.append(f"  {r['name']:<18} {r['description']}")
+    if doc["machines"]:
+        lines.append("reward machines from image demonstrations (symlearn learn rm; train --algo dqrm|dqn):")
+        for r in doc["machines"]:
             lines.append(f"  {r['name']:<18} {r['description']}")
     lines.append("gymnasium environments (import symlearn.envs, then gymnasium.make(ID)):")
     for r in doc["gymnasium"]:
         lines.append(f"  {r['id']:<30} {', '.join(r['entries'])}")
-    without = [r["name"] for r in doc["constraints"] + doc["specs"] + doc["continuous"] if r["gym_id"] is None]
+    rows = doc["constraints"] + doc["specs"] + doc["continuous"] + doc["machines"]
+    without = [r["name"] for r in rows if r["gym_id"] is None]
     if without:
         lines.append(f"  (no gymnasium environment: {', '.join(without)})")
     return "\n".join(lines)

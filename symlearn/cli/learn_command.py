@@ -23,7 +23,8 @@ from symlearn.cli.output import blame_file
 
 # Modules defining register_learn(commands, common); this module registers "spec" itself.
 LEARN_SUBCOMMANDS: tuple[str, ...] = ("symlearn.cli.learn_constraints_command", "symlearn.cli.learn_dnf_command",
-                                      "symlearn.cli.learn_pdfa_command", "symlearn.cli.learn_icrl_command")
+                                      "symlearn.cli.learn_pdfa_command", "symlearn.cli.learn_icrl_command",
+                                      "symlearn.cli.learn_rm_command")
 
 
 def register(subparsers, common) -> None:

@@ -13,6 +13,10 @@
   it was learned for other observation/action spaces), the constrained signal of ``ppo-lag`` or,
   with ``ppo``, subtracted from the reward (the thesis' transfer experiment). Without it, ``ppo-lag`` uses the environment's own cost (the ground truth: the
   baseline "PPO-Lagrangian on the true cost").
+* ``--algo dqrm|dqn`` on a rendered block task (``blockworld-stack2`` ...): deep Q-learning with one
+  Q-function per reward-machine state (DQRM; ``--machine`` from ``symlearn learn rm``, ``truth``,
+  or inferred from the task's demonstrations) or DQN on the machine's shaped (``--reward shaped``)
+  or the task's sparse reward; handled by :mod:`symlearn.cli.train_rm`.
 * ``--advantage-scale returns``, ``--normalize-observations``, ``--normalize-values``: the options
   of :mod:`symlearn.rl.ppo` that made PPO-Lagrangian on the learned DNF solve the thesis' toy
   (docs/BENCHMARKS.md); off by default, as in the library.
@@ -37,7 +41,13 @@ def register(subparsers, common) -> None:
         description="Train an agent with PPO or PPO-Lagrangian; a learned DNF formula can be its cost, and rules "
                     "the agent never ran into can be pruned afterwards.")
     cmd.add_argument("--env", required=True, help="a bundled continuous environment or a gymnasium id")
-    cmd.add_argument("--algo", choices=("ppo", "ppo-lag"), default="ppo-lag", help="ppo or ppo-lag (default)")
+    cmd.add_argument("--algo", choices=("ppo", "ppo-lag", "dqrm", "dqn"), default="ppo-lag",
+                     help="ppo, ppo-lag (default), or dqrm / dqn on a rendered block task (blockworld-*)")
+    cmd.add_argument("--machine", metavar="MACHINE.json",
+                     help="dqrm/dqn: a machine from `symlearn learn rm` (its .labeling.json beside it), or 'truth'; "
+                          "default: inferred from the task's scripted demonstrations")
+    cmd.add_argument("--reward", choices=("shaped", "sparse"), default="shaped",
+                     help="dqn: the machine's shaped reward (default) or the task's sparse reward")
     cmd.add_argument("--cost", metavar="RULES.dnf|COST.safetensors",
                      help="a DNF formula over the environment's features, or a cost learned by "
                           "`symlearn learn icrl` (.safetensors), as the cost")
@@ -58,7 +68,7 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--n-steps", type=int, default=128, help="steps per copy per iteration (128)")
     cmd.add_argument("--prune", action="store_true", help="prune rules the agent never ran into (needs --cost)")
     cmd.add_argument("--prune-threshold", type=float, default=1e-3, help="fired/evaluated ratio to keep a rule")
-    cmd.add_argument("--steps", type=int, default=50_000, help="environment steps (50000)")
+    cmd.add_argument("--steps", type=int, default=None, help="environment steps (ppo: 50000; dqrm/dqn: 300)")
     cmd.add_argument("--eval-episodes", type=int, default=10, help="greedy evaluation episodes (10)")
     cmd.add_argument("-o", "--output", help="write the policy here (.safetensors + .json)")
     cmd.set_defaults(handler=_train)
@@ -89,6 +99,12 @@ def _train(args: argparse.Namespace, out) -> None:
     from symlearn.errors import DataError, SymlearnError
     from symlearn.rl.ppo import LagrangianConfig, PPOConfig, evaluate, train_ppo
 
+    if args.algo in ("dqrm", "dqn"):
+        from symlearn.cli.train_rm import train_blocks
+
+        args.steps = 300 if args.steps is None else args.steps
+        return train_blocks(args, out)
+    args.steps = 50_000 if args.steps is None else args.steps
     if args.steps < 1:
         raise SymlearnError(f"--steps must be at least 1, got {args.steps}")
     for flag, value in (("--n-envs", args.n_envs), ("--n-steps", args.n_steps)):

@@ -21,6 +21,7 @@ PIPELINE_MODULES: tuple[str, ...] = (
     "symlearn.demo.dnf_pipeline",
     "symlearn.demo.safenav_pipeline",
     "symlearn.demo.blockworld_pipeline",
+    "symlearn.demo.rm_pipeline",
 )
 
 

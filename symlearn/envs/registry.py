@@ -51,11 +51,13 @@ class Kind(StrEnum):
     RULES = "rules"
     SPEC = "spec"
     CONTINUOUS = "continuous"
+    MACHINE = "machine"
 
     @property
     def label(self) -> str:
         return {"constraints": "constraint-learning environment", "rules": "logic domain",
-                "spec": "specification task", "continuous": "continuous-constraint environment"}[self.value]
+                "spec": "specification task", "continuous": "continuous-constraint environment",
+                "machine": "reward-machine task (image demonstrations)"}[self.value]
 
 
 @dataclass(frozen=True)
@@ -95,10 +97,11 @@ class Entry:
     def __post_init__(self) -> None:
         # A wrong row is a bug of ours, found by the import of this module (and its tests).
         problems = []
-        if not self.kinds & {Kind.CONSTRAINTS, Kind.SPEC, Kind.CONTINUOUS}:
-            problems.append("is no constraint environment, specification task or continuous-constraint environment")
-        if Kind.CONTINUOUS in self.kinds and self.env is None:
-            problems.append("is a continuous-constraint environment without an environment")
+        if not self.kinds & {Kind.CONSTRAINTS, Kind.SPEC, Kind.CONTINUOUS, Kind.MACHINE}:
+            problems.append("is no constraint environment, specification task, continuous-constraint environment "
+                            "or reward-machine task")
+        if self.kinds & {Kind.CONTINUOUS, Kind.MACHINE} and self.env is None:
+            problems.append("is a continuous-constraint environment or reward-machine task without an environment")
         if Kind.RULES in self.kinds and (Kind.CONSTRAINTS not in self.kinds or self.domain is None):
             problems.append("has rules but no constraint kind or no domain factory")
         if Kind.SPEC in self.kinds and (self.formula is None or self.env is None):
@@ -145,7 +148,10 @@ def _spec(name: str, world: str, formula: str, description: str) -> Entry:
 
 
 _DNF_METHODS = ("dnf",)  # one-class tree -> DNF over the environment's info["features"]
-_ICRL_METHODS = ("mce-icrl",)  # neural ICRL on the environment's observations (symlearn learn icrl)
+_ICRL_METHODS = ("mce-icrl",)
+_BLOCK_TASKS = {"stack-2": "stack red on green", "place-2": "two blocks to their places",
+                "pyramid-3": "a three-block pyramid", "stack-3": "a three-block stack",
+                "place-3": "three blocks to their places"}  # neural ICRL on the environment's observations (symlearn learn icrl)
 
 
 def _safenav(agent: str, task: str, description: str) -> Entry:
@@ -199,6 +205,12 @@ ENTRIES: tuple[Entry, ...] = (
     Entry("point-circle", frozenset({Kind.CONTINUOUS}),
           "kinematic point paid for running a circle of radius 10, wall at x = -3 (cost-transfer target)",
           _ICRL_METHODS, "symlearn/point-circle-v0", Factory("symlearn.envs.point_circle:PointCircle")),
+    # Thesis chapter 7 (Table 7.1): numpy rendered block world, image demonstrations, pick-and-place pixels.
+    *(Entry(f"blockworld-{task.replace('-', '')}", frozenset({Kind.MACHINE}),
+            f"rendered block world, {text} (top-down 48 px policy view, front camera for demos)",
+            ("rm", "dqrm", "dqn"), f"symlearn/blockworld-{task.replace('-', '')}-v0",
+            Factory("symlearn.envs.rendered_blocks.env:RenderedBlocksEnv", {"task": task}))
+      for task, text in _BLOCK_TASKS.items()),
 )
 
 # Names used before the registry gave the junction one name everywhere (hints only).

@@ -35,13 +35,14 @@ def test_names_are_unique_and_the_agreed_ones():
     names = [e.name for e in ENTRIES]
     assert len(names) == len(set(names))
     safenav = [f"safenav-{agent}-{task}" for agent in ("point", "car") for task in ("goal", "push")]
+    blocks = [f"blockworld-{t}" for t in ("stack2", "place2", "pyramid3", "stack3", "place3")]
     assert set(names) == {"hanoi", "junction-lights", "junction-priority", "junction-combined", "gridworld",
                           *(f"{world}-{i}" for world in ("office", "craft") for i in range(1, 5)),
-                          "toy-navigation", *safenav, "driving", "blocked-point", "point-circle"}
+                          "toy-navigation", *safenav, "driving", "blocked-point", "point-circle", *blocks}
     assert GYM_IDS == sorted(f"symlearn/{n}-v0" for n in ("junction-lights", "junction-priority",
                                                           "junction-combined", "gridworld", "office", "craft",
                                                           "toy-navigation", *safenav, "driving", "blocked-point",
-                                                          "point-circle"))
+                                                          "point-circle", *blocks))
 
 
 def test_the_other_tables_are_views_of_the_registry():
@@ -81,6 +82,9 @@ def test_every_entry_with_an_environment_builds_it(entry):
     if Kind.CONTINUOUS in entry.kinds:  # continuous actions; the ground truth and features in info
         _, _, _, _, info = env.step(env.action_space.sample())
         assert info["cost"] in (0.0, 1.0) and len(info["features"]) == len(env.unwrapped.feature_names)
+    elif Kind.MACHINE in entry.kinds:  # pick-and-place pixels of a top-down image
+        observation, reward, *_ = env.step(env.action_space.sample())
+        assert env.observation_space.contains(observation) and reward in (0.0, 1.0)
     else:
         assert env.action_space.n > 1
 
@@ -181,7 +185,7 @@ def test_the_cli_lists_every_entry_and_gymnasium_id(capsys):
     code, out, err = run(capsys, "envs", "--json")
     assert code == 0, err
     doc = json.loads(out)
-    rows = doc["constraints"] + doc["specs"] + doc["continuous"]
+    rows = doc["constraints"] + doc["specs"] + doc["continuous"] + doc["machines"]
     assert sorted(r["name"] for r in rows) == sorted(registry.names())
     assert {r["name"]: r["gym_id"] for r in rows} == {e.name: e.gym_id for e in ENTRIES}
     assert [r["id"] for r in doc["gymnasium"]] == list(registry.gym_entries())

@@ -95,6 +95,13 @@ def _positive_only_ltl():
     return PositiveOnlyLtlLearner(max_size=4), (traces, ["a", "b"]), "a & F b"
 
 
+def _reward_machine():
+    from symlearn.envs.rendered_blocks.demonstrator import demonstrations
+    from symlearn.learners.reward_machines.rm_inference import RewardMachineInference
+
+    return RewardMachineInference(), (demonstrations("stack-2", seed=0).front,), '"reward_machine"'
+
+
 def _neural(name):
     def build():
         from symlearn.envs.blocked_point import BlockedPoint, expert_demonstrations
@@ -109,7 +116,8 @@ def _neural(name):
 BUILDERS = {"ilp": _ilp, "separating-ltl": _separating, "ml": _ml, "mce-icrl": _mce, "logic": _logic,
             "spec": _spec, "one-class-tree": _one_class_tree, "subgoal-pdfa": _subgoal_pdfa,
             "positive-only-ltl": _positive_only_ltl, "neural-mce-icrl": _neural("NeuralMCEICRL"),
-            "neural-me-icrl": _neural("NeuralMEICRL"), "neural-gacl": _neural("NeuralGACL")}
+            "neural-me-icrl": _neural("NeuralMEICRL"), "neural-gacl": _neural("NeuralGACL"),
+            "reward-machine": _reward_machine}
 
 
 @pytest.mark.parametrize("name", sorted(BUILDERS))
