@@ -6,6 +6,8 @@ For every seed: record the scripted expert's demonstrations, then
 * **ME-ICRL** (``NeuralMEICRL``, Malik et al. 2021: feasibility network, PPO-Lagrangian forward
   step with cost limit 0, importance-weighted backward step with KL early stopping; same inputs
   and budget),
+* **VME-ICRL** (``NeuralVMEICRL``, Liu et al. 2023: ME-ICRL with a Beta-distributed
+  feasibility and a KL regulariser toward a prior; same inputs and budget),
 * **GACL**: a GAIL discriminator between expert and policy pairs, the policy learning from
   ``r + log D`` (same inputs and budget),
 * **MCE-ICRL, all inputs**: MCE-ICRL with the cost reading the whole observation (velocities
@@ -27,6 +29,12 @@ an iteration (policy update vs cost update). The targets of issue 12 are checked
 ``--ablations`` writes ``benchmarks/results/icrl_blocked_point_ablations.json``: MCE-ICRL with
 ``beta`` in {0.001, 0.01, 0.1, 0.5} (the thesis' inverted U of reward over beta, Table 2.1) and
 with the autoencoder pre-training switched off, same seeds and budget.
+
+Figures (unless ``--no-figures``): ``docs/figures/icrl_blocked_point_iterations.png`` (reward,
+violation rate and lambda / Lagrange multiplier over the iterations per method, mean and range
+over seeds) and ``docs/figures/icrl_blocked_point_cost_map.png`` (seed 0's learned costs over
+``(x, y)`` with the wall and the expert's positions), drawn by
+:mod:`symlearn.demo.blockedpoint_pipeline`.
 
 Timings are wall-clock on a shared machine: the load average is recorded before and after.
 """
@@ -51,10 +59,13 @@ from symlearn.learners.neural.episodes import demonstration_batch, sample_episod
 from symlearn.learners.neural.icrl_metrics import episode_metrics, recovery
 from symlearn.learners.neural.gacl import NeuralGACL
 from symlearn.learners.neural.me_icrl import NeuralMEICRL
+from symlearn.learners.neural.vme_icrl import NeuralVMEICRL
 from symlearn.rl.ppo import LagrangianConfig, PPOConfig, train_ppo
 
 RESULTS = Path(__file__).resolve().parent / "results" / "icrl_blocked_point.json"
 ABLATIONS = RESULTS.with_name("icrl_blocked_point_ablations.json")
+FIGURES = Path(__file__).resolve().parent.parent / "docs" / "figures"
+LEARNED = ("mce-icrl", "me-icrl", "vme-icrl", "gacl")  # the methods with a learned cost and a history
 BETAS = (0.001, 0.01, 0.1, 0.5)
 N_DEMOS = 20
 EVAL_EPISODES = 20
@@ -143,6 +154,8 @@ def main(argv: list[str] | None = None) -> dict:
     parser.add_argument("--no-peers", action="store_true", help="skip the all-inputs ablation and PPO-Lagrangian")
     parser.add_argument("--json", type=Path, default=RESULTS, help=f"output (default {RESULTS})")
     parser.add_argument("--ablations", action="store_true", help=f"beta sweep and no pre-training -> {ABLATIONS.name}")
+    parser.add_argument("--figures", type=Path, default=FIGURES, help=f"directory of the plots (default {FIGURES})")
+    parser.add_argument("--no-figures", action="store_true", help="write no plots")
     args = parser.parse_args(argv)
     torch.set_num_threads(1)
     if args.ablations:
@@ -150,25 +163,31 @@ def main(argv: list[str] | None = None) -> dict:
     started = time.perf_counter()
     load_before = os.getloadavg()
     runs = []
+    seed0_costs: dict = {}  # seed 0's learned costs, for the cost-map figure
     for seed in range(args.seeds):
         demos = expert_demonstrations(N_DEMOS, seed=seed)
         expert = episode_metrics(demonstration_batch(demos)).as_dict()
+        if seed == 0:
+            seed0_states = np.concatenate([np.asarray(t.states) for t in demos])
         run: dict = {"seed": seed, "expert": expert}
         run["mce-icrl"], learner = icrl_run(demos, seed, obs_dims=[0, 1])
         run["unconstrained"] = evaluate(learner.nominal_policy_, 50_000 + seed)
+        learners = {"mce-icrl": learner}
         if not args.no_peers:
-            run["me-icrl"], _ = icrl_run(demos, seed, obs_dims=[0, 1], method=NeuralMEICRL)
-            run["gacl"], _ = icrl_run(demos, seed, obs_dims=[0, 1], method=NeuralGACL)
+            for name, method in (("me-icrl", NeuralMEICRL), ("vme-icrl", NeuralVMEICRL), ("gacl", NeuralGACL)):
+                run[name], learners[name] = icrl_run(demos, seed, obs_dims=[0, 1], method=method)
             run["mce-icrl all inputs"], _ = icrl_run(demos, seed, obs_dims=None)
             run["ppo-lagrangian true cost"] = lagrangian_run(seed)
         run["targets"] = check_targets(run, expert["reward"])
         runs.append(run)
+        if seed == 0:
+            seed0_costs = {name.upper(): fitted.cost_ for name, fitted in learners.items()}
         icrl = run["mce-icrl"]
         print(f"seed {seed}: expert reward {expert['reward']:.1f}; MCE-ICRL reward {icrl['reward']:.1f} violations "
               f"{icrl['violation_rate']:.3f} AUC {icrl['recovery']['auc']:.3f} IoU {icrl['recovery']['iou']:.3f} "
               f"({icrl['seconds']:.0f} s, cost/policy time {icrl['cost_share_of_policy_time']:.3f}); unconstrained "
               f"violations {run['unconstrained']['violation_rate']:.3f}", flush=True)
-        for name in ("me-icrl", "gacl", "mce-icrl all inputs", "ppo-lagrangian true cost"):
+        for name in ("me-icrl", "vme-icrl", "gacl", "mce-icrl all inputs", "ppo-lagrangian true cost"):
             if name in run:
                 r = run[name]
                 extra = f" AUC {r['recovery']['auc']:.3f}" if "recovery" in r else ""
@@ -182,9 +201,9 @@ def main(argv: list[str] | None = None) -> dict:
         return float(np.mean(values)) if values else None
 
     summary = {method: {key: mean(method, key) for key in ("reward", "violation_rate", "feasible_reward")}
-               for method in ("expert", "mce-icrl", "me-icrl", "gacl", "mce-icrl all inputs", "unconstrained",
+               for method in ("expert", "mce-icrl", "me-icrl", "vme-icrl", "gacl", "mce-icrl all inputs", "unconstrained",
                               "ppo-lagrangian true cost") if any(method in r for r in runs)}
-    for method in ("mce-icrl", "me-icrl", "gacl", "mce-icrl all inputs"):
+    for method in ("mce-icrl", "me-icrl", "vme-icrl", "gacl", "mce-icrl all inputs"):
         if method in summary:
             summary[method]["recovery_auc"] = float(np.mean([r[method]["recovery"]["auc"] for r in runs]))
             summary[method]["recovery_iou"] = float(np.mean([r[method]["recovery"]["iou"] for r in runs]))
@@ -204,7 +223,21 @@ def main(argv: list[str] | None = None) -> dict:
     args.json.parent.mkdir(parents=True, exist_ok=True)
     write_text(args.json, json.dumps(document, indent=1) + "\n")
     print(f"\nwrote {args.json} ({document['seconds']:.0f} s)")
+    if not args.no_figures:
+        for path in figures(runs, seed0_costs, seed0_states, args.figures):
+            print(f"wrote {path}")
     return document
+
+
+def figures(runs: list[dict], costs: dict, expert_states: np.ndarray, directory: Path) -> list[Path]:
+    """The per-iteration curves of every learned method over the seeds, and seed 0's cost maps."""
+    from symlearn.demo.blockedpoint_pipeline import plot_cost_maps, plot_iterations
+
+    directory.mkdir(parents=True, exist_ok=True)
+    curves, maps = directory / "icrl_blocked_point_iterations.png", directory / "icrl_blocked_point_cost_map.png"
+    plot_iterations(curves, {name.upper(): [r[name]["history"] for r in runs if name in r] for name in LEARNED})
+    plot_cost_maps(maps, costs, BlockedPoint().wall, expert_states)
+    return [curves, maps]
 
 
 if __name__ == "__main__":

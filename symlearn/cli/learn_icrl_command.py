@@ -1,6 +1,6 @@
 """``symlearn learn icrl``: learn a neural cost by inverse constrained RL in a continuous environment.
 
-``symlearn learn icrl --env NAME [--method mce-icrl|me-icrl|gacl] [--demos D.npz | --n-demos N] [--steps N]
+``symlearn learn icrl --env NAME [--method mce-icrl|me-icrl|vme-icrl|gacl] [--demos D.npz | --n-demos N] [--steps N]
 [--iterations I] [--beta B] [--cost-inputs x,y] [--env-kwargs JSON] [-o cost.safetensors] [--json]``
 
 * ``--env``: a bundled environment with ``mce-icrl`` among its methods (``blocked-point``,
@@ -10,7 +10,8 @@
   observations and which carry actions; otherwise ``--n-demos`` episodes of the environment's
   scripted expert (BlockedPoint: full speed away from the wall), generated from ``--seed``.
 * ``--method``: ``mce-icrl`` (thesis chapter 2, the default), ``me-icrl`` (Malik et al.'s
-  baseline: feasibility network, PPO-Lagrangian with cost limit 0) or ``gacl`` (a GAIL
+  baseline: feasibility network, PPO-Lagrangian with cost limit 0), ``vme-icrl`` (Liu et al.'s
+  variational baseline: Beta-distributed feasibility, KL from a prior) or ``gacl`` (a GAIL
   discriminator, the policy learning from ``r + log D``).
 * ``--steps``: PPO steps in all: one eighth for the nominal policy, the rest split evenly over
   the ``--iterations``. ``--beta``: the entropy coefficient (> 0). ``--cost-inputs``: the
@@ -31,7 +32,7 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-METHODS = ("mce-icrl", "me-icrl", "gacl")
+METHODS = ("mce-icrl", "me-icrl", "vme-icrl", "gacl")
 EVAL_EPISODES = 20
 
 
@@ -40,13 +41,14 @@ def register_learn(commands, common) -> None:
         "icrl", parents=[common()], help="learn a neural cost by inverse constrained RL (continuous spaces)",
         description="Maximum causal entropy inverse constrained RL with a neural feature network (thesis "
                     "chapter 2, Algorithm 2.1): PPO on r - lambda.phi(s,a) alternating with steps on lambda "
-                    "and phi that match the expert's discounted feature sums; --method me-icrl / gacl run the "
-                    "baselines (Malik et al.'s maximum entropy ICRL, a GAIL-style discriminator) instead. Reports reward, violation rate, feasible reward and the recovery "
+                    "and phi that match the expert's discounted feature sums; --method me-icrl / vme-icrl / gacl run "
+                    "the baselines (Malik et al.'s maximum entropy ICRL, Liu et al.'s variational ICRL, a GAIL-style "
+                    "discriminator) instead. Reports reward, violation rate, feasible reward and the recovery "
                     "of the environment's unsafe set.")
     cmd.add_argument("--env", required=True, help="a bundled environment (blocked-point, point-circle)")
     cmd.add_argument("--method", choices=METHODS, default="mce-icrl",
-                     help="mce-icrl (maximum causal entropy, default), me-icrl (Malik et al.'s baseline) or gacl "
-                          "(GAIL-style discriminator)")
+                     help="mce-icrl (maximum causal entropy, default), me-icrl (Malik et al.'s baseline), vme-icrl "
+                          "(Liu et al.'s variational baseline) or gacl (GAIL-style discriminator)")
     source = cmd.add_mutually_exclusive_group()
     source.add_argument("--demos", help="expert demonstrations (.npz or .jsonl) with observations and actions")
     source.add_argument("--n-demos", type=int, default=20, help="episodes of the scripted expert to record (20)")
@@ -178,7 +180,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
 
     import torch
 
-    from symlearn.learners.neural import NeuralGACL, NeuralMCEICRL, NeuralMEICRL
+    from symlearn.learners.neural import NeuralGACL, NeuralMCEICRL, NeuralMEICRL, NeuralVMEICRL
     from symlearn.learners.neural.episodes import demonstration_batch, sample_episodes
     from symlearn.learners.neural.icrl_metrics import episode_metrics, recovery
 
@@ -186,7 +188,8 @@ def _icrl(args: argparse.Namespace, out) -> None:
 
     seed = getattr(args, "seed", 0) or 0
     nominal = max(args.steps // 8, 1)
-    method = {"mce-icrl": NeuralMCEICRL, "me-icrl": NeuralMEICRL, "gacl": NeuralGACL}[args.method]
+    method = {"mce-icrl": NeuralMCEICRL, "me-icrl": NeuralMEICRL, "vme-icrl": NeuralVMEICRL,
+              "gacl": NeuralGACL}[args.method]
     learner = method(beta=args.beta, n_iterations=args.iterations, nominal_steps=nominal,
                      policy_steps=max((args.steps - nominal) // args.iterations, 1), obs_dims=obs_dims,
                      random_state=seed)

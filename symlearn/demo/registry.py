@@ -20,6 +20,7 @@ PIPELINE_MODULES: tuple[str, ...] = (
     "symlearn.demo.constraints_pipeline",
     "symlearn.demo.dnf_pipeline",
     "symlearn.demo.safenav_pipeline",
+    "symlearn.demo.blockedpoint_pipeline",
     "symlearn.demo.blockworld_pipeline",
     "symlearn.demo.rm_pipeline",
 )

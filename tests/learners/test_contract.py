@@ -117,6 +117,7 @@ BUILDERS = {"ilp": _ilp, "separating-ltl": _separating, "ml": _ml, "mce-icrl": _
             "spec": _spec, "one-class-tree": _one_class_tree, "subgoal-pdfa": _subgoal_pdfa,
             "positive-only-ltl": _positive_only_ltl, "neural-mce-icrl": _neural("NeuralMCEICRL"),
             "neural-me-icrl": _neural("NeuralMEICRL"), "neural-gacl": _neural("NeuralGACL"),
+            "neural-vme-icrl": _neural("NeuralVMEICRL"),
             "reward-machine": _reward_machine}
 
 

@@ -115,7 +115,8 @@ class NeuralMCEICRL(Learner):
     ``lambda_lr``, ``zeta_lr``, ``zeta_decay`` (per iteration), ``zeta_steps`` (Adam steps per
     iteration), ``alpha`` (the budget; 0 = hard constraints), ``discount`` (of the feature
     sums), ``n_policy_episodes`` (episodes sampled per dual step), ``bound_penalty`` (module
-    docstring), ``ppo`` (a dict of
+    docstring), ``lambda_init`` (every multiplier's start, >= 0; see ``fit``'s comment on why
+    episodes that end at a goal need it > 0), ``ppo`` (a dict of
     :class:`~symlearn.rl.ppo.PPOConfig` fields over :data:`PPO_DEFAULTS`; ``ent_coef`` is
     ``beta``), ``random_state``.
     """
@@ -127,7 +128,7 @@ class NeuralMCEICRL(Learner):
                  n_features: int = 4, hidden_sizes: Sequence[int] = (64, 64), pretrain: bool = True,
                  pretrain_epochs: int = 30, lambda_lr: float = 0.02, zeta_lr: float = 3e-3, zeta_decay: float = 0.9,
                  zeta_steps: int = 20, alpha: float = 0.0, discount: float = 0.99, n_policy_episodes: int = 16,
-                 bound_penalty: float = 1.0, ppo: dict[str, Any] | None = None,
+                 bound_penalty: float = 1.0, lambda_init: float = 0.0, ppo: dict[str, Any] | None = None,
                  random_state: int | None = 0) -> None:
         self.beta = beta
         self.n_iterations = n_iterations
@@ -147,6 +148,7 @@ class NeuralMCEICRL(Learner):
         self.discount = discount
         self.n_policy_episodes = n_policy_episodes
         self.bound_penalty = bound_penalty
+        self.lambda_init = lambda_init
         self.ppo = ppo
         self.random_state = random_state
 
@@ -165,7 +167,9 @@ class NeuralMCEICRL(Learner):
                 raise SymlearnError(f"{name} must be a positive integer, got {value!r}")
         for name, ok in (("lambda_lr", self.lambda_lr > 0), ("zeta_lr", self.zeta_lr > 0),
                          ("zeta_decay", 0 < self.zeta_decay <= 1), ("alpha", self.alpha >= 0),
-                         ("discount", 0 < self.discount <= 1), ("bound_penalty", self.bound_penalty >= 0)):
+                         ("discount", 0 < self.discount <= 1), ("bound_penalty", self.bound_penalty >= 0),
+                         ("lambda_init", isinstance(self.lambda_init, (int, float)) and math.isfinite(self.lambda_init)
+                          and self.lambda_init >= 0)):
             if not ok:
                 raise SymlearnError(f"{name} out of range: {getattr(self, name)!r}")
 
@@ -231,7 +235,13 @@ class NeuralMCEICRL(Learner):
             expert_t = (torch.from_numpy(expert_x), None if not action_dim else torch.from_numpy(expert_a))
             expert_w = torch.from_numpy(expert.discount_weights(self.discount)[expert.mask]).float()
             optimizer = torch.optim.Adam(phi.parameters(), lr=self.zeta_lr)
-            lambdas = np.zeros(int(self.n_features))
+            # Algorithm 2.1 initialises lambda; 0 suits fixed-length episodes (BlockedPoint). Where
+            # episodes end at a goal, the expert's longer paths give larger sums of the (positive)
+            # pre-trained features than the nominal policy's shorter ones, so from 0 every step on
+            # lambda is projected back to 0 and phi, whose gradient is lambda-weighted, never moves
+            # (measured on the gridworld: lambda 0 for all 5 iterations); lambda_init > 0 lets phi
+            # first concentrate on where the policy goes and the expert does not.
+            lambdas = np.full(int(self.n_features), float(self.lambda_init))
             history: list[ICRLIteration] = []
             expert_features = np.zeros_like(lambdas)
             for iteration in progress(range(1, int(self.n_iterations) + 1), total=int(self.n_iterations),
