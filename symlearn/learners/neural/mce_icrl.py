@@ -68,12 +68,13 @@ from typing import Any
 import numpy as np
 import torch
 
-from symlearn.errors import DataError, SymlearnError
+from symlearn.errors import SymlearnError
 from symlearn.learners.base import Learner
-from symlearn.learners.neural.episodes import demonstration_batch, sample_episodes
+from symlearn.learners.neural.episodes import sample_episodes
 from symlearn.learners.neural.feature_network import INPUTS, FeatureNetwork, pretrain_autoencoder
 from symlearn.learners.neural.icrl_metrics import episode_metrics
-from symlearn.learners.neural.neural_cost import NeuralCost, encode, space_spec, spec_width
+from symlearn.learners.neural.fit_setup import environment_factory, fit_setup  # noqa: F401 (re-exported)
+from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.progress import progress
 
 #: PPO settings of the policy phases unless ``ppo=`` overrides them (a shorter rollout and a
@@ -190,19 +191,11 @@ class NeuralMCEICRL(Learner):
 
         self._check_parameters()
         started = time.perf_counter()
-        env_fn = environment_factory(domain)
-        probe = env_fn()
-        obs_spec, act_spec = space_spec(probe.observation_space), space_spec(probe.action_space, bounds=True)
-        expert = demonstration_batch(demonstrations)
-        expert_obs, expert_act = expert.pairs()
-        expert_x = encode(expert_obs, obs_spec, "demonstration observations")  # shape and NaN checks
-        expert_a = encode(expert_act, act_spec, "demonstration actions")
-        obs_width = spec_width(obs_spec)
-        obs_dims = list(range(obs_width)) if self.obs_dims is None else [int(i) for i in self.obs_dims]
-        if not obs_dims or min(obs_dims) < 0 or max(obs_dims) >= obs_width:
-            raise SymlearnError(f"obs_dims {obs_dims} outside the observation's {obs_width} entries")
+        setup = fit_setup(demonstrations, domain, self.obs_dims, self.random_state)
+        env_fn, probe, act_spec = setup.env_fn, setup.probe, setup.act_spec
+        expert, expert_x, expert_a = setup.expert, setup.expert_x, setup.expert_a
+        obs_dims, generator = setup.obs_dims, setup.generator
         seed = self.random_state
-        generator = torch.Generator().manual_seed(0 if seed is None else int(seed))
         previous_threads = torch.get_num_threads()
         torch.set_num_threads(1)
         try:
@@ -304,23 +297,6 @@ class NeuralMCEICRL(Learner):
 
 
 # --- helpers -------------------------------------------------------------------------------------
-
-
-def environment_factory(env: Any) -> Callable[[], Any]:
-    """A function returning a fresh environment, from such a function, a gymnasium id, or an
-    environment (deep-copied)."""
-    if isinstance(env, str):
-        import gymnasium
-
-        return lambda: gymnasium.make(env)
-    if isinstance(env, type):  # an environment class: its constructor makes fresh ones
-        return env
-    if hasattr(env, "reset") and hasattr(env, "step"):
-        template = copy.deepcopy(env)
-        return lambda: copy.deepcopy(template)
-    if callable(env):
-        return env
-    raise DataError(f"need an environment, a function returning one, or a gymnasium id; got {env!r}")
 
 
 def action_bound_penalty(action_spec: dict[str, Any], weight: float) -> Callable[[np.ndarray], np.ndarray] | None:

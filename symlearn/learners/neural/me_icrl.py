@@ -38,12 +38,13 @@ import torch
 
 from symlearn.errors import SymlearnError
 from symlearn.learners.base import Learner
-from symlearn.learners.neural.episodes import EpisodeBatch, demonstration_batch, sample_episodes
+from symlearn.learners.neural.episodes import EpisodeBatch, sample_episodes
 from symlearn.learners.neural.feature_network import INPUTS, FeatureNetwork
 from symlearn.learners.neural.icrl_metrics import episode_metrics
-from symlearn.learners.neural.mce_icrl import (PPO_DEFAULTS, action_bound_penalty, environment_factory,
-                                               jsonable_params, penalised, seed_offset)
-from symlearn.learners.neural.neural_cost import NeuralCost, encode, space_spec, spec_width
+from symlearn.learners.neural.fit_setup import fit_setup
+from symlearn.learners.neural.mce_icrl import (PPO_DEFAULTS, action_bound_penalty, jsonable_params, penalised,
+                                               seed_offset)
+from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.progress import progress
 
 LOG_FLOOR = 1e-6  # log(zeta) is taken of max(zeta, LOG_FLOOR): a step called infeasible costs log(1e-6), not -inf
@@ -136,19 +137,11 @@ class NeuralMEICRL(Learner):
 
         self._check_parameters()
         started = time.perf_counter()
-        env_fn = environment_factory(domain)
-        probe = env_fn()
-        obs_spec, act_spec = space_spec(probe.observation_space), space_spec(probe.action_space, bounds=True)
-        expert = demonstration_batch(demonstrations)
-        expert_obs, expert_act = expert.pairs()
-        expert_x = encode(expert_obs, obs_spec, "demonstration observations")
-        expert_a = encode(expert_act, act_spec, "demonstration actions")
-        width = spec_width(obs_spec)
-        obs_dims = list(range(width)) if self.obs_dims is None else [int(i) for i in self.obs_dims]
-        if not obs_dims or min(obs_dims) < 0 or max(obs_dims) >= width:
-            raise SymlearnError(f"obs_dims {obs_dims} outside the observation's {width} entries")
+        setup = fit_setup(demonstrations, domain, self.obs_dims, self.random_state)
+        env_fn, probe, act_spec = setup.env_fn, setup.probe, setup.act_spec
+        expert, expert_x, expert_a = setup.expert, setup.expert_x, setup.expert_a
+        obs_dims, generator = setup.obs_dims, setup.generator
         seed = self.random_state
-        generator = torch.Generator().manual_seed(0 if seed is None else int(seed))
 
         def ppo_config(offset: int) -> Any:
             return PPOConfig(**{**PPO_DEFAULTS, **(self.ppo or {}), "ent_coef": float(self.beta),

@@ -1,0 +1,72 @@
+"""What every neural ICRL learner does before it learns: the environment, its spaces, the
+demonstrations checked against them, the observation entries the cost reads, a seeded generator.
+
+MCE-ICRL, ME-ICRL, VME-ICRL and GACL differ in their updates, not in how they read their inputs;
+one function keeps those checks (and their error messages) the same for all four.
+"""
+
+from __future__ import annotations
+
+import copy
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import torch
+
+from symlearn.errors import DataError, SymlearnError
+from symlearn.learners.neural.episodes import EpisodeBatch, demonstration_batch
+from symlearn.learners.neural.neural_cost import encode, space_spec, spec_width
+
+
+def environment_factory(env: Any) -> Callable[[], Any]:
+    """A function returning a fresh environment, from such a function, a gymnasium id, or an
+    environment (deep-copied)."""
+    if isinstance(env, str):
+        import gymnasium
+
+        return lambda: gymnasium.make(env)
+    if isinstance(env, type):  # an environment class: its constructor makes fresh ones
+        return env
+    if hasattr(env, "reset") and hasattr(env, "step"):
+        template = copy.deepcopy(env)
+        return lambda: copy.deepcopy(template)
+    if callable(env):
+        return env
+    raise DataError(f"need an environment, a function returning one, or a gymnasium id; got {env!r}")
+
+
+@dataclass
+class FitSetup:
+    """The inputs of one fit, checked: ``probe`` is one environment (spaces, cost construction)."""
+
+    env_fn: Callable[[], Any]
+    probe: Any
+    obs_spec: dict[str, Any]
+    act_spec: dict[str, Any]
+    expert: EpisodeBatch
+    expert_x: np.ndarray      # the demonstrations' observations, encoded (shape and NaN checked)
+    expert_a: np.ndarray      # and their actions
+    obs_dims: list[int]       # the observation entries the cost reads
+    generator: torch.Generator
+
+
+def fit_setup(demonstrations: Any, domain: Any, obs_dims: Sequence[int] | None,
+              random_state: int | None) -> FitSetup:
+    env_fn = environment_factory(domain)
+    probe = env_fn()
+    obs_spec, act_spec = space_spec(probe.observation_space), space_spec(probe.action_space, bounds=True)
+    expert = demonstration_batch(demonstrations)
+    expert_obs, expert_act = expert.pairs()
+    expert_x = encode(expert_obs, obs_spec, "demonstration observations")  # shape and NaN checks
+    expert_a = encode(expert_act, act_spec, "demonstration actions")
+    width = spec_width(obs_spec)
+    dims = list(range(width)) if obs_dims is None else [int(i) for i in obs_dims]
+    if not dims or min(dims) < 0 or max(dims) >= width:
+        raise SymlearnError(f"obs_dims {dims} outside the observation's {width} entries")
+    generator = torch.Generator().manual_seed(0 if random_state is None else int(random_state))
+    return FitSetup(env_fn, probe, obs_spec, act_spec, expert, expert_x, expert_a, dims, generator)
+
+
+__all__ = ["FitSetup", "environment_factory", "fit_setup"]
