@@ -8,6 +8,7 @@ one function keeps those checks (and their error messages) the same for all four
 from __future__ import annotations
 
 import copy
+import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
@@ -17,6 +18,7 @@ import torch
 
 from symlearn.errors import DataError, SymlearnError
 from symlearn.learners.neural.episodes import EpisodeBatch, demonstration_batch
+from symlearn.learners.neural.feature_network import INPUTS
 from symlearn.learners.neural.neural_cost import encode, space_spec, spec_width
 
 
@@ -69,4 +71,22 @@ def fit_setup(demonstrations: Any, domain: Any, obs_dims: Sequence[int] | None,
     return FitSetup(env_fn, probe, obs_spec, act_spec, expert, expert_x, expert_a, dims, generator)
 
 
-__all__ = ["FitSetup", "environment_factory", "fit_setup"]
+def check_common(learner: Any, integers: Sequence[str], *, zero_allowed: Sequence[str] = (),
+                 beta_hint: str | None = None) -> None:
+    """The checks every neural learner makes of its parameters: ``beta`` a finite number >= 0
+    (> 0 when ``beta_hint`` is given: MCE-ICRL needs some entropy), ``features`` one of
+    :data:`~symlearn.learners.neural.feature_network.INPUTS`, and the named counts positive integers
+    (``zero_allowed`` ones may be 0)."""
+    beta = learner.beta
+    positive = beta_hint is not None
+    if not (isinstance(beta, (int, float)) and math.isfinite(beta) and (beta > 0 if positive else beta >= 0)):
+        raise SymlearnError(f"beta must be a number {'>' if positive else '>='} 0, got {beta!r}", hint=beta_hint)
+    if learner.features not in INPUTS:
+        raise SymlearnError(f"unknown features {learner.features!r}", hint=f"use one of {list(INPUTS)}")
+    for name in integers:
+        value = getattr(learner, name)
+        if not isinstance(value, (int, np.integer)) or value < (0 if name in zero_allowed else 1):
+            raise SymlearnError(f"{name} must be a positive integer, got {value!r}")
+
+
+__all__ = ["FitSetup", "check_common", "environment_factory", "fit_setup"]

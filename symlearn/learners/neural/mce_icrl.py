@@ -71,9 +71,9 @@ import torch
 from symlearn.errors import SymlearnError
 from symlearn.learners.base import Learner
 from symlearn.learners.neural.episodes import sample_episodes
-from symlearn.learners.neural.feature_network import INPUTS, FeatureNetwork, pretrain_autoencoder
+from symlearn.learners.neural.feature_network import FeatureNetwork, pretrain_autoencoder
 from symlearn.learners.neural.icrl_metrics import episode_metrics
-from symlearn.learners.neural.fit_setup import environment_factory, fit_setup  # noqa: F401 (re-exported)
+from symlearn.learners.neural.fit_setup import check_common, environment_factory, fit_setup  # noqa: F401 (re-exported)
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.progress import progress
 
@@ -156,16 +156,9 @@ class NeuralMCEICRL(Learner):
     # --- settings ----------------------------------------------------------------------------------
 
     def _check_parameters(self) -> None:
-        if not (isinstance(self.beta, (int, float)) and math.isfinite(self.beta) and self.beta > 0):
-            raise SymlearnError(f"beta must be a number > 0, got {self.beta!r}",
-                                hint="beta weighs the policy's causal entropy; MCE-ICRL needs some (e.g. 0.01)")
-        if self.features not in INPUTS:
-            raise SymlearnError(f"unknown features {self.features!r}", hint=f"use one of {list(INPUTS)}")
-        for name in ("n_iterations", "nominal_steps", "policy_steps", "n_features", "zeta_steps",
-                     "n_policy_episodes", "pretrain_epochs"):
-            value = getattr(self, name)
-            if not isinstance(value, (int, np.integer)) or value < (0 if name == "pretrain_epochs" else 1):
-                raise SymlearnError(f"{name} must be a positive integer, got {value!r}")
+        check_common(self, ("n_iterations", "nominal_steps", "policy_steps", "n_features", "zeta_steps",
+                            "n_policy_episodes", "pretrain_epochs"), zero_allowed=("pretrain_epochs",),
+                     beta_hint="beta weighs the policy's causal entropy; MCE-ICRL needs some (e.g. 0.01)")
         for name, ok in (("lambda_lr", self.lambda_lr > 0), ("zeta_lr", self.zeta_lr > 0),
                          ("zeta_decay", 0 < self.zeta_decay <= 1), ("alpha", self.alpha >= 0),
                          ("discount", 0 < self.discount <= 1), ("bound_penalty", self.bound_penalty >= 0),

@@ -39,9 +39,9 @@ import torch
 from symlearn.errors import SymlearnError
 from symlearn.learners.base import Learner
 from symlearn.learners.neural.episodes import EpisodeBatch, sample_episodes
-from symlearn.learners.neural.feature_network import INPUTS, FeatureNetwork
+from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.icrl_metrics import episode_metrics
-from symlearn.learners.neural.fit_setup import fit_setup
+from symlearn.learners.neural.fit_setup import check_common, fit_setup
 from symlearn.learners.neural.mce_icrl import (PPO_DEFAULTS, action_bound_penalty, jsonable_params, penalised,
                                                seed_offset)
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
@@ -113,14 +113,7 @@ class NeuralMEICRL(Learner):
         self.random_state = random_state
 
     def _check_parameters(self) -> None:
-        if not (isinstance(self.beta, (int, float)) and math.isfinite(self.beta) and self.beta >= 0):
-            raise SymlearnError(f"beta must be a number >= 0, got {self.beta!r}")
-        if self.features not in INPUTS:
-            raise SymlearnError(f"unknown features {self.features!r}", hint=f"use one of {list(INPUTS)}")
-        for name in ("n_iterations", "nominal_steps", "policy_steps", "backward_epochs", "n_policy_episodes"):
-            value = getattr(self, name)
-            if not isinstance(value, (int, np.integer)) or value < 1:
-                raise SymlearnError(f"{name} must be a positive integer, got {value!r}")
+        check_common(self, ("n_iterations", "nominal_steps", "policy_steps", "backward_epochs", "n_policy_episodes"))
         if not (self.learning_rate > 0 and self.regularizer >= 0 and self.target_kl > 0 and self.bound_penalty >= 0):
             raise SymlearnError("learning_rate and target_kl must be > 0, regularizer and bound_penalty >= 0")
 
