@@ -86,50 +86,39 @@ class RuleStats:
 
     def count(self, fires: np.ndarray) -> None:
         """Count a precomputed ``[N, m]`` matrix of which rules hold (formula order)."""
-        if not len(self.order):
-            return
-        if len(fires) == 1:          # one step (the cost wrapper's case): the same counts, fewer temporaries
-            hits = np.flatnonzero(np.asarray(fires[0], dtype=bool)[self.order])
-            first = int(hits[0]) if len(hits) else len(self.order)
-            self.evaluated[self.order[:first + 1]] += 1
-            if len(hits):
-                self.fired[self.order[first]] += 1
-            return
-        m = len(self.order)
         fires = np.asarray(fires, dtype=bool)
-        hit = fires[fires.any(axis=1)]          # only the points some rule fired on need ranking
         # the first firing rule in ascending-complexity order: the least rank among the fired ones
-        first = np.where(hit, self._rank, m).min(axis=1) if len(hit) else np.zeros(0, dtype=np.int64)
-        # a rule at sorted position p is evaluated by every point whose first firing rule is at p or
-        # later (m: nothing fired, all were evaluated): a reverse cumulative sum of the first-firing
-        # histogram, O(N + m) rather than O(N m)
-        self._add(first, len(fires) - len(hit))
+        self.count_first(self._first(fires, lambda hit: np.where(hit, self._rank, len(self.order)).min(axis=1)))
 
     def count_ordered(self, fires: np.ndarray) -> None:
         """:meth:`count` for a matrix whose columns are already in ascending-complexity order (the
         columns of :attr:`ordered_dnf`): the first firing rule is a row's first ``True``."""
-        fires = np.asarray(fires, dtype=bool)
-        hit = fires[fires.any(axis=1)]
-        self._add(hit.argmax(axis=1), len(fires) - len(hit))
+        self.count_first(self._first(np.asarray(fires, dtype=bool), lambda hit: hit.argmax(axis=1)))
+
+    def _first(self, fires: np.ndarray, position: Callable[[np.ndarray], np.ndarray]) -> np.ndarray:
+        """Per row the sorted position of its first firing rule, ``m`` where none fired; only the
+        rows some rule fired on are ranked (``position`` of those rows)."""
+        first = np.full(len(fires), len(self.order), dtype=np.int64)
+        hit = fires.any(axis=1)
+        if hit.any():
+            first[hit] = position(fires[hit])
+        return first
 
     def count_first(self, first: np.ndarray) -> None:
         """Count points given, per point, the position (in ascending-complexity order, i.e. the
-        column of :attr:`ordered_dnf`) of the first rule that fired on it, ``m`` when none did."""
+        column of :attr:`ordered_dnf`) of the first rule that fired on it, ``m`` when none did:
+        rules before that position were evaluated and did not fire, the rule at it fired."""
         first = np.asarray(first, dtype=np.int64)
+        m = len(self.order)
         if len(first) == 1:     # one step (the cost wrapper's case): touch only the rules evaluated
             f = int(first[0])
             self.evaluated[self.order[:f + 1]] += 1
-            if f < len(self.order):
+            if f < m:
                 self.fired[self.order[f]] += 1
             return
-        self._add(first, 0)
-
-    def _add(self, first: np.ndarray, n_clean: int) -> None:
-        """Count points given the sorted position of their first firing rule, plus ``n_clean``
-        points no rule fired on."""
-        m = len(self.order)
+        # a rule at sorted position p is evaluated by every point whose first firing rule is at p or
+        # later: a reverse cumulative sum of the first-firing histogram, O(N + m) rather than O(N m)
         at = np.bincount(first, minlength=m + 1)
-        at[m] += n_clean
         self.evaluated[self.order] += np.cumsum(at[::-1])[::-1][:m]
         self.fired[self.order] += at[:m]
 
@@ -170,6 +159,54 @@ class RuleStats:
         return pruned, verdicts
 
 
+class FormulaCost:
+    """The cost of a DNF formula on points ``[N, k]``, with the pruning counts: what
+    :class:`DnfCostWrapper` computes for one step and :class:`DnfRolloutCost` for a whole rollout.
+
+    Calling it returns ``(costs, totals)``: ``costs`` is ``[N]`` (``violation_cost`` where the
+    formula holds), or ``[N, m]`` with ``per_rule`` (one column per conjunction, formula order);
+    ``totals`` is ``[N]``, the sum over rules. With ``track``, :attr:`stats` counts every point
+    in ascending complexity; the rules are evaluated pre-sorted by size (:attr:`RuleStats.ordered_dnf`),
+    so a point's first firing rule is the kernels' ``first`` without an ``[N, m]`` matrix.
+    """
+
+    def __init__(self, dnf: Any, features: Any, *, violation_cost: float = 1.0, per_rule: bool = False,
+                 track: bool = True, stats: RuleStats | None = None) -> None:
+        if stats is not None and stats.dnf != dnf:
+            raise SymlearnError("the shared rule statistics belong to another formula")
+        self.dnf = dnf
+        self.violation_cost, self.per_rule, self.track = float(violation_cost), per_rule, track
+        self.stats = stats if stats is not None else RuleStats(dnf, features)
+        self.feature_names = self.stats.feature_names
+        self._evaluate = dnf.evaluator(self.feature_names)   # names resolved once, not every call
+        self._evaluate_ordered = self.stats.ordered_dnf.evaluator(self.feature_names)
+
+    def __call__(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        X = np.asarray(X, dtype=np.float64)
+        if X.shape[1] != len(self.feature_names):
+            raise DataError(f"expected {len(self.feature_names)} features ({', '.join(self.feature_names)}), "
+                            f"got {X.shape[1]}")
+        if not math.isfinite(X.sum()) and not np.isfinite(X).all():   # one sum, unless suspect
+            raise DataError("features must be finite (found NaN or inf)")
+        if self.track and not self.per_rule:   # the first firing rule in ascending complexity decides
+            first = self._evaluate_ordered.first(X)
+            self.stats.count_first(first)
+            costs = self.violation_cost * (first < len(self.stats.order)).astype(np.float64)
+            return costs, costs
+        if self.track or self.per_rule:
+            ordered = self._evaluate_ordered(X, per_conjunction=True)
+            if self.track:
+                self.stats.count_ordered(ordered)
+            if self.per_rule:   # back to the formula's order
+                costs = self.violation_cost * ordered[:, self.stats._rank].astype(np.float64)
+                return costs, costs.sum(axis=1)
+            fired = ordered.any(axis=1)
+        else:
+            fired = self._evaluate(X)
+        costs = self.violation_cost * fired.astype(np.float64)
+        return costs, costs
+
+
 class DnfCostWrapper(gym.Wrapper):
     """``DnfCostWrapper(env, dnf, features, source="info", violation_cost=1.0, per_rule=False,
     penalty=0.0, track=True)`` (see the module docstring).
@@ -187,18 +224,10 @@ class DnfCostWrapper(gym.Wrapper):
         super().__init__(env)
         if not (source in ("info", "observation") or callable(source)):
             raise SymlearnError(f"unknown feature source {source!r}", hint="use 'info', 'observation' or a callable")
-        self.dnf = dnf
-        self.source = source
-        self.violation_cost = float(violation_cost)
-        self.per_rule = per_rule
-        self.penalty = float(penalty)
-        if stats is not None and stats.dnf != dnf:
-            raise SymlearnError("the shared rule statistics belong to another formula")
-        self.stats = stats if stats is not None else RuleStats(dnf, features)
-        self.track = track
-        self.feature_names = self.stats.feature_names
-        self._evaluate = dnf.evaluator(self.feature_names)   # names resolved once, not every step
-        self._evaluate_ordered = self.stats.ordered_dnf.evaluator(self.feature_names)
+        self.cost = FormulaCost(dnf, features, violation_cost=violation_cost, per_rule=per_rule, track=track,
+                                stats=stats)
+        self.dnf, self.source, self.penalty = dnf, source, float(penalty)
+        self.stats, self.feature_names = self.cost.stats, self.cost.feature_names
 
     def _features(self, observation: Any, info: dict[str, Any]) -> np.ndarray:
         if self.source == "info":
@@ -210,41 +239,16 @@ class DnfCostWrapper(gym.Wrapper):
             raw = observation
         else:
             raw = self.source(observation, info)
-        vector = np.asarray(raw, dtype=np.float64).reshape(-1)
-        if vector.shape[0] != len(self.feature_names):
-            raise DataError(f"expected {len(self.feature_names)} features ({', '.join(self.feature_names)}), "
-                            f"got {vector.shape[0]}")
-        return vector
+        return np.asarray(raw, dtype=np.float64).reshape(1, -1)
 
     def step(self, action: Any):
         observation, reward, terminated, truncated, info = self.env.step(action)
-        features = self._features(observation, info)
-        if not math.isfinite(features.sum()) and not np.isfinite(features).all():   # one sum, unless suspect
-            raise DataError("features must be finite (found NaN or inf)")
+        costs, totals = self.cost(self._features(observation, info))
+        total = float(totals[0])
         info = dict(info)
-        if self.track and not self.per_rule:   # the first firing rule in ascending complexity decides
-            first = self._evaluate_ordered.first(features)
-            self.stats.count_first(first)
-            total = self.violation_cost * float(first[0] < len(self.stats.order))
-            return self._finish(observation, reward, terminated, truncated, info, total, total)
-        if self.track or self.per_rule:
-            fires = self._evaluate(features, per_conjunction=True)
-            if self.track:
-                self.stats.count(fires)     # what stats.update(features) does, without evaluating again
-            fires = fires[0]
-        if self.per_rule:
-            cost: Any = self.violation_cost * fires.astype(np.float64)
-            total = float(np.sum(cost))
-        else:
-            fired = fires.any() if self.track else self._evaluate(features)[0]
-            total = self.violation_cost * float(fired)
-            cost = total
-        return self._finish(observation, reward, terminated, truncated, info, cost, total)
-
-    def _finish(self, observation, reward, terminated, truncated, info, cost, total):
         if "cost" in info:
             info["env_cost"] = info["cost"]  # the environment's own (ground-truth) cost stays readable
-        info["cost"] = cost
+        info["cost"] = costs[0] if self.cost.per_rule else total
         return observation, reward - self.penalty * total, terminated, truncated, info
 
 
@@ -252,11 +256,12 @@ class DnfRolloutCost:
     """The cost of :class:`DnfCostWrapper`, computed for a whole PPO rollout at once: pass it as
     ``train_ppo(..., cost_fn=DnfRolloutCost(dnf, names))``.
 
-    Same semantics as the wrapper (the formula on the features of the state each step reached;
-    ``violation_cost``; ``per_rule``; the :class:`RuleStats` counts, in ascending complexity), but
-    one vectorised evaluation of ``T x N`` points per rollout instead of a Python call per step:
-    the per-step wrapper cannot stay within a few percent of a fast environment's step (a wrapper
-    call alone costs about a microsecond), a rollout-sized evaluation does.
+    Same semantics as the wrapper (:class:`FormulaCost`: the formula on the features of the state
+    each step reached; ``violation_cost``; ``per_rule``; the :class:`RuleStats` counts, in
+    ascending complexity), but one vectorised evaluation of ``T x N`` points per rollout instead
+    of a Python call per step: the per-step wrapper cannot stay within a few percent of a fast
+    environment's step (a wrapper call alone costs about a microsecond), a rollout-sized
+    evaluation does.
 
     ``source``: ``"info"`` (``info["features"]``, recorded by PPO for every step) or
     ``"observation"`` (the reached observation as the policy sees it, flattened to float32).
@@ -266,42 +271,18 @@ class DnfRolloutCost:
                  per_rule: bool = False, track: bool = True, stats: RuleStats | None = None) -> None:
         if source not in ("info", "observation"):
             raise SymlearnError(f"unknown feature source {source!r}", hint="use 'info' or 'observation'")
-        if stats is not None and stats.dnf != dnf:
-            raise SymlearnError("the shared rule statistics belong to another formula")
+        self.cost = FormulaCost(dnf, features, violation_cost=violation_cost, per_rule=per_rule, track=track,
+                                stats=stats)
         self.dnf, self.source = dnf, source
-        self.violation_cost, self.per_rule, self.track = float(violation_cost), per_rule, track
-        self.stats = stats if stats is not None else RuleStats(dnf, features)
-        self.feature_names = self.stats.feature_names
-        self._evaluate = dnf.evaluator(self.feature_names)
-        # the rules in ascending complexity: the first firing rule of a point is its row's first True
-        self._evaluate_ordered = self.stats.ordered_dnf.evaluator(self.feature_names)
+        self.stats, self.feature_names = self.cost.stats, self.cost.feature_names
         # what train_ppo records from every step's info for us
         self.info_keys = ("features",) if source == "info" else ()
 
     def __call__(self, rollout: Any) -> np.ndarray:
         raw = rollout.info["features"] if self.source == "info" else rollout.next_obs
         shape = raw.shape[:2]
-        X = np.asarray(raw, dtype=np.float64).reshape(shape[0] * shape[1], -1)
-        if X.shape[1] != len(self.feature_names):
-            raise DataError(f"expected {len(self.feature_names)} features ({', '.join(self.feature_names)}), "
-                            f"got {X.shape[1]}")
-        if not math.isfinite(X.sum()) and not np.isfinite(X).all():
-            raise DataError("features must be finite (found NaN or inf)")
-        if self.track and not self.per_rule:   # the first firing rule per point is all we need
-            first = self._evaluate_ordered.first(X)
-            self.stats.count_first(first)
-            return (self.violation_cost * (first < len(self.stats.order))).astype(np.float64).reshape(shape)
-        if self.track or self.per_rule:
-            ordered = self._evaluate_ordered(X, per_conjunction=True)
-            if self.track:
-                self.stats.count_ordered(ordered)
-            if self.per_rule:   # back to the formula's order
-                fires = ordered[:, self.stats._rank]
-                return (self.violation_cost * fires.astype(np.float64)).reshape(*shape, -1)
-            fired = ordered.any(axis=1)
-        else:
-            fired = self._evaluate(X)
-        return (self.violation_cost * fired.astype(np.float64)).reshape(shape)
+        costs, _ = self.cost(np.asarray(raw, dtype=np.float64).reshape(shape[0] * shape[1], -1))
+        return costs.reshape(*shape, *costs.shape[1:])
 
 
-__all__ = ["DnfCostWrapper", "DnfRolloutCost", "RuleStats", "RuleVerdict"]
+__all__ = ["DnfCostWrapper", "DnfRolloutCost", "FormulaCost", "RuleStats", "RuleVerdict"]
