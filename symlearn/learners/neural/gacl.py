@@ -19,10 +19,9 @@ learned from is ``-log(1 - C)`` (``log D`` is floored at ``log 1e-6``).
 from __future__ import annotations
 
 import copy
-import math
 import time
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -37,13 +36,14 @@ from symlearn.learners.neural.icrl_metrics import episode_metrics
 from symlearn.learners.neural.fit_setup import check_common, fit_setup
 from symlearn.learners.neural.mce_icrl import PPO_DEFAULTS, action_bound_penalty, jsonable_params, seed_offset
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
+from symlearn.learners.neural.records import IterationRecord
 from symlearn.progress import progress
 
 LOG_FLOOR = 1e-6
 
 
 @dataclass(frozen=True)
-class GACLIteration:
+class GACLIteration(IterationRecord):
     """One iteration: the sampled policy's reward and violation rate (ground truth, reported
     only; the policy before this iteration's PPO phase), the discriminator's mean ``D`` on expert
     and policy pairs after its update, and the seconds of the policy and discriminator updates."""
@@ -55,9 +55,6 @@ class GACLIteration:
     policy_d: float
     policy_seconds: float
     cost_seconds: float
-
-    def as_dict(self) -> dict[str, Any]:
-        return {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in asdict(self).items()}
 
 
 class NeuralGACL(Learner):

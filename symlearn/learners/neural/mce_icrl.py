@@ -61,7 +61,7 @@ import math
 import os
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -75,6 +75,7 @@ from symlearn.learners.neural.feature_network import FeatureNetwork, pretrain_au
 from symlearn.learners.neural.icrl_metrics import episode_metrics
 from symlearn.learners.neural.fit_setup import check_common, environment_factory, fit_setup  # noqa: F401 (re-exported)
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
+from symlearn.learners.neural.records import IterationRecord
 from symlearn.progress import progress
 
 #: PPO settings of the policy phases unless ``ppo=`` overrides them (a shorter rollout and a
@@ -84,7 +85,7 @@ PPO_DEFAULTS: dict[str, Any] = {"n_envs": 4, "n_steps": 256, "batch_size": 256, 
 
 
 @dataclass(frozen=True)
-class ICRLIteration:
+class ICRLIteration(IterationRecord):
     """One iteration: the multipliers after its dual step, the discounted feature sums it
     matched (expert, policy before the step), the reward and violation rate (ground truth,
     reported only) of the sampled episodes the dual step used -- those of the policy before this
@@ -100,9 +101,6 @@ class ICRLIteration:
     policy_seconds: float
     cost_seconds: float
     sampling_seconds: float
-
-    def as_dict(self) -> dict[str, Any]:
-        return {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in asdict(self).items()}
 
 
 class NeuralMCEICRL(Learner):

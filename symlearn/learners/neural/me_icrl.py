@@ -29,8 +29,8 @@ from __future__ import annotations
 import copy
 import math
 import time
-from collections.abc import Sequence
-from dataclasses import asdict, dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -45,13 +45,14 @@ from symlearn.learners.neural.fit_setup import check_common, fit_setup
 from symlearn.learners.neural.mce_icrl import (PPO_DEFAULTS, action_bound_penalty, jsonable_params, penalised,
                                                seed_offset)
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
+from symlearn.learners.neural.records import IterationRecord
 from symlearn.progress import progress
 
 LOG_FLOOR = 1e-6  # log(zeta) is taken of max(zeta, LOG_FLOOR): a step called infeasible costs log(1e-6), not -inf
 
 
 @dataclass(frozen=True)
-class MEIteration:
+class MEIteration(IterationRecord):
     """One iteration: the sampled policy's reward and violation rate (ground truth, reported
     only), the mean feasibility of expert and policy steps after the backward step, the backward
     epochs run (fewer than asked when stopped by the KL test), the final KL estimates, the
@@ -68,9 +69,6 @@ class MEIteration:
     multiplier: float
     policy_seconds: float
     cost_seconds: float
-
-    def as_dict(self) -> dict[str, Any]:
-        return {k: (None if isinstance(v, float) and math.isnan(v) else v) for k, v in asdict(self).items()}
 
 
 class NeuralMEICRL(Learner):
@@ -205,36 +203,51 @@ class NeuralMEICRL(Learner):
         return Path(self.cost_.save(path))
 
 
+def log_feasibility(phi: FeatureNetwork, inputs: tuple[torch.Tensor, torch.Tensor | None]) -> torch.Tensor:
+    """``log zeta`` of pairs with ``zeta = 1 - phi_0`` (floored at :data:`LOG_FLOOR`)."""
+    return torch.log((1.0 - phi(*inputs)[:, 0]).clamp_min(LOG_FLOOR))
+
+
+class ImportanceWeights:
+    """Per-episode importance weights of a batch of sampled episodes while a backward step moves
+    ``zeta`` away from the one they were sampled under: ``w_e ~ prod_t zeta_new / zeta_old``,
+    normalised to mean 1, and the two KL estimates (``KL(old||new) = -mean log w``,
+    ``KL(new||old) = mean w log w``) that stop the epochs (ME-ICRL and VME-ICRL alike)."""
+
+    def __init__(self, batch: EpisodeBatch, log_zeta: Callable[[], torch.Tensor]) -> None:
+        """``log_zeta()``: ``log zeta`` of the batch's flattened steps under the current ``zeta``
+        (evaluated here without gradients, now and at every :meth:`update`)."""
+        self.n, self.log_zeta = batch.n_episodes, log_zeta
+        # the episode of every flattened step
+        self.episode_t = torch.from_numpy(np.repeat(np.arange(self.n), batch.lengths))
+        with torch.no_grad():
+            self.old = self._sums(log_zeta())
+
+    def _sums(self, values: torch.Tensor) -> torch.Tensor:
+        return torch.zeros(self.n, dtype=values.dtype).index_add_(0, self.episode_t, values)
+
+    def update(self) -> tuple[torch.Tensor, float, float]:
+        """Per-step weights (each step gets its episode's) and the two KL estimates."""
+        with torch.no_grad():
+            log_w = self._sums(self.log_zeta()) - self.old
+            log_w = log_w - torch.logsumexp(log_w, 0) + math.log(self.n)  # mean weight 1
+            weights = log_w.exp()
+            return weights[self.episode_t], float(-log_w.mean()), float((weights * log_w).mean())
+
+
 def backward_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer,
                   expert_in: tuple[torch.Tensor, torch.Tensor | None], batch: EpisodeBatch, cost: NeuralCost, *,
                   epochs: int, regularizer: float, target_kl: float) -> tuple[float, float, int, float, float]:
     """ME-ICRL's backward step on ``phi = 1 - zeta`` (module docstring). Returns the mean
     feasibility of expert and policy steps afterwards, the epochs run and the last KL estimates."""
     policy_in = cost.tensors(*batch.pairs())
-    episode_of = np.repeat(np.arange(batch.n_episodes), batch.lengths)  # the episode of every flattened step
-    episode_t = torch.from_numpy(episode_of)
-
-    def log_zeta(inputs: tuple[torch.Tensor, torch.Tensor | None]) -> torch.Tensor:
-        return torch.log((1.0 - phi(*inputs)[:, 0]).clamp_min(LOG_FLOOR))
-
-    def episode_sums(values: torch.Tensor) -> torch.Tensor:
-        return torch.zeros(batch.n_episodes, dtype=values.dtype).index_add_(0, episode_t, values)
-
-    with torch.no_grad():
-        old = episode_sums(log_zeta(policy_in))
+    importance = ImportanceWeights(batch, lambda: log_feasibility(phi, policy_in))
     epochs_run, kl_old_new, kl_new_old = 0, 0.0, 0.0
     for _ in range(epochs):
-        with torch.no_grad():  # importance weights of the sampled episodes under the current zeta
-            log_w = episode_sums(log_zeta(policy_in)) - old
-            log_w = log_w - torch.logsumexp(log_w, 0) + math.log(batch.n_episodes)  # mean weight 1
-            weights = log_w.exp()
-            kl_old_new, kl_new_old = float(-log_w.mean()), float((weights * log_w).mean())
+        step_weights, kl_old_new, kl_new_old = importance.update()
         if kl_old_new > target_kl or kl_new_old > target_kl:
             break
-        expert_log = log_zeta(expert_in)
-        policy_log = log_zeta(policy_in)
-        step_weights = weights[episode_t]
-        loss = -expert_log.mean() + (step_weights * policy_log).mean()
+        loss = -log_feasibility(phi, expert_in).mean() + (step_weights * log_feasibility(phi, policy_in)).mean()
         if regularizer:
             loss = loss + regularizer * (phi(*expert_in).mean() + phi(*policy_in).mean())
         optimizer.zero_grad(set_to_none=True)
@@ -247,4 +260,4 @@ def backward_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer,
     return expert_feasibility, policy_feasibility, epochs_run, kl_old_new, kl_new_old
 
 
-__all__ = ["MEIteration", "NeuralMEICRL", "backward_step"]
+__all__ = ["ImportanceWeights", "MEIteration", "NeuralMEICRL", "backward_step", "log_feasibility"]

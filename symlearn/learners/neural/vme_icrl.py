@@ -35,14 +35,13 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-import numpy as np
 import torch
 from torch.distributions import Beta, kl_divergence
 
 from symlearn.errors import SymlearnError
 from symlearn.learners.neural.episodes import EpisodeBatch
 from symlearn.learners.neural.feature_network import FeatureNetwork
-from symlearn.learners.neural.me_icrl import LOG_FLOOR, MEIteration, NeuralMEICRL
+from symlearn.learners.neural.me_icrl import LOG_FLOOR, ImportanceWeights, MEIteration, NeuralMEICRL, log_feasibility
 from symlearn.learners.neural.neural_cost import NeuralCost
 
 SHAPE_FLOOR = 1e-4  # Beta parameters stay above this (a sigmoid output of exactly 0 or 1)
@@ -146,30 +145,18 @@ def variational_backward_step(phi: FeatureNetwork, optimizer: torch.optim.Optimi
     the mean feasibility ``E_q[zeta]`` of expert and policy pairs afterwards, the epochs run, the
     last importance-weight KL estimates, the mean KL from the prior and the mean concentration."""
     policy_in = cost.tensors(*batch.pairs())
-    episode_t = torch.from_numpy(np.repeat(np.arange(batch.n_episodes), batch.lengths))
     prior_dist = Beta(torch.tensor(prior[0]), torch.tensor(prior[1]))
-
-    def log_mean_feasibility(inputs: tuple[torch.Tensor, torch.Tensor | None]) -> torch.Tensor:
-        return torch.log((1.0 - phi(*inputs)[:, 0]).clamp_min(LOG_FLOOR))
-
-    def episode_sums(values: torch.Tensor) -> torch.Tensor:
-        return torch.zeros(batch.n_episodes, dtype=values.dtype).index_add_(0, episode_t, values)
-
-    with torch.no_grad():
-        old = episode_sums(log_mean_feasibility(policy_in))
+    # the weights are taken on the mean feasibility, phi's first output, as in ME-ICRL
+    importance = ImportanceWeights(batch, lambda: log_feasibility(phi, policy_in))
     epochs_run, kl_old_new, kl_new_old = 0, 0.0, 0.0
     for _ in range(epochs):
-        with torch.no_grad():
-            log_w = episode_sums(log_mean_feasibility(policy_in)) - old
-            log_w = log_w - torch.logsumexp(log_w, 0) + math.log(batch.n_episodes)  # mean weight 1
-            weights = log_w.exp()
-            kl_old_new, kl_new_old = float(-log_w.mean()), float((weights * log_w).mean())
+        step_weights, kl_old_new, kl_new_old = importance.update()
         if kl_old_new > target_kl or kl_new_old > target_kl:
             break
         a_e, b_e = beta_parameters(phi(*expert_in), concentration)
         a_p, b_p = beta_parameters(phi(*policy_in), concentration)
         loss = (-expected_log_feasibility(a_e, b_e).mean()
-                + (weights[episode_t] * expected_log_feasibility(a_p, b_p)).mean())
+                + (step_weights * expected_log_feasibility(a_p, b_p)).mean())
         if kl_weight:
             loss = loss + kl_weight * 0.5 * (kl_divergence(Beta(a_e, b_e), prior_dist).mean()
                                              + kl_divergence(Beta(a_p, b_p), prior_dist).mean())
