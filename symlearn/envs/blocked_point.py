@@ -54,6 +54,21 @@ from symlearn.errors import DataError
 
 FEATURE_NAMES = ("x", "y")
 OBSERVATION_NAMES = ("x", "y", "vx", "vy")
+
+
+def point_spaces(arena: float, max_speed: float) -> tuple[spaces.Box, spaces.Box]:
+    """The observation ``(x, y, vx, vy)`` and action spaces of the point environments (BlockedPoint
+    and PointCircle share them, so a cost learned in one loads in the other)."""
+    high = np.array([arena, arena, max_speed, max_speed], dtype=np.float32)
+    return spaces.Box(-high, high, dtype=np.float32), spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
+
+
+def beyond_wall(positions: np.ndarray, wall: float) -> np.ndarray | bool:
+    """Whether positions (``(..., >=1)``, ``x`` first) lie beyond the wall at ``x = wall`` (the
+    forbidden side is ``x < wall`` for ``wall <= 0``, else ``x > wall``); vectorised."""
+    x = np.asarray(positions, dtype=np.float64)[..., 0]
+    unsafe = x < wall if wall <= 0 else x > wall
+    return bool(unsafe) if np.ndim(unsafe) == 0 else unsafe
 START_OFFSETS = (0.5, 3.5)  # the start's distance from the wall: uniform in this range
 START_Y = 0.5  # |y| at the start at most this
 
@@ -77,9 +92,7 @@ class BlockedPoint(gym.Env):
         self.damping, self.max_steps, self.arena = float(damping), int(max_steps), float(arena)
         # the forbidden side: -1 when the wall is left of the start region (x < wall forbidden)
         self.side = -1.0 if self.wall <= 0 else 1.0
-        high = np.array([arena, arena, max_speed, max_speed], dtype=np.float32)
-        self.observation_space = spaces.Box(-high, high, dtype=np.float32)
-        self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
+        self.observation_space, self.action_space = point_spaces(arena, max_speed)
         self.feature_names = FEATURE_NAMES
         self.observation_names = OBSERVATION_NAMES
         self.state = np.zeros(4)
@@ -89,9 +102,7 @@ class BlockedPoint(gym.Env):
 
     def is_unsafe(self, positions: np.ndarray) -> np.ndarray | bool:
         """Whether positions (``(..., >=1)``, ``x`` first) lie beyond the wall; vectorised."""
-        x = np.asarray(positions, dtype=np.float64)[..., 0]
-        unsafe = x < self.wall if self.side < 0 else x > self.wall
-        return bool(unsafe) if np.ndim(unsafe) == 0 else unsafe
+        return beyond_wall(positions, self.wall)
 
     def start_box(self) -> tuple[np.ndarray, np.ndarray]:
         """The box ``(low, high)`` of start observations."""

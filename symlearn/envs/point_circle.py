@@ -35,12 +35,11 @@ from typing import Any
 
 import gymnasium as gym
 import numpy as np
-from gymnasium import spaces
 
+# BlockedPoint's observation layout, names and wall test: a cost learned there reads the same here
+from symlearn.envs.blocked_point import FEATURE_NAMES, OBSERVATION_NAMES, beyond_wall, point_spaces
 from symlearn.errors import DataError
 
-FEATURE_NAMES = ("x", "y")
-OBSERVATION_NAMES = ("x", "y", "vx", "vy")
 START_JITTER = 0.1
 
 
@@ -61,10 +60,7 @@ class PointCircle(gym.Env):
                 raise DataError(f"PointCircle: {name} must be {need}, got {locals()[name]!r}")
         self.radius, self.wall, self.max_speed = float(radius), float(wall), float(max_speed)
         self.max_steps, self.arena = int(max_steps), float(arena)
-        self.side = -1.0 if self.wall <= 0 else 1.0
-        high = np.array([arena, arena, max_speed, max_speed], dtype=np.float32)
-        self.observation_space = spaces.Box(-high, high, dtype=np.float32)
-        self.action_space = spaces.Box(-1.0, 1.0, shape=(2,), dtype=np.float32)
+        self.observation_space, self.action_space = point_spaces(arena, max_speed)
         self.feature_names = FEATURE_NAMES
         self.observation_names = OBSERVATION_NAMES
         self.state = np.zeros(4)
@@ -72,9 +68,7 @@ class PointCircle(gym.Env):
 
     def is_unsafe(self, positions: np.ndarray) -> np.ndarray | bool:
         """Whether positions (``(..., >=1)``, ``x`` first) lie beyond the wall; vectorised."""
-        x = np.asarray(positions, dtype=np.float64)[..., 0]
-        unsafe = x < self.wall if self.side < 0 else x > self.wall
-        return bool(unsafe) if np.ndim(unsafe) == 0 else unsafe
+        return beyond_wall(positions, self.wall)
 
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
         super().reset(seed=seed)
