@@ -800,17 +800,15 @@ class _Rollouts:
                         costs[t, i] = cost
                 for key in self.info_keys:
                     self._record(info_arrays, key, info, t, i, n_steps, n_envs)
-                next_obs[i] = agent.features(np.asarray(o)[None])[0]
+                reached[t, i] = agent.features(np.asarray(o)[None])[0]
+                next_obs[i] = reached[t, i]
                 if term or trunc:
                     dones[t, i] = 1.0
                     ends.append((t, i))
                     if trunc and not term:
-                        truncated.append((t, i, next_obs[i].copy()))
-                    reached[t, i] = next_obs[i]
+                        truncated.append((t, i, reached[t, i].copy()))
                     o, _ = env.reset()
                     next_obs[i] = agent.features(np.asarray(o)[None])[0]
-                else:
-                    reached[t, i] = next_obs[i]
             self.obs = next_obs
         rollout = Rollout(obs, actions, reached, rewards, dones, info_arrays)
         if cost_fn is not None:
