@@ -50,27 +50,28 @@ def _row(entry) -> dict:
 
 
 def _render(doc: dict) -> str:
+    rows = doc["constraints"] + doc["specs"] + doc["continuous"] + doc["machines"]
+    w = max([18, *(len(r["name"]) for r in rows)])  # the name column fits the longest name
     lines = ["constraint learning (symlearn learn constraints --env NAME):"]
     for r in doc["constraints"]:
-        lines.append(f"  {r['name']:<18} {r['states']:>4} states x {r['actions']} actions, {r['pairs']} pairs "
+        lines.append(f"  {r['name']:<{w}} {r['states']:>4} states x {r['actions']} actions, {r['pairs']} pairs "
                      f"({r['forbidden_by_truth']} forbidden)  methods: {', '.join(r['methods'])}")
-        lines.append(f"  {'':<18} {r['description']}")
+        lines.append(f"  {'':<{w}} {r['description']}")
     lines.append("task specifications (symlearn learn spec --env NAME):")
     for r in doc["specs"]:
-        lines.append(f"  {r['name']:<18} {r['formula']:<40} {r['description']}")
+        lines.append(f"  {r['name']:<{w}} {r['formula']:<40} {r['description']}")
     if doc["continuous"]:
         lines.append("continuous constraints (DNF over info['features'] or learned costs, ground truth in "
                      "info['cost']):")
         for r in doc["continuous"]:
-            lines.append(f"  {r['name']:<18} {r['description']}")
+            lines.append(f"  {r['name']:<{w}} {r['description']}")
     if doc["machines"]:
         lines.append("reward machines from image demonstrations (symlearn learn rm; train --algo dqrm|dqn):")
         for r in doc["machines"]:
-            lines.append(f"  {r['name']:<18} {r['description']}")
+            lines.append(f"  {r['name']:<{w}} {r['description']}")
     lines.append("gymnasium environments (import symlearn.envs, then gymnasium.make(ID)):")
     for r in doc["gymnasium"]:
         lines.append(f"  {r['id']:<30} {', '.join(r['entries'])}")
-    rows = doc["constraints"] + doc["specs"] + doc["continuous"] + doc["machines"]
     without = [r["name"] for r in rows if r["gym_id"] is None]
     if without:
         lines.append(f"  (no gymnasium environment: {', '.join(without)})")

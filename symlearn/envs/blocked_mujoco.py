@@ -1,89 +1,218 @@
-"""Blocked MuJoCo: gymnasium v5 HalfCheetah behind a wall, the thesis' blocked robot task.
+"""Blocked MuJoCo: gymnasium's v5 robots behind a wall, the thesis' blocked robot tasks.
 
-After Malik et al. (2021) and Liu et al. (2023), as the thesis uses it (section 2.5.2): the
-cheetah is paid for speed in *either* direction, and the constraint forbids the region
-``x < wall`` (``wall = -3``) behind its start. Running backward is the easier gait for the
-half-cheetah early in training, so an agent that ignores the constraint crosses the wall;
-the constrained optimum runs forward.
+After Malik et al. (2021) and Liu et al. (2023), as the thesis uses them (section 2.5.2): each
+robot is paid for moving (in either direction) and a wall at ``x = wall`` forbids the side its
+easier gait would take; :mod:`~symlearn.envs.blocked_mujoco_tasks` has the table (robots, walls,
+rewards, episode lengths). The broken ant of the transfer experiment (section 2.5.4, Fig 2.4) is
+the blocked ant with two legs' actuators disabled.
 
-* **Observation**: HalfCheetah-v5's with the root's x position kept
-  (``exclude_current_positions_from_observation=False``): 18 entries, ``x`` first
-  (``observation_names``), so a learned cost can read the position the constraint is about.
-* **Reward**: ``|x velocity| * forward_reward_weight - ctrl_cost`` (v5's forward reward made
-  direction-free; its control cost unchanged).
-* **Cost** ``info["cost"]`` = 1.0 when the x position after the step is beyond the wall;
-  ``info["violation"]`` the same as a bool. No termination on a violation (the violation rate per
-  step is the measure); episodes truncated after ``max_episode_steps`` (1000, as v5).
+* **Observation**: the v5 robot's, with the root's position kept, so it starts with ``x``
+  (``observation_names``; derived from the model's joints: ``x``, the other position
+  coordinates, then ``v_<joint>`` velocities). The ant leaves out v5's 78 contact forces by
+  default (``contact_forces=False``): they are zero on most steps, do not bear on the wall, and
+  differ between the ant and the broken ant, whose cost should transfer; ``contact_forces=True``
+  appends them (``cfrc_<body>_<component>``), as the benchmark's ant had them.
+* **Cost** ``info["cost"]`` = 1.0 when the ``x`` reached lies beyond the wall, ``info["violation"]``
+  the same as a bool, ``info["features"]`` = ``[x]`` (``feature_names``); :meth:`BlockedMujoco.is_unsafe`
+  is the same test on observations, vectorised. A violation does not end the episode (the
+  violation rate per step is the measure); v5's own termination (a fallen walker or pendulum)
+  is kept; episodes are truncated after ``max_episode_steps``.
+* The robot is the bare v5 environment (``robot``); :class:`BlockedMujoco` is itself the
+  unwrapped environment, so ``env.unwrapped`` has ``observation_names`` and ``is_unsafe``, and
+  :meth:`BlockedMujoco.set_state` places the robot (tests, figures).
 
-Needs the ``mujoco`` extra (the ``mujoco`` wheel); :func:`make_blocked_half_cheetah` raises
-:class:`~symlearn.errors.SymlearnError` naming it when absent.
+Needs the ``mujoco`` extra; the ``make_*`` functions raise
+:class:`~symlearn.errors.MissingDependencyError` naming it when the wheel is absent (this module
+imports without it).
 """
 
 from __future__ import annotations
 
+import math
+from collections.abc import Sequence
+from contextlib import contextmanager
 from typing import Any
 
 import gymnasium as gym
 import numpy as np
 
-from symlearn.errors import DataError, SymlearnError
+from symlearn.envs.blocked_mujoco_tasks import BROKEN_ANT_ACTUATORS, TASKS, BlockedTask
+from symlearn.errors import DataError
 
-_JOINTS = ("rootx", "rootz", "rooty", "bthigh", "bshin", "bfoot", "fthigh", "fshin", "ffoot")
-#: HalfCheetah-v5's observation with positions kept: joint positions, then velocities
-OBSERVATION_NAMES = ("x", *_JOINTS[1:], *(f"v_{name}" for name in _JOINTS))
+FEATURE_NAMES = ("x",)
 
 
-class BlockedHalfCheetah(gym.Wrapper):
-    """A HalfCheetah-v5 environment (with x in the observation) behind a wall at ``x = wall``."""
+class BlockedMujoco(gym.Env):
+    """A v5 MuJoCo ``robot`` behind a wall at ``x = wall`` (see the module docstring).
 
-    observation_names = OBSERVATION_NAMES
+    ``disabled_actuators``: action entries forced to 0 before the robot sees them (the broken ant).
+    """
 
-    def __init__(self, env: gym.Env, wall: float = -3.0) -> None:
-        super().__init__(env)
-        if not np.isfinite(wall):
-            raise DataError(f"wall must be finite, got {wall!r}")
-        if env.observation_space.shape != (len(OBSERVATION_NAMES),):
-            raise DataError(f"BlockedHalfCheetah needs HalfCheetah-v5 with x in the observation "
-                            f"(shape ({len(OBSERVATION_NAMES)},)), got {env.observation_space.shape}")
-        self.wall = float(wall)
+    def __init__(self, robot: gym.Env, task: BlockedTask, wall: float, max_episode_steps: int,
+                 disabled_actuators: Sequence[int] = ()) -> None:
+        self.robot, self.task = robot, task
+        self.wall, self.max_episode_steps = float(wall), int(max_episode_steps)
+        self.disabled_actuators = tuple(int(i) for i in disabled_actuators)
+        self.observation_space, self.action_space = robot.observation_space, robot.action_space
+        # Only the mode the robot was built with: gymnasium's env checker renders every declared
+        # mode, and MuJoCo rendering needs an OpenGL context that headless machines lack.
+        self.render_mode = robot.render_mode
+        self.metadata = {"render_modes": [] if robot.render_mode is None else [robot.render_mode],
+                         "render_fps": robot.metadata["render_fps"]}
+        self.observation_names = observation_names(robot)
+        self.feature_names = FEATURE_NAMES
+        if len(self.observation_names) != robot.observation_space.shape[0]:
+            raise ValueError(f"{task.gym_id}: {len(self.observation_names)} observation names for "
+                             f"{robot.observation_space.shape[0]} entries")  # a v5 layout we do not know
+        self.steps = 0
 
     def is_unsafe(self, observations: Any) -> np.ndarray | bool:
-        """Whether observations (``(..., >=1)``, x first) lie behind the wall; vectorised."""
-        unsafe = np.asarray(observations, dtype=np.float64)[..., 0] < self.wall
+        """Whether observations (``(..., >=1)``, ``x`` first) lie beyond the wall; vectorised."""
+        x = np.asarray(observations, dtype=np.float64)[..., 0]
+        unsafe = x < self.wall if self.task.side == "below" else x > self.wall
         return bool(unsafe) if np.ndim(unsafe) == 0 else unsafe
 
-    def reset(self, **kwargs: Any):
-        obs, info = self.env.reset(**kwargs)
-        return obs, {**info, "cost": 0.0, "violation": False}
+    def set_state(self, qpos: Any, qvel: Any) -> np.ndarray:
+        """Place the robot (MuJoCo's ``qpos``, ``qvel``); returns the observation there."""
+        self.robot.set_state(np.asarray(qpos, dtype=np.float64), np.asarray(qvel, dtype=np.float64))
+        return self.robot._get_obs()
+
+    def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
+        super().reset(seed=seed)
+        obs, info = self.robot.reset(seed=seed, options=options)
+        self.steps = 0
+        return obs, {**info, **self._ground_truth(obs)}
 
     def step(self, action: Any):
-        obs, _, terminated, truncated, info = self.env.step(action)
-        unwrapped = self.env.unwrapped
-        # v5: reward = forward_reward_weight * x_velocity - ctrl_cost; paid for speed either way
-        reward = unwrapped._forward_reward_weight * abs(float(info["x_velocity"])) + float(info["reward_ctrl"])
-        violation = bool(float(info["x_position"]) < self.wall)
-        return obs, reward, terminated, truncated, {**info, "cost": float(violation), "violation": violation}
+        if self.disabled_actuators:
+            action = np.array(action, dtype=np.float32)  # a copy: the caller's action stays as given
+            action[list(self.disabled_actuators)] = 0.0
+        obs, reward, terminated, _, info = self.robot.step(action)
+        self.steps += 1
+        reward = self.task.reward(reward, info, obs)
+        return obs, reward, terminated, self.steps >= self.max_episode_steps, {**info, **self._ground_truth(obs)}
+
+    def _ground_truth(self, obs: np.ndarray) -> dict[str, Any]:
+        x = float(obs[0])  # is_unsafe on one observation, without its array round trip (every step)
+        violation = x < self.wall if self.task.side == "below" else x > self.wall
+        return {"cost": float(violation), "violation": violation, "features": np.array([x])}
+
+    def render(self):
+        return self.robot.render()
+
+    def close(self) -> None:
+        self.robot.close()
 
 
-def make_blocked_half_cheetah(wall: float = -3.0, max_episode_steps: int = 1000, **kwargs: Any) -> BlockedHalfCheetah:
-    """``HalfCheetah-v5`` (positions kept in the observation, ``kwargs`` passed on) behind the wall."""
-    import importlib.util
+def observation_names(robot: gym.Env) -> tuple[str, ...]:
+    """Names of a v5 robot's observation with positions kept: ``x`` first, then the model's
+    other position coordinates, ``v_`` velocities and (the ant's, if kept) contact forces."""
+    import mujoco
 
-    if importlib.util.find_spec("mujoco") is None:
-        raise SymlearnError("blocked MuJoCo environments need the mujoco wheel",
-                            hint="pip install 'symlearn[mujoco]'")
-    _route_mujoco_warnings()
-    if int(max_episode_steps) < 1:
-        raise DataError(f"max_episode_steps must be at least 1, got {max_episode_steps}")
-    env = gym.make("HalfCheetah-v5", exclude_current_positions_from_observation=False,
-                   max_episode_steps=int(max_episode_steps), **kwargs)
-    return BlockedHalfCheetah(env, wall)
+    model = robot.unwrapped.model
+    positions, velocities = [], []
+    for j in range(model.njnt):
+        name = model.joint(j).name
+        if model.jnt_type[j] == mujoco.mjtJoint.mjJNT_FREE:  # a floating base: 3-D position, quaternion
+            positions += ["x", "y", "z", "qw", "qx", "qy", "qz"]
+            velocities += ["vx", "vy", "vz", "wx", "wy", "wz"]
+        else:  # slide and hinge joints: one coordinate each
+            positions.append(name)
+            velocities.append(f"v_{name}")
+    positions[0] = "x"  # the root's slide along x (its own name, e.g. rootx, says no more than x)
+    names = positions + velocities
+    extra = robot.observation_space.shape[0] - len(names)
+    if extra == 6 * (model.nbody - 1):  # v5's contact forces of every body but the world
+        bodies = [model.body(b).name or f"body{b}" for b in range(1, model.nbody)]
+        names += [f"cfrc_{body}_{c}" for body in bodies for c in ("rx", "ry", "rz", "fx", "fy", "fz")]
+    return tuple(names)
 
 
-def _route_mujoco_warnings() -> None:
-    """MuJoCo writes its warnings (HalfCheetah-v5's model triggers a deprecation warning on
-    every load) to ``MUJOCO_LOG.TXT`` in the working directory unless a handler is installed; send
-    them to Python's :mod:`warnings` instead (once per process, only when no handler is set)."""
+# --- factories (the registry's entries; keyword arguments are what --env-kwargs may set) ---------
+
+def make_blocked_half_cheetah(wall: float = -3.0, max_episode_steps: int = 1000, **kwargs: Any) -> BlockedMujoco:
+    """HalfCheetah-v5 behind a wall (``x < wall`` forbidden); ``kwargs`` go to the robot."""
+    return make_blocked("half-cheetah", wall, max_episode_steps, **kwargs)
+
+
+def make_blocked_ant(wall: float = -3.0, max_episode_steps: int = 500, contact_forces: bool = False,
+                     **kwargs: Any) -> BlockedMujoco:
+    """Ant-v5 behind a wall (``x < wall`` forbidden), paid for its distance from the origin."""
+    return make_blocked("ant", wall, max_episode_steps, include_cfrc_ext_in_observation=_flag(contact_forces),
+                        **kwargs)
+
+
+def make_broken_ant(wall: float = -3.0, max_episode_steps: int = 500, contact_forces: bool = False,
+                    disabled_actuators: Sequence[int] = BROKEN_ANT_ACTUATORS, **kwargs: Any) -> BlockedMujoco:
+    """The blocked ant with ``disabled_actuators`` (default: two legs, Malik et al.'s) forced to 0;
+    same observation and action spaces as :func:`make_blocked_ant`, so its costs load here."""
+    return make_blocked("ant", wall, max_episode_steps, disabled_actuators,
+                        include_cfrc_ext_in_observation=_flag(contact_forces), **kwargs)
+
+
+def make_blocked_walker2d(wall: float = -3.0, max_episode_steps: int = 500, **kwargs: Any) -> BlockedMujoco:
+    """Walker2d-v5 behind a wall (``x < wall`` forbidden); v5's fall ends the episode."""
+    return make_blocked("walker2d", wall, max_episode_steps, **kwargs)
+
+
+def make_blocked_swimmer(wall: float = 0.5, max_episode_steps: int = 500, **kwargs: Any) -> BlockedMujoco:
+    """Swimmer-v5 before a wall (``x > wall`` forbidden)."""
+    return make_blocked("swimmer", wall, max_episode_steps, **kwargs)
+
+
+def make_biased_inverted_pendulum(wall: float = -0.015, max_episode_steps: int = 100,
+                                  **kwargs: Any) -> BlockedMujoco:
+    """InvertedPendulum-v5 paid more left of its start, where ``x < wall`` is forbidden (``wall``
+    moves the constraint only: the reward's ramp stays between ``x = -0.01`` and 0)."""
+    return make_blocked("inverted-pendulum", wall, max_episode_steps, **kwargs)
+
+
+def make_blocked(task: str, wall: float | None = None, max_episode_steps: int | None = None,
+                 disabled_actuators: Sequence[int] = (), **kwargs: Any) -> BlockedMujoco:
+    """The blocked ``task`` of :data:`~symlearn.envs.blocked_mujoco_tasks.TASKS` (its own wall
+    and episode length unless given); ``kwargs`` go to the v5 robot."""
+    from symlearn.optional import require
+
+    if task not in TASKS:
+        raise DataError(f"unknown blocked MuJoCo task {task!r}", hint="known: " + ", ".join(TASKS))
+    spec = TASKS[task]
+    wall = spec.wall if wall is None else _number("wall", wall)
+    if not math.isfinite(wall):
+        raise DataError(f"wall must be finite, got {wall!r}")
+    steps = spec.max_episode_steps if max_episode_steps is None else max_episode_steps
+    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
+        raise DataError(f"max_episode_steps must be an integer of at least 1, got {steps!r}")
+    if kwargs.get("exclude_current_positions_from_observation"):
+        raise DataError("a blocked task keeps the root's position in the observation: its wall is about x",
+                        hint="leave exclude_current_positions_from_observation out")
+    require("mujoco", "blocked MuJoCo environments")
+    route_mujoco_warnings()
+    with _quiet_model_notices():
+        robot = gym.make(spec.gym_id, **{**spec.robot_kwargs, **kwargs}).unwrapped
+    n_actions = robot.action_space.shape[0]
+    disabled = list(disabled_actuators)
+    if any(isinstance(i, bool) or not isinstance(i, (int, np.integer)) or not 0 <= i < n_actions for i in disabled):
+        robot.close()
+        raise DataError(f"disabled_actuators must be action indices in 0..{n_actions - 1}, got {disabled!r}")
+    return BlockedMujoco(robot, spec, wall, int(steps), disabled)
+
+
+def _number(name: str, value: Any) -> float:
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.number)):
+        raise DataError(f"{name} must be a number, got {value!r}")
+    return float(value)
+
+
+def _flag(value: Any) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise DataError(f"contact_forces must be true or false, got {value!r}")
+    return bool(value)
+
+
+def route_mujoco_warnings() -> None:
+    """MuJoCo writes its warnings to ``MUJOCO_LOG.TXT`` in the working directory unless a handler
+    is installed; send them to Python's :mod:`warnings` instead (once per process, only when no
+    handler is set)."""
     import warnings
 
     import mujoco
@@ -92,4 +221,19 @@ def _route_mujoco_warnings() -> None:
         mujoco.set_mju_user_warning(lambda text: warnings.warn(f"MuJoCo: {text}", RuntimeWarning, stacklevel=2))
 
 
-__all__ = ["OBSERVATION_NAMES", "BlockedHalfCheetah", "make_blocked_half_cheetah"]
+@contextmanager
+def _quiet_model_notices():
+    """Gymnasium's HalfCheetah model uses a compiler attribute MuJoCo 3 deprecates, and MuJoCo says
+    so on every load: a notice about gymnasium's file that no user of ours can act on (and that
+    fails code run with warnings as errors). Other MuJoCo warnings pass."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message="MuJoCo: compiler attribute .* is deprecated",
+                                category=RuntimeWarning)
+        yield
+
+
+__all__ = ["FEATURE_NAMES", "BlockedMujoco", "make_biased_inverted_pendulum", "make_blocked", "make_blocked_ant",
+           "make_blocked_half_cheetah", "make_blocked_swimmer", "make_blocked_walker2d", "make_broken_ant",
+           "observation_names", "route_mujoco_warnings"]

@@ -153,6 +153,23 @@ _BLOCK_TASKS = {"stack-2": "stack red on green", "place-2": "two blocks to their
                 "pyramid-3": "a three-block pyramid", "stack-3": "a three-block stack",
                 "place-3": "three blocks to their places"}  # neural ICRL on the environment's observations (symlearn learn icrl)
 
+# Thesis section 2.5.2's blocked MuJoCo robots and section 2.5.4's broken ant (gymnasium v5; the
+# `mujoco` extra): name, factory in symlearn.envs.blocked_mujoco, description.
+_BLOCKED_MUJOCO = (
+    ("blocked-half-cheetah", "make_blocked_half_cheetah",
+     "HalfCheetah-v5 paid for speed either way; x < -3 forbidden (needs symlearn[mujoco])"),
+    ("blocked-ant", "make_blocked_ant",
+     "Ant-v5 paid for its distance from the origin; x < -3 forbidden (needs symlearn[mujoco])"),
+    ("blocked-walker2d", "make_blocked_walker2d",
+     "Walker2d-v5 paid for speed either way; x < -3 forbidden (needs symlearn[mujoco])"),
+    ("blocked-swimmer", "make_blocked_swimmer",
+     "Swimmer-v5 paid for speed either way; x > 0.5 forbidden (needs symlearn[mujoco])"),
+    ("biased-inverted-pendulum", "make_biased_inverted_pendulum",
+     "InvertedPendulum-v5 paid more left of its start; x < -0.015 forbidden (needs symlearn[mujoco])"),
+    ("broken-ant", "make_broken_ant",
+     "blocked ant with two legs disabled, same observations (cost-transfer target; needs symlearn[mujoco])"),
+)
+
 
 def _safenav(agent: str, task: str, description: str) -> Entry:
     name = f"safenav-{agent}-{task}"
@@ -205,6 +222,9 @@ ENTRIES: tuple[Entry, ...] = (
     Entry("point-circle", frozenset({Kind.CONTINUOUS}),
           "kinematic point paid for running a circle of radius 10, wall at x = -3 (cost-transfer target)",
           _ICRL_METHODS, "symlearn/point-circle-v0", Factory("symlearn.envs.point_circle:PointCircle")),
+    *(Entry(name, frozenset({Kind.CONTINUOUS}), description, _ICRL_METHODS, f"symlearn/{name}-v0",
+            Factory(f"symlearn.envs.blocked_mujoco:{factory}"))
+      for name, factory, description in _BLOCKED_MUJOCO),
     # Thesis chapter 7 (Table 7.1): numpy rendered block world, image demonstrations, pick-and-place pixels.
     *(Entry(f"blockworld-{task.replace('-', '')}", frozenset({Kind.MACHINE}),
             f"rendered block world, {text} (top-down 48 px policy view, front camera for demos)",
