@@ -4,7 +4,7 @@ Issue 12's slow experiment (thesis section 2.5.2 at a fraction of its budget). F
 
 1. **expert**: PPO-Lagrangian on the true cost (cost limit 0, :data:`EXPERT_LAGRANGIAN`) for ``--expert-steps``; its
    ``--demos`` mean-action episodes are the demonstrations, cached as
-   ``benchmarks/results/cache/blocked_half_cheetah_expert_v2_s{seed}_{steps}_{episode_steps}.npz`` (generated from the
+   ``benchmarks/results/cache/blocked-half-cheetah_s{seed}_{steps}_{hash of the settings}.npz`` (generated from the
    seed, never downloaded; delete the file to regenerate);
 2. **MCE-ICRL** (``NeuralMCEICRL``, the cost reading only ``x``; ``--steps`` PPO steps in all, 1/8
    nominal, the rest over ``--iterations``); its nominal policy is the **unconstrained PPO** peer;
@@ -34,51 +34,30 @@ import numpy as np
 import torch
 
 from symlearn.atomic import write_text
-from symlearn.data import Demonstrations, Trajectory
+from symlearn.data import Demonstrations
 from symlearn.envs.blocked_mujoco import make_blocked_half_cheetah
 from symlearn.learners.neural import NeuralMCEICRL
-from symlearn.learners.neural.episodes import demonstration_batch, sample_episodes
+from symlearn.learners.neural import lagrangian_expert as lagrangian_expert_module
+from symlearn.learners.neural.lagrangian_expert import lagrangian_expert
+from symlearn.learners.neural.episodes import sample_episodes
 from symlearn.learners.neural.icrl_metrics import episode_metrics, recovery
-from symlearn.rl.ppo import LagrangianConfig, PPOConfig, train_ppo
 
 ROOT = Path(__file__).resolve().parent
 RESULTS = ROOT / "results" / "icrl_blocked_half_cheetah.json"
 CACHE = ROOT / "results" / "cache"
 EVAL_EPISODES = 5
-#: PPO for the cheetah: longer rollouts than the point tasks, observation and value normalisation
-#: the expert's PPO-Lagrangian: with the defaults (raw advantages, multiplier from 0) the expert still
-#: ran backward through the wall on 97 % of its steps after 1M steps (seeds 0-1: the multiplier
-#: did not outgrow ~6.5 reward per step); in units of returns and from 1, it kept behind the wall
-#: (seed 0: violation rate 0.000, reward 2761 after 1M steps, multiplier 5.7)
-EXPERT_LAGRANGIAN = {"cost_limit": 0.0, "advantage_scale": "returns", "init": 1.0}
-CHEETAH_PPO = {"n_envs": 4, "n_steps": 512, "batch_size": 256, "n_epochs": 10, "learning_rate": 3e-4,
-               "anneal_lr": False, "normalize_observations": True, "normalize_values": True, "log_std_init": -0.5}
+#: PPO for the cheetah (every phase: expert, nominal, ICRL) and the expert's PPO-Lagrangian: the library's
+#: expert settings (symlearn.learners.neural.lagrangian_expert says why they are what they are)
+EXPERT_LAGRANGIAN = dict(lagrangian_expert_module.EXPERT_LAGRANGIAN)
+CHEETAH_PPO = dict(lagrangian_expert_module.EXPERT_PPO)
 
 
 def expert(seed: int, steps: int, n_demos: int, episode_steps: int, cache: Path | None) -> tuple[Demonstrations, dict]:
-    """The PPO-Lagrangian expert's demonstrations (from the cache when there)."""
-    path = None if cache is None else cache / f"blocked_half_cheetah_expert_v2_s{seed}_{steps}_{episode_steps}.npz"
-    if path is not None and path.is_file():
-        from symlearn.data import load
-
-        demos = load(path)
-        return demos, {"cached": str(path), **episode_metrics(demonstration_batch(demos)).as_dict()}
-    started = time.perf_counter()
-    result = train_ppo(lambda: make_blocked_half_cheetah(max_episode_steps=episode_steps), steps,
-                       PPOConfig(**CHEETAH_PPO, seed=seed), LagrangianConfig(**EXPERT_LAGRANGIAN))
-    batch = sample_episodes(result.policy, lambda: make_blocked_half_cheetah(max_episode_steps=episode_steps),
-                            n_demos, seed=seed + 1_000, deterministic=True)
-    trajectories = []
-    for e in range(batch.n_episodes):
-        n = int(batch.mask[e].sum())
-        trajectories.append(Trajectory(batch.obs[e, :n], batch.actions[e, :n], batch.rewards[e, :n],
-                                       info={"violations": int(batch.costs[e, :n].sum())}))
-    demos = Demonstrations(trajectories, metadata={"env": "blocked HalfCheetah-v5 (x < -3)", "seed": seed,
-                                                   "expert": f"PPO-Lagrangian {EXPERT_LAGRANGIAN}, {steps} steps"})
-    if path is not None:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        demos.save(path)
-    return demos, {"seconds": time.perf_counter() - started, **episode_metrics(batch).as_dict()}
+    """The PPO-Lagrangian expert's demonstrations (:func:`lagrangian_expert`, cached under ``cache``)."""
+    return lagrangian_expert(lambda: make_blocked_half_cheetah(max_episode_steps=episode_steps), n_demos, steps=steps,
+                             seed=seed, ppo=CHEETAH_PPO, lagrangian=EXPERT_LAGRANGIAN,
+                             key={"env": "blocked-half-cheetah", "kwargs": {"max_episode_steps": episode_steps}},
+                             cache_dir=cache)
 
 
 def main(argv: list[str] | None = None) -> dict:
@@ -90,6 +69,8 @@ def main(argv: list[str] | None = None) -> dict:
     parser.add_argument("--demos", type=int, default=10)
     parser.add_argument("--episode-steps", type=int, default=1000, help="episode length (v5: 1000)")
     parser.add_argument("--smoke", action="store_true", help="tiny budgets, no cache: the plumbing only")
+    parser.add_argument("--mce", type=json.loads, default={}, metavar="JSON",
+                        help="more NeuralMCEICRL arguments, e.g. '{\"reset_actor\": true}'")
     parser.add_argument("--json", type=Path, default=RESULTS)
     args = parser.parse_args(argv)
     if args.smoke:
@@ -111,7 +92,7 @@ def main(argv: list[str] | None = None) -> dict:
         t0 = time.perf_counter()
         learner = NeuralMCEICRL(n_iterations=args.iterations, nominal_steps=nominal,
                                 policy_steps=max((args.steps - nominal) // args.iterations, 1), obs_dims=[0],
-                                ppo=CHEETAH_PPO, random_state=seed).fit(demos, env_fn)
+                                ppo=CHEETAH_PPO, random_state=seed, **args.mce).fit(demos, env_fn)
         seconds = time.perf_counter() - t0
         states = np.concatenate([np.asarray(t.states) for t in demos])
         probe = env_fn()

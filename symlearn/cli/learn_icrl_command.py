@@ -1,14 +1,18 @@
 """``symlearn learn icrl``: learn a neural cost by inverse constrained RL in a continuous environment.
 
 ``symlearn learn icrl --env NAME [--method mce-icrl|me-icrl|vme-icrl|gacl] [--demos D.npz | --n-demos N] [--steps N]
-[--iterations I] [--beta B] [--cost-inputs x,y] [--env-kwargs JSON] [-o cost.safetensors] [--json]``
+[--iterations I] [--beta B] [--cost-inputs x,y] [--reset-actor never|every|last] [--env-kwargs JSON] [--expert-steps N]
+[--expert-cache DIR] [-o cost.safetensors] [--json]``
 
 * ``--env``: a bundled environment with ``mce-icrl`` among its methods (``blocked-point``,
   ``point-circle``; see ``symlearn envs``), built with ``--env-kwargs`` (a JSON object of its
   constructor's keyword arguments, e.g. ``'{"wall": -4.0}'``; an unknown key is refused).
 * ``--demos``: expert demonstrations (``.npz``/``.jsonl``) whose states are the environment's
   observations and which carry actions; otherwise ``--n-demos`` episodes of the environment's
-  scripted expert (BlockedPoint: full speed away from the wall), generated from ``--seed``.
+  scripted expert (BlockedPoint: full speed away from the wall), generated from ``--seed``, or,
+  where there is none (the blocked MuJoCo tasks), of a PPO-Lagrangian expert trained on the true
+  cost for ``--expert-steps`` (:mod:`symlearn.learners.neural.lagrangian_expert`; minutes, so
+  cached under ``--expert-cache``, default ``~/.cache/symlearn/experts``; ``none`` = no cache).
 * ``--method``: ``mce-icrl`` (thesis chapter 2, the default), ``me-icrl`` (Malik et al.'s
   baseline: feasibility network, PPO-Lagrangian with cost limit 0), ``vme-icrl`` (Liu et al.'s
   variational baseline: Beta-distributed feasibility, KL from a prior) or ``gacl`` (a GAIL
@@ -16,6 +20,8 @@
 * ``--steps``: PPO steps in all: one eighth for the nominal policy, the rest split evenly over
   the ``--iterations``. ``--beta``: the entropy coefficient (> 0). ``--cost-inputs``: the
   observation entries the cost reads, by name (``x,y``) or index (default: all).
+  ``--reset-actor``: which policy phases start from a fresh actor (critic kept), see
+  :mod:`symlearn.learners.neural.mce_icrl`.
 
 After learning, the policy is evaluated on 20 episodes (mean action) against the environment's
 ground truth (``info["cost"]``), and the cost's recovery of the true unsafe set is measured on
@@ -45,18 +51,28 @@ def register_learn(commands, common) -> None:
                     "the baselines (Malik et al.'s maximum entropy ICRL, Liu et al.'s variational ICRL, a GAIL-style "
                     "discriminator) instead. Reports reward, violation rate, feasible reward and the recovery "
                     "of the environment's unsafe set.")
-    cmd.add_argument("--env", required=True, help="a bundled environment (blocked-point, point-circle)")
+    cmd.add_argument("--env", required=True, help="a bundled environment (blocked-point, point-circle, the blocked "
+                                                   "MuJoCo tasks: see symlearn envs)")
     cmd.add_argument("--method", choices=METHODS, default="mce-icrl",
                      help="mce-icrl (maximum causal entropy, default), me-icrl (Malik et al.'s baseline), vme-icrl "
                           "(Liu et al.'s variational baseline) or gacl (GAIL-style discriminator)")
     source = cmd.add_mutually_exclusive_group()
     source.add_argument("--demos", help="expert demonstrations (.npz or .jsonl) with observations and actions")
-    source.add_argument("--n-demos", type=int, default=20, help="episodes of the scripted expert to record (20)")
+    source.add_argument("--n-demos", type=int, default=20,
+                        help="episodes of the expert to record (20): the scripted one, else PPO-Lagrangian")
+    cmd.add_argument("--expert-steps", type=int, default=1_000_000,
+                     help="PPO-Lagrangian steps of the expert where there is no scripted one (1000000)")
+    cmd.add_argument("--expert-cache", metavar="DIR",
+                     help="where trained experts' demonstrations are cached (default ~/.cache/symlearn/experts; "
+                          "'none': no cache)")
     cmd.add_argument("--steps", type=int, default=240_000,
                      help="PPO steps in all: 1/8 nominal, the rest over the iterations (240000)")
     cmd.add_argument("--iterations", type=int, default=10, help="ICRL iterations (10)")
     cmd.add_argument("--beta", type=float, default=0.01, help="entropy coefficient, > 0 (0.01)")
     cmd.add_argument("--cost-inputs", help="observation entries the cost reads: names (x,y) or indices (default all)")
+    cmd.add_argument("--reset-actor", choices=("never", "every", "last"), default="never",
+                     help="which policy phases start from a fresh actor (critic kept): never (default), every, or "
+                          "the last (the returned policy learns afresh on the final cost)")
     cmd.add_argument("--env-kwargs", default="{}", metavar="JSON", help="keyword arguments of the environment")
     cmd.add_argument("-o", "--output", metavar="COST.safetensors",
                      help="write the learned cost here (and COST.json beside it)")
@@ -82,6 +98,8 @@ def _check_arguments(args: argparse.Namespace) -> None:
         raise DataError(f"--iterations must be at least 1, got {args.iterations}")
     if args.n_demos < 1:
         raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
+    if args.expert_steps < 1:
+        raise DataError(f"--expert-steps must be at least 1, got {args.expert_steps}")
     if args.steps < 8 * args.iterations:
         raise DataError(f"--steps {args.steps} is too few for {args.iterations} iterations")
 
@@ -143,7 +161,24 @@ def _demonstrations(args: argparse.Namespace, env_name: str, kwargs: dict[str, A
         from symlearn.envs.blocked_point import expert_demonstrations
 
         return expert_demonstrations(args.n_demos, seed=getattr(args, "seed", 0) or 0, env=env)
-    raise DataError(f"{env_name} has no scripted expert", hint="give expert demonstrations with --demos")
+    if not hasattr(env.unwrapped, "is_unsafe"):
+        raise DataError(f"{env_name} has no scripted expert and no ground-truth cost to train one on",
+                        hint="give expert demonstrations with --demos")
+    import sys
+
+    from symlearn.envs.registry import get
+    from symlearn.learners.neural.lagrangian_expert import default_cache_dir, lagrangian_expert
+
+    cache = args.expert_cache or default_cache_dir()
+    cache = None if str(cache).lower() == "none" else cache
+    where = f"cached in {cache}" if cache else "not cached"
+    print(f"{env_name} has no scripted expert: PPO-Lagrangian on its true cost, {args.expert_steps} steps ({where})",
+          file=sys.stderr)
+    entry = get(env_name)
+    demos, report = lagrangian_expert(lambda: entry.make_env(**kwargs), args.n_demos, steps=args.expert_steps,
+                                      seed=getattr(args, "seed", 0) or 0, key={"env": env_name, "kwargs": kwargs},
+                                      cache_dir=cache)
+    return demos
 
 
 # --- the command -----------------------------------------------------------------------------------
@@ -192,7 +227,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
               "gacl": NeuralGACL}[args.method]
     learner = method(beta=args.beta, n_iterations=args.iterations, nominal_steps=nominal,
                      policy_steps=max((args.steps - nominal) // args.iterations, 1), obs_dims=obs_dims,
-                     random_state=seed)
+                     random_state=seed, reset_actor=args.reset_actor)
 
     def env_fn():
         return entry.make_env(**kwargs)

@@ -105,6 +105,7 @@ ACTIVATIONS = {"tanh": nn.Tanh, "relu": nn.ReLU}
 OBS_CLIP = 10.0  # normalised observations are clipped to +-OBS_CLIP (as SB3's VecNormalize)
 OBS_EPSILON = 1e-8  # added to the running variance before the square root
 ADVANTAGE_SCALES = ("raw", "returns")  # LagrangianConfig.advantage_scale
+ENTROPY_MODES = ("bonus", "reward")  # PPOConfig.entropy_mode
 RETURN_SCALE_MEMORY = 0.9  # per iteration, for the running standard deviation of each signal's returns
 RETURN_SCALE_FLOOR = 1e-2  # a signal's scale never drops below this share of the largest it had
 
@@ -128,6 +129,10 @@ class PPOConfig:
     clip_range: float = 0.2
     normalize_advantage: bool = True  # per minibatch (PPO-Lagrangian: the mixed advantage)
     ent_coef: float = 0.01
+    # "bonus": ent_coef x the policy's entropy in the loss (CleanRL/SB3); "reward": the maximum
+    # (causal) entropy objective, -ent_coef x log pi(a|s) added to every step's reward before GAE,
+    # so ent_coef is a temperature in reward units (module docstring)
+    entropy_mode: str = "bonus"
     vf_coef: float = 0.5
     max_grad_norm: float = 0.5
     target_kl: float | None = None  # stop the epochs once a minibatch's approx. KL exceeds 1.5 x this
@@ -161,6 +166,8 @@ class PPOConfig:
         for name, ok, need in checks:
             if not ok:
                 raise SymlearnError(f"PPOConfig.{name} must be {need}, got {getattr(self, name)!r}")
+        if self.entropy_mode not in ENTROPY_MODES:
+            raise SymlearnError(f"PPOConfig.entropy_mode must be one of {list(ENTROPY_MODES)}, got {self.entropy_mode!r}")
         if self.activation not in ACTIVATIONS:
             raise SymlearnError(f"PPOConfig.activation must be one of {sorted(ACTIVATIONS)}, got {self.activation!r}")
 
@@ -393,6 +400,23 @@ class ActorCritic(nn.Module):
     @property
     def n_costs(self) -> int:
         return len(self.cost_critics)
+
+    def reset_actor(self, generator: torch.Generator | None = None) -> None:
+        """Give the policy a new model's initial weights (and, for Box actions, ``log_std_init``),
+        keeping the critics and the observation statistics.
+
+        Continuing a policy that has become nearly deterministic under one reward does not find a
+        behaviour several consecutive deviations away when the reward changes: every single
+        deviation scores worse, and its entropy only falls further (measured on the gridworld of
+        thesis Fig. 2.1: 40k PPO steps on the true cost left a continued policy on the forbidden
+        shortest path, a policy with a fresh actor and the old critic took the detour). The
+        critics keep their values, which speeds the new actor's first updates."""
+        sizes = [self.obs_dim, *self.hidden_sizes, self.actor[-1].out_features]
+        fresh = _mlp(sizes, self.activation, 0.01, generator).to(self.actor[-1].weight.device)
+        with torch.no_grad():
+            self.actor.load_state_dict(fresh.state_dict())
+            if not self.discrete:
+                self.log_std.fill_(self.log_std_init)
 
     # --- observations and actions as arrays --------------------------------------------------------
 
@@ -1106,6 +1130,8 @@ def _update(agent: ActorCritic, optimizer: torch.optim.Optimizer, cost_optimizer
         values = signal_values(obs).double().cpu().numpy().reshape(T, N, 1 + n_costs)
         last_values = signal_values(as_tensor(data["last_obs"])).double().cpu().numpy()
         old_log_prob, _ = agent.log_prob_entropy(obs, actions)
+        if config.entropy_mode == "reward":  # soft return: the entropy of every later step counts too
+            signals[..., 0] -= config.ent_coef * old_log_prob.double().cpu().numpy().reshape(T, N)
         if data["truncated"]:  # a time limit is not a terminal state: bootstrap with its value
             ts, envs, last = zip(*data["truncated"])
             final = signal_values(as_tensor(np.stack(last))).double().cpu().numpy()
@@ -1151,7 +1177,8 @@ def _update(agent: ActorCritic, optimizer: torch.optim.Optimizer, cost_optimizer
             policy_loss = -torch.min(adv * ratio, adv * clipped).mean()
             value_loss = (agent.value(obs[idx]) - returns_t[idx, 0]).pow(2).mean()
             entropy_mean = entropy.mean()
-            loss = policy_loss - config.ent_coef * entropy_mean + config.vf_coef * value_loss
+            bonus = config.ent_coef if config.entropy_mode == "bonus" else 0.0
+            loss = policy_loss - bonus * entropy_mean + config.vf_coef * value_loss
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
             nn.utils.clip_grad_norm_(main_params, config.max_grad_norm)

@@ -87,7 +87,7 @@ def test_other_refusals(capsys, tmp_path):
     _refused(capsys, "--env", "blocked-point", "-o", tmp_path / "cost.pt", match="must end in .safetensors")
     _refused(capsys, "--env", "blocked-pont", match="did you mean 'blocked-point'")
     _refused(capsys, "--env", "gridworld", match="no environment for neural ICRL")
-    _refused(capsys, "--env", "point-circle", match="no scripted expert")
+    _refused(capsys, "--env", "blocked-point", "--expert-steps", 0, match="--expert-steps must be at least 1")
     _refused(capsys, "--env", "blocked-point", "--cost-inputs", "x,z", match="unknown observation entry 'z'")
     assert not (tmp_path / "cost.pt").exists()
 
@@ -107,3 +107,20 @@ def test_recorded_expert_demonstrations_are_accepted(capsys, tmp_path, method):
     assert code == 0, err
     doc = json.loads(stdout)
     assert doc["iterations"] == 1 and doc["method"] == method and doc["recovery_auc"] is not None
+
+
+def test_without_a_scripted_expert_a_lagrangian_expert_is_trained_and_cached(capsys, tmp_path):
+    """PointCircle has no scripted expert but a ground-truth cost: PPO-Lagrangian makes the
+    demonstrations, cached under --expert-cache; the second run reads them instead of training."""
+    args = ("learn", "icrl", "--env", "point-circle", "--n-demos", 2, "--expert-steps", 1024, "--steps", 1024,
+            "--iterations", 1, "--expert-cache", tmp_path, "--json")
+    code, stdout, err = run(capsys, *args)
+    assert code == 0, err
+    assert "no scripted expert: PPO-Lagrangian" in err
+    cached = list(tmp_path.glob("point-circle_s0_1024_*.npz"))
+    assert len(cached) == 1
+    first = json.loads(stdout)["expert_reward"]
+    stamp = cached[0].stat().st_mtime_ns
+    code, stdout, err = run(capsys, *args)
+    assert code == 0, err
+    assert cached[0].stat().st_mtime_ns == stamp and json.loads(stdout)["expert_reward"] == first

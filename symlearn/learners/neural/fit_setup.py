@@ -75,8 +75,8 @@ def check_common(learner: Any, integers: Sequence[str], *, zero_allowed: Sequenc
                  beta_hint: str | None = None) -> None:
     """The checks every neural learner makes of its parameters: ``beta`` a finite number >= 0
     (> 0 when ``beta_hint`` is given: MCE-ICRL needs some entropy), ``features`` one of
-    :data:`~symlearn.learners.neural.feature_network.INPUTS`, and the named counts positive integers
-    (``zero_allowed`` ones may be 0)."""
+    :data:`~symlearn.learners.neural.feature_network.INPUTS`, the named counts positive integers
+    (``zero_allowed`` ones may be 0), ``reset_actor`` one of :data:`RESET_ACTOR`."""
     beta = learner.beta
     positive = beta_hint is not None
     if not (isinstance(beta, (int, float)) and math.isfinite(beta) and (beta > 0 if positive else beta >= 0)):
@@ -87,6 +87,18 @@ def check_common(learner: Any, integers: Sequence[str], *, zero_allowed: Sequenc
         value = getattr(learner, name)
         if not isinstance(value, (int, np.integer)) or value < (0 if name in zero_allowed else 1):
             raise SymlearnError(f"{name} must be a positive integer, got {value!r}")
+    if learner.reset_actor not in RESET_ACTOR:
+        raise SymlearnError(f"reset_actor must be one of {list(RESET_ACTOR)}, got {learner.reset_actor!r}")
 
 
-__all__ = ["FitSetup", "check_common", "environment_factory", "fit_setup"]
+#: when the policy phases start from a fresh actor (NeuralMCEICRL's docstring says why)
+RESET_ACTOR = ("never", "every", "last")
+
+
+def resets_actor(setting: str, iteration: int, n_iterations: int) -> bool:
+    """Whether iteration ``iteration`` (1-based) of ``n_iterations`` starts its policy phase from
+    a fresh actor under the ``reset_actor`` setting."""
+    return setting == "every" or (setting == "last" and iteration == n_iterations)
+
+
+__all__ = ["RESET_ACTOR", "FitSetup", "check_common", "environment_factory", "fit_setup", "resets_actor"]

@@ -33,7 +33,7 @@ from symlearn.learners.base import Learner
 from symlearn.learners.neural.episodes import sample_episodes
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.icrl_metrics import episode_metrics
-from symlearn.learners.neural.fit_setup import check_common, fit_setup
+from symlearn.learners.neural.fit_setup import check_common, fit_setup, resets_actor
 from symlearn.learners.neural.mce_icrl import PPO_DEFAULTS, action_bound_penalty, jsonable_params, seed_offset
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.learners.neural.records import IterationRecord
@@ -67,8 +67,8 @@ class NeuralGACL(Learner):
     def __init__(self, *, beta: float = 0.01, n_iterations: int = 10, nominal_steps: int = 30_000,
                  policy_steps: int = 20_480, features: str = "state", obs_dims: Sequence[int] | None = None,
                  hidden_sizes: Sequence[int] = (64, 64), learning_rate: float = 3e-3, disc_steps: int = 20,
-                 n_policy_episodes: int = 16, bound_penalty: float = 1.0, ppo: dict[str, Any] | None = None,
-                 random_state: int | None = 0) -> None:
+                 n_policy_episodes: int = 16, bound_penalty: float = 1.0, reset_actor: str = "never",
+                 ppo: dict[str, Any] | None = None, random_state: int | None = 0) -> None:
         self.beta = beta
         self.n_iterations = n_iterations
         self.nominal_steps = nominal_steps
@@ -80,6 +80,7 @@ class NeuralGACL(Learner):
         self.disc_steps = disc_steps
         self.n_policy_episodes = n_policy_episodes
         self.bound_penalty = bound_penalty
+        self.reset_actor = reset_actor
         self.ppo = ppo
         self.random_state = random_state
 
@@ -140,6 +141,8 @@ class NeuralGACL(Learner):
                 cost_seconds = time.perf_counter() - t0
                 metrics = episode_metrics(batch)
                 t0 = time.perf_counter()
+                if resets_actor(self.reset_actor, iteration, int(self.n_iterations)):  # see NeuralMCEICRL
+                    policy.reset_actor(generator)
                 policy = train_ppo(env_fn, int(self.policy_steps), ppo_config(iteration), reward_fn=reward_fn(cost),
                                    policy=policy).policy
                 policy_seconds = time.perf_counter() - t0

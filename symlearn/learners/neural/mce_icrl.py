@@ -37,6 +37,20 @@ exactly. Here every exact step has its sampled, neural counterpart:
    zero for every action the environment can tell apart, keeps the mean at the bound (-1.06,
    standard deviation 0.4 on the same run). ``bound_penalty=0`` turns it off.
 
+   ``reset_actor`` (``"never"``, ``"every"``, ``"last"``): which policy phases start from a
+   freshly initialised actor (the critic, whose values carry over, and the observation statistics
+   are kept). A policy continued from a nearly deterministic one does not leave a behaviour the
+   cost now forbids when the way out needs many consecutive deviations from it (measured: the
+   nominal HalfCheetah runs backward through the wall and, continued for 10 x 87.5k steps under a
+   cost of ~27 per step behind it, kept doing so on 96 % of its steps; on the gridworld, 40k
+   steps of PPO on the *true* cost did not move a continued policy off the forbidden shortest
+   path, a fresh actor found the detour). ``"every"`` makes each phase a best response to the
+   current cost: each must then be long enough to learn a policy from scratch, and while the
+   multipliers are still small a fresh actor falls back into the forbidden behaviour (the
+   history's violation rate rises again). ``"last"`` keeps the continued phases, during which the
+   multipliers keep growing as long as the policy violates, and trains the returned policy
+   afresh on the final cost -- the learned cost used as one would use it on a new agent.
+
    The first dual step uses the nominal policy's samples (Algorithm 2.1 with its first PPO
    phase, which would run on ``lambda = 0`` and so repeat the nominal one, left out), so the
    cost returned is the one the returned policy was trained on last.
@@ -73,7 +87,7 @@ from symlearn.learners.base import Learner
 from symlearn.learners.neural.episodes import sample_episodes
 from symlearn.learners.neural.feature_network import FeatureNetwork, pretrain_autoencoder
 from symlearn.learners.neural.icrl_metrics import episode_metrics
-from symlearn.learners.neural.fit_setup import check_common, environment_factory, fit_setup  # noqa: F401 (re-exported)
+from symlearn.learners.neural.fit_setup import check_common, environment_factory, fit_setup, resets_actor  # noqa: F401 (re-exported)
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.learners.neural.records import IterationRecord
 from symlearn.progress import progress
@@ -115,7 +129,7 @@ class NeuralMCEICRL(Learner):
     iteration), ``alpha`` (the budget; 0 = hard constraints), ``discount`` (of the feature
     sums), ``n_policy_episodes`` (episodes sampled per dual step), ``bound_penalty`` (module
     docstring), ``lambda_init`` (every multiplier's start, >= 0; see ``fit``'s comment on why
-    episodes that end at a goal need it > 0), ``ppo`` (a dict of
+    episodes that end at a goal need it > 0), ``reset_actor`` (module docstring), ``ppo`` (a dict of
     :class:`~symlearn.rl.ppo.PPOConfig` fields over :data:`PPO_DEFAULTS`; ``ent_coef`` is
     ``beta``), ``random_state``.
     """
@@ -127,8 +141,8 @@ class NeuralMCEICRL(Learner):
                  n_features: int = 4, hidden_sizes: Sequence[int] = (64, 64), pretrain: bool = True,
                  pretrain_epochs: int = 30, lambda_lr: float = 0.02, zeta_lr: float = 3e-3, zeta_decay: float = 0.9,
                  zeta_steps: int = 20, alpha: float = 0.0, discount: float = 0.99, n_policy_episodes: int = 16,
-                 bound_penalty: float = 1.0, lambda_init: float = 0.0, ppo: dict[str, Any] | None = None,
-                 random_state: int | None = 0) -> None:
+                 bound_penalty: float = 1.0, lambda_init: float = 0.0, reset_actor: str = "never",
+                 ppo: dict[str, Any] | None = None, random_state: int | None = 0) -> None:
         self.beta = beta
         self.n_iterations = n_iterations
         self.nominal_steps = nominal_steps
@@ -148,6 +162,7 @@ class NeuralMCEICRL(Learner):
         self.n_policy_episodes = n_policy_episodes
         self.bound_penalty = bound_penalty
         self.lambda_init = lambda_init
+        self.reset_actor = reset_actor
         self.ppo = ppo
         self.random_state = random_state
 
@@ -244,6 +259,8 @@ class NeuralMCEICRL(Learner):
 
                 # policy step on r - lambda . phi
                 t0 = time.perf_counter()
+                if resets_actor(self.reset_actor, iteration, int(self.n_iterations)):  # see NeuralMCEICRL
+                    policy.reset_actor(generator)
                 trained = train_ppo(env_fn, int(self.policy_steps), self._ppo_config(seed_offset(seed, iteration),
                                                                                      self.beta),
                                     reward_fn=penalised(cost, penalty), policy=policy)

@@ -41,7 +41,7 @@ from symlearn.learners.base import Learner
 from symlearn.learners.neural.episodes import EpisodeBatch, sample_episodes
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.icrl_metrics import episode_metrics
-from symlearn.learners.neural.fit_setup import check_common, fit_setup
+from symlearn.learners.neural.fit_setup import check_common, fit_setup, resets_actor
 from symlearn.learners.neural.mce_icrl import (PPO_DEFAULTS, action_bound_penalty, jsonable_params, penalised,
                                                seed_offset)
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
@@ -75,8 +75,9 @@ class NeuralMEICRL(Learner):
     """ME-ICRL: ``NeuralMEICRL(...).fit(demonstrations, env)`` (module docstring).
 
     Parameters as :class:`~symlearn.learners.neural.NeuralMCEICRL` where they share a meaning
-    (``beta`` is PPO's entropy coefficient; ``bound_penalty`` as there), and ``learning_rate`` (Adam, backward step),
-    ``backward_epochs``, ``regularizer``, ``target_kl``, ``lagrangian`` (a dict of
+    (``beta`` is PPO's entropy coefficient; ``bound_penalty`` and ``reset_actor`` as there), and
+    ``learning_rate`` (Adam, backward step), ``backward_epochs``, ``regularizer``, ``target_kl``,
+    ``lagrangian`` (a dict of
     :class:`~symlearn.rl.ppo.LagrangianConfig` fields; the cost limit is 0).
     """
 
@@ -90,7 +91,7 @@ class NeuralMEICRL(Learner):
                  policy_steps: int = 20_480, features: str = "state", obs_dims: Sequence[int] | None = None,
                  hidden_sizes: Sequence[int] = (64, 64), learning_rate: float = 3e-3, backward_epochs: int = 20,
                  regularizer: float = 0.1, target_kl: float = 10.0, n_policy_episodes: int = 16,
-                 bound_penalty: float = 1.0, ppo: dict[str, Any] | None = None,
+                 bound_penalty: float = 1.0, reset_actor: str = "never", ppo: dict[str, Any] | None = None,
                  lagrangian: dict[str, Any] | None = None,
                  random_state: int | None = 0) -> None:
         self.beta = beta
@@ -106,6 +107,7 @@ class NeuralMEICRL(Learner):
         self.target_kl = target_kl
         self.n_policy_episodes = n_policy_episodes
         self.bound_penalty = bound_penalty
+        self.reset_actor = reset_actor
         self.ppo = ppo
         self.lagrangian = lagrangian
         self.random_state = random_state
@@ -170,6 +172,8 @@ class NeuralMEICRL(Learner):
                 metrics = episode_metrics(batch)
                 t0 = time.perf_counter()
                 lagrangian = LagrangianConfig(**{**(self.lagrangian or {}), "cost_limit": 0.0, "init": multiplier})
+                if resets_actor(self.reset_actor, iteration, int(self.n_iterations)):  # see NeuralMCEICRL
+                    policy.reset_actor(generator)
                 trained = train_ppo(env_fn, int(self.policy_steps), ppo_config(iteration), lagrangian,
                                     cost_fn=cost.cost_fn(), reward_fn=penalised(None, penalty), policy=policy)
                 policy, multiplier = trained.policy, float(trained.multipliers[0])

@@ -72,8 +72,9 @@ class NeuralVMEICRL(NeuralMEICRL):
                  hidden_sizes: Sequence[int] = (64, 64), learning_rate: float = 3e-3, backward_epochs: int = 20,
                  kl_weight: float = 0.1, prior: Sequence[float] = (1.0, 0.1),
                  concentration: Sequence[float] = (1.0, 100.0), target_kl: float = 10.0,
-                 n_policy_episodes: int = 16, bound_penalty: float = 1.0, ppo: dict[str, Any] | None = None,
-                 lagrangian: dict[str, Any] | None = None, random_state: int | None = 0) -> None:
+                 n_policy_episodes: int = 16, bound_penalty: float = 1.0, reset_actor: str = "never",
+                 ppo: dict[str, Any] | None = None, lagrangian: dict[str, Any] | None = None,
+                 random_state: int | None = 0) -> None:
         # set here rather than through NeuralMEICRL.__init__: ``regularizer`` is no parameter of
         # this learner (the KL from the prior takes its place), and the parameters are __init__'s
         self.beta = beta
@@ -91,6 +92,7 @@ class NeuralVMEICRL(NeuralMEICRL):
         self.target_kl = target_kl
         self.n_policy_episodes = n_policy_episodes
         self.bound_penalty = bound_penalty
+        self.reset_actor = reset_actor
         self.ppo = ppo
         self.lagrangian = lagrangian
         self.random_state = random_state
