@@ -148,10 +148,10 @@ def _spec(name: str, world: str, formula: str, description: str) -> Entry:
 
 
 _DNF_METHODS = ("dnf",)  # one-class tree -> DNF over the environment's info["features"]
-_ICRL_METHODS = ("mce-icrl",)
+_ICRL_METHODS = ("mce-icrl",)  # neural ICRL on the environment's observations (symlearn learn icrl)
 _BLOCK_TASKS = {"stack-2": "stack red on green", "place-2": "two blocks to their places",
                 "pyramid-3": "a three-block pyramid", "stack-3": "a three-block stack",
-                "place-3": "three blocks to their places"}  # neural ICRL on the environment's observations (symlearn learn icrl)
+                "place-3": "three blocks to their places"}
 
 # Thesis section 2.5.2's blocked MuJoCo robots and section 2.5.4's broken ant (gymnasium v5; the
 # `mujoco` extra): name, factory in symlearn.envs.blocked_mujoco, description.
