@@ -205,18 +205,22 @@ def test_registered_with_gymnasium_and_the_registry():
 
 
 @pytest.mark.slow
-def test_half_cheetah_benchmark_plumbing(tmp_path):
-    """benchmarks/icrl_blocked_half_cheetah.py --smoke: expert, MCE-ICRL and evaluation end to end."""
+@pytest.mark.parametrize("task", ["half-cheetah", "inverted-pendulum"])
+def test_blocked_mujoco_benchmark_plumbing(tmp_path, task):
+    """benchmarks/icrl_blocked_mujoco.py --smoke: expert, two methods and evaluation end to end."""
     import importlib.util
     from pathlib import Path
 
-    path = Path(__file__).resolve().parents[2] / "benchmarks" / "icrl_blocked_half_cheetah.py"
-    spec = importlib.util.spec_from_file_location("icrl_blocked_half_cheetah", path)
+    path = Path(__file__).resolve().parents[2] / "benchmarks" / "icrl_blocked_mujoco.py"
+    spec = importlib.util.spec_from_file_location("icrl_blocked_mujoco", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    out = tmp_path / "hc.json"
-    document = module.main(["--smoke", "--json", str(out)])
+    out = tmp_path / "run.json"
+    document = module.main(["--smoke", "--task", task, "--methods", "mce-icrl,gacl", "--learner",
+                            '{"reset_actor": "last"}', "--json", str(out)])
     run = document["runs"][0]
-    assert json.loads(out.read_text())["benchmark"] == "icrl_blocked_half_cheetah"
-    assert len(run["mce-icrl"]["history"]) == 2 and 0 <= run["mce-icrl"]["violation_rate"] <= 1
-    assert set(run["targets"]) == {"violation_rate <= 0.1", "reward >= 0.5 x expert"}
+    assert json.loads(out.read_text())["benchmark"] == "icrl_blocked_mujoco"
+    for method in ("mce-icrl", "gacl"):
+        assert len(run[method]["history"]) == 2 and 0 <= run[method]["violation_rate"] <= 1
+        assert set(run[method]["targets"]) == {"violation_rate <= 0.1", "reward >= 0.5 x expert"}
+    assert set(document["summary"]) == {"expert", "unconstrained", "mce-icrl", "gacl"}
