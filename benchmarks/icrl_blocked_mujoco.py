@@ -36,8 +36,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
-import sys
 import time
 import warnings
 from pathlib import Path
@@ -45,7 +43,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from symlearn.atomic import write_text
+from icrl_common import write_document
 from symlearn.envs.blocked_mujoco import make_blocked
 from symlearn.envs.blocked_mujoco_tasks import TASKS
 from symlearn.learners.neural import NeuralGACL, NeuralMCEICRL, NeuralMEICRL, NeuralVMEICRL
@@ -131,19 +129,10 @@ def main(argv: list[str] | None = None) -> dict:
                   f"{expert['violation_rate']:.3f}; unconstrained {run['unconstrained']['reward']:.1f} / "
                   f"{run['unconstrained']['violation_rate']:.3f}", flush=True)
         runs.append(run)
-    document = {
-        "benchmark": "icrl_blocked_mujoco", "task": args.task,
-        "command": "python benchmarks/icrl_blocked_mujoco.py " + " ".join(argv if argv is not None else sys.argv[1:]),
-        "settings": {k: (str(v) if isinstance(v, Path) else v) for k, v in vars(args).items()}
-        | {"methods": methods, "episode_steps": episode_steps, "ppo": PPO, "expert_lagrangian": EXPERT_LAGRANGIAN,
-           "eval_episodes": EVAL_EPISODES, "cost_inputs": ["x"]},
-        "machine": {"python": platform.python_version(), "platform": platform.platform(), "cpus": os.cpu_count(),
-                    "torch": torch.__version__, "load_average_before": load_before,
-                    "load_average_after": os.getloadavg()},
-        "runs": runs, "summary": summary(runs, methods), "seconds": round(time.perf_counter() - started, 1)}
-    out.parent.mkdir(parents=True, exist_ok=True)
-    write_text(out, json.dumps(document, indent=1) + "\n")
-    print(f"wrote {out} ({document['seconds']:.0f} s)")
+    settings = vars(args) | {"methods": methods, "episode_steps": episode_steps, "ppo": PPO,
+                             "expert_lagrangian": EXPERT_LAGRANGIAN, "eval_episodes": EVAL_EPISODES, "cost_inputs": ["x"]}
+    document = write_document(out, "icrl_blocked_mujoco", argv, settings, runs, summary(runs, methods), started,
+                              load_before, task=args.task)
     if not args.no_figures and not args.smoke:
         from symlearn.demo.blockedpoint_pipeline import plot_iterations
 

@@ -21,10 +21,7 @@ Each is evaluated on 20 episodes (mean action): reward, violation rate, feasible
 from __future__ import annotations
 
 import argparse
-import json
 import os
-import platform
-import sys
 import tempfile
 import time
 from pathlib import Path
@@ -32,7 +29,7 @@ from pathlib import Path
 import numpy as np
 import torch
 
-from symlearn.atomic import write_text
+from icrl_common import write_document
 from symlearn.envs.blocked_point import BlockedPoint, expert_demonstrations
 from symlearn.envs.point_circle import PointCircle
 from symlearn.learners.neural import NeuralCost, NeuralMCEICRL
@@ -92,19 +89,10 @@ def main(argv: list[str] | None = None) -> dict:
     names = ("transferred cost", "unconstrained", "ppo-lagrangian true cost")
     summary = {name: {key: float(np.mean([r[name][key] for r in runs]))
                       for key in ("reward", "violation_rate", "feasible_reward")} for name in names}
-    document = {
-        "benchmark": "icrl_transfer_point_circle",
-        "command": "python benchmarks/icrl_transfer_point_circle.py " + " ".join(
-            argv if argv is not None else sys.argv[1:]),
-        "settings": {"steps": args.steps, "seeds": args.seeds, "eval_episodes": EVAL_EPISODES,
-                     "source": "BlockedPoint(wall=-3), MCE-ICRL, cost reads x", "target": "PointCircle(wall=-3)"},
-        "machine": {"python": platform.python_version(), "platform": platform.platform(), "cpus": os.cpu_count(),
-                    "torch": torch.__version__, "load_average_before": load_before,
-                    "load_average_after": os.getloadavg()},
-        "summary": summary, "runs": runs, "seconds": round(time.perf_counter() - started, 1)}
-    args.json.parent.mkdir(parents=True, exist_ok=True)
-    write_text(args.json, json.dumps(document, indent=1) + "\n")
-    print(f"\nwrote {args.json} ({document['seconds']:.0f} s)")
+    settings = {"steps": args.steps, "seeds": args.seeds, "eval_episodes": EVAL_EPISODES,
+                "source": "BlockedPoint(wall=-3), MCE-ICRL, cost reads x", "target": "PointCircle(wall=-3)"}
+    document = write_document(args.json, "icrl_transfer_point_circle", argv, settings, runs, summary, started,
+                              load_before)
     return document
 
 

@@ -206,12 +206,13 @@ def test_registered_with_gymnasium_and_the_registry():
 
 @pytest.mark.slow
 @pytest.mark.parametrize("task", ["half-cheetah", "inverted-pendulum"])
-def test_blocked_mujoco_benchmark_plumbing(tmp_path, task):
+def test_blocked_mujoco_benchmark_plumbing(tmp_path, task, monkeypatch):
     """benchmarks/icrl_blocked_mujoco.py --smoke: expert, two methods and evaluation end to end."""
     import importlib.util
     from pathlib import Path
 
     path = Path(__file__).resolve().parents[2] / "benchmarks" / "icrl_blocked_mujoco.py"
+    monkeypatch.syspath_prepend(str(path.parent))  # its sibling icrl_common, as when run as a script
     spec = importlib.util.spec_from_file_location("icrl_blocked_mujoco", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
