@@ -93,7 +93,7 @@ def main(argv: list[str] | None = None) -> dict:
         learn_seconds = time.perf_counter() - t0
         states = np.concatenate([np.asarray(t.states) for t in demos])
         probe = source()
-        rec = recovery(learner.cost_, probe.is_unsafe, states, seed=seed).as_dict()
+        rec = recovery(learner.cost_, probe.is_unsafe, states, seed=seed, margin="auto").as_dict()
         probe.close()
 
         def evaluate(policy, env_fn) -> dict:

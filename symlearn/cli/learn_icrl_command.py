@@ -25,10 +25,11 @@
 
 After learning, the policy is evaluated on 20 episodes (mean action) against the environment's
 ground truth (``info["cost"]``), and the cost's recovery of the true unsafe set is measured on
-states sampled around the expert's (:mod:`symlearn.learners.neural.icrl_metrics`).
+states sampled around the expert's, in the expert states' box widened until it holds both safe
+and unsafe states (``recovery_margin``; :mod:`symlearn.learners.neural.icrl_metrics`).
 
 JSON keys: ``reward``, ``violation_rate``, ``feasible_reward``, ``recovery_auc``,
-``recovery_iou``, ``expert_reward``, ``lambda``, ``iterations``, ``seconds``, ``timings``
+``recovery_iou``, ``recovery_margin``, ``expert_reward``, ``lambda``, ``iterations``, ``seconds``, ``timings``
 (``nominal``, ``pretrain``, ``policy``, ``cost``), ``history`` (per iteration), ``files``.
 ``-o`` must end in ``.safetensors``; the configuration goes to the ``.json`` beside it.
 """
@@ -239,12 +240,13 @@ def _icrl(args: argparse.Namespace, out) -> None:
     expert_obs, _ = demonstration_batch(demos).pairs()
     unsafe = getattr(env.unwrapped, "is_unsafe", None)
     rec = None if unsafe is None else recovery(learner.cost_, unsafe, expert_obs.reshape(len(expert_obs), -1),
-                                               seed=seed)
+                                               seed=seed, margin="auto")
     result = learner.result_
     doc = {"env": entry.name, "method": args.method, "reward": evaluation.reward,
            "violation_rate": evaluation.violation_rate, "feasible_reward": evaluation.feasible_reward,
            "recovery_auc": None if rec is None else rec.as_dict()["auc"],
            "recovery_iou": None if rec is None else rec.as_dict()["iou"],
+           "recovery_margin": None if rec is None else rec.margin,
            "expert_reward": result.metrics["expert_reward"],
            "lambda": [float(x) for x in learner.cost_.lambdas.numpy()],
            "iterations": len(learner.history_), "seconds": time.perf_counter() - started,

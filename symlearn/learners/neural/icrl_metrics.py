@@ -67,10 +67,15 @@ class Recovery:
     unsafe_share: float  # share of the sampled states that are truly unsafe
     samples: int
     threshold: float
+    margin: float = 0.25  # the box's widening the states were sampled with
 
     def as_dict(self) -> dict[str, Any]:
         return {"auc": _plain(self.auc), "iou": _plain(self.iou), "unsafe_share": self.unsafe_share,
-                "samples": self.samples, "threshold": self.threshold}
+                "samples": self.samples, "threshold": self.threshold, "margin": self.margin}
+
+
+#: the widenings ``recovery(margin="auto")`` tries, in order
+AUTO_MARGINS = (0.25, 0.5, 1.0, 2.0, 4.0)
 
 
 def sample_around(states: np.ndarray, n: int, margin: float, rng: np.random.Generator) -> np.ndarray:
@@ -85,22 +90,29 @@ def sample_around(states: np.ndarray, n: int, margin: float, rng: np.random.Gene
 
 
 def recovery(cost: Any, unsafe: Callable[[np.ndarray], np.ndarray], reference_states: np.ndarray, *,
-             n: int = 20_000, margin: float = 0.25, threshold: float = 0.5, n_actions: int = 8,
+             n: int = 20_000, margin: float | str = 0.25, threshold: float = 0.5, n_actions: int = 8,
              action_sampler: Callable[[int, np.random.Generator], np.ndarray] | None = None,
              seed: int | None = 0) -> Recovery:
     """Recovery of the true unsafe set by a learned :class:`~symlearn.learners.neural.NeuralCost`
     (module docstring). ``unsafe(states) -> bool array`` is the ground truth; ``reference_states``
     the expert's (flattened) observations; ``action_sampler(k, rng) -> (k, ...)`` actions for a
-    state-action cost."""
+    state-action cost. ``margin="auto"``: the first of :data:`AUTO_MARGINS` whose box holds at
+    least 1 % safe and 1 % unsafe states (an expert that keeps far from the boundary relative to
+    the spread of its own states leaves the unsafe set outside the 0.25 box, and the AUC undefined);
+    the margin used is in the result."""
     from sklearn.metrics import roc_auc_score
 
     if not 0 < threshold < 1:
         raise DataError(f"threshold must be in (0, 1), got {threshold}")
-    rng = np.random.default_rng(seed)
-    states = sample_around(reference_states, n, margin, rng).astype(np.float32)
-    truth = np.asarray(unsafe(states), dtype=bool).reshape(-1)
-    if truth.shape != (n,):
-        raise DataError(f"the ground truth gave {truth.size} verdicts for {n} states")
+    margins = AUTO_MARGINS if margin == "auto" else (margin,)
+    for used in margins:
+        rng = np.random.default_rng(seed)
+        states = sample_around(reference_states, n, float(used), rng).astype(np.float32)
+        truth = np.asarray(unsafe(states), dtype=bool).reshape(-1)
+        if truth.shape != (n,):
+            raise DataError(f"the ground truth gave {truth.size} verdicts for {n} states")
+        if 0.01 <= truth.mean() <= 0.99:
+            break
     if getattr(cost, "uses_actions", False):
         if action_sampler is None:
             raise DataError("a state-action cost needs an action_sampler for recovery")
@@ -113,11 +125,11 @@ def recovery(cost: Any, unsafe: Callable[[np.ndarray], np.ndarray], reference_st
     auc = float(roc_auc_score(truth, scores)) if both else math.nan
     union = np.sum(predicted | truth)
     iou = float(np.sum(predicted & truth) / union) if union else math.nan
-    return Recovery(auc, iou, float(truth.mean()), n, threshold)
+    return Recovery(auc, iou, float(truth.mean()), n, threshold, float(used))
 
 
 def _plain(x: float) -> float | None:
     return None if isinstance(x, float) and math.isnan(x) else x
 
 
-__all__ = ["EpisodeMetrics", "Recovery", "episode_metrics", "recovery", "sample_around"]
+__all__ = ["AUTO_MARGINS", "EpisodeMetrics", "Recovery", "episode_metrics", "recovery", "sample_around"]

@@ -75,3 +75,13 @@ def test_samples_cover_the_widened_box():
     states = sample_around(np.array([[0.0, 1.0], [4.0, 1.0]]), 4000, 0.25, rng)
     assert states[:, 0].min() < -0.9 and states[:, 0].max() > 4.9 and states[:, 0].min() >= -1.0
     assert np.ptp(states[:, 1]) > 0.4  # a constant entry is widened too
+
+
+def test_auto_margin_widens_the_box_until_the_unsafe_set_is_in_it():
+    # x in [5, 10]: the 0.25 box ends at 3.75, the 2.0 box reaches -5, past the wall at -3
+    expert = np.column_stack([np.linspace(5, 10, 50), np.zeros(50)])
+    result = recovery(_Threshold(-3), _unsafe, expert, n=2000, margin="auto")
+    assert result.margin == 2.0 and result.auc == 1 and 0.01 <= result.unsafe_share <= 0.99
+    assert result.as_dict()["margin"] == 2.0
+    near = np.column_stack([np.linspace(-2.5, 10, 50), np.zeros(50)])  # already both kinds at 0.25
+    assert recovery(_Threshold(-3), _unsafe, near, n=2000, margin="auto").margin == 0.25
