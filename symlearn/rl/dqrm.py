@@ -1,12 +1,23 @@
 """Deep Q-learning on a reward machine (DQRM, thesis section 7.5) and its DQN baselines.
 
 The action is a pick pixel and a place pixel on a top-down image. Two small *fully convolutional*
-networks map the image (plus two coordinate channels) to a Q-value per pixel: ``pick`` reads the
+networks map the image to a Q-value per pixel: ``pick`` reads the
 observation, ``place`` the observation stacked with the top-down *prototype* of an outgoing
 transition of the current machine state (where the blocks should be next); the place map is the
 best over the outgoing transitions. ``Q(s, a)`` is learned on both maps at the executed pixels only
 (Huber loss, eq. 7.1) against one target ``y = r + gamma * V(s')`` with
 ``V(s') = (max pick(s') + max place(s')) / 2`` (each half assumes the other acts greedily).
+
+Two departures from the thesis' text, both measured (docs/BENCHMARKS.md, "DQRM and DQN"):
+
+* ``V(s')`` comes from *target networks* copied from the online ones every ``target_sync``
+  updates, with *double Q-learning* (the online maps choose the transition and the pixels, the
+  target maps value them): bootstrapping on the online maps' own max over ~2300 pixels drove Q
+  above the largest return the machine pays (1.12 where 1.0 is the most) on the seed that failed;
+* no coordinate channels by default (``coordinates=False``): the thesis' networks have none, and
+  with them an *empty* table pixel can take a value of its own, so the greedy pick landed on a
+  spurious maximum in an empty corner; without them the map is translation-equivariant and what
+  it learns about one empty pixel holds for all of them.
 
 ``method``:
 
@@ -31,6 +42,7 @@ interface (MultiDiscrete pick/place pixels, ``info["front"]`` for the labeling, 
 
 from __future__ import annotations
 
+import copy
 import os
 import time
 from collections.abc import Callable, Sequence
@@ -61,6 +73,9 @@ class DQRMConfig:
     channels: int = 16
     eval_every: int = 5
     torch_threads: int = 1
+    target_sync: int = 16  # updates between copies of the online networks into the target ones; 0: no target networks
+    coordinates: bool = False  # two coordinate channels (row, column) beside the colours (docs/BENCHMARKS.md: off)
+    double_q: bool = True  # the online maps choose the next branch and pixels, the target maps value them
 
 
 @dataclass(frozen=True)
@@ -82,17 +97,19 @@ class DQRMResult:
     history: list[Evaluation] = field(default_factory=list)
     episode_returns: list[float] = field(default_factory=list)
     seconds: float = 0.0
+    network: dict[str, Any] = field(default_factory=dict)  # what rebuilding the networks needs
 
     def save(self, path: str | os.PathLike[str], config: dict[str, Any]) -> Path:
         from symlearn.rl.model_files import save_torch_module
 
-        return save_torch_module(path, self.networks, {"method": self.method, **config}, kind="symlearn-dqrm")
+        return save_torch_module(path, self.networks, {"method": self.method, **self.network, **config},
+                                 kind="symlearn-dqrm")
 
 
-def pixel_network(in_channels: int, channels: int) -> nn.Sequential:
-    """A fully convolutional map from an image (+ coordinates) to one Q-value per pixel."""
+def pixel_network(in_channels: int, channels: int, coordinates: bool = False) -> nn.Sequential:
+    """A fully convolutional map from an image (+ two coordinate channels) to one Q-value per pixel."""
     return nn.Sequential(
-        nn.Conv2d(in_channels + 2, channels, 3, padding=1), nn.ReLU(),
+        nn.Conv2d(in_channels + 2 * coordinates, channels, 3, padding=1), nn.ReLU(),
         nn.Conv2d(channels, channels, 3, padding=2, dilation=2), nn.ReLU(),
         nn.Conv2d(channels, channels, 3, padding=4, dilation=4), nn.ReLU(),
         nn.Conv2d(channels, 1, 1))
@@ -141,6 +158,25 @@ def train_dqrm(env_fn: Callable[[], Any], machine: Any, labeling: Callable[[dict
         torch.set_num_threads(threads)
 
 
+def _bootstrap_values(online: tuple[torch.Tensor, torch.Tensor], target: tuple[torch.Tensor, torch.Tensor],
+                      double_q: bool) -> torch.Tensor:
+    """``V(s')`` per row from pick and place maps ``(B, T, H, W)``: the mean of the best pick and the
+    best place of the best transition. With ``double_q`` the online maps choose the transition and the
+    pixels and the target maps value that choice (van Hasselt et al.'s double Q-learning): a max over
+    2304 noisy pixels is biased upward, and feeding it back as a target let Q exceed the largest
+    return the machine pays (docs/BENCHMARKS.md, DQRM). Without it, the target maps' own max."""
+    t_pick, t_place = target
+    if not double_q:
+        return (0.5 * (t_pick.flatten(2).max(2).values + t_place.flatten(2).max(2).values)).max(1).values
+    o_pick, o_place = online
+    rows = torch.arange(len(o_pick))
+    best_pick, best_place = o_pick.flatten(2).max(2), o_place.flatten(2).max(2)
+    branch = (0.5 * (best_pick.values + best_place.values)).argmax(1)
+    pick = t_pick.flatten(2)[rows, branch, best_pick.indices[rows, branch]]
+    place = t_place.flatten(2)[rows, branch, best_place.indices[rows, branch]]
+    return 0.5 * (pick + place)
+
+
 def _train(env_fn, machine, labeling, prototypes, method, demonstrations, config, seed, callback) -> DQRMResult:
     started = time.perf_counter()
     torch.manual_seed(seed)
@@ -148,9 +184,13 @@ def _train(env_fn, machine, labeling, prototypes, method, demonstrations, config
     env = env_fn()
     per_state = method == "dqrm"
     n_nets = machine.n_states if per_state else 1
-    networks = nn.ModuleDict({f"pick{k}": pixel_network(6, config.channels) for k in range(n_nets)})
-    networks.update({f"place{k}": pixel_network(6, config.channels) for k in range(n_nets)})
+    networks = nn.ModuleDict({f"pick{k}": pixel_network(6, config.channels, config.coordinates) for k in range(n_nets)})
+    networks.update({f"place{k}": pixel_network(6, config.channels, config.coordinates) for k in range(n_nets)})
     optimiser = torch.optim.Adam(networks.parameters(), lr=config.learning_rate)
+    # DQN's target networks (Mnih et al. 2015, the thesis' [31]): bootstrap from a copy refreshed
+    # every ``target_sync`` updates, so a step does not chase its own moving estimate
+    target_networks = copy.deepcopy(networks).requires_grad_(False) if config.target_sync > 0 else networks
+    updates_done = 0
     blank = np.zeros_like(prototypes[0])
     targets = {u: sorted({e[1] for e in machine.successors(u) if e[1] != u}) or [u] for u in range(machine.n_states)}
     buffers = {k: _Buffer(config.buffer_size) for k in range(n_nets)}
@@ -162,18 +202,20 @@ def _train(env_fn, machine, labeling, prototypes, method, demonstrations, config
     def conditions(u: int) -> np.ndarray:
         return prototypes[targets[u]] if per_state else blank[None]
 
-    def batch_maps(images: np.ndarray, u: int) -> tuple[torch.Tensor, torch.Tensor]:
+    def batch_maps(images: np.ndarray, u: int, nets: nn.ModuleDict = networks) -> tuple[torch.Tensor, torch.Tensor]:
         """Pick and place Q-maps ``(B, T, H, W)`` of observations in machine state ``u``, one per
         outgoing transition (its prototype stacked on the observation)."""
         k = net_of(u)
         x = _tensor(images)
         b, _, h, w = x.shape
         cond = _tensor(conditions(u))
-        t = len(cond)
-        stacked = torch.cat([x[:, None, :3].expand(b, t, 3, h, w), cond[None].expand(b, t, 5, h, w)], dim=2)
-        stacked = stacked.reshape(b * t, 8, h, w)
-        pick = networks[f"pick{k}"](stacked)[:, 0].reshape(b, t, h, w)
-        place = networks[f"place{k}"](stacked)[:, 0].reshape(b, t, h, w)
+        if not config.coordinates:
+            x, cond = x[:, :3], cond[:, :3]
+        t, c = len(cond), cond.shape[1]
+        stacked = torch.cat([x[:, None, :3].expand(b, t, 3, h, w), cond[None].expand(b, t, c, h, w)], dim=2)
+        stacked = stacked.reshape(b * t, 3 + c, h, w)
+        pick = nets[f"pick{k}"](stacked)[:, 0].reshape(b, t, h, w)
+        place = nets[f"place{k}"](stacked)[:, 0].reshape(b, t, h, w)
         return pick, place
 
     def values(pick: torch.Tensor, place: torch.Tensor) -> torch.Tensor:
@@ -214,6 +256,10 @@ def _train(env_fn, machine, labeling, prototypes, method, demonstrations, config
                 break
 
     def update() -> None:
+        nonlocal updates_done
+        if config.target_sync > 0 and updates_done % config.target_sync == 0:
+            target_networks.load_state_dict(networks.state_dict())
+        updates_done += 1
         for k in range(n_nets):
             half = config.batch_size // 2 if demo_buffers[k].items else 0
             batch = demo_buffers[k].sample(half, rng) + buffers[k].sample(config.batch_size - half, rng)
@@ -225,7 +271,9 @@ def _train(env_fn, machine, labeling, prototypes, method, demonstrations, config
             with torch.no_grad():  # V(s') = the best transition's value, per next machine state
                 for u2 in set(u for u, done in zip(next_us, dones) if not done):
                     rows = [i for i, (v, done) in enumerate(zip(next_us, dones)) if v == u2 and not done]
-                    bootstrap[rows] = values(*batch_maps(next_obs[rows], u2)).max(1).values.numpy()
+                    target = batch_maps(next_obs[rows], u2, target_networks)
+                    online = batch_maps(next_obs[rows], u2) if config.double_q else target
+                    bootstrap[rows] = _bootstrap_values(online, target, config.double_q).numpy()
             y = torch.tensor(np.asarray(rewards) + config.gamma * bootstrap, dtype=torch.float32)
             pick, place = batch_maps(np.asarray(obs), us[0])  # one machine state per buffer (or no machine state)
             index, branch = torch.arange(len(batch)), torch.as_tensor(branches)
@@ -248,7 +296,7 @@ def _train(env_fn, machine, labeling, prototypes, method, demonstrations, config
                 break
         return Evaluation(episode, total, success, float(info["placement_error"]), steps)
 
-    result = DQRMResult(method, networks)
+    result = DQRMResult(method, networks, network={"channels": config.channels, "coordinates": config.coordinates})
     decay = (config.epsilon_end / config.epsilon_start) ** (1 / max(config.episodes - 1, 1))
     for episode in progress(range(config.episodes), total=config.episodes, desc=method):
         epsilon = config.epsilon_start * decay ** episode
