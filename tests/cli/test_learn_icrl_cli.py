@@ -88,6 +88,8 @@ def test_other_refusals(capsys, tmp_path):
     _refused(capsys, "--env", "blocked-pont", match="did you mean 'blocked-point'")
     _refused(capsys, "--env", "gridworld", match="no environment for neural ICRL")
     _refused(capsys, "--env", "blocked-point", "--expert-steps", 0, match="--expert-steps must be at least 1")
+    _refused(capsys, "--env", "blocked-point", "--method", "gacl", "--lambda-lr", 0.1, match="for --method mce-icrl only")
+    _refused(capsys, "--env", "blocked-point", "--lambda-lr", -1, match="--lambda-lr must be a number > 0")
     _refused(capsys, "--env", "blocked-point", "--cost-inputs", "x,z", match="unknown observation entry 'z'")
     assert not (tmp_path / "cost.pt").exists()
 
