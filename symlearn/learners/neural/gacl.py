@@ -34,7 +34,7 @@ from symlearn.learners.neural.episodes import sample_episodes
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.icrl_metrics import episode_metrics
 from symlearn.learners.neural.fit_setup import check_common, fit_setup, resets_actor
-from symlearn.learners.neural.mce_icrl import PPO_DEFAULTS, action_bound_penalty, jsonable_params, seed_offset
+from symlearn.learners.neural.mce_icrl import action_bound_penalty, jsonable_params, policy_ppo_config, seed_offset
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.learners.neural.records import IterationRecord
 from symlearn.progress import progress
@@ -90,7 +90,7 @@ class NeuralGACL(Learner):
             raise SymlearnError("learning_rate must be > 0 and bound_penalty >= 0")
 
     def fit(self, demonstrations: Any, domain: Any = None) -> NeuralGACL:
-        from symlearn.rl.ppo import PPOConfig, train_ppo
+        from symlearn.rl.ppo import train_ppo
 
         self._check_parameters()
         started = time.perf_counter()
@@ -102,8 +102,7 @@ class NeuralGACL(Learner):
         penalty = action_bound_penalty(act_spec, self.bound_penalty)  # see mce_icrl's docstring
 
         def ppo_config(offset: int) -> Any:
-            return PPOConfig(**{**PPO_DEFAULTS, **(self.ppo or {}), "ent_coef": float(self.beta),
-                                "seed": seed_offset(seed, offset)})
+            return policy_ppo_config(self.ppo, self.beta, seed_offset(seed, offset))
 
         def reward_fn(cost: NeuralCost | None) -> Any:
             def reward(rollout: Any) -> np.ndarray:

@@ -180,15 +180,6 @@ class NeuralMCEICRL(Learner):
             if not ok:
                 raise SymlearnError(f"{name} out of range: {getattr(self, name)!r}")
 
-    def _ppo_config(self, seed: int | None, entropy: float) -> Any:
-        from symlearn.rl.ppo import PPOConfig
-
-        settings = {**PPO_DEFAULTS, **(self.ppo or {}), "ent_coef": float(entropy), "seed": seed}
-        try:
-            return PPOConfig(**settings)
-        except TypeError as exc:
-            raise SymlearnError(f"ppo: {exc}", hint="ppo= takes PPOConfig fields") from None
-
     # --- fit -----------------------------------------------------------------------------------------
 
     def fit(self, demonstrations: Any, domain: Any = None) -> NeuralMCEICRL:
@@ -208,7 +199,7 @@ class NeuralMCEICRL(Learner):
             timings: dict[str, float] = {}
             t0 = time.perf_counter()
             penalty = action_bound_penalty(act_spec, self.bound_penalty)
-            nominal = train_ppo(env_fn, int(self.nominal_steps), self._ppo_config(seed, self.beta),
+            nominal = train_ppo(env_fn, int(self.nominal_steps), policy_ppo_config(self.ppo, self.beta, seed),
                                 reward_fn=penalised(None, penalty))
             timings["nominal"] = time.perf_counter() - t0
             policy = nominal.policy
@@ -261,8 +252,8 @@ class NeuralMCEICRL(Learner):
                 t0 = time.perf_counter()
                 if resets_actor(self.reset_actor, iteration, int(self.n_iterations)):  # see NeuralMCEICRL
                     policy.reset_actor(generator)
-                trained = train_ppo(env_fn, int(self.policy_steps), self._ppo_config(seed_offset(seed, iteration),
-                                                                                     self.beta),
+                trained = train_ppo(env_fn, int(self.policy_steps),
+                                    policy_ppo_config(self.ppo, self.beta, seed_offset(seed, iteration)),
                                     reward_fn=penalised(cost, penalty), policy=policy)
                 policy = trained.policy
                 policy_seconds = time.perf_counter() - t0
@@ -305,6 +296,19 @@ class NeuralMCEICRL(Learner):
 
 
 # --- helpers -------------------------------------------------------------------------------------
+
+
+def policy_ppo_config(ppo: dict[str, Any] | None, beta: float, seed: int | None) -> Any:
+    """The :class:`~symlearn.rl.ppo.PPOConfig` of a policy phase (all four neural learners):
+    :data:`PPO_DEFAULTS` under the learner's ``ppo`` overrides, ``ent_coef = beta``, ``seed``;
+    a field PPOConfig lacks is a :class:`SymlearnError` naming it."""
+    from symlearn.rl.ppo import PPOConfig
+
+    settings = {**PPO_DEFAULTS, **(ppo or {}), "ent_coef": float(beta), "seed": seed}
+    try:
+        return PPOConfig(**settings)
+    except TypeError as exc:
+        raise SymlearnError(f"ppo: {exc}", hint="ppo= takes PPOConfig fields") from None
 
 
 def action_bound_penalty(action_spec: dict[str, Any], weight: float) -> Callable[[np.ndarray], np.ndarray] | None:
@@ -377,4 +381,4 @@ def jsonable_params(params: dict[str, Any]) -> dict[str, Any]:
 
 
 __all__ = ["ICRLIteration", "NeuralMCEICRL", "PPO_DEFAULTS", "action_bound_penalty", "dual_step", "environment_factory",
-           "jsonable_params", "penalised", "seed_offset"]
+           "jsonable_params", "penalised", "policy_ppo_config", "seed_offset"]

@@ -42,7 +42,7 @@ from symlearn.learners.neural.episodes import EpisodeBatch, sample_episodes
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.icrl_metrics import episode_metrics
 from symlearn.learners.neural.fit_setup import check_common, fit_setup, resets_actor
-from symlearn.learners.neural.mce_icrl import (PPO_DEFAULTS, action_bound_penalty, jsonable_params, penalised,
+from symlearn.learners.neural.mce_icrl import (action_bound_penalty, jsonable_params, penalised, policy_ppo_config,
                                                seed_offset)
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.learners.neural.records import IterationRecord
@@ -126,7 +126,7 @@ class NeuralMEICRL(Learner):
                              regularizer=self.regularizer, target_kl=self.target_kl)
 
     def fit(self, demonstrations: Any, domain: Any = None) -> NeuralMEICRL:
-        from symlearn.rl.ppo import LagrangianConfig, PPOConfig, train_ppo
+        from symlearn.rl.ppo import LagrangianConfig, train_ppo
 
         self._check_parameters()
         started = time.perf_counter()
@@ -137,8 +137,7 @@ class NeuralMEICRL(Learner):
         seed = self.random_state
 
         def ppo_config(offset: int) -> Any:
-            return PPOConfig(**{**PPO_DEFAULTS, **(self.ppo or {}), "ent_coef": float(self.beta),
-                                "seed": seed_offset(seed, offset)})
+            return policy_ppo_config(self.ppo, self.beta, seed_offset(seed, offset))
 
         previous_threads = torch.get_num_threads()
         torch.set_num_threads(1)
