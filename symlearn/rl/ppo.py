@@ -131,7 +131,7 @@ class PPOConfig:
     ent_coef: float = 0.01
     # "bonus": ent_coef x the policy's entropy in the loss (CleanRL/SB3); "reward": the maximum
     # (causal) entropy objective, -ent_coef x log pi(a|s) added to every step's reward before GAE,
-    # so ent_coef is a temperature in reward units (module docstring)
+    # so ent_coef is a temperature in reward units (its fixed point is pi ~ exp(Q / ent_coef))
     entropy_mode: str = "bonus"
     vf_coef: float = 0.5
     max_grad_norm: float = 0.5
@@ -353,6 +353,13 @@ def _mlp(sizes: Sequence[int], activation: str, out_gain: float, generator: torc
     return nn.Sequential(*layers)
 
 
+def _actor(obs_dim: int, hidden_sizes: Sequence[int], n_out: int, activation: str,
+           generator: torch.Generator | None) -> nn.Sequential:
+    """The policy network as a new model has it (last layer's gain 0.01: actions start near-uniform
+    / near the mean 0); shared by the constructor and :meth:`ActorCritic.reset_actor`."""
+    return _mlp([obs_dim, *hidden_sizes, n_out], activation, 0.01, generator)
+
+
 class ActorCritic(nn.Module):
     """The policy (``actor``), the reward critic and one cost critic per constraint.
 
@@ -370,7 +377,7 @@ class ActorCritic(nn.Module):
         self.obs_dim = observation["n"] if observation["kind"] == "discrete" else int(np.prod(observation["shape"]))
         n_out = action["n"] if self.discrete else action["shape"][0]
         sizes = [self.obs_dim, *self.hidden_sizes]
-        self.actor = _mlp([*sizes, n_out], activation, 0.01, generator)
+        self.actor = _actor(self.obs_dim, self.hidden_sizes, n_out, activation, generator)
         self.critic = _mlp([*sizes, 1], activation, 1.0, generator)
         self.cost_critics = nn.ModuleList()
         self.add_cost_critics(n_costs, generator)
@@ -411,8 +418,8 @@ class ActorCritic(nn.Module):
         thesis Fig. 2.1: 40k PPO steps on the true cost left a continued policy on the forbidden
         shortest path, a policy with a fresh actor and the old critic took the detour). The
         critics keep their values, which speeds the new actor's first updates."""
-        sizes = [self.obs_dim, *self.hidden_sizes, self.actor[-1].out_features]
-        fresh = _mlp(sizes, self.activation, 0.01, generator).to(self.actor[-1].weight.device)
+        fresh = _actor(self.obs_dim, self.hidden_sizes, self.actor[-1].out_features, self.activation,
+                       generator).to(self.actor[-1].weight.device)
         with torch.no_grad():
             self.actor.load_state_dict(fresh.state_dict())
             if not self.discrete:
@@ -1158,6 +1165,7 @@ def _update(agent: ActorCritic, optimizer: torch.optim.Optimizer, cost_optimizer
     sums = {"policy_loss": 0.0, "value_loss": 0.0, "entropy": 0.0, "approx_kl": 0.0, "clip_fraction": 0.0}
     cost_loss_sum = np.zeros(n_costs)
     n_updates, stopped_early, minibatches_per_epoch = 0, False, -(-(T * N) // config.batch_size)
+    bonus = config.ent_coef if config.entropy_mode == "bonus" else 0.0  # "reward": in the returns already
     for _epoch in range(config.n_epochs):
         order = torch.as_tensor(rng.permutation(T * N), device=device)
         for start in range(0, T * N, config.batch_size):
@@ -1177,7 +1185,6 @@ def _update(agent: ActorCritic, optimizer: torch.optim.Optimizer, cost_optimizer
             policy_loss = -torch.min(adv * ratio, adv * clipped).mean()
             value_loss = (agent.value(obs[idx]) - returns_t[idx, 0]).pow(2).mean()
             entropy_mean = entropy.mean()
-            bonus = config.ent_coef if config.entropy_mode == "bonus" else 0.0
             loss = policy_loss - bonus * entropy_mean + config.vf_coef * value_loss
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
