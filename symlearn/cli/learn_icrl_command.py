@@ -158,8 +158,10 @@ def _cost_inputs(text: str | None, names: Any, width: int) -> list[int] | None:
     return dims
 
 
-def _demonstrations(args: argparse.Namespace, env_name: str, kwargs: dict[str, Any], env: Any):
+def _demonstrations(args: argparse.Namespace, entry: Any, kwargs: dict[str, Any], env: Any, out: Any):
     from symlearn.errors import DataError
+
+    env_name = entry.name
 
     if args.demos:
         from symlearn.data import load
@@ -172,20 +174,21 @@ def _demonstrations(args: argparse.Namespace, env_name: str, kwargs: dict[str, A
     if not hasattr(env.unwrapped, "is_unsafe"):
         raise DataError(f"{env_name} has no scripted expert and no ground-truth cost to train one on",
                         hint="give expert demonstrations with --demos")
-    import sys
-
-    from symlearn.envs.registry import get
     from symlearn.learners.neural.lagrangian_expert import default_cache_dir, lagrangian_expert
 
     cache = args.expert_cache or default_cache_dir()
     cache = None if str(cache).lower() == "none" else cache
     where = f"cached in {cache}" if cache else "not cached"
-    print(f"{env_name} has no scripted expert: PPO-Lagrangian on its true cost, {args.expert_steps} steps ({where})",
-          file=sys.stderr)
-    entry = get(env_name)
-    demos, report = lagrangian_expert(lambda: entry.make_env(**kwargs), args.n_demos, steps=args.expert_steps,
-                                      seed=getattr(args, "seed", 0) or 0, key={"env": env_name, "kwargs": kwargs},
-                                      cache_dir=cache)
+    out.note(f"{env_name} has no scripted expert: PPO-Lagrangian on its true cost, {args.expert_steps} steps ({where})")
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught:  # an expert that still violates: say so as a note
+        warnings.simplefilter("always", RuntimeWarning)
+        demos, _ = lagrangian_expert(lambda: entry.make_env(**kwargs), args.n_demos, steps=args.expert_steps,
+                                     seed=getattr(args, "seed", 0) or 0, key={"env": env_name, "kwargs": kwargs},
+                                     cache_dir=cache)
+    for w in caught:
+        out.note(f"warning: {w.message}")
     return demos
 
 
@@ -219,7 +222,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
     names = getattr(env.unwrapped, "observation_names", None)
     width = int(np.prod(env.observation_space.shape))
     obs_dims = _cost_inputs(args.cost_inputs, names, width)
-    demos = _demonstrations(args, entry.name, kwargs, env)
+    demos = _demonstrations(args, entry, kwargs, env, out)
 
     import torch
 
