@@ -2,6 +2,9 @@
 
 import json
 
+import numpy as np
+import pytest
+
 from cli_runner import run
 from symlearn.envs.toy_navigation import UNSAFE_DNF
 from symlearn.logic.dnf import load as load_dnf
@@ -24,12 +27,79 @@ def test_ppo_lag_on_a_dnf_cost_with_pruning(capsys, tmp_path):
     assert agent.exists() and agent.with_suffix(".json").exists()
 
 
-def test_plain_ppo_on_a_gymnasium_id(capsys):
-    code, out, err = run(capsys, "train", "--env", "CartPole-v1", "--algo", "ppo", "--steps", 1024,
+def test_plain_ppo_is_the_default_without_a_cost_and_an_unreported_cost_is_null(capsys):
+    code, out, err = run(capsys, "train", "--env", "CartPole-v1", "--steps", 512, "--n-envs", 2, "--n-steps", 64,
                          "--eval-episodes", 1, "--json")
     assert code == 0, err
     doc = json.loads(out)
-    assert doc["multipliers"] is None and doc["return"] > 0
+    assert doc["algo"] == "ppo" and doc["multipliers"] is None and doc["return"] > 0
+    assert doc["cost"] is None and doc["violation_rate"] is None and doc["cost_kind"] is None
+    code, out, err = run(capsys, "train", "--env", "CartPole-v1", "--steps", 128, "--n-envs", 1, "--n-steps", 128,
+                         "--eval-episodes", 1)
+    assert code == 0, err
+    assert "ground-truth cost n/a per episode, violation rate n/a" in out
+
+
+ROBOT = "point_robot_env:PointRobot-v0"   # tests/support/point_robot_env.py, a user's module
+HAZARD = "x > 0.4 & x < 0.6 & y < 0.6\n"
+
+
+def test_a_user_module_trains_ppo_lag_on_a_dnf_and_on_its_own_cost(capsys, tmp_path):
+    rules = tmp_path / "hazard.dnf"
+    rules.write_text(HAZARD)
+    small = ("--steps", 256, "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 2, "--json")
+    code, out, err = run(capsys, "train", "--env", ROBOT, "--cost", rules, *small)
+    assert code == 0, err
+    doc = json.loads(out)   # ppo-lag is the default with a cost; the true cost is the environment's
+    assert (doc["algo"], doc["cost_kind"], len(doc["multipliers"])) == ("ppo-lag", "dnf", 1)
+    assert doc["cost"] is not None and 0 <= doc["violation_rate"] <= 1 and doc["steps"] == 256
+    code, out, err = run(capsys, "train", "--env", ROBOT, "--algo", "ppo-lag", *small)   # info["cost"]
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["cost_kind"] is None and doc["multipliers"] is not None and doc["cost"] is not None
+    # names only in a dict info["features"], and environment keyword arguments
+    code, out, err = run(capsys, "train", "--env", ROBOT, "--env-kwargs", '{"named_features": true, "max_steps": 20}',
+                         "--cost", rules, "--prune", *small)
+    assert code == 0, err
+    assert json.loads(out)["kept"] + json.loads(out)["pruned"] == ["x > 0.4 & x < 0.6 & y < 0.6"]
+
+
+def test_a_dnf_cost_needs_feature_names(capsys, tmp_path):
+    rules = tmp_path / "pole.dnf"
+    rules.write_text("pole_angle > 0.1\n")
+    code, _, err = run(capsys, "train", "--env", "CartPole-v1", "--cost", rules, "--steps", 128)
+    assert code == 2 and "--features" in err and str(rules) in err and len(err.strip().splitlines()) == 1
+    code, out, err = run(capsys, "train", "--env", "CartPole-v1", "--cost", rules, "--features",
+                         "cart_x,cart_v,pole_angle,pole_v", "--steps", 128, "--n-envs", 1, "--n-steps", 128,
+                         "--eval-episodes", 1, "--json")
+    assert code == 0, err
+    assert json.loads(out)["cost_kind"] == "dnf" and json.loads(out)["cost"] is None
+    code, _, err = run(capsys, "train", "--env", "CartPole-v1", "--cost", rules, "--features", "pole_angle,b",
+                       "--steps", 128)
+    _one_line(code, err, "4")   # two names for four observation entries
+
+
+def _one_line(code, err, *needles):
+    assert code == 2 and "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    for needle in needles:
+        assert needle in err, (needle, err)
+
+
+@pytest.mark.parametrize("flags, needle", [
+    (("--steps", 0), "--steps must be between 1"),
+    (("--steps", "1e20"), "--steps must be between 1"),
+    (("--steps", "2.5"), "--steps must be a whole number"),
+    (("--cost-limit", -1, "--algo", "ppo-lag"), "--cost-limit must be a finite number >= 0"),
+    (("--cost-limit", "nan"), "--cost-limit must be a finite number >= 0"),
+    (("--n-envs", 0), "--n-envs must be between 1"),
+    (("--n-envs", 100, "--n-steps", 100_000), "steps per rollout"),
+    (("--n-steps", "1e12"), "--n-steps must be between 1"),
+    (("--algo", "ppo-lag"), "reports none"),                    # CartPole has no info["cost"]
+    (("--algo", "sb3-sac"), "acts only in Box action spaces"),
+    (("-o", "agent.zip"), "never stable-baselines3's pickled .zip"),
+])
+def test_bad_numbers_and_choices_are_one_line(capsys, flags, needle):
+    _one_line(*run(capsys, "train", "--env", "CartPole-v1", *flags)[::2], needle)
 
 
 def test_bad_input_is_one_line(capsys, tmp_path):
@@ -95,3 +165,35 @@ def test_a_learned_neural_cost_trains_a_fresh_agent(capsys, tmp_path):
     assert code == 2 and "cost.safetensors" in err and "Traceback" not in err
     code, _, err = run(capsys, "train", "--env", "blocked-point", "--cost", path, "--prune")
     assert code == 2 and "--prune" in err
+
+
+def test_stable_baselines3_learners_on_a_user_module(capsys, tmp_path):
+    pytest.importorskip("stable_baselines3")
+    from point_robot_env import PointRobot
+
+    from symlearn.backends.sb3 import load_policy
+
+    rules = tmp_path / "hazard.dnf"
+    rules.write_text(HAZARD)
+    agent = tmp_path / "agent.safetensors"
+    small = ("--steps", 256, "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 2, "--json")
+    code, out, err = run(capsys, "train", "--env", ROBOT, "--algo", "sb3-ppo-lag", "--cost", rules, "-o", agent, *small)
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["cost_kind"] == "dnf" and len(doc["multipliers"]) == 1 and doc["cost"] is not None
+    assert doc["files"] == [str(agent), str(agent.with_suffix(".json"))]
+    assert load_policy(agent, PointRobot()).predict(np.zeros(2, dtype=np.float32))[0].shape == (2,)
+    code, out, err = run(capsys, "train", "--env", ROBOT, "--env-kwargs", '{"discrete": true}', "--algo", "sb3-dqn",
+                         *small)
+    assert code == 0, err
+    assert json.loads(out)["multipliers"] is None
+    code, _, err = run(capsys, "train", "--env", ROBOT, "--algo", "sb3-dqn", "--steps", 64)
+    _one_line(code, err, "DQN acts only in Discrete action spaces")
+
+
+def test_stable_baselines3_absent_is_one_line_naming_the_extra(capsys, monkeypatch):
+    from symlearn import optional
+
+    monkeypatch.setattr(optional, "available", lambda name: False)
+    code, _, err = run(capsys, "train", "--env", "CartPole-v1", "--algo", "sb3-ppo", "--steps", 64)
+    _one_line(code, err, "symlearn[sb3]")
