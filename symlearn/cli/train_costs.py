@@ -50,23 +50,6 @@ class _DictFeatures:
         return FeatureVectorWrapper(env, self.names)
 
 
-def probe(target: Any) -> tuple[Any, dict[str, Any], dict[str, Any]]:
-    """``(env, reset info, first step's info)`` of a fresh environment (a random first action);
-    the caller closes ``env``."""
-    env = target.make()
-    _, reset_info = env.reset(seed=0)
-    env.action_space.seed(0)
-    _, _, _, _, step_info = env.step(env.action_space.sample())
-    return env, dict(reset_info), dict(step_info)
-
-
-def reports_cost(target: Any) -> bool:
-    """Whether the environment reports ``info["cost"]`` (looked for on its first step)."""
-    env, _, info = probe(target)
-    env.close()
-    return "cost" in info
-
-
 def training_cost(path: str, target: Any, *, features: str | None = None, per_rule: bool = False) -> TrainingCost:
     """The cost in ``path`` (``.dnf`` text or ``.safetensors``) checked against ``target``'s environment."""
     if str(path).endswith(".safetensors"):
@@ -95,34 +78,23 @@ def _dnf(path: str, target: Any, features: str | None, per_rule: bool) -> Traini
     from symlearn.logic.dnf import load
 
     dnf = load(path)
-    env, reset_info, step_info = probe(target)
+    env = target.make()
     try:
-        names = target.feature_names(env=env, override=features)
-        observation_width = int(np.prod(env.observation_space.shape or (1,)))
+        found = target.features(env, override=features)   # names counted against the columns
+        _, info = env.reset(seed=0)
     finally:
         env.close()
-    if names is None:
+    if found is None:
         raise DataError(f"{target.display} names no features, so the formula's {', '.join(sorted(dnf.features))} "
                         "cannot be read there", file=str(path),
                         hint="give the observation's column names with --features a,b,... (or a feature_names "
                              "attribute / info['features'] dict in the environment)")
-    names = tuple(names)
+    names, source = found.names, found.source
     try:
         stats = RuleStats(dnf, names)
     except DataError as exc:
         raise DataError(exc.message, file=str(path), hint=exc.hint) from None
-    reported = step_info.get("features", reset_info.get("features"))
-    wrap = None
-    if isinstance(reported, dict):
-        source, wrap = "info", _DictFeatures(names)
-    elif reported is not None and np.asarray(reported).size == len(names):
-        source = "info"
-    elif len(names) == observation_width:
-        source = "observation"
-    else:
-        raise DataError(f"{len(names)} feature names for an observation of {observation_width} entries "
-                        "(and no info['features'] of that length)", file=str(path),
-                        hint="--features names every entry of the observation, in order")
+    wrap = _DictFeatures(names) if source == "info" and isinstance(info.get("features"), dict) else None
     # evaluated once per rollout over all its steps (the same costs and rule counts as the
     # per-step form, a fraction of its overhead)
     rollout = DnfRolloutCost(dnf, names, source=source, per_rule=per_rule, stats=stats)
@@ -147,10 +119,10 @@ def penalised(cost: TrainingCost) -> Any:
 
 
 def refuse_without_cost(target: Any, algo: str) -> None:
-    if not reports_cost(target):
+    if not target.reports_cost():
         raise SymlearnError(f"--algo {algo} without --cost constrains the environment's info['cost'], and "
                             f"{target.display} reports none",
                             hint="give a learned cost with --cost RULES.dnf|COST.safetensors, or train --algo ppo")
 
 
-__all__ = ["TrainingCost", "penalised", "probe", "refuse_without_cost", "reports_cost", "training_cost"]
+__all__ = ["TrainingCost", "penalised", "refuse_without_cost", "training_cost"]

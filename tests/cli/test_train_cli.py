@@ -77,6 +77,10 @@ def test_a_dnf_cost_needs_feature_names(capsys, tmp_path):
     code, _, err = run(capsys, "train", "--env", "CartPole-v1", "--cost", rules, "--features", "pole_angle,b",
                        "--steps", 128)
     _one_line(code, err, "4")   # two names for four observation entries
+    code, _, err = run(capsys, "train", "--env", ROBOT, "--cost", rules, "--features", "x,x", "--steps", 128)
+    _one_line(code, err, "twice")
+    code, _, err = run(capsys, "train", "--env", ROBOT, "--features", "x,y", "--steps", 128)
+    _one_line(code, err, "--features", "--cost")
 
 
 def _one_line(code, err, *needles):
