@@ -8,7 +8,8 @@ updates ``lambda`` by :func:`symlearn.backends.sb3.lagrangian_callback` (``--cos
 the environment's ``info["cost"]``; plain ``sb3-*`` with ``--cost`` subtracts the cost
 (``lambda`` fixed at 1). The networks have our PPO's sizes (two hidden layers of 64; tanh for
 PPO, ReLU for SAC and DQN as in stable-baselines3), ``--n-envs`` copies side by side
-(``DummyVecEnv``), and PPO's rollout is ``--n-steps`` per copy.
+(``DummyVecEnv``); PPO's rollout is ``--n-steps`` per copy and its other settings are our PPO's
+defaults (minibatch 128, 4 epochs, learning rate 2.5e-4 annealed to 0, entropy 0.01).
 
 Evaluation is greedy (``deterministic=True``) on a fresh environment without the cost wrappers:
 its ``info["cost"]`` is the ground truth reported. ``-o agent.safetensors`` writes the policy with
@@ -66,9 +67,9 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any) -> dict[str, Any
     venv.seed(seed)
     settings: dict[str, Any] = {"seed": seed, "device": "cpu", "verbose": 0,
                                 "policy_kwargs": {"net_arch": [64, 64]}}
-    if algo == "ppo":
+    if algo == "ppo":  # our PPO's defaults (CleanRL's), so that `--algo ppo` and `sb3-ppo` are peers
         settings.update(n_steps=args.n_steps, batch_size=min(128, args.n_envs * args.n_steps), n_epochs=4,
-                        learning_rate=2.5e-4)
+                        learning_rate=lambda remaining: 2.5e-4 * remaining, ent_coef=0.01)
         settings["policy_kwargs"]["activation_fn"] = torch.nn.Tanh
     elif algo == "dqn":
         settings.update(learning_starts=min(1000, args.steps // 10), exploration_fraction=0.2)
