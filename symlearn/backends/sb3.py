@@ -1,4 +1,5 @@
-"""stable-baselines3 on our backends: counterfactual reward-machine experiences in a replay buffer.
+"""stable-baselines3 on our backends: counterfactual reward-machine experiences in a replay buffer,
+a Lagrangian multiplier as a callback, and policy files without pickles.
 
 Shields need no glue: :class:`~symlearn.backends.shield.Shield` has the ``action_masks()``
 method that sb3-contrib's ``MaskablePPO`` asks every environment for. Reward machines need one
@@ -12,6 +13,14 @@ The experience of the machine state the agent was really in is the real transiti
 learner stores itself; the callback adds the others. stable-baselines3 is imported only here and
 only when asked for; without it, :class:`~symlearn.errors.MissingDependencyError` says how to
 install it (``pip install 'symlearn[sb3]'``).
+
+A Lagrangian on any SB3 learner: the environments carry
+:class:`~symlearn.backends.lagrangian.LagrangianReward` (reward ``r - lambda . c``) over a shared
+:class:`~symlearn.backends.lagrangian.SharedMultipliers`, and :func:`lagrangian_callback` moves
+``lambda`` from the costs the steps report. :func:`save_policy` / :func:`load_policy` keep a
+model's policy as safetensors + JSON (``docs/FORMATS.md``); SB3's ``.zip`` unpickles on load, so
+it is never written or read. :func:`check_action_space` refuses, in one line, an algorithm that
+cannot act in an environment's action space (``docs/SB3.md`` walks the routes).
 
 Example (not run here: it trains a network)::
 

@@ -191,6 +191,11 @@ def test_stable_baselines3_learners_on_a_user_module(capsys, tmp_path):
                          *small)
     assert code == 0, err
     assert json.loads(out)["multipliers"] is None
+    code, out, err = run(capsys, "train", "--env", ROBOT, "--algo", "sb3-sac-lag", "--steps", 160, "--n-envs", 1,
+                         "--eval-episodes", 1, "--json")   # without --cost: the environment's info["cost"]
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["cost_kind"] is None and len(doc["multipliers"]) == 1 and doc["cost"] is not None
     code, _, err = run(capsys, "train", "--env", ROBOT, "--algo", "sb3-dqn", "--steps", 64)
     _one_line(code, err, "DQN acts only in Discrete action spaces")
 
