@@ -19,13 +19,7 @@ from symlearn.envs.office_world import TASKS, make_office_world  # noqa: E402
 from symlearn.errors import SymlearnError  # noqa: E402
 
 
-@pytest.fixture(autouse=True)
-def one_torch_thread():
-    # Small networks train several times faster on one thread than on two.
-    threads = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(threads)
+pytestmark = pytest.mark.usefixtures("one_torch_thread")  # tests/backends/conftest.py
 
 
 def shielded_gridworld():

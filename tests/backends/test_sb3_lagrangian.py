@@ -26,12 +26,7 @@ from symlearn.rl.ppo import LagrangianConfig  # noqa: E402
 HAZARD = parse("x > 0.4 & x < 0.6 & y < 0.6")   # exactly the robot's true hazard
 
 
-@pytest.fixture(autouse=True)
-def one_torch_thread():
-    threads = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(threads)
+pytestmark = pytest.mark.usefixtures("one_torch_thread")  # tests/backends/conftest.py
 
 
 def dnf_step_cost(names=("x", "y")):
