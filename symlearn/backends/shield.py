@@ -124,7 +124,8 @@ class Shield(gym.Wrapper):
         except Exception as exc:  # a user's rule set: say what it was asked, not a traceback inside it
             raise SymlearnError(f"the shield's constraints failed on state {self._state!r}: "
                                 f"{type(exc).__name__}: {exc}",
-                                hint="state_of must turn an observation into what allowed(state, action) takes") from None
+                                hint="state_of must turn an observation into what allowed(state, action) "
+                                     "takes") from None
         return self._annotated(info, mask)
 
     def _annotated(self, info: dict[str, Any], mask: np.ndarray) -> dict[str, Any]:

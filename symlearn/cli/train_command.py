@@ -212,7 +212,9 @@ def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_c
     reported no ``info["cost"]`` (then ``cost`` and ``violation_rate`` are null, never 0)."""
     import numpy as np
 
-    per_episode = None if true_costs is None else np.asarray(true_costs, dtype=np.float64).reshape(len(returns), -1).sum(axis=1)
+    per_episode = None
+    if true_costs is not None:   # summed over constraints
+        per_episode = np.asarray(true_costs, dtype=np.float64).reshape(len(returns), -1).sum(axis=1)
     return {"env": args.env, "algo": args.algo, "cost_kind": None if cost is None else cost.kind,
             "return": float(np.mean(returns)),
             "cost": None if per_episode is None else float(np.mean(per_episode)),

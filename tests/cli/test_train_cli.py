@@ -40,7 +40,7 @@ def test_plain_ppo_is_the_default_without_a_cost_and_an_unreported_cost_is_null(
     assert "ground-truth cost n/a per episode, violation rate n/a" in out
 
 
-ROBOT = "point_robot_env:PointRobot-v0"   # tests/support/point_robot_env.py, a user's module
+ROBOT = "point_robot_env:HazardRobot-v0"   # tests/support/point_robot_env.py, a user's module
 HAZARD = "x > 0.4 & x < 0.6 & y < 0.6\n"
 
 

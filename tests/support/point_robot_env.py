@@ -1,5 +1,5 @@
 """A user's own environment, as someone outside symlearn would write it: importing this module
-registers ``PointRobot-v0`` with gymnasium (``--env point_robot_env:PointRobot-v0``).
+registers ``HazardRobot-v0`` with gymnasium (``--env point_robot_env:HazardRobot-v0``).
 
 A point in the unit square moves by its (clipped) action towards a goal at the top right; a
 hazard strip ``hazard_low < x < hazard_high`` below ``y < 0.6`` costs 1 per step inside it
@@ -42,7 +42,7 @@ class PointRobot(gym.Env):
 
     def step(self, action):
         if isinstance(self.action_space, gym.spaces.Discrete):
-            move = [np.array([0.1, 0.0]), np.array([-0.1, 0.0]), np.array([0.0, 0.1]), np.array([0.0, -0.1])][int(action)]
+            move = np.array([(0.1, 0.0), (-0.1, 0.0), (0.0, 0.1), (0.0, -0.1)][int(action)])
         else:
             move = np.clip(np.asarray(action, dtype=np.float64), -0.1, 0.1)
         before = np.linalg.norm(self.position - 1.0)
@@ -54,5 +54,5 @@ class PointRobot(gym.Env):
         return self.position.astype(np.float32), reward, bool(reached), self.t >= self.max_steps, self._info()
 
 
-if "PointRobot-v0" not in gym.registry:
-    gym.register("PointRobot-v0", entry_point=PointRobot)
+if "HazardRobot-v0" not in gym.registry:
+    gym.register("HazardRobot-v0", entry_point=PointRobot)
