@@ -101,6 +101,8 @@ def _one_line(code, err, *needles):
     (("--algo", "ppo-lag"), "reports none"),                    # CartPole has no info["cost"]
     (("--algo", "sb3-sac"), "acts only in Box action spaces"),
     (("-o", "agent.zip"), "never stable-baselines3's pickled .zip"),
+    (("--env-kwargs", '{"gravity": 1}'), "unknown --env-kwargs key 'gravity'"),
+    (("--env-kwargs", "[1]"), "must be a JSON object"),
 ])
 def test_bad_numbers_and_choices_are_one_line(capsys, flags, needle):
     _one_line(*run(capsys, "train", "--env", "CartPole-v1", *flags)[::2], needle)
@@ -156,14 +158,17 @@ def _saved_cost(tmp_path, env_name: str):
 
 
 def test_a_learned_neural_cost_trains_a_fresh_agent(capsys, tmp_path):
+    import importlib.util
+
     path = _saved_cost(tmp_path, "blocked-point")
-    for algo in ("ppo-lag", "ppo"):
+    sb3 = ("sb3-ppo-lag",) if importlib.util.find_spec("stable_baselines3") else ()
+    for algo in ("ppo-lag", "ppo", *sb3):
         code, out, err = run(capsys, "train", "--env", "blocked-point", "--algo", algo, "--cost", path,
                              "--steps", 256, "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 1, "--json")
         assert code == 0, err
         doc = json.loads(out)
         assert doc["cost_kind"] == "neural" and doc["steps"] == 256
-        assert (doc["multipliers"] is not None) == (algo == "ppo-lag")
+        assert (doc["multipliers"] is not None) == algo.endswith("ppo-lag")
     # a cost learned in another observation space is refused in one line naming the file
     code, _, err = run(capsys, "train", "--env", "toy-navigation", "--cost", path, "--steps", 256)
     assert code == 2 and "cost.safetensors" in err and "Traceback" not in err
