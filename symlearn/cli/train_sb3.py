@@ -53,7 +53,7 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any) -> dict[str, Any
         multipliers = SharedMultipliers(LagrangianConfig(cost_limit=args.cost_limit, update=args.multiplier_update,
                                                          lr=args.multiplier_lr), n_costs)
     elif cost is not None:
-        multipliers = SharedMultipliers(fixed=[1.0] * n_costs)
+        multipliers = SharedMultipliers(n_costs=n_costs, fixed=[1.0] * n_costs)
 
     def make() -> Any:
         env = target.make()

@@ -192,6 +192,14 @@ def test_stable_baselines3_learners_on_a_user_module(capsys, tmp_path):
     assert doc["cost_kind"] == "dnf" and len(doc["multipliers"]) == 1 and doc["cost"] is not None
     assert doc["files"] == [str(agent), str(agent.with_suffix(".json"))]
     assert load_policy(agent, PointRobot()).predict(np.zeros(2, dtype=np.float32))[0].shape == (2,)
+    two = tmp_path / "two.dnf"
+    two.write_text(HAZARD + "x > 5\n")   # a rule no agent can fire
+    for algo, n in (("sb3-ppo", None), ("sb3-ppo-lag", 2)):   # plain: both rules subtracted, lambda 1
+        code, out, err = run(capsys, "train", "--env", ROBOT, "--algo", algo, "--cost", two, "--per-rule", "--prune",
+                             *small)
+        assert code == 0, err
+        doc = json.loads(out)
+        assert doc["pruned"] == ["x > 5"] and (doc["multipliers"] is None if n is None else len(doc["multipliers"]) == n)
     code, out, err = run(capsys, "train", "--env", ROBOT, "--env-kwargs", '{"discrete": true}', "--algo", "sb3-dqn",
                          *small)
     assert code == 0, err
