@@ -108,3 +108,38 @@ def test_an_algorithm_that_cannot_act_in_the_space_is_one_line():
     check_action_space("dqn", PointRobot(discrete=True).action_space)
     with pytest.raises(SymlearnError, match="SAC acts only in Box"):
         check_action_space("sac", PointRobot(discrete=True).action_space)
+
+
+def test_dqn_with_counterfactual_experiences_on_a_users_environment_and_a_machine_file(tmp_path):
+    """A reward machine written as text (as `learn rm` or a user writes it), read back, run on the
+    user's robot with a labeling function of the user's own: every step is replayed for the other
+    machine state, with the machine's reward."""
+    from stable_baselines3 import DQN
+
+    from symlearn.backends import RewardMachineWrapper, task_machine
+    from symlearn.backends.sb3 import counterfactual_callback
+    from symlearn.logic.automata.reward_machine import RewardMachine
+
+    path = tmp_path / "task.rm"
+    path.write_text(task_machine("m T g").to_text())   # first the upper half, then the goal
+    machine = RewardMachine.from_text(path.read_text(), source=str(path))
+
+    def labeling(observation):   # the user's propositions: in the upper half, near the goal
+        x, y = (float(v) for v in np.asarray(observation, dtype=np.float32))
+        return ({"m"} if y > 0.5 else set()) | ({"g"} if x > 0.75 and y > 0.75 else set())
+
+    env = RewardMachineWrapper(PointRobot(discrete=True), machine, labeling, observation="flat", counterfactual=True)
+    callback = counterfactual_callback()
+    model = DQN("MlpPolicy", env, learning_starts=100, buffer_size=5_000, seed=0, device="cpu",
+                policy_kwargs={"net_arch": [32, 32]})
+    model.learn(600, callback=callback)
+    acting = len(env.acting_states)
+    assert acting == 2 and callback.n_added == 600   # one other machine state to replay each step for
+    buffer = model.replay_buffer
+    n_env = 2   # the robot's (x, y); then the one-hot machine state
+    for slot in range(buffer.size()):
+        u = int(np.argmax(buffer.observations[slot, 0, n_env:]))
+        u2 = int(np.argmax(buffer.next_observations[slot, 0, n_env:]))
+        label = labeling(buffer.next_observations[slot, 0, :n_env])
+        expected_u2, expected_reward = machine.step(u, frozenset(label))
+        assert (u2, float(buffer.rewards[slot, 0])) == (expected_u2, expected_reward)
