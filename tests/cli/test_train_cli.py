@@ -219,3 +219,45 @@ def test_stable_baselines3_absent_is_one_line_naming_the_extra(capsys, monkeypat
     monkeypatch.setattr(optional, "available", lambda name: False)
     code, _, err = run(capsys, "train", "--env", "CartPole-v1", "--algo", "sb3-ppo", "--steps", 64)
     _one_line(code, err, "symlearn[sb3]")
+
+
+OUTSIDE = '''
+import gymnasium as gym
+import numpy as np
+
+
+class Line(gym.Env):
+    """A walk on [0, 1]: reward for going right, cost past `edge`."""
+
+    feature_names = ("pos",)
+
+    def __init__(self, edge=0.8):
+        self.edge = edge
+        self.observation_space = gym.spaces.Box(0.0, 1.0, shape=(1,), dtype=np.float32)
+        self.action_space = gym.spaces.Discrete(2)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.pos, self.t = 0.0, 0
+        return np.array([self.pos], np.float32), {"cost": 0.0}
+
+    def step(self, action):
+        self.pos = min(max(self.pos + (0.1 if action else -0.1), 0.0), 1.0)
+        self.t += 1
+        return (np.array([self.pos], np.float32), self.pos, False, self.t >= 20,
+                {"cost": float(self.pos > self.edge)})
+
+
+gym.register("Line-v0", entry_point=Line)
+'''
+
+
+def test_a_module_outside_the_repository_from_the_current_directory(run_cli, tmp_path):
+    """`python -m symlearn` in a user's folder: their module is importable from there."""
+    (tmp_path / "my_line.py").write_text(OUTSIDE)
+    (tmp_path / "edge.dnf").write_text("pos > 0.7\n")
+    result = run_cli("train", "--env", "my_line:Line-v0", "--env-kwargs", '{"edge": 0.7}', "--cost", "edge.dnf",
+                     "--steps", 256, "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 2, "--json", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    doc = json.loads(result.stdout)
+    assert (doc["algo"], doc["cost_kind"]) == ("ppo-lag", "dnf") and doc["cost"] is not None
