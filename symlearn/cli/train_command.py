@@ -8,8 +8,9 @@
 
 * ``--env``: a bundled name (``toy-navigation``, ``safenav-*``; see ``symlearn envs``), any
   registered gymnasium id (``CartPole-v1``), or ``module:EnvId`` (the module is imported and must
-  register ``EnvId``; the current directory is importable). ``--env-kwargs '{"size": 8}'`` are
-  passed to ``gymnasium.make``.
+  register ``EnvId``; the current directory is importable), resolved by
+  :func:`symlearn.recipes.environments.resolve_env`. ``--env-kwargs '{"size": 8}'``: keyword
+  arguments of the environment's constructor (an unknown key is refused, naming its parameters).
 * ``--algo``: ``ppo`` (default without ``--cost``), ``ppo-lag`` (default with ``--cost``; without
   one it constrains the environment's own ``info["cost"]`` -- "PPO-Lagrangian on the true cost"
   -- and is refused when the environment reports none), ``sb3-ppo``, ``sb3-sac``, ``sb3-dqn``,
@@ -27,19 +28,22 @@
   training only: the environment's ``info["cost"]`` stays the reported ground truth.
 * ``--advantage-scale returns``, ``--normalize-observations``, ``--normalize-values``: the options
   of :mod:`symlearn.rl.ppo` that made PPO-Lagrangian on the learned DNF solve the thesis' toy
-  (docs/BENCHMARKS.md); off by default, as in the library.
+  (docs/BENCHMARKS.md); off by default, as in the library; our PPO's only (refused with ``sb3-*``).
 * ``--prune``: after training, rules whose fired/evaluated ratio (conjunctions evaluated in
   ascending number of atoms) stayed below ``--prune-threshold`` (thesis: 0.001) are dropped; the
   pruned formula is written beside the cost file as ``NAME.pruned.dnf`` with a report.
 * Numeric flags are checked before anything runs: ``--steps`` 1 .. 10^9, ``--cost-limit`` finite
   and >= 0, ``--n-envs`` 1 .. 256, ``--n-envs`` x ``--n-steps`` (the rollout held in memory) at
   most 262,144 steps.
+* ``-o agent.safetensors``: the policy as safetensors + JSON (our PPO's, or a stable-baselines3
+  policy through :func:`symlearn.backends.sb3.save_policy`; a ``.zip`` is refused).
 
 JSON keys: ``env``, ``algo``, ``cost_kind`` (``dnf``, ``neural`` or null), ``return`` and ``cost``
 (mean per episode of greedy evaluation episodes; ``cost`` is the environment's ground-truth
 ``info["cost"]``), ``violation_rate`` (ground-truth cost per evaluation step) -- both ``null``
 when the environment reports no ``info["cost"]`` --, ``multipliers`` (null without a
-Lagrangian), ``pruned`` (the dropped rules, or null), ``seconds``, ``steps``, ``files``.
+Lagrangian), ``pruned`` (the dropped rules, or null; with ``--prune`` also ``kept``), ``seconds``,
+``steps``, ``files``.
 """
 
 from __future__ import annotations
@@ -150,6 +154,12 @@ def _train(args: argparse.Namespace, out) -> None:
         raise SymlearnError("--per-rule and --prune apply to DNF rules, not to a learned neural cost")
     if args.features and (not args.cost or neural):
         raise SymlearnError("--features names the observation's entries for a DNF cost: give --cost RULES.dnf")
+    if args.algo in SB3_ALGOS:
+        ours = [flag for flag, given in (("--normalize-observations", args.normalize_observations),
+                                         ("--normalize-values", args.normalize_values),
+                                         ("--advantage-scale", args.advantage_scale != "raw")) if given]
+        if ours:
+            raise SymlearnError(f"{ours[0]} is an option of our PPO (--algo ppo|ppo-lag), not of --algo {args.algo}")
     if args.output and str(args.output).endswith(".zip"):
         raise SymlearnError("symlearn writes policies as .safetensors + .json, never stable-baselines3's "
                             "pickled .zip", hint="-o agent.safetensors")

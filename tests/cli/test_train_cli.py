@@ -103,6 +103,7 @@ def _one_line(code, err, *needles):
     (("-o", "agent.zip"), "never stable-baselines3's pickled .zip"),
     (("--env-kwargs", '{"gravity": 1}'), "unknown --env-kwargs key 'gravity'"),
     (("--env-kwargs", "[1]"), "must be a JSON object"),
+    (("--algo", "sb3-ppo", "--normalize-values"), "--normalize-values is an option of our PPO"),
 ])
 def test_bad_numbers_and_choices_are_one_line(capsys, flags, needle):
     _one_line(*run(capsys, "train", "--env", "CartPole-v1", *flags)[::2], needle)
