@@ -43,6 +43,7 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any) -> dict[str, Any
     from stable_baselines3.common.vec_env import DummyVecEnv
 
     from symlearn.backends.lagrangian import LagrangianReward, SharedMultipliers, StepCostWrapper
+    from symlearn.errors import SymlearnError
     from symlearn.rl.ppo import LagrangianConfig
 
     seed = getattr(args, "seed", 0) or 0
@@ -78,7 +79,14 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any) -> dict[str, Any
     threads = torch.get_num_threads()
     torch.set_num_threads(1)   # small networks: one thread is faster and leaves the cores to the others
     try:
-        model = algorithm("MlpPolicy", venv, **settings)
+        from gymnasium import spaces
+
+        policy = "MultiInputPolicy" if isinstance(venv.observation_space, spaces.Dict) else "MlpPolicy"
+        try:
+            model = algorithm(policy, venv, **settings)
+        except (ValueError, NotImplementedError, AssertionError, KeyError) as exc:  # SB3's checks of the spaces
+            raise SymlearnError(f"stable-baselines3 {algorithm.__name__} cannot train on {target.display}: "
+                                f"{type(exc).__name__}: {exc}") from None
         callback = lagrangian_callback(multipliers, cost_key=cost_key) if lagrangian else None
         started = time.perf_counter()
         model.learn(args.steps, callback=callback)

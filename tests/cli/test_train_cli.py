@@ -214,6 +214,26 @@ def test_stable_baselines3_learners_on_a_user_module(capsys, tmp_path):
     _one_line(code, err, "DQN acts only in Discrete action spaces")
 
 
+def test_stable_baselines3_on_observations_it_cannot_read_is_one_line(capsys):
+    pytest.importorskip("stable_baselines3")
+    import gymnasium as gym
+
+    class Pair(gym.Env):
+        observation_space = gym.spaces.Tuple((gym.spaces.Discrete(3), gym.spaces.Discrete(2)))
+        action_space = gym.spaces.Discrete(2)
+
+        def reset(self, *, seed=None, options=None):
+            return (0, 0), {}
+
+        def step(self, action):
+            return (0, 0), 0.0, True, False, {}
+
+    if "TestPairObservation-v0" not in gym.registry:
+        gym.register("TestPairObservation-v0", entry_point=Pair)
+    code, _, err = run(capsys, "train", "--env", "TestPairObservation-v0", "--algo", "sb3-ppo", "--steps", 64)
+    _one_line(code, err, "cannot train on TestPairObservation-v0")
+
+
 def test_stable_baselines3_absent_is_one_line_naming_the_extra(capsys, monkeypatch):
     from symlearn import optional
 
