@@ -1,0 +1,144 @@
+"""Reading other tools' HDF5 files (D4RL, Minari) without trusting what they declare.
+
+h5py reads a dataset into one array of the size its header declares, so every dataset a reader
+will read is checked first, from its header only: a plain number or boolean dtype (object,
+variable-length, string, reference, compound and sub-array dtypes are refused: symlearn never
+needs them, and object data is where pickles hide), stored inside the file (external links,
+external raw storage and virtual datasets would read other files), and the declared sizes of
+all of them summed against ``SYMLEARN_MAX_ARRAY_MB``, as for NPZ archives
+(:mod:`symlearn.input_limits`). The file's own size is bounded by the same limit.
+
+h5py is optional (the ``formats`` extra); without it these readers raise
+:class:`~symlearn.errors.MissingDependencyError`.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Iterable
+from contextlib import contextmanager
+from pathlib import Path
+from typing import Any, Iterator
+
+import numpy as np
+
+from symlearn.errors import DataError, OptionalDependency
+from symlearn.input_limits import check_size
+
+H5PY = OptionalDependency("h5py", "pip install 'symlearn[formats]' (or: pip install h5py)")
+
+#: the first bytes of every HDF5 file (a user block may push them further, which we do not read)
+SIGNATURE = b"\x89HDF\r\n\x1a\n"
+
+
+def h5py_module() -> Any:
+    try:
+        import h5py
+    except ImportError:
+        raise H5PY.error("reading and writing HDF5 files") from None
+    return h5py
+
+
+def is_hdf5(path: str | os.PathLike[str]) -> bool:
+    """Whether ``path`` starts with the HDF5 signature (reads eight bytes)."""
+    try:
+        with open(path, "rb") as handle:
+            return handle.read(len(SIGNATURE)) == SIGNATURE
+    except OSError:
+        return False
+
+
+@contextmanager
+def open_hdf5(path: str | os.PathLike[str]) -> Iterator[Any]:
+    """The file opened read-only, after its size is checked; a file that is no HDF5 is a
+    located :class:`DataError` (a missing or unreadable file keeps its OS error)."""
+    h5py = h5py_module()
+    path = Path(path)
+    check_size(path.stat().st_size, "SYMLEARN_MAX_ARRAY_MB", what="file size", file=path)
+    try:
+        handle = h5py.File(path, "r")
+    except OSError as exc:
+        if isinstance(exc, (FileNotFoundError, PermissionError, IsADirectoryError)):
+            raise
+        raise DataError(f"not a readable HDF5 file ({_reason(exc)})", file=path) from None
+    with handle:
+        yield handle
+
+
+def _reason(exc: BaseException) -> str:
+    # h5py's messages carry the C library's call chain in parentheses; the first clause says it.
+    text = str(exc)
+    return text.split(" (", 1)[0] if " (" in text else text
+
+
+def member(path: Path, group: Any, name: str, *, required: bool = True) -> Any:
+    """``group[name]`` if it is a dataset or group stored in this file; ``None`` when absent
+    and not ``required``. External links are refused before h5py follows them."""
+    h5py = h5py_module()
+    where = f"{group.name.rstrip('/')}/{name}"
+    try:
+        link = group.get(name, getlink=True)
+    except (OSError, KeyError, ValueError) as exc:
+        raise DataError(f"{where!r} cannot be read ({_reason(exc)})", file=path) from None
+    if link is None:
+        if required:
+            raise DataError(f"has no {where!r}", file=path)
+        return None
+    if isinstance(link, h5py.ExternalLink):
+        raise DataError(f"{where!r} is a link to another file ({link.filename}); symlearn reads only what "
+                        "is inside the file", file=path)
+    try:
+        return group[name]
+    except (OSError, KeyError, ValueError) as exc:
+        raise DataError(f"{where!r} cannot be read ({_reason(exc)})", file=path) from None
+
+
+def check_dataset(path: Path, dataset: Any) -> tuple[np.dtype, tuple[int, ...]]:
+    """``(dtype, shape)`` of a dataset that is plain numbers or booleans stored in this file."""
+    h5py = h5py_module()
+    name = dataset.name
+    if not isinstance(dataset, h5py.Dataset):
+        raise DataError(f"{name!r} is a group, expected an array", file=path)
+    if dataset.shape is None:
+        raise DataError(f"{name!r} is an empty (null) dataset", file=path)
+    dtype = dataset.dtype
+    special = (h5py.check_vlen_dtype(dtype) is not None or h5py.check_string_dtype(dtype) is not None
+               or h5py.check_ref_dtype(dtype) is not None)
+    if special or dtype.hasobject or dtype.names is not None or dtype.subdtype is not None \
+            or dtype.kind not in "biuf":
+        raise DataError(f"{name!r} has dtype {dtype.str!r}; symlearn reads only plain numbers and booleans "
+                        "from HDF5 (no strings, variable-length or object data)", file=path)
+    if dataset.is_virtual or dataset.external:
+        raise DataError(f"{name!r} is stored outside the file (a virtual or external dataset); symlearn reads "
+                        "only what is inside the file", file=path)
+    return dtype, tuple(int(n) for n in dataset.shape)
+
+
+def declared_bytes(datasets: Iterable[Any], path: Path) -> int:
+    """Check every dataset and the sum of their declared sizes against ``SYMLEARN_MAX_ARRAY_MB``
+    before any of them is read."""
+    total = 0
+    for dataset in datasets:
+        dtype, shape = check_dataset(path, dataset)
+        count = 1
+        for extent in shape:
+            count *= extent
+        total += count * dtype.itemsize
+        check_size(total, "SYMLEARN_MAX_ARRAY_MB",
+                   what=f"declared size (dataset {dataset.name!r} and those before it)", file=path)
+    return total
+
+
+def read(path: Path, dataset: Any) -> np.ndarray:
+    """The whole dataset as an array (checked already by :func:`declared_bytes`); a broken
+    chunk or an unavailable compression filter is a located :class:`DataError`."""
+    try:
+        return np.asarray(dataset[()])
+    except (OSError, ValueError, TypeError, RuntimeError) as exc:
+        raise DataError(f"{dataset.name!r} cannot be read ({_reason(exc)})", file=path) from None
+
+
+def top_level_names(path: str | os.PathLike[str]) -> list[str]:
+    """The names at the root of an HDF5 file (to tell a Minari file from a D4RL table)."""
+    with open_hdf5(path) as handle:
+        return list(handle.keys())
