@@ -25,7 +25,9 @@ import numpy as np
 from symlearn.errors import DataError, OptionalDependency
 from symlearn.input_limits import check_size
 
-H5PY = OptionalDependency("h5py", "pip install 'symlearn[formats]' (or: pip install h5py)")
+# worded as symlearn.optional words the extras' hints
+H5PY = OptionalDependency("h5py", "installed by `make test`; else .venv/bin/pip install -e '.[formats]' "
+                                  "(from a wheel: pip install 'symlearn[formats]')")
 
 #: the first bytes of every HDF5 file (a user block may push them further, which we do not read)
 SIGNATURE = b"\x89HDF\r\n\x1a\n"
