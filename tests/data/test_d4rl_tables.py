@@ -199,3 +199,21 @@ def test_cli_converts_to_and_from_d4rl(tmp_path, run_cli):
     (tmp_path / "junk.hdf5").write_bytes(b"\x89HDF\r\n\x1a\n" + b"\0" * 40)
     done = run_cli("data", "validate", "junk.hdf5", cwd=tmp_path)
     assert done.returncode == 2 and done.stderr.count("\n") == 1 and "junk.hdf5: not a readable HDF5 file" in done.stderr
+
+
+def test_an_hdf5_bomb_is_refused_in_one_line_without_reading(tmp_path):
+    """4 GB declared in a file of a few KB; with the size limit lifted, the row counts still stop
+    it before a byte is read (the child stays far below the 4 GB)."""
+    from hostile import check
+
+    with h5py.File(tmp_path / "bomb.hdf5", "w") as handle:
+        handle.create_dataset("observations", shape=(2**29,), dtype="f8", chunks=(2**16,), compression="gzip")
+        handle["actions"] = np.zeros(3)
+        handle["terminals"] = np.zeros(3, dtype=bool)
+    assert (tmp_path / "bomb.hdf5").stat().st_size < 100_000
+    check(["data", "info", "bomb.hdf5"], cwd=tmp_path, timeout=60, memory_mb=1024, names="bomb.hdf5",
+          contains=["SYMLEARN_MAX_ARRAY_MB", "4 GB"])
+    result = check(["data", "convert", "bomb.hdf5", "out.npz"], cwd=tmp_path, timeout=60, memory_mb=1024,
+                   env={"SYMLEARN_MAX_ARRAY_MB": "0"}, names="bomb.hdf5", contains="'actions' has 3 rows",
+                   outputs=[tmp_path / "out.npz"])
+    assert result.max_rss_mb < 400
