@@ -35,6 +35,8 @@ from __future__ import annotations
 import io
 import json
 import os
+import zipfile
+import zlib
 from pathlib import Path
 from typing import Any, Callable
 
@@ -132,7 +134,10 @@ def read_d4rl_npz(path: str | os.PathLike[str]) -> Demonstrations:
     if not isinstance(archive, np.lib.npyio.NpzFile):
         raise DataError("holds a single array, not a D4RL table", file=path)
     with archive:
-        return _from_table(path, shapes, lambda name: archive[name])
+        try:
+            return _from_table(path, shapes, lambda name: archive[name])
+        except (ValueError, EOFError, zipfile.BadZipFile, OSError, zlib.error, RuntimeError) as exc:  # truncated ...
+            raise DataError(f"malformed archive: {exc}", file=path) from None
 
 
 def read_d4rl_hdf5(path: str | os.PathLike[str]) -> Demonstrations:
@@ -194,7 +199,7 @@ def _from_table(path: Path, shapes: dict[str, tuple[int, ...]], read: Callable[[
         labels = None
         if header is not None:
             info = header["info"][i]
-            labels = None if header["labels"] is None else header["labels"][i]
+            labels = None if header.get("labels") is None else header["labels"][i]
         try:
             trajectories.append(Trajectory(states, actions[start:stop],
                                            None if rewards is None else rewards[start:stop], labels, info))

@@ -85,7 +85,7 @@ def _npz_members(path: Path) -> set[str]:
     try:
         with zipfile.ZipFile(path) as archive:
             return {name[:-4] for name in archive.namelist() if name.endswith(".npy")}
-    except (zipfile.BadZipFile, OSError, ValueError, EOFError):
+    except (zipfile.BadZipFile, zipfile.LargeZipFile, OSError, ValueError, EOFError, NotImplementedError, RuntimeError):
         return set()
 
 

@@ -63,8 +63,23 @@ def open_hdf5(path: str | os.PathLike[str]) -> Iterator[Any]:
         if isinstance(exc, (FileNotFoundError, PermissionError, IsADirectoryError)):
             raise
         raise DataError(f"not a readable HDF5 file ({_reason(exc)})", file=path) from None
-    with handle:
-        yield handle
+    try:
+        with handle:
+            yield handle
+    except (OSError, RuntimeError, KeyError, ValueError, TypeError, IndexError) as exc:
+        # A damaged file fails wherever h5py next reads its structure (a group's keys, a shape, an
+        # attribute); what h5py raised is the file's fault, anything else is ours and propagates.
+        if isinstance(exc, (FileNotFoundError, PermissionError)) or not _raised_in_h5py(exc):
+            raise
+        raise DataError(f"damaged HDF5 file ({_reason(exc)})", file=path) from None
+
+
+def _raised_in_h5py(exc: BaseException) -> bool:
+    """Whether the innermost frame of ``exc`` is h5py's (its compiled modules included)."""
+    frame = exc.__traceback__
+    while frame is not None and frame.tb_next is not None:
+        frame = frame.tb_next
+    return frame is not None and str(frame.tb_frame.f_globals.get("__name__", "")).startswith("h5py")
 
 
 def _reason(exc: BaseException) -> str:
@@ -100,7 +115,7 @@ def check_dataset(path: Path, dataset: Any) -> tuple[np.dtype, tuple[int, ...]]:
     h5py = h5py_module()
     name = dataset.name
     if not isinstance(dataset, h5py.Dataset):
-        raise DataError(f"{name!r} is a group, expected an array", file=path)
+        raise DataError(f"{name!r} is a {type(dataset).__name__.lower()}, expected an array", file=path)
     if dataset.shape is None:
         raise DataError(f"{name!r} is an empty (null) dataset", file=path)
     dtype = dataset.dtype
@@ -140,7 +155,16 @@ def read(path: Path, dataset: Any) -> np.ndarray:
         raise DataError(f"{dataset.name!r} cannot be read ({_reason(exc)})", file=path) from None
 
 
+def names(path: Path, group: Any) -> list[str]:
+    """The member names of ``group``; a name that does not decode as text is a damaged file."""
+    found = list(group.keys())
+    for name in found:
+        if not isinstance(name, str):
+            raise DataError(f"{group.name!r} has a member whose name is not text ({name!r})", file=path)
+    return found
+
+
 def top_level_names(path: str | os.PathLike[str]) -> list[str]:
     """The names at the root of an HDF5 file (to tell a Minari file from a D4RL table)."""
     with open_hdf5(path) as handle:
-        return list(handle.keys())
+        return names(Path(path), handle)

@@ -96,8 +96,11 @@ def _observation_leaves(path: Path, node: Any, prefix: tuple[str, ...]) -> list[
     h5py = h5.h5py_module()
     if isinstance(node, h5py.Dataset):
         return [(leaf_name(prefix), node)]
+    if not isinstance(node, h5py.Group):
+        raise DataError(f"{node.name!r} is a {type(node).__name__.lower()}, expected an array or a group",
+                        file=path)
     leaves = []
-    for key in ordered_keys(node.keys()):
+    for key in ordered_keys(h5.names(path, node)):
         leaves += _observation_leaves(path, h5.member(path, node, key), prefix + (key,))
     return leaves
 
@@ -109,7 +112,7 @@ def read_minari(path: str | os.PathLike[str]) -> Demonstrations:
     env_spec = _embedded_json(doc, "env_spec", metadata_file)
     h5py = h5.h5py_module()
     with h5.open_hdf5(data_file) as handle:
-        names = [name for name in handle.keys() if _EPISODE.match(name)]
+        names = [name for name in h5.names(data_file, handle) if _EPISODE.match(name)]
         if not names:
             raise DataError("holds no episode_<i> groups: not a Minari dataset", file=data_file)
         names.sort(key=lambda name: int(_EPISODE.match(name).group(1)))
@@ -161,7 +164,7 @@ def _plan_episode(path: Path, handle: Any, name: str, h5py: Any) -> dict[str, An
                         "actions only", file=path)
     columns = {key: h5.member(path, group, key) for key in ("actions", "rewards", "terminations", "truncations")}
     info_group = h5.member(path, group, "infos", required=False)
-    infos = list(info_group.keys()) if isinstance(info_group, h5py.Group) else []
+    infos = h5.names(path, info_group) if isinstance(info_group, h5py.Group) else []
     seed = group.attrs.get("seed")
     return {"name": name, "tree": tree, "observations": observations, "columns": columns, "infos": infos,
             "seed": int(seed) if isinstance(seed, (int, np.integer)) else None,

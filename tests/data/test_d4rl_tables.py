@@ -217,3 +217,60 @@ def test_an_hdf5_bomb_is_refused_in_one_line_without_reading(tmp_path):
                    env={"SYMLEARN_MAX_ARRAY_MB": "0"}, names="bomb.hdf5", contains="'actions' has 3 rows",
                    outputs=[tmp_path / "out.npz"])
     assert result.max_rss_mb < 400
+
+
+def test_mutated_tables_and_minari_files_never_crash_the_reader(tmp_path):
+    """300 seeded mutants of a D4RL HDF5 table, a D4RL NPZ table and a Minari-shaped HDF5 file
+    (bytes flipped, inserted, deleted, truncated; NPZ members rewritten), read in a child with
+    1 GB: each is read or refused with a SymlearnError, nothing else."""
+    from hostile import run_python
+
+    code = f"""
+import json, random
+from pathlib import Path
+import h5py, numpy as np
+from fuzz_inputs import TEXT_MUTATIONS, npz_mutants
+from symlearn.data import Demonstrations, Trajectory, load
+from symlearn.errors import SymlearnError
+
+folder = Path({str(tmp_path)!r})
+demos = Demonstrations([Trajectory(np.arange(8.0).reshape(4, 2), [0, 1, 0], [1.0, 0.0, 2.0], info={{"terminated": True}}),
+                        Trajectory(np.ones((3, 2)), [1, 1], [0.5, 0.5], labels=None)], metadata={{"env": "x"}})
+demos.save(folder / "t.hdf5")
+demos.save(folder / "t.npz", format="d4rl")
+with h5py.File(folder / "main_data.hdf5", "w") as handle:
+    for i, t in enumerate(demos):
+        handle[f"episode_{{i}}/observations"] = t.states
+        handle[f"episode_{{i}}/actions"] = t.actions
+        handle[f"episode_{{i}}/rewards"] = t.rewards
+        handle[f"episode_{{i}}/terminations"] = np.eye(t.n_actions, dtype=bool)[-1]
+        handle[f"episode_{{i}}/truncations"] = np.zeros(t.n_actions, dtype=bool)
+        handle[f"episode_{{i}}"].attrs["seed"] = i
+assert len(load(folder / "main_data.hdf5")) == 2
+rng = random.Random(7)
+seeds = [(name, (folder / name).read_bytes()) for name in ("t.hdf5", "t.npz", "main_data.hdf5")]
+crashes, outcomes = [], {{"read": 0, "refused": 0}}
+for i in range(300):
+    name, data = seeds[i % 3]
+    if name.endswith(".npz") and rng.random() < 0.7:
+        mutation, mutated = npz_mutants(data, rng)
+    else:
+        mutation = rng.choice(["flip", "flip", "insert", "delete", "truncate"])
+        mutated = TEXT_MUTATIONS[mutation](data, rng)
+    target = folder / "work" / str(i) / name
+    target.parent.mkdir(parents=True)
+    target.write_bytes(mutated)
+    try:
+        load(target)
+        outcomes["read"] += 1
+    except SymlearnError:
+        outcomes["refused"] += 1
+    except Exception as exc:
+        crashes.append([name, mutation, f"{{type(exc).__name__}}: {{exc}}"])
+print(json.dumps({{"crashes": crashes, "outcomes": outcomes}}))
+"""
+    result = run_python(code, cwd=tmp_path, timeout=120, memory_mb=1024)
+    assert result.returncode == 0, result.describe()
+    report = json.loads(result.stdout.strip().splitlines()[-1])
+    assert not report["crashes"], json.dumps(report["crashes"], indent=1)
+    assert report["outcomes"]["refused"] > 50
