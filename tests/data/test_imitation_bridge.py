@@ -125,3 +125,10 @@ def test_what_does_not_fit_is_refused_with_the_trajectory_named():
         to_imitation(Demonstrations([Trajectory(["a", "b"], [0])]), classes=CLASSES)
     with pytest.raises(DataError, match="no actions"):
         to_imitation(Demonstrations([Trajectory([0, 1])]), classes=CLASSES)
+
+
+def test_tuple_entries_are_taken_in_index_order():
+    obs = DictObs({f"_index_{i}": np.full((2, 1), float(i)) for i in (10, 2, 0)})
+    demos = from_imitation([ImitationTrajectory(obs=obs, acts=np.zeros(1), infos=None, terminal=True)])
+    assert demos.metadata["feature_names"] == ["0[0]", "2[0]", "10[0]"]
+    np.testing.assert_array_equal(demos[0].states[0], [0.0, 2.0, 10.0])
