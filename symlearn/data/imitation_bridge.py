@@ -24,7 +24,7 @@ import numpy as np
 
 from symlearn.data import kinds
 from symlearn.data.demonstrations import Demonstrations
-from symlearn.data.flat_observations import flatten_leaves, ordered_keys
+from symlearn.data.flat_observations import flatten_leaves, leaf_name, ordered_keys
 from symlearn.data.trajectory import Trajectory
 from symlearn.errors import DataError
 
@@ -54,16 +54,14 @@ def _observation_dict(obs: Any) -> Mapping[str, Any] | None:
     return inner if isinstance(inner, Mapping) else None
 
 
-def _flat_leaves(tree: Mapping[str, Any], prefix: str, what: str) -> list[tuple[str, np.ndarray]]:
+def _flat_leaves(tree: Mapping[str, Any], prefix: tuple[str, ...] = ()) -> list[tuple[str, np.ndarray]]:
     leaves = []
     for key in ordered_keys(tree.keys()):
-        value = tree[key]
-        name = f"{prefix}{key}"
-        nested = _observation_dict(value)
+        nested = _observation_dict(tree[key])
         if nested is not None:
-            leaves += _flat_leaves(nested, f"{name}.", what)
+            leaves += _flat_leaves(nested, prefix + (key,))
         else:
-            leaves.append((name, np.asarray(value)))
+            leaves.append((leaf_name(prefix + (key,)), np.asarray(tree[key])))
     return leaves
 
 
@@ -79,7 +77,7 @@ def from_imitation(trajectories: Iterable[Any], *, metadata: Mapping[str, Any] |
         names = None
         try:
             if tree is not None:
-                states, names = flatten_leaves(_flat_leaves(tree, "", f"trajectory {i}"), f"trajectory {i} obs")
+                states, names = flatten_leaves(_flat_leaves(tree), f"trajectory {i} obs")
             else:
                 states = np.asarray(traj.obs)
             actions = np.asarray(traj.acts)
