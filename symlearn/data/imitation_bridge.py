@@ -56,6 +56,9 @@ def _observation_dict(obs: Any) -> Mapping[str, Any] | None:
 
 def _flat_leaves(tree: Mapping[str, Any], prefix: tuple[str, ...] = ()) -> list[tuple[str, np.ndarray]]:
     leaves = []
+    odd = [key for key in tree.keys() if not isinstance(key, str)]
+    if odd:
+        raise DataError(f"observation keys must be strings, got {odd[0]!r}")
     for key in ordered_keys(tree.keys()):
         nested = _observation_dict(tree[key])
         if nested is not None:

@@ -88,7 +88,7 @@ def _embedded_json(doc: dict, key: str, path: Path | None) -> Any:
 
 def _is_jpeg_image_space(space: Any) -> bool:
     return (isinstance(space, dict) and space.get("type") == "Box" and space.get("dtype") == "uint8"
-            and len(space.get("shape") or ()) == 3)
+            and len(space.get("shape") or ()) in (2, 3))
 
 
 def _observation_leaves(path: Path, node: Any, prefix: tuple[str, ...]) -> list[tuple[str, Any]]:
@@ -117,22 +117,22 @@ def read_minari(path: str | os.PathLike[str]) -> Demonstrations:
             raise DataError("holds no episode_<i> groups: not a Minari dataset", file=data_file)
         names.sort(key=lambda name: int(_EPISODE.match(name).group(1)))
         plans = [_plan_episode(data_file, handle, name, h5py) for name in names]
-        h5.declared_bytes([ds for plan in plans for ds in plan["datasets"]], data_file)
-        if doc.get("jpeg_encoding") and _is_jpeg_image_space(observation_space):
+        if doc.get("jpeg_encoding") and _is_jpeg_image_space(observation_space) and plans[0]["tree"] is None:
+            # Minari stores such frames as JPEG bytes (ragged ones as variable-length arrays)
             expected = tuple(observation_space["shape"])
-            shape = plans[0]["observations"][0][1].shape[1:]
-            if plans[0]["tree"] is None and shape != expected:
+            shape = tuple(plans[0]["observations"][0][1].shape or ())[1:]
+            if shape != expected:
                 raise DataError(f"image observations are stored JPEG-encoded (per-step shape {shape}, the space "
                                 f"says {expected}); symlearn does not decode images", file=data_file,
                                 hint="collect the dataset again with jpeg_encoding off, or convert it with minari")
+        h5.declared_bytes([ds for plan in plans for ds in plan["datasets"]], data_file)
         trajectories, infos, feature_names = [], set(), None
-        for plan in plans:
+        for i, plan in enumerate(plans):
             trajectory, columns = _read_episode(data_file, plan)
-            if feature_names is None:
-                feature_names = columns
-            elif columns != feature_names:
-                raise DataError(f"{plan['name']!r}: observation entries {columns} differ from episode 0's",
-                                file=data_file)
+            if i and columns != feature_names:
+                raise DataError(f"{plan['name']!r}: observation entries {columns} differ from those of "
+                                f"{plans[0]['name']!r} ({feature_names})", file=data_file)
+            feature_names = columns
             trajectories.append(trajectory)
             infos.update(plan["infos"])
     metadata: dict[str, Any] = {"source_format": "minari"}

@@ -190,3 +190,39 @@ def test_without_h5py_the_error_says_how_to_install(cartpole, monkeypatch):
     with pytest.raises(MissingDependencyError, match="h5py") as caught:
         load(folder)
     assert "symlearn[formats]" in caught.value.hint
+
+
+class Frames(gym.Env):
+    """Image observations; Minari stores those of 32 x 32 pixels and more JPEG-encoded by default."""
+
+    action_space = spaces.Discrete(2)
+
+    def __init__(self, side):
+        self.observation_space = spaces.Box(0, 255, (side, side, 3), dtype=np.uint8)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        return self.observation_space.sample(), {}
+
+    def step(self, action):
+        return self.observation_space.sample(), 0.0, False, True, {}
+
+
+@pytest.mark.parametrize("side", [8, 32])
+def test_small_images_are_read_and_jpeg_encoded_ones_refused_clearly(tmp_path, monkeypatch, side):
+    from minari import DataCollector
+
+    monkeypatch.setenv("MINARI_DATASETS_PATH", str(tmp_path / "minari"))
+    collector = DataCollector(Frames(side))
+    for seed in (0, 1):
+        collector.reset(seed=seed)
+        collector.step(0)
+    collector.create_dataset(dataset_id="frames/test-v0", author="t", author_email="t@example.org",
+                             code_permalink="none", algorithm_name="random")
+    folder = tmp_path / "minari" / "frames" / "test-v0"
+    if side < 32:
+        demos = load(folder)
+        assert demos.state_kind == "image" and demos[0].states.shape == (2, side, side, 3)
+    else:
+        with pytest.raises(DataError, match=r"JPEG-encoded .* the space says \(32, 32, 3\)"):
+            load(folder)
