@@ -29,9 +29,6 @@ from symlearn.input_limits import check_size
 H5PY = OptionalDependency("h5py", "installed by `make test`; else .venv/bin/pip install -e '.[formats]' "
                                   "(from a wheel: pip install 'symlearn[formats]')")
 
-#: the first bytes of every HDF5 file (a user block may push them further, which we do not read)
-SIGNATURE = b"\x89HDF\r\n\x1a\n"
-
 
 def h5py_module() -> Any:
     try:
@@ -39,15 +36,6 @@ def h5py_module() -> Any:
     except ImportError:
         raise H5PY.error("reading and writing HDF5 files") from None
     return h5py
-
-
-def is_hdf5(path: str | os.PathLike[str]) -> bool:
-    """Whether ``path`` starts with the HDF5 signature (reads eight bytes)."""
-    try:
-        with open(path, "rb") as handle:
-            return handle.read(len(SIGNATURE)) == SIGNATURE
-    except OSError:
-        return False
 
 
 @contextmanager
@@ -83,9 +71,8 @@ def _raised_in_h5py(exc: BaseException) -> bool:
 
 
 def _reason(exc: BaseException) -> str:
-    # h5py's messages carry the C library's call chain in parentheses; the first clause says it.
-    text = str(exc)
-    return text.split(" (", 1)[0] if " (" in text else text
+    # h5py's message, on one line (the CLI prints errors as one line)
+    return " ".join(str(exc).split())
 
 
 def member(path: Path, group: Any, name: str, *, required: bool = True) -> Any:
