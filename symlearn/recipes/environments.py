@@ -208,6 +208,14 @@ class EnvTarget:
         """A zero-argument constructor (for vectorised training)."""
         return self.make
 
+    def make_numeric(self) -> Any:
+        """:meth:`make` seen through :func:`~symlearn.recipes.spaces.numeric_observations`: one
+        ``Box`` (or ``Discrete``) observation that PPO and learned costs read, whatever the
+        environment observes (MiniGrid's ``Dict`` with a text field, a goal-conditioned ``Dict``)."""
+        from symlearn.recipes.spaces import numeric_observations
+
+        return numeric_observations(self.make())
+
     # names -------------------------------------------------------------------------------------
 
     def features(self, env: Any = None, override: str | Sequence[str] | None = None) -> Features | None:
@@ -253,13 +261,16 @@ class EnvTarget:
         return None if found is None else found.names
 
     def observation_names(self, env: Any) -> tuple[str, ...] | None:
-        """Names of the flattened observation's entries: ``observation_names``, else
-        ``feature_names`` when they name the observation itself (no ``info["features"]``)."""
+        """Names of the flattened observation's entries: ``observation_names``, else the
+        feature names when there is one per observation entry (the common case of features
+        that are the observation; a different count names something else)."""
         names = getattr(env.unwrapped, "observation_names", None)
         if names is not None:
             return tuple(names)
         found = self.features(env)
-        return found.names if found is not None and found.source == "observation" else None
+        if found is None:
+            return None
+        return found.names if found.source == "observation" or len(found.names) == _observation_width(env) else None
 
     def reports_cost(self, env: Any = None) -> bool:
         """Whether the environment reports a ground-truth cost (``info["cost"]`` after a step;
