@@ -68,7 +68,8 @@ class _Columns:
         self.initial = int(machine.initial)
         self.n_states = int(machine.n_states)
 
-    def __call__(self, label: frozenset) -> MachineTables:
+    def __call__(self, label) -> MachineTables:
+        label = frozenset(label)
         found = self._cache.get(label)
         if found is None:
             found = self._cache[label] = MachineTables.compile(self.machine, [label])
@@ -189,7 +190,7 @@ def rollout_words(env: Any, labeler: Labeler, n: int, *, policy: ProductQResult 
     words, total, count = [], 0.0, 0
     for episode in range(n):
         observation, info = env.reset(seed=int(rng.integers(1 << 31)))
-        label = labeler(observation, info, f"rollout {episode}, step 0")
+        label = frozenset(labeler(observation, info, f"rollout {episode}, step 0"))
         word = [label]
         u = None
         if policy is not None:
@@ -205,7 +206,7 @@ def rollout_words(env: Any, labeler: Labeler, n: int, *, policy: ProductQResult 
                 total += float(-(nz * np.log(nz)).sum() / np.log(n_a)) if n_a > 1 else 0.0
             count += 1
             observation, _reward, terminated, truncated, info = env.step(a)
-            label = labeler(observation, info, f"rollout {episode}, step {t + 1}")
+            label = frozenset(labeler(observation, info, f"rollout {episode}, step {t + 1}"))
             word.append(label)
             ended = terminated or truncated
             if policy is not None:
