@@ -58,7 +58,7 @@ class FunctionLabeling(LabelingBase):
 
     def __init__(self, function: Callable[[Any, Mapping[str, Any]], Iterable[str]],
                  propositions: Iterable[str] | None = None, *, meanings: Mapping[str, str] | None = None,
-                 name: str | None = None) -> None:
+                 name: str | None = None, path: str | None = None) -> None:
         if not callable(function):
             raise DataError(f"{name or function!r} is not callable")
         from symlearn.data.recording import labeler_arity
@@ -66,6 +66,7 @@ class FunctionLabeling(LabelingBase):
         self.function = function
         self.arity = labeler_arity(function)
         self.name = name or getattr(function, "__name__", "labeling function")
+        self.path = path  # the file it came from: errors name it (and the line that raised)
         self.declared = propositions is not None
         props = [] if propositions is None else list(propositions)
         for p in props:
@@ -95,19 +96,21 @@ class FunctionLabeling(LabelingBase):
         try:
             found = self.function(*arguments)
         except Exception as exc:  # the user's code: any error it raises is reported, named
-            raise DataError(f"labeling function {self.name} raised {type(exc).__name__}: {exc}{at}") from None
+            raise DataError(f"labeling function {self.name} raised {type(exc).__name__}: {exc}{at}", file=self.path,
+                            line=_line_in(exc, self.path)) from None
         if isinstance(found, (str, bytes)) or not isinstance(found, Iterable):
             raise DataError(f"labeling function {self.name} returned {type(found).__name__} {found!r}{at}; "
-                            f"it must return a list or set of proposition names")
+                            f"it must return a list or set of proposition names", file=self.path)
         names = list(found)
         odd = [n for n in names if not isinstance(n, str) or not n]
         if odd:
-            raise DataError(f"labeling function {self.name} returned {odd[0]!r}{at}, which is not a "
-                            f"proposition name (a non-empty string)")
+            raise DataError(f"labeling function {self.name} returned {type(odd[0]).__name__} {odd[0]!r}{at}, which "
+                            f"is not a proposition name (a non-empty string)", file=self.path)
         if self.declared:
             unknown = [n for n in names if n not in self._props]
             if unknown:
                 raise DataError(f"labeling function {self.name} returned unknown proposition {unknown[0]!r}{at}",
+                                file=self.path,
                                 hint="declared: " + (", ".join(self._props) or "none") +
                                      " (PROPOSITIONS in the module or the function's propositions attribute)")
         else:
@@ -159,10 +162,23 @@ def load_labeling_function(spec: str) -> FunctionLabeling:
     if declared is None:
         declared = getattr(module, "PROPOSITIONS", None)
     if declared is not None and (isinstance(declared, (str, bytes)) or not isinstance(declared, Iterable)):
-        raise DataError(f"{path_text}: the declared propositions must be a list of names, got {declared!r}")
+        raise DataError(f"the declared propositions must be a list of names, got {declared!r}", file=path_text)
     meanings = getattr(module, "MEANINGS", None)
     return FunctionLabeling(function, None if declared is None else list(declared),
-                            meanings=meanings if isinstance(meanings, Mapping) else None, name=f"{path.name}:{attr}")
+                            meanings=meanings if isinstance(meanings, Mapping) else None, name=attr, path=path_text)
+
+
+def _line_in(exc: BaseException, path: str | None) -> int | None:
+    """The line of ``path`` where ``exc`` was raised (the innermost frame in that file)."""
+    if path is None:
+        return None
+    target, line = str(Path(path).resolve()), None
+    tb = exc.__traceback__
+    while tb is not None:
+        if str(Path(tb.tb_frame.f_code.co_filename).resolve()) == target:
+            line = tb.tb_lineno
+        tb = tb.tb_next
+    return line
 
 
 def read_labeling(spec: str, *, feature_names: Sequence[str] | None = None):

@@ -16,6 +16,7 @@ from cli_runner import run  # noqa: E402
 from minigrid_tasks import DOORKEY_ACTIONS, PlannedPolicy, doorkey_solved, room_demonstrator  # noqa: E402
 
 from symlearn.data import Demonstrations, record  # noqa: E402
+from symlearn.errors import DataError  # noqa: E402
 from symlearn.grounding.labeling_function import load_labeling_function  # noqa: E402
 from symlearn.learners.temporal.spec_from_demos import SpecLearner  # noqa: E402
 from symlearn.logic.ltlf import holds, parse  # noqa: E402
@@ -91,3 +92,23 @@ def test_room_preferred_order_cli(capsys, tmp_path):
     formula = parse(json.loads(out)["formula"])
     assert parse("a T b") in list(subformulas(formula))
     assert not holds(formula, [frozenset(), frozenset({"b"}), frozenset({"a"})])  # the other order fails
+
+
+def test_unlabelled_demonstrations_are_replayed_for_a_labeling_reading_info():
+    """The room's labeling reads ``info``, which a file does not keep: the learner replays the
+    recorded actions from each episode's seed to label them, as they were labelled live."""
+    from symlearn.data import Trajectory
+    from symlearn.learners.temporal.spec_env_world import EnvWorld
+
+    env = gym.make("TwoTileRoom-v0")
+    labeling = load_labeling_function(ROOM_LABELS)
+    live = record(env, room_demonstrator(env), 3, seed=0, labeler=labeling)
+    bare = Demonstrations([Trajectory(t.states, t.actions, t.rewards, None, t.info) for t in live])
+    world = EnvWorld(env, labeling)
+    assert [world.word(t) for t in world.expert_traces(bare)] == _words(live)
+    assert any("a" in step for step in _words(live)[0])
+    # states that the recorded actions do not reach: refused, not labelled wrongly
+    first = live[0]
+    wrong = Demonstrations([Trajectory(first.states[::-1], first.actions, None, None, first.info)])
+    with pytest.raises(DataError, match=r"demonstration 0: replaying its actions from seed \d+ reaches another"):
+        world.expert_traces(wrong)

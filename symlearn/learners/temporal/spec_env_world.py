@@ -59,6 +59,27 @@ def policy_route(env: Any, state_key: Callable | None = None) -> str:
     return "ppo"
 
 
+_RECORD_HINT = "label the demonstrations while recording: symlearn.data.record(env, policy, n, labeler=...)"
+
+
+def _plain(state: Any) -> Any:
+    """A stored state as the environment would give it: numpy scalars as Python numbers."""
+    return state.item() if isinstance(state, np.generic) else state
+
+
+def _same_or_refuse(i: int, t: int, stored: Any, observation: Any, seed: Any) -> None:
+    """A replayed observation must be the stored one where the two can be compared."""
+    try:
+        now = np.asarray(observation)
+        kept = np.asarray(stored)
+    except (TypeError, ValueError):
+        return
+    if now.dtype.kind in "biuf" and kept.dtype.kind in "biuf" and now.shape == kept.shape \
+            and not np.allclose(now, kept):
+        raise DataError(f"demonstration {i}: replaying its actions from seed {seed} reaches another observation "
+                        f"at step {t} than the one stored", hint=_RECORD_HINT)
+
+
 class EnvWorld:
     """Rollouts, labels and policy updates in ``env`` (an environment or a factory of them).
 
@@ -158,12 +179,38 @@ class EnvWorld:
                         raise DataError(f"demonstration {i}, step {t}: label {odd[0]!r} is not a proposition of "
                                         f"the labeling", hint="known: " + ", ".join(sorted(declared)))
             else:
-                states = getattr(trajectory, "states", None)
-                if states is None:
-                    raise DataError(f"demonstration {i} has neither labels nor states to label")
-                word = [self._label(state, {}, f"demonstration {i}, step {t}") for t, state in enumerate(states)]
+                word = self._replayed_word(i, trajectory) if getattr(self.labeling, "arity", 1) >= 2 else None
+                if word is None:
+                    states = getattr(trajectory, "states", None)
+                    if states is None:
+                        raise DataError(f"demonstration {i} has neither labels nor states to label")
+                    word = [self._label(_plain(state), {}, f"demonstration {i}, step {t}")
+                            for t, state in enumerate(states)]
             traces.append(self._trace(word))
         return traces
+
+    def _replayed_word(self, i: int, trajectory) -> list[frozenset[str]] | None:
+        """Labels of an unlabelled demonstration for a labeling that reads ``info`` (or the
+        environment): its actions replayed from the seed it was recorded with (``record`` keeps
+        it in the trajectory's info); ``None`` when there is no seed or no actions. A replay that
+        does not reproduce the stored observations is refused."""
+        seed = (getattr(trajectory, "info", None) or {}).get("seed")
+        actions, states = getattr(trajectory, "actions", None), getattr(trajectory, "states", None)
+        if seed is None or actions is None or states is None:
+            return None
+        discrete = getattr(self.env.action_space, "n", None) is not None
+        observation, info = self.env.reset(seed=int(seed))
+        word = [self.labeler(observation, info, f"demonstration {i}, step 0")]
+        for t in range(len(states) - 1):
+            _same_or_refuse(i, t, states[t], observation, seed)
+            action = int(actions[t]) if discrete else np.asarray(actions[t])
+            observation, _r, terminated, truncated, info = self.env.step(action)
+            word.append(self.labeler(observation, info, f"demonstration {i}, step {t + 1}"))
+            if (terminated or truncated) and t + 2 < len(states):
+                raise DataError(f"demonstration {i}: replaying its actions from seed {seed} ended after {t + 1} "
+                                f"steps, not {len(states) - 1}", hint=_RECORD_HINT)
+        _same_or_refuse(i, len(states) - 1, states[-1], observation, seed)
+        return word
 
     def random_traces(self, n: int, seed: int) -> list[np.ndarray]:
         from symlearn.rl.product_q_learning import rollout_words
