@@ -96,7 +96,7 @@ class EnvWorld:
                  state_key: Callable[[Any, Any], Hashable] | None = None) -> None:
         from symlearn.grounding.labeling_function import as_observation_labeler
 
-        if hasattr(env, "reset"):
+        if hasattr(env, "reset") and not isinstance(env, type):  # an instance (a class is a factory)
             self.env, self._factory = env, None
         else:
             self._factory = env
