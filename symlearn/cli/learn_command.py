@@ -63,7 +63,9 @@ def register_learn(commands, common) -> None:
                       help="policy update in your own environment: tabular CRM Q-learning over observations "
                            "(auto: discrete observations and actions) or PPO (auto: otherwise)")
     spec.add_argument("--q-steps", type=int, default=None,
-                      help="environment steps per policy update (tabular; default: scaled with the task)")
+                      help="environment steps per tabular policy update in your own environment (default 40000)")
+    spec.add_argument("--ppo-steps", type=int, default=None,
+                      help="environment steps per PPO policy update in your own environment (default 50000)")
     spec.add_argument("--threshold", type=float, default=0.2, help="stop when the best information gain is below (0.2)")
     spec.add_argument("--max-iterations", type=int, default=10, help="at most this many iterations (10)")
     spec.add_argument("--horizon", type=int, default=None,
@@ -104,7 +106,7 @@ def _spec(args: argparse.Namespace, out) -> None:
     target = _resolve(args)
     if target is not None and target.entry is None:
         return _spec_in_user_env(args, out, target, seed)
-    for flag, value in (("--features", args.features), ("--q-steps", args.q_steps)):
+    for flag, value in (("--features", args.features), ("--q-steps", args.q_steps), ("--ppo-steps", args.ppo_steps)):
         if value is not None:
             raise DataError(f"{flag} is for your own environment; {args.env or args.domain} has its own")
     if args.policy != "auto":
@@ -201,12 +203,15 @@ def _spec_in_user_env(args, out, target, seed: int) -> None:
     if args.props == "learn":
         raise DataError("--props learn names states of a tabular model; in your own environment give "
                         "--labeling FILE.json|FILE.py:function")
+    for flag, value in (("--q-steps", args.q_steps), ("--ppo-steps", args.ppo_steps)):
+        if value is not None and value < 1:
+            raise DataError(f"{flag} must be at least 1, got {value}")
     env = target.make()
     labeling = _user_labeling(args, target, env)
     demos = load(args.demos)
     learner = SpecLearner(labeling=labeling, threshold=args.threshold, max_iterations=args.max_iterations,
                           prune=not args.no_prune, random_state=seed, horizon=args.horizon, q_steps=args.q_steps,
-                          policy=args.policy, callback=_reporter(out))
+                          ppo_steps=args.ppo_steps, policy=args.policy, callback=_reporter(out))
     with blame_file(args.demos):
         learner.fit(demos, env)
     files = _write_outputs(learner, args.output) if args.output else []

@@ -26,7 +26,7 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 
-from symlearn.rl.crm_q_learning import MachineTables
+from symlearn.rl.product_q_learning import MachineColumns
 
 __all__ = ["ProductEnv"]
 
@@ -39,17 +39,11 @@ class ProductEnv(gym.Wrapper):
         self.labeler = labeler
         self.machine = machine
         self.n_u = int(machine.n_states)
-        self._tables: dict[frozenset, MachineTables] = {}
+        self._read = MachineColumns(machine)
         size = int(np.prod(env.observation_space.shape or (1,)))
         self.observation_space = gym.spaces.Box(-np.inf, np.inf, shape=(size + self.n_u,), dtype=np.float32)
         self.u = int(machine.initial)
         self.word: list[frozenset] = []
-
-    def _read(self, label: frozenset) -> MachineTables:
-        found = self._tables.get(label)
-        if found is None:
-            found = self._tables[label] = MachineTables.compile(self.machine, [label])
-        return found
 
     def _observation(self, observation: Any) -> np.ndarray:
         code = np.zeros(self.n_u, dtype=np.float32)

@@ -35,7 +35,7 @@ import numpy as np
 from symlearn.errors import ModelError
 from symlearn.rl.crm_q_learning import MachineTables
 
-__all__ = ["ProductQResult", "observation_key", "product_q_learning", "rollout_words"]
+__all__ = ["MachineColumns", "ProductQResult", "observation_key", "product_q_learning", "rollout_words"]
 
 Labeler = Callable[..., frozenset]  # labeler(observation, info, where="") -> frozenset of names
 StateKey = Callable[[Any, Any], Hashable]  # state_key(env, observation) -> hashable
@@ -59,7 +59,7 @@ def observation_key(observation: Any) -> Hashable:
     return observation
 
 
-class _Columns:
+class MachineColumns:
     """The reward machine read on one label, for every machine state at once (cached per label)."""
 
     def __init__(self, machine) -> None:
@@ -90,7 +90,7 @@ class ProductQResult:
     history: list[float] = field(default_factory=list)  # completion rate per chunk of episodes
 
     def __post_init__(self) -> None:
-        self.columns = _Columns(self.machine)
+        self.columns = MachineColumns(self.machine)
 
     def probabilities(self, key: Hashable, u: int, tolerance: float = 1e-6) -> np.ndarray:
         """Uniform over the best actions (all of them in a state never met)."""
@@ -129,7 +129,7 @@ def product_q_learning(env: Any, labeler: Labeler, machine, *, n_steps: int = 50
         raise ModelError("need 0 < discount <= 1, 0 < learning_rate <= 1, 0 <= epsilon <= 1")
     key_of = state_key or _default_key
     n_a = _n_actions(env)
-    columns = _Columns(machine)
+    columns = MachineColumns(machine)
     n_u = columns.n_states
     rng = np.random.default_rng(seed)
     q: dict[Hashable, np.ndarray] = {}
