@@ -48,7 +48,7 @@ METHODS = {"dqrm-inferred": ("inferred", "dqrm"), "dqrm-truth": ("truth", "dqrm"
 
 def main() -> None:
     from symlearn.atomic import write_bytes, write_text
-    from symlearn.cli.rm_training import block_setup
+    from symlearn.recipes.block_rewards import block_setup
     from symlearn.rl.dqrm import DQRMConfig, train_dqrm
 
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])

@@ -2,10 +2,11 @@
 learned in each.
 
 ``--json`` prints ``{"constraints": [...], "specs": [...], "continuous": [...], "machines": [...],
-"gymnasium": [...]}``: one row per registry entry of kind ``constraints`` (with the size of its MDP
+"subgoals": [...], "gymnasium": [...]}``: one row per registry entry of kind ``constraints`` (with the size of its MDP
 and ground truth), ``spec`` (with its formula), ``continuous`` (continuous states, constraints over
-named features, or learned costs) or ``machine`` (reward machines from image demonstrations),
-each with ``kinds``, ``methods`` and ``gym_id`` (``null`` where there is no gymnasium
+named features, or learned costs) ``machine`` (reward machines from image demonstrations) or ``subgoals`` (sub-goal automata from
+frames of object positions), each with ``kinds``, ``methods``, ``expert`` (``scripted``,
+``trained`` or ``null``) and ``gym_id`` (``null`` where there is no gymnasium
 environment), then one row per gymnasium id with the entries that use it.
 """
 
@@ -32,13 +33,14 @@ def _envs(args, out) -> None:
     specs = [{**_row(entry), "env": entry.gym_name, "formula": entry.formula} for entry in entries(Kind.SPEC)]
     continuous = [_row(entry) for entry in entries(Kind.CONTINUOUS)]
     machines = [_row(entry) for entry in entries(Kind.MACHINE)]
+    subgoals = [_row(entry) for entry in entries(Kind.SUBGOALS)]
     gym_ids: dict[str, list[str]] = {}
     for entry in entries():
         if entry.gym_id is not None:
             gym_ids.setdefault(entry.gym_id, []).append(entry.name)
     gymnasium = [{"id": gym_id, "entries": used_by} for gym_id, used_by in gym_ids.items()]
     out.result({"constraints": constraints, "specs": specs, "continuous": continuous, "machines": machines,
-                "gymnasium": gymnasium}, _render)
+                "subgoals": subgoals, "gymnasium": gymnasium}, _render)
 
 
 def _row(entry) -> dict:
@@ -46,11 +48,12 @@ def _row(entry) -> dict:
 
     return {"name": entry.name, "description": entry.description,
             "kinds": [kind.value for kind in Kind if kind in entry.kinds],
-            "methods": list(entry.methods), "gym_id": entry.gym_id}
+            "methods": list(entry.methods), "gym_id": entry.gym_id,
+            "expert": "scripted" if entry.expert is not None else ("trained" if entry.trained_expert else None)}
 
 
 def _render(doc: dict) -> str:
-    rows = doc["constraints"] + doc["specs"] + doc["continuous"] + doc["machines"]
+    rows = doc["constraints"] + doc["specs"] + doc["continuous"] + doc["machines"] + doc["subgoals"]
     w = max([18, *(len(r["name"]) for r in rows)])  # the name column fits the longest name
     lines = ["constraint learning (symlearn learn constraints --env NAME):"]
     for r in doc["constraints"]:
@@ -69,10 +72,16 @@ def _render(doc: dict) -> str:
         lines.append("reward machines from image demonstrations (symlearn learn rm; train --algo dqrm|dqn):")
         for r in doc["machines"]:
             lines.append(f"  {r['name']:<{w}} {r['description']}")
+    if doc["subgoals"]:
+        lines.append("sub-goals and preferred orderings from frames (symlearn learn pdfa --env NAME):")
+        for r in doc["subgoals"]:
+            lines.append(f"  {r['name']:<{w}} {r['description']}")
     lines.append("gymnasium environments (import symlearn.envs, then gymnasium.make(ID)):")
     for r in doc["gymnasium"]:
         lines.append(f"  {r['id']:<30} {', '.join(r['entries'])}")
     without = [r["name"] for r in rows if r["gym_id"] is None]
     if without:
         lines.append(f"  (no gymnasium environment: {', '.join(without)})")
+    lines.append("your own environment: --env module:EnvId (or any registered gymnasium id) with --demos; "
+                 "see docs/GUIDE.md")
     return "\n".join(lines)

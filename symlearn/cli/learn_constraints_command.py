@@ -47,6 +47,7 @@ class _World:
     bundled: Any = None  # the LogicMDP of a bundled logic domain (SUMO experts)
     rationality: float = 1.0
     features: str = "state"
+    grid: Any = None  # a grid environment to draw the learned cost map on, where the world is one
 
 
 def register_learn(commands, common) -> None:
@@ -57,8 +58,9 @@ def register_learn(commands, common) -> None:
         description="Learn constraints from demonstrations in a discrete environment: ASP rules (logic constraint "
                     "inference), maximum-likelihood constraint sets, or MCE-ICRL cost maps.")
     where = cmd.add_mutually_exclusive_group(required=True)
-    where.add_argument("--env", choices=tuple(CONSTRAINT_ENVS), metavar="ENV",
-                       help=f"a bundled environment: {', '.join(CONSTRAINT_ENVS)} (see `symlearn envs`)")
+    where.add_argument("--env", metavar="ENV",
+                       help=f"a bundled environment: {', '.join(CONSTRAINT_ENVS)} (see `symlearn envs`); your own "
+                            "world is a domain folder (--domain)")
     where.add_argument("--domain", metavar="DIR", help="your own domain folder (domain.toml; see docs/FORMATS.md)")
     source = cmd.add_mutually_exclusive_group()
     source.add_argument("--demos", help="demonstrations (.jsonl or .npz) with the environment's state/action ids or names")
@@ -101,11 +103,17 @@ def _world(args: argparse.Namespace) -> _World:
                       domain=d, features="state_action")
     from symlearn.envs.constraint_envs import constraint_setting
 
-    setting = constraint_setting(args.env, args.stochasticity)
+    from symlearn.errors import UnknownNameError
+
+    try:
+        setting = constraint_setting(args.env, args.stochasticity)
+    except UnknownNameError as exc:  # a gymnasium environment has no state-action model to learn rules in
+        raise UnknownNameError(exc.message, hint=(exc.hint or "") + "; your own world: --domain DIR with --demos "
+                               "(a folder with domain.toml, docs/FORMATS.md)") from None
     lm = setting.logic
     return _World(setting.name, setting.mdp, setting.space, setting.truth, setting.reward == "given",
                   domain=lm.domain if lm is not None else None, expert=setting.expert, bundled=lm,
-                  rationality=setting.rationality)
+                  rationality=setting.rationality, grid=setting.grid)
 
 
 def _constraints(args: argparse.Namespace, out) -> None:
@@ -181,11 +189,10 @@ def _cost_map(world: _World, learner, args) -> dict:
     names = world.mdp.state_names
     doc = {"threshold": learner.threshold,
            "cost": {str(names[s]): round(float(c), 6) for s, c in enumerate(per_state) if c > 0}}
-    if world.name == "gridworld":
+    if world.grid is not None:
         from symlearn.demo.gridworld_pipeline import cost_map_text
-        from symlearn.envs.gridworld import StochasticGridworld
 
-        doc["grid"] = cost_map_text(StochasticGridworld(args.stochasticity), per_state, learner.threshold)
+        doc["grid"] = cost_map_text(world.grid, per_state, learner.threshold)
     return doc
 
 
@@ -280,10 +287,8 @@ def _write_cost_map(stem: Path, cost_map: dict, world: _World, learner) -> list[
     files = [str(write_text(base.parent / (base.name + ".txt"), text))]
     if "grid" in cost_map:
         from symlearn.demo.gridworld_pipeline import constraint_map_dot
-        from symlearn.envs.gridworld import StochasticGridworld
 
-        env = StochasticGridworld(0.0)
-        dot = constraint_map_dot(env, np.asarray(learner.cost_).max(axis=1), "MCE-ICRL learned cost per cell")
+        dot = constraint_map_dot(world.grid, np.asarray(learner.cost_).max(axis=1), "MCE-ICRL learned cost per cell")
         dot_path = base.parent / (base.name + ".dot")
         write_text(dot_path, dot)
         files.append(str(dot_path))

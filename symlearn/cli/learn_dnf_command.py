@@ -1,7 +1,7 @@
 """``symlearn learn dnf``: learn continuous constraints as a DNF formula with a one-class tree.
 
-``symlearn learn dnf (--demos D.npz|D.jsonl [--features a,b,...] [--domain DIR] | --env NAME [--n-demos N])
-[--max-depth D] [--min-samples-leaf M] [-o rules.dnf] [--json]``
+``symlearn learn dnf [--demos D.npz|D.jsonl] [--env NAME|GYM-ID|module:EnvId [--env-kwargs JSON] [--n-demos N]]
+[--features a,b,...] [--domain DIR] [--max-depth D] [--min-samples-leaf M] [-o rules.dnf] [--json]``
 
 * ``--demos``: demonstrations with vector states (columns named by ``--features``, default
   ``x0..x{k-1}``) or feature-dict states (names from the dicts); with ``--domain DIR`` the
@@ -10,6 +10,9 @@
   whose scripted expert records ``--n-demos`` episodes; features are the environment's (SafeNav:
   the thesis' 20: accelerations, velocities, 16 hazard lidar bins; driving: velocities, gaps to
   the cars ahead/behind in three lanes, distances to the road edges, from an IDM/MOBIL driver).
+  Any other environment (a gymnasium id, or ``module:EnvId`` -- see
+  :mod:`symlearn.recipes.environments`) has no expert: give ``--demos`` too; the environment then
+  names the features (``feature_names``, the keys of a dict ``info["features"]``, or ``--features``).
 
 JSON keys: ``formula`` (the text), ``conjunctions`` (one string each), ``leaves`` (safe boxes as
 ``{feature: [low, high]}``), ``features``, ``seconds``; ``-o`` writes the editable ``.dnf`` file
@@ -25,10 +28,11 @@ def register_learn(commands, common) -> None:
         "dnf", parents=[common()], help="learn continuous constraints as a DNF formula (one-class tree)",
         description="Fit a one-class decision tree to the features of expert demonstrations; the complement of "
                     "its leaves (the safe boxes) is a DNF formula of the unsafe set.")
-    where = cmd.add_mutually_exclusive_group(required=True)
-    where.add_argument("--demos", help="demonstrations (.npz or .jsonl) with vector or feature-dict states")
-    where.add_argument("--env", help="a bundled continuous environment with a scripted expert "
-                                     "(toy-navigation, safenav-point-goal, driving, ...; see `symlearn envs`)")
+    cmd.add_argument("--demos", help="demonstrations (.npz or .jsonl) with vector or feature-dict states")
+    cmd.add_argument("--env", help="a bundled environment with an expert (toy-navigation, safenav-point-goal, driving; "
+                                   "see `symlearn envs`), a gymnasium id or module:EnvId (then --demos too): "
+                                   "names the features")
+    cmd.add_argument("--env-kwargs", metavar="JSON", help="keyword arguments of the environment (a JSON object)")
     cmd.add_argument("--n-demos", type=int, default=20, help="expert episodes to record with --env (20)")
     cmd.add_argument("--features", help="comma-separated names of the state vector's columns")
     cmd.add_argument("--domain", metavar="DIR", help="a domain folder whose feature map turns state ids into features")
@@ -40,47 +44,42 @@ def register_learn(commands, common) -> None:
 
 def _demonstrations(args: argparse.Namespace):
     from symlearn.errors import DataError
+    from symlearn.recipes.environments import parse_feature_names, resolve_env
+    from symlearn.recipes.experts import demonstrations
 
     seed = getattr(args, "seed", 0) or 0
-    if args.demos:
-        from symlearn.data import load
+    if not args.demos and not args.env:
+        raise DataError("give the demonstrations (--demos FILE) or an environment with an expert (--env NAME)")
+    if args.domain and args.env:
+        raise DataError("--domain and --env both name the features; give one")
+    features = None
+    if args.domain:
+        from symlearn.grounding import Domain
 
-        demos = load(args.demos)
-        features = None
-        if args.domain:
-            from symlearn.grounding import Domain
-
-            domain = Domain.from_folder(args.domain)
-            if domain.feature_map is None:
-                raise DataError(f"the domain {domain.name} names no feature map", file=args.domain,
-                                hint='add features = "features.json" to domain.toml')
-            features = domain.feature_map
+        domain = Domain.from_folder(args.domain)
+        if domain.feature_map is None:
+            raise DataError(f"the domain {domain.name} names no feature map", file=args.domain,
+                            hint='add features = "features.json" to domain.toml')
         if args.features:
-            if features is not None:
-                raise DataError("--features and --domain both name the features; give one")
-            features = [name.strip() for name in args.features.split(",") if name.strip()]
-        return demos, features
-    if args.n_demos < 1:
+            raise DataError("--features and --domain both name the features; give one")
+        features = domain.feature_map
+    target = resolve_env(args.env, args.env_kwargs) if args.env else None
+    if target is None and args.env_kwargs:
+        raise DataError("--env-kwargs needs --env")
+    if target is not None and not args.demos and not target.has_expert:
+        raise DataError(f"{target.display} has no expert to record demonstrations for learning DNF constraints",
+                        hint="give your demonstrations with --demos FILE (--env then names their features)")
+    if target is not None:
+        features = target.feature_names(override=args.features)
+        if features is None and not args.demos:
+            raise DataError(f"{target.display} names no features",
+                            hint="give --features a,b,... (one name per observation column)")
+    elif args.features:
+        features = list(parse_feature_names(args.features))
+    if not args.demos and args.n_demos < 1:
         raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
-    if args.env == "toy-navigation":
-        from symlearn.envs.toy_navigation import expert_demonstrations
-
-        return expert_demonstrations(args.n_demos, seed=seed), ["x", "y"]
-    if args.env.startswith("safenav-") and args.env.count("-") == 2:
-        from symlearn.envs.registry import Kind, get
-        from symlearn.envs.safenav.observation import FEATURE_NAMES
-        from symlearn.envs.safenav_expert import expert_demonstrations
-
-        get(args.env, Kind.CONTINUOUS, what="continuous environment")
-        _, agent, task = args.env.split("-")
-        return expert_demonstrations(agent, task, args.n_demos, seed=seed), list(FEATURE_NAMES)
-    if args.env.strip().lower() == "driving":
-        from symlearn.envs.driving.expert import expert_demonstrations
-        from symlearn.envs.driving.features import FEATURE_NAMES
-
-        return expert_demonstrations(args.n_demos, seed=seed), list(FEATURE_NAMES)
-    raise DataError(f"{args.env!r} has no scripted expert for learning DNF constraints",
-                    hint="use toy-navigation, safenav-<point|car>-<goal|push> or driving, or give --demos")
+    demos = demonstrations(target, args.demos, args.n_demos, seed=seed)
+    return demos, None if features is None else (features if args.domain else list(features))
 
 
 def _dnf(args: argparse.Namespace, out) -> None:

@@ -6,8 +6,11 @@
 [--expert-cache DIR] [-o cost.safetensors] [--json]``
 
 * ``--env``: a bundled environment with ``mce-icrl`` among its methods (``blocked-point``,
-  ``point-circle``; see ``symlearn envs``), built with ``--env-kwargs`` (a JSON object of its
+  ``point-circle``; see ``symlearn envs``), a gymnasium id, or ``module:EnvId`` (a user's
+  environment: give ``--demos``), built with ``--env-kwargs`` (a JSON object of its
   constructor's keyword arguments, e.g. ``'{"wall": -4.0}'``; an unknown key is refused).
+  Where the environment reports no ``info["cost"]``, ``violation_rate`` and ``feasible_reward``
+  are null (n/a); where it has no ``is_unsafe``, the recovery figures are null.
 * ``--demos``: expert demonstrations (``.npz``/``.jsonl``) whose states are the environment's
   observations and which carry actions; otherwise ``--n-demos`` episodes of the environment's
   scripted expert (BlockedPoint: full speed away from the wall), generated from ``--seed``, or,
@@ -54,7 +57,8 @@ def register_learn(commands, common) -> None:
                     "discriminator) instead. Reports reward, violation rate, feasible reward and the recovery "
                     "of the environment's unsafe set.")
     cmd.add_argument("--env", required=True, help="a bundled environment (blocked-point, point-circle, the blocked "
-                                                   "MuJoCo tasks: see symlearn envs)")
+                                                   "MuJoCo tasks: see symlearn envs), a gymnasium id or module:EnvId "
+                                                   "(then --demos)")
     cmd.add_argument("--method", choices=METHODS, default="mce-icrl",
                      help="mce-icrl (maximum causal entropy, default), me-icrl (Malik et al.'s baseline), vme-icrl "
                           "(Liu et al.'s variational baseline) or gacl (GAIL-style discriminator)")
@@ -77,7 +81,7 @@ def register_learn(commands, common) -> None:
                           "the last (the returned policy learns afresh on the final cost)")
     cmd.add_argument("--lambda-lr", type=float,
                      help="MCE-ICRL's step on the multipliers (default 0.02; 0.1 met the blocked HalfCheetah target)")
-    cmd.add_argument("--env-kwargs", default="{}", metavar="JSON", help="keyword arguments of the environment")
+    cmd.add_argument("--env-kwargs", metavar="JSON", help="keyword arguments of the environment (a JSON object)")
     cmd.add_argument("-o", "--output", metavar="COST.safetensors",
                      help="write the learned cost here (and COST.json beside it)")
     cmd.set_defaults(handler=_icrl)
@@ -112,32 +116,6 @@ def _check_arguments(args: argparse.Namespace) -> None:
         raise DataError(f"--steps {args.steps} is too few for {args.iterations} iterations")
 
 
-def env_kwargs(text: str, factory: Any, env_name: str) -> dict[str, Any]:
-    """``--env-kwargs`` parsed and checked against the environment's constructor."""
-    import inspect
-    import json
-
-    from symlearn.errors import DataError
-
-    try:
-        kwargs = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise DataError(f"--env-kwargs is not JSON: {exc.msg}", line=exc.lineno, column=exc.colno,
-                        hint='give a JSON object, e.g. \'{"wall": -3.0}\'') from None
-    if not isinstance(kwargs, dict):
-        raise DataError(f"--env-kwargs must be a JSON object, got {type(kwargs).__name__}")
-    parameters = inspect.signature(factory.resolve()).parameters
-    known = [name for name, p in parameters.items() if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)]
-    unknown = [key for key in kwargs if key not in known]
-    if unknown:
-        from difflib import get_close_matches
-
-        close = get_close_matches(unknown[0], known, n=1)
-        raise DataError(f"unknown --env-kwargs key {unknown[0]!r} for {env_name}",
-                        hint=(f"did you mean {close[0]!r}? " if close else "") + "known: " + ", ".join(known))
-    return kwargs
-
-
 def _cost_inputs(text: str | None, names: Any, width: int) -> list[int] | None:
     from symlearn.errors import DataError
 
@@ -158,40 +136,6 @@ def _cost_inputs(text: str | None, names: Any, width: int) -> list[int] | None:
     return dims
 
 
-def _demonstrations(args: argparse.Namespace, entry: Any, kwargs: dict[str, Any], env: Any, out: Any):
-    from symlearn.errors import DataError
-
-    env_name = entry.name
-
-    if args.demos:
-        from symlearn.data import load
-
-        return load(args.demos)
-    if env_name == "blocked-point":
-        from symlearn.envs.blocked_point import expert_demonstrations
-
-        return expert_demonstrations(args.n_demos, seed=getattr(args, "seed", 0) or 0, env=env)
-    if not hasattr(env.unwrapped, "is_unsafe"):
-        raise DataError(f"{env_name} has no scripted expert and no ground-truth cost to train one on",
-                        hint="give expert demonstrations with --demos")
-    from symlearn.learners.neural.lagrangian_expert import default_cache_dir, lagrangian_expert
-
-    cache = args.expert_cache or default_cache_dir()
-    cache = None if str(cache).lower() == "none" else cache
-    where = f"cached in {cache}" if cache else "not cached"
-    out.note(f"{env_name} has no scripted expert: PPO-Lagrangian on its true cost, {args.expert_steps} steps ({where})")
-    import warnings
-
-    with warnings.catch_warnings(record=True) as caught:  # an expert that still violates: say so as a note
-        warnings.simplefilter("always", RuntimeWarning)
-        demos, _ = lagrangian_expert(lambda: entry.make_env(**kwargs), args.n_demos, steps=args.expert_steps,
-                                     seed=getattr(args, "seed", 0) or 0, key={"env": env_name, "kwargs": kwargs},
-                                     cache_dir=cache)
-    for w in caught:
-        out.note(f"warning: {w.message}")
-    return demos
-
-
 # --- the command -----------------------------------------------------------------------------------
 
 
@@ -201,28 +145,27 @@ def _icrl(args: argparse.Namespace, out) -> None:
     import numpy as np
 
     from symlearn.cli.output import blame_file
-    from symlearn.envs.registry import Kind, entries, get
+    from symlearn.envs.registry import Kind, entries
+    from symlearn.errors import DataError
+    from symlearn.recipes.environments import resolve_env
+    from symlearn.recipes.experts import demonstrations
 
     _check_arguments(args)
     started = time.perf_counter()
-    entry = get(args.env)
-    # continuous ones only: the tabular gridworld's mce-icrl is `symlearn learn constraints`
-    usable = [e.name for e in entries(Kind.CONTINUOUS) if "mce-icrl" in e.methods]
-    if entry.name not in usable:
-        from symlearn.errors import DataError
-
-        raise DataError(f"{entry.name} is no environment for neural ICRL", hint="use " + " or ".join(usable))
-    kwargs = env_kwargs(args.env_kwargs, entry.env, entry.name)
-    try:
-        env = entry.make_env(**kwargs)
-    except (TypeError, ValueError) as exc:  # a value of the wrong type ("wall": "left")
-        from symlearn.errors import DataError
-
-        raise DataError(f"--env-kwargs does not fit {entry.name}: {exc}") from None
-    names = getattr(env.unwrapped, "observation_names", None)
-    width = int(np.prod(env.observation_space.shape))
+    target = resolve_env(args.env, args.env_kwargs)
+    if target.bundled and not (target.has_kind(Kind.CONTINUOUS) and "mce-icrl" in target.entry.methods):
+        # the tabular gridworld's mce-icrl is `symlearn learn constraints`
+        usable = [e.name for e in entries(Kind.CONTINUOUS) if "mce-icrl" in e.methods]
+        raise DataError(f"{target.display} is no environment for neural ICRL",
+                        hint="use " + ", ".join(usable) + ", or your own environment (module:EnvId) with --demos")
+    env = target.make()
+    names = target.observation_names(env)
+    width = int(np.prod(env.observation_space.shape or (1,)))
     obs_dims = _cost_inputs(args.cost_inputs, names, width)
-    demos = _demonstrations(args, entry, kwargs, env, out)
+    seed = getattr(args, "seed", 0) or 0
+    demos = demonstrations(target, args.demos, args.n_demos, seed=seed, expert_steps=args.expert_steps,
+                           expert_cache=args.expert_cache, note=out.note)
+    has_cost = target.reports_cost(env)
 
     import torch
 
@@ -232,7 +175,6 @@ def _icrl(args: argparse.Namespace, out) -> None:
 
     torch.set_num_threads(1)  # small networks: a second thread only contends on 2 shared cores
 
-    seed = getattr(args, "seed", 0) or 0
     nominal = max(args.steps // 8, 1)
     method = {"mce-icrl": NeuralMCEICRL, "me-icrl": NeuralMEICRL, "vme-icrl": NeuralVMEICRL,
               "gacl": NeuralGACL}[args.method]
@@ -241,9 +183,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
                      random_state=seed, reset_actor=args.reset_actor,
                      **({} if args.lambda_lr is None else {"lambda_lr": args.lambda_lr}))
 
-    def env_fn():
-        return entry.make_env(**kwargs)
-
+    env_fn = target.env_fn
     with blame_file(args.demos):
         learner.fit(demos, env_fn)
     evaluation = episode_metrics(sample_episodes(learner.policy_, env_fn, EVAL_EPISODES, seed=seed + 50_000,
@@ -253,8 +193,10 @@ def _icrl(args: argparse.Namespace, out) -> None:
     rec = None if unsafe is None else recovery(learner.cost_, unsafe, expert_obs.reshape(len(expert_obs), -1),
                                                seed=seed, margin="auto")
     result = learner.result_
-    doc = {"env": entry.name, "method": args.method, "reward": evaluation.reward,
-           "violation_rate": evaluation.violation_rate, "feasible_reward": evaluation.feasible_reward,
+    doc = {"env": target.display, "method": args.method, "reward": evaluation.reward,
+           # a user's environment without info["cost"] has no ground truth: n/a, never 0
+           "violation_rate": evaluation.violation_rate if has_cost else None,
+           "feasible_reward": evaluation.feasible_reward if has_cost else None,
            "recovery_auc": None if rec is None else rec.as_dict()["auc"],
            "recovery_iou": None if rec is None else rec.as_dict()["iou"],
            "recovery_margin": None if rec is None else rec.margin,
@@ -275,7 +217,8 @@ def _render(doc: dict) -> str:
 
     lines = [f"{doc['method']} on {doc['env']}: {doc['iterations']} iterations in {doc['seconds']:.1f} s",
              f"  reward {doc['reward']:.2f} (expert {doc['expert_reward']:.2f}), violation rate "
-             f"{doc['violation_rate']:.3f}, feasible reward {doc['feasible_reward']:.2f}",
+             f"{number(doc['violation_rate'])}, feasible reward "
+             + ("n/a" if doc["feasible_reward"] is None else f"{doc['feasible_reward']:.2f}"),
              f"  recovery of the unsafe set: AUC {number(doc['recovery_auc'])}, IoU {number(doc['recovery_iou'])}",
              "  lambda " + ", ".join(f"{x:.3g}" for x in doc["lambda"])]
     lines += [f"wrote {f}" for f in doc["files"]]

@@ -1,6 +1,6 @@
 """``symlearn learn pdfa``: sub-goals, a PDFA of their orderings and the preferred plan (thesis, chapter 6).
 
-``symlearn learn pdfa (--demos D.npz|D.jsonl | --env blocks-place-K|blocks-stack-R [--n-demos N])
+``symlearn learn pdfa (--demos D.npz|D.jsonl [--env GYM-ID|module:EnvId] | --env blocks-place-K|blocks-stack-R [--n-demos N])
 [--subsets 'red=0,1,2;blue=3,4,5'] [--features a,b,...] [--eps E] [--min-samples M]
 [--method dbscan|hdbscan] [--probabilities consistent|thesis] [-o plan.json] [--dot plan.dot] [--json]``
 
@@ -32,11 +32,12 @@ def register_learn(commands, common) -> None:
         description="Cluster each feature subset of the demonstrations' frames into sub-goals (DBSCAN), turn every "
                     "demonstration into a word of sub-goals, build the probabilistic automaton of their orderings "
                     "and print its most preferred plan.")
-    where = cmd.add_mutually_exclusive_group(required=True)
-    where.add_argument("--demos", help="a frame archive (.npz: states, lengths; NaN = unobserved) or "
-                                       "demonstrations (.npz/.jsonl) with vector states")
-    where.add_argument("--env", help="the block world's scripted demonstrator: blocks-place-K (K = 2..6) or "
-                                     "blocks-stack-R (R rounds of three blocks)")
+    cmd.add_argument("--demos", help="a frame archive (.npz: states, lengths; NaN = unobserved) or "
+                                     "demonstrations (.npz/.jsonl) with vector states")
+    cmd.add_argument("--env", help="the block world's scripted demonstrator: blocks-place-K (K = 2..6) or "
+                                   "blocks-stack-R (R rounds of three blocks); or your environment (a gymnasium id "
+                                   "or module:EnvId) with --demos, which names the features")
+    cmd.add_argument("--env-kwargs", metavar="JSON", help="keyword arguments of --env (a JSON object)")
     cmd.add_argument("--n-demos", type=int, default=100, help="demonstrations to record with --env (100)")
     cmd.add_argument("--subsets", help="candidate feature subsets, e.g. 'red=0,1,2;blue=3,4,5' (default: all "
                                        "features as one subset; with --env: each block's xyz)")
@@ -63,32 +64,30 @@ def _check_outputs(args: argparse.Namespace) -> None:
         raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
 
 
-def _task(name: str):
-    from symlearn.envs.block_world import place_task, stack_task
-    from symlearn.errors import UnknownNameError
-
-    kind, _, number = name.strip().lower().rpartition("-")
-    if number.isdigit() and kind in ("blocks-place", "blocks-stack"):
-        n = int(number)
-        if kind == "blocks-place" and 2 <= n <= 6:
-            return place_task(n)
-        if kind == "blocks-stack" and 1 <= n <= 4:
-            return stack_task(n)
-    raise UnknownNameError(f"unknown block-world task {name!r}",
-                           hint="use blocks-place-K (K = 2..6) or blocks-stack-R (R = 1..4)")
-
-
 def _demonstrations(args: argparse.Namespace):
     """``(frames or Demonstrations, feature names or None, subsets, task or None)``."""
     from symlearn.errors import DataError
 
-    features = [n.strip() for n in args.features.split(",") if n.strip()] if args.features else None
-    if args.env:
-        from symlearn.envs.block_world import Demonstrator
+    from symlearn.envs.registry import Kind
+    from symlearn.recipes.environments import parse_feature_names, resolve_env
 
-        task = _task(args.env)
-        runs, _ = Demonstrator(task, seed=args.seed or 0).demonstrations(args.n_demos)
-        return runs, task.feature_names(), args.subsets or task.subsets(), task
+    if not args.demos and not args.env:
+        raise DataError("give the frames (--demos FILE) or a block-world task with a demonstrator (--env NAME)")
+    features = list(parse_feature_names(args.features)) if args.features else None
+    target = resolve_env(args.env, args.env_kwargs, kind=Kind.SUBGOALS if not args.demos else None,
+                         what="sub-goal task") if args.env else None
+    if target is None and args.env_kwargs:
+        raise DataError("--env-kwargs needs --env")
+    if target is not None and not args.demos:
+        if not target.has_kind(Kind.SUBGOALS):
+            raise DataError(f"{target.display} has no expert: give your demonstrations with --demos FILE",
+                            hint="bundled sub-goal tasks: blocks-place-K (K = 2..6), blocks-stack-R (R = 1..4)")
+        task = target.entry.task()
+        runs = target.expert_demonstrations(args.n_demos, seed=args.seed or 0)
+        return runs, list(target.feature_names(override=features)), args.subsets or task.subsets(), task
+    if target is not None and features is None:
+        names = target.feature_names()
+        features = None if names is None else list(names)
     path = Path(args.demos)
     if not path.exists():
         raise FileNotFoundError(2, "No such file or directory", str(path))

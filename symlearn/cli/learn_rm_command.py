@@ -22,10 +22,7 @@ JSON keys: ``states``, ``edges`` (``[from, proposition, to, reward]``), ``propos
 from __future__ import annotations
 
 import argparse
-import re
 from pathlib import Path
-
-ENV_PATTERN = re.compile(r"blockworld-(stack|place|pyramid)([23])")
 
 
 def register_learn(commands, common) -> None:
@@ -79,16 +76,15 @@ def _demonstrations(args: argparse.Namespace):
         from symlearn.data import load
 
         return load(args.demos), args.demos
-    match = ENV_PATTERN.fullmatch(args.env.strip().lower())
-    if match is None:
-        raise DataError(f"{args.env!r} is not a rendered block task",
-                        hint="use blockworld-stack2, blockworld-place2, blockworld-pyramid3, blockworld-stack3 "
-                             "or blockworld-place3, or give --demos")
-    from symlearn.envs.rendered_blocks.demonstrator import demonstrations
+    from symlearn.envs.registry import Kind
+    from symlearn.recipes.environments import resolve_env
 
-    task = f"{match[1]}-{match[2]}"
+    target = resolve_env(args.env, kind=Kind.MACHINE, what="rendered block task")
+    if not target.has_kind(Kind.MACHINE):
+        raise DataError(f"{target.display} has no expert: give your image demonstrations with --demos FILE",
+                        hint="record frames with env.render() into an .npz of the image kind (docs/FORMATS.md)")
     seed = getattr(args, "seed", 0) or 0
-    return demonstrations(task, seed=seed).front, f"{args.env} (scripted demonstrations, seed {seed})"
+    return target.expert_demonstrations(1, seed=seed), f"{target.display} (scripted demonstrations, seed {seed})"
 
 
 def _rm(args: argparse.Namespace, out) -> None:

@@ -90,14 +90,55 @@ def common_options(json_output: bool = True) -> argparse.ArgumentParser:
 
 
 class _Parser(argparse.ArgumentParser):
-    """Remembers its usage error, so ``--json`` can put the message in the error document
-    (sub-command parsers are of the same class)."""
+    """One command-line grammar for every command (sub-command parsers are of the same class):
+    no silent prefix abbreviations of flags (``--env-kw`` is not ``--env-kwargs``), and a usage
+    error is one line like every other error, with "did you mean" for a misspelt flag or choice.
+    Remembers the message, so ``--json`` can put it in the error document."""
 
     last_error: str | None = None
+    argv: Sequence[str] = ()  # the words being parsed (set by main), to find the sub-command's flags
+
+    def __init__(self, *args, **kwargs):
+        kwargs.setdefault("allow_abbrev", False)
+        super().__init__(*args, **kwargs)
 
     def error(self, message: str):
-        _Parser.last_error = f"{self.prog}: {message}"
-        super().error(message)
+        # the root parser reports flags its sub-commands did not know: name the sub-command
+        parser = _innermost(self, _Parser.argv) if message.startswith("unrecognized arguments") else self
+        message = message + _did_you_mean(parser, message)
+        _Parser.last_error = f"{parser.prog}: {message}"
+        self.exit(EXIT_USAGE, f"{parser.prog}: error: {message} (see {parser.prog} --help)\n")
+
+
+def _innermost(parser: argparse.ArgumentParser, argv: Sequence[str]) -> argparse.ArgumentParser:
+    """The deepest sub-command parser the words select (``symlearn learn dnf`` for ``learn dnf ...``)."""
+    words = [w for w in argv if not w.startswith("-")]
+    while True:
+        chosen = None
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                chosen = next((action.choices[w] for w in words if w in action.choices), None)
+        if chosen is None:
+            return parser
+        parser = chosen
+
+
+def _did_you_mean(parser: argparse.ArgumentParser, message: str) -> str:
+    """`` (did you mean --x?)`` for the first unknown flag or invalid choice in ``message``."""
+    import re
+    from difflib import get_close_matches
+
+    unknown = re.match(r"unrecognized arguments: (\S+)", message)
+    if unknown and unknown[1].startswith("-"):
+        flag = unknown[1].split("=")[0]
+        close = get_close_matches(flag, [o for o in parser._option_string_actions if o.startswith("--")], n=1)
+        return f" (did you mean {close[0]}?)" if close else ""
+    choice = re.match(r"argument [^:]+: invalid choice: '([^']*)' \(choose from (.*)\)", message)
+    if choice:
+        options = [c.strip().strip("'") for c in choice[2].split(",")]
+        close = get_close_matches(choice[1], options, n=1)
+        return f" (did you mean {close[0]!r}?)" if close else ""
+    return ""
 
 
 def command_name(module: str) -> str:
@@ -145,6 +186,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     parser = build_parser(requested_command(sys.argv[1:] if argv is None else list(argv)))
+    _Parser.argv = list(sys.argv[1:] if argv is None else argv)
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:  # argparse printed the usage error (or --help) on stderr

@@ -18,19 +18,19 @@ from __future__ import annotations
 
 import argparse
 
-from symlearn.cli.learn_rm_command import ENV_PATTERN
-
 
 def train_blocks(args: argparse.Namespace, out) -> None:
-    from symlearn.cli.rm_training import block_setup
+    from symlearn.envs.registry import Kind, names
     from symlearn.errors import DataError
+    from symlearn.recipes.block_rewards import block_setup
+    from symlearn.recipes.environments import resolve_env
     from symlearn.rl.dqrm import DQRMConfig, train_dqrm
 
-    match = ENV_PATTERN.fullmatch(str(args.env).strip().lower())
-    if match is None:
+    target = resolve_env(str(args.env), kind=Kind.MACHINE, what="rendered block task")
+    if not target.has_kind(Kind.MACHINE):
         raise DataError(f"--algo {args.algo} trains on a rendered block task, not {args.env!r}",
-                        hint="use --env blockworld-stack2, -place2, -pyramid3, -stack3 or -place3")
-    task = f"{match[1]}-{match[2]}"
+                        hint="use --env " + ", ".join(names(Kind.MACHINE)))
+    task = target.entry.env.kwargs["task"]
     if args.steps < 1:
         raise DataError(f"--steps must be at least 1, got {args.steps}")
     reward = getattr(args, "reward", None) or "shaped"

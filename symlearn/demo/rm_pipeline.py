@@ -12,7 +12,7 @@ from symlearn.demo.registry import DemoContext, Pipeline, Section
 
 
 def run(context: DemoContext) -> Section:
-    from symlearn.cli.rm_training import block_setup
+    from symlearn.recipes.block_rewards import block_setup
     from symlearn.envs.rendered_blocks.demonstrator import demonstrations
     from symlearn.learners.reward_machines.compare import isomorphic
     from symlearn.learners.reward_machines.machine_building import machine_from_edges

@@ -43,6 +43,7 @@ class ConstraintSetting:
     expert: Callable[[int, int], Any]  # (n, seed) -> Demonstrations
     logic: Any = None  # the LogicMDP where ASP rules can be learned
     rationality: float = 1.0
+    grid: Any = None  # a grid environment whose cells a learned cost map is drawn on (the gridworld)
 
     @property
     def known(self) -> np.ndarray:
@@ -78,7 +79,7 @@ def _gridworld(stochasticity: float) -> ConstraintSetting:
         return record(env, lambda s: int(policy[s]), n, seed=seed, desc="gridworld expert")
 
     return ConstraintSetting("gridworld", mdp, space, env.constraint_mask() & space, "given", expert,
-                             rationality=3.0)
+                             rationality=3.0, grid=env)
 
 
 __all__ = ["CONSTRAINT_ENVS", "ConstraintSetting", "constraint_setting"]

@@ -14,7 +14,17 @@ An :class:`Entry` has one or more :class:`Kind`:
   (``symlearn learn spec --env NAME``);
 * ``continuous`` -- a continuous-state gymnasium environment whose ground-truth cost
   (``info["cost"]``) is a region of its named features (``info["features"]``): constraints are
-  learned there as DNF formulas over features (thesis chapter 4).
+  learned there as DNF formulas over features (thesis chapter 4);
+* ``machine`` -- a rendered block task whose image demonstrations give a reward machine;
+* ``subgoals`` -- a block-world task whose frames of object positions give sub-goals and the
+  probabilistic automaton of their orderings (``symlearn learn pdfa``; no gymnasium environment).
+
+An entry also names its **expert** (``expert(n, seed=0, env_kwargs=None)``, see
+:mod:`~symlearn.envs.experts`; ``None`` where there is none, and ``trained_expert`` where a
+PPO-Lagrangian expert can be trained on the true cost instead), the names of its **features**
+(a ``"module:CONSTANT"`` tuple of the names of ``info["features"]``), and, for sub-goal tasks,
+the block-world **task** (feature names and default subsets). Entry points never decide
+anything from an entry's name: they read these fields (through :mod:`symlearn.recipes`).
 
 Factories are ``"module:attribute"`` strings resolved only when called, so importing this
 module loads neither gymnasium nor numpy; the same strings are the gymnasium entry points
@@ -52,17 +62,20 @@ class Kind(StrEnum):
     SPEC = "spec"
     CONTINUOUS = "continuous"
     MACHINE = "machine"
+    SUBGOALS = "subgoals"
 
     @property
     def label(self) -> str:
         return {"constraints": "constraint-learning environment", "rules": "logic domain",
                 "spec": "specification task", "continuous": "continuous-constraint environment",
-                "machine": "reward-machine task (image demonstrations)"}[self.value]
+                "machine": "reward-machine task (image demonstrations)",
+                "subgoals": "sub-goal task (frames of object positions)"}[self.value]
 
 
 @dataclass(frozen=True)
 class Factory:
-    """``target`` (``"module:attribute"``) called with ``kwargs``; imported only when called."""
+    """``target`` (``"module:attribute"``) called with ``kwargs`` (and the caller's arguments);
+    imported only when called."""
 
     target: str
     kwargs: Mapping[str, Any] = field(default_factory=dict, hash=False)
@@ -71,8 +84,8 @@ class Factory:
         module, _, attribute = self.target.partition(":")
         return getattr(importlib.import_module(module), attribute)
 
-    def __call__(self, **overrides: Any) -> Any:
-        return self.resolve()(**{**self.kwargs, **overrides})
+    def __call__(self, *args: Any, **overrides: Any) -> Any:
+        return self.resolve()(*args, **{**self.kwargs, **overrides})
 
 
 @dataclass(frozen=True)
@@ -93,13 +106,23 @@ class Entry:
     env: Factory | None = None
     domain: Factory | None = None
     formula: str | None = None
+    expert: Factory | None = None
+    features: str | None = None
+    task: Factory | None = None
+    trained_expert: bool = False
 
     def __post_init__(self) -> None:
         # A wrong row is a bug of ours, found by the import of this module (and its tests).
         problems = []
-        if not self.kinds & {Kind.CONSTRAINTS, Kind.SPEC, Kind.CONTINUOUS, Kind.MACHINE}:
-            problems.append("is no constraint environment, specification task, continuous-constraint environment "
-                            "or reward-machine task")
+        if not self.kinds & {Kind.CONSTRAINTS, Kind.SPEC, Kind.CONTINUOUS, Kind.MACHINE, Kind.SUBGOALS}:
+            problems.append("is no constraint environment, specification task, continuous-constraint environment, "
+                            "reward-machine task or sub-goal task")
+        if Kind.SUBGOALS in self.kinds and (self.expert is None or self.task is None):
+            problems.append("is a sub-goal task without an expert or a block-world task")
+        if self.expert is not None and self.trained_expert:
+            problems.append("has a scripted expert and a trained one")
+        if self.features is not None and ":" not in self.features:
+            problems.append(f"names its features {self.features!r}, not 'module:CONSTANT'")
         if self.kinds & {Kind.CONTINUOUS, Kind.MACHINE} and self.env is None:
             problems.append("is a continuous-constraint environment or reward-machine task without an environment")
         if Kind.RULES in self.kinds and (Kind.CONSTRAINTS not in self.kinds or self.domain is None):
@@ -117,6 +140,15 @@ class Entry:
     def gym_name(self) -> str | None:
         """The gymnasium id without namespace and version (``office`` for ``symlearn/office-v0``)."""
         return None if self.gym_id is None else _GYM_ID.fullmatch(self.gym_id)["name"]
+
+    def feature_names(self) -> tuple[str, ...] | None:
+        """The names of the entry's features (``info["features"]``, or a sub-goal task's frame
+        columns), or ``None`` where the entry names none."""
+        if self.task is not None:
+            return tuple(self.task().feature_names())
+        if self.features is None:
+            return None
+        return tuple(Factory(self.features).resolve())
 
     def make_env(self, **kwargs: Any) -> Any:
         """The gymnasium environment, built directly (without ``gymnasium.make``'s wrappers)."""
@@ -144,7 +176,7 @@ def _spec(name: str, world: str, formula: str, description: str) -> Entry:
     # reward); the formula says what the agent should achieve there.
     factory = Factory(f"symlearn.envs.{world}_world:make_{world}_world")
     return Entry(name, frozenset({Kind.SPEC}), description, ("spec",), f"symlearn/{world}-v0", factory,
-                 formula=formula)
+                 formula=formula, expert=Factory("symlearn.envs.experts:spec_task", {"task": name}))
 
 
 _DNF_METHODS = ("dnf",)  # one-class tree -> DNF over the environment's info["features"]
@@ -174,7 +206,19 @@ _BLOCKED_MUJOCO = (
 def _safenav(agent: str, task: str, description: str) -> Entry:
     name = f"safenav-{agent}-{task}"
     return Entry(name, frozenset({Kind.CONTINUOUS}), description, _DNF_METHODS, f"symlearn/{name}-v0",
-                 Factory("symlearn.envs.safenav.env:SafeNavEnv", {"agent": agent, "task": task}))
+                 Factory("symlearn.envs.safenav.env:SafeNavEnv", {"agent": agent, "task": task}),
+                 expert=Factory("symlearn.envs.experts:safenav", {"agent": agent, "task": task}),
+                 features="symlearn.envs.safenav.observation:FEATURE_NAMES")
+
+
+def _blocks(kind: str, size: int) -> Entry:
+    # Thesis chapter 6's block world: frames of block positions, no gymnasium environment.
+    what = (f"{size} blocks placed in a preferred order" if kind == "place"
+            else f"{size} round(s) of three blocks stacked")
+    spec = {"kind": kind, "size": size}
+    return Entry(f"blocks-{kind}-{size}", frozenset({Kind.SUBGOALS}), f"block world: {what} (sub-goal PDFA)",
+                 ("pdfa",), expert=Factory("symlearn.envs.experts:block_world", spec),
+                 task=Factory("symlearn.envs.experts:block_world_task", spec))
 
 
 #: Every bundled entry, in listing order. The formulas are those of the thesis, Table 5.1
@@ -203,7 +247,8 @@ ENTRIES: tuple[Entry, ...] = (
     # re-creation of Safety-Gym's Point/Car x Goal1/Push1 (section 4.4.1).
     Entry("toy-navigation", frozenset({Kind.CONTINUOUS}),
           "point in [0,1]^2 from (0.1,0.1) to (0.9,0.9) along an L-shaped safe set (features x, y)",
-          _DNF_METHODS, "symlearn/toy-navigation-v0", Factory("symlearn.envs.toy_navigation:ToyNavigationEnv")),
+          _DNF_METHODS, "symlearn/toy-navigation-v0", Factory("symlearn.envs.toy_navigation:ToyNavigationEnv"),
+          expert=Factory("symlearn.envs.experts:toy_navigation"), features="symlearn.envs.toy_navigation:FEATURE_NAMES"),
     _safenav("point", "goal", "Safety-Gym PointGoal1 in numpy: reach goals, avoid 8 hazards (20 features)"),
     _safenav("point", "push", "Safety-Gym PointPush1 in numpy: push a box to the goal, avoid 8 hazards"),
     _safenav("car", "goal", "Safety-Gym CarGoal1 in numpy: differential drive, reach goals, avoid hazards"),
@@ -213,24 +258,33 @@ ENTRIES: tuple[Entry, ...] = (
     Entry("driving", frozenset({Kind.CONTINUOUS}),
           "highway-env highway, continuous action: avoid collisions and leaving the road (10 features; "
           "needs symlearn[highway])", _DNF_METHODS, "symlearn/driving-v0",
-          Factory("symlearn.envs.driving.env:DrivingEnv")),
+          Factory("symlearn.envs.driving.env:DrivingEnv"), expert=Factory("symlearn.envs.experts:driving"),
+          features="symlearn.envs.driving.features:FEATURE_NAMES"),
     # Neural MCE-ICRL (thesis chapter 2) at CPU size: a numpy stand-in for the blocked MuJoCo robots
     # (section 2.5.2) and the kinematic point of the transfer experiment (section 2.5.4).
     Entry("blocked-point", frozenset({Kind.CONTINUOUS}),
           "point mass paid for moving along x; the easy direction is forbidden behind a wall at x = wall (-3)",
-          _ICRL_METHODS, "symlearn/blocked-point-v0", Factory("symlearn.envs.blocked_point:BlockedPoint")),
+          _ICRL_METHODS, "symlearn/blocked-point-v0", Factory("symlearn.envs.blocked_point:BlockedPoint"),
+          expert=Factory("symlearn.envs.experts:blocked_point"), features="symlearn.envs.blocked_point:FEATURE_NAMES"),
     Entry("point-circle", frozenset({Kind.CONTINUOUS}),
           "kinematic point paid for running a circle of radius 10, wall at x = -3 (cost-transfer target)",
-          _ICRL_METHODS, "symlearn/point-circle-v0", Factory("symlearn.envs.point_circle:PointCircle")),
+          _ICRL_METHODS, "symlearn/point-circle-v0", Factory("symlearn.envs.point_circle:PointCircle"),
+          trained_expert=True, features="symlearn.envs.blocked_point:FEATURE_NAMES"),
+    # No scripted expert for the robots: a PPO-Lagrangian one is trained on the true cost.
     *(Entry(name, frozenset({Kind.CONTINUOUS}), description, _ICRL_METHODS, f"symlearn/{name}-v0",
-            Factory(f"symlearn.envs.blocked_mujoco:{factory}"))
+            Factory(f"symlearn.envs.blocked_mujoco:{factory}"), trained_expert=True,
+            features="symlearn.envs.blocked_mujoco:FEATURE_NAMES")
       for name, factory, description in _BLOCKED_MUJOCO),
     # Thesis chapter 7 (Table 7.1): numpy rendered block world, image demonstrations, pick-and-place pixels.
     *(Entry(f"blockworld-{task.replace('-', '')}", frozenset({Kind.MACHINE}),
             f"rendered block world, {text} (top-down 48 px policy view, front camera for demos)",
             ("rm", "dqrm", "dqn"), f"symlearn/blockworld-{task.replace('-', '')}-v0",
-            Factory("symlearn.envs.rendered_blocks.env:RenderedBlocksEnv", {"task": task}))
+            Factory("symlearn.envs.rendered_blocks.env:RenderedBlocksEnv", {"task": task}),
+            expert=Factory("symlearn.envs.experts:rendered_blocks", {"task": task}))
       for task, text in _BLOCK_TASKS.items()),
+    # Thesis chapter 6 (section 6.4.1): sub-goals and preferred orderings from object positions.
+    *(_blocks("place", k) for k in range(2, 7)),
+    *(_blocks("stack", r) for r in range(1, 5)),
 )
 
 # Names used before the registry gave the junction one name everywhere (hints only).

@@ -42,4 +42,4 @@ def test_bad_input_is_one_line(capsys, tmp_path):
     code, _, err = run(capsys, "learn", "dnf", "--demos", path, "--features", "a,b,c")
     assert code == 2 and len(err.strip().splitlines()) == 1
     code, _, err = run(capsys, "learn", "dnf", "--env", "hanoi")
-    assert code == 2 and "no scripted expert" in err
+    assert code == 2 and "has no expert" in err

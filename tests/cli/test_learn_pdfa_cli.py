@@ -95,7 +95,7 @@ def test_all_nan_frames_and_bad_archives(capsys, tmp_path):
     code, _, err = run(capsys, "learn", "pdfa", "--demos", tmp_path / "missing.npz")
     assert code == 2 and "missing.npz" in err
     code, _, err = run(capsys, "learn", "pdfa", "--env", "blocks-place-9")
-    assert code == 2 and "blocks-place-K" in err
+    assert code == 2 and "unknown sub-goal task 'blocks-place-9'" in err and "blocks-place-6" in err
 
 
 def test_thesis_probabilities_print_and_refuse_an_unloadable_file(capsys, tmp_path, archive):

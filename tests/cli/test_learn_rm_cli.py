@@ -64,7 +64,7 @@ def test_env_and_overrides_sparse_machine(capsys, tmp_path):
 
 
 @pytest.mark.parametrize("arguments, message", [
-    (("--env", "blockworld-stack4"), "is not a rendered block task"),
+    (("--env", "blockworld-stack4"), "unknown rendered block task 'blockworld-stack4' (hint: did you mean 'blockworld-stack3'?"),
     (("--env", "blockworld-stack2", "-o", "m.txt"), "-o must name a .json file"),
     (("--env", "blockworld-stack2", "--kappa", "-1"), "--kappa must be a positive number"),
     (("--env", "blockworld-stack2", "--gamma", "1.5"), "--gamma must be in (0, 1)"),

@@ -84,3 +84,16 @@ def test_internal_failure_exits_1(monkeypatch, capsys, demos_file):
     code = cli_main.main(["data", "info", str(demos_file)])
     err = capsys.readouterr().err
     assert code == 1 and "internal error: RuntimeError: boom" in err and "--debug" in err
+
+
+def test_one_grammar_no_abbreviations_and_did_you_mean(run_cli):
+    """A misspelt or shortened flag is refused in one line that names the flag meant."""
+    for args, meant in ((("learn", "dnf", "--demoz", "x"), "did you mean --demos?"),
+                        (("learn", "dnf", "--env-kw", "{}"), "did you mean --env-kwargs?"),
+                        (("learn", "icrl", "--env", "x", "--method", "mce-icr"), "did you mean 'mce-icrl'?"),
+                        (("lern",), "did you mean 'learn'?")):
+        result = run_cli(*args)
+        assert result.returncode == 2 and meant in result.stderr, result.stderr
+        assert len(result.stderr.strip().splitlines()) == 1 and "usage:" not in result.stderr
+    result = run_cli("learn", "dnf", "--max-dep", "3", "--demos", "x")
+    assert result.returncode == 2 and "unrecognized arguments: --max-dep" in result.stderr  # never taken as --max-depth

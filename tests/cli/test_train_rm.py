@@ -42,7 +42,7 @@ def test_dqn_on_a_learned_machine_file(tmp_path, capsys, monkeypatch):
 
 
 @pytest.mark.parametrize("changes, message", [
-    ({"env": "toy-navigation"}, "trains on a rendered block task"),
+    ({"env": "toy-navigation"}, "'toy-navigation' is no rendered block task"),
     ({"steps": 0}, "--steps must be at least 1"),
     ({"output": "agent.pt"}, "-o must name a .safetensors file"),
     ({"reward": "dense"}, "--reward must be shaped or sparse"),

@@ -189,18 +189,16 @@ def test_unknown_task_and_missing_mujoco(monkeypatch):
 
 
 def test_registered_with_gymnasium_and_the_registry():
-    from symlearn.cli.learn_icrl_command import env_kwargs
-    from symlearn.envs import registry
     from symlearn.envs.gym_registration import register_gymnasium_envs
+    from symlearn.recipes.environments import resolve_env
 
     assert "symlearn/blocked-swimmer-v0" in register_gymnasium_envs()
     env = gym.make("symlearn/blocked-swimmer-v0", wall=0.3)
     assert env.unwrapped.wall == 0.3 and env.unwrapped.task.name == "swimmer"
-    entry = registry.get("blocked-ant")
-    kwargs = env_kwargs('{"wall": -2, "contact_forces": true}', entry.env, entry.name)
-    assert entry.make_env(**kwargs).wall == -2.0
+    target = resolve_env("blocked-ant", '{"wall": -2, "contact_forces": true}')
+    assert target.make().wall == -2.0
     with pytest.raises(DataError, match="unknown --env-kwargs key 'wal' for blocked-ant") as info:
-        env_kwargs(json.dumps({"wal": -2}), entry.env, entry.name)
+        resolve_env("blocked-ant", json.dumps({"wal": -2}))
     assert info.value.hint.startswith("did you mean 'wall'?")
 
 

@@ -38,13 +38,15 @@ def test_names_are_unique_and_the_agreed_ones():
     assert len(names) == len(set(names))
     safenav = [f"safenav-{agent}-{task}" for agent in ("point", "car") for task in ("goal", "push")]
     blocks = [f"blockworld-{t}" for t in ("stack2", "place2", "pyramid3", "stack3", "place3")]
+    blocks += [f"blocks-place-{k}" for k in range(2, 7)] + [f"blocks-stack-{r}" for r in range(1, 5)]
     assert set(names) == {"hanoi", "junction-lights", "junction-priority", "junction-combined", "gridworld",
                           *(f"{world}-{i}" for world in ("office", "craft") for i in range(1, 5)),
                           "toy-navigation", *safenav, "driving", "blocked-point", "point-circle", *MUJOCO, *blocks}
     assert GYM_IDS == sorted(f"symlearn/{n}-v0" for n in ("junction-lights", "junction-priority",
                                                           "junction-combined", "gridworld", "office", "craft",
                                                           "toy-navigation", *safenav, "driving", "blocked-point",
-                                                          "point-circle", *MUJOCO, *blocks))
+                                                          "point-circle", *MUJOCO,
+                                                          *(b for b in blocks if b.startswith("blockworld-"))))
 
 
 def test_the_other_tables_are_views_of_the_registry():
@@ -190,7 +192,7 @@ def test_the_cli_lists_every_entry_and_gymnasium_id(capsys):
     code, out, err = run(capsys, "envs", "--json")
     assert code == 0, err
     doc = json.loads(out)
-    rows = doc["constraints"] + doc["specs"] + doc["continuous"] + doc["machines"]
+    rows = doc["constraints"] + doc["specs"] + doc["continuous"] + doc["machines"] + doc["subgoals"]
     assert sorted(r["name"] for r in rows) == sorted(registry.names())
     assert {r["name"]: r["gym_id"] for r in rows} == {e.name: e.gym_id for e in ENTRIES}
     assert [r["id"] for r in doc["gymnasium"]] == list(registry.gym_entries())

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from symlearn.cli.rm_training import block_setup
+from symlearn.recipes.block_rewards import block_setup
 from symlearn.errors import DataError
 from symlearn.rl.dqrm import DQRMConfig, pixel_network, train_dqrm
 

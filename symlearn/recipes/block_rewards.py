@@ -1,12 +1,12 @@
-"""Everything DQRM needs on a rendered block task, from the task's name (entry-point glue).
+"""Everything DQRM needs on a rendered block task, from the task's name (a recipe).
 
 :func:`block_setup` renders the scripted demonstrations, infers the machine and its labeling from
 the front camera (or takes the ground-truth machine, or a machine file written by ``symlearn learn
 rm`` with its labeling beside it), shapes it (``Psi = gamma ** d``), takes the top-down frames of
 the prototypes for the place network, and replays the demonstrator's actions for the replay buffers.
-It lives with the entry points because it joins an environment (``envs``) and a learner
-(``learners``), which neither layer may do itself. ``symlearn train --env blockworld-stack2 --algo
-dqrm|dqn`` and ``benchmarks/dqrm_blocks.py`` use it.
+It is a recipe because it joins an environment (``envs``) and a learner (``learners``), which
+neither layer may do itself. ``symlearn train --env blockworld-stack2 --algo dqrm|dqn``, the ``rm``
+demo and ``benchmarks/dqrm_blocks.py`` use it.
 """
 
 from __future__ import annotations

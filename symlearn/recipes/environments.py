@@ -1,0 +1,472 @@
+"""One way to name an environment: a bundled name, a gymnasium id, or ``module:EnvId``.
+
+Every command that takes ``--env`` resolves it here, so all of them accept the same three forms:
+
+* a bundled name (``toy-navigation``, ``office-1``; ``symlearn envs`` lists them), built from its
+  registry entry (:mod:`symlearn.envs.registry`), which also names its expert and features;
+* any id in gymnasium's registry (``CartPole-v1``, ``symlearn/toy-navigation-v0``);
+* ``module:EnvId`` -- gymnasium's ``make`` convention: ``module`` is imported (the current
+  directory first, as for ``python -m``), and importing it must register ``EnvId``.
+
+``--env-kwargs`` (a JSON object) is checked against the environment's constructor before
+anything is built; an unknown key is an error naming the constructor's parameters.
+
+>>> target = resolve_env("toy-navigation")
+>>> target.entry.name, target.has_expert, target.feature_names()
+('toy-navigation', True, ('x', 'y'))
+>>> resolve_env("toy-navigaton")  # doctest: +ELLIPSIS
+Traceback (most recent call last):
+symlearn.errors.UnknownNameError: unknown environment 'toy-navigaton' (hint: did you mean 'toy-navigation'? ...)
+"""
+
+from __future__ import annotations
+
+import importlib
+import inspect
+import os
+import sys
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from difflib import get_close_matches
+from typing import Any
+
+from symlearn.envs.registry import ENTRIES, Entry, Kind
+from symlearn.envs.registry import get as get_entry
+from symlearn.errors import DataError, SymlearnError, UnknownNameError
+
+#: keywords ``gymnasium.make`` itself takes, accepted for every gymnasium id
+_MAKE_KEYWORDS = ("render_mode", "max_episode_steps", "disable_env_checker")
+#: deepest nesting --env-kwargs may have (a JSON bomb of brackets is refused, not recursed into)
+_MAX_DEPTH = 32
+
+
+# --- --env-kwargs ------------------------------------------------------------------------------
+
+
+def parse_env_kwargs(value: str | Mapping[str, Any] | None, *, flag: str = "--env-kwargs") -> dict[str, Any]:
+    """``value`` as a dict: ``None`` -> ``{}``, a mapping as it is, a string as strict JSON (an
+    object; duplicate keys, NaN and nesting deeper than 32 levels refused)."""
+    if value is None:
+        return {}
+    if isinstance(value, Mapping):
+        return dict(value)
+    import json
+
+    def no_duplicates(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
+        seen: dict[str, Any] = {}
+        for key, item in pairs:
+            if key in seen:
+                raise DataError(f"{flag} names {key!r} twice", hint="give each keyword once")
+            seen[key] = item
+        return seen
+
+    def no_constant(name: str) -> Any:
+        raise DataError(f"{flag}: {name} is no JSON number", hint="give a finite number")
+
+    text = str(value)
+    depth = running = 0
+    for char in text:  # count brackets before json recurses into them
+        if char in "[{":
+            running += 1
+            depth = max(depth, running)
+        elif char in "]}":
+            running -= 1
+    if depth > _MAX_DEPTH:
+        raise DataError(f"{flag} nests {depth} levels deep (at most {_MAX_DEPTH})")
+    try:
+        kwargs = json.loads(text, object_pairs_hook=no_duplicates, parse_constant=no_constant)
+    except json.JSONDecodeError as exc:
+        raise DataError(f"{flag} is not JSON: {exc.msg}", line=exc.lineno, column=exc.colno,
+                        hint='give a JSON object, e.g. \'{"wall": -3.0}\'') from None
+    except RecursionError:
+        raise DataError(f"{flag} nests too deeply") from None
+    if not isinstance(kwargs, dict):
+        raise DataError(f"{flag} must be a JSON object, got {type(kwargs).__name__}",
+                        hint='e.g. \'{"size": 8}\'')
+    return kwargs
+
+
+def _parameters(constructor: Callable[..., Any]) -> tuple[list[str], bool]:
+    """(keyword parameter names, whether it takes ``**kwargs``) of a constructor."""
+    try:
+        signature = inspect.signature(constructor)
+    except (TypeError, ValueError):
+        return [], True  # a builtin or C extension: nothing to check against
+    names = [n for n, p in signature.parameters.items() if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)
+             and n != "self"]
+    open_ended = any(p.kind == p.VAR_KEYWORD for p in signature.parameters.values())
+    return names, open_ended
+
+
+def _check_keys(kwargs: Mapping[str, Any], known: Sequence[str], open_ended: bool, display: str) -> None:
+    if open_ended:
+        return
+    unknown = [key for key in kwargs if key not in known]
+    if unknown:
+        close = get_close_matches(unknown[0], list(known), n=1)
+        raise DataError(f"unknown --env-kwargs key {unknown[0]!r} for {display}",
+                        hint=(f"did you mean {close[0]!r}? " if close else "")
+                        + ("its parameters: " + ", ".join(known) if known else "it takes no parameters"))
+
+
+# --- features ----------------------------------------------------------------------------------
+
+
+def parse_feature_names(text: str | Sequence[str], *, flag: str = "--features") -> tuple[str, ...]:
+    """``"a,b"`` (or a sequence) as names: none empty, none twice."""
+    names = [n.strip() for n in (text.split(",") if isinstance(text, str) else text)]
+    if not names or any(not n for n in names):
+        raise DataError(f"{flag}: every name must be non-empty, got {text!r}", hint="e.g. --features x,y")
+    seen: set[str] = set()
+    for name in names:
+        if name in seen:
+            raise DataError(f"{flag} names {name!r} twice", hint="give each column one name")
+        seen.add(name)
+    return tuple(names)
+
+
+@dataclass(frozen=True)
+class Features:
+    """Where an environment's features come from and what they are called.
+
+    ``source`` is ``"info"`` (``info["features"]``, a vector or a dict) or ``"observation"``
+    (the flattened observation); ``names`` has one entry per column.
+    """
+
+    names: tuple[str, ...]
+    source: str
+
+
+def _width(vector: Any) -> int | None:
+    import numpy as np
+
+    try:
+        array = np.asarray(vector, dtype=np.float64)
+    except (TypeError, ValueError):
+        return None
+    return int(array.size)
+
+
+# --- the target --------------------------------------------------------------------------------
+
+
+@dataclass
+class EnvTarget:
+    """A resolved ``--env``: how to build it, and what symlearn knows about it.
+
+    ``entry`` is the bundled registry entry (``None`` for a user's environment), ``gym_id`` the
+    gymnasium id (``None`` for a bundled entry without one, e.g. a sub-goal task), ``kwargs`` the
+    checked ``--env-kwargs``.
+    """
+
+    name: str
+    entry: Entry | None
+    gym_id: str | None
+    kwargs: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def display(self) -> str:
+        return self.entry.name if self.entry is not None else self.name
+
+    @property
+    def bundled(self) -> bool:
+        return self.entry is not None
+
+    def has_kind(self, kind: Kind) -> bool:
+        return self.entry is not None and kind in self.entry.kinds
+
+    # building ----------------------------------------------------------------------------------
+
+    def make(self) -> Any:
+        """A fresh environment (a bundled one built directly, others through ``gymnasium.make``)."""
+        if self.entry is not None:
+            if self.entry.env is None:
+                raise DataError(f"{self.display} has no gymnasium environment "
+                                f"(it is a {', '.join(k.label for k in sorted(self.entry.kinds))})")
+            build = lambda: self.entry.make_env(**self.kwargs)  # noqa: E731
+        else:
+            import gymnasium
+
+            build = lambda: gymnasium.make(self.gym_id, **self.kwargs)  # noqa: E731
+        try:
+            return build()
+        except SymlearnError:
+            raise
+        except (TypeError, ValueError) as exc:  # a value of the wrong type ("wall": "left")
+            raise DataError(f"--env-kwargs does not fit {self.display}: {type(exc).__name__}: {exc}"
+                            if self.kwargs else f"building {self.display} failed: {type(exc).__name__}: {exc}",
+                            hint="check the environment's parameters") from None
+        except ImportError as exc:
+            missing = getattr(exc, "name", None) or str(exc)
+            raise DataError(f"building {self.display} needs {missing}, which is not installed",
+                            hint="see `symlearn doctor` for the optional extras") from None
+        except Exception as exc:  # the user's own environment failed: say so in one line
+            raise DataError(f"building {self.display} failed: {type(exc).__name__}: {exc}") from None
+
+    @property
+    def env_fn(self) -> Callable[[], Any]:
+        """A zero-argument constructor (for vectorised training)."""
+        return self.make
+
+    # names -------------------------------------------------------------------------------------
+
+    def features(self, env: Any = None, override: str | Sequence[str] | None = None) -> Features | None:
+        """The features a constraint reads: ``info["features"]`` where the environment reports
+        them, else the observation; named by ``override`` (``--features``), the environment's
+        ``feature_names`` attribute, the entry's names, or the keys of a dict
+        ``info["features"]``. ``None`` when nothing names them. The count is checked."""
+        owned = env is None
+        env = self.make() if owned else env
+        try:
+            _, info = env.reset(seed=0)
+            in_info = isinstance(info, Mapping) and "features" in info
+            raw = info["features"] if in_info else None
+            if in_info and isinstance(raw, Mapping):
+                names = tuple(str(k) for k in raw)
+                width = len(names)
+            else:
+                width = _width(raw) if in_info else _observation_width(env)
+                names = None
+            declared = _declared_names(env, self.entry)
+            if override is not None:
+                names = parse_feature_names(override)
+            elif names is None:
+                names = declared
+            if names is None:
+                return None
+            if width is not None and len(names) != width:
+                where = 'info["features"]' if in_info else "the observation"
+                raise DataError(f"{len(names)} feature names ({', '.join(names)}) for {width} columns of {where} "
+                                f"of {self.display}", hint="give one name per column with --features a,b,...")
+            return Features(tuple(names), "info" if in_info else "observation")
+        finally:
+            if owned:
+                env.close()
+
+    def feature_names(self, env: Any = None, override: str | Sequence[str] | None = None) -> tuple[str, ...] | None:
+        """The names of :meth:`features` (a sub-goal task's frame columns where there is no
+        environment); ``None`` when nothing names them."""
+        if self.entry is not None and env is None and (self.entry.env is None or self.entry.features):
+            # named by the registry: no environment needs building (highway-env's takes seconds)
+            return parse_feature_names(override) if override is not None else self.entry.feature_names()
+        found = self.features(env, override)
+        return None if found is None else found.names
+
+    def observation_names(self, env: Any) -> tuple[str, ...] | None:
+        """Names of the flattened observation's entries: ``observation_names``, else the
+        feature names when there is one per observation entry (the common case of features
+        that are the observation; a different count names something else)."""
+        names = getattr(env.unwrapped, "observation_names", None)
+        if names is not None:
+            return tuple(names)
+        found = self.features(env)
+        if found is None:
+            return None
+        return found.names if found.source == "observation" or len(found.names) == _observation_width(env) else None
+
+    def reports_cost(self, env: Any = None) -> bool:
+        """Whether the environment reports a ground-truth cost (``info["cost"]`` after a step;
+        the safety-gymnasium convention). Where it does not, costs are "n/a", never 0."""
+        owned = env is None
+        env = self.make() if owned else env
+        try:
+            env.reset(seed=0)
+            env.action_space.seed(0)
+            info = env.step(env.action_space.sample())[-1]
+            return isinstance(info, Mapping) and "cost" in info
+        finally:
+            if owned:
+                env.close()
+
+    # experts -----------------------------------------------------------------------------------
+
+    @property
+    def has_expert(self) -> bool:
+        """Whether a bundled scripted expert exists (a trained one is :attr:`trains_expert`)."""
+        return self.entry is not None and self.entry.expert is not None
+
+    @property
+    def trains_expert(self) -> bool:
+        """Whether a PPO-Lagrangian expert can be trained on the entry's true cost instead."""
+        return self.entry is not None and self.entry.trained_expert
+
+    def expert_demonstrations(self, n: int, seed: int = 0) -> Any:
+        """``n`` demonstrations of the bundled scripted expert (in the ``--env-kwargs`` variant)."""
+        if n < 1:
+            raise DataError(f"--n-demos must be at least 1, got {n}")
+        if not self.has_expert:
+            raise DataError(f"{self.display} has no expert: give your demonstrations with --demos FILE",
+                            hint="record them with symlearn.data.record(env, policy, n) and save them as .npz/.jsonl")
+        return self.entry.expert(n, seed=seed, env_kwargs=dict(self.kwargs))
+
+
+def _observation_width(env: Any) -> int | None:
+    space = getattr(env, "observation_space", None)
+    shape = getattr(space, "shape", None)
+    if not shape:
+        return None
+    width = 1
+    for dim in shape:
+        width *= int(dim)
+    return width
+
+
+def _declared_names(env: Any, entry: Entry | None) -> tuple[str, ...] | None:
+    names = getattr(env.unwrapped, "feature_names", None)
+    if callable(names):
+        names = names()
+    if names is not None:
+        return tuple(str(n) for n in names)
+    return entry.feature_names() if entry is not None else None
+
+
+# --- resolution --------------------------------------------------------------------------------
+
+
+def resolve_env(name: str, kwargs: str | Mapping[str, Any] | None = None, *, kind: Kind | None = None,
+                what: str | None = None) -> EnvTarget:
+    """The environment named ``name`` (see the module doc), with ``kwargs`` checked.
+
+    ``kind``: a bundled name must be an entry of that kind (a user's environment is taken as
+    it is); ``what`` names the thing in messages (default "environment").
+    """
+    if not isinstance(name, str) or not name.strip():
+        raise DataError("--env is empty", hint="a bundled name (symlearn envs), a gymnasium id, or module:EnvId")
+    name = name.strip()
+    kwargs = parse_env_kwargs(kwargs)
+    if ":" in name:
+        return _from_module(name, kwargs)
+    key = name.lower()
+    if any(e.name == key for e in ENTRIES):
+        entry = get_entry(key, kind, what=what) if kind is not None else get_entry(key)
+        return _bundled(name, entry, kwargs)
+    gymnasium = _gymnasium()
+    import symlearn.envs  # noqa: F401 -- registers the symlearn/ ids
+
+    if name in gymnasium.registry:
+        bundled = next((e for e in ENTRIES if e.gym_id == name), None)
+        if bundled is not None:  # symlearn/toy-navigation-v0: the entry, with its expert
+            return _bundled(name, bundled, kwargs)
+        return _registered(name, name, kwargs)
+    raise _unknown(name, gymnasium, kind, what)
+
+
+def _bundled(name: str, entry: Entry, kwargs: dict[str, Any]) -> EnvTarget:
+    if kwargs:
+        if entry.env is None:
+            raise DataError(f"{entry.name} has no environment to pass --env-kwargs to")
+        known, _ = _parameters(entry.env.resolve())
+        # Our own factories name every keyword they take (a robot's extra ``**kwargs`` are
+        # passed on unchecked by MuJoCo, so a misspelt key would silently do nothing).
+        _check_keys(kwargs, known, False, entry.name)
+    return EnvTarget(name, entry, entry.gym_id, kwargs)
+
+
+def _registered(name: str, gym_id: str, kwargs: dict[str, Any]) -> EnvTarget:
+    gymnasium = _gymnasium()
+    spec = gymnasium.spec(gym_id)
+    if kwargs:
+        constructor = spec.entry_point
+        if isinstance(constructor, str):
+            from gymnasium.envs.registration import load_env_creator
+
+            try:
+                constructor = load_env_creator(constructor)
+            except Exception as exc:  # the id's module itself is broken
+                raise DataError(f"{gym_id}'s entry point {spec.entry_point!r} does not load: "
+                                f"{type(exc).__name__}: {exc}") from None
+        known, open_ended = _parameters(constructor)
+        known = [*known, *(k for k in _MAKE_KEYWORDS if k not in known)]
+        _check_keys(kwargs, known, open_ended, gym_id)
+    return EnvTarget(name, None, gym_id, kwargs)
+
+
+def _from_module(name: str, kwargs: dict[str, Any]) -> EnvTarget:
+    module, _, env_id = name.partition(":")
+    module, env_id = module.strip(), env_id.strip()
+    if not module or not env_id:
+        raise DataError(f"--env {name!r}: write module:EnvId", hint="e.g. --env my_robot:MyRobot-v0")
+    gymnasium = _gymnasium()
+    before = set(gymnasium.registry)
+    _import_user_module(module)
+    import symlearn.envs  # noqa: F401 -- `symlearn.envs:symlearn/toy-navigation-v0` works too
+
+    if env_id not in gymnasium.registry:
+        added = sorted(set(gymnasium.registry) - before)
+        own = added or sorted(i for i, s in gymnasium.registry.items() if _defined_in(s.entry_point, module))
+        close = get_close_matches(env_id, own or list(gymnasium.registry), n=1)
+        hint = (f"did you mean {module}:{close[0]}? " if close else "") + (
+            f"it registers: {', '.join(own[:10])}" if own else
+            "it registered no gymnasium id: call gymnasium.register(id=..., entry_point=...) at import")
+        raise UnknownNameError(f"module {module!r} did not register the gymnasium id {env_id!r}", hint=hint)
+    bundled = next((e for e in ENTRIES if e.gym_id == env_id), None)
+    if bundled is not None:
+        return _bundled(name, bundled, kwargs)
+    return _registered(name, env_id, kwargs)
+
+
+def _defined_in(entry_point: Any, module: str) -> bool:
+    where = entry_point.split(":")[0] if isinstance(entry_point, str) else getattr(entry_point, "__module__", "")
+    return where == module or str(where).startswith(module + ".")
+
+
+def _import_user_module(module: str) -> None:
+    # As for `python -m`: the current directory is importable.
+    cwd = os.getcwd()
+    if cwd not in sys.path and "" not in sys.path:
+        sys.path.insert(0, cwd)
+    try:
+        importlib.import_module(module)
+    except ModuleNotFoundError as exc:
+        if exc.name and (module == exc.name or module.startswith(exc.name + ".")):
+            raise UnknownNameError(f"no module named {module!r} (for --env {module}:...)",
+                                   hint=f"run from the folder that holds {module.split('.')[0]}.py, or add it to "
+                                        "PYTHONPATH; a package must be installed") from None
+        raise DataError(f"importing module {module!r} failed: ModuleNotFoundError: {exc}",
+                        hint=f"{module} needs a package that is not installed") from None
+    except SymlearnError:
+        raise
+    except SyntaxError as exc:
+        raise DataError(f"importing module {module!r} failed: SyntaxError: {exc.msg}", file=exc.filename,
+                        line=exc.lineno, column=exc.offset) from None
+    except BaseException as exc:  # noqa: BLE001 -- the module's own error, in one line
+        if isinstance(exc, KeyboardInterrupt):
+            raise
+        where = _innermost_frame(exc)
+        raise DataError(f"importing module {module!r} failed: {type(exc).__name__}: {exc}", **where) from None
+
+
+def _innermost_frame(exc: BaseException) -> dict[str, Any]:
+    tb = exc.__traceback__
+    last = None
+    while tb is not None:
+        last = tb
+        tb = tb.tb_next
+    if last is None:
+        return {}
+    return {"file": last.tb_frame.f_code.co_filename, "line": last.tb_lineno}
+
+
+def _unknown(name: str, gymnasium: Any, kind: Kind | None, what: str | None) -> UnknownNameError:
+    bundled = [e.name for e in ENTRIES if kind is None or kind in e.kinds]
+    ids = [i for i in gymnasium.registry if not i.startswith("symlearn/")]
+    close = get_close_matches(name.lower(), bundled, n=1) or get_close_matches(name, ids, n=1)
+    hint = f"did you mean {close[0]!r}? " if close else ""
+    if not close and "-" in name and name[:1].isupper() and "/" not in name:
+        package = name.split("-")[0].lower()
+        hint += f"an id a package registers on import is named package:ID (e.g. {package}:{name}); "
+    if kind is not None:
+        hint += f"bundled: {', '.join(bundled)}; or "
+    hint += "a bundled name (symlearn envs), a gymnasium id, or module:EnvId"
+    return UnknownNameError(f"unknown {what or 'environment'} {name!r}", hint=hint)
+
+
+def _gymnasium() -> Any:
+    try:
+        import gymnasium
+    except ImportError:  # pragma: no cover - a core dependency
+        raise DataError("gymnasium is not installed", hint="pip install gymnasium") from None
+    return gymnasium
+
+
+__all__ = ["EnvTarget", "Features", "parse_env_kwargs", "parse_feature_names", "resolve_env"]

@@ -1,0 +1,61 @@
+"""Demonstrations for a resolved environment: the user's file, the bundled expert, or a trained one.
+
+One function answers "where do the demonstrations come from" for every ``learn`` command:
+``--demos FILE`` when given; else the registry entry's scripted expert; else, where the entry
+allows it (``trained_expert``: the blocked MuJoCo robots, PointCircle), a PPO-Lagrangian expert
+trained on the environment's true cost (minutes, cached; thesis chapter 2's experts). A user's
+environment has no expert, and the message says to give ``--demos``.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+from symlearn.errors import DataError
+from symlearn.recipes.environments import EnvTarget
+
+
+def demonstrations(target: EnvTarget | None, demos: str | Path | None, n_demos: int, *, seed: int = 0,
+                   expert_steps: int = 1_000_000, expert_cache: str | None = None,
+                   note: Callable[[str], None] | None = None) -> Any:
+    """The demonstrations a learner reads (see the module doc)."""
+    if demos is not None:
+        from symlearn.data import load
+
+        return load(demos)
+    if target is None:
+        raise DataError("give your demonstrations with --demos FILE")
+    if target.has_expert:
+        return target.expert_demonstrations(n_demos, seed=seed)
+    if target.trains_expert:
+        return trained_expert(target, n_demos, seed=seed, steps=expert_steps, cache=expert_cache, note=note)
+    raise DataError(f"{target.display} has no expert: give your demonstrations with --demos FILE",
+                    hint="record them with symlearn.data.record(env, policy, n) and save them as .npz or .jsonl")
+
+
+def trained_expert(target: EnvTarget, n: int, *, seed: int = 0, steps: int = 1_000_000, cache: str | None = None,
+                   note: Callable[[str], None] | None = None) -> Any:
+    """``n`` episodes of a PPO-Lagrangian expert trained on ``target``'s true cost, cached under
+    ``cache`` (default ``~/.cache/symlearn/experts``; ``"none"``: not cached)."""
+    from symlearn.learners.neural.lagrangian_expert import default_cache_dir, lagrangian_expert
+
+    if n < 1:
+        raise DataError(f"--n-demos must be at least 1, got {n}")
+    cache = cache or default_cache_dir()
+    cache = None if str(cache).lower() == "none" else cache
+    say = note or (lambda _text: None)
+    where = f"cached in {cache}" if cache else "not cached"
+    say(f"{target.display} has no scripted expert: PPO-Lagrangian on its true cost, {steps} steps ({where})")
+    with warnings.catch_warnings(record=True) as caught:  # an expert that still violates: say so as a note
+        warnings.simplefilter("always", RuntimeWarning)
+        demos, _ = lagrangian_expert(target.make, n, steps=steps, seed=seed,
+                                     key={"env": target.display, "kwargs": target.kwargs}, cache_dir=cache)
+    for w in caught:
+        say(f"warning: {w.message}")
+    return demos
+
+
+__all__ = ["demonstrations", "trained_expert"]
