@@ -181,12 +181,16 @@ def product_q_learning(env: Any, labeler: Labeler, machine, *, n_steps: int = 50
 def rollout_words(env: Any, labeler: Labeler, n: int, *, policy: ProductQResult | None = None,
                   horizon: int = 200, seed: int | None = None) -> tuple[list[list[frozenset]], float]:
     """Label words of ``n`` episodes (first observation included) of ``policy`` (uniform over its
-    best actions) or, without one, of uniformly random actions; and the policy's mean action
-    entropy along them divided by ``log |A|`` (1 for random actions).
+    best actions) or, without one, of uniformly random actions (the action space's samples when
+    it is not discrete); and the policy's mean action entropy along them divided by ``log |A|``
+    (1 for random actions).
 
     With a policy, an episode also ends where its machine ends (as in training)."""
     rng = np.random.default_rng(seed)
-    n_a = _n_actions(env)
+    discrete = getattr(env.action_space, "n", None) is not None
+    n_a = _n_actions(env) if policy is not None or discrete else 0
+    if not discrete:  # random continuous actions: the action space's own seeded sampler
+        env.action_space.seed(int(rng.integers(1 << 31)))
     words, total, count = [], 0.0, 0
     for episode in range(n):
         observation, info = env.reset(seed=int(rng.integers(1 << 31)))
@@ -197,7 +201,7 @@ def rollout_words(env: Any, labeler: Labeler, n: int, *, policy: ProductQResult 
             u = int(policy.columns(label).next_u[policy.columns.initial, 0])
         for t in range(horizon):
             if policy is None:
-                a = int(rng.integers(n_a))
+                a = int(rng.integers(n_a)) if discrete else env.action_space.sample()
                 total += 1.0
             else:
                 probs = policy.probabilities(policy.state_key(env, observation), u)
