@@ -51,3 +51,21 @@ def test_cli_feature_labeling_named_by_the_environment(capsys, tmp_path):
     assert doc["iterations"] == 1 and all(holds(parse(doc["formula"]), w) for w in _words(demos))
     saved = json.loads((tmp_path / "line.labeling.json").read_text())  # a feature labeling is saved
     assert saved["kind"] == "features"
+
+
+def test_the_environment_state_key_hook_keys_the_q_table():
+    import gymnasium as gym
+
+    from symlearn.learners.temporal.spec_env_world import EnvWorld
+    from symlearn.logic.ltlf import parse
+
+    class Keyed(gym.Wrapper):
+        def state_key(self, observation):
+            return ("cell", int(observation))
+
+    env = Keyed(gym.make("FrozenLake-v1", is_slippery=False))
+    world = EnvWorld(env, lambda obs, info: ["goal"] if obs == 15 else [], q_steps=3_000, horizon=40)
+    assert world.route == "tabular"
+    result = world.train(parse("F goal"), seed=0)
+    assert result.q and all(key[0] == "cell" for key in result.q)
+    assert all("goal" in world.word(t)[-1] for t in world.policy_traces(result, 5, seed=1))

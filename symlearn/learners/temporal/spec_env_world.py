@@ -62,6 +62,17 @@ def policy_route(env: Any, state_key: Callable | None = None) -> str:
 _RECORD_HINT = "label the demonstrations while recording: symlearn.data.record(env, policy, n, labeler=...)"
 
 
+def _own_state_key(env: Any) -> Callable | None:
+    """A ``state_key(observation)`` method of the environment or of any wrapper around it."""
+    seen = 0
+    while env is not None and seen < 64:
+        found = getattr(type(env), "state_key", None)
+        if callable(found):
+            return env.state_key
+        env, seen = getattr(env, "env", None), seen + 1
+    return None
+
+
 def _plain(state: Any) -> Any:
     """A stored state as the environment would give it: numpy scalars as Python numbers."""
     return state.item() if isinstance(state, np.generic) else state
@@ -86,8 +97,8 @@ class EnvWorld:
     ``policy`` is ``"auto"`` (see :func:`policy_route`), ``"tabular"`` or ``"ppo"``;
     ``state_key(env, observation) -> hashable`` replaces the observation as the Q-table key
     (MiniGrid's partial view, say, is not the state; ``lambda env, obs: env.unwrapped.hash()``
-    is); the environment may also offer it as a ``state_key(observation)`` method of its
-    unwrapped self, which is used when none is given.
+    is); the environment (or a wrapper around it) may also offer it as a
+    ``state_key(observation)`` method, which is used when none is given.
     """
 
     def __init__(self, env: Any, labeling: Any, *, horizon: int | None = None, policy: str = "auto",
@@ -111,8 +122,8 @@ class EnvWorld:
         unwrapped = getattr(self.env, "unwrapped", self.env)
         # rollouts are in self.env, so a labeling taking the environment gets that one
         self.labeler = lambda observation, info, where="": self._label(observation, info, where, env=unwrapped)
-        own_key = getattr(getattr(self.env, "unwrapped", self.env), "state_key", None)
-        if state_key is None and callable(own_key):
+        own_key = _own_state_key(self.env)
+        if state_key is None and own_key is not None:
             state_key = lambda env_, obs: own_key(obs)  # noqa: E731 - the environment's documented hook
         self.state_key = state_key
         self.route = policy_route(self.env, state_key) if policy == "auto" else policy
