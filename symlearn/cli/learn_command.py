@@ -11,6 +11,12 @@ writes the formula (``spec.ltl``), the labeling (``spec.labeling.json``) and the
 named after it, so ``-o notes.txt`` would overwrite ``notes.dot``/``notes.svg`` (refused before
 learning). Demonstrations given with ``--demos`` must come from the environment: a file whose
 metadata names another task, or whose labels disagree with the environment's labeling, is refused.
+
+``symlearn learn spec --env GYM-ID|module:EnvId [--env-kwargs JSON] --demos D --labeling
+FILE.json|FILE.py:function [--features a,b] [--policy auto|tabular|ppo] [--q-steps N] [--ppo-steps N]``
+learns in a user's environment (resolved by :mod:`symlearn.recipes.environments`): no expert, so
+``--demos`` is required; no tabular model, so each policy update is RL on the product of the
+environment and the candidate formula's automaton (:mod:`symlearn.learners.temporal.spec_env_world`).
 """
 
 from __future__ import annotations

@@ -101,3 +101,23 @@ def test_feature_labeling_unknown_feature(capsys, cart_demos, tmp_path):
     code, out, err = run(capsys, "learn", "spec", "--env", "CartPole-v1", "--demos", cart_demos,
                          "--labeling", path, "--features", "x,v,a,w")
     assert "proposition 'right' uses unknown feature 'q'" in _one_line_error(code, out, err)
+
+
+def test_an_environment_that_raises(capsys, tmp_path, monkeypatch, lake_demos):
+    (tmp_path / "broken_env.py").write_text(
+        "import gymnasium as gym\n"
+        "class Broken(gym.Env):\n"
+        "    observation_space = gym.spaces.Discrete(3)\n"
+        "    action_space = gym.spaces.Discrete(2)\n"
+        "    def reset(self, seed=None, options=None):\n"
+        "        return 0, {}\n"
+        "    def step(self, action):\n"
+        "        raise RuntimeError('motor driver offline')\n"
+        "gym.register('Broken-v0', entry_point=Broken)\n")
+    labels = _labels_file(tmp_path, "def label(obs, info):\n    return []\n")
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    code, out, err = run(capsys, "learn", "spec", "--env", "broken_env:Broken-v0", "--demos", lake_demos,
+                         "--labeling", f"{labels}:label")
+    line = _one_line_error(code, out, err)
+    assert "broken_env.py:8: random rollouts: the environment raised RuntimeError: motor driver offline" in line

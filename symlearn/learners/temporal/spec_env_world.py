@@ -24,20 +24,36 @@ number (:attr:`EnvWorld.symbols`), so the learner's template search, which reads
 
 from __future__ import annotations
 
-from collections.abc import Callable, Hashable, Sequence
+from collections.abc import Callable, Hashable, Iterator, Sequence
+from contextlib import contextmanager
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from symlearn.errors import DataError, ModelError
+from symlearn.errors import DataError, ModelError, SymlearnError
 
-__all__ = ["EnvWorld", "is_environment", "policy_route"]
+__all__ = ["EnvWorld", "policy_route"]
+
+_PACKAGE = Path(__file__).resolve().parents[2]  # the symlearn package folder
 
 
-def is_environment(world: Any) -> bool:
-    """A gymnasium-style environment (or a zero-argument factory of one) rather than a model."""
-    return (hasattr(world, "reset") and hasattr(world, "step") and hasattr(world, "action_space")) or \
-        (callable(world) and not hasattr(world, "next_state") and not hasattr(world, "mdp"))
+@contextmanager
+def _environment_errors(doing: str) -> Iterator[None]:
+    """An error raised by the user's environment code (not by symlearn) as one located line."""
+    try:
+        yield
+    except SymlearnError:
+        raise
+    except Exception as exc:  # the user's environment: any error it raises is reported, located
+        tb, last = exc.__traceback__, None
+        while tb is not None:
+            last, tb = tb, tb.tb_next
+        where = last.tb_frame.f_code.co_filename if last is not None else ""
+        if not where or Path(where).resolve().is_relative_to(_PACKAGE):
+            raise  # our own bug: keep the traceback
+        raise DataError(f"{doing}: the environment raised {type(exc).__name__}: {exc}", file=where,
+                        line=last.tb_lineno) from None
 
 
 def _float_leaf(space: Any) -> bool:
@@ -190,7 +206,10 @@ class EnvWorld:
                         raise DataError(f"demonstration {i}, step {t}: label {odd[0]!r} is not a proposition of "
                                         f"the labeling", hint="known: " + ", ".join(sorted(declared)))
             else:
-                word = self._replayed_word(i, trajectory) if getattr(self.labeling, "arity", 1) >= 2 else None
+                word = None
+                if getattr(self.labeling, "arity", 1) >= 2:
+                    with _environment_errors(f"replaying demonstration {i}"):
+                        word = self._replayed_word(i, trajectory)
                 if word is None:
                     states = getattr(trajectory, "states", None)
                     if states is None:
@@ -226,10 +245,15 @@ class EnvWorld:
     def random_traces(self, n: int, seed: int) -> list[np.ndarray]:
         from symlearn.rl.product_q_learning import rollout_words
 
-        words, _ = rollout_words(self.env, self.labeler, n, horizon=self.horizon, seed=seed)
+        with _environment_errors("random rollouts"):
+            words, _ = rollout_words(self.env, self.labeler, n, horizon=self.horizon, seed=seed)
         return [self._trace(w) for w in words]
 
     def policy_traces(self, policy, n: int, seed: int) -> list[np.ndarray]:
+        with _environment_errors("rollouts of the nominal policy"):
+            return self._policy_traces(policy, n, seed)
+
+    def _policy_traces(self, policy, n: int, seed: int) -> list[np.ndarray]:
         if self.route == "tabular":
             from symlearn.rl.product_q_learning import rollout_words
 
@@ -241,6 +265,10 @@ class EnvWorld:
 
     # --- policy updates -----------------------------------------------------------------------
     def train(self, formula, seed: int):
+        with _environment_errors(f"training the nominal policy for {formula}"):
+            return self._train(formula, seed)
+
+    def _train(self, formula, seed: int):
         from symlearn.logic.automata.reward_machine import RewardMachine
 
         machine = RewardMachine.from_formula(formula)
