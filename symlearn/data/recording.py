@@ -11,7 +11,7 @@ import numpy as np
 
 from symlearn.data.demonstrations import Demonstrations
 from symlearn.data.trajectory import Trajectory
-from symlearn.errors import SymlearnError
+from symlearn.errors import DataError, SymlearnError
 from symlearn.progress import progress
 
 Policy = Callable[[Any], Any]
@@ -123,4 +123,12 @@ def _run_episode(env: Any, policy: Policy, seed: int, limit: int, labeler: Label
         states.append(_plain(keep(observation)))
     truncated = truncated or not terminated
     info = {"seed": seed, "terminated": bool(terminated), "truncated": bool(truncated)}
-    return Trajectory(states, actions, rewards, labels, info)
+    try:
+        return Trajectory(states, actions, rewards, labels, info)
+    except DataError as exc:
+        if stored is not None or not isinstance(states[0], Mapping):
+            raise
+        keys = ", ".join(map(str, states[0]))  # a dict observation holding arrays (MiniGrid's image)
+        raise DataError(f"the observations cannot be stored as they are: {exc.message}",
+                        hint=f"choose what to keep with record(..., observation=lambda o: o[KEY]); keys: {keys}"
+                        ) from None

@@ -82,3 +82,21 @@ def test_labeler_returning_a_string_is_refused():
 def test_what_is_stored_of_an_observation():
     demos = record(_InfoEnv(), lambda obs: 0, 1, seed=0, observation=lambda obs: obs * 10)
     assert demos[0].states.tolist() == [0, 10, 20, 30]
+
+
+def test_a_dict_observation_holding_an_image_names_the_way_out():
+    class Viewing(_InfoEnv):
+        observation_space = gym.spaces.Dict({"image": gym.spaces.Box(0, 255, (2, 2), np.uint8)})
+
+        def reset(self, seed=None, options=None):
+            super().reset(seed=seed)
+            return {"image": np.zeros((2, 2), np.uint8), "mission": "go"}, {}
+
+        def step(self, action):
+            _, r, end, cut, info = super().step(action)
+            return {"image": np.full((2, 2), self.t, np.uint8), "mission": "go"}, r, end, cut, info
+
+    with pytest.raises(SymlearnError, match=r"observation=lambda o: o\[KEY\]\); keys: image, mission"):
+        record(Viewing(), lambda obs: 0, 1, seed=0)
+    kept = record(Viewing(), lambda obs: 0, 1, seed=0, observation=lambda obs: obs["image"])
+    assert kept.state_kind == "image" and kept[0].states[-1].tolist() == [[3, 3], [3, 3]]
