@@ -121,3 +121,10 @@ def test_an_environment_that_raises(capsys, tmp_path, monkeypatch, lake_demos):
                          "--labeling", f"{labels}:label")
     line = _one_line_error(code, out, err)
     assert "broken_env.py:8: random rollouts: the environment raised RuntimeError: motor driver offline" in line
+
+
+def test_ppo_update_needs_array_observations(capsys, tmp_path, lake_demos):
+    labels = _labels_file(tmp_path, "def label(obs, info):\n    return []\n")
+    code, out, err = run(capsys, "learn", "spec", "--env", "FrozenLake-v1", "--demos", lake_demos,
+                         "--labeling", f"{labels}:label", "--policy", "ppo")
+    assert "a PPO policy update needs array observations (a Box), not Discrete(16)" in _one_line_error(code, out, err)

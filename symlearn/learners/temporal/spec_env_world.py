@@ -145,6 +145,14 @@ class EnvWorld:
         self.route = policy_route(self.env, state_key) if policy == "auto" else policy
         if self.route not in ("tabular", "ppo"):
             raise ModelError(f"policy must be 'auto', 'tabular' or 'ppo', got {policy!r}")
+        space = getattr(self.env, "observation_space", None)
+        if self.route == "ppo" and not getattr(space, "shape", None):
+            raise ModelError(f"a PPO policy update needs array observations (a Box), not {space}",
+                             hint="wrap the environment (gymnasium.wrappers.FlattenObservation) or use the "
+                                  "tabular update (--policy tabular)")
+        if self.route == "tabular" and getattr(self.env.action_space, "n", None) is None:
+            raise ModelError(f"a tabular policy update needs a Discrete action space, not {self.env.action_space}",
+                             hint="use the PPO update (--policy ppo)")
         spec = getattr(self.env, "spec", None)
         self.horizon = int(horizon or getattr(spec, "max_episode_steps", None)
                            or getattr(getattr(self.env, "unwrapped", self.env), "max_steps", None) or 200)
