@@ -14,8 +14,9 @@ formula, and label words of that policy. With a successor table those come from
 * every observation is labelled by the user's labeling, called ``labeling(observation, info)``
   (see :mod:`symlearn.grounding.labeling_function`);
 * demonstrations contribute their stored labels; unlabelled ones are labelled from their stored
-  states (with an empty ``info``: a labeling that needs ``info`` must label while recording,
-  ``symlearn.data.record(..., labeler=)``).
+  states by a labeling of observations alone, and by replaying their actions from the seed
+  ``symlearn.data.record`` kept for a labeling that reads ``info`` (or the environment); without
+  a seed, stored states are labelled with an empty ``info``.
 
 Traces are kept as sequences of *label ids*: every distinct set of propositions met gets a
 number (:attr:`EnvWorld.symbols`), so the learner's template search, which reads a trace as
@@ -127,7 +128,8 @@ class EnvWorld:
             self.env, self._factory = env, None
         else:
             self._factory = env
-            self.env = env()
+            with _environment_errors("building the environment"):
+                self.env = env()
         if labeling is None:
             labeling = getattr(getattr(self.env, "unwrapped", self.env), "labeling", None)
         if labeling is None:
