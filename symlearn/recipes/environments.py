@@ -208,6 +208,14 @@ class EnvTarget:
         """A zero-argument constructor (for vectorised training)."""
         return self.make
 
+    def make_numeric(self) -> Any:
+        """:meth:`make` seen through :func:`~symlearn.recipes.spaces.numeric_observations`: one
+        ``Box`` (or ``Discrete``) observation that PPO and learned costs read, whatever the
+        environment observes (MiniGrid's ``Dict`` with a text field, a goal-conditioned ``Dict``)."""
+        from symlearn.recipes.spaces import numeric_observations
+
+        return numeric_observations(self.make())
+
     # names -------------------------------------------------------------------------------------
 
     def features(self, env: Any = None, override: str | Sequence[str] | None = None) -> Features | None:
