@@ -54,7 +54,8 @@ def register_learn(commands, common) -> None:
     where.add_argument("--domain", metavar="DIR",
                        help="your own domain folder (domain.toml with a labeling; deterministic moves)")
     source = spec.add_mutually_exclusive_group()
-    source.add_argument("--demos", help="expert demonstrations (.jsonl or .npz) with environment state ids")
+    source.add_argument("--demos", help="expert demonstrations (.jsonl or .npz): state ids for a bundled task; "
+                                        "in your own environment, labelled while recorded (or replayable)")
     source.add_argument("--n-demos", type=int, default=None,
                         help="generate N optimal expert demonstrations of a bundled task (default 50)")
     spec.add_argument("--env-kwargs", metavar="JSON", help="keyword arguments for the environment, a JSON object")
