@@ -158,7 +158,8 @@ def _icrl(args: argparse.Namespace, out) -> None:
         usable = [e.name for e in entries(Kind.CONTINUOUS) if "mce-icrl" in e.methods]
         raise DataError(f"{target.display} is no environment for neural ICRL",
                         hint="use " + ", ".join(usable) + ", or your own environment (module:EnvId) with --demos")
-    env = target.make_numeric()  # a Dict observation (MiniGrid's) flattened to what the networks read
+    target = target.as_numeric()  # a Dict observation (MiniGrid's) flattened to what the networks read
+    env = target.make()
     names = target.observation_names(env)
     width = int(np.prod(env.observation_space.shape or (1,)))
     obs_dims = _cost_inputs(args.cost_inputs, names, width)
@@ -183,7 +184,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
                      random_state=seed, reset_actor=args.reset_actor,
                      **({} if args.lambda_lr is None else {"lambda_lr": args.lambda_lr}))
 
-    env_fn = target.make_numeric
+    env_fn = target.env_fn
     with blame_file(args.demos):
         learner.fit(demos, env_fn)
     evaluation = episode_metrics(sample_episodes(learner.policy_, env_fn, EVAL_EPISODES, seed=seed + 50_000,

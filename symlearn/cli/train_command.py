@@ -167,7 +167,8 @@ def _train(args: argparse.Namespace, out) -> None:
     from symlearn.cli.train_costs import refuse_without_cost, training_cost
     from symlearn.recipes.environments import resolve_env
 
-    target = resolve_env(args.env, kwargs=args.env_kwargs)
+    # observed as one vector whatever the environment observes (MiniGrid's Dict with text, ...)
+    target = resolve_env(args.env, kwargs=args.env_kwargs).as_numeric()
     cost = None
     if args.cost:
         cost = training_cost(args.cost, target, features=args.features, per_rule=args.per_rule)

@@ -55,3 +55,17 @@ def test_minigrid_observations_become_one_vector():
     observation, _ = env.reset(seed=0)
     assert env.dropped == ["mission"] and observation.shape == (4 + 7 * 7 * 3,)
     assert env.observation_space.contains(env.step(2)[0])
+
+
+def test_train_reaches_a_third_party_dict_environment(capsys):
+    """A pip-installed package's environment with a Dict observation trains from the CLI."""
+    pytest.importorskip("minigrid")
+    import json
+
+    from cli_runner import run
+
+    code, out, err = run(capsys, "train", "--env", "minigrid:MiniGrid-Empty-5x5-v0", "--steps", 256, "--n-envs", 1,
+                         "--n-steps", 128, "--eval-episodes", 1, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["algo"] == "ppo" and doc["cost"] is None and doc["violation_rate"] is None
