@@ -1,11 +1,11 @@
 """Write the guide's domain folder and demonstrations: python make_domain.py [--episodes N]
 
 floor_domain/   the point robot's floor as a 4 x 3 grid (domain.toml, floor.lp, bias.las,
-                model.npz, states.jsonl, actions.jsonl): a puddle covers (1,0) and (1,1); the
+                model.npz, states.jsonl, actions.jsonl): a rug covers (1,0) and (1,1); the
                 robot drives from (0,0) to the goal (3,0)
-floor_demos.jsonl   routes of a careful driver who goes round the puddle through (1,2)
+floor_demos.jsonl   routes of a careful driver who goes round the rug through (1,2)
 
-The nominal model lets the robot drive through the puddle; only the demonstrations show that
+The nominal model lets the robot drive over the rug; only the demonstrations show that
 it must not (the rule `symlearn learn constraints` should find).
 """
 
@@ -18,7 +18,7 @@ import numpy as np
 from symlearn.data import Demonstrations, Trajectory
 
 WIDTH, HEIGHT, GOAL = 4, 3, (3, 0)
-PUDDLE = {(1, 0), (1, 1)}
+RUG = {(1, 0), (1, 1)}
 MOVES = {"north": (0, 1), "south": (0, -1), "east": (1, 0), "west": (-1, 0)}
 ACTIONS = [f"move({d})" for d in MOVES] + ["wait"]
 CELLS = [(x, y) for y in range(HEIGHT) for x in range(WIDTH)]
@@ -27,12 +27,12 @@ BACKGROUND = """\
 % the floor: one state's at/2 fact and one action atom give one answer set
 dir(north; south; east; west).
 delta(north, 0, 1). delta(south, 0, -1). delta(east, 1, 0). delta(west, -1, 0).
-wet(1, 0). wet(1, 1).
-wet_ahead(D) :- at(X, Y), delta(D, DX, DY), wet(X + DX, Y + DY).
+rug(1, 0). rug(1, 1).
+rug_ahead(D) :- at(X, Y), delta(D, DX, DY), rug(X + DX, Y + DY).
 """
 BIAS = """\
 #modeb(1, move(var(dir)), (positive)).
-#modeb(1, wet_ahead(var(dir)), (positive)).
+#modeb(1, rug_ahead(var(dir)), (positive)).
 #modeb(1, wait, (positive)).
 #maxv(1).
 """
@@ -59,12 +59,12 @@ def model():
 
 
 def careful_routes(arrays, n, seed):
-    """Shortest routes that never enter the puddle, ties broken at random."""
+    """Shortest routes that never cross the rug (its tassels catch the wheels), ties broken at random."""
     P, R, ok = arrays["transitions"], arrays["rewards"], arrays["available"].copy()
     for i, (x, y) in enumerate(CELLS):
         for a, name in enumerate(ACTIONS[:4]):
             dx, dy = MOVES[name[5:-1]]
-            ok[i, a] &= (x + dx, y + dy) not in PUDDLE
+            ok[i, a] &= (x + dx, y + dy) not in RUG
     V = np.zeros(len(CELLS))
     for _ in range(100):
         Q = np.where(ok, R + P @ V, -np.inf)
@@ -94,7 +94,7 @@ np.savez(folder / "model.npz", **arrays)
 (folder / "states.jsonl").write_text("".join(
     json.dumps({"id": i, "facts": f"at({x},{y}).", "name": f"({x},{y})"}) + "\n" for i, (x, y) in enumerate(CELLS)))
 (folder / "actions.jsonl").write_text("".join(json.dumps({"id": i, "atom": a}) + "\n" for i, a in enumerate(ACTIONS)))
-(folder / "domain.toml").write_text('name = "floor"\ndescription = "the guide robot\'s floor with a puddle"\n'
+(folder / "domain.toml").write_text('name = "floor"\ndescription = "the guide robot\'s floor with a rug"\n'
                                     'background = "floor.lp"\nbias = "bias.las"\nmodel = "model.npz"\n'
                                     'states = "states.jsonl"\nactions = "actions.jsonl"\n')
 careful_routes(arrays, n, seed=0).save("floor_demos.jsonl")
