@@ -21,8 +21,8 @@ import numpy as np
 from gymnasium import spaces
 
 STEP = 0.1  # largest move per axis and step
-CHARGER = np.array([-0.6, 0.6])
-DOCK = np.array([0.6, 0.6])
+CHARGER = np.array([-0.5, 0.3])
+DOCK = np.array([0.5, 0.3])
 STATION_RADIUS = 0.1
 PIXELS = 24
 
@@ -85,7 +85,7 @@ class GuideTour(gym.Env):
 
     def reset(self, seed=None, options=None):
         super().reset(seed=seed)
-        self.position = np.array([0.0, -0.6]) + self.np_random.uniform(-0.05, 0.05, 2)
+        self.position = np.array([0.0, -0.3]) + self.np_random.uniform(-0.05, 0.05, 2)
         self.t, self.visited = 0, set()
         return self._observe(), self._info()
 
@@ -107,7 +107,7 @@ def render(position) -> np.ndarray:
     image = np.zeros((PIXELS, PIXELS))
     for where in (CHARGER, DOCK):
         image[(abs(xx - where[0]) < 0.1) & (abs(yy - where[1]) < 0.1)] = 60.0
-    image += 195.0 * np.exp(-((xx - position[0]) ** 2 + (yy - position[1]) ** 2) / (2 * 0.08 ** 2))
+    image += 195.0 * np.exp(-((xx - position[0]) ** 2 + (yy - position[1]) ** 2) / (2 * 0.2 ** 2))
     return np.clip(image, 0, 255).astype(np.uint8)
 
 
