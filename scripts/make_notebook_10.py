@@ -141,6 +141,12 @@ loaded = NeuralCost.load("wall.safetensors", env=make())  # checks the spaces ma
 result = train_ppo(make, PPO_STEPS, config, LagrangianConfig(cost_limit=0.0), cost_fn=loaded.cost_fn())
 stats = evaluate(result.policy, make(), 10, seed=100)
 print(f"return {stats.returns.mean():.2f}, true cost per episode {stats.costs.sum(axis=1).mean():.2f}")"""),
+    new_markdown_cell(r"""**Re-check against the truth.** Here the ground truth says the neural cost did *not* keep
+the robot out: the map above is low where the careful driver lingered and about as high beyond
+the wall as on the left, where every run starts, so the agent still crosses. On this robot, with
+these budgets, MCE-ICRL does not recover the wall (more steps and iterations did not change that
+in our runs); the DNF route above does. Read a learned cost's map, and check the agent's
+`info["cost"]`, before you rely on it."""),
     new_markdown_cell(r"""## 6. ASP rules on a domain folder
 
 For a discrete world the same robot's floor is a 4 x 3 grid written as a domain folder;
