@@ -10,11 +10,10 @@ Cell sources are raw strings, so the code in them reads exactly as it runs.
 import sys
 from pathlib import Path
 
-import nbformat
 from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from notebook_execution import execute_and_write  # noqa: E402
+from notebook_execution import execute_and_write, guide_setup_cell  # noqa: E402
 
 cells = [
     new_markdown_cell(r"""# Constraints on your own robot: DNF rules, a neural cost, ASP rules
@@ -24,25 +23,7 @@ bundled environment but a module of the guide, `docs/guide/guide_robot.py`: a po
 paid for moving right, with a wall at `x = 0.5` it must not cross. It names its features
 (`feature_names = ("x", "y")`), reports them in `info["features"]` and its violations in
 `info["cost"]`. Each route goes *record -> learn -> read and edit -> re-check -> train*."""),
-    new_code_cell(r"""import os
-import sys
-import tempfile
-from pathlib import Path
-
-import gymnasium as gym
-import matplotlib.pyplot as plt
-import numpy as np
-
-import symlearn
-
-QUICK = os.environ.get("SYMLEARN_QUICK") == "1"  # the test suite asks for small settings
-PPO_STEPS = 1024 if QUICK else 12288
-GUIDE = Path(symlearn.__file__).resolve().parent.parent / "docs" / "guide"
-sys.path.insert(0, str(GUIDE))  # what `cd docs/guide` does for the command line
-import guide_robot  # registers GuideRobot-v0 and GuideTour-v0
-
-workspace = tempfile.TemporaryDirectory(prefix="symlearn-guide-")
-os.chdir(workspace.name)  # every file this notebook writes goes here"""),
+    guide_setup_cell('PPO_STEPS = 1024 if QUICK else 12288'),
     new_markdown_cell(r"""## Record
 
 A scripted careful driver stands in for your demonstrator: it heads right and stops one step

@@ -13,7 +13,7 @@ from pathlib import Path
 from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from notebook_execution import execute_and_write  # noqa: E402
+from notebook_execution import execute_and_write, guide_setup_cell  # noqa: E402
 
 cells = [
     new_markdown_cell(r"""# Tasks on your own robot: sub-goal automata and reward machines
@@ -23,26 +23,7 @@ The Python side of sections 4 and 5 of [docs/GUIDE.md](../docs/GUIDE.md). The gu
 and the dock (top right), in either order. From its positions we learn the sub-goals and the
 order the demonstrator prefers; from camera pictures alone, a reward machine that trains an
 agent."""),
-    new_code_cell(r"""import os
-import sys
-import tempfile
-from pathlib import Path
-
-import gymnasium as gym
-import matplotlib.pyplot as plt
-import numpy as np
-from IPython.display import SVG, display
-
-import symlearn
-
-QUICK = os.environ.get("SYMLEARN_QUICK") == "1"  # the test suite asks for small settings
-EPISODES = 20 if QUICK else 40
-GUIDE = Path(symlearn.__file__).resolve().parent.parent / "docs" / "guide"
-sys.path.insert(0, str(GUIDE))  # what `cd docs/guide` does for the command line
-import guide_robot
-
-workspace = tempfile.TemporaryDirectory(prefix="symlearn-guide-")
-os.chdir(workspace.name)"""),
+    guide_setup_cell('from IPython.display import SVG, display', '', 'EPISODES = 20 if QUICK else 40'),
     new_markdown_cell(r"""## Record
 
 The demonstrator waits at the start, visits both stations (the charger first in about 80 % of

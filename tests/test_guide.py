@@ -23,7 +23,8 @@ ROOT = Path(__file__).resolve().parent.parent
 GUIDE = ROOT / "docs" / "GUIDE.md"
 FILES = ROOT / "docs" / "guide"
 BLOCK = re.compile(r"<!-- guide-test(?P<tags>[a-z ]*)-->\n```(?P<lang>bash|python)\n(?P<code>.*?)\n```", re.S)
-SMALL = [(re.compile(r"--steps \d+"), "--steps 1024"), (re.compile(r"--iterations \d+"), "--iterations 1")]
+SMALL = [(re.compile(r"--steps \d+"), "--steps 1024"), (re.compile(r"--ppo-steps \d+"), "--ppo-steps 4096"),
+         (re.compile(r"--iterations \d+"), "--iterations 1")]
 
 
 def blocks(*, slow: bool, pending: bool) -> list[tuple[str, str, set[str]]]:
