@@ -1,9 +1,8 @@
 """docs/GUIDE.md cannot rot: its marked code blocks run, in order, in a copy of docs/guide/.
 
 A block is marked by the comment on the line before its fence: ``<!-- guide-test -->`` (runs in
-the default suite), ``<!-- guide-test slow -->`` (trains agents: ``-m slow``) or
-``<!-- guide-test pending -->`` (needs a route issue #23 is still landing; run with ``-m slow``
-and expected to fail until then). ``bash`` blocks run under ``bash -e`` with ``symlearn`` and
+the default suite) or ``<!-- guide-test slow -->`` (left to ``-m slow``; no block needs it
+today: every route, training included, runs at the cut-down budgets below). ``bash`` blocks run under ``bash -e`` with ``symlearn`` and
 ``python`` meaning this interpreter; ``python`` blocks run as scripts. Training budgets are cut
 down (``--steps``, ``--iterations``) so the commands are checked, not the agents' quality.
 """
@@ -27,11 +26,11 @@ SMALL = [(re.compile(r"--steps \d+"), "--steps 1024"), (re.compile(r"--ppo-steps
          (re.compile(r"--iterations \d+"), "--iterations 1")]
 
 
-def blocks(*, slow: bool, pending: bool) -> list[tuple[str, str, set[str]]]:
+def blocks(*, slow: bool) -> list[tuple[str, str, set[str]]]:
     found = []
     for match in BLOCK.finditer(GUIDE.read_text()):
         tags = set(match["tags"].split())
-        if ("slow" in tags and not slow) or ("pending" in tags and not pending):
+        if "slow" in tags and not slow:
             continue
         code = match["code"]
         for pattern, replacement in SMALL:
@@ -59,19 +58,14 @@ def test_every_command_block_is_marked():
     text = GUIDE.read_text()
     unmarked = [m.group(0) for m in re.finditer(r"(?<!-->\n)```bash\n(.*?)\n```", text, re.S) if "symlearn" in m[1]]
     assert not unmarked, f"bash blocks with symlearn commands but no guide-test mark: {unmarked}"
-    assert len(blocks(slow=True, pending=True)) >= 15
+    assert len(blocks(slow=True)) >= 15
 
 
 def test_guide_commands(tmp_path):
-    run_blocks(blocks(slow=False, pending=False), tmp_path / "guide")
+    """Every route of the guide, record -> learn -> edit -> re-check -> train, in order."""
+    run_blocks(blocks(slow=False), tmp_path / "guide")
 
 
 @pytest.mark.slow
-def test_guide_training_commands(tmp_path):
-    run_blocks(blocks(slow=True, pending=False), tmp_path / "guide")
-
-
-@pytest.mark.slow
-@pytest.mark.xfail(reason="learn spec / train on module:Id environments are still landing (issue #23)", strict=False)
-def test_guide_pending_commands(tmp_path):
-    run_blocks(blocks(slow=True, pending=True), tmp_path / "guide")
+def test_guide_slow_commands(tmp_path):
+    run_blocks(blocks(slow=True), tmp_path / "guide")
