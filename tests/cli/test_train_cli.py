@@ -214,7 +214,9 @@ def test_stable_baselines3_learners_on_a_user_module(capsys, tmp_path):
     _one_line(code, err, "DQN acts only in Discrete action spaces")
 
 
-def test_stable_baselines3_on_observations_it_cannot_read_is_one_line(capsys):
+def test_observations_nothing_can_read_are_one_line_and_tuples_are_flattened(capsys):
+    """A Tuple of Discrete parts is seen through the numeric view (one-hot, flattened) and trains;
+    an observation with no numeric part at all is refused in one line."""
     pytest.importorskip("stable_baselines3")
     import gymnasium as gym
 
@@ -228,10 +230,23 @@ def test_stable_baselines3_on_observations_it_cannot_read_is_one_line(capsys):
         def step(self, action):
             return (0, 0), 0.0, True, False, {}
 
-    if "TestPairObservation-v0" not in gym.registry:
-        gym.register("TestPairObservation-v0", entry_point=Pair)
-    code, _, err = run(capsys, "train", "--env", "TestPairObservation-v0", "--algo", "sb3-ppo", "--steps", 64)
-    _one_line(code, err, "cannot train on TestPairObservation-v0")
+    class Words(Pair):
+        observation_space = gym.spaces.Text(5)
+
+        def reset(self, *, seed=None, options=None):
+            return "hello", {}
+
+        def step(self, action):
+            return "hello", 0.0, True, False, {}
+
+    for name, entry in (("TestPairObservation-v0", Pair), ("TestWordsObservation-v0", Words)):
+        if name not in gym.registry:
+            gym.register(name, entry_point=entry)
+    code, out, err = run(capsys, "train", "--env", "TestPairObservation-v0", "--algo", "sb3-ppo", "--steps", 64,
+                         "--eval-episodes", 1)
+    assert code == 0, err
+    code, _, err = run(capsys, "train", "--env", "TestWordsObservation-v0", "--algo", "sb3-ppo", "--steps", 64)
+    _one_line(code, err, "has no numeric part")
 
 
 def test_stable_baselines3_absent_is_one_line_naming_the_extra(capsys, monkeypatch):
