@@ -257,12 +257,16 @@ class _Reader:
         if self.depth > MAX_DEPTH:
             raise self.error(f"the formula nests more than {MAX_DEPTH} levels deep")
 
-    def iff(self) -> Formula:
-        left = self.implies()
-        while self.peek.text == "<->":
+    def _left_chain(self, symbol: str, node: type, operand) -> Formula:
+        """``operand (symbol operand)*`` grouped to the left."""
+        left = operand()
+        while self.peek.text == symbol:
             self.take()
-            left = Iff(left, self.implies())
+            left = node(left, operand())
         return left
+
+    def iff(self) -> Formula:
+        return self._left_chain("<->", Iff, self.implies)
 
     def implies(self) -> Formula:
         left = self.disjunction()
@@ -275,18 +279,10 @@ class _Reader:
         return left
 
     def disjunction(self) -> Formula:
-        left = self.conjunction()
-        while self.peek.text == "||":
-            self.take()
-            left = Or(left, self.conjunction())
-        return left
+        return self._left_chain("||", Or, self.conjunction)
 
     def conjunction(self) -> Formula:
-        left = self.binary_temporal()
-        while self.peek.text == "&&":
-            self.take()
-            left = And(left, self.binary_temporal())
-        return left
+        return self._left_chain("&&", And, self.binary_temporal)
 
     def binary_temporal(self) -> Formula:
         left = self.unary()
