@@ -268,15 +268,20 @@ class _Reader:
     def iff(self) -> Formula:
         return self._left_chain("<->", Iff, self.implies)
 
+    def _right_chain(self, nodes: dict[str, type], kind: str, level, operand) -> Formula:
+        """``operand (symbol level)?`` grouped to the right (``level`` is the method itself)."""
+        left = operand()
+        node = nodes.get(self.peek.text)
+        if node is None or self.peek.kind != kind:
+            return left
+        self.take()
+        self._enter()
+        right = level()
+        self.depth -= 1
+        return node(left, right)
+
     def implies(self) -> Formula:
-        left = self.disjunction()
-        if self.peek.text == "->":
-            self.take()
-            self._enter()
-            right = self.implies()
-            self.depth -= 1
-            return Implies(left, right)
-        return left
+        return self._right_chain({"->": Implies}, "op", self.implies, self.disjunction)
 
     def disjunction(self) -> Formula:
         return self._left_chain("||", Or, self.conjunction)
@@ -285,15 +290,7 @@ class _Reader:
         return self._left_chain("&&", And, self.binary_temporal)
 
     def binary_temporal(self) -> Formula:
-        left = self.unary()
-        operator = {"U": Until, "R": Release, "W": WeakUntil}.get(self.peek.text)
-        if operator is not None and self.peek.kind == "name":
-            self.take()
-            self._enter()
-            right = self.binary_temporal()
-            self.depth -= 1
-            return operator(left, right)
-        return left
+        return self._right_chain({"U": Until, "R": Release, "W": WeakUntil}, "name", self.binary_temporal, self.unary)
 
     def unary(self) -> Formula:
         token = self.peek
