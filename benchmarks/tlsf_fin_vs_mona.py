@@ -90,7 +90,10 @@ def run_mona(path: Path, timeout: float) -> dict:
         formula = load_tlsf(path).formula
     except SymlearnError as exc:
         return {"status": "full TLSF" if "full) TLSF" in exc.message else "error", "message": exc.message[:300]}
-    program, names = _program(formula, printed=False)
+    try:  # LTLf2DFA writes MONA's program; its lark parser recurses once per nesting level
+        program, names = _program(formula, printed=False)
+    except RecursionError:
+        return {"status": "error", "message": "LTLf2DFA could not write the MONA program (recursion depth)"}
     fd, name = tempfile.mkstemp(suffix=".mona")
     with os.fdopen(fd, "w") as handle:
         handle.write(program)
@@ -105,7 +108,10 @@ def run_mona(path: Path, timeout: float) -> dict:
     finally:
         os.unlink(name)
     if done.returncode != 0 or "Automaton has" not in done.stdout:
-        return {"status": "error", "seconds": seconds, "message": (done.stderr or done.stdout)[-300:]}
+        # MONA stops with a BDD-table allocation failure under the 4 GB cap: counted as memory
+        text = (done.stderr or done.stdout)[-300:]
+        status = "memory" if done.returncode < 0 or "alloc" in text.lower() or "memory" in text.lower() else "error"
+        return {"status": status, "seconds": seconds, "message": text}
     upper = {v.upper(): k for k, v in names.items()}
     dfa = _read_mona(done.stdout, upper, seconds)
     # MONA's dummy start state; a language empty even of the empty word is one state on both sides
@@ -148,17 +154,23 @@ def main(argv: list[str] | None = None) -> int:
             row = {"family": family, "file": str(path.relative_to(args.root)),
                    "symlearn": run_symlearn(path, args.timeout), "mona": run_mona(path, args.timeout)}
             rows.append(row)
+            if args.json:  # written after every formula: a killed run keeps what it measured
+                _write(args, rows)
             print(f"{family:32s} {path.name:40s} symlearn {row['symlearn']['status']:9s} "
                   f"{row['symlearn'].get('seconds', 0):7.2f}s {row['symlearn'].get('states', '-')!s:>7}   "
                   f"mona {row['mona']['status']:9s} {row['mona'].get('seconds', 0):7.2f}s "
                   f"{row['mona'].get('states', '-')!s:>7}", flush=True)
-    table = summarise(rows)
-    print(json.dumps(table, indent=1))
+    print(json.dumps(summarise(rows), indent=1))
     if args.json:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        args.json.write_text(json.dumps({"command": " ".join(sys.argv), "timeout": args.timeout,
-                                         "memory_bytes": MEMORY, "rows": rows, "families": table}, indent=1))
+        _write(args, rows)
     return 0
+
+
+def _write(args: argparse.Namespace, rows: list[dict]) -> None:
+    args.json.parent.mkdir(parents=True, exist_ok=True)
+    args.json.write_text(json.dumps({"command": "python benchmarks/tlsf_fin_vs_mona.py " + " ".join(sys.argv[1:]),
+                                     "timeout": args.timeout, "memory_bytes": MEMORY, "rows": rows,
+                                     "families": summarise(rows)}, indent=1))
 
 
 if __name__ == "__main__":
