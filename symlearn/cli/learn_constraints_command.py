@@ -6,7 +6,9 @@
 * ``--env``: a bundled environment (``symlearn envs``); ``--domain DIR``: a user's domain folder
   (``domain.toml``, see docs/FORMATS.md), with ``--demos`` (state ids; action ids or atoms).
 * ``logic`` (default where the world has ASP facts): maximum-likelihood inference plus ILP
-  induction each iteration; ``-o`` writes the rules as an editable ``.lp`` file.
+  induction each iteration, ``--iterations`` a cap (the result says why it stopped:
+  ``stop_reason``/``stop``); likely constraints the bias cannot express are listed as
+  ``unexplained``; ``-o`` writes the rules as an editable ``.lp`` file (both in its header).
 * ``ml``: maximum-likelihood constraint inference alone; ``-o`` writes the forbidden pairs.
 * ``mce-icrl``: maximum causal entropy inverse constrained RL (with the world's reward, or a sparse
   one for reaching where demonstrations end); prints the learned cost map, and ``-o X.json`` writes
@@ -71,7 +73,8 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--method", choices=METHODS, default=None,
                      help="logic (default where rules can be learned), ml, or mce-icrl (default for gridworld)")
     cmd.add_argument("--iterations", type=int, default=None,
-                     help="inference iterations (logic: 20, ml: 200) or dual steps (mce-icrl: 300)")
+                     help="inference iterations (logic: at most 20, it stops on convergence; ml: 200) or dual steps "
+                          "(mce-icrl: 300)")
     cmd.add_argument("--horizon", type=int, default=30, help="planning horizon of the MaxEnt passes (30)")
     cmd.add_argument("--reward", choices=("given", "sparse"), default=None,
                      help="plan with the world's reward (default where it has one) or a sparse reward for "
@@ -208,6 +211,8 @@ def _run(method: str, world: _World, demos, args, known, out):
                      f"{step.n_constraints} forbidden pairs (inference {step.inference_seconds:.2f} s, "
                      f"induction {step.induction_seconds:.2f} s)")
         doc = {"rules": learner.rules_, "iterations": len(learner.history_), "seconds": learner.seconds_,
+               "stop_reason": learner.stop_reason_, "stop": learner.stop_text(),
+               "unexplained": [u.as_dict() for u in learner.unexplained_],
                "history": [h.as_dict() for h in learner.history_]}
         return doc, learner.rule_constraints_, learner
     target = world.domain if world.domain is not None else world.mdp
@@ -304,6 +309,12 @@ def _render(doc: dict) -> str:
     if doc.get("rules") is not None:
         lines.append("rules:" if doc["rules"] else "rules: (none induced)")
         lines += [f"  {r}" for r in doc["rules"]]
+    if doc.get("stop"):
+        lines.append(f"stopped: {doc['stop']}")
+    if doc.get("unexplained"):
+        from symlearn.learners.constraints.logic_constraint_inference import Unexplained, unexplained_lines
+
+        lines += unexplained_lines([Unexplained(**u) for u in doc["unexplained"]], shown=10)
     if doc["fpr"] is None:
         lines.append(f"forbidden pairs: {doc['constraints']}   (no ground truth to score against)")
     else:
