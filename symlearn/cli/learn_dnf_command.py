@@ -15,13 +15,16 @@
   names the features (``feature_names``, the keys of a dict ``info["features"]``, or ``--features``).
 
 JSON keys: ``formula`` (the text), ``conjunctions`` (one string each), ``leaves`` (safe boxes as
-``{feature: [low, high]}``), ``features``, ``seconds``; ``-o`` writes the editable ``.dnf`` file
+``{feature: [low, high]}``), ``features``, ``seconds``, ``unsafe_share`` (of the data's bounding
+box), ``slivers_closed``, ``notes`` (how the thresholds were rounded and gaps closed) and
+``warnings`` (e.g. more than half of the bounding box unsafe; in the text output too); ``-o`` writes the editable ``.dnf`` file
 (``symlearn dnf eval|show`` read it; ``symlearn train --cost`` uses it as a cost).
 """
 
 from __future__ import annotations
 
 import argparse
+import warnings
 
 def register_learn(commands, common) -> None:
     cmd = commands.add_parser(
@@ -89,7 +92,9 @@ def _dnf(args: argparse.Namespace, out) -> None:
     demos, features = _demonstrations(args)
     learner = OneClassTreeConstraint(max_depth=args.max_depth, min_samples_leaf=args.min_samples_leaf)
     try:
-        learner.fit(demos, features)
+        with warnings.catch_warnings():  # the learner's warnings go into the result (text and JSON)
+            warnings.simplefilter("ignore", UserWarning)
+            learner.fit(demos, features)
     except DataError as exc:
         if args.demos and not exc.file:
             raise DataError(exc.message, file=args.demos, hint=exc.hint) from None
@@ -99,11 +104,14 @@ def _dnf(args: argparse.Namespace, out) -> None:
     leaves = [{name: [float(lo), float(hi)] for name, lo, hi in zip(names, box.lower, box.upper)}
               for box in learner.safe_boxes_]
     doc = {"formula": str(dnf), "conjunctions": [str(c) for c in dnf.conjunctions], "leaves": leaves,
-           "features": names, "samples": learner.n_samples_, "seconds": learner.result_.timings["total"]}
+           "features": names, "samples": learner.n_samples_, "seconds": learner.result_.timings["total"],
+           "unsafe_share": learner.unsafe_share_, "slivers_closed": learner.slivers_closed_,
+           "notes": learner.notes_, "warnings": learner.warnings_}
     if args.output:
         source = args.demos or f"{args.n_demos} expert episodes of {args.env}"
-        dnf.save(args.output, header=f"unsafe set learned by a one-class tree (max depth {args.max_depth}) "
-                                     f"from {source}; one rule per line, edit freely")
+        header = [f"unsafe set learned by a one-class tree (max depth {args.max_depth}) from {source}; one rule per "
+                  "line, edit freely"] + learner.notes_ + [f"warning: {w}" for w in learner.warnings_]
+        dnf.save(args.output, header="\n".join(header))
         doc["files"] = [args.output]
     out.result(doc, _render)
 
@@ -114,5 +122,7 @@ def _render(doc: dict) -> str:
     lines += [f"  {c}" for c in doc["conjunctions"][:40]]
     if len(doc["conjunctions"]) > 40:
         lines.append(f"  ... {len(doc['conjunctions']) - 40} more (see --json or -o)")
+    lines += [f"note: {n}" for n in doc.get("notes", [])]
+    lines += [f"warning: {w}" for w in doc.get("warnings", [])]
     lines += [f"wrote {f}" for f in doc.get("files", [])]
     return "\n".join(lines)
