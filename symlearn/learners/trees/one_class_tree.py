@@ -62,6 +62,13 @@ path from the root to a node (the tightest bound per feature), the formula is th
   on which its box is tighter than ``t``'s: ``P_t & x_j >= L_n & x_j <= R_n & x_d < lo``
   (``> hi``), then the same for the child's own split.
 
+**Readable sides** (``readable=True``, the default): after growing, every box side is rounded to
+the fewest significant digits that keep every demonstration point on its side, and a gap between
+neighbouring children narrower than the feature's bandwidth (a "sliver" of unsafe space across
+the expert's own path) is closed (:mod:`~symlearn.learners.trees.readable_bounds`); the file's
+``#`` header says how many. The rounded values are the stored ones, so everything below holds
+for them.
+
 It holds exactly on the points outside every leaf box (:meth:`OneClassTreeConstraint.predict`
 and ``dnf_.evaluate`` agree everywhere; the tests check this on dense grids).
 

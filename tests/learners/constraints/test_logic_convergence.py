@@ -130,3 +130,16 @@ def test_cli_reports_the_stop_and_the_unexplained(tmp_path, capsys):
     code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", demos)
     assert code == 0, err
     assert "stopped: " in out and "Unexplained: " in out and "/ wait" in out
+
+
+def test_the_inference_loop_stops_when_the_hook_names_a_reason(warehouse):
+    domain, demos = warehouse
+    calls = []
+
+    def stop():
+        calls.append(1)
+        return "converged" if len(calls) == 2 else None
+
+    learner = MLConstraintInference(reward="given", horizon=30, max_iterations=10, stop_when=stop).fit(demos, domain)
+    assert learner.stop_reason_ == learner.stopped_because_ == "converged"
+    assert len(learner.history_) == 2 and learner.result_.metrics["stopped_because"] == "converged"
