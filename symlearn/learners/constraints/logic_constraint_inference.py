@@ -361,8 +361,10 @@ def unexplained_lines(unexplained: list[Unexplained], shown: int = 20) -> list[s
     """The header/console lines for the constraints the bias cannot express (most visited first)."""
     if not unexplained:
         return []
-    lines = [f"Unexplained: {len(unexplained)} likely constraint(s) no rule of the bias can forbid without "
-             "forbidding a demonstrated pair (state / action, nominal visitation when passed over):"]
+    lines = [f"Unexplained: {len(unexplained)} pair(s) inference found likely forbidden (never demonstrated, often "
+             "visited by the nominal policy) that no rule of the bias can forbid without forbidding a demonstrated "
+             "pair -- allowed moves the expert never chose, or constraints the bias has no literal for "
+             "(state / action, nominal visitation when passed over):"]
     ranked = sorted(unexplained, key=lambda u: -u.visitation)
     lines += [f"  {u.pair}  ({u.visitation:.3g})" for u in ranked[:shown]]
     if len(ranked) > shown:
