@@ -5,12 +5,13 @@
 For Hanoi (10 expert games), the traffic-light junction (100 demonstrations), the priority
 junction (30) and the warehouse user domain of ``tests/support/warehouse_domain.py`` (200
 deliveries, the world's own reward as ``symlearn learn constraints --domain`` picks) and a
-seven-rule variant of it written by :func:`seven_rule_warehouse` (same expert), one run of
+seven-rule variant of it written by :func:`seven_rule_warehouse` (its expert plans with all seven), one run of
 :class:`LogicConstraintInference` with ``iterations=20`` (the CLI default, a cap) and horizon 30.
 Per run: iterations used, the iteration after which the rules stopped changing ("converged at"),
 the stop reason, the number of rules, FPR/FNR over every pair and over the pairs a rule-abiding
-agent reaches from the start ("reach"), and the pairs reported as unexplained. The script runs on code without ``stop_reason_`` too (the "before" column of
-docs/BENCHMARKS.md was measured with it on the previous commit).
+agent reaches from the start ("reach"), and the pairs reported as unexplained. The script runs
+on code without ``stop_reason_`` too (the "before" column of
+docs/BENCHMARKS.md was measured with it on commit 9d87179).
 """
 
 from __future__ import annotations
@@ -107,7 +108,8 @@ def run(name, world, demos, reward) -> dict:
     # over the pairs a rule-abiding agent meets (as benchmarks/logic_constraints.py's "reach")
     reach = reachable_pairs(world.mdp, world.truth_forbidden) & ~world.unavailable
     on_reach = constraint_metrics(final, world.truth_forbidden, reach)
-    return {"world": name, "reach_fpr": on_reach["fpr"], "reach_fnr": on_reach["fnr"], "iterations": len(learner.history_), "converged_at": converged,
+    return {"world": name, "reach_fpr": on_reach["fpr"], "reach_fnr": on_reach["fnr"],
+            "iterations": len(learner.history_), "converged_at": converged,
             "stop_reason": getattr(learner, "stop_reason_", learner.stopped_because_),
             "rules": len(learner.rules_), "fpr": score["fpr"], "fnr": score["fnr"],
             "forbidden_per_iteration": [h.n_constraints for h in learner.history_],
@@ -126,7 +128,8 @@ def main(argv=None) -> None:
             rows.append(row)
             print(f"{name:18s} iterations {row['iterations']:2d} (rules final from {row['converged_at']:2d})  "
                   f"stop {row['stop_reason']:15s} rules {row['rules']:2d}  FPR {row['fpr']:.3f}  "
-                  f"FNR {row['fnr']:.3f}  (reach: FPR {row['reach_fpr']:.3f} FNR {row['reach_fnr']:.3f})  unexplained {len(row['unexplained']):3d}  {row['seconds']:.1f} s", flush=True)
+                  f"FNR {row['fnr']:.3f}  (reach: FPR {row['reach_fpr']:.3f} FNR {row['reach_fnr']:.3f})  "
+                  f"unexplained {len(row['unexplained']):3d}  {row['seconds']:.1f} s", flush=True)
     if args.json:
         Path(args.json).write_text(json.dumps({"python": platform.python_version(), "rows": rows}, indent=1) + "\n")
 

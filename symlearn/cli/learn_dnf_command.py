@@ -18,7 +18,8 @@ JSON keys: ``formula`` (the text), ``conjunctions`` (one string each), ``leaves`
 ``{feature: [low, high]}``), ``features``, ``seconds``, ``unsafe_share`` (of the data's bounding
 box), ``slivers_closed``, ``notes`` (how the thresholds were rounded and gaps closed) and
 ``warnings`` (e.g. more than half of the bounding box unsafe; in the text output too),
-``validation`` with ``--validation FRACTION`` (held-out expert states the formula calls unsafe); ``-o`` writes the editable ``.dnf`` file
+``validation`` with ``--validation FRACTION`` (held-out expert states the formula calls unsafe);
+``-o`` writes the editable ``.dnf`` file
 (``symlearn dnf eval|show`` read it; ``symlearn train --cost`` uses it as a cost).
 """
 
