@@ -49,6 +49,8 @@ ENGINES: dict[str, Engine] = {
         Engine("sb3", ("stable_baselines3",), (), "stable-baselines3 agents on shields and reward machines",
                _extra("sb3")),
         Engine("sb3_contrib", ("sb3_contrib",), (), "masked policies (MaskablePPO) on shields", _extra("sb3")),
+        Engine("h5py", ("h5py",), (), "D4RL tables in HDF5 and Minari dataset folders (symlearn data)",
+               _extra("formats")),
         Engine("graphviz", (), ("dot",), "rendering automata to SVG/PNG",
                "installed by `make demo` and `make test`; else apt-get install graphviz (macOS: brew install graphviz)"),
     )

@@ -1,4 +1,5 @@
-"""stable-baselines3 on our backends: counterfactual reward-machine experiences in a replay buffer.
+"""stable-baselines3 on our backends: counterfactual reward-machine experiences in a replay buffer,
+a Lagrangian multiplier as a callback, and policy files without pickles.
 
 Shields need no glue: :class:`~symlearn.backends.shield.Shield` has the ``action_masks()``
 method that sb3-contrib's ``MaskablePPO`` asks every environment for. Reward machines need one
@@ -12,6 +13,14 @@ The experience of the machine state the agent was really in is the real transiti
 learner stores itself; the callback adds the others. stable-baselines3 is imported only here and
 only when asked for; without it, :class:`~symlearn.errors.MissingDependencyError` says how to
 install it (``pip install 'symlearn[sb3]'``).
+
+A Lagrangian on any SB3 learner: the environments carry
+:class:`~symlearn.backends.lagrangian.LagrangianReward` (reward ``r - lambda . c``) over a shared
+:class:`~symlearn.backends.lagrangian.SharedMultipliers`, and :func:`lagrangian_callback` moves
+``lambda`` from the costs the steps report. :func:`save_policy` / :func:`load_policy` keep a
+model's policy as safetensors + JSON (``docs/FORMATS.md``); SB3's ``.zip`` unpickles on load, so
+it is never written or read. :func:`check_action_space` refuses, in one line, an algorithm that
+cannot act in an environment's action space (``docs/SB3.md`` walks the routes).
 
 Example (not run here: it trains a network)::
 
@@ -31,7 +40,8 @@ import numpy as np
 from symlearn.errors import SymlearnError
 from symlearn.optional import require
 
-__all__ = ["counterfactual_callback"]
+__all__ = ["ALGORITHMS", "check_action_space", "counterfactual_callback", "lagrangian_callback", "load_policy",
+           "save_policy"]
 
 
 def counterfactual_callback(verbose: int = 0) -> Any:
@@ -100,3 +110,186 @@ def _stack(observations: list) -> Any:
     if isinstance(observations[0], dict):
         return {key: np.array([o[key] for o in observations]) for key in observations[0]}
     return np.array(observations)
+
+
+# --------------------------------------------------------------------------------------------------
+# algorithms, the Lagrangian multiplier as a callback, and policy files
+
+# our name -> (stable-baselines3 class, the action spaces it takes)
+ALGORITHMS: dict[str, tuple[str, tuple[str, ...]]] = {
+    "ppo": ("PPO", ("Box", "Discrete", "MultiDiscrete", "MultiBinary")),
+    "sac": ("SAC", ("Box",)),
+    "dqn": ("DQN", ("Discrete",)),
+}
+
+POLICY_KIND = "sb3-policy"
+_ACTIVATIONS = ("Tanh", "ReLU", "ELU", "LeakyReLU")
+
+
+def check_action_space(algo: str, space: Any) -> None:
+    """Refuse, in one line, an algorithm that cannot act in ``space``."""
+    if algo not in ALGORITHMS:
+        raise SymlearnError(f"unknown stable-baselines3 algorithm {algo!r}", hint="use " + ", ".join(ALGORITHMS))
+    name, accepted = ALGORITHMS[algo]
+    if type(space).__name__ not in accepted:
+        others = [a for a, (_, spaces) in ALGORITHMS.items() if type(space).__name__ in spaces]
+        raise SymlearnError(f"stable-baselines3 {name} acts only in {' or '.join(accepted)} action spaces, "
+                            f"the environment's is {space}",
+                            hint=("use sb3-" + " or sb3-".join(others)) if others else None)
+
+
+def algorithm_class(algo: str) -> Any:
+    require("sb3", f"training with stable-baselines3 {algo.upper()}")
+    import stable_baselines3
+
+    return getattr(stable_baselines3, ALGORITHMS[algo][0])
+
+
+def lagrangian_callback(multipliers: Any, *, cost_key: str = "cost", update_every: int | None = None) -> Any:
+    """A ``BaseCallback`` updating a :class:`~symlearn.backends.lagrangian.SharedMultipliers` from
+    the ``info[cost_key]`` of the steps the learner takes.
+
+    Every ``update_every`` environment steps (default: one rollout of an on-policy learner, 1000
+    steps of an off-policy one) the multipliers take one step of their rule from the estimated
+    cost per episode: the mean cost of the episodes that ended since the last update, or, when none
+    did, the mean cost per step times the mean episode length seen so far (an update from every
+    window of steps, not only from windows in which an episode ends). The environments must
+    carry :class:`~symlearn.backends.lagrangian.LagrangianReward` with the same ``multipliers``.
+    """
+    require("sb3", "a PPO-/SAC-Lagrangian on stable-baselines3")
+    return _lagrangian_class()(multipliers, cost_key, update_every)
+
+
+@cache
+def _lagrangian_class() -> type:
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    class LagrangianCallback(BaseCallback):
+        """The multiplier update of a Lagrangian on stable-baselines3 (:func:`lagrangian_callback`)."""
+
+        def __init__(self, multipliers: Any, cost_key: str, update_every: int | None) -> None:
+            super().__init__(0)
+            self.multipliers, self.cost_key, self.update_every = multipliers, cost_key, update_every
+            if update_every is not None and update_every < 1:
+                raise SymlearnError(f"update_every must be >= 1, got {update_every}")
+
+        def _on_training_start(self) -> None:
+            n_envs = self.training_env.num_envs
+            k = len(self.multipliers.values)
+            if self.update_every is None:
+                on_policy = getattr(self.model, "replay_buffer", None) is None
+                self.update_every = int(self.model.n_steps) * n_envs if on_policy else 1000
+            self._running = np.zeros((n_envs, k))             # cost of each copy's episode so far
+            self._window_cost, self._window_steps = np.zeros(k), 0
+            self._ended: list[np.ndarray] = []
+            self._lengths: list[int] = []
+            self._length = np.zeros(n_envs, dtype=np.int64)
+            self._since = 0
+
+        def _on_step(self) -> bool:
+            for i, (info, done) in enumerate(zip(self.locals["infos"], self.locals["dones"], strict=True)):
+                if self.cost_key not in info:
+                    raise SymlearnError(f"the environment reports no info[{self.cost_key!r}]",
+                                        hint="wrap it with LagrangianReward over a cost the steps report")
+                cost = np.asarray(info[self.cost_key], dtype=np.float64).reshape(-1)
+                self._running[i] += cost
+                self._window_cost += cost
+                self._length[i] += 1
+                if done:
+                    self._ended.append(self._running[i].copy())
+                    self._lengths.append(int(self._length[i]))
+                    self._running[i], self._length[i] = 0.0, 0
+            self._window_steps += len(self.locals["infos"])
+            self._since += len(self.locals["infos"])
+            if self._since >= self.update_every:
+                self._update()
+            return True
+
+        def _update(self) -> None:
+            if self._ended:
+                estimate = np.mean(self._ended, axis=0)
+            else:  # no episode ended in this window: its cost rate over a typical episode's length
+                length = np.mean(self._lengths) if self._lengths else max(float(self._length.mean()), 1.0)
+                estimate = self._window_cost / max(self._window_steps, 1) * length
+            self.multipliers.update(estimate, self.num_timesteps)
+            self.logger.record("lagrangian/cost", float(np.sum(estimate)))
+            self.logger.record("lagrangian/multiplier", float(np.sum(self.multipliers.values)))
+            self._ended, self._window_cost, self._window_steps, self._since = [], 0.0 * self._window_cost, 0, 0
+
+    return LagrangianCallback
+
+
+def _space(space: Any) -> dict[str, Any]:
+    """A JSON description of a gymnasium space, enough to tell two apart."""
+    description: dict[str, Any] = {"kind": type(space).__name__, "shape": list(space.shape or ())}
+    if hasattr(space, "n"):
+        description["n"] = np.asarray(space.n).tolist()
+    return description
+
+
+def save_policy(model: Any, path: Any, extra: dict[str, Any] | None = None) -> Any:
+    """Write a stable-baselines3 model's policy as ``NAME.safetensors`` + ``NAME.json`` (weights and
+    the settings to build it again; never SB3's pickled ``.zip``). Returns the weights path."""
+    from symlearn.rl.model_files import save_torch_module
+
+    policy = model.policy
+    activation = getattr(policy, "activation_fn", None)
+    config = {"algorithm": type(model).__name__, "policy": _policy_name(model),
+              "net_arch": _plain(getattr(policy, "net_arch", None)),
+              "activation": None if activation is None else activation.__name__,
+              "observation": _space(model.observation_space), "action": _space(model.action_space),
+              **(extra or {})}
+    return save_torch_module(path, policy, config, kind=POLICY_KIND)
+
+
+def load_policy(path: Any, env: Any) -> Any:
+    """A stable-baselines3 model for ``env`` with the policy saved by :func:`save_policy` (the
+    JSON names the algorithm and network; the weights are read from safetensors, nothing is
+    unpickled). Refused when the file was written for other spaces."""
+    import torch
+
+    from symlearn.errors import ModelError
+    from symlearn.rl.model_files import load_torch_module, read_model_config
+
+    require("sb3", "loading a stable-baselines3 policy")
+    import stable_baselines3
+
+    config = read_model_config(path, kind=POLICY_KIND)
+    classes = {name for name, _ in ALGORITHMS.values()}
+    if config.get("algorithm") not in classes or config.get("policy") not in ("MlpPolicy", "MultiInputPolicy"):
+        raise ModelError(f"not a policy this symlearn builds: {config.get('algorithm')!r} {config.get('policy')!r}",
+                         file=str(path))
+    for side, space in (("observation", env.observation_space), ("action", env.action_space)):
+        if config.get(side) != _space(space):
+            raise ModelError(f"the policy was trained for {side}s {config.get(side)}, the environment's are "
+                             f"{_space(space)}", file=str(path))
+    kwargs: dict[str, Any] = {}
+    if config.get("net_arch") is not None:
+        kwargs["net_arch"] = config["net_arch"]
+    if config.get("activation") is not None:
+        if config["activation"] not in _ACTIVATIONS:
+            raise ModelError(f"unknown activation {config['activation']!r}", file=str(path))
+        kwargs["activation_fn"] = getattr(torch.nn, config["activation"])
+    algorithm = getattr(stable_baselines3, config["algorithm"])
+    built: dict[str, Any] = {}
+
+    def build(_: dict[str, Any]) -> Any:
+        built["model"] = algorithm(config["policy"], env, policy_kwargs=kwargs, device="cpu")
+        return built["model"].policy
+
+    load_torch_module(path, build, kind=POLICY_KIND)
+    return built["model"]
+
+
+def _policy_name(model: Any) -> str:
+    from gymnasium import spaces
+
+    return "MultiInputPolicy" if isinstance(model.observation_space, spaces.Dict) else "MlpPolicy"
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    return value

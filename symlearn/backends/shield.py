@@ -24,23 +24,35 @@ flagged with ``info["shield_dead_end"] = True`` -- blocking forever would hide t
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any, Literal
 
 import gymnasium as gym
 import numpy as np
 
-from symlearn.backends.rules import action_mask, allowed_function
+from symlearn.backends.rules import action_mask, allowed_function, rules_allowed
 from symlearn.errors import SymlearnError
+from symlearn.logic.asp import Hypothesis
 
 Mode = Literal["replace", "refuse", "raise"]
 
 
 class Shield(gym.Wrapper):
-    """``Shield(env, constraints, mode="replace", refusal_reward=0.0, seed=None)``.
+    """``Shield(env, constraints, mode="replace", refusal_reward=0.0, state_of=None, action_atoms=None, seed=None)``.
 
-    ``constraints``: a forbidden ``(S, A)`` mask, an object with ``allowed(state, action)``
-    (an ASP hypothesis behind a state translation), or such a callable. ``state_of`` maps an
-    observation to what ``allowed`` expects (default: the observation itself).
+    ``constraints`` is one of:
+
+    * a forbidden ``(S, A)`` mask: the observation is the state id (a ``Discrete`` observation
+      space), or ``state_of`` maps an observation to one -- anything else is refused here;
+    * an ASP rule set (:class:`~symlearn.logic.asp.Hypothesis`, e.g. ``Hypothesis.from_lp``): it
+      decides on state facts and action atoms, so the shield needs both -- the facts from
+      ``state_of(observation)`` or else from the environment's ``info["state_facts"]`` (the
+      junction environments report them), the atoms (``go(north)``, one per action id) from
+      ``action_atoms`` or else the environment's ``action_atoms`` attribute; without atoms it is
+      refused here. Each distinct (facts, action) pair is decided by clingo once;
+    * an object with ``allowed(state, action)`` or such a callable, ``action`` an int and
+      ``state`` what ``state_of`` makes of the observation (default: the observation itself);
+      an ``allowed`` that fails on a state is reported as a :class:`~symlearn.errors.SymlearnError`.
     """
 
     def __init__(
@@ -51,27 +63,72 @@ class Shield(gym.Wrapper):
         mode: Mode = "replace",
         refusal_reward: float = 0.0,
         state_of: Any = None,
+        action_atoms: Sequence[str] | None = None,
         seed: int | None = None,
     ) -> None:
         super().__init__(env)
         if not isinstance(env.action_space, gym.spaces.Discrete):
-            raise SymlearnError("a shield needs a Discrete action space")
+            raise SymlearnError(f"a shield needs a Discrete action space, the environment's is {env.action_space}")
         if mode not in ("replace", "refuse", "raise"):
             raise SymlearnError(f"unknown shield mode {mode!r}", hint="use 'replace', 'refuse' or 'raise'")
+        if state_of is not None and not callable(state_of):
+            raise SymlearnError(f"state_of must be callable, got {state_of!r}")
         self.n_actions = int(env.action_space.n)
-        n_states = int(env.observation_space.n) if isinstance(env.observation_space, gym.spaces.Discrete) else None
-        self.allowed = allowed_function(constraints, self.n_actions, n_states if state_of is None else None)
+        discrete = isinstance(env.observation_space, gym.spaces.Discrete)
+        self._facts_from_info = False
+        if isinstance(constraints, Hypothesis):
+            atoms = action_atoms if action_atoms is not None else getattr(env.unwrapped, "action_atoms", None)
+            if atoms is None:
+                raise SymlearnError("a shield on ASP rules needs the action atom of every action id",
+                                    hint="give action_atoms=['go(north)', ...], or turn the rules into a forbidden "
+                                         "mask first (symlearn.backends.masks.env_mask)")
+            atoms = tuple(str(a).strip().rstrip(".") for a in atoms)
+            if len(atoms) != self.n_actions:
+                raise SymlearnError(f"{len(atoms)} action atoms for {self.n_actions} actions")
+            self.allowed = rules_allowed(constraints, atoms)
+            self._facts_from_info = state_of is None
+        elif not callable(constraints) and not hasattr(constraints, "allowed"):
+            if not discrete and state_of is None:
+                raise SymlearnError(f"a forbidden (S, A) mask needs integer observations, the environment's are "
+                                    f"{env.observation_space}", hint="give state_of=observation -> state id")
+            n_states = int(env.observation_space.n) if discrete and state_of is None else None
+            self.allowed = allowed_function(constraints, self.n_actions, n_states)
+        else:
+            self.allowed = allowed_function(constraints, self.n_actions)
+        if action_atoms is not None and not isinstance(constraints, Hypothesis):
+            raise SymlearnError("action_atoms apply to ASP rules (a Hypothesis), not to this constraint set")
         self.mode = mode
         self.refusal_reward = float(refusal_reward)
         self.state_of = state_of or (lambda observation: observation)
         self.rng = np.random.default_rng(seed)
         self.interventions = 0
         self._observation: Any = None
+        self._state: Any = None
         self._mask = np.ones(self.n_actions, dtype=np.int8)
+
+    def _state_from(self, observation: Any, info: dict[str, Any]) -> Any:
+        if not self._facts_from_info:
+            return self.state_of(observation)
+        if "state_facts" not in info:
+            raise SymlearnError("the shield's ASP rules decide on state facts, and the environment reports no "
+                                "info['state_facts']", hint="give state_of=observation -> facts")
+        return tuple(info["state_facts"])
 
     def _annotate(self, observation: Any, info: dict[str, Any]) -> dict[str, Any]:
         self._observation = observation
-        mask = action_mask(self.allowed, self.state_of(observation), self.n_actions)
+        self._state = self._state_from(observation, info)
+        try:
+            mask = action_mask(self.allowed, self._state, self.n_actions)
+        except SymlearnError:
+            raise
+        except Exception as exc:  # a user's rule set: say what it was asked, not a traceback inside it
+            raise SymlearnError(f"the shield's constraints failed on state {self._state!r}: "
+                                f"{type(exc).__name__}: {exc}",
+                                hint="state_of must turn an observation into what allowed(state, action) "
+                                     "takes") from None
+        return self._annotated(info, mask)
+
+    def _annotated(self, info: dict[str, Any], mask: np.ndarray) -> dict[str, Any]:
         dead_end = not mask.any()
         self._mask = np.ones_like(mask) if dead_end else mask
         info = dict(info)
@@ -95,8 +152,8 @@ class Shield(gym.Wrapper):
             self.interventions += 1
             if self.mode == "raise":
                 raise SymlearnError(f"the shield forbids action {action} in state {self._observation!r}")
-            if self.mode == "refuse":
-                info = self._annotate(self._observation, {"shield": "refused"})
+            if self.mode == "refuse":  # nothing moved: the same state, the same mask
+                info = self._annotated({"shield": "refused"}, self._mask)
                 return self._observation, self.refusal_reward, False, False, info
             action = int(self.rng.choice(np.flatnonzero(self._mask)))
             verdict = "replaced"

@@ -1,4 +1,9 @@
-"""``symlearn data``: inspect, validate and convert demonstration files."""
+"""``symlearn data``: inspect, validate and convert demonstration files.
+
+Every subcommand reads what :func:`symlearn.data.load` reads: symlearn's ``.jsonl``/``.npz``,
+D4RL tables (``.hdf5``/``.h5``/``.npz``) and Minari dataset folders; ``convert`` writes by the
+target's suffix (``.hdf5``: a D4RL table; ``--to d4rl`` for a D4RL ``.npz``).
+"""
 
 from __future__ import annotations
 
@@ -7,13 +12,14 @@ import argparse
 
 def register(subparsers, common) -> None:
     group = subparsers.add_parser("data", help="inspect, validate and convert demonstration files",
-                                  description="Inspect, validate and convert demonstration files (.jsonl, .npz).")
+                                  description="Inspect, validate and convert demonstration files: symlearn's .jsonl and "
+                                              ".npz, D4RL tables (.hdf5, .npz) and Minari dataset folders.")
     group.set_defaults(group_parser=group)
     commands = group.add_subparsers(dest="data_command", metavar="SUBCOMMAND")
 
     info = commands.add_parser("info", parents=[common()], help="summary statistics of a file",
                                description="Print summary statistics of a demonstrations file.")
-    info.add_argument("file", help="a .jsonl or .npz demonstrations file")
+    info.add_argument("file", help="a .jsonl, .npz or .hdf5 demonstrations file, or a Minari dataset folder")
     info.set_defaults(handler=_info)
 
     validate = commands.add_parser("validate", parents=[common()], help="check a file and report the first problem",
@@ -21,17 +27,23 @@ def register(subparsers, common) -> None:
     validate.add_argument("file")
     validate.set_defaults(handler=_validate)
 
-    convert = commands.add_parser("convert", parents=[common()], help="convert between .jsonl and .npz",
-                                  description="Convert a demonstrations file to another format (by suffix).")
-    convert.add_argument("source")
-    convert.add_argument("target")
+    convert = commands.add_parser("convert", parents=[common()],
+                                  help="convert between .jsonl, .npz, D4RL tables and Minari folders",
+                                  description="Convert demonstrations to another format, chosen by the target's "
+                                              "suffix: .jsonl, .npz (symlearn's archive), .hdf5/.h5 (a D4RL "
+                                              "table). The source may also be a Minari dataset folder.")
+    convert.add_argument("source", help="a demonstrations file or a Minari dataset folder")
+    convert.add_argument("target", help="the file to write (.jsonl, .npz, .hdf5, .h5)")
+    convert.add_argument("--to", choices=("symlearn", "d4rl"), default=None,
+                         help="the target's layout: d4rl writes a D4RL table also to .npz (default: symlearn's "
+                              "format for .jsonl/.npz, D4RL for .hdf5)")
     convert.set_defaults(handler=_convert)
 
 
 def _render_summary(doc: dict) -> str:
     s = doc["summary"]
     lines = [
-        f"{doc['file']}: {s['n_trajectories']} trajectories, {s['n_steps']} steps",
+        f"{doc['file']} ({doc['format']}): {s['n_trajectories']} trajectories, {s['n_steps']} steps",
         f"  states:  {s['state_kind']}" + (f" {tuple(s['state_shape'])}" if s["state_shape"] else ""),
         f"  actions: {s['action_kind'] or 'none'}",
         "  length:  min {min:g}  mean {mean:.2f}  max {max:g}".format(**s["length"]),
@@ -48,9 +60,11 @@ def _render_summary(doc: dict) -> str:
 
 def _info(args: argparse.Namespace, out) -> None:
     from symlearn.data import load
+    from symlearn.data.files import detect
 
     demos = load(args.file)
-    out.result({"file": args.file, "summary": demos.summary(), "metadata": demos.metadata}, _render_summary)
+    out.result({"file": args.file, "format": detect(args.file), "summary": demos.summary(),
+                "metadata": demos.metadata}, _render_summary)
 
 
 def _validate(args: argparse.Namespace, out) -> None:
@@ -65,6 +79,6 @@ def _convert(args: argparse.Namespace, out) -> None:
     from symlearn.data import load, save
 
     demos = load(args.source)
-    save(demos, args.target)
+    save(demos, args.target, format=args.to)
     out.result({"source": args.source, "target": args.target, "n_trajectories": len(demos)},
                f"wrote {args.target} ({len(demos)} trajectories)")

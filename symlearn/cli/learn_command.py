@@ -11,6 +11,12 @@ writes the formula (``spec.ltl``), the labeling (``spec.labeling.json``) and the
 named after it, so ``-o notes.txt`` would overwrite ``notes.dot``/``notes.svg`` (refused before
 learning). Demonstrations given with ``--demos`` must come from the environment: a file whose
 metadata names another task, or whose labels disagree with the environment's labeling, is refused.
+
+``symlearn learn spec --env GYM-ID|module:EnvId [--env-kwargs JSON] --demos D --labeling
+FILE.json|FILE.py:function [--features a,b] [--policy auto|tabular|ppo] [--q-steps N] [--ppo-steps N]``
+learns in a user's environment (resolved by :mod:`symlearn.recipes.environments`): no expert, so
+``--demos`` is required; no tabular model, so each policy update is RL on the product of the
+environment and the candidate formula's automaton (:mod:`symlearn.learners.temporal.spec_env_world`).
 """
 
 from __future__ import annotations
@@ -43,15 +49,30 @@ def register_learn(commands, common) -> None:
         description="Alternate information-gain template search and CRM Q-learning of a nominal policy until "
                     "the learned LTLf formula separates expert from nominal behaviour.")
     where = spec.add_mutually_exclusive_group(required=True)
-    where.add_argument("--env", help="task/environment name, e.g. office-1 or craft-2")
+    where.add_argument("--env", help="a bundled task (office-1, craft-2), a gymnasium id, or module:EnvId "
+                                     "(your own environment: give --demos and --labeling)")
     where.add_argument("--domain", metavar="DIR",
                        help="your own domain folder (domain.toml with a labeling; deterministic moves)")
     source = spec.add_mutually_exclusive_group()
-    source.add_argument("--demos", help="expert demonstrations (.jsonl or .npz) with environment state ids")
-    source.add_argument("--n-demos", type=int, default=50, help="generate N optimal expert demonstrations (default 50)")
+    source.add_argument("--demos", help="expert demonstrations (.jsonl or .npz): state ids for a bundled task; "
+                                        "in your own environment, labelled while recorded (or replayable)")
+    source.add_argument("--n-demos", type=int, default=None,
+                        help="generate N optimal expert demonstrations of a bundled task (default 50)")
+    spec.add_argument("--env-kwargs", metavar="JSON", help="keyword arguments for the environment, a JSON object")
     spec.add_argument("--props", choices=("given", "learn"), default="given",
                       help="use the environment's propositions, or learn propositions from states")
-    spec.add_argument("--labeling", help="a labeling JSON file to use instead of the environment's (with --props given)")
+    spec.add_argument("--labeling", metavar="FILE.json|FILE.py:function",
+                      help="the propositions: a labeling JSON file (a table, or {proposition: condition} over the "
+                           "features), or a Python function (observation, info) -> names")
+    spec.add_argument("--features", metavar="A,B,...",
+                      help="names of the observation's columns, for a feature labeling {prop: 'a > 0.5'}")
+    spec.add_argument("--policy", choices=("auto", "tabular", "ppo"), default="auto",
+                      help="policy update in your own environment: tabular CRM Q-learning over observations "
+                           "(auto: discrete observations and actions) or PPO (auto: otherwise)")
+    spec.add_argument("--q-steps", type=int, default=None,
+                      help="environment steps per tabular policy update in your own environment (default 40000)")
+    spec.add_argument("--ppo-steps", type=int, default=None,
+                      help="environment steps per PPO policy update in your own environment (default 50000)")
     spec.add_argument("--threshold", type=float, default=0.2, help="stop when the best information gain is below (0.2)")
     spec.add_argument("--max-iterations", type=int, default=10, help="at most this many iterations (10)")
     spec.add_argument("--horizon", type=int, default=None,
@@ -69,10 +90,12 @@ def _render(doc: dict) -> str:
         lines += [f"  {name}: {meaning}" for name, meaning in doc["propositions"].items()]
     if doc["success_rate"] is not None:
         lines.append(f"success rate on the ground-truth task: {doc['success_rate']:.2f}")
-    lines.append(f"policy entropy: {doc['entropy']:.3f}   iterations: {doc['iterations']}   "
+    entropy = "n/a" if doc["entropy"] is None else f"{doc['entropy']:.3f}"
+    lines.append(f"policy entropy: {entropy}   iterations: {doc['iterations']}   "
                  f"length: {doc['length']}   {doc['seconds']:.1f} s")
     if doc["pruned"]:
         lines.append("pruned: " + ", ".join(doc["pruned"]))
+    lines += [f"rejected: {r['formula']} ({r['why']})" for r in doc.get("rejected", [])]
     lines += [f"wrote {f}" for f in doc["files"]]
     return "\n".join(lines)
 
@@ -86,8 +109,18 @@ def _spec(args: argparse.Namespace, out) -> None:
     from symlearn.learners.temporal.spec_from_demos import SpecLearner
     from symlearn.grounding.labeling import load_labeling
 
-    task = get_task(args.env) if args.env else None
     seed = getattr(args, "seed", 0)
+    target = _resolve(args)
+    if target is not None and target.entry is None:
+        return _spec_in_user_env(args, out, target, seed)
+    for flag, value in (("--features", args.features), ("--q-steps", args.q_steps), ("--ppo-steps", args.ppo_steps)):
+        if value is not None:
+            raise DataError(f"{flag} is for your own environment; {args.env or args.domain} has its own")
+    if args.policy != "auto":
+        raise DataError("--policy is for your own environment; a bundled task trains on its tabular model")
+    task = get_task(target.entry.name) if target is not None else None
+    if args.n_demos is None:
+        args.n_demos = 50
     if args.demos:
         from symlearn.data import load
 
@@ -102,17 +135,9 @@ def _spec(args: argparse.Namespace, out) -> None:
     if labeling is not None and args.props == "learn":
         raise DataError("--labeling gives propositions, which contradicts --props learn")
 
-    def report(record: dict) -> None:
-        if "iteration" in record:
-            verdict = "added" if record["added"] else "stop (below threshold)"
-            out.note(f"iteration {record['iteration']}: {record['formula'] or '-'}  gain {record['gain']:.3f}  "
-                     f"{verdict}  ({record['seconds']:.1f} s)")
-        elif "pruned" in record:
-            out.note(f"pruned {record['pruned']} (satisfied without it: {record['satisfied_without_it']:.2f})")
-
     learner = SpecLearner(propositions=args.props, labeling=labeling, threshold=args.threshold,
                           max_iterations=args.max_iterations, prune=not args.no_prune, random_state=seed,
-                          horizon=args.horizon, callback=report)
+                          horizon=args.horizon, callback=_reporter(out))
     if task is not None:
         env = task.make_env()
     else:
@@ -135,10 +160,105 @@ def _spec(args: argparse.Namespace, out) -> None:
         "iterations": learner.iterations_,
         "length": learner.length_,
         "pruned": learner.pruned_,
+        "rejected": learner.rejected_,
         "seconds": learner.seconds_,
         "files": files,
     }
     out.result(doc, _render)
+
+
+def _reporter(out):
+    def report(record: dict) -> None:
+        if "iteration" in record:
+            verdict = "added" if record["added"] else "stop (below threshold)"
+            out.note(f"iteration {record['iteration']}: {record['formula'] or '-'}  gain {record['gain']:.3f}  "
+                     f"{verdict}  ({record['seconds']:.1f} s)")
+        elif "pruned" in record:
+            out.note(f"pruned {record['pruned']} (satisfied without it: {record['satisfied_without_it']:.2f})")
+    return report
+
+
+def _resolve(args):
+    """The ``--env`` target (None for ``--domain``); a bundled name must be a specification task."""
+    if not args.env:
+        if args.env_kwargs is not None:
+            from symlearn.errors import DataError
+
+            raise DataError("--env-kwargs goes with --env, not --domain")
+        return None
+    from symlearn.envs.registry import Kind
+    from symlearn.recipes.environments import resolve_env
+
+    target = resolve_env(args.env, args.env_kwargs, kind=Kind.SPEC, what="environment/task")
+    if target.entry is not None and target.kwargs:
+        from symlearn.errors import DataError
+
+        raise DataError(f"{target.display} is a bundled task; --env-kwargs is for your own environment")
+    return target
+
+
+def _spec_in_user_env(args, out, target, seed: int) -> None:
+    """``learn spec`` in a user's environment: their demonstrations, their labeling, and RL on the
+    product of the environment and each candidate's automaton for the policy updates."""
+    from symlearn.data import load
+    from symlearn.errors import DataError
+    from symlearn.learners.temporal.spec_from_demos import SpecLearner
+
+    if not args.demos:
+        raise DataError(f"{target.display} has no expert: give your demonstrations with --demos FILE",
+                        hint="record them with symlearn.data.record(env, policy, n, labeler=...) and save them")
+    if args.props == "learn":
+        raise DataError("--props learn names states of a tabular model; in your own environment give "
+                        "--labeling FILE.json|FILE.py:function")
+    for flag, value in (("--q-steps", args.q_steps), ("--ppo-steps", args.ppo_steps)):
+        if value is not None and value < 1:
+            raise DataError(f"{flag} must be at least 1, got {value}")
+    env = target.make()
+    labeling = _user_labeling(args, target, env)
+    demos = load(args.demos)
+    learner = SpecLearner(labeling=labeling, threshold=args.threshold, max_iterations=args.max_iterations,
+                          prune=not args.no_prune, random_state=seed, horizon=args.horizon, q_steps=args.q_steps,
+                          ppo_steps=args.ppo_steps, policy=args.policy, callback=_reporter(out))
+    with blame_file(args.demos):
+        learner.fit(demos, env)
+    files = _write_outputs(learner, args.output) if args.output else []
+    meanings = learner.labeling_.meanings
+    doc = {
+        "env": target.display,
+        "formula": str(learner.formula_),
+        "propositions": {p: meanings.get(p, "") for p in learner.labeling_.propositions},
+        "success_rate": None,
+        "entropy": learner.entropy_,
+        "iterations": learner.iterations_,
+        "length": learner.length_,
+        "pruned": learner.pruned_,
+        "rejected": learner.rejected_,
+        "policy_update": learner.world_.route,
+        "seconds": learner.seconds_,
+        "files": files,
+    }
+    out.result(doc, _render)
+
+
+def _user_labeling(args, target, env):
+    """``--labeling`` read for a user's environment; a feature labeling's names from
+    ``--features`` or the environment (checked against the observation's width)."""
+    from symlearn.grounding.labeling_function import read_labeling
+
+    names = target.feature_names(env, override=args.features) if args.features else None
+    if not args.labeling:
+        return None
+    if names is None and args.labeling.lower().endswith(".json"):
+        names = target.feature_names(env)
+    labeling = read_labeling(args.labeling, feature_names=names)
+    features = target.features(env, override=args.features) if names is not None else None
+    if features is not None and features.source == "info" and hasattr(labeling, "feature_map"):
+        from symlearn.grounding.labeling_function import FunctionLabeling
+
+        inner = labeling  # the columns are info["features"], not the observation
+        labeling = FunctionLabeling(lambda _obs, info: inner.label(info["features"]), inner.propositions,
+                                    meanings=inner.meanings, name=args.labeling)
+    return labeling
 
 
 def _check_output(output: str) -> None:
@@ -188,12 +308,15 @@ def _write_outputs(learner, output: str) -> list[str]:
     path = Path(output)
     stem = path.with_suffix("") if path.suffix else path
     write_text(path, str(learner.formula_) + "\n")
-    labeling_path = stem.with_name(stem.name + ".labeling.json")
-    learner.labeling_.save(labeling_path)
+    files = [str(path)]
+    if hasattr(learner.labeling_, "save") and hasattr(learner.labeling_, "to_json"):  # a function is not saved
+        labeling_path = stem.with_name(stem.name + ".labeling.json")
+        learner.labeling_.save(labeling_path)
+        files.append(str(labeling_path))
     dot = learner.dfa_.to_dot(title=str(learner.formula_))
     dot_path = stem.with_name(stem.name + ".dot")
     write_text(dot_path, dot)
-    files = [str(path), str(labeling_path), str(dot_path)]
+    files.append(str(dot_path))
     if dot_available():
         svg_path = stem.with_name(stem.name + ".svg")
         render_dot(dot, svg_path)

@@ -3,7 +3,8 @@
 ``symlearn learn dnf [--demos D.npz|D.jsonl] [--env NAME|GYM-ID|module:EnvId [--env-kwargs JSON] [--n-demos N]]
 [--features a,b,...] [--domain DIR] [--max-depth D] [--min-samples-leaf M] [-o rules.dnf] [--json]``
 
-* ``--demos``: demonstrations with vector states (columns named by ``--features``, default
+* ``--demos``: demonstrations with vector states (columns named by ``--features``, else by the
+  file's ``metadata["feature_names"]`` -- a flattened Minari or D4RL observation -- else
   ``x0..x{k-1}``) or feature-dict states (names from the dicts); with ``--domain DIR`` the
   domain's feature map (``features = ...`` in ``domain.toml``) turns state ids into features.
 * ``--env``: a bundled continuous environment (``toy-navigation``, ``safenav-*``, ``driving``),
@@ -87,6 +88,11 @@ def _demonstrations(args: argparse.Namespace):
     if not args.demos and args.n_demos < 1:
         raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
     demos = demonstrations(target, args.demos, args.n_demos, seed=seed)
+    if features is None:  # names the file carries (a flattened Minari/D4RL observation, a bundled expert's)
+        meta = demos.metadata if isinstance(demos.metadata, dict) else {}
+        named = meta.get("feature_names", meta.get("features"))
+        if isinstance(named, list) and named and all(isinstance(n, str) for n in named):
+            features = list(parse_feature_names(named, flag="the demonstrations' feature names"))
     return demos, None if features is None else (features if args.domain else list(features))
 
 

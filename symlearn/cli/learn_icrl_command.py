@@ -158,6 +158,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
         usable = [e.name for e in entries(Kind.CONTINUOUS) if "mce-icrl" in e.methods]
         raise DataError(f"{target.display} is no environment for neural ICRL",
                         hint="use " + ", ".join(usable) + ", or your own environment (module:EnvId) with --demos")
+    target = target.as_numeric()  # a Dict observation (MiniGrid's) flattened to what the networks read
     env = target.make()
     names = target.observation_names(env)
     width = int(np.prod(env.observation_space.shape or (1,)))

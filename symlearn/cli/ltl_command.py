@@ -22,7 +22,9 @@ def register(subparsers, common) -> None:
 
     parse = commands.add_parser("parse", parents=[common()], help="print the canonical form and size",
                                 description="Parse a formula and print its canonical form, size and propositions.")
-    parse.add_argument("formula")
+    parse.add_argument("formula", nargs="?")
+    parse.add_argument("--tlsf", metavar="FILE", help="read the formula of a basic TLSF specification (SYNTCOMP's "
+                                                      "format) instead")
     dialect_option(parse)
     parse.add_argument("--to", dest="to_dialect", choices=("ours", "spot", "ltlf2dfa"),
                        help="print in this dialect (default: the input dialect); operators the tool cannot "
@@ -43,6 +45,7 @@ def register(subparsers, common) -> None:
                                           "rejecting sink), or every formula of a file with --file.")
     dfa.add_argument("formula", nargs="?")
     dfa.add_argument("--file", help="one formula per line (blank lines and lines starting with # are skipped)")
+    dfa.add_argument("--tlsf", metavar="FILE", help="the formula of a basic TLSF specification (SYNTCOMP's format)")
     dialect_option(dfa)
     dfa.add_argument("--dot", help="write the automaton as Graphviz DOT")
     dfa.add_argument("--svg", help="render the automaton to SVG (needs Graphviz's dot)")
@@ -56,7 +59,7 @@ def _parse(args: argparse.Namespace, out) -> None:
 
     from symlearn.logic.ltlf.printer import FOREIGN, for_dialect
 
-    formula = parse(args.formula, args.dialect)
+    formula = _formula(args)
     target = args.to_dialect or args.dialect
     if args.to_dialect and args.to_dialect != "ours":
         expanded = for_dialect(formula, target)
@@ -87,6 +90,25 @@ def _parse(args: argparse.Namespace, out) -> None:
         return "\n".join(lines)
 
     out.result(doc, render)
+
+
+def _formula(args: argparse.Namespace):
+    """The formula on the command line, or the one a ``--tlsf`` file means."""
+    from symlearn.errors import SymlearnError
+
+    if getattr(args, "tlsf", None) is not None:
+        if args.formula is not None:
+            raise SymlearnError("give a FORMULA or --tlsf SPEC.tlsf, not both")
+        if args.dialect != "ours":
+            raise SymlearnError("--dialect does not apply to --tlsf (TLSF has its own syntax)")
+        from symlearn.logic.ltlf.tlsf import load_tlsf
+
+        return load_tlsf(args.tlsf).formula
+    if args.formula is None:
+        raise SymlearnError("give a FORMULA or --tlsf SPEC.tlsf", hint="symlearn ltl parse 'F a & G !b'")
+    from symlearn.logic.ltlf import parse
+
+    return parse(args.formula, args.dialect)
 
 
 def _eval(args: argparse.Namespace, out) -> None:
@@ -136,8 +158,9 @@ def _dfa(args: argparse.Namespace, out) -> None:
     from symlearn.logic.ltlf.to_dfa import DEFAULT_MAX_STATES, translate
 
     max_states = args.max_states or DEFAULT_MAX_STATES
-    if (args.formula is None) == (args.file is None):
-        raise SymlearnError("give either a FORMULA or --file FORMULAS.txt", hint="symlearn ltl dfa 'F a & G !b'")
+    if sum(x is not None for x in (args.formula, args.file, args.tlsf)) != 1:
+        raise SymlearnError("give one of a FORMULA, --file FORMULAS.txt or --tlsf SPEC.tlsf",
+                            hint="symlearn ltl dfa 'F a & G !b'")
     if args.file:
         if args.dot or args.svg or args.save:
             raise SymlearnError("--dot, --svg and --save write one automaton; they cannot be used with --file")
@@ -165,7 +188,8 @@ def _dfa(args: argparse.Namespace, out) -> None:
         out.result(rows, render_rows)
         return
 
-    formula = parse(args.formula, args.dialect)
+    formula = _formula(args)
+    args.formula = args.formula if args.tlsf is None else str(formula)
     start = time.perf_counter()
     dfa = translate(formula, max_states=max_states)
     seconds = time.perf_counter() - start

@@ -1,48 +1,76 @@
-"""``symlearn train``: train a PPO or PPO-Lagrangian agent, optionally with a learned DNF as its cost.
+"""``symlearn train``: train an agent in any environment, optionally with a learned cost.
 
-``symlearn train --env NAME --algo ppo|ppo-lag [--cost rules.dnf [--per-rule]] [--cost-limit C]
-[--multiplier-update gradient|adam|pid] [--multiplier-lr LR] [--advantage-scale raw|returns]
-[--normalize-observations] [--normalize-values] [--n-envs N] [--n-steps T]
-[--prune [--prune-threshold T]] [--steps N] [-o agent.safetensors] [--json]``
+``symlearn train --env ENV [--env-kwargs JSON] [--algo ALGO] [--cost rules.dnf|cost.safetensors
+[--features a,b] [--per-rule]] [--cost-limit C] [--multiplier-update gradient|adam|pid]
+[--multiplier-lr LR] [--advantage-scale raw|returns] [--normalize-observations]
+[--normalize-values] [--n-envs N] [--n-steps T] [--prune [--prune-threshold T]] [--steps N]
+[--eval-episodes E] [-o agent.safetensors] [--json]``
 
-* ``--env``: a bundled continuous environment (``toy-navigation``, ``safenav-*``; see
-  ``symlearn envs``) or any gymnasium id (``CartPole-v1``).
+* ``--env``: a bundled name (``toy-navigation``, ``safenav-*``; see ``symlearn envs``), any
+  registered gymnasium id (``CartPole-v1``), or ``module:EnvId`` (the module is imported and must
+  register ``EnvId``; the current directory is importable), resolved by
+  :func:`symlearn.recipes.environments.resolve_env`. ``--env-kwargs '{"size": 8}'``: keyword
+  arguments of the environment's constructor (an unknown key is refused, naming its parameters).
+* ``--algo``: ``ppo`` (default without ``--cost``), ``ppo-lag`` (default with ``--cost``; without
+  one it constrains the environment's own ``info["cost"]`` -- "PPO-Lagrangian on the true cost"
+  -- and is refused when the environment reports none), ``sb3-ppo``, ``sb3-sac``, ``sb3-dqn``,
+  ``sb3-ppo-lag``, ``sb3-sac-lag`` (stable-baselines3, the ``sb3`` extra; handled by
+  :mod:`symlearn.cli.train_sb3`), or ``dqrm``/``dqn`` on a rendered block task
+  (:mod:`symlearn.cli.train_rm`).
 * ``--cost rules.dnf``: the cost is 1 when the formula holds on the features of the state reached
-  (``info["features"]``); with ``--per-rule`` one cost (and, with ``ppo-lag``, one multiplier)
-  per rule. ``--cost cost.safetensors``: a cost learned by ``symlearn learn icrl`` (refused when
-  it was learned for other observation/action spaces), the constrained signal of ``ppo-lag`` or,
-  with ``ppo``, subtracted from the reward (the thesis' transfer experiment). Without it, ``ppo-lag`` uses the environment's own cost (the ground truth: the
-  baseline "PPO-Lagrangian on the true cost").
-* ``--algo dqrm|dqn`` on a rendered block task (``blockworld-stack2`` ...): deep Q-learning with one
-  Q-function per reward-machine state (DQRM; ``--machine`` from ``symlearn learn rm``, ``truth``,
-  or inferred from the task's demonstrations) or DQN on the machine's shaped (``--reward shaped``)
-  or the task's sparse reward; handled by :mod:`symlearn.cli.train_rm`.
+  (``info["features"]`` when the environment reports them, else the observation); the feature
+  names come from ``--features a,b``, the environment's ``feature_names`` attribute, or the keys
+  of a dict ``info["features"]`` -- an environment with none of them is refused. ``--per-rule``:
+  one cost (and, with a Lagrangian, one multiplier) per rule. ``--cost cost.safetensors``: a cost
+  learned by ``symlearn learn icrl`` (refused when it was learned for other observation/action
+  spaces). The learned cost is the constrained signal of ``ppo-lag`` / ``sb3-*-lag`` or, with
+  ``ppo`` / ``sb3-*``, subtracted from the reward (the thesis' transfer experiment). It drives
+  training only: the environment's ``info["cost"]`` stays the reported ground truth.
 * ``--advantage-scale returns``, ``--normalize-observations``, ``--normalize-values``: the options
   of :mod:`symlearn.rl.ppo` that made PPO-Lagrangian on the learned DNF solve the thesis' toy
-  (docs/BENCHMARKS.md); off by default, as in the library.
+  (docs/BENCHMARKS.md); off by default, as in the library; our PPO's only (refused with ``sb3-*``).
 * ``--prune``: after training, rules whose fired/evaluated ratio (conjunctions evaluated in
   ascending number of atoms) stayed below ``--prune-threshold`` (thesis: 0.001) are dropped; the
   pruned formula is written beside the cost file as ``NAME.pruned.dnf`` with a report.
+* Numeric flags are checked before anything runs: ``--steps`` 1 .. 10^9, ``--cost-limit`` finite
+  and >= 0, ``--n-envs`` 1 .. 256, ``--n-envs`` x ``--n-steps`` (the rollout held in memory) at
+  most 262,144 steps.
+* ``-o agent.safetensors``: the policy as safetensors + JSON (our PPO's, or a stable-baselines3
+  policy through :func:`symlearn.backends.sb3.save_policy`; a ``.zip`` is refused).
 
-JSON keys: ``cost_kind`` (``dnf``, ``neural`` or null), ``return`` and ``cost`` (mean per episode of greedy evaluation episodes; cost is the
-environment's ground-truth cost), ``violation_rate`` (share of evaluation steps with ground-truth
-cost), ``pruned`` (the dropped rules, or null), ``seconds``, ``steps``, ``files``.
+JSON keys: ``env``, ``algo``, ``cost_kind`` (``dnf``, ``neural`` or null), ``return`` and ``cost``
+(mean per episode of greedy evaluation episodes; ``cost`` is the environment's ground-truth
+``info["cost"]``), ``violation_rate`` (ground-truth cost per evaluation step) -- both ``null``
+when the environment reports no ``info["cost"]`` --, ``multipliers`` (null without a
+Lagrangian), ``pruned`` (the dropped rules, or null; with ``--prune`` also ``kept``), ``seconds``,
+``steps``, ``files``.
 """
 
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
+
+OUR_ALGOS = ("ppo", "ppo-lag")
+SB3_ALGOS = ("sb3-ppo", "sb3-sac", "sb3-dqn", "sb3-ppo-lag", "sb3-sac-lag")
+BLOCK_ALGOS = ("dqrm", "dqn")
+
+MAX_STEPS = 10**9
+MAX_ENVS = 256
+MAX_ROLLOUT = 262_144   # n_envs x n_steps: the rollout PPO holds in memory (a few arrays per step)
 
 
 def register(subparsers, common) -> None:
     cmd = subparsers.add_parser(
-        "train", parents=[common()], help="train a PPO / PPO-Lagrangian agent (optionally on a learned DNF cost)",
-        description="Train an agent with PPO or PPO-Lagrangian; a learned DNF formula can be its cost, and rules "
-                    "the agent never ran into can be pruned afterwards.")
-    cmd.add_argument("--env", required=True, help="a bundled continuous environment or a gymnasium id")
-    cmd.add_argument("--algo", choices=("ppo", "ppo-lag", "dqrm", "dqn"), default="ppo-lag",
-                     help="ppo, ppo-lag (default), or dqrm / dqn on a rendered block task (blockworld-*)")
+        "train", parents=[common()], help="train an agent (PPO, PPO-Lagrangian, stable-baselines3) in any environment",
+        description="Train an agent in a bundled, gymnasium or module:Id environment; a learned DNF or neural "
+                    "cost can constrain it, and rules the agent never ran into can be pruned afterwards.")
+    cmd.add_argument("--env", required=True, help="a bundled name, a gymnasium id, or module:EnvId")
+    cmd.add_argument("--env-kwargs", metavar="JSON", help="keyword arguments of the environment, a JSON object")
+    cmd.add_argument("--algo", choices=OUR_ALGOS + SB3_ALGOS + BLOCK_ALGOS, default=None,
+                     help="ppo (default without --cost), ppo-lag (default with --cost), sb3-ppo|sb3-sac|sb3-dqn|"
+                          "sb3-ppo-lag|sb3-sac-lag (stable-baselines3), or dqrm / dqn on a rendered block task")
     cmd.add_argument("--machine", metavar="MACHINE.json",
                      help="dqrm/dqn: a machine from `symlearn learn rm` (its .labeling.json beside it), or 'truth'; "
                           "default: inferred from the task's scripted demonstrations")
@@ -51,12 +79,14 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--cost", metavar="RULES.dnf|COST.safetensors",
                      help="a DNF formula over the environment's features, or a cost learned by "
                           "`symlearn learn icrl` (.safetensors), as the cost")
+    cmd.add_argument("--features", metavar="A,B,...",
+                     help="the names of the observation's entries, for a DNF cost (default: the environment's)")
     cmd.add_argument("--per-rule", action="store_true", help="one cost (and multiplier) per rule of --cost")
     cmd.add_argument("--cost-limit", type=float, default=0.0,
-                     help="ppo-lag: allowed expected cost per episode (default 0)")
-    cmd.add_argument("--multiplier-lr", type=float, default=0.05, help="ppo-lag: multiplier step size (0.05)")
+                     help="Lagrangian: allowed expected cost per episode (default 0)")
+    cmd.add_argument("--multiplier-lr", type=float, default=0.05, help="Lagrangian: multiplier step size (0.05)")
     cmd.add_argument("--multiplier-update", choices=("gradient", "adam", "pid"), default="gradient",
-                     help="ppo-lag: multiplier update rule (gradient)")
+                     help="Lagrangian: multiplier update rule (gradient)")
     cmd.add_argument("--advantage-scale", choices=("raw", "returns"), default="raw",
                      help="ppo-lag: mix advantages in their own units (raw) or in standard deviations of "
                           "their returns (returns: the multiplier's range no longer depends on the units)")
@@ -64,94 +94,111 @@ def register(subparsers, common) -> None:
                      help="standardise the policy's inputs by running mean/std (saved with the model)")
     cmd.add_argument("--normalize-values", action="store_true",
                      help="critics learn returns divided by their running std (PopArt-style)")
-    cmd.add_argument("--n-envs", type=int, default=4, help="environment copies stepped side by side (4)")
-    cmd.add_argument("--n-steps", type=int, default=128, help="steps per copy per iteration (128)")
+    cmd.add_argument("--n-envs", type=float, default=4, help="environment copies stepped side by side (4)")
+    cmd.add_argument("--n-steps", type=float, default=128, help="steps per copy per iteration (128)")
     cmd.add_argument("--prune", action="store_true", help="prune rules the agent never ran into (needs --cost)")
     cmd.add_argument("--prune-threshold", type=float, default=1e-3, help="fired/evaluated ratio to keep a rule")
-    cmd.add_argument("--steps", type=int, default=None, help="environment steps (ppo: 50000; dqrm/dqn: 300)")
-    cmd.add_argument("--eval-episodes", type=int, default=10, help="greedy evaluation episodes (10)")
+    cmd.add_argument("--steps", type=float, default=None, help="environment steps (ppo: 50000; dqrm/dqn: 300)")
+    cmd.add_argument("--eval-episodes", type=float, default=10, help="greedy evaluation episodes (10)")
     cmd.add_argument("-o", "--output", help="write the policy here (.safetensors + .json)")
     cmd.set_defaults(handler=_train)
 
 
-def _make_env(name: str):
-    """A constructor of ``name``: a bundled environment (its gymnasium id) or a gymnasium id."""
-    import gymnasium as gym
+def _whole(flag: str, value: float, low: int, high: int) -> int:
+    """A whole number in ``[low, high]`` given as ``flag`` (argparse read it as a float, so that
+    ``1e20`` gets this message and not a usage error)."""
+    from symlearn.errors import SymlearnError
 
-    from symlearn.envs.registry import get
-    from symlearn.errors import DataError
+    if not math.isfinite(value) or value != int(value):
+        raise SymlearnError(f"{flag} must be a whole number, got {value:g}")
+    if not low <= value <= high:
+        raise SymlearnError(f"{flag} must be between {low:,} and {high:,}, got {value:g}")
+    return int(value)
 
-    try:
-        entry = get(name)
-    except DataError as exc:
-        if name not in gym.registry:
-            raise DataError(exc.message, hint=(exc.hint or "") + "; or a gymnasium id such as CartPole-v1") from None
-        return lambda: gym.make(name)
-    if entry.gym_id is None:
-        raise DataError(f"{name} has no gymnasium environment to train in")
-    import symlearn.envs  # noqa: F401 -- registers the symlearn/ ids
-    return lambda: gym.make(entry.gym_id)
+
+def check_numbers(args: argparse.Namespace, default_steps: int) -> None:
+    """Every numeric flag in range (in place: the counts become ints), before anything is built."""
+    from symlearn.errors import SymlearnError
+
+    args.steps = _whole("--steps", default_steps if args.steps is None else args.steps, 1, MAX_STEPS)
+    args.n_envs = _whole("--n-envs", args.n_envs, 1, MAX_ENVS)
+    args.n_steps = _whole("--n-steps", args.n_steps, 1, MAX_ROLLOUT)
+    args.eval_episodes = _whole("--eval-episodes", args.eval_episodes, 1, 100_000)
+    if args.n_envs * args.n_steps > MAX_ROLLOUT:
+        raise SymlearnError(f"--n-envs {args.n_envs} x --n-steps {args.n_steps} = {args.n_envs * args.n_steps:,} "
+                            f"steps per rollout, more than the {MAX_ROLLOUT:,} held in memory at once",
+                            hint="lower --n-steps or --n-envs")
+    if not (math.isfinite(args.cost_limit) and args.cost_limit >= 0):
+        raise SymlearnError(f"--cost-limit must be a finite number >= 0, got {args.cost_limit:g}")
+    if not (math.isfinite(args.multiplier_lr) and args.multiplier_lr > 0):
+        raise SymlearnError(f"--multiplier-lr must be a finite number > 0, got {args.multiplier_lr:g}")
+    if not (math.isfinite(args.prune_threshold) and 0 <= args.prune_threshold <= 1):
+        raise SymlearnError(f"--prune-threshold must be in [0, 1], got {args.prune_threshold:g}")
 
 
 def _train(args: argparse.Namespace, out) -> None:
-    import numpy as np
+    from symlearn.errors import SymlearnError
 
-    from symlearn.errors import DataError, SymlearnError
-    from symlearn.rl.ppo import LagrangianConfig, PPOConfig, evaluate, train_ppo
-
-    if args.algo in ("dqrm", "dqn"):
+    if args.algo in BLOCK_ALGOS:
         from symlearn.cli.train_rm import train_blocks
 
-        args.steps = 300 if args.steps is None else args.steps
+        check_numbers(args, 300)
         return train_blocks(args, out)
-    args.steps = 50_000 if args.steps is None else args.steps
-    if args.steps < 1:
-        raise SymlearnError(f"--steps must be at least 1, got {args.steps}")
-    for flag, value in (("--n-envs", args.n_envs), ("--n-steps", args.n_steps)):
-        if value < 1:
-            raise SymlearnError(f"{flag} must be at least 1, got {value}")
-    if args.cost_limit < 0:
-        raise SymlearnError(f"--cost-limit must be >= 0, got {args.cost_limit}")
+    if args.algo is None:
+        args.algo = "ppo-lag" if args.cost else "ppo"
+    check_numbers(args, 50_000)
     if args.prune and not args.cost:
         raise SymlearnError("--prune needs the rules to prune: give --cost RULES.dnf")
-    base = _make_env(args.env)
-    seed = getattr(args, "seed", 0) or 0
-    stats, dnf, cost_fn, reward_fn = None, None, None, None
     neural = bool(args.cost) and str(args.cost).endswith(".safetensors")
-    if neural:
-        if args.per_rule or args.prune:
-            raise SymlearnError("--per-rule and --prune apply to DNF rules, not to a learned neural cost")
-        from symlearn.learners.neural import NeuralCost
+    if neural and (args.per_rule or args.prune):
+        raise SymlearnError("--per-rule and --prune apply to DNF rules, not to a learned neural cost")
+    if args.features and (not args.cost or neural):
+        raise SymlearnError("--features names the observation's entries for a DNF cost: give --cost RULES.dnf")
+    if args.algo in SB3_ALGOS:
+        ours = [flag for flag, given in (("--normalize-observations", args.normalize_observations),
+                                         ("--normalize-values", args.normalize_values),
+                                         ("--advantage-scale", args.advantage_scale != "raw")) if given]
+        if ours:
+            raise SymlearnError(f"{ours[0]} is an option of our PPO (--algo ppo|ppo-lag), not of --algo {args.algo}")
+    if args.output and str(args.output).endswith(".zip"):
+        raise SymlearnError("symlearn writes policies as .safetensors + .json, never stable-baselines3's "
+                            "pickled .zip", hint="-o agent.safetensors")
 
-        probe = base()
-        try:
-            cost = NeuralCost.load(args.cost, probe)   # refuses a cost learned for other spaces
-        finally:
-            probe.close()
-        # one batched forward pass per rollout: the cost of PPO-Lagrangian, or r - C for plain PPO
+    from symlearn.cli.train_costs import refuse_without_cost, training_cost
+    from symlearn.recipes.environments import resolve_env
+
+    # observed as one vector whatever the environment observes (MiniGrid's Dict with text, ...)
+    target = resolve_env(args.env, kwargs=args.env_kwargs).as_numeric()
+    cost = None
+    if args.cost:
+        cost = training_cost(args.cost, target, features=args.features, per_rule=args.per_rule)
+    elif args.algo.endswith("-lag"):
+        refuse_without_cost(target, args.algo)
+    if args.algo in SB3_ALGOS:
+        from symlearn.cli.train_sb3 import train_sb3
+
+        doc = train_sb3(args, target, cost)
+    else:
+        doc = _train_ours(args, target, cost)
+    if args.prune:
+        pruned = _prune(args, cost.stats, doc["steps"])
+        doc["files"].insert(0, pruned.pop("file"))
+        doc.update(pruned)
+    out.result(doc, _render)
+
+
+def _train_ours(args: argparse.Namespace, target, cost) -> dict:
+    from symlearn.cli.train_costs import penalised
+    from symlearn.rl.ppo import LagrangianConfig, PPOConfig, evaluate, train_ppo
+
+    seed = getattr(args, "seed", 0) or 0
+    cost_fn = reward_fn = None
+    if cost is not None:
         if args.algo == "ppo-lag":
-            cost_fn = cost.cost_fn()
-        else:
-            reward_fn = cost.reward_fn()
-    elif args.cost:
-        from symlearn.backends.dnf_cost import DnfRolloutCost, RuleStats
-        from symlearn.logic.dnf import load
-
-        dnf = load(args.cost)
-        probe = base()
-        names = getattr(probe.unwrapped, "feature_names", None)
-        probe.close()
-        if names is None:
-            raise DataError(f"{args.env} reports no feature names, so a DNF cost cannot be read there")
-        try:
-            stats = RuleStats(dnf, names)
-        except DataError as exc:
-            raise DataError(exc.message, file=args.cost, hint=exc.hint) from None
-
-        # evaluated once per rollout over all its steps (same costs and rule counts as the per-step
-        # DnfCostWrapper, a fraction of its overhead)
-        cost_fn = DnfRolloutCost(dnf, names, per_rule=args.per_rule, stats=stats)
-
+            cost_fn = cost.rollout_cost
+        else:  # plain PPO learns from r - C
+            reward_fn = penalised(cost)
+    env_fn = target.env_fn if cost is None or cost.wrap is None else (lambda: cost.wrap(target.make()))
     lagrangian = None
     if args.algo == "ppo-lag":
         lagrangian = LagrangianConfig(cost_limit=args.cost_limit, update=args.multiplier_update,
@@ -159,36 +206,53 @@ def _train(args: argparse.Namespace, out) -> None:
     config = PPOConfig(seed=seed, n_envs=args.n_envs, n_steps=args.n_steps,
                        batch_size=min(128, args.n_envs * args.n_steps),
                        normalize_observations=args.normalize_observations, normalize_values=args.normalize_values)
-    result = train_ppo(base, args.steps, config, lagrangian=lagrangian, cost_fn=cost_fn, reward_fn=reward_fn)
-    episodes = evaluate(result.policy, base(), args.eval_episodes, seed=seed + 10_000)
-    true_cost = episodes.costs.sum(axis=1) if episodes.costs.size else np.zeros(len(episodes.returns))
-    doc = {"env": args.env, "algo": args.algo, "cost_kind": "neural" if neural else ("dnf" if args.cost else None),
-           "return": float(np.mean(episodes.returns)),
-           "cost": float(np.mean(true_cost)),
-           "violation_rate": float(np.sum(true_cost) / max(int(np.sum(episodes.lengths)), 1)),
-           "multipliers": [float(m) for m in np.atleast_1d(result.multipliers)] if lagrangian else None,
-           "pruned": None, "steps": int(result.steps), "seconds": float(result.seconds), "files": []}
-    if args.prune:
-        pruned, verdicts = stats.prune(args.prune_threshold)
-        path = Path(args.cost)
-        target = path.with_name(path.stem + ".pruned" + (path.suffix or ".dnf"))
-        report = "\n".join(f"{'kept   ' if v.kept else 'dropped'} fired {v.fired:>8} / evaluated {v.evaluated:>8}  {v.rule}"
-                           for v in verdicts)
-        pruned.save(target, header=f"pruned from {path.name} after {result.steps} training steps "
-                                   f"(threshold {args.prune_threshold}):\n{report}")
-        doc["pruned"] = [v.rule for v in verdicts if not v.kept]
-        doc["kept"] = [v.rule for v in verdicts if v.kept]
-        doc["files"].append(str(target))
+    result = train_ppo(env_fn, args.steps, config, lagrangian=lagrangian, cost_fn=cost_fn, reward_fn=reward_fn)
+    episodes = evaluate(result.policy, target.make(), args.eval_episodes, seed=seed + 10_000)
+    doc = evaluation_document(args, cost, episodes.returns, episodes.lengths,
+                              episodes.costs if episodes.costs.shape[1] else None)
+    doc.update({"multipliers": [float(m) for m in result.multipliers] if lagrangian else None,
+                "steps": int(result.steps), "seconds": float(result.seconds)})
     if args.output:
         result.save(args.output)
         doc["files"].append(str(args.output))
-    out.result(doc, _render)
+    return doc
+
+
+def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_costs) -> dict:
+    """The result keys both trainers share; ``true_costs`` ``(E, k)``, or None when the environment
+    reported no ``info["cost"]`` (then ``cost`` and ``violation_rate`` are null, never 0)."""
+    import numpy as np
+
+    per_episode = None
+    if true_costs is not None:   # summed over constraints
+        per_episode = np.asarray(true_costs, dtype=np.float64).reshape(len(returns), -1).sum(axis=1)
+    return {"env": args.env, "algo": args.algo, "cost_kind": None if cost is None else cost.kind,
+            "return": float(np.mean(returns)),
+            "cost": None if per_episode is None else float(np.mean(per_episode)),
+            "violation_rate": None if per_episode is None else
+            float(np.sum(per_episode) / max(int(np.sum(lengths)), 1)),
+            "pruned": None, "files": []}
+
+
+def _prune(args: argparse.Namespace, stats, steps: int) -> dict:
+    pruned, verdicts = stats.prune(args.prune_threshold)
+    path = Path(args.cost)
+    target = path.with_name(path.stem + ".pruned" + (path.suffix or ".dnf"))
+    report = "\n".join(f"{'kept   ' if v.kept else 'dropped'} fired {v.fired:>8} / evaluated {v.evaluated:>8}  {v.rule}"
+                       for v in verdicts)
+    pruned.save(target, header=f"pruned from {path.name} after {steps} training steps "
+                               f"(threshold {args.prune_threshold}):\n{report}")
+    return {"pruned": [v.rule for v in verdicts if not v.kept], "kept": [v.rule for v in verdicts if v.kept],
+            "file": str(target)}
 
 
 def _render(doc: dict) -> str:
+    def number(value, digits: int) -> str:
+        return "n/a" if value is None else f"{value:.{digits}f}"
+
     lines = [f"{doc['env']}: {doc['algo']}, {doc['steps']} steps in {doc['seconds']:.1f} s",
-             f"greedy evaluation: return {doc['return']:.2f}, ground-truth cost {doc['cost']:.2f} per episode, "
-             f"violation rate {doc['violation_rate']:.3f}"]
+             f"greedy evaluation: return {doc['return']:.2f}, ground-truth cost {number(doc['cost'], 2)} per episode, "
+             f"violation rate {number(doc['violation_rate'], 3)}"]
     if doc["multipliers"] is not None:
         lines.append("multipliers: " + ", ".join(f"{m:.3f}" for m in doc["multipliers"]))
     if doc["pruned"] is not None:

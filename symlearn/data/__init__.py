@@ -1,10 +1,11 @@
-"""Data layer: trajectories, demonstrations, safe file formats and recording."""
+"""Data layer: trajectories, demonstrations, safe file formats (symlearn's, D4RL, Minari), the
+imitation library's trajectories, and recording."""
 
 from symlearn.data.demonstrations import Demonstrations
 from symlearn.data.files import load, save
 from symlearn.data.trajectory import Trajectory
 
-__all__ = ["Demonstrations", "Trajectory", "load", "save", "record"]
+__all__ = ["Demonstrations", "Trajectory", "load", "save", "record", "from_imitation", "to_imitation"]
 
 
 def __getattr__(name: str):
@@ -13,4 +14,8 @@ def __getattr__(name: str):
         from symlearn.data.recording import record
 
         return record
+    if name in ("from_imitation", "to_imitation"):
+        from symlearn.data import imitation_bridge
+
+        return getattr(imitation_bridge, name)
     raise AttributeError(name)

@@ -170,15 +170,17 @@ class Demonstrations(Sequence[Trajectory]):
         return report
 
     # --- persistence --------------------------------------------------------------------------
-    def save(self, path: str | os.PathLike[str]) -> None:
-        """Write to ``.jsonl`` or ``.npz`` (chosen by suffix), atomically."""
+    def save(self, path: str | os.PathLike[str], *, format: str | None = None) -> None:
+        """Write to ``.jsonl``, ``.npz`` or ``.hdf5`` (chosen by suffix; ``format="d4rl"`` for a
+        D4RL table in ``.npz``), atomically."""
         from symlearn.data.files import save
 
-        save(self, path)
+        save(self, path, format=format)
 
     @staticmethod
     def load(path: str | os.PathLike[str]) -> Demonstrations:
-        """Read a file written by :meth:`save` (or by hand, for JSONL)."""
+        """Read a file written by :meth:`save` (or by hand, for JSONL), a D4RL table or a Minari
+        dataset folder."""
         from symlearn.data.files import load
 
         return load(path)

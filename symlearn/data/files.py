@@ -1,14 +1,25 @@
-"""Choose the file format from the suffix and turn OS errors into readable ones."""
+"""Choose the file format from the path (suffix, folder, content) and turn OS errors into readable ones.
+
+Read: ``.jsonl`` (symlearn), ``.npz`` (symlearn's archive when it has a ``__meta__`` member, a
+D4RL table when it has ``observations``), ``.hdf5``/``.h5`` (a Minari ``main_data.hdf5`` when
+it holds ``episode_<i>`` groups, a D4RL table otherwise) and a folder (a Minari dataset).
+Written: ``.jsonl`` and ``.npz`` in symlearn's formats, ``.hdf5``/``.h5`` as a D4RL table, and
+``.npz`` as a D4RL table with ``format="d4rl"``.
+"""
 
 from __future__ import annotations
 
 import os
+import zipfile
 from pathlib import Path
 
 from symlearn.data.demonstrations import Demonstrations
 from symlearn.errors import DataError
 
-SUFFIXES = (".jsonl", ".npz")
+SUFFIXES = (".jsonl", ".npz", ".hdf5", ".h5")
+HDF5_SUFFIXES = (".hdf5", ".h5")
+#: what ``save(..., format=)`` accepts; ``None`` picks by suffix
+SAVE_FORMATS = ("symlearn", "d4rl")
 
 
 def _format_of(path: Path) -> str:
@@ -17,15 +28,28 @@ def _format_of(path: Path) -> str:
         raise DataError(
             f"unknown demonstrations format {suffix or '(no suffix)'!r}",
             file=path,
-            hint="use .jsonl for symbolic/discrete traces or .npz for numeric/image arrays",
+            hint="use .jsonl for symbolic/discrete traces, .npz for numeric/image arrays, .hdf5 for a D4RL "
+                 "table, or a Minari dataset folder",
         )
     return suffix
 
 
-def save(demos: Demonstrations, path: str | os.PathLike[str]) -> None:
-    """Write ``demos`` to ``path`` (``.jsonl`` or ``.npz``); the old file survives any failure."""
+def save(demos: Demonstrations, path: str | os.PathLike[str], *, format: str | None = None) -> None:
+    """Write ``demos`` to ``path``; the old file survives any failure. ``format="d4rl"`` writes a
+    D4RL table (the only choice for ``.hdf5``/``.h5``; for ``.npz`` instead of symlearn's archive)."""
     path = Path(path)
-    if _format_of(path) == ".jsonl":
+    suffix = _format_of(path)
+    if format is not None and format not in SAVE_FORMATS:
+        raise DataError(f"unknown format {format!r}", hint=f"use one of {', '.join(SAVE_FORMATS)}")
+    if suffix in HDF5_SUFFIXES and format == "symlearn":
+        raise DataError("symlearn writes HDF5 only as a D4RL table", file=path, hint="use .npz or .jsonl")
+    if suffix == ".jsonl" and format == "d4rl":
+        raise DataError("a D4RL table is an .npz or .hdf5 file", file=path)
+    if suffix in HDF5_SUFFIXES or format == "d4rl":
+        from symlearn.data.d4rl_format import write_d4rl
+
+        write_d4rl(demos, path)
+    elif suffix == ".jsonl":
         from symlearn.data.jsonl_format import write_jsonl
 
         write_jsonl(demos, path)
@@ -35,18 +59,56 @@ def save(demos: Demonstrations, path: str | os.PathLike[str]) -> None:
         write_npz(demos, path)
 
 
-def load(path: str | os.PathLike[str]) -> Demonstrations:
-    """Read demonstrations written by :func:`save`."""
+def detect(path: str | os.PathLike[str]) -> str:
+    """Which reader ``path`` goes to: ``jsonl``, ``npz``, ``d4rl-npz``, ``d4rl-hdf5`` or ``minari``."""
     path = Path(path)
+    if path.is_dir():
+        if path.suffix.lower() in SUFFIXES:
+            raise DataError("is a directory, expected a demonstrations file", file=path)
+        return "minari"
     fmt = _format_of(path)
     if not path.exists():
         raise DataError("no such file", file=path)
-    if path.is_dir():
-        raise DataError("is a directory, expected a demonstrations file", file=path)
     if fmt == ".jsonl":
+        return "jsonl"
+    if fmt == ".npz":
+        names = _npz_members(path)
+        return "d4rl-npz" if "__meta__" not in names and "observations" in names else "npz"
+    from symlearn.data.hdf5_reading import top_level_names
+    from symlearn.data.minari_format import is_episode_group
+
+    return "minari" if any(is_episode_group(name) for name in top_level_names(path)) else "d4rl-hdf5"
+
+
+def _npz_members(path: Path) -> set[str]:
+    """Member names of an archive (a damaged one: none, and symlearn's reader says what is wrong)."""
+    try:
+        with zipfile.ZipFile(path) as archive:
+            return {name[:-4] for name in archive.namelist() if name.endswith(".npy")}
+    except (zipfile.BadZipFile, zipfile.LargeZipFile, OSError, ValueError, EOFError, NotImplementedError, RuntimeError):
+        return set()
+
+
+def load(path: str | os.PathLike[str]) -> Demonstrations:
+    """Read demonstrations written by :func:`save`, a D4RL table or a Minari dataset."""
+    path = Path(path)
+    fmt = detect(path)
+    if fmt == "minari":
+        from symlearn.data.minari_format import read_minari
+
+        return read_minari(path)
+    if fmt == "jsonl":
         from symlearn.data.jsonl_format import read_jsonl
 
         return read_jsonl(path)
+    if fmt == "d4rl-npz":
+        from symlearn.data.d4rl_format import read_d4rl_npz
+
+        return read_d4rl_npz(path)
+    if fmt == "d4rl-hdf5":
+        from symlearn.data.d4rl_format import read_d4rl_hdf5
+
+        return read_d4rl_hdf5(path)
     from symlearn.data.npz_format import read_npz
 
     return read_npz(path)

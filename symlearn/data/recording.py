@@ -5,15 +5,17 @@ from __future__ import annotations
 from collections.abc import Callable, Iterable, Mapping
 from typing import Any
 
+import inspect
+
 import numpy as np
 
 from symlearn.data.demonstrations import Demonstrations
 from symlearn.data.trajectory import Trajectory
-from symlearn.errors import SymlearnError
+from symlearn.errors import DataError, SymlearnError
 from symlearn.progress import progress
 
 Policy = Callable[[Any], Any]
-Labeler = Callable[[Any], Iterable[str]]
+Labeler = Callable[..., Iterable[str]]  # (observation, info) -> names, or (observation) -> names
 
 DEFAULT_MAX_STEPS = 10_000
 
@@ -35,16 +37,23 @@ def record(
     *,
     max_steps: int | None = None,
     labeler: Labeler | None = None,
+    observation: Callable[[Any], Any] | None = None,
     metadata: Mapping[str, Any] | None = None,
     desc: str = "recording",
 ) -> Demonstrations:
     """Run ``policy`` for ``n_episodes`` and return the episodes as demonstrations.
 
     ``policy`` maps an observation to an action, or is ``"random"`` (the seeded action space
-    samples). ``labeler`` maps an observation to the propositions true in it. Episode ``i`` is
+    samples). ``labeler(observation, info)`` returns the propositions true at a step, given the
+    observation and the ``info`` dict ``reset``/``step`` returned with it (a labeler taking one
+    argument gets the observation only, one taking three also the unwrapped environment, for
+    what neither shows); the labels are stored with the trajectory, so learners
+    can work from the file alone. Episode ``i`` is
     reset with its own seed drawn from ``seed``, so one episode can be replayed alone; the seed,
     and whether the episode terminated or was truncated, go into the trajectory's ``info``.
-    ``max_steps`` caps episodes without a time limit of their own.
+    ``max_steps`` caps episodes without a time limit of their own. ``observation`` maps each
+    observation to what is stored (e.g. ``lambda o: o["image"]`` for a dict holding an image,
+    which a trajectory cannot store as it is); policy and labeler see the observation itself.
     """
     if n_episodes < 1:
         raise SymlearnError(f"n_episodes must be at least 1, got {n_episodes}")
@@ -60,10 +69,17 @@ def record(
 
     trajectories = []
     for episode_seed in progress(episode_seeds, total=n_episodes, desc=desc, unit="episode"):
-        trajectories.append(_run_episode(env, policy, int(episode_seed), limit, labeler))
+        trajectories.append(_run_episode(env, policy, int(episode_seed), limit, labeler, observation))
     meta = {"env": getattr(spec, "id", type(env).__name__), "seed": seed, "n_episodes": n_episodes}
     meta.update(metadata or {})
     return Demonstrations(trajectories, metadata=meta)
+
+
+def _names(found: Any) -> list[str]:
+    if isinstance(found, (str, bytes)) or not isinstance(found, Iterable):
+        raise SymlearnError(f"the labeler returned {type(found).__name__} {found!r}; it must return a list or "
+                            f"set of proposition names")
+    return sorted(found)
 
 
 def _random_policy(env: Any, seed: int | None) -> Policy:
@@ -72,17 +88,47 @@ def _random_policy(env: Any, seed: int | None) -> Policy:
     return lambda _observation: space.sample()
 
 
-def _run_episode(env: Any, policy: Policy, seed: int, limit: int, labeler: Labeler | None) -> Trajectory:
-    observation, _ = env.reset(seed=seed)
-    states, actions, rewards = [_plain(observation)], [], []
+def labeler_arity(labeler: Callable[..., Any]) -> int:
+    """How many arguments a labeler takes: 1 (the observation), 2 (observation, info) or 3
+    (observation, info, env) -- the positional parameters it accepts, at most 3."""
+    try:
+        parameters = list(inspect.signature(labeler).parameters.values())
+    except (TypeError, ValueError):  # a builtin without a signature: the one-argument form
+        return 1
+    if any(p.kind is p.VAR_POSITIONAL for p in parameters):
+        return 2
+    positional = [p for p in parameters if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    return max(1, min(3, len(positional)))
+
+
+def _run_episode(env: Any, policy: Policy, seed: int, limit: int, labeler: Labeler | None,
+                 stored: Callable[[Any], Any] | None) -> Trajectory:
+    keep = stored or (lambda value: value)
+    observation, info = env.reset(seed=seed)
+    arity = labeler_arity(labeler) if labeler is not None else 0
+    unwrapped = getattr(env, "unwrapped", env)
+    states, actions, rewards = [_plain(keep(observation))], [], []
+    labels = [] if labeler is not None else None
     terminated = truncated = False
-    while not (terminated or truncated) and len(actions) < limit:
+    while True:
+        if labels is not None:  # labelled while the live observation and its info are at hand
+            arguments = (observation, info, unwrapped)[:arity]
+            labels.append(_names(labeler(*arguments)))
+        if terminated or truncated or len(actions) >= limit:
+            break
         action = _plain(policy(observation))
-        observation, reward, terminated, truncated, _ = env.step(action)
+        observation, reward, terminated, truncated, info = env.step(action)
         actions.append(action)
         rewards.append(float(reward))
-        states.append(_plain(observation))
+        states.append(_plain(keep(observation)))
     truncated = truncated or not terminated
-    labels = [list(labeler(s)) for s in states] if labeler else None
     info = {"seed": seed, "terminated": bool(terminated), "truncated": bool(truncated)}
-    return Trajectory(states, actions, rewards, labels, info)
+    try:
+        return Trajectory(states, actions, rewards, labels, info)
+    except DataError as exc:
+        if stored is not None or not isinstance(states[0], Mapping):
+            raise
+        keys = ", ".join(map(str, states[0]))  # a dict observation holding arrays (MiniGrid's image)
+        raise DataError(f"the observations cannot be stored as they are: {exc.message}",
+                        hint=f"choose what to keep with record(..., observation=lambda o: o[KEY]); keys: {keys}"
+                        ) from None

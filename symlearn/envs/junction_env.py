@@ -23,7 +23,9 @@ logic-constrained Q-learning experiments of the reference thesis (sections 3.4.4
   on reaching the goal and is truncated after ``max_steps`` steps.
 * **info**: ``violation`` (bool), ``violations`` (rule names), ``facts`` (ASP facts of the
   state-action pair just taken, ``model.example_facts``), ``state_facts`` (facts of the new
-  state), ``cell``, ``distance``. ``reset`` reports ``state_facts`` and ``cell``.
+  state), ``cell``, ``distance``. ``reset`` reports ``state_facts`` and ``cell``. ``action_atoms``
+  holds the ASP atom of every action id (``go(north)``): with ``info["state_facts"]``, what
+  :class:`~symlearn.backends.shield.Shield` needs to decide on learned rules directly.
 
 Registered with gymnasium as ``symlearn/junction-<variant>-v0`` (see :mod:`symlearn.envs.registry`);
 ``gymnasium.make`` adds its checker wrappers, so build the class directly to get ``JunctionEnv``
@@ -106,6 +108,9 @@ class JunctionEnv(gym.Env):
         # The names a domain model gives these states (str of each), for checking id orders.
         self.state_names: tuple[str, ...] = tuple(map(str, self.states))
         self.actions: tuple[str, ...] = tuple(self.model.actions)
+        # the ASP atom of each action id (the same in every state): what a shield on rules needs
+        self.action_atoms: tuple[str, ...] = tuple(self.model.action_fact(self.states[0], a).rstrip(".")
+                                                   for a in self.actions)
         self.observation_space = gym.spaces.Discrete(len(self.states))
         self.action_space = gym.spaces.Discrete(len(self.actions))
         self._observations = self.model.observation_distribution()

@@ -163,6 +163,8 @@ class EnvTarget:
     entry: Entry | None
     gym_id: str | None
     kwargs: dict[str, Any] = field(default_factory=dict)
+    #: build through :func:`~symlearn.recipes.spaces.numeric_observations` (see :meth:`as_numeric`)
+    numeric: bool = False
 
     @property
     def display(self) -> str:
@@ -178,7 +180,24 @@ class EnvTarget:
     # building ----------------------------------------------------------------------------------
 
     def make(self) -> Any:
-        """A fresh environment (a bundled one built directly, others through ``gymnasium.make``)."""
+        """A fresh environment (a bundled one built directly, others through ``gymnasium.make``;
+        seen through the numeric view of its observations when :attr:`numeric` is set)."""
+        env = self._build()
+        if self.numeric:
+            from symlearn.recipes.spaces import numeric_observations
+
+            return numeric_observations(env)
+        return env
+
+    def as_numeric(self) -> EnvTarget:
+        """The same environment, observed as one ``Box`` (or ``Discrete``) that PPO and learned
+        costs read, whatever it observes (MiniGrid's ``Dict`` with a text field, a goal-conditioned
+        ``Dict``); an environment that observes a ``Box`` or ``Discrete`` is unchanged."""
+        from dataclasses import replace
+
+        return replace(self, numeric=True)
+
+    def _build(self) -> Any:
         if self.entry is not None:
             if self.entry.env is None:
                 raise DataError(f"{self.display} has no gymnasium environment "
@@ -207,6 +226,8 @@ class EnvTarget:
     def env_fn(self) -> Callable[[], Any]:
         """A zero-argument constructor (for vectorised training)."""
         return self.make
+
+
 
     # names -------------------------------------------------------------------------------------
 

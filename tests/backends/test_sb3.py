@@ -19,13 +19,7 @@ from symlearn.envs.office_world import TASKS, make_office_world  # noqa: E402
 from symlearn.errors import SymlearnError  # noqa: E402
 
 
-@pytest.fixture(autouse=True)
-def one_torch_thread():
-    # Small networks train several times faster on one thread than on two.
-    threads = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(threads)
+pytestmark = pytest.mark.usefixtures("one_torch_thread")  # tests/backends/conftest.py
 
 
 def shielded_gridworld():
@@ -130,3 +124,27 @@ def test_the_callback_explains_what_it_needs():
     with pytest.raises(SymlearnError, match="optimize_memory_usage"):
         dqn(env, optimize_memory_usage=True, replay_buffer_kwargs={"handle_timeout_termination": False}).learn(
             20, callback=counterfactual_callback())
+
+
+def test_maskable_ppo_on_a_shield_built_from_asp_rules():
+    """``Shield(env, hypothesis)`` under MaskablePPO: every step decided by the rules, none broken."""
+    from symlearn.envs.junction_env import JunctionEnv
+    from symlearn.envs.logic_domains import logic_domain
+    from symlearn.logic.asp import Hypothesis, Program
+
+    domain = logic_domain("junction-priority")
+    hypothesis = Hypothesis.from_lp(domain.truth_path, background=Program.from_text(domain.background()))
+    env = Shield(JunctionEnv("priority"), hypothesis, mode="raise")
+    model = sb3_contrib.MaskablePPO("MlpPolicy", env, n_steps=256, batch_size=64, n_epochs=4, seed=0, device="cpu",
+                                    policy_kwargs={"net_arch": [32, 32]})
+    model.learn(1_024)
+    assert model.num_timesteps >= 1_024 and env.interventions == 0
+    observation, _ = env.reset(seed=1)
+    violations = 0
+    for _ in range(50):
+        action, _ = model.predict(observation, action_masks=env.action_masks(), deterministic=True)
+        observation, _, terminated, truncated, info = env.step(int(action))
+        violations += info["violation"]
+        if terminated or truncated:
+            break
+    assert violations == 0

@@ -43,3 +43,15 @@ def test_bad_input_is_one_line(capsys, tmp_path):
     assert code == 2 and len(err.strip().splitlines()) == 1
     code, _, err = run(capsys, "learn", "dnf", "--env", "hanoi")
     assert code == 2 and "has no expert" in err
+
+
+def test_feature_names_the_file_carries_name_the_columns(capsys, tmp_path):
+    path = tmp_path / "named.npz"
+    rng = np.random.default_rng(0)
+    Demonstrations([Trajectory(states=rng.uniform(0, 1, (30, 2))) for _ in range(3)],
+                   metadata={"feature_names": ["speed", "gap"]}).save(path)
+    code, out, err = run(capsys, "learn", "dnf", "--demos", path, "--json")
+    assert code == 0, err
+    assert json.loads(out)["features"] == ["speed", "gap"]
+    code, out, err = run(capsys, "learn", "dnf", "--demos", path, "--features", "a,b", "--json")
+    assert code == 0 and json.loads(out)["features"] == ["a", "b"]  # the flag wins

@@ -2,6 +2,9 @@
 
 import json
 
+import numpy as np
+import pytest
+
 from cli_runner import run
 from symlearn.envs.toy_navigation import UNSAFE_DNF
 from symlearn.logic.dnf import load as load_dnf
@@ -24,12 +27,86 @@ def test_ppo_lag_on_a_dnf_cost_with_pruning(capsys, tmp_path):
     assert agent.exists() and agent.with_suffix(".json").exists()
 
 
-def test_plain_ppo_on_a_gymnasium_id(capsys):
-    code, out, err = run(capsys, "train", "--env", "CartPole-v1", "--algo", "ppo", "--steps", 1024,
+def test_plain_ppo_is_the_default_without_a_cost_and_an_unreported_cost_is_null(capsys):
+    code, out, err = run(capsys, "train", "--env", "CartPole-v1", "--steps", 512, "--n-envs", 2, "--n-steps", 64,
                          "--eval-episodes", 1, "--json")
     assert code == 0, err
     doc = json.loads(out)
-    assert doc["multipliers"] is None and doc["return"] > 0
+    assert doc["algo"] == "ppo" and doc["multipliers"] is None and doc["return"] > 0
+    assert doc["cost"] is None and doc["violation_rate"] is None and doc["cost_kind"] is None
+    code, out, err = run(capsys, "train", "--env", "CartPole-v1", "--steps", 128, "--n-envs", 1, "--n-steps", 128,
+                         "--eval-episodes", 1)
+    assert code == 0, err
+    assert "ground-truth cost n/a per episode, violation rate n/a" in out
+
+
+ROBOT = "point_robot_env:HazardRobot-v0"   # tests/support/point_robot_env.py, a user's module
+HAZARD = "x > 0.4 & x < 0.6 & y < 0.6\n"
+
+
+def test_a_user_module_trains_ppo_lag_on_a_dnf_and_on_its_own_cost(capsys, tmp_path):
+    rules = tmp_path / "hazard.dnf"
+    rules.write_text(HAZARD)
+    small = ("--steps", 256, "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 2, "--json")
+    code, out, err = run(capsys, "train", "--env", ROBOT, "--cost", rules, *small)
+    assert code == 0, err
+    doc = json.loads(out)   # ppo-lag is the default with a cost; the true cost is the environment's
+    assert (doc["algo"], doc["cost_kind"], len(doc["multipliers"])) == ("ppo-lag", "dnf", 1)
+    assert doc["cost"] is not None and 0 <= doc["violation_rate"] <= 1 and doc["steps"] == 256
+    code, out, err = run(capsys, "train", "--env", ROBOT, "--algo", "ppo-lag", *small)   # info["cost"]
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["cost_kind"] is None and doc["multipliers"] is not None and doc["cost"] is not None
+    # names only in a dict info["features"], and environment keyword arguments
+    code, out, err = run(capsys, "train", "--env", ROBOT, "--env-kwargs", '{"named_features": true, "max_steps": 20}',
+                         "--cost", rules, "--prune", *small)
+    assert code == 0, err
+    assert json.loads(out)["kept"] + json.loads(out)["pruned"] == ["x > 0.4 & x < 0.6 & y < 0.6"]
+
+
+def test_a_dnf_cost_needs_feature_names(capsys, tmp_path):
+    rules = tmp_path / "pole.dnf"
+    rules.write_text("pole_angle > 0.1\n")
+    code, _, err = run(capsys, "train", "--env", "CartPole-v1", "--cost", rules, "--steps", 128)
+    assert code == 2 and "--features" in err and str(rules) in err and len(err.strip().splitlines()) == 1
+    code, out, err = run(capsys, "train", "--env", "CartPole-v1", "--cost", rules, "--features",
+                         "cart_x,cart_v,pole_angle,pole_v", "--steps", 128, "--n-envs", 1, "--n-steps", 128,
+                         "--eval-episodes", 1, "--json")
+    assert code == 0, err
+    assert json.loads(out)["cost_kind"] == "dnf" and json.loads(out)["cost"] is None
+    code, _, err = run(capsys, "train", "--env", "CartPole-v1", "--cost", rules, "--features", "pole_angle,b",
+                       "--steps", 128)
+    _one_line(code, err, "4")   # two names for four observation entries
+    code, _, err = run(capsys, "train", "--env", ROBOT, "--cost", rules, "--features", "x,x", "--steps", 128)
+    _one_line(code, err, "twice")
+    code, _, err = run(capsys, "train", "--env", ROBOT, "--features", "x,y", "--steps", 128)
+    _one_line(code, err, "--features", "--cost")
+
+
+def _one_line(code, err, *needles):
+    assert code == 2 and "Traceback" not in err and len(err.strip().splitlines()) == 1, err
+    for needle in needles:
+        assert needle in err, (needle, err)
+
+
+@pytest.mark.parametrize("flags, needle", [
+    (("--steps", 0), "--steps must be between 1"),
+    (("--steps", "1e20"), "--steps must be between 1"),
+    (("--steps", "2.5"), "--steps must be a whole number"),
+    (("--cost-limit", -1, "--algo", "ppo-lag"), "--cost-limit must be a finite number >= 0"),
+    (("--cost-limit", "nan"), "--cost-limit must be a finite number >= 0"),
+    (("--n-envs", 0), "--n-envs must be between 1"),
+    (("--n-envs", 100, "--n-steps", 100_000), "steps per rollout"),
+    (("--n-steps", "1e12"), "--n-steps must be between 1"),
+    (("--algo", "ppo-lag"), "reports none"),                    # CartPole has no info["cost"]
+    (("--algo", "sb3-sac"), "acts only in Box action spaces"),
+    (("-o", "agent.zip"), "never stable-baselines3's pickled .zip"),
+    (("--env-kwargs", '{"gravity": 1}'), "unknown --env-kwargs key 'gravity'"),
+    (("--env-kwargs", "[1]"), "must be a JSON object"),
+    (("--algo", "sb3-ppo", "--normalize-values"), "--normalize-values is an option of our PPO"),
+])
+def test_bad_numbers_and_choices_are_one_line(capsys, flags, needle):
+    _one_line(*run(capsys, "train", "--env", "CartPole-v1", *flags)[::2], needle)
 
 
 def test_bad_input_is_one_line(capsys, tmp_path):
@@ -82,16 +159,126 @@ def _saved_cost(tmp_path, env_name: str):
 
 
 def test_a_learned_neural_cost_trains_a_fresh_agent(capsys, tmp_path):
+    import importlib.util
+
     path = _saved_cost(tmp_path, "blocked-point")
-    for algo in ("ppo-lag", "ppo"):
+    sb3 = ("sb3-ppo-lag",) if importlib.util.find_spec("stable_baselines3") else ()
+    for algo in ("ppo-lag", "ppo", *sb3):
         code, out, err = run(capsys, "train", "--env", "blocked-point", "--algo", algo, "--cost", path,
                              "--steps", 256, "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 1, "--json")
         assert code == 0, err
         doc = json.loads(out)
         assert doc["cost_kind"] == "neural" and doc["steps"] == 256
-        assert (doc["multipliers"] is not None) == (algo == "ppo-lag")
+        assert (doc["multipliers"] is not None) == algo.endswith("ppo-lag")
     # a cost learned in another observation space is refused in one line naming the file
     code, _, err = run(capsys, "train", "--env", "toy-navigation", "--cost", path, "--steps", 256)
     assert code == 2 and "cost.safetensors" in err and "Traceback" not in err
     code, _, err = run(capsys, "train", "--env", "blocked-point", "--cost", path, "--prune")
     assert code == 2 and "--prune" in err
+
+
+def test_stable_baselines3_learners_on_a_user_module(capsys, tmp_path):
+    pytest.importorskip("stable_baselines3")
+    from point_robot_env import PointRobot
+
+    from symlearn.backends.sb3 import load_policy
+
+    rules = tmp_path / "hazard.dnf"
+    rules.write_text(HAZARD)
+    agent = tmp_path / "agent.safetensors"
+    small = ("--steps", 256, "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 2, "--json")
+    code, out, err = run(capsys, "train", "--env", ROBOT, "--algo", "sb3-ppo-lag", "--cost", rules, "-o", agent, *small)
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["cost_kind"] == "dnf" and len(doc["multipliers"]) == 1 and doc["cost"] is not None
+    assert doc["files"] == [str(agent), str(agent.with_suffix(".json"))]
+    assert load_policy(agent, PointRobot()).predict(np.zeros(2, dtype=np.float32))[0].shape == (2,)
+    two = tmp_path / "two.dnf"
+    two.write_text(HAZARD + "x > 5\n")   # a rule no agent can fire
+    for algo, n in (("sb3-ppo", None), ("sb3-ppo-lag", 2)):   # plain: both rules subtracted, lambda 1
+        code, out, err = run(capsys, "train", "--env", ROBOT, "--algo", algo, "--cost", two, "--per-rule", "--prune",
+                             *small)
+        assert code == 0, err
+        doc = json.loads(out)
+        assert doc["pruned"] == ["x > 5"] and (doc["multipliers"] is None if n is None else len(doc["multipliers"]) == n)
+    code, out, err = run(capsys, "train", "--env", ROBOT, "--env-kwargs", '{"discrete": true}', "--algo", "sb3-dqn",
+                         *small)
+    assert code == 0, err
+    assert json.loads(out)["multipliers"] is None
+    code, out, err = run(capsys, "train", "--env", ROBOT, "--algo", "sb3-sac-lag", "--steps", 160, "--n-envs", 1,
+                         "--eval-episodes", 1, "--json")   # without --cost: the environment's info["cost"]
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["cost_kind"] is None and len(doc["multipliers"]) == 1 and doc["cost"] is not None
+    code, _, err = run(capsys, "train", "--env", ROBOT, "--algo", "sb3-dqn", "--steps", 64)
+    _one_line(code, err, "DQN acts only in Discrete action spaces")
+
+
+def test_stable_baselines3_on_observations_it_cannot_read_is_one_line(capsys):
+    pytest.importorskip("stable_baselines3")
+    import gymnasium as gym
+
+    class Pair(gym.Env):
+        observation_space = gym.spaces.Tuple((gym.spaces.Discrete(3), gym.spaces.Discrete(2)))
+        action_space = gym.spaces.Discrete(2)
+
+        def reset(self, *, seed=None, options=None):
+            return (0, 0), {}
+
+        def step(self, action):
+            return (0, 0), 0.0, True, False, {}
+
+    if "TestPairObservation-v0" not in gym.registry:
+        gym.register("TestPairObservation-v0", entry_point=Pair)
+    code, _, err = run(capsys, "train", "--env", "TestPairObservation-v0", "--algo", "sb3-ppo", "--steps", 64)
+    _one_line(code, err, "cannot train on TestPairObservation-v0")
+
+
+def test_stable_baselines3_absent_is_one_line_naming_the_extra(capsys, monkeypatch):
+    from symlearn import optional
+
+    monkeypatch.setattr(optional, "available", lambda name: False)
+    code, _, err = run(capsys, "train", "--env", "CartPole-v1", "--algo", "sb3-ppo", "--steps", 64)
+    _one_line(code, err, "symlearn[sb3]")
+
+
+OUTSIDE = '''
+import gymnasium as gym
+import numpy as np
+
+
+class Line(gym.Env):
+    """A walk on [0, 1]: reward for going right, cost past `edge`."""
+
+    feature_names = ("pos",)
+
+    def __init__(self, edge=0.8):
+        self.edge = edge
+        self.observation_space = gym.spaces.Box(0.0, 1.0, shape=(1,), dtype=np.float32)
+        self.action_space = gym.spaces.Discrete(2)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.pos, self.t = 0.0, 0
+        return np.array([self.pos], np.float32), {"cost": 0.0}
+
+    def step(self, action):
+        self.pos = min(max(self.pos + (0.1 if action else -0.1), 0.0), 1.0)
+        self.t += 1
+        return (np.array([self.pos], np.float32), self.pos, False, self.t >= 20,
+                {"cost": float(self.pos > self.edge)})
+
+
+gym.register("Line-v0", entry_point=Line)
+'''
+
+
+def test_a_module_outside_the_repository_from_the_current_directory(run_cli, tmp_path):
+    """`python -m symlearn` in a user's folder: their module is importable from there."""
+    (tmp_path / "my_line.py").write_text(OUTSIDE)
+    (tmp_path / "edge.dnf").write_text("pos > 0.7\n")
+    result = run_cli("train", "--env", "my_line:Line-v0", "--env-kwargs", '{"edge": 0.7}', "--cost", "edge.dnf",
+                     "--steps", 256, "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 2, "--json", cwd=tmp_path)
+    assert result.returncode == 0, result.stderr
+    doc = json.loads(result.stdout)
+    assert (doc["algo"], doc["cost_kind"]) == ("ppo-lag", "dnf") and doc["cost"] is not None

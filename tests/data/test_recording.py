@@ -49,3 +49,54 @@ def test_bad_arguments():
         record(env, "greedy", 1)
     with pytest.raises(SymlearnError, match="is not an environment"):
         record(object(), "random", 1)
+
+
+class _InfoEnv(gym.Env):
+    """Counts steps; ``info["phase"]`` says whether the count is even or odd."""
+
+    observation_space = gym.spaces.Discrete(10)
+    action_space = gym.spaces.Discrete(1)
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.t = 0
+        return 0, {"phase": "even"}
+
+    def step(self, action):
+        self.t += 1
+        return self.t, 0.0, self.t >= 3, False, {"phase": "odd" if self.t % 2 else "even"}
+
+
+def test_labeler_sees_info_and_the_labels_are_stored():
+    demos = record(_InfoEnv(), lambda obs: 0, 1, seed=0, labeler=lambda obs, info: [info["phase"]])
+    assert [sorted(step) for step in demos[0].labels] == [["even"], ["odd"], ["even"], ["odd"]]
+    three = record(_InfoEnv(), lambda obs: 0, 1, seed=0, labeler=lambda obs, info, env: ["t"] if env.t else [])
+    assert [sorted(step) for step in three[0].labels] == [[], ["t"], ["t"], ["t"]]
+
+
+def test_labeler_returning_a_string_is_refused():
+    with pytest.raises(SymlearnError, match="the labeler returned str 'even'"):
+        record(_InfoEnv(), lambda obs: 0, 1, seed=0, labeler=lambda obs, info: info["phase"])
+
+
+def test_what_is_stored_of_an_observation():
+    demos = record(_InfoEnv(), lambda obs: 0, 1, seed=0, observation=lambda obs: obs * 10)
+    assert demos[0].states.tolist() == [0, 10, 20, 30]
+
+
+def test_a_dict_observation_holding_an_image_names_the_way_out():
+    class Viewing(_InfoEnv):
+        observation_space = gym.spaces.Dict({"image": gym.spaces.Box(0, 255, (2, 2), np.uint8)})
+
+        def reset(self, seed=None, options=None):
+            super().reset(seed=seed)
+            return {"image": np.zeros((2, 2), np.uint8), "mission": "go"}, {}
+
+        def step(self, action):
+            _, r, end, cut, info = super().step(action)
+            return {"image": np.full((2, 2), self.t, np.uint8), "mission": "go"}, r, end, cut, info
+
+    with pytest.raises(SymlearnError, match=r"observation=lambda o: o\[KEY\]\); keys: image, mission"):
+        record(Viewing(), lambda obs: 0, 1, seed=0)
+    kept = record(Viewing(), lambda obs: 0, 1, seed=0, observation=lambda obs: obs["image"])
+    assert kept.state_kind == "image" and kept[0].states[-1].tolist() == [[3, 3], [3, 3]]

@@ -41,6 +41,7 @@ import numpy as np
 
 from symlearn.errors import DataError, ModelError
 from symlearn.learners.base import Learner, NotFittedError
+from symlearn.learners.temporal.spec_env_world import EnvWorld
 from symlearn.learners.temporal.task_model import TaskModel, task_model
 from symlearn.mdp.episodes import state_sequences
 from symlearn.learners.temporal.spec_templates import ARITY, Choice, TraceBounds, best_candidate, instantiate, novelty_depth
@@ -94,6 +95,15 @@ class SpecLearner(Learner):
     demonstration out of the information-gain dataset (see the module docstring; ``False`` is
     the plain thesis dataset); ``horizon`` is the episode length of nominal rollouts (default:
     the environment's ``max_steps``, 200 for a domain).
+
+    In a gymnasium environment without a model (see
+    :mod:`~symlearn.learners.temporal.spec_env_world`), ``labeling`` labels its observations
+    (any form: a function ``(observation, info) -> names``, a feature or table labeling; else
+    the environment's ``labeling`` attribute), ``policy`` picks the policy update (``"auto"``:
+    tabular CRM Q-learning for discrete observations and actions, PPO otherwise; ``"tabular"``,
+    ``"ppo"``), ``q_steps`` / ``ppo_steps`` are their budgets in environment steps and
+    ``state_key(env, observation)`` is the Q-table key when the observation is not the state.
+    After fitting, :attr:`rejected_` lists the candidates that were not kept and why.
     """
 
     artefact_suffix = ".ltl"
@@ -104,7 +114,8 @@ class SpecLearner(Learner):
                  prune: bool = True, prune_threshold: float = 0.9,
                  q_steps: int | None = None, n_envs: int = 128, discount: float = 0.99, epsilon: float = 0.1,
                  n_eval: int = 20, horizon: int | None = None, random_state: int | None = 0,
-                 callback: Callable[[dict[str, Any]], None] | None = None) -> None:
+                 callback: Callable[[dict[str, Any]], None] | None = None, policy: str = "auto",
+                 ppo_steps: int | None = None, state_key: Callable[[Any, Any], Any] | None = None) -> None:
         self.propositions = propositions
         self.labeling = labeling
         self.threshold = threshold
@@ -123,20 +134,38 @@ class SpecLearner(Learner):
         self.horizon = horizon
         self.random_state = random_state
         self.callback = callback
+        self.policy = policy
+        self.ppo_steps = ppo_steps
+        self.state_key = state_key
 
     # ------------------------------------------------------------------------------------------
     def fit(self, demonstrations, domain=None) -> SpecLearner:
         """Learn from ``demonstrations`` (Demonstrations, trajectories or state sequences) in
-        ``domain`` (a Domain or a labelled tabular environment, see :func:`task_model`)."""
+        ``domain``: a Domain or a labelled tabular environment (see :func:`task_model`; the fast
+        path), or any gymnasium environment or factory of one, whose observations ``labeling``
+        labels (see :mod:`~symlearn.learners.temporal.spec_env_world`)."""
         t_start = time.perf_counter()
         self._check_parameters()
         if domain is None:
             raise ModelError("specification learning needs the world: fit(demonstrations, domain_or_env)")
-        self.model_: TaskModel = task_model(domain, horizon=self.horizon)
         self._rng = np.random.default_rng(self.random_state)
-        experts = state_sequences(demonstrations, self.model_.n_states)
         learn = self.propositions == "learn"
-        labeling, names = (Labeling({}), []) if learn else self._given_labeling()
+        self.world_: EnvWorld | None = None
+        if _has_model(domain):
+            self.model_: TaskModel | None = task_model(domain, horizon=self.horizon)
+            experts = state_sequences(demonstrations, self.model_.n_states)
+            labeling, names = (Labeling({}), []) if learn else self._given_labeling()
+        else:
+            if learn:
+                raise ModelError("learned propositions need a tabular model (states to name); in a gymnasium "
+                                 "environment give a labeling", hint="propositions='given' with labeling=")
+            self.model_ = None
+            self.world_ = EnvWorld(domain, self.labeling, horizon=self.horizon, policy=self.policy,
+                                   q_steps=self.q_steps, ppo_steps=self.ppo_steps, discount=self.discount,
+                                   epsilon=self.epsilon, state_key=self.state_key)
+            labeling = self.world_.labeling
+            experts = self.world_.expert_traces(demonstrations)
+            names = None  # read from the labels met, every iteration
         n_nominal = self.n_nominal or len(experts)
 
         conjuncts: list[tuple[Formula, tuple[str, tuple[str, ...]]]] = []
@@ -148,7 +177,10 @@ class SpecLearner(Learner):
             nominal = self._random_traces(n_nominal) if policy is None else self._policy_traces(policy, n_nominal)
             spec = conjunction(*(f for f, _ in conjuncts))
             nominal_success = self._satisfaction(spec, labeling, nominal)
-            if learn:
+            if self.world_ is not None:  # label ids stand in for states (see spec_env_world)
+                atom_names = self._env_names()
+                atom_of_state = self.world_.atoms(atom_names)
+            elif learn:
                 states = np.unique(np.concatenate([*experts, *nominal]))
                 atom_names = [self._state_name(labeling, int(s)) for s in states]
                 atom_of_state = np.zeros((self.model_.n_states, len(states)), dtype=bool)
@@ -157,7 +189,7 @@ class SpecLearner(Learner):
                 atom_names = list(names)
                 atom_of_state = np.array([[p in labeling.label(s) for p in names] for s in range(self.model_.n_states)],
                                          dtype=bool).reshape(self.model_.n_states, len(names))
-            covered = np.zeros(self.model_.n_states, dtype=bool)
+            covered = np.zeros(self._n_states, dtype=bool)
             covered[np.concatenate(nominal)] = True
             exclude = {(key[0], tuple(atom_names.index(a) for a in key[1]), False)
                        for _, key in conjuncts if all(a in atom_names for a in key[1])}
@@ -202,6 +234,7 @@ class SpecLearner(Learner):
         same = last_policy is not None and self.formula_ == self.unpruned_formula_
         self.policy_ = last_policy if same else self._train(self.formula_, labeling, seed=10_000)
         self.entropy_ = self._entropy(self.policy_)
+        self.rejected_ = self._rejected()
         self.dfa_ = self._dfa(self.formula_)
         self.iterations_ = sum(1 for h in self.history_ if h.added)
         self.seconds_ = time.perf_counter() - t_start
@@ -225,6 +258,9 @@ class SpecLearner(Learner):
 
         self._check_fitted()
         truth = parse(truth) if isinstance(truth, str) else truth
+        if self.world_ is not None:
+            traces = self.world_.policy_traces(self.policy_, n or self.n_eval, seed=self._seed(0))
+            return float(np.mean([holds(truth, self.world_.word(t)) for t in traces]))
         labeling = self.model_.labeling if labeling is None else labeling
         if labeling is None:
             raise DataError("the world has no labeling to read the truth formula with; pass labeling=")
@@ -268,7 +304,28 @@ class SpecLearner(Learner):
     def _meaning(self, state: int) -> str:
         return self.model_.describe(state)
 
+    @property
+    def _n_states(self) -> int:
+        return self.world_.n_states if self.world_ is not None else self.model_.n_states
+
+    def _seed(self, offset: int) -> int:
+        base = 0 if self.random_state is None else int(self.random_state)
+        return base * 100_003 + offset
+
+    def _env_names(self) -> list[str]:
+        names = self.world_.propositions()
+        if self.propositions == "given":
+            return names
+        unknown = [p for p in self.propositions if p not in names and p not in
+                   getattr(self.world_.labeling, "propositions", ())]
+        if unknown:
+            raise DataError(f"unknown proposition {unknown[0]!r}: the labeling never produced it",
+                            hint="met so far: " + (", ".join(names) or "none"))
+        return list(self.propositions)
+
     def _random_traces(self, n: int) -> list[np.ndarray]:
+        if self.world_ is not None:
+            return self.world_.random_traces(n, seed=int(self._rng.integers(1 << 31)))
         n_a = self.model_.successors.shape[1]
         s = np.full(n, self.model_.start)
         path = [s]
@@ -280,12 +337,16 @@ class SpecLearner(Learner):
     def _policy_traces(self, policy, n: int) -> list[np.ndarray]:
         from symlearn.rl.crm_q_learning import sample_episodes
 
+        if self.world_ is not None:
+            return self.world_.policy_traces(policy, n, seed=int(self._rng.integers(1 << 31)))
         return sample_episodes(policy, n, seed=int(self._rng.integers(1 << 31)))
 
     def _train(self, formula: Formula, labeling: Labeling, seed: int):
         from symlearn.logic.automata.reward_machine import RewardMachine
         from symlearn.rl.crm_q_learning import crm_q_learning
 
+        if self.world_ is not None:
+            return self.world_.train(formula, seed=self._seed(seed))
         machine = RewardMachine.from_formula(formula)
         steps = self.q_steps or min(400 * self.model_.n_states * (1 + machine.n_states // 8), 4_000_000)
         labels = [labeling.label(s) for s in range(self.model_.n_states)]
@@ -297,7 +358,8 @@ class SpecLearner(Learner):
     def _satisfaction(self, formula: Formula, labeling: Labeling, traces: Sequence[np.ndarray]) -> float:
         from symlearn.logic.ltlf import evaluate_many
 
-        words = [[labeling.label(int(s)) for s in t] for t in traces]
+        label = self.world_.label if self.world_ is not None else (lambda s: labeling.label(int(s)))
+        words = [[label(s) for s in t] for t in traces]
         return float(np.mean(evaluate_many(formula, words)))
 
     def _pruned(self, conjuncts, labeling):
@@ -317,6 +379,9 @@ class SpecLearner(Learner):
     def _entropy(self, policy) -> float:
         from symlearn.rl.crm_q_learning import policy_entropy
 
+        if self.world_ is not None:
+            self._policy_traces(policy, self.n_eval)
+            return self.world_.last_entropy
         return policy_entropy(policy, self._policy_traces(policy, self.n_eval))
 
     @staticmethod
@@ -324,6 +389,15 @@ class SpecLearner(Learner):
         from symlearn.logic.ltlf import to_dfa
 
         return to_dfa(formula)
+
+    def _rejected(self) -> list[dict[str, Any]]:
+        """The candidates the search weighed and did not keep: the last, below-threshold best
+        candidate and every conjunct pruning dropped."""
+        out = [{"formula": h.formula, "why": f"information gain {h.gain:.3f} is below the threshold {self.threshold}"}
+               for h in self.history_ if not h.added and h.formula]
+        out += [{"formula": f, "why": "implied by the rest (a policy trained without it still satisfies it)"}
+                for f in self.pruned_]
+        return out
 
     def _describe(self, choice: Choice | None, atom_names, formula) -> dict[str, Any]:
         if choice is None:
@@ -343,6 +417,14 @@ class SpecLearner(Learner):
     def _check_fitted(self) -> None:
         if not hasattr(self, "formula_"):
             raise NotFittedError("this SpecLearner is not fitted yet; call fit(demonstrations, domain) first")
+
+
+def _has_model(world: Any) -> bool:
+    """A Domain or a labelled tabular environment (the successor-table fast path)."""
+    from symlearn.grounding import Domain
+
+    return isinstance(world, Domain) or isinstance(getattr(world, "domain", None), Domain) or \
+        hasattr(world, "next_state")
 
 
 def _without_reproductions(nominal: Sequence[np.ndarray], experts: Sequence[np.ndarray]) -> list[np.ndarray]:

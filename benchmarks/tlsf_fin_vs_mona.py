@@ -1,0 +1,165 @@
+"""LTLf -> minimal DFA on SYNTCOMP's finite-trace families (``tlsf-fin``): symlearn vs MONA's construction.
+
+The benchmark set is not committed. Fetch the public SYNTCOMP benchmark repository
+(``SYNTCOMP/benchmarks`` on GitHub) and point ``--root`` at its ``tlsf-fin`` folder::
+
+    python benchmarks/tlsf_fin_vs_mona.py --root /path/to/benchmarks/tlsf-fin --per-family 5 \\
+        --timeout 60 --json benchmarks/results/tlsf_fin_vs_mona.json
+
+Per formula, both sides run as their own process under the same wall-clock limit and a 4 GB
+address-space cap:
+
+* **symlearn**: ``python -m symlearn ltl dfa --tlsf FILE --json`` -- the whole process a user
+  waits for (start-up, reading the TLSF file, translation, minimisation);
+* **MONA**: ``mona -q -u -w PROGRAM`` on the MONA program LTLf2DFA writes for the same formula (the
+  program is written before the clock starts, so only MONA's own DFA construction is timed).
+
+State counts are compared where both finish (MONA's automaton has one extra start state, see
+:mod:`symlearn.logic.ltlf.mona`). Parameterised files (full TLSF, with a ``GLOBAL`` section) are
+refused by symlearn's basic-TLSF reader and reported as "full TLSF" for both. The sample takes the
+files of each family in size order and picks ``--per-family`` of them spread over the sizes, so
+the largest of a family is always in. Families are the folder two levels under ``tlsf-fin``
+(``Random/Syft``, ``Two-player-Game/Nim``), or one level where there is no deeper one.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from collections import defaultdict
+from pathlib import Path
+
+MEMORY = 4 * 1024**3
+
+
+def _limit_memory() -> None:
+    resource.setrlimit(resource.RLIMIT_AS, (MEMORY, MEMORY))
+
+
+def family_of(path: Path, root: Path) -> str:
+    parts = path.relative_to(root).parts
+    return "/".join(parts[:2]) if len(parts) > 2 else parts[0]
+
+
+def sample(root: Path, per_family: int) -> dict[str, list[Path]]:
+    families: dict[str, list[Path]] = defaultdict(list)
+    for path in sorted(root.rglob("*.tlsf")):
+        families[family_of(path, root)].append(path)
+    chosen = {}
+    for family, files in sorted(families.items()):
+        files.sort(key=lambda p: (p.stat().st_size, str(p)))
+        if len(files) <= per_family:
+            chosen[family] = files
+            continue
+        step = (len(files) - 1) / max(per_family - 1, 1)
+        picks = sorted({round(i * step) for i in range(per_family)})
+        chosen[family] = [files[i] for i in picks]
+    return chosen
+
+
+def run_symlearn(path: Path, timeout: float) -> dict:
+    start = time.perf_counter()
+    try:
+        done = subprocess.run([sys.executable, "-m", "symlearn", "ltl", "dfa", "--tlsf", str(path), "--json"],
+                              capture_output=True, text=True, timeout=timeout, preexec_fn=_limit_memory,
+                              env={**os.environ, "SYMLEARN_QUIET": "1"})
+    except subprocess.TimeoutExpired:
+        return {"status": "timeout", "seconds": timeout}
+    seconds = time.perf_counter() - start
+    if done.returncode == 0:
+        return {"status": "ok", "seconds": seconds, "states": json.loads(done.stdout)["states"]}
+    message = (done.stderr.strip().splitlines() or [""])[-1]
+    status = "full TLSF" if "parameterised (full) TLSF" in message else (
+        "memory" if "MemoryError" in message or "memory" in message.lower() else "error")
+    return {"status": status, "seconds": seconds, "message": message[:300]}
+
+
+def run_mona(path: Path, timeout: float) -> dict:
+    from symlearn.errors import SymlearnError
+    from symlearn.logic.ltlf.mona import _program, _read_mona
+    from symlearn.logic.ltlf.tlsf import load_tlsf
+
+    try:
+        formula = load_tlsf(path).formula
+    except SymlearnError as exc:
+        return {"status": "full TLSF" if "full) TLSF" in exc.message else "error", "message": exc.message[:300]}
+    program, names = _program(formula, printed=False)
+    fd, name = tempfile.mkstemp(suffix=".mona")
+    with os.fdopen(fd, "w") as handle:
+        handle.write(program)
+    try:
+        start = time.perf_counter()
+        try:
+            done = subprocess.run(["mona", "-q", "-u", "-w", name], capture_output=True, text=True, timeout=timeout,
+                                  preexec_fn=_limit_memory)
+        except subprocess.TimeoutExpired:
+            return {"status": "timeout", "seconds": timeout}
+        seconds = time.perf_counter() - start
+    finally:
+        os.unlink(name)
+    if done.returncode != 0 or "Automaton has" not in done.stdout:
+        return {"status": "error", "seconds": seconds, "message": (done.stderr or done.stdout)[-300:]}
+    upper = {v.upper(): k for k, v in names.items()}
+    dfa = _read_mona(done.stdout, upper, seconds)
+    # MONA's dummy start state; a language empty even of the empty word is one state on both sides
+    return {"status": "ok", "seconds": seconds, "states": max(dfa.n_states - 1, 1)}
+
+
+def summarise(rows: list[dict]) -> dict[str, dict]:
+    table: dict[str, dict] = {}
+    for family in sorted({r["family"] for r in rows}):
+        mine = [r for r in rows if r["family"] == family]
+        both = [r for r in mine if r["symlearn"]["status"] == "ok" and r["mona"]["status"] == "ok"]
+        ratios = [r["symlearn"]["seconds"] / max(r["mona"]["seconds"], 1e-9) for r in both]
+        table[family] = {
+            "formulas": len(mine),
+            "symlearn_solved": sum(r["symlearn"]["status"] == "ok" for r in mine),
+            "mona_solved": sum(r["mona"]["status"] == "ok" for r in mine),
+            "full_tlsf": sum(r["symlearn"]["status"] == "full TLSF" for r in mine),
+            "state_disagreements": sum(r["symlearn"]["states"] != r["mona"]["states"] for r in both),
+            "symlearn_median_s": statistics.median([r["symlearn"]["seconds"] for r in both]) if both else None,
+            "symlearn_max_s": max((r["symlearn"]["seconds"] for r in both), default=None),
+            "mona_median_s": statistics.median([r["mona"]["seconds"] for r in both]) if both else None,
+            "mona_max_s": max((r["mona"]["seconds"] for r in both), default=None),
+            "median_ratio_symlearn_over_mona": statistics.median(ratios) if ratios else None,
+            "largest_dfa": max((r["symlearn"]["states"] for r in both), default=None),
+        }
+    return table
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--root", required=True, type=Path, help="the tlsf-fin folder of SYNTCOMP/benchmarks")
+    parser.add_argument("--per-family", type=int, default=5)
+    parser.add_argument("--timeout", type=float, default=60.0)
+    parser.add_argument("--json", type=Path, help="write the raw rows and the per-family table here")
+    args = parser.parse_args(argv)
+    chosen = sample(args.root, args.per_family)
+    rows = []
+    for family, files in chosen.items():
+        for path in files:
+            row = {"family": family, "file": str(path.relative_to(args.root)),
+                   "symlearn": run_symlearn(path, args.timeout), "mona": run_mona(path, args.timeout)}
+            rows.append(row)
+            print(f"{family:32s} {path.name:40s} symlearn {row['symlearn']['status']:9s} "
+                  f"{row['symlearn'].get('seconds', 0):7.2f}s {row['symlearn'].get('states', '-')!s:>7}   "
+                  f"mona {row['mona']['status']:9s} {row['mona'].get('seconds', 0):7.2f}s "
+                  f"{row['mona'].get('states', '-')!s:>7}", flush=True)
+    table = summarise(rows)
+    print(json.dumps(table, indent=1))
+    if args.json:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps({"command": " ".join(sys.argv), "timeout": args.timeout,
+                                         "memory_bytes": MEMORY, "rows": rows, "families": table}, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

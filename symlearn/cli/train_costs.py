@@ -1,0 +1,128 @@
+"""What ``symlearn train`` constrains or penalises: a learned DNF, a learned neural cost, or the
+environment's own ``info["cost"]`` -- in the two forms its trainers take.
+
+Our PPO takes a cost for a whole rollout at once (``rollout_cost``, :class:`~symlearn.rl.ppo.Rollout`
+in, ``[T, N]`` or ``[T, N, k]`` out); a stable-baselines3 learner takes it one step at a time
+(``step_cost(observation, action, next_observation, info)``, through
+:class:`~symlearn.backends.lagrangian.StepCostWrapper`). Both are built here from the same
+artefact, checked once against the environment:
+
+* a DNF formula needs the names of the environment's features (``--features a,b``, the
+  environment's ``feature_names``, or the keys of a dict ``info["features"]``), and reads them
+  from ``info["features"]`` when the environment reports them, else from the observation;
+* a neural cost must have been learned for the environment's observation and action spaces.
+
+The environment's ``info["cost"]`` stays the ground truth either way: it is what evaluation
+reports, never what a learned cost is trained against.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from symlearn.errors import DataError, SymlearnError
+
+
+@dataclass
+class TrainingCost:
+    """A learned cost in the forms the trainers take; ``kind`` is ``"dnf"`` or ``"neural"``."""
+
+    kind: str
+    rollout_cost: Any             # Rollout -> [T, N] or [T, N, k]
+    step_cost: Any                # (observation, action, next_observation, info) -> vector
+    n_costs: int
+    stats: Any = None             # RuleStats of a DNF (for --prune)
+    wrap: Any = None              # env -> env making info["features"] a vector (dict features), or None
+
+
+class _DictFeatures:
+    """Makes a dict ``info["features"]`` the vector of its values in ``names`` order."""
+
+    def __init__(self, names: tuple[str, ...]) -> None:
+        self.names = names
+
+    def __call__(self, env: Any) -> Any:
+        from symlearn.backends.lagrangian import FeatureVectorWrapper
+
+        return FeatureVectorWrapper(env, self.names)
+
+
+def training_cost(path: str, target: Any, *, features: str | None = None, per_rule: bool = False) -> TrainingCost:
+    """The cost in ``path`` (``.dnf`` text or ``.safetensors``) checked against ``target``'s environment."""
+    if str(path).endswith(".safetensors"):
+        return _neural(path, target)
+    return _dnf(path, target, features, per_rule)
+
+
+def _neural(path: str, target: Any) -> TrainingCost:
+    from symlearn.learners.neural import NeuralCost
+
+    env = target.make()
+    try:
+        cost = NeuralCost.load(path, env)   # refuses a cost learned for other spaces
+    finally:
+        env.close()
+
+    def step_cost(observation: Any, action: Any, next_observation: Any, info: dict[str, Any]) -> np.ndarray:
+        actions = None if not cost.uses_actions else np.asarray(action)[None]
+        return np.asarray(cost(np.asarray(observation)[None], actions), dtype=np.float64).reshape(1)
+
+    return TrainingCost("neural", cost.cost_fn(), step_cost, 1)
+
+
+def _dnf(path: str, target: Any, features: str | None, per_rule: bool) -> TrainingCost:
+    from symlearn.backends.dnf_cost import DnfRolloutCost, FormulaCost, RuleStats
+    from symlearn.logic.dnf import load
+
+    dnf = load(path)
+    env = target.make()
+    try:
+        found = target.features(env, override=features)   # names counted against the columns
+        _, info = env.reset(seed=0)
+    finally:
+        env.close()
+    if found is None:
+        raise DataError(f"{target.display} names no features, so the formula's {', '.join(sorted(dnf.features))} "
+                        "cannot be read there", file=str(path),
+                        hint="give the observation's column names with --features a,b,... (or a feature_names "
+                             "attribute / info['features'] dict in the environment)")
+    names, source = found.names, found.source
+    try:
+        stats = RuleStats(dnf, names)
+    except DataError as exc:
+        raise DataError(exc.message, file=str(path), hint=exc.hint) from None
+    wrap = _DictFeatures(names) if source == "info" and isinstance(info.get("features"), dict) else None
+    # evaluated once per rollout over all its steps (the same costs and rule counts as the
+    # per-step form, a fraction of its overhead)
+    rollout = DnfRolloutCost(dnf, names, source=source, per_rule=per_rule, stats=stats)
+    formula = FormulaCost(dnf, names, per_rule=per_rule, stats=stats)
+
+    def step_cost(observation: Any, action: Any, next_observation: Any, info: dict[str, Any]) -> np.ndarray:
+        raw = info["features"] if source == "info" else next_observation
+        costs, _ = formula(np.asarray(raw, dtype=np.float64).reshape(1, -1))
+        return np.asarray(costs[0], dtype=np.float64).reshape(-1)
+
+    n = len(dnf.conjunctions) if per_rule else 1
+    return TrainingCost("dnf", rollout, step_cost, n, stats=stats, wrap=wrap)
+
+
+def penalised(cost: TrainingCost) -> Any:
+    """``rollout -> reward - cost`` (summed over rules) for PPO without a multiplier."""
+    def reward(rollout: Any) -> np.ndarray:
+        c = np.asarray(cost.rollout_cost(rollout), dtype=np.float64)
+        return rollout.rewards - (c.sum(axis=2) if c.ndim == 3 else c)
+    reward.info_keys = getattr(cost.rollout_cost, "info_keys", ())  # type: ignore[attr-defined]
+    return reward
+
+
+def refuse_without_cost(target: Any, algo: str) -> None:
+    if not target.reports_cost():
+        raise SymlearnError(f"--algo {algo} without --cost constrains the environment's info['cost'], and "
+                            f"{target.display} reports none",
+                            hint="give a learned cost with --cost RULES.dnf|COST.safetensors, or train --algo ppo")
+
+
+__all__ = ["TrainingCost", "penalised", "refuse_without_cost", "training_cost"]

@@ -1,0 +1,138 @@
+"""``symlearn train --algo sb3-ppo|sb3-sac|sb3-dqn|sb3-ppo-lag|sb3-sac-lag``: stable-baselines3 as the learner.
+
+The environment is the one ``train`` resolved; a learned cost (:mod:`symlearn.cli.train_costs`)
+reaches the learner through gymnasium wrappers (:mod:`symlearn.backends.lagrangian`): its value
+on every step as ``info["learned_cost"]``, then the reward ``r - lambda . c``. ``sb3-*-lag``
+updates ``lambda`` by :func:`symlearn.backends.sb3.lagrangian_callback` (``--cost-limit``,
+``--multiplier-update``, ``--multiplier-lr``), from the learned cost or, without ``--cost``, from
+the environment's ``info["cost"]``; plain ``sb3-*`` with ``--cost`` subtracts the cost
+(``lambda`` fixed at 1). The networks have our PPO's sizes (two hidden layers of 64; tanh for
+PPO, ReLU for SAC and DQN as in stable-baselines3), ``--n-envs`` copies side by side
+(``DummyVecEnv``); PPO's rollout is ``--n-steps`` per copy and its other settings are our PPO's
+defaults (minibatch 128, 4 epochs, learning rate 2.5e-4 annealed to 0, entropy 0.01).
+
+Evaluation is greedy (``deterministic=True``) on a fresh environment without the cost wrappers:
+its ``info["cost"]`` is the ground truth reported. ``-o agent.safetensors`` writes the policy with
+:func:`symlearn.backends.sb3.save_policy` (safetensors + JSON; stable-baselines3's ``.zip`` is
+never written or read).
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from typing import Any
+
+import numpy as np
+
+
+def train_sb3(args: argparse.Namespace, target: Any, cost: Any) -> dict[str, Any]:
+    from symlearn.backends.sb3 import algorithm_class, check_action_space, lagrangian_callback, save_policy
+    from symlearn.cli.train_command import evaluation_document
+
+    algo = args.algo.removeprefix("sb3-").removesuffix("-lag")
+    lagrangian = args.algo.endswith("-lag")
+    probe = target.make()
+    try:
+        check_action_space(algo, probe.action_space)
+    finally:
+        probe.close()
+    algorithm = algorithm_class(algo)   # the install hint when stable-baselines3 is absent
+    import torch
+    from stable_baselines3.common.monitor import Monitor
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    from symlearn.backends.lagrangian import LagrangianReward, SharedMultipliers, StepCostWrapper
+    from symlearn.errors import SymlearnError
+    from symlearn.rl.ppo import LagrangianConfig
+
+    seed = getattr(args, "seed", 0) or 0
+    multipliers = None
+    cost_key = "cost" if cost is None else "learned_cost"
+    n_costs = 1 if cost is None else cost.n_costs
+    if lagrangian:
+        multipliers = SharedMultipliers(LagrangianConfig(cost_limit=args.cost_limit, update=args.multiplier_update,
+                                                         lr=args.multiplier_lr), n_costs)
+    elif cost is not None:
+        multipliers = SharedMultipliers(n_costs=n_costs, fixed=[1.0] * n_costs)
+
+    def make() -> Any:
+        env = target.make()
+        if cost is not None:
+            env = StepCostWrapper(cost.wrap(env) if cost.wrap else env, cost.step_cost)
+        if multipliers is not None:
+            env = LagrangianReward(env, multipliers, cost_key=cost_key)
+        return Monitor(env)
+
+    venv = DummyVecEnv([make] * args.n_envs)
+    venv.seed(seed)
+    settings: dict[str, Any] = {"seed": seed, "device": "cpu", "verbose": 0,
+                                "policy_kwargs": {"net_arch": [64, 64]}}
+    if algo == "ppo":  # our PPO's defaults (CleanRL's), so that `--algo ppo` and `sb3-ppo` are peers
+        settings.update(n_steps=args.n_steps, batch_size=min(128, args.n_envs * args.n_steps), n_epochs=4,
+                        learning_rate=lambda remaining: 2.5e-4 * remaining, ent_coef=0.01)
+        settings["policy_kwargs"]["activation_fn"] = torch.nn.Tanh
+    elif algo == "dqn":
+        settings.update(learning_starts=min(1000, args.steps // 10), exploration_fraction=0.2)
+    else:
+        settings.update(learning_starts=min(1000, args.steps // 10))
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)   # small networks: one thread is faster and leaves the cores to the others
+    try:
+        from gymnasium import spaces
+
+        policy = "MultiInputPolicy" if isinstance(venv.observation_space, spaces.Dict) else "MlpPolicy"
+        try:
+            model = algorithm(policy, venv, **settings)
+        except (ValueError, NotImplementedError, AssertionError, KeyError) as exc:  # SB3's checks of the spaces
+            raise SymlearnError(f"stable-baselines3 {algorithm.__name__} cannot train on {target.display}: "
+                                f"{type(exc).__name__}: {exc}") from None
+        callback = lagrangian_callback(multipliers, cost_key=cost_key) if lagrangian else None
+        started = time.perf_counter()
+        model.learn(args.steps, callback=callback)
+        seconds = time.perf_counter() - started
+        returns, lengths, true_costs = _evaluate(model, target, args.eval_episodes, seed + 10_000)
+    finally:
+        torch.set_num_threads(threads)
+        venv.close()
+    doc = evaluation_document(args, cost, returns, lengths, true_costs)
+    doc.update({"multipliers": [float(m) for m in multipliers.values] if lagrangian else None,
+                "steps": int(model.num_timesteps), "seconds": seconds})
+    if args.output:
+        path = save_policy(model, args.output, {"env": args.env, "env_kwargs": target.kwargs, "algo": args.algo,
+                                                "steps": int(model.num_timesteps)})
+        doc["files"] += [str(path), str(path.with_suffix(".json"))]
+    return doc
+
+
+def _evaluate(model: Any, target: Any, n_episodes: int, seed: int) -> tuple[np.ndarray, np.ndarray, Any]:
+    """Greedy episodes on fresh environments: returns, lengths, and the summed ``info["cost"]``
+    ``(E, k)`` -- or None when the environment reports none."""
+    env = target.make()
+    returns, lengths, costs, reported = [], [], [], False
+    try:
+        for episode in range(n_episodes):
+            observation, _ = env.reset(seed=seed + episode)
+            total, length, cost = 0.0, 0, np.zeros(0)
+            while True:
+                action, _ = model.predict(observation, deterministic=True)
+                observation, reward, terminated, truncated, info = env.step(action)
+                total, length = total + float(reward), length + 1
+                if "cost" in info:
+                    reported = True
+                    step = np.asarray(info["cost"], dtype=np.float64).reshape(-1)
+                    cost = step if cost.size == 0 else cost + step
+                if terminated or truncated or length >= 100_000:
+                    break
+            returns.append(total)
+            lengths.append(length)
+            costs.append(cost)
+    finally:
+        env.close()
+    if not reported:
+        return np.array(returns), np.array(lengths), None
+    width = max(c.size for c in costs)
+    return np.array(returns), np.array(lengths), np.array([c if c.size else np.zeros(width) for c in costs])
+
+
+__all__ = ["train_sb3"]

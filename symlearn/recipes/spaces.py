@@ -1,0 +1,83 @@
+"""A numeric view of an environment whose observations are not one ``Box`` or ``Discrete``.
+
+Our PPO and the learned costs read a flat vector per observation (or a ``Discrete`` index).
+Third-party environments often observe more: MiniGrid's ``Dict(direction, image, mission)``
+holds a text field; robotics suites return ``Dict(observation, achieved_goal, desired_goal)``.
+:func:`numeric_observations` keeps every numeric part (``Box``, ``Discrete``, ``MultiBinary``,
+``MultiDiscrete``, nested ``Dict``/``Tuple`` of those), drops the rest (text, graphs, sequences;
+named in :attr:`NumericObservations.dropped`), and flattens what is kept with gymnasium's own
+``flatten`` (``Discrete`` parts one-hot, ``Dict`` keys in sorted order), so a policy trained on
+the view sees the same vector every time. An environment that is already ``Box`` or ``Discrete``
+is returned unchanged.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from symlearn.errors import DataError
+
+_NUMERIC = (spaces.Box, spaces.Discrete, spaces.MultiBinary, spaces.MultiDiscrete)
+
+
+def _numeric_part(space: spaces.Space, path: str, dropped: list[str]) -> spaces.Space | None:
+    """The numeric sub-space of ``space`` (``None`` when nothing numeric is left)."""
+    if isinstance(space, _NUMERIC):
+        return space
+    if isinstance(space, spaces.Dict):
+        kept = {}
+        for key, sub in space.spaces.items():
+            part = _numeric_part(sub, f"{path}{key}" if not path else f"{path}.{key}", dropped)
+            if part is not None:
+                kept[key] = part
+        return spaces.Dict(kept) if kept else None
+    if isinstance(space, spaces.Tuple):
+        kept_t = [p for i, sub in enumerate(space.spaces)
+                  if (p := _numeric_part(sub, f"{path}[{i}]", dropped)) is not None]
+        if len(kept_t) != len(space.spaces):  # positions would shift: keep a Tuple only whole
+            dropped.append(path or "observation")
+            return None
+        return spaces.Tuple(kept_t)
+    dropped.append(path or "observation")
+    return None
+
+
+def _select(value: Any, space: spaces.Space, kept: spaces.Space) -> Any:
+    if isinstance(kept, spaces.Dict):
+        return {key: _select(value[key], space[key], sub) for key, sub in kept.spaces.items()}
+    return value
+
+
+class NumericObservations(gym.ObservationWrapper):
+    """The numeric parts of ``env``'s observation, flattened to one ``Box`` (see the module doc)."""
+
+    def __init__(self, env: gym.Env) -> None:
+        super().__init__(env)
+        self.dropped: list[str] = []
+        kept = _numeric_part(env.observation_space, "", self.dropped)
+        if kept is None:
+            raise DataError(f"the observation space {env.observation_space} has no numeric part a policy or cost "
+                            "could read", hint="wrap the environment so that it observes a Box (e.g. "
+                                               "gymnasium.wrappers.FlattenObservation over its numeric parts)")
+        self._kept = kept
+        flat = spaces.flatten_space(kept)
+        self.observation_space = spaces.Box(flat.low.astype(np.float32), flat.high.astype(np.float32),
+                                            dtype=np.float32)
+
+    def observation(self, observation: Any) -> np.ndarray:
+        selected = _select(observation, self.env.observation_space, self._kept)
+        return np.asarray(spaces.flatten(self._kept, selected), dtype=np.float32)
+
+
+def numeric_observations(env: gym.Env) -> gym.Env:
+    """``env`` itself when it observes a ``Box`` or ``Discrete``; else :class:`NumericObservations`."""
+    if isinstance(env.observation_space, (spaces.Box, spaces.Discrete)):
+        return env
+    return NumericObservations(env)
+
+
+__all__ = ["NumericObservations", "numeric_observations"]

@@ -1,0 +1,130 @@
+"""``learn spec`` in a user's environment: the labeling forms and their mistakes, one line each."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from cli_runner import run
+
+from symlearn.data import Demonstrations, Trajectory
+
+
+@pytest.fixture
+def lake_demos(tmp_path):
+    path = tmp_path / "lake.jsonl"
+    Demonstrations([Trajectory([0, 4, 8], [1, 1])]).save(path)  # unlabelled, no seed: stored states are labelled
+    return path
+
+
+def _labels_file(tmp_path, body: str, name: str = "labels.py"):
+    path = tmp_path / name
+    path.write_text(body)
+    return path
+
+
+def _one_line_error(code, out, err):
+    assert code == 2 and out == ""
+    lines = err.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("symlearn: error: "), err
+    return lines[0]
+
+
+@pytest.mark.parametrize("body, function, expected", [
+    ("def label(obs, info):\n    return ['hole'] if 1 / (obs - 4) else []\n", "label",
+     "{path}:2: labeling function label raised ZeroDivisionError: division by zero (demonstration 0, step 1)"),
+    ("PROPOSITIONS = ['goal']\ndef label(obs, info):\n    return ['gaol'] if obs == 8 else []\n", "label",
+     "{path}: labeling function label returned unknown proposition 'gaol' (demonstration 0, step 2) "
+     "(hint: declared: goal"),
+    ("def label(obs, info):\n    return [obs]\n", "label",
+     "{path}: labeling function label returned int 0 (demonstration 0, step 0), which is not a proposition name"),
+    ("def label(obs, info):\n    return 'goal'\n", "label",
+     "{path}: labeling function label returned str 'goal' (demonstration 0, step 0)"),
+    ("raise RuntimeError('no robot connected')\n", "label",
+     "importing labeling module {path} raised RuntimeError: no robot connected"),
+    ("def label(obs, info):\n    return []\n", "lable", "{path} defines no function 'lable' (hint: functions there: label)"),
+    ("def label(obs, info)\n    return []\n", "label", "{path}:1:"),
+])
+def test_labeling_function_mistakes(capsys, tmp_path, lake_demos, body, function, expected):
+    path = _labels_file(tmp_path, body)
+    code, out, err = run(capsys, "learn", "spec", "--env", "FrozenLake-v1", "--demos", lake_demos,
+                         "--labeling", f"{path}:{function}")
+    line = _one_line_error(code, out, err)
+    assert expected.format(path=path) in line
+
+
+def test_labeling_module_missing(capsys, tmp_path, lake_demos):
+    code, out, err = run(capsys, "learn", "spec", "--env", "FrozenLake-v1", "--demos", lake_demos,
+                         "--labeling", f"{tmp_path / 'nowhere.py'}:label")
+    assert "labeling module" in _one_line_error(code, out, err) and "does not exist" in err
+
+
+def test_user_environment_needs_demonstrations(capsys):
+    code, out, err = run(capsys, "learn", "spec", "--env", "FrozenLake-v1")
+    assert "FrozenLake-v1 has no expert: give your demonstrations with --demos FILE" in _one_line_error(code, out, err)
+
+
+@pytest.fixture
+def cart_demos(tmp_path):
+    path = tmp_path / "cart.jsonl"
+    Demonstrations([Trajectory([[0.0, 0.0, 0.0, 0.0], [0.1, 0.0, 0.0, 0.0]], [1])]).save(path)
+    return path
+
+
+@pytest.fixture
+def feature_labels(tmp_path):
+    path = tmp_path / "labels.json"
+    path.write_text(json.dumps({"right": "x > 0.05"}))
+    return path
+
+
+@pytest.mark.parametrize("features, expected", [
+    ("x,x,a,w", "--features names 'x' twice"),
+    ("x,v", "2 feature names (x, v) for 4 columns of the observation of CartPole-v1"),
+])
+def test_feature_name_mistakes(capsys, cart_demos, feature_labels, features, expected):
+    code, out, err = run(capsys, "learn", "spec", "--env", "CartPole-v1", "--demos", cart_demos,
+                         "--labeling", feature_labels, "--features", features)
+    assert expected in _one_line_error(code, out, err)
+
+
+def test_feature_labeling_without_names(capsys, cart_demos, feature_labels):
+    code, out, err = run(capsys, "learn", "spec", "--env", "CartPole-v1", "--demos", cart_demos,
+                         "--labeling", feature_labels)
+    line = _one_line_error(code, out, err)
+    assert "needs the observation's feature names" in line and "--features" in line
+
+
+def test_feature_labeling_unknown_feature(capsys, cart_demos, tmp_path):
+    path = tmp_path / "labels.json"
+    path.write_text(json.dumps({"right": "q > 0.05"}))
+    code, out, err = run(capsys, "learn", "spec", "--env", "CartPole-v1", "--demos", cart_demos,
+                         "--labeling", path, "--features", "x,v,a,w")
+    assert "proposition 'right' uses unknown feature 'q'" in _one_line_error(code, out, err)
+
+
+def test_an_environment_that_raises(capsys, tmp_path, monkeypatch, lake_demos):
+    (tmp_path / "broken_env.py").write_text(
+        "import gymnasium as gym\n"
+        "class Broken(gym.Env):\n"
+        "    observation_space = gym.spaces.Discrete(3)\n"
+        "    action_space = gym.spaces.Discrete(2)\n"
+        "    def reset(self, seed=None, options=None):\n"
+        "        return 0, {}\n"
+        "    def step(self, action):\n"
+        "        raise RuntimeError('motor driver offline')\n"
+        "gym.register('Broken-v0', entry_point=Broken)\n")
+    labels = _labels_file(tmp_path, "def label(obs, info):\n    return []\n")
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    code, out, err = run(capsys, "learn", "spec", "--env", "broken_env:Broken-v0", "--demos", lake_demos,
+                         "--labeling", f"{labels}:label")
+    line = _one_line_error(code, out, err)
+    assert "broken_env.py:8: random rollouts: the environment raised RuntimeError: motor driver offline" in line
+
+
+def test_ppo_update_needs_array_observations(capsys, tmp_path, lake_demos):
+    labels = _labels_file(tmp_path, "def label(obs, info):\n    return []\n")
+    code, out, err = run(capsys, "learn", "spec", "--env", "FrozenLake-v1", "--demos", lake_demos,
+                         "--labeling", f"{labels}:label", "--policy", "ppo")
+    assert "a PPO policy update needs array observations (a Box), not Discrete(16)" in _one_line_error(code, out, err)

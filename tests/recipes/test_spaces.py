@@ -1,0 +1,71 @@
+"""The numeric view of observations that are not one Box or Discrete (MiniGrid's Dict with text)."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium import spaces
+
+from symlearn.errors import DataError
+from symlearn.recipes.spaces import NumericObservations, numeric_observations
+
+
+class _Mixed(gym.Env):
+    observation_space = spaces.Dict({"pos": spaces.Box(-1.0, 1.0, (2,)), "mode": spaces.Discrete(3),
+                                     "note": spaces.Text(8), "grid": spaces.MultiBinary(2)})
+    action_space = spaces.Discrete(2)
+
+    def _obs(self):
+        return {"pos": np.array([0.25, -0.5]), "mode": 2, "note": "hello", "grid": np.array([1, 0], dtype=np.int8)}
+
+    def reset(self, seed=None, options=None):
+        return self._obs(), {}
+
+    def step(self, action):
+        return self._obs(), 0.0, True, False, {}
+
+
+def test_numeric_parts_are_kept_and_text_dropped():
+    env = numeric_observations(_Mixed())
+    assert isinstance(env, NumericObservations) and env.dropped == ["note"]
+    assert env.observation_space.shape == (2 + 3 + 2,)
+    observation, _ = env.reset()
+    # Dict keys in sorted order (grid, mode, pos): one-hot Discrete, MultiBinary as it is
+    assert observation.tolist() == [1.0, 0.0, 0.0, 0.0, 1.0, 0.25, -0.5]
+    assert env.observation_space.contains(observation)
+
+
+def test_box_and_discrete_environments_are_left_alone():
+    env = gym.make("CartPole-v1")
+    assert numeric_observations(env) is env
+
+
+def test_nothing_numeric_is_one_clear_error():
+    class Words(_Mixed):
+        observation_space = spaces.Dict({"note": spaces.Text(8)})
+
+    with pytest.raises(DataError, match="has no numeric part"):
+        numeric_observations(Words())
+
+
+def test_minigrid_observations_become_one_vector():
+    pytest.importorskip("minigrid")
+    env = numeric_observations(gym.make("MiniGrid-Empty-5x5-v0"))
+    observation, _ = env.reset(seed=0)
+    assert env.dropped == ["mission"] and observation.shape == (4 + 7 * 7 * 3,)
+    assert env.observation_space.contains(env.step(2)[0])
+
+
+def test_train_reaches_a_third_party_dict_environment(capsys):
+    """A pip-installed package's environment with a Dict observation trains from the CLI."""
+    pytest.importorskip("minigrid")
+    import json
+
+    from cli_runner import run
+
+    code, out, err = run(capsys, "train", "--env", "minigrid:MiniGrid-Empty-5x5-v0", "--steps", 256, "--n-envs", 1,
+                         "--n-steps", 128, "--eval-episodes", 1, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["algo"] == "ppo" and doc["cost"] is None and doc["violation_rate"] is None
