@@ -69,7 +69,8 @@ def _check_document(folder: str, rules: str | None, demos: str | None) -> dict:
         hypothesis = domain.hypothesis(Path(rules))
         learned = domain.rule_mask(Path(rules))
         doc.update({"rules": list(hypothesis.rules), "forbidden": int(learned.sum()),
-                    "fpr": None, "fnr": None, "accuracy": None, "missed_truth_rules": None})
+                    "fpr": None, "fnr": None, "accuracy": None, "missed_truth_rules": None,
+                    "warnings": _undefined_predicates(domain, rules)})
         if domain.truth is not None:
             scores = constraint_metrics(learned, domain.truth_forbidden, ~domain.unavailable)
             truth = domain.hypothesis(domain.truth)
@@ -84,11 +85,25 @@ def _check_document(folder: str, rules: str | None, demos: str | None) -> dict:
             hits = [(i, t) for i, e in enumerate(episodes)
                     for t in np.flatnonzero(learned[e.states[: len(e.actions)], e.actions]).tolist()]
             doc["demonstrated_steps_forbidden"] = len(hits)
-            doc["first_forbidden_step"] = (None if not hits else
-                                           {"demonstration": hits[0][0], "step": hits[0][1],
-                                            "pair": domain.describe_pair(int(episodes[hits[0][0]].states[hits[0][1]]),
-                                                                         int(episodes[hits[0][0]].actions[hits[0][1]]))})
+            doc["first_forbidden_step"] = None
+            if hits:
+                i, t = hits[0]
+                s, a = int(episodes[i].states[t]), int(episodes[i].actions[t])
+                doc["first_forbidden_step"] = {"demonstration": i, "step": t, "pair": domain.describe_pair(s, a),
+                                               "rules": [r for r in hypothesis.rules if domain.rule_mask([r])[s, a]]}
     return doc
+
+
+def _undefined_predicates(domain, rules: str) -> list[dict]:
+    """Body predicates of the rule file that the background, the states' facts and the actions
+    define nowhere (a misspelt predicate makes a rule that never fires)."""
+    from symlearn.logic.asp.predicates import defined_signatures, undefined_predicates
+    from symlearn.logic.asp.program import Program
+
+    facts = sorted({fact for s, a in domain.pair_ids for fact in domain.facts(s, a)})
+    defined = defined_signatures([domain.background + domain.bias.background,
+                                  Program.from_text(" ".join(facts), source=f"<{domain.name} state facts>")])
+    return [u.as_dict() for u in undefined_predicates(Program.from_file(rules, expand=False), defined)]
 
 
 def _render(doc: dict) -> str:
@@ -107,5 +122,8 @@ def _render(doc: dict) -> str:
             n = doc["demonstrated_steps_forbidden"]
             first = doc["first_forbidden_step"]
             lines.append(f"demonstrated steps the rules forbid: {n}" + (
-                f" (first: demonstration {first['demonstration']}, step {first['step']}: {first['pair']})" if n else ""))
+                f" (first: demonstration {first['demonstration']}, step {first['step']}: {first['pair']}, "
+                f"forbidden by {'; '.join(first['rules'])})" if n else ""))
+        for w in doc.get("warnings", []):
+            lines.append(f"warning: {w['file']}:{w['line']}:{w['column']}: {w['message']}")
     return "\n".join(lines)

@@ -56,6 +56,9 @@ def register(subparsers, common) -> None:
     check.add_argument("--bk", action="append", default=[], metavar="F.lp", help="extra background file (repeatable)")
     check.add_argument("--dialect", choices=("ilasp", "fastlas"), default="ilasp",
                        help="how the task file is read (as for 'ilp learn')")
+    check.add_argument("--coverage", action="store_true",
+                       help="for every uncovered example, also the rule that excludes it (a positive) or that "
+                            "no rule excludes it (a negative)")
     _limits(check, "60")
     check.set_defaults(handler=_check)
 
@@ -149,15 +152,43 @@ def _recheck_command(job: dict) -> str:
 
 def _check_job(job: dict) -> dict:
     from symlearn.logic.asp import Hypothesis
+    from symlearn.logic.asp.program import Program
     from symlearn.worker import remaining
-    from symlearn.logic.ilp import score
+    from symlearn.logic.ilp import coverage_matrix, score
 
     task = _load(job)
     hypothesis = Hypothesis.from_lp(job["hypothesis"], background=task.background)
     report = score(task, hypothesis, timeout=remaining(job["started"], job["seconds"]))
     report["rules"] = hypothesis.rules
     report["passed"] = not report["uncovered_without_penalty"]
+    report["warnings"] = _undefined_predicates(task, Program.from_file(job["hypothesis"], expand=False))
+    matrix = (coverage_matrix(task, hypothesis, timeout=remaining(job["started"], job["seconds"]))
+              if job["coverage"] else None)
+    report["uncovered"] = [_uncovered(e, matrix) for e in task.examples if not report["coverage"][e.id]]
     return report
+
+
+def _undefined_predicates(task, rules) -> list[dict]:
+    """Body predicates of the rule file that the background, the examples and the rules define nowhere."""
+    from symlearn.logic.asp.predicates import defined_signatures, undefined_predicates
+
+    defined = defined_signatures([task.background] + [e.context for e in task.examples if e.context.text.strip()])
+    defined |= {(a.name, len(a.arguments)) for e in task.examples for a in (*e.inclusions, *e.exclusions)}
+    return [u.as_dict() for u in undefined_predicates(rules, defined)]
+
+
+def _uncovered(example, matrix: dict | None) -> dict:
+    """An uncovered example for the report: polarity, where, context and (with --coverage) why."""
+    context = " ".join(example.context.text.split())
+    doc = {"id": example.id, "polarity": "positive" if example.positive else "negative", "line": example.line,
+           "penalty": example.penalty, "context": context if len(context) <= 200 else context[:197] + "...",
+           "inclusions": [str(a) for a in example.inclusions], "exclusions": [str(a) for a in example.exclusions]}
+    if matrix is not None:
+        if example.positive:  # the rules that reject it on their own
+            doc["excluded_by"] = [rule for rule, row in matrix.items() if not row[example.id]]
+        else:
+            doc["excluded_by"] = []
+    return doc
 
 
 def _space_job(job: dict) -> dict:
@@ -231,14 +262,27 @@ def _learn(args: argparse.Namespace, out) -> int | None:
 def _render_check(doc: dict) -> str:
     lines = [f"{doc['covered']}/{doc['total']} examples covered; cost {doc['cost']}, penalty {doc['penalty']}, "
              f"score {doc['score'] if doc['score'] is not None else 'n/a (an example without penalty is uncovered)'}"]
-    for ident, ok in doc["coverage"].items():
-        if not ok:
-            lines.append(f"  uncovered: {ident}")
+    for u in doc.get("uncovered", []):
+        where = f", task line {u['line']}" if u["line"] else ""
+        penalty = f", penalty {u['penalty']}" if u["penalty"] is not None else ""
+        line = f"  uncovered: {u['id']} ({u['polarity']}{where}{penalty}) context: {u['context'] or '(empty)'}"
+        if u["polarity"] == "positive" and (u["inclusions"] or u["exclusions"]):
+            line += f"; must include {{{', '.join(u['inclusions'])}}}, exclude {{{', '.join(u['exclusions'])}}}"
+        if "excluded_by" in u:
+            if u["polarity"] == "negative":
+                line += " -- no rule excludes it (every rule misses it)"
+            elif u["excluded_by"]:
+                line += " -- excluded by " + "; ".join(u["excluded_by"])
+            else:
+                line += " -- excluded by the rules together (no single rule excludes it)"
+        lines.append(line)
+    for w in doc.get("warnings", []):
+        lines.append(f"warning: {w['file']}:{w['line']}:{w['column']}: {w['message']}")
     return "\n".join(lines)
 
 
 def _check(args: argparse.Namespace, out) -> int | None:
-    report = _run(_check_job, args, hypothesis=args.hypothesis)
+    report = _run(_check_job, args, hypothesis=args.hypothesis, coverage=args.coverage)
     out.result(report, _render_check)
     if report["passed"]:
         return None

@@ -6,12 +6,19 @@
 * ``--env``: a bundled environment (``symlearn envs``); ``--domain DIR``: a user's domain folder
   (``domain.toml``, see docs/FORMATS.md), with ``--demos`` (state ids; action ids or atoms).
 * ``logic`` (default where the world has ASP facts): maximum-likelihood inference plus ILP
-  induction each iteration; ``-o`` writes the rules as an editable ``.lp`` file.
+  induction each iteration, ``--iterations`` a cap (the result says why it stopped:
+  ``stop_reason``/``stop``); likely constraints the bias cannot express are listed as
+  ``unexplained``; ``-o`` writes the rules as an editable ``.lp`` file (both in its header).
 * ``ml``: maximum-likelihood constraint inference alone; ``-o`` writes the forbidden pairs.
 * ``mce-icrl``: maximum causal entropy inverse constrained RL (with the world's reward, or a sparse
   one for reaching where demonstrations end); prints the learned cost map, and ``-o X.json`` writes
   the forbidden pairs and the multipliers, the cost map as text (``X.costmap.txt``) and as a
   picture (``X.costmap.dot``, ``X.costmap.svg`` with Graphviz).
+
+``--validation FRACTION`` holds out that share of the demonstrations (whole episodes) before
+learning and reports (``validation`` in the JSON) the share of held-out expert steps the learned
+constraint forbids -- a check that needs no ground truth; a warning (``warnings``) when it is
+not 0.
 
 ``-o`` must end in ``.lp`` for ``logic`` and in ``.json`` otherwise: a mismatch is refused before
 anything is learned (``--method ml -o X.lp`` would put JSON into a file named like rules).
@@ -71,7 +78,8 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--method", choices=METHODS, default=None,
                      help="logic (default where rules can be learned), ml, or mce-icrl (default for gridworld)")
     cmd.add_argument("--iterations", type=int, default=None,
-                     help="inference iterations (logic: 20, ml: 200) or dual steps (mce-icrl: 300)")
+                     help="inference iterations (logic: at most 20, it stops on convergence; ml: 200) or dual steps "
+                          "(mce-icrl: 300)")
     cmd.add_argument("--horizon", type=int, default=30, help="planning horizon of the MaxEnt passes (30)")
     cmd.add_argument("--reward", choices=("given", "sparse"), default=None,
                      help="plan with the world's reward (default where it has one) or a sparse reward for "
@@ -86,6 +94,9 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--features", choices=("state", "state_action"), default=None,
                      help="mce-icrl: one multiplier per state (gridworld default) or per state-action pair "
                           "(default for --domain)")
+    cmd.add_argument("--validation", type=float, default=None, metavar="FRACTION",
+                     help="hold out this share of the demonstrations (whole episodes, at random with --seed) and "
+                          "report the share of held-out expert steps the learned constraint forbids")
     cmd.add_argument("-o", "--output", metavar="FILE",
                      help="write the rules (logic: FILE.lp) or the forbidden pairs (ml, mce-icrl: FILE.json; "
                           "mce-icrl also writes the cost map as FILE.costmap.txt/.dot/.svg)")
@@ -149,8 +160,19 @@ def _constraints(args: argparse.Namespace, out) -> None:
     known = None
     if args.known:
         known = world.domain.rule_mask(Path(args.known))
+    held = None
+    if args.validation is not None:
+        from symlearn.learners.validation import holdout
+
+        demos, held = holdout(demos, args.validation, seed=seed)
     with blame_file(args.demos):
         doc, learned, learner = _run(method, world, demos, args, known, out)
+    doc["warnings"] = []
+    if held is not None:
+        doc["validation"] = _validation(world, learned, held, args.validation, len(demos))
+        warning = doc["validation"].pop("warning")
+        if warning:
+            doc["warnings"].append(warning)
     scores = {"fpr": None, "fnr": None, "accuracy": None}
     if world.truth is not None:
         from symlearn.learners.constraints.constraint_metrics import constraint_metrics
@@ -163,6 +185,20 @@ def _constraints(args: argparse.Namespace, out) -> None:
     if args.output:
         doc["files"] = _write(args.output, method, doc, learned, world, learner)
     out.result(doc, _render)
+
+
+def _validation(world: _World, learned, held, fraction: float, n_train: int) -> dict:
+    """The held-out expert steps the learned constraint forbids (see symlearn.learners.validation)."""
+    from symlearn.learners.validation import forbidden_pairs_report
+    from symlearn.mdp.episodes import tabular_episodes
+
+    episodes = [(e.states, e.actions) for e in tabular_episodes(held, world.mdp)]
+    names = getattr(world.mdp, "state_names", None)
+    actions = getattr(world.mdp, "action_names", None)
+    describe = (world.domain.describe_pair if world.domain is not None else
+                (lambda s, a: f"{names[s]} / {actions[a]}") if names is not None and actions is not None else None)
+    report = forbidden_pairs_report(learned, episodes, fraction, n_train, describe)
+    return {**report.as_dict(), "warning": report.warning()}
 
 
 _SUFFIXES = {"logic": (".lp", "ASP rules"), "ml": (".json", "a JSON constraint set"),
@@ -208,6 +244,8 @@ def _run(method: str, world: _World, demos, args, known, out):
                      f"{step.n_constraints} forbidden pairs (inference {step.inference_seconds:.2f} s, "
                      f"induction {step.induction_seconds:.2f} s)")
         doc = {"rules": learner.rules_, "iterations": len(learner.history_), "seconds": learner.seconds_,
+               "stop_reason": learner.stop_reason_, "stop": learner.stop_text(),
+               "unexplained": [u.as_dict() for u in learner.unexplained_],
                "history": [h.as_dict() for h in learner.history_]}
         return doc, learner.rule_constraints_, learner
     target = world.domain if world.domain is not None else world.mdp
@@ -304,6 +342,12 @@ def _render(doc: dict) -> str:
     if doc.get("rules") is not None:
         lines.append("rules:" if doc["rules"] else "rules: (none induced)")
         lines += [f"  {r}" for r in doc["rules"]]
+    if doc.get("stop"):
+        lines.append(f"stopped: {doc['stop']}")
+    if doc.get("unexplained"):
+        from symlearn.learners.constraints.logic_constraint_inference import Unexplained, unexplained_lines
+
+        lines += unexplained_lines([Unexplained(**u) for u in doc["unexplained"]], shown=10)
     if doc["fpr"] is None:
         lines.append(f"forbidden pairs: {doc['constraints']}   (no ground truth to score against)")
     else:
@@ -318,5 +362,10 @@ def _render(doc: dict) -> str:
             costly = sorted(cost_map["cost"].items(), key=lambda kv: -kv[1])
             lines.append(f"learned cost: {len(costly)} state(s) with a positive cost"
                          + ("; highest: " + ", ".join(f"{n} {v:.2f}" for n, v in costly[:5]) if costly else ""))
+    if doc.get("validation"):
+        v = doc["validation"]
+        lines.append(f"validation: {v['forbidden']} of {v['steps']} held-out expert steps forbidden ({v['share']:.1%}; "
+                     f"{v['n_held_out']} demonstrations held out, {v['n_train']} learned from)")
+    lines += [f"warning: {w}" for w in doc.get("warnings", [])]
     lines += [f"wrote {f}" for f in doc.get("files", [])]
     return "\n".join(lines)

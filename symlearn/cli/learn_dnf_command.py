@@ -16,13 +16,18 @@
   names the features (``feature_names``, the keys of a dict ``info["features"]``, or ``--features``).
 
 JSON keys: ``formula`` (the text), ``conjunctions`` (one string each), ``leaves`` (safe boxes as
-``{feature: [low, high]}``), ``features``, ``seconds``; ``-o`` writes the editable ``.dnf`` file
+``{feature: [low, high]}``), ``features``, ``seconds``, ``unsafe_share`` (of the data's bounding
+box), ``slivers_closed``, ``notes`` (how the thresholds were rounded and gaps closed) and
+``warnings`` (e.g. more than half of the bounding box unsafe; in the text output too),
+``validation`` with ``--validation FRACTION`` (held-out expert states the formula calls unsafe);
+``-o`` writes the editable ``.dnf`` file
 (``symlearn dnf eval|show`` read it; ``symlearn train --cost`` uses it as a cost).
 """
 
 from __future__ import annotations
 
 import argparse
+import warnings
 
 def register_learn(commands, common) -> None:
     cmd = commands.add_parser(
@@ -39,6 +44,9 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--domain", metavar="DIR", help="a domain folder whose feature map turns state ids into features")
     cmd.add_argument("--max-depth", type=int, default=5, help="deepest split (5)")
     cmd.add_argument("--min-samples-leaf", type=int, default=5, help="fewest points a split may leave in a child (5)")
+    cmd.add_argument("--validation", type=float, default=None, metavar="FRACTION",
+                     help="hold out this share of the demonstrations (whole episodes, at random with --seed) and "
+                          "report the share of held-out expert states the formula calls unsafe")
     cmd.add_argument("-o", "--output", help="write the formula here (.dnf text, or .json)")
     cmd.set_defaults(handler=_dnf)
 
@@ -93,9 +101,16 @@ def _dnf(args: argparse.Namespace, out) -> None:
     from symlearn.learners.trees.one_class_tree import OneClassTreeConstraint
 
     demos, features = _demonstrations(args)
+    held = None
+    if args.validation is not None:
+        from symlearn.learners.validation import holdout
+
+        demos, held = holdout(demos, args.validation, seed=getattr(args, "seed", 0) or 0)
     learner = OneClassTreeConstraint(max_depth=args.max_depth, min_samples_leaf=args.min_samples_leaf)
     try:
-        learner.fit(demos, features)
+        with warnings.catch_warnings():  # the learner's warnings go into the result (text and JSON)
+            warnings.simplefilter("ignore", UserWarning)
+            learner.fit(demos, features)
     except DataError as exc:
         if args.demos and not exc.file:
             raise DataError(exc.message, file=args.demos, hint=exc.hint) from None
@@ -105,11 +120,23 @@ def _dnf(args: argparse.Namespace, out) -> None:
     leaves = [{name: [float(lo), float(hi)] for name, lo, hi in zip(names, box.lower, box.upper)}
               for box in learner.safe_boxes_]
     doc = {"formula": str(dnf), "conjunctions": [str(c) for c in dnf.conjunctions], "leaves": leaves,
-           "features": names, "samples": learner.n_samples_, "seconds": learner.result_.timings["total"]}
+           "features": names, "samples": learner.n_samples_, "seconds": learner.result_.timings["total"],
+           "unsafe_share": learner.unsafe_share_, "slivers_closed": learner.slivers_closed_,
+           "notes": learner.notes_, "warnings": list(learner.warnings_)}
+    if held is not None:
+        from symlearn.learners.trees.one_class_tree import feature_matrix
+        from symlearn.learners.validation import unsafe_states_report
+
+        states = [feature_matrix(type(held)([t]), features)[0] for t in held]
+        report = unsafe_states_report(learner.predict, states, names, args.validation, len(demos))
+        doc["validation"] = report.as_dict()
+        if report.warning():
+            doc["warnings"].append(report.warning())
     if args.output:
         source = args.demos or f"{args.n_demos} expert episodes of {args.env}"
-        dnf.save(args.output, header=f"unsafe set learned by a one-class tree (max depth {args.max_depth}) "
-                                     f"from {source}; one rule per line, edit freely")
+        header = [f"unsafe set learned by a one-class tree (max depth {args.max_depth}) from {source}; one rule per "
+                  "line, edit freely"] + learner.notes_ + [f"warning: {w}" for w in learner.warnings_]
+        dnf.save(args.output, header="\n".join(header))
         doc["files"] = [args.output]
     out.result(doc, _render)
 
@@ -120,5 +147,11 @@ def _render(doc: dict) -> str:
     lines += [f"  {c}" for c in doc["conjunctions"][:40]]
     if len(doc["conjunctions"]) > 40:
         lines.append(f"  ... {len(doc['conjunctions']) - 40} more (see --json or -o)")
+    if doc.get("validation"):
+        v = doc["validation"]
+        lines.append(f"validation: {v['forbidden']} of {v['steps']} held-out expert states unsafe ({v['share']:.1%}; "
+                     f"{v['n_held_out']} demonstrations held out, {v['n_train']} learned from)")
+    lines += [f"note: {n}" for n in doc.get("notes", [])]
+    lines += [f"warning: {w}" for w in doc.get("warnings", [])]
     lines += [f"wrote {f}" for f in doc.get("files", [])]
     return "\n".join(lines)

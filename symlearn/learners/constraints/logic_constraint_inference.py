@@ -61,12 +61,39 @@ class LogicIteration:
     n_constraints: int  # forbidden pairs after translating the rules back and closing the set
     inference_seconds: float
     induction_seconds: float
+    gained: bool = True  # the rules forbid a pair they did not forbid before this iteration
 
     def as_dict(self) -> dict[str, Any]:
         return {"iteration": self.iteration, "inferred": self.inferred, "visitation": self.visitation,
                 "rules": list(self.rules), "optimal": self.optimal, "positives": self.n_positive,
                 "negatives": self.n_negative, "constraints": self.n_constraints,
-                "inference_seconds": self.inference_seconds, "induction_seconds": self.induction_seconds}
+                "inference_seconds": self.inference_seconds, "induction_seconds": self.induction_seconds,
+                "gained": self.gained}
+
+
+@dataclass(frozen=True)
+class Unexplained:
+    """A pair maximum-likelihood inference would have forbidden, but no rule of the bias can
+    forbid without forbidding a demonstrated pair: passed over, reported instead of inferred."""
+
+    iteration: int
+    state: int
+    action: int
+    pair: str  # "state / action"
+    visitation: float
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"iteration": self.iteration, "state": self.state, "action": self.action, "pair": self.pair,
+                "visitation": self.visitation}
+
+
+#: why the loop ended, in words (``stop_reason_`` -> text for the CLI and the rule file)
+STOP_REASONS = {
+    "converged": "converged: the rules forbade no new pair in the last {patience} iterations",
+    "min_visitation": "no undemonstrated pair is likely any more (visitation below min_visitation)",
+    "no_candidates": "no undemonstrated pair the bias can forbid is left",
+    "max_iterations": "the iteration budget ({iterations}) ran out before convergence",
+}
 
 
 @dataclass(frozen=True)
@@ -78,6 +105,7 @@ class Induction:
     n_positive: int
     n_negative: int
     seconds: float
+    gained: bool = True
 
 
 class RuleInduction:
@@ -97,6 +125,14 @@ class RuleInduction:
         self.best: tuple[tuple[str, ...], Any] = ((), None)
         self.records: list[Induction] = []
         self.last_negatives: np.ndarray | None = None
+        self.mask = np.zeros(domain.unavailable.shape, dtype=bool)  # what the latest rules forbid
+        self.stale = 0  # inductions in a row whose rules forbade nothing new
+
+    def converged(self, patience: int) -> str | None:
+        """The stopping test of one fit: "converged" once rules exist and ``patience`` inductions
+        in a row added no forbidden pair to them (each inferred pair since was one the rules
+        reject: an allowed pair no demonstration happened to show)."""
+        return "converged" if self.mask.any() and self.stale >= patience else None
 
     def __call__(self, forbidden: np.ndarray, seen: np.ndarray) -> np.ndarray:
         from symlearn.logic.ilp import learn
@@ -127,7 +163,11 @@ class RuleInduction:
             if rules not in self.rule_masks:
                 self.rule_masks[rules] = d.rule_mask(list(rules)) if rules else np.zeros_like(forbidden)
             extra = self.rule_masks[rules]
-        self.records.append(Induction(rules, optimal, len(positives), len(negatives), time.perf_counter() - t0))
+        gained = bool((extra & ~self.mask).any())
+        self.mask = extra
+        self.stale = 0 if gained else self.stale + 1
+        self.records.append(Induction(rules, optimal, len(positives), len(negatives), time.perf_counter() - t0,
+                                      gained))
         return extra
 
     def final(self, closed: np.ndarray, seen: np.ndarray) -> tuple[np.ndarray, float]:
@@ -149,8 +189,25 @@ class LogicConstraintInference(Learner):
     """``LogicConstraintInference(iterations=...).fit(demonstrations, domain)``.
 
     ``domain``: a :class:`~symlearn.grounding.Domain` (or a bundled wrapper with ``.domain``).
-    ``iterations`` is the thesis' eta (one inferred constraint and one induction per iteration;
-    the loop ends earlier when no unobserved pair is likely any more). The ILP step must cover
+
+    **When it stops.** Algorithm 3.1 runs a fixed eta iterations and gives no convergence test, so
+    ``iterations`` is a cap here and the loop stops earlier on a measured criterion
+    (``stop_reason_``): ``"converged"`` once rules exist and ``patience`` iterations in a row
+    induced rules that forbid no pair the previous rules allowed (the inferred pairs since were
+    allowed pairs that no demonstration happened to show, which the ILP step leaves uncovered);
+    ``"min_visitation"`` when no undemonstrated pair is likely any more; ``"no_candidates"``
+    when no undemonstrated pair the bias can forbid is left; ``"max_iterations"`` at the cap.
+
+    **What the bias cannot express.** Before the loop every candidate rule of the bias is
+    evaluated on every pair (:func:`~symlearn.learners.constraints.bias_reach.bias_reach`): a pair
+    that no candidate forbids without forbidding a demonstrated pair can never be explained by a
+    rule. Inference passes such pairs over instead of spending an iteration on each (``wait`` in
+    one cell, then the next, ...) and reports them in ``unexplained_`` (:class:`Unexplained`:
+    the pair and the visitation that would have chosen it) and in the rule file's header: either
+    the bias lacks a literal (e.g. a negated condition) or the demonstrations leave a real
+    constraint undemonstrated that no rule distinguishes from what the expert did.
+
+    Each iteration infers one constraint and runs one induction. The ILP step must cover
     every demonstrated pair but may leave an inferred constraint uncovered at ``penalty`` (a rule
     costs its length), since inference can pick an allowed pair that no demonstration happened to
     show. ``noise=True`` declares the demonstrations noisy: pairs that break ``known`` constraints
@@ -168,7 +225,8 @@ class LogicConstraintInference(Learner):
     (forbidden ``(S, A)`` mask: the rules' pairs plus the inferred ones, closed), ``inferred_``
     (the pairs chosen by inference alone), ``history_`` (:class:`LogicIteration` list),
     ``seconds_``, ``final_induction_seconds_`` (the induction after the loop's last closure, 0 when
-    that closure added nothing), ``result_``.
+    that closure added nothing), ``stop_reason_`` (``stopped_because_`` is the same),
+    ``unexplained_``, ``result_``.
     """
 
     artefact_suffix = ".lp"
@@ -176,8 +234,9 @@ class LogicConstraintInference(Learner):
     def __init__(self, *, iterations: int = 10, horizon: int = 30, reward: str | np.ndarray = "sparse",
                  rationality: float = 1.0, min_visitation: float = 1e-3, ilp_timeout: float = 30.0,
                  noise: bool = False, penalty: int = 10, known: np.ndarray | None = None,
-                 start: str | float = 0.1) -> None:
+                 start: str | float = 0.1, patience: int = 2) -> None:
         self.iterations = iterations
+        self.patience = patience
         self.horizon = horizon
         self.reward = reward
         self.rationality = rationality
@@ -191,19 +250,26 @@ class LogicConstraintInference(Learner):
     def fit(self, demonstrations: Any, domain: Any = None) -> LogicConstraintInference:
         if self.iterations < 1:
             raise SymlearnError(f"iterations must be at least 1, got {self.iterations}")
+        if self.patience < 1:
+            raise SymlearnError(f"patience must be at least 1, got {self.patience}")
         if domain is None:
             raise SymlearnError("logic constraint inference needs the domain: fit(demonstrations, domain)")
         started = time.perf_counter()
         d = as_domain(domain)
         episodes = d.episodes(demonstrations)
         _check_available(episodes, d)
+        from symlearn.learners.constraints.bias_reach import bias_reach
+        from symlearn.mdp.episodes import demonstrated_pairs
+
+        reach = bias_reach(d, demonstrated_pairs(episodes, d.mdp), noise=self.noise)
         bar = progress(range(self.iterations), total=self.iterations, desc=f"logic inference {d.name}")
         induction = RuleInduction(d, noise=self.noise, penalty=self.penalty, timeout=self.ilp_timeout, bar=bar)
         inference = MLConstraintInference(
             reward=self.reward, horizon=self.horizon, max_iterations=self.iterations,
             min_visitation=self.min_visitation, known_constraints=self.known,
             on_violation="warn" if self.noise else "error", generalize=induction,
-            rationality=self.rationality, start=self.start)
+            rationality=self.rationality, start=self.start, choosable=reach,
+            stop_when=lambda: induction.converged(self.patience))
         try:
             inference.fit(episodes, d)
             closed, self.final_induction_seconds_ = induction.final(inference.constraints_, inference.demonstrated_)
@@ -217,7 +283,7 @@ class LogicConstraintInference(Learner):
             history.append(LogicIteration(step.iteration, d.describe_pair(step.state, step.action), step.visitation,
                                           record.rules, record.optimal, record.n_positive, record.n_negative,
                                           step.n_forbidden - n_known, max(step.seconds - record.seconds, 0.0),
-                                          record.seconds))
+                                          record.seconds, record.gained))
         rules, hypothesis = induction.best
         self.domain_name_ = d.name
         self.rules_ = list(rules)
@@ -229,12 +295,15 @@ class LogicConstraintInference(Learner):
             self.inferred_[step.state, step.action] = True
         self.demonstrated_ = inference.demonstrated_
         self.history_ = history
-        self.stopped_because_ = inference.stopped_because_
+        self.stop_reason_ = self.stopped_because_ = inference.stop_reason_
+        self.unexplained_ = [Unexplained(p.iteration, p.state, p.action, d.describe_pair(p.state, p.action),
+                                         p.visitation) for p in inference.passed_over_]
         self.seconds_ = time.perf_counter() - started
         self.truth_forbidden_ = d.truth_forbidden
         self.pair_space_ = ~d.unavailable
         metrics: dict[str, Any] = {"rules": len(self.rules_), "constraints": int(self.rule_constraints_.sum()),
-                                   "stopped_because": self.stopped_because_}
+                                   "stopped_because": self.stop_reason_, "stop_reason": self.stop_reason_,
+                                   "unexplained": len(self.unexplained_)}
         if self.truth_forbidden_ is not None:
             metrics.update({k: v for k, v in self.score().items() if k != "forbidden"})
         inference_seconds = sum(h.inference_seconds for h in history)
@@ -261,11 +330,21 @@ class LogicConstraintInference(Learner):
         learned = {"rules": self.rule_constraints_, "constraints": self.constraints_}[of]
         return constraint_metrics(learned, truth, self.pair_space_)
 
+    def stop_text(self) -> str:
+        """``stop_reason_`` in words."""
+        if "stop_reason_" not in self.__dict__:
+            self.check_fitted()
+        return STOP_REASONS.get(self.stop_reason_, self.stop_reason_).format(patience=self.patience,
+                                                                              iterations=self.iterations)
+
     def _lp_text(self) -> str:
         if self.hypothesis_ is None:
             return ""
         header = (f"Rules learned by logic constraint inference on {self.domain_name_} "
-                  f"({len(self.history_)} iterations, {self.seconds_:.1f} s).")
+                  f"({len(self.history_)} of at most {self.iterations} iterations, {self.seconds_:.1f} s).\n"
+                  f"Stopped: {self.stop_text()}.")
+        if self.unexplained_:
+            header += "\n" + "\n".join(unexplained_lines(self.unexplained_))
         return self.hypothesis_.lp_text(header, recheck="symlearn domain check DOMAIN_DIR --rules THIS.lp "
                                                         "[--demos DEMOS.jsonl] (or Domain.rule_mask in Python)")
 
@@ -276,6 +355,21 @@ class LogicConstraintInference(Learner):
             raise SymlearnError("no rules were induced, so there is nothing to write",
                                 hint="give more demonstrations or more iterations")
         return self.save(path)
+
+
+def unexplained_lines(unexplained: list[Unexplained], shown: int = 20) -> list[str]:
+    """The header/console lines for the constraints the bias cannot express (most visited first)."""
+    if not unexplained:
+        return []
+    lines = [f"Unexplained: {len(unexplained)} pair(s) inference found likely forbidden (never demonstrated, often "
+             "visited by the nominal policy) that no rule of the bias can forbid without forbidding a demonstrated "
+             "pair -- allowed moves the expert never chose, or constraints the bias has no literal for "
+             "(state / action, nominal visitation when passed over):"]
+    ranked = sorted(unexplained, key=lambda u: -u.visitation)
+    lines += [f"  {u.pair}  ({u.visitation:.3g})" for u in ranked[:shown]]
+    if len(ranked) > shown:
+        lines.append(f"  ... and {len(ranked) - shown} more")
+    return lines
 
 
 def _check_available(episodes, d: Domain) -> None:
@@ -292,4 +386,5 @@ def _check_available(episodes, d: Domain) -> None:
                             hint=f"{d.name}: were the demonstrations recorded in another environment?")
 
 
-__all__ = ["Induction", "LogicConstraintInference", "LogicIteration", "RuleInduction"]
+__all__ = ["STOP_REASONS", "Induction", "LogicConstraintInference", "LogicIteration", "RuleInduction", "Unexplained",
+           "unexplained_lines"]

@@ -21,7 +21,13 @@ policy visits most often. Each iteration
 
 **Stopping criterion**: the loop ends when the best candidate's expected visitation drops below
 ``min_visitation`` (adding it would barely change the likelihood), when no unobserved allowed
-pair is left, or after ``max_iterations``.
+pair is left, when ``stop_when`` (a hook, e.g. logic inference's convergence test) names a reason,
+or after ``max_iterations`` (a cap). ``stop_reason_`` says which.
+
+``choosable`` (an ``(S, A)`` mask) limits which pairs may be inferred: a pair outside it at least
+as visited as the pair chosen is passed over and recorded once in ``passed_over_``
+(iteration, state, action, visitation) --
+logic inference uses it for the pairs its rule language cannot express.
 
 The reward is the MDP's own (``reward="given"``), an explicit ``(S, A)``/``(S, A, S)`` array,
 or ``"sparse"``: 1 for entering a state where a demonstration ended, 0 otherwise.
@@ -134,6 +140,16 @@ class MaxEntVisitation:
         return total, main_policy
 
 
+@dataclass(frozen=True)
+class PassedOver:
+    """A pair inference would have chosen but was not allowed to (outside ``choosable``)."""
+
+    iteration: int
+    state: int
+    action: int
+    visitation: float
+
+
 class MLConstraintInference(Learner):
     """``MLConstraintInference(reward=..., horizon=..., ...).fit(demonstrations, domain)``.
 
@@ -142,7 +158,9 @@ class MLConstraintInference(Learner):
 
     Results: ``constraints_`` (forbidden (S, A) mask), ``empty_states_``, ``policy_`` (nominal
     MaxEnt policy of the restricted MDP for the most frequent goal), ``goals_``, ``history_``
-    (one :class:`InferenceStep` per added constraint), ``stopped_because_``, ``seconds_``,
+    (one :class:`InferenceStep` per added constraint), ``stop_reason_`` ("min_visitation",
+    "no_candidates", "max_iterations" or the reason ``stop_when`` gave; ``stopped_because_`` is the
+    same), ``passed_over_`` (:class:`PassedOver` list), ``seconds_``,
     ``known_`` (the constraints given in advance), ``result_``.
     """
 
@@ -160,6 +178,8 @@ class MLConstraintInference(Learner):
         generalize: Generalizer | None = None,
         rationality: float = 1.0,
         start: Literal["demonstrations", "uniform"] | float = "demonstrations",
+        choosable: np.ndarray | None = None,
+        stop_when: Callable[[], str | None] | None = None,
     ) -> None:
         self.reward = reward
         self.horizon = horizon
@@ -170,6 +190,8 @@ class MLConstraintInference(Learner):
         self.generalize = generalize
         self.rationality = rationality
         self.start = start
+        self.choosable = choosable
+        self.stop_when = stop_when
 
     def fit(self, demonstrations: Iterable[Any], domain: Any = None) -> MLConstraintInference:
         if self.horizon < 1 or self.max_iterations < 0:
@@ -190,6 +212,9 @@ class MLConstraintInference(Learner):
                                       self.rationality)
         forbidden = restrict(mdp, forbidden, protected=seen).forbidden
         history: list[InferenceStep] = []
+        passed: list[PassedOver] = []
+        passed_mask = np.zeros_like(seen)
+        choosable = None if self.choosable is None else check_mask(mdp, self.choosable, "choosable pairs")
         stopped = "max_iterations"
         policy = None
         for iteration in range(1, self.max_iterations + 2):
@@ -198,8 +223,17 @@ class MLConstraintInference(Learner):
             if iteration > self.max_iterations:
                 break
             candidates = np.where(~forbidden & ~seen & ~mdp.terminal[:, None], visits, -np.inf)
+            if choosable is not None:
+                outside = np.where(~choosable, candidates, -np.inf)
+                candidates = np.where(choosable, candidates, -np.inf)
             best = int(np.argmax(candidates))
             value = float(candidates.flat[best])
+            if choosable is not None and value >= self.min_visitation:
+                # what would have been chosen before this pair, recorded once each (when nothing
+                # choosable is left the loop ends, and what it would still infer is not recorded)
+                for ps, pa in np.argwhere((outside >= value) & ~passed_mask):
+                    passed.append(PassedOver(iteration, int(ps), int(pa), float(outside[ps, pa])))
+                    passed_mask[ps, pa] = True
             if not np.isfinite(value):
                 stopped = "no_candidates"
                 break
@@ -219,6 +253,11 @@ class MLConstraintInference(Learner):
             forbidden = restrict(mdp, forbidden, protected=seen).forbidden
             history.append(InferenceStep(iteration, s, a, value, int(forbidden.sum()),
                                          max(n_generalized, int(forbidden.sum()) - before), time.perf_counter() - t0))
+            reason = self.stop_when() if self.stop_when is not None else None
+            if reason:
+                stopped = reason
+                visits, policy = visitation(forbidden)
+                break
         final = restrict(mdp, forbidden, protected=seen)
         self.constraints_ = final.forbidden
         self.empty_states_ = final.empty_states
@@ -227,7 +266,8 @@ class MLConstraintInference(Learner):
         self.policy_ = policy
         self.goals_ = tuple(g for g, _, _ in visitation.goal_groups)
         self.history_ = history
-        self.stopped_because_ = stopped
+        self.stop_reason_ = self.stopped_because_ = stopped
+        self.passed_over_ = passed
         self.seconds_ = time.perf_counter() - started
         from symlearn.learners.constraints.constraint_file import constraint_set_text
 

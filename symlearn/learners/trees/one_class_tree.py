@@ -62,6 +62,13 @@ path from the root to a node (the tightest bound per feature), the formula is th
   on which its box is tighter than ``t``'s: ``P_t & x_j >= L_n & x_j <= R_n & x_d < lo``
   (``> hi``), then the same for the child's own split.
 
+**Readable sides** (``readable=True``, the default): after growing, every box side is rounded to
+the fewest significant digits that keep every demonstration point on its side, and a gap between
+neighbouring children narrower than the feature's bandwidth (a "sliver" of unsafe space across
+the expert's own path) is closed (:mod:`~symlearn.learners.trees.readable_bounds`); the file's
+``#`` header says how many. The rounded values are the stored ones, so everything below holds
+for them.
+
 It holds exactly on the points outside every leaf box (:meth:`OneClassTreeConstraint.predict`
 and ``dnf_.evaluate`` agree everywhere; the tests check this on dense grids).
 
@@ -90,6 +97,7 @@ from __future__ import annotations
 
 import math
 import time
+import warnings
 from collections.abc import Iterator, Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
@@ -297,8 +305,17 @@ class OneClassTreeConstraint(Learner):
     ``min_gain`` (in [0, 1): the least gain a split needs, and the margin within which gains
     tie), ``box_sigmas`` (> 0: for the gain, a box spans its points' mean plus and minus this
     many standard deviations on each feature), ``grid_size`` (bins of the density grid,
-    16 to 4096), ``random_state`` (the fit is deterministic and does not use it; it is kept so that
-    pipelines can pass one to every learner).
+    16 to 4096), ``readable`` (default True: every box side is rounded to the fewest significant
+    digits that keep every demonstration point on the same side of it, and gaps between
+    neighbouring children narrower than the feature's bandwidth are closed -- see
+    :mod:`~symlearn.learners.trees.readable_bounds`; False keeps the data's values and every gap),
+    ``warn_unsafe_share`` (default 0.5: a ``UserWarning``, also in ``warnings_``, when the formula
+    marks more than this share of the data's bounding box unsafe; None: never), ``random_state``
+    (the fit is deterministic and does not use it; it is kept so that pipelines can pass one to
+    every learner).
+
+    The unsafe share is computed exactly, not sampled: the leaves are disjoint boxes inside the
+    bounding box, so it is one minus the sum of their volume shares (over the features that vary).
 
     >>> learner = OneClassTreeConstraint(max_depth=2).fit([[0.0, 0.0], [0.1, 0.2], [0.2, 0.1]], ["x", "y"])
     >>> print(learner.dnf_)
@@ -313,7 +330,9 @@ class OneClassTreeConstraint(Learner):
     :class:`~symlearn.logic.dnf.DNF`), ``safe_boxes_`` (the leaf boxes, :class:`Box`),
     ``feature_names_``,
     ``bounds_`` (the data's per-feature minimum and maximum, a :class:`Box`), ``n_samples_``,
-    ``history_`` (one :class:`SplitRecord` per split), ``result_`` (text: ``str(dnf_)``).
+    ``history_`` (one :class:`SplitRecord` per split), ``unsafe_share_``, ``slivers_closed_``,
+    ``notes_`` and ``warnings_`` (the ``#`` header lines of the text), ``result_`` (text: the header
+    and ``str(dnf_)``).
     ``save(path)`` writes the DNF text (``symlearn.logic.dnf.parse`` reads it back).
     """
 
@@ -321,7 +340,8 @@ class OneClassTreeConstraint(Learner):
 
     def __init__(self, *, max_depth: int = 5, bandwidth: str | float = "silverman", min_samples_leaf: int = 5,
                  density_threshold: float = 0.5, min_gain: float = 0.05, box_sigmas: float = 2.5,
-                 grid_size: int = 256, random_state: Any = None) -> None:
+                 grid_size: int = 256, readable: bool = True, warn_unsafe_share: float | None = 0.5,
+                 random_state: Any = None) -> None:
         self.max_depth = max_depth
         self.bandwidth = bandwidth
         self.min_samples_leaf = min_samples_leaf
@@ -329,6 +349,8 @@ class OneClassTreeConstraint(Learner):
         self.min_gain = min_gain
         self.box_sigmas = box_sigmas
         self.grid_size = grid_size
+        self.readable = readable
+        self.warn_unsafe_share = warn_unsafe_share
         self.random_state = random_state
 
     # --- fitting -------------------------------------------------------------------------------
@@ -369,8 +391,13 @@ class OneClassTreeConstraint(Learner):
         X, names = feature_matrix(demonstrations, features)
         t_features = time.perf_counter()
         grower = _Grower(X, self)
-        root = grower.grow()
-        tree = OneClassTree(root, names)
+        tree = OneClassTree(grower.grow(), names)
+        slivers = 0
+        if self.readable:
+            from symlearn.learners.trees.readable_bounds import readable_tree
+
+            tree, slivers = readable_tree(tree, X, grower.h)
+        root = tree.root
         t_tree = time.perf_counter()
         dnf = tree_dnf(tree)
         t_dnf = time.perf_counter()
@@ -381,14 +408,31 @@ class OneClassTreeConstraint(Learner):
         self.tree_ = tree
         self.safe_boxes_ = tuple(leaf.box for leaf in tree.leaves())
         self.dnf_ = dnf
-        self.history_ = [SplitRecord(r[0], names[r[1]], r[2], r[3], r[4], r[5]) for r in grower.splits]
+        # the splits in growing order (pre-order), with the intervals as stored (rounded)
+        internal = [n for n in root.walk() if not n.is_leaf]
+        self.history_ = [SplitRecord(r[0], names[r[1]], r[2], r[3], r[4], [list(iv) for iv in n.intervals])
+                         for r, n in zip(grower.splits, internal)]
+        safe_share = _volume_fraction(self.safe_boxes_, root.box)
+        self.unsafe_share_ = max(0.0, 1.0 - safe_share)
+        self.slivers_closed_ = slivers
+        self.notes_ = _notes(self, slivers)
+        self.warnings_ = []
+        if self.warn_unsafe_share is not None and self.unsafe_share_ > float(self.warn_unsafe_share):
+            self.warnings_.append(
+                f"the formula marks {self.unsafe_share_:.0%} of the demonstrations' bounding box unsafe: every "
+                "state the expert never visited counts as unsafe; if the allowed space is larger, give "
+                "demonstrations that cover it")
+        for message in self.warnings_:
+            warnings.warn(message, UserWarning, stacklevel=2)
         metrics = {"n_samples": len(X), "n_features": len(names), "n_nodes": tree.n_nodes,
                    "n_leaves": tree.n_leaves, "depth": tree.depth, "n_conjunctions": len(dnf),
                    "n_atoms": sum(len(c) for c in dnf),
-                   "safe_volume_fraction": _volume_fraction(self.safe_boxes_, root.box)}
+                   "safe_volume_fraction": safe_share, "unsafe_share": self.unsafe_share_,
+                   "slivers_closed": slivers}
         timings = {"features": t_features - started, "tree": t_tree - t_features, "dnf": t_dnf - t_tree,
                    "total": max(time.perf_counter() - started, 1e-9)}
-        self._set_result(dnf, str(dnf), metrics=metrics, timings=timings, history=self.history_)
+        header = "".join(f"# {line}\n" for line in self.notes_ + [f"warning: {w}" for w in self.warnings_])
+        self._set_result(dnf, header + str(dnf), metrics=metrics, timings=timings, history=self.history_)
         return self
 
     # --- using the result ---------------------------------------------------------------------
@@ -831,6 +875,18 @@ class _Volume:
         return groups, hists
 
 
+def _notes(learner: OneClassTreeConstraint, slivers: int) -> list[str]:
+    """The file-header lines that say how the formula was made readable."""
+    if not learner.readable:
+        return ["thresholds are the data's values (readable=False)"]
+    notes = ["thresholds: the fewest significant digits that keep every demonstration point on the same side "
+             "of every rule"]
+    notes.append(f"{slivers} gap(s) between neighbouring safe boxes narrower than the data's resolution (the "
+                 "kernel bandwidth) were closed (made safe)" if slivers else
+                 "no gap between neighbouring safe boxes was narrower than the data's resolution")
+    return notes
+
+
 def _volume_fraction(boxes: Sequence[Box], bounds: Box) -> float:
     """Share of the bounds' volume the boxes cover, over the features that vary (boxes are disjoint)."""
     lo, hi = np.asarray(bounds.lower), np.asarray(bounds.upper)
@@ -858,7 +914,7 @@ def tree_dnf(tree: OneClassTree) -> DNF:
     def path_atoms(path: dict[int, tuple[float, float]]) -> list[Atom]:
         atoms = []
         for d, (lower, upper) in path.items():
-            atoms += [Atom(names[d], ">=", lower), Atom(names[d], "<=", upper)]
+            atoms += [Atom(names[d], ">=", lower), _upper_atom(names[d], "<=", upper)]
         return atoms
 
     def visit(node: TreeNode, path: dict[int, tuple[float, float]]) -> None:
@@ -867,10 +923,10 @@ def tree_dnf(tree: OneClassTree) -> DNF:
         j = node.feature
         for n, child in enumerate(node.children):
             low, high = child.box.lower[j], child.box.upper[j]
-            if n > 0:
-                previous = node.children[n - 1].box.upper[j]
+            previous = node.children[n - 1].box.upper[j] if n > 0 else None
+            if previous is not None and np.nextafter(previous, math.inf) < low:  # a gap (not a closed sliver)
                 conjunctions.append(Conjunction(tuple(path_atoms(path)) + (
-                    Atom(names[j], ">", previous), Atom(names[j], "<", low))))
+                    _upper_atom(names[j], ">", previous), Atom(names[j], "<", low))))
             inner = dict(path)
             inner[j] = (low, high)
             inside = path_atoms(inner)
@@ -880,11 +936,23 @@ def tree_dnf(tree: OneClassTree) -> DNF:
                 if child.box.lower[d] > node.box.lower[d]:
                     conjunctions.append(Conjunction(tuple(inside) + (Atom(names[d], "<", child.box.lower[d]),)))
                 if child.box.upper[d] < node.box.upper[d]:
-                    conjunctions.append(Conjunction(tuple(inside) + (Atom(names[d], ">", child.box.upper[d]),)))
+                    conjunctions.append(Conjunction(tuple(inside) + (_upper_atom(names[d], ">", child.box.upper[d]),)))
             visit(child, inner)
 
     visit(root, {})
     return DNF(tuple(conjunctions))
+
+
+def _upper_atom(name: str, op: str, upper: float) -> Atom:
+    """``name <= upper`` / ``name > upper``, written ``name < c`` / ``name >= c`` with ``c`` the next
+    float when that prints shorter: the same set of floats, and how a closed sliver's left side
+    (the largest float below the cut, see :mod:`readable_bounds`) reads as the cut itself."""
+    from symlearn.logic.dnf import format_number
+
+    nxt = float(np.nextafter(upper, math.inf))
+    if math.isfinite(nxt) and len(format_number(nxt)) < len(format_number(float(upper))):
+        return Atom(name, "<" if op == "<=" else ">=", nxt)
+    return Atom(name, op, upper)
 
 
 # -- text -------------------------------------------------------------------------------------------

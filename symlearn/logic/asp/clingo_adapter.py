@@ -25,6 +25,7 @@ import re
 import time
 from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import clingo
 import clingo.ast
@@ -90,6 +91,43 @@ def control_for(arguments: Sequence[str] = ()) -> tuple[clingo.Control, _Message
     return ctl, messages
 
 
+def _code_end(text: str, line: int, column: int) -> tuple[int, int] | None:
+    """The position just after the last character of code before ``(line, column)`` of ``text``
+    (``%`` comments and blanks skipped), when it lies on an earlier line and is no ``.``: where a
+    rule without its terminating dot ends. None otherwise."""
+    lines = text.split("\n")
+    for at in range(min(line, len(lines)) - 1, -1, -1):
+        code = lines[at][: column - 1] if at == line - 1 else lines[at]
+        code = _strip_comment(code).rstrip()
+        if code:
+            if at == line - 1 or code.endswith("."):
+                return None
+            return at + 1, len(code) + 1
+    return None
+
+
+def _strip_comment(code: str) -> str:
+    """``code`` without a trailing ``%`` comment (a ``%`` inside a string is kept)."""
+    quoted = False
+    for i, char in enumerate(code):
+        if char == '"' and (i == 0 or code[i - 1] != "\\"):
+            quoted = not quoted
+        elif char == "%" and not quoted:
+            return code[:i]
+    return code
+
+
+def _unsafe_variables(rest: list[str]) -> list[tuple[str, int, int]]:
+    """``(variable, line, column)`` of clingo's "'X' is unsafe" notes."""
+    found = []
+    for note in rest:
+        match = _POSITION.match(note.strip())
+        name = re.search(r"'([^']+)' is unsafe", note)
+        if match and name:
+            found.append((name.group(1), int(match.group(1)), int(match.group(2))))
+    return found
+
+
 def _raise_clingo_error(program: Program, messages: _Messages, fallback: str) -> None:
     for _code, text in messages.items:
         first, *rest = text.strip().splitlines() or [""]
@@ -97,6 +135,23 @@ def _raise_clingo_error(program: Program, messages: _Messages, fallback: str) ->
         if not match or match.group(3) != "error":
             continue
         line, column, message = int(match.group(1)), int(match.group(2)), match.group(4)
+        if message.startswith("syntax error"):
+            end = _code_end(program.text, line, column)
+            if end is not None:  # clingo stumbles on the next rule; the mistake is where this one ends
+                source, src_line, src_col = program.locate(*end)
+                raise ParseError(f"syntax error: the rule ending here has no '.' (clingo: {message})",
+                                 file=source, line=src_line, column=src_col,
+                                 hint="end every rule with a '.'")
+        unsafe = _unsafe_variables(rest) if message.startswith("unsafe variables") else []
+        if unsafe:
+            names = ", ".join(dict.fromkeys(v for v, _, _ in unsafe))
+            source, src_line, src_col = program.locate(unsafe[0][1], unsafe[0][2])
+            several = "s" if "," in names else ""
+            raise ParseError(f"unsafe variable{several} {names}: a variable must occur in a positive body atom of "
+                             "its rule (a comparison, a negated atom or the head alone does not bind it)",
+                             file=source, line=src_line, column=src_col,
+                             hint=f"add a positive atom that binds {names} to the body, or use a variable "
+                                  "that one already binds")
         detail = " ".join(r.strip() for r in rest if r.strip() and not r.startswith(("<block>", "<string>")))
         notes = [r.split("note:", 1)[1].strip() for r in rest if "note:" in r]
         source, src_line, src_col = program.locate(line, column)
@@ -328,6 +383,54 @@ def parse_rules(text: str, source: str = "<rules>") -> list[clingo.ast.AST]:
     parse_statements(text, statements.append, program=Program.from_text(text, source=source))
     skip = {clingo.ast.ASTType.Program, getattr(clingo.ast.ASTType, "Comment", None)}
     return [s for s in statements if s.ast_type not in skip]
+
+
+@dataclass(frozen=True)
+class PredicateUse:
+    """One predicate atom of a program: ``name/arity``, where (1-based, in the program's text),
+    and whether the statement *defines* it (a head or a fact) or *uses* it (a body, a condition)."""
+
+    name: str
+    arity: int
+    line: int
+    column: int
+    defines: bool
+
+
+def predicate_uses(program: Program) -> list[PredicateUse]:
+    """Every predicate atom of ``program``'s statements (comparisons and built-ins are not atoms);
+    syntax errors raise :class:`ParseError` located in the program's files."""
+    found: list[PredicateUse] = []
+
+    def atoms(node: Any, defines: bool) -> None:
+        if not isinstance(node, clingo.ast.AST):
+            if isinstance(node, (list, tuple)) or type(node).__name__ == "ASTSequence":
+                for item in node:
+                    atoms(item, defines)
+            return
+        if node.ast_type == clingo.ast.ASTType.SymbolicAtom:
+            symbol = node.symbol
+            if symbol.ast_type == clingo.ast.ASTType.UnaryOperation:  # classical negation -a
+                symbol = symbol.argument
+            if symbol.ast_type == clingo.ast.ASTType.Pool and symbol.arguments:  # dir(north;south)
+                symbol = symbol.arguments[0]
+            if symbol.ast_type == clingo.ast.ASTType.Function:
+                begin = symbol.location.begin
+                found.append(PredicateUse(symbol.name, len(symbol.arguments), begin.line, begin.column, defines))
+            return
+        for key in node.child_keys:
+            if key in ("condition", "body"):  # conditions of head elements and bodies use atoms
+                atoms(getattr(node, key), False)
+            else:
+                atoms(getattr(node, key), defines)
+
+    def statement(node: clingo.ast.AST) -> None:
+        if node.ast_type == clingo.ast.ASTType.Rule:
+            atoms(node.head, True)
+            atoms(node.body, False)
+
+    parse_statements(program.text, statement, program=program)
+    return found
 
 
 Function = clingo.Function

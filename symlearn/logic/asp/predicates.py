@@ -1,0 +1,84 @@
+"""Predicates a rule file uses that no program defines: the misspelling an ASP solver stays silent on.
+
+In ASP an atom of a predicate that nothing defines is simply false, so ``:- wal(V1), go(V1).``
+(for ``wall``) is a valid rule that never fires: the edit silently forbids nothing.
+:func:`undefined_predicates` compares the atoms a rule file's bodies use with every predicate the
+other programs define (heads and facts of the background, the examples' contexts, the rules' own
+heads, or a domain's state facts and actions) and suggests the closest defined name.
+
+>>> from symlearn.logic.asp.program import Program
+>>> rules = Program.from_text(":- wal(V1), go(V1).", source="edited.lp")
+>>> [u.message() for u in undefined_predicates(rules, {("wall", 1), ("go", 1)})]
+['predicate wal/1 is defined nowhere (no head, fact or context has it), so the atom is always false; did you mean wall/1?']
+"""
+
+from __future__ import annotations
+
+import difflib
+from collections.abc import Iterable
+from dataclasses import dataclass
+
+from symlearn.logic.asp import clingo_adapter as cl
+from symlearn.logic.asp.program import Program
+
+Signature = tuple[str, int]
+
+
+@dataclass(frozen=True)
+class UndefinedPredicate:
+    """A used predicate no program defines, where the rule file first uses it, and a suggestion."""
+
+    name: str
+    arity: int
+    file: str | None
+    line: int
+    column: int
+    suggestion: str | None  # "wall/1", or None
+
+    def message(self) -> str:
+        text = (f"predicate {self.name}/{self.arity} is defined nowhere (no head, fact or context has it), "
+                "so the atom is always false")
+        return text + (f"; did you mean {self.suggestion}?" if self.suggestion else "")
+
+    def as_dict(self) -> dict:
+        return {"predicate": f"{self.name}/{self.arity}", "file": self.file, "line": self.line,
+                "column": self.column, "did_you_mean": self.suggestion, "message": self.message()}
+
+
+def defined_signatures(programs: Iterable[Program]) -> set[Signature]:
+    """``name/arity`` of every predicate the programs' heads and facts define."""
+    found: set[Signature] = set()
+    for program in programs:
+        found |= {(u.name, u.arity) for u in cl.predicate_uses(program) if u.defines}
+    return found
+
+
+def undefined_predicates(rules: Program, defined: set[Signature]) -> list[UndefinedPredicate]:
+    """The predicates ``rules`` use (bodies, conditions) that neither ``defined`` nor the rules'
+    own heads define, each once, in the order the file first uses them."""
+    uses = cl.predicate_uses(rules)
+    known = set(defined) | {(u.name, u.arity) for u in uses if u.defines}
+    out: dict[Signature, UndefinedPredicate] = {}
+    for use in uses:
+        signature = (use.name, use.arity)
+        if use.defines or signature in known or signature in out:
+            continue
+        source, line, column = rules.locate(use.line, use.column)
+        out[signature] = UndefinedPredicate(use.name, use.arity, source, line, column, _closest(signature, known))
+    return list(out.values())
+
+
+def _closest(signature: Signature, known: set[Signature]) -> str | None:
+    name, arity = signature
+    same_name = sorted(a for n, a in known if n == name)
+    if same_name:  # the right name with another number of arguments
+        return f"{name}/{same_name[0]}"
+    names = sorted({n for n, a in known if a == arity}) or sorted({n for n, _ in known})
+    close = difflib.get_close_matches(name, names, n=1, cutoff=0.6)
+    if not close:
+        return None
+    arities = sorted(a for n, a in known if n == close[0])
+    return f"{close[0]}/{arity if arity in arities else arities[0]}"
+
+
+__all__ = ["UndefinedPredicate", "defined_signatures", "undefined_predicates"]
