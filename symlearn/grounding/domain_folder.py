@@ -114,13 +114,17 @@ def _read_program(path: Path):
 
 
 def _read_model(path: Path) -> dict[str, np.ndarray]:
-    from symlearn.data.npz_format import member_headers
+    from symlearn.data.npz_format import open_checked
 
-    headers = member_headers(path)  # declared sizes checked before anything is decompressed
+    headers, archive = open_checked(path)  # declared sizes checked before anything is decompressed
+    if not isinstance(archive, np.lib.npyio.NpzFile):
+        raise DataError("the model is a single array; it needs an archive of named arrays", file=str(path),
+                        hint="write it with numpy.savez")
     if any(dtype.kind not in "biuf" for dtype, _ in headers.values()):
+        archive.close()
         raise DataError("the model archive holds text arrays; it needs numbers and booleans only", file=str(path))
     try:
-        with np.load(path, allow_pickle=False) as archive:
+        with archive:
             arrays = {k: np.asarray(archive[k]) for k in archive.files}
     except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error, RuntimeError) as exc:
         raise DataError(f"cannot read the model archive: {exc}", file=str(path),
