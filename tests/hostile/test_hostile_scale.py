@@ -106,3 +106,71 @@ def test_npz_readers_refuse_a_device(tmp_path, command):
         command = ["data", "info", "zero.npz"]
     result = check(command, cwd=tmp_path, timeout=30, memory_mb=1024, contains="not a regular file")
     assert result.seconds < 20
+
+
+# -- model files: weights capped, layer sizes from the configuration never allocated unchecked -----
+def _saved_cost(folder: Path) -> Path:
+    import gymnasium as gym
+    import torch
+
+    import symlearn.envs  # noqa: F401  (registers the gymnasium ids)
+    from symlearn.envs.registry import get
+    from symlearn.learners.neural import NeuralCost
+    from symlearn.learners.neural.feature_network import FeatureNetwork
+
+    cost = NeuralCost.for_env(gym.make(get("blocked-point").gym_id),
+                              FeatureNetwork([0], 0, 1, (8,), torch.Generator().manual_seed(0)))
+    cost.set_lambdas([1.0])
+    cost.save(folder / "cost.safetensors")
+    return folder / "cost.safetensors"
+
+
+@pytest.mark.parametrize("hidden, words", [([100_000, 100_000, 100_000], "do not fit the configured model"),
+                                           ([-3], "positive layer widths"),
+                                           ([1e300], "not a feature-network configuration")])
+def test_cost_configuration_layer_sizes_are_not_allocated(tmp_path, hidden, words):
+    """3 x 10^10 weights declared beside an 8-unit file: refused from shapes built on the meta
+    device, nothing allocated (an internal MemoryError before)."""
+    import json
+
+    path = _saved_cost(tmp_path)
+    document = json.loads(path.with_suffix(".json").read_text())
+    document["config"]["phi"]["hidden_sizes"] = hidden
+    path.with_suffix(".json").write_text(json.dumps(document))
+    result = check(["train", "--env", "blocked-point", "--cost", path.name, "--steps", 256], cwd=tmp_path,
+                   timeout=60, memory_mb=3072, contains=words)
+    assert result.max_rss_mb < 1000
+
+
+def test_weights_file_read_is_capped(tmp_path):
+    path = _saved_cost(tmp_path)
+    path.unlink()
+    path.symlink_to("/dev/zero")
+    result = check(["train", "--env", "blocked-point", "--cost", path.name, "--steps", 256], cwd=tmp_path,
+                   timeout=60, memory_mb=3072, env={"SYMLEARN_MAX_ARRAY_MB": "8"}, names="cost.safetensors",
+                   contains=["larger than the limit of 8 MB", "SYMLEARN_MAX_ARRAY_MB"])
+    assert result.max_rss_mb < 1000
+
+
+def test_saved_labeling_is_checked(tmp_path):
+    """NaN prototypes are refused; a features file outside the labeling's folder is never opened."""
+    import json
+
+    from symlearn.errors import SymlearnError
+    from symlearn.learners.reward_machines.labeling import PrototypeLabeling
+
+    base = {"symlearn": "labeling", "kind": "prototypes", "format_version": 1, "kappa": 1.0,
+            "propositions": ["a"], "prototypes": [[0.0, 1.0]]}
+    cases = [({"prototypes": [[float("nan"), 1.0]], "features": {"kind": "pca", "file": "f.safetensors"}},
+              None),
+             ({"features": {"kind": "autoencoder", "file": "../../etc/passwd"}}, "features file beside it"),
+             ({"features": {"kind": "autoencoder", "file": None}}, "features file beside it"),
+             ({"features": {"kind": "pca", "file": "/etc/passwd"}}, "features file beside it"),
+             ({"prototypes": [[10**400]], "features": {"kind": "pca", "file": "f"}}, "malformed")]
+    for extra, words in cases:
+        path = tmp_path / "m.labeling.json"
+        path.write_text(json.dumps({**base, **extra}))
+        with pytest.raises(SymlearnError) as caught:
+            PrototypeLabeling.load(path, feature_extractor=(lambda x: x) if words is None else None)
+        assert "m.labeling.json" in str(caught.value) and "\n" not in str(caught.value)
+        assert (words or "finite") in str(caught.value), str(caught.value)
