@@ -113,7 +113,9 @@ class ResultsStore:
         if existed:
             old = read_meta(self.folder)
             if old.get("fingerprint") != fingerprint and not force:
-                wrote = (old.get("spec") or {}).get("path", "another sweep file")
+                recorded = old.get("spec")  # a hand-edited sweep.json may hold anything here
+                wrote = recorded.get("path") if isinstance(recorded, dict) else None
+                wrote = wrote if isinstance(wrote, str) else "another sweep file"
                 mine = (meta.get("spec") or {}).get("path")
                 which = (f"an earlier version of {wrote}" if mine is not None and Path(mine).resolve() ==
                          Path(wrote).resolve() else f"another sweep ({wrote})")

@@ -174,3 +174,115 @@ def test_saved_labeling_is_checked(tmp_path):
             PrototypeLabeling.load(path, feature_extractor=(lambda x: x) if words is None else None)
         assert "m.labeling.json" in str(caught.value) and "\n" not in str(caught.value)
         assert (words or "finite") in str(caught.value), str(caught.value)
+
+
+# -- sweep files: only the experiment named runs; sizes bounded before cells are listed ------------
+CELL = "def cell(seed, n=1):\n    return {'value': seed * n}\n"
+
+
+def _sweep(folder: Path, head: str, rest: str = "") -> Path:
+    (folder / "cells.py").write_text(CELL)
+    path = folder / "s.toml"
+    path.write_text(f"[sweep]\n{head}\n{rest}")
+    return path
+
+
+@pytest.mark.parametrize("target, words", [
+    ('function = "logging:basicConfig"', "standard library"),
+    ('function = "os:system"', "standard library"),
+    ('function = "numpy:savez"', "library symlearn builds on"),
+    ('function = "symlearn.atomic:write_text"', "library symlearn builds on"),
+    (f'function = "{Path(io.__file__).resolve()}:open"', "inside the Python installation"),
+    ('command = ["sh", "-c", "touch pwned"]', "must start with 'symlearn'"),
+    ('command = ["/bin/rm", "x"]', "must start with 'symlearn'"),
+])
+def test_sweep_runs_only_the_experiment_it_names(tmp_path, target, words):
+    path = _sweep(tmp_path, target + "\nseeds = 1")
+    check(["sweep", "run", path.name, "--out", "out", "--local"], cwd=tmp_path, timeout=30, names="s.toml",
+          location=True, contains=["refused", words])
+    assert not (tmp_path / "out").exists() and not (tmp_path / "pwned").exists()
+
+
+def test_sweep_of_its_own_file_still_runs(tmp_path):
+    path = _sweep(tmp_path, 'function = "cells.py:cell"\nseeds = 2')
+    result = run_command(["sweep", "run", path.name, "--out", "out", "--local"], cwd=tmp_path, timeout=60)
+    assert result.returncode == 0, result.describe()
+
+
+@pytest.mark.parametrize("rest, words", [
+    ("seeds = 1000000000\n", "makes more than 1,000,000 cells"),
+    ("seeds = 1000\n[grid]\nn = [" + ", ".join(map(str, range(2000))) + "]\n", "more than 1,000,000 cells"),
+    ("seeds = [-1]\n", "seed -1 is out of range"),
+    ("seeds = [10000000000000000000]\n", "out of range"),
+    ("seeds = 1\n[fixed]\nn = " + "[" * 5000 + "]" * 5000 + "\n", "nested more than"),
+    ("seeds = 1\n[fixed]\nn = " + "{a = " * 5000 + "1" + "}" * 5000 + "\n", "nested more than"),
+])
+def test_sweep_sizes_are_bounded_before_cells_are_listed(tmp_path, rest, words):
+    path = _sweep(tmp_path, 'function = "cells.py:cell"', rest)
+    result = check(["sweep", "run", path.name, "--out", "out", "--local"], cwd=tmp_path, timeout=30,
+                   memory_mb=1024, names="s.toml", contains=words)
+    assert result.seconds < 20 and result.max_rss_mb < 400
+
+
+def test_recorded_sweep_with_wrongly_typed_fields(tmp_path):
+    import json
+
+    path = _sweep(tmp_path, 'function = "cells.py:cell"\nseeds = 2')
+    assert run_command(["sweep", "run", path.name, "--out", "out", "--local"], cwd=tmp_path, timeout=60).returncode == 0
+    meta_path = tmp_path / "out" / "sweep.json"
+    original = json.loads(meta_path.read_text())
+    for key, value in (("seeds", 3), ("grid", [1]), ("path", 7), ("cases", {"a": 1}), ("retries", "x"),
+                       ("seeds", ["a"]), ("function", None)):
+        meta = json.loads(json.dumps(original))
+        meta["spec"][key] = value
+        meta_path.write_text(json.dumps(meta))
+        check(["sweep", "report", "out"], cwd=tmp_path, timeout=30, names="sweep.json",
+              contains="recorded sweep is malformed")
+    meta = dict(original, spec=[1, 2])
+    meta_path.write_text(json.dumps(meta))
+    check(["sweep", "report", "out"], cwd=tmp_path, timeout=30, names="sweep.json")
+    path.write_text(path.read_text().replace("seeds = 2", "seeds = 3"))  # another sweep meets the odd record
+    check(["sweep", "run", path.name, "--out", "out", "--local"], cwd=tmp_path, timeout=30, contains="holds the results")
+
+
+def test_results_store_lines_are_capped(tmp_path):
+    path = _sweep(tmp_path, 'function = "cells.py:cell"\nseeds = 1')
+    assert run_command(["sweep", "run", path.name, "--out", "out", "--local"], cwd=tmp_path, timeout=60).returncode == 0
+    store = tmp_path / "out" / "results.jsonl"
+    store.unlink()
+    store.symlink_to("/dev/zero")
+    result = check(["sweep", "report", "out"], cwd=tmp_path, timeout=30, memory_mb=1024, names="results.jsonl",
+                   contains="not a regular file")
+    assert result.max_rss_mb < 400
+    store.unlink()
+    store.write_bytes(b"[" * (3 << 20))  # one 3 MB line without an end
+    check(["sweep", "report", "out"], cwd=tmp_path, timeout=30, memory_mb=1024, env={"SYMLEARN_MAX_INPUT_MB": "1"},
+          names="results.jsonl", contains="longer than the limit of 1 MB")
+
+
+# -- the command line: seeds and paths ----------------------------------------------------------
+@pytest.mark.parametrize("seed", ["-1", str(10**40), str(2**32)])
+@pytest.mark.parametrize("place", ["before", "after"])
+def test_seed_out_of_range_is_one_line(tmp_path, seed, place):
+    command = ["learn", "pdfa", "--env", "blocks-place-2", "--n-demos", "2", "--out", "p.json"]
+    args = [f"--seed={seed}", *command] if place == "before" else [*command, f"--seed={seed}"]
+    check(args, cwd=tmp_path, timeout=30, contains=["--seed", "out of range", "4,294,967,295"],
+          outputs=["p.json"])
+
+
+@pytest.mark.parametrize("make_out", ["file_as_folder", "long_name"])
+def test_output_path_errors_are_one_line(tmp_path, make_out):
+    (tmp_path / "afile").write_text("x")
+    out = "afile/spec.json" if make_out == "file_as_folder" else "a" * 300 + ".json"
+    check(["ltl", "dfa", "F a", "--save", out], cwd=tmp_path, timeout=30,
+          contains="afile" if make_out == "file_as_folder" else "file name too long")
+    sweep = _sweep(tmp_path, 'function = "cells.py:cell"\nseeds = 1')
+    check(["sweep", "run", sweep.name, "--out", "afile", "--local"], cwd=tmp_path, timeout=30, names="afile")
+
+
+def test_an_output_name_just_under_the_limit_is_written(tmp_path):
+    """250 bytes is a legal name; its temporary sibling (".NAME.XXXXXXXX.tmp") must be too."""
+    name = "a" * 245 + ".json"
+    result = run_command(["ltl", "dfa", "F a", "--save", name], cwd=tmp_path, timeout=30)
+    assert result.returncode == 0, result.describe()
+    assert (tmp_path / name).is_file() and len(list(tmp_path.iterdir())) == 1
