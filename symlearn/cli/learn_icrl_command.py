@@ -115,17 +115,15 @@ def _check_arguments(args: argparse.Namespace) -> None:
 def env_kwargs(text: str, factory: Any, env_name: str) -> dict[str, Any]:
     """``--env-kwargs`` parsed and checked against the environment's constructor."""
     import inspect
-    import json
 
     from symlearn.errors import DataError
+    from symlearn.json_document import load_option_json
 
-    try:
-        kwargs = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise DataError(f"--env-kwargs is not JSON: {exc.msg}", line=exc.lineno, column=exc.colno,
-                        hint='give a JSON object, e.g. \'{"wall": -3.0}\'') from None
-    if not isinstance(kwargs, dict):
-        raise DataError(f"--env-kwargs must be a JSON object, got {type(kwargs).__name__}")
+    try:  # duplicate keys, deep nesting, NaN and oversized numbers refused like a file's
+        kwargs = load_option_json(text, "--env-kwargs")
+    except DataError as exc:
+        raise DataError(exc.message, file=exc.file, line=exc.line, column=exc.column,
+                        hint=exc.hint or 'give a JSON object, e.g. \'{"wall": -3.0}\'') from None
     parameters = inspect.signature(factory.resolve()).parameters
     known = [name for name, p in parameters.items() if p.kind in (p.KEYWORD_ONLY, p.POSITIONAL_OR_KEYWORD)]
     unknown = [key for key in kwargs if key not in known]

@@ -286,3 +286,27 @@ def test_an_output_name_just_under_the_limit_is_written(tmp_path):
     result = run_command(["ltl", "dfa", "F a", "--save", name], cwd=tmp_path, timeout=30)
     assert result.returncode == 0, result.describe()
     assert (tmp_path / name).is_file() and len(list(tmp_path.iterdir())) == 1
+
+
+# -- JSON on the command line is read as strictly as a file --------------------------------------
+@pytest.mark.parametrize("text, words", [
+    ('{"wall": 1, "wall": 2}', 'key "wall" appears twice'),
+    ('{"wall": 1e400}', "too large for a float"),
+    ('{"wall": 1' + "0" * 400 + '}', "is too large"),
+    ('{"wall": ' + "[" * 30_000 + "]" * 30_000 + "}", "nested more than 32 levels"),
+    ('{"wall": NaN}', "NaN is not a JSON number"),
+])
+def test_env_kwargs_json_is_strict(tmp_path, text, words):
+    result = check(["learn", "icrl", "--env", "blocked-point", "--env-kwargs", text, "--out", "c.safetensors"],
+                   cwd=tmp_path, timeout=60, names="--env-kwargs", contains=words, outputs=["c.safetensors"])
+    assert result.seconds < 30
+
+
+def test_option_json_helper():
+    from symlearn.errors import DataError
+    from symlearn.json_document import load_option_json
+
+    assert load_option_json('{"a": [1, 2.5, {"b": null}]}', "--x") == {"a": [1, 2.5, {"b": None}]}
+    assert load_option_json("[1]", "--x", kind=None) == [1]
+    with pytest.raises(DataError, match="--x must be a JSON object"):
+        load_option_json("[1]", "--x")
