@@ -46,6 +46,7 @@ def register_learn(commands, common) -> None:
     where.add_argument("--env", help="task/environment name, e.g. office-1 or craft-2")
     where.add_argument("--domain", metavar="DIR",
                        help="your own domain folder (domain.toml with a labeling; deterministic moves)")
+    spec.add_argument("--allow-outside", action="store_true", help="let the domain folder name files outside itself (paths, symlinks, #include); only for a trusted folder")
     source = spec.add_mutually_exclusive_group()
     source.add_argument("--demos", help="expert demonstrations (.jsonl or .npz) with environment state ids")
     source.add_argument("--n-demos", type=int, default=50, help="generate N optimal expert demonstrations (default 50)")
@@ -118,7 +119,7 @@ def _spec(args: argparse.Namespace, out) -> None:
     else:
         from symlearn.grounding import Domain
 
-        env = Domain.from_folder(args.domain)
+        env = Domain.from_folder(args.domain, allow_outside=args.allow_outside)
     if args.demos:
         _check_demos_world(demos, args.demos, task, env)
     with blame_file(args.demos):

@@ -356,3 +356,86 @@ def test_dnf_scanner_agrees_with_the_grammar(monkeypatch):
     slow = [outcome(t) for t in texts]
     assert fast == slow
     assert sum(isinstance(f, list) for f in fast) > 50 and sum(isinstance(f, str) for f in fast) > 1000
+
+
+# -- domain folders read only what lies inside them ------------------------------------------------
+SECRET = "secret_fact(42)."
+
+
+def _warehouse(tmp_path: Path) -> tuple[Path, Path]:
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "support"))
+    import warehouse_domain as wh
+
+    folder = wh.write_warehouse(tmp_path / "warehouse")
+    secret = tmp_path / "secret.lp"
+    secret.write_text(SECRET + "\n")
+    return folder, secret
+
+
+def _set_key(folder: Path, key: str, value: str) -> None:
+    import re
+
+    toml = folder / "domain.toml"
+    toml.write_text(re.sub(rf'^{key} = ".*"$', f"{key} = {value!r}".replace("'", '"'), toml.read_text(), flags=re.M))
+
+
+def _escape(folder: Path, secret: Path, how: str) -> None:
+    if how == "absolute":
+        _set_key(folder, "background", str(secret))
+    elif how == "dotdot":
+        _set_key(folder, "background", "../secret.lp")
+    elif how == "symlink":
+        (folder / "bk.lp").unlink()
+        (folder / "bk.lp").symlink_to(secret)
+    elif how == "include_background":
+        (folder / "bk.lp").write_text((folder / "bk.lp").read_text() + '\n#include "../secret.lp".\n')
+    elif how == "include_linked":  # an include of a file inside the folder that is a link out of it
+        (folder / "inner.lp").symlink_to(secret)
+        (folder / "bk.lp").write_text((folder / "bk.lp").read_text() + '\n#include "inner.lp".\n')
+    elif how == "include_bias":
+        (folder / "bias.las").write_text((folder / "bias.las").read_text() + f'\n#include "{secret}".\n')
+    elif how == "include_facts":
+        lines = (folder / "states.jsonl").read_text().splitlines()
+        import json
+
+        first = json.loads(lines[0])
+        first["facts"] += f' #include "{secret}".'
+        (folder / "states.jsonl").write_text("\n".join([json.dumps(first), *lines[1:]]) + "\n")
+    elif how == "include_atom":
+        import json
+
+        lines = (folder / "actions.jsonl").read_text().splitlines()
+        first = json.loads(lines[0])
+        first["atom"] = f'#include "{secret}".'
+        (folder / "actions.jsonl").write_text("\n".join([json.dumps(first), *lines[1:]]) + "\n")
+
+
+ESCAPES = ["absolute", "dotdot", "symlink", "include_background", "include_linked", "include_bias",
+           "include_facts", "include_atom"]
+
+
+@pytest.mark.parametrize("how", ESCAPES)
+def test_domain_folder_is_confined(tmp_path, how):
+    folder, secret = _warehouse(tmp_path)
+    _escape(folder, secret, how)
+    line = check(["domain", "check", folder], cwd=tmp_path, timeout=60, contains="#include" if "include" in how
+                 else "outside" if how != "dotdot" else "leaves the domain folder").stderr
+    assert "secret_fact" not in line and "42" not in line
+
+
+@pytest.mark.parametrize("how", ["absolute", "symlink", "include_background"])
+def test_allow_outside_reads_a_trusted_folder(tmp_path, how):
+    folder, secret = _warehouse(tmp_path)
+    import shutil
+
+    shutil.copy(folder / "bk.lp", secret)  # the outside file is the real background now
+    if how == "include_background":
+        (folder / "bk.lp").write_text('#include "../secret.lp".\n')
+    else:
+        _escape(folder, secret, how)
+    refused = run_command(["domain", "check", folder], cwd=tmp_path, timeout=60)
+    assert refused.returncode == 2, refused.describe()
+    result = run_command(["domain", "check", folder, "--allow-outside"], cwd=tmp_path, timeout=120)
+    assert result.returncode == 0, result.describe()
