@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from hostile import check, run_command
+from hostile import assert_refused, assert_survived, check, run_command
 from zip_bombs import deflate as _deflate, zip_of as _zip
 
 
@@ -439,3 +439,17 @@ def test_allow_outside_reads_a_trusted_folder(tmp_path, how):
     assert refused.returncode == 2, refused.describe()
     result = run_command(["domain", "check", folder, "--allow-outside"], cwd=tmp_path, timeout=120)
     assert result.returncode == 0, result.describe()
+
+
+@pytest.mark.parametrize("megabytes", [64, 128, 160])
+def test_small_worker_memory_limits_are_one_line(tmp_path, megabytes):
+    """Below the minimum: refused up front; near it: the limit is reported (an ImportError of
+    numpy or a failed thread start was an internal error), or the check passes."""
+    folder, _ = _warehouse(tmp_path)
+    result = run_command(["domain", "check", folder, "--max-memory", megabytes], cwd=tmp_path, timeout=60)
+    if megabytes < 128:
+        assert_refused(result, contains=["too small", "at least 128 MB"])
+    else:
+        assert_survived(result)
+        if result.returncode == 2:
+            assert_refused(result, contains=f"limit of {megabytes} MB")
