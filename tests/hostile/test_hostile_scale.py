@@ -453,3 +453,18 @@ def test_small_worker_memory_limits_are_one_line(tmp_path, megabytes):
         assert_survived(result)
         if result.returncode == 2:
             assert_refused(result, contains=f"limit of {megabytes} MB")
+
+
+@pytest.mark.parametrize("tensor, value, words", [("phi.obs_index", 5, "contradicts the configuration"),
+                                                  ("phi.input_scale", float("nan"), "NaN or infinite"),
+                                                  ("phi.input_scale", 0.0, "non-positive")])
+def test_cost_tensors_that_contradict_the_configuration(tmp_path, tensor, value, words):
+    import torch
+    from safetensors.torch import load_file, save_file
+
+    path = _saved_cost(tmp_path)
+    tensors = load_file(path)
+    tensors[tensor] = torch.full_like(tensors[tensor], value)
+    save_file(tensors, path, metadata={"format": "symlearn-torch-module", "kind": "neural-icrl-cost"})
+    check(["train", "--env", "blocked-point", "--cost", path.name, "--steps", 256], cwd=tmp_path, timeout=60,
+          memory_mb=3072, names="cost.safetensors", contains=words)
