@@ -468,3 +468,45 @@ def test_cost_tensors_that_contradict_the_configuration(tmp_path, tensor, value,
     save_file(tensors, path, metadata={"format": "symlearn-torch-module", "kind": "neural-icrl-cost"})
     check(["train", "--env", "blocked-point", "--cost", path.name, "--steps", 256], cwd=tmp_path, timeout=60,
           memory_mb=3072, names="cost.safetensors", contains=words)
+
+
+# -- automata: minimisation is not quadratic on chains ------------------------------------------
+def _chain(n: int) -> dict:
+    edges = [e for i in range(n - 1) for e in ({"source": i, "target": i + 1, "guard": "a"},
+                                             {"source": i, "target": i, "guard": "!a"})]
+    edges.append({"source": n - 1, "target": n - 1, "guard": "true"})
+    return {"format": "symlearn-automaton", "version": 1, "kind": "dfa", "alphabet": ["a"], "states": n,
+            "initial": 0, "accepting": [n - 1], "state_names": None, "transitions": edges}
+
+
+def test_automaton_show_and_convert_of_a_long_chain(tmp_path):
+    """20,000 states: > 60 s before (Moore's rounds, one per state), a few seconds now."""
+    import json
+
+    (tmp_path / "chain.json").write_text(json.dumps(_chain(20_000)))
+    for args in (["automaton", "show", "chain.json"], ["automaton", "convert", "chain.json", "out.hoa"]):
+        result = run_command(args, cwd=tmp_path, timeout=60, memory_mb=2048)
+        assert result.returncode == 0 and result.seconds < 30, result.describe()
+
+
+def test_hopcroft_partition_agrees_with_moore():
+    import json
+    import random
+
+    from symlearn.logic.automata.json_format import dfa_from_dict
+    from symlearn.logic.automata.transition_diagram import coarsest_blocks, coarsest_blocks_moore
+
+    minterms = ["a & b", "a & !b", "!a & b", "!a & !b"]
+    rng = random.Random(26)
+    for _ in range(200):
+        n = rng.randint(1, 12)
+        edges = [{"source": q, "target": rng.randrange(n), "guard": g} for q in range(n) for g in minterms]
+        doc = {"format": "symlearn-automaton", "version": 1, "kind": "dfa", "alphabet": ["a", "b"], "states": n,
+               "initial": 0, "accepting": [q for q in range(n) if rng.random() < 0.4], "state_names": None,
+               "transitions": edges}
+        dfa = dfa_from_dict(json.loads(json.dumps(doc)))
+        diagram, roots = dfa.transition_diagram()
+        accepting = [q in dfa.accepting for q in range(len(roots))]
+        fast, slow = coarsest_blocks(diagram, roots, accepting), coarsest_blocks_moore(diagram, roots, accepting)
+        pairs = [(p, q) for p in range(len(roots)) for q in range(len(roots))]
+        assert [fast[p] == fast[q] for p, q in pairs] == [slow[p] == slow[q] for p, q in pairs]

@@ -188,14 +188,25 @@ def coarsest_partition(dfa: DFA) -> list[int]:
             touched.setdefault(block_of[q], {}).setdefault(guard, []).append(q)
         for c, classes in touched.items():
             parts = list(classes.values())
-            rest = [q for q in blocks[c] if q not in into]
-            if rest:
-                parts.append(rest)
-            if len(parts) == 1:
+            members = blocks[c]
+            rest_size = len(members) - sum(len(part) for part in parts)
+            if len(parts) == 1 and rest_size == 0:
                 continue
-            parts.sort(key=len, reverse=True)
-            blocks[c] = set(parts[0])  # the largest part keeps the id (and its worklist status)
-            for part in parts[1:]:
+            # The largest part keeps the id (and its worklist status); only the others are
+            # relabelled, each at most half the block, so a state moves O(log n) times. The
+            # untouched rest is never listed when it is the largest part (a chain's long block
+            # would otherwise be walked once per splitter: quadratic).
+            largest = max(parts, key=len)
+            if rest_size >= len(largest):
+                for part in parts:
+                    members.difference_update(part)
+                moved = parts
+            else:
+                touched_states = {q for part in parts for q in part}
+                rest = [q for q in members if q not in touched_states]
+                blocks[c] = set(largest)
+                moved = [part for part in parts if part is not largest] + ([rest] if rest else [])
+            for part in moved:
                 new = len(blocks)
                 blocks.append(set(part))
                 for q in part:
