@@ -24,6 +24,7 @@ from collections.abc import Iterable
 from symlearn.errors import LimitExceededError, ModelError
 from symlearn.logic.automata.dfa import DFA
 from symlearn.logic.automata import transition_diagram as td
+from symlearn.logic.automata.partition_refinement import split_blocks
 from symlearn.logic.guards import Guard
 
 SINK_NAME = "sink"
@@ -175,10 +176,9 @@ def coarsest_partition(dfa: DFA) -> list[int]:
     for i, members in enumerate(blocks):
         for q in members:
             block_of[q] = i
-    work, waiting = list(range(len(blocks))), set(range(len(blocks)))
+    work = list(range(len(blocks)))
     while work:
         splitter = work.pop()
-        waiting.discard(splitter)
         into: dict[int, Guard] = {}
         for target in blocks[splitter]:
             for source, guard in predecessors[target]:
@@ -186,33 +186,7 @@ def coarsest_partition(dfa: DFA) -> list[int]:
         touched: dict[int, dict[Guard, list[int]]] = {}
         for q, guard in into.items():
             touched.setdefault(block_of[q], {}).setdefault(guard, []).append(q)
-        for c, classes in touched.items():
-            parts = list(classes.values())
-            members = blocks[c]
-            rest_size = len(members) - sum(len(part) for part in parts)
-            if len(parts) == 1 and rest_size == 0:
-                continue
-            # The largest part keeps the id (and its worklist status); only the others are
-            # relabelled, each at most half the block, so a state moves O(log n) times. The
-            # untouched rest is never listed when it is the largest part (a chain's long block
-            # would otherwise be walked once per splitter: quadratic).
-            largest = max(parts, key=len)
-            if rest_size >= len(largest):
-                for part in parts:
-                    members.difference_update(part)
-                moved = parts
-            else:
-                touched_states = {q for part in parts for q in part}
-                rest = [q for q in members if q not in touched_states]
-                blocks[c] = set(largest)
-                moved = [part for part in parts if part is not largest] + ([rest] if rest else [])
-            for part in moved:
-                new = len(blocks)
-                blocks.append(set(part))
-                for q in part:
-                    block_of[q] = new
-                work.append(new)
-                waiting.add(new)
+        split_blocks(blocks, block_of, touched, work)
     return block_of
 
 

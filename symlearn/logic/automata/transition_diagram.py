@@ -38,6 +38,7 @@ from collections.abc import Iterable, Sequence
 from typing import AbstractSet
 
 from symlearn.errors import LimitExceededError
+from symlearn.logic.automata.partition_refinement import split_blocks
 
 __all__ = ["TransitionDiagram", "EXPLICIT_EDGES", "MAX_MATERIALISED_EDGES", "materialise", "count_edges",
            "coarsest_blocks", "canonical_numbering", "finish", "from_guarded", "product", "reachable",
@@ -279,27 +280,7 @@ def coarsest_blocks(diagram: TransitionDiagram, roots: Sequence[int], accepting:
         touched: dict[int, dict[int, list[int]]] = {}
         for q in {q for t in inside for q in predecessors[t]}:
             touched.setdefault(block_of[q], {}).setdefault(into(roots[q]), []).append(q)
-        for c, classes in touched.items():
-            parts = list(classes.values())
-            members = blocks[c]
-            rest_size = len(members) - sum(len(part) for part in parts)
-            if len(parts) == 1 and rest_size == 0:
-                continue
-            largest = max(parts, key=len)  # keeps the id; the untouched rest is listed only when smaller
-            if rest_size >= len(largest):
-                for part in parts:
-                    members.difference_update(part)
-                moved = parts
-            else:
-                touched_states = {q for part in parts for q in part}
-                rest = [q for q in members if q not in touched_states]
-                blocks[c] = set(largest)
-                moved = [part for part in parts if part is not largest] + ([rest] if rest else [])
-            for part in moved:
-                blocks.append(set(part))
-                for q in part:
-                    block_of[q] = len(blocks) - 1
-                work.append(len(blocks) - 1)
+        split_blocks(blocks, block_of, touched, work)
     return block_of
 
 
