@@ -125,9 +125,10 @@ def _saved_cost(folder: Path) -> Path:
     return folder / "cost.safetensors"
 
 
-@pytest.mark.parametrize("hidden, words", [([100_000, 100_000, 100_000], "do not fit the configured model"),
-                                           ([-3], "positive layer widths"),
-                                           ([1e300], "not a feature-network configuration")])
+@pytest.mark.parametrize("hidden, words", [
+    ([100_000, 100_000, 100_000], "do not fit the configured model"),
+    pytest.param([-3], "positive layer widths", marks=pytest.mark.slow),
+    pytest.param([1e300], "not a feature-network configuration", marks=pytest.mark.slow)])
 def test_cost_configuration_layer_sizes_are_not_allocated(tmp_path, hidden, words):
     """3 x 10^10 weights declared beside an 8-unit file: refused from shapes built on the meta
     device, nothing allocated (an internal MemoryError before)."""
@@ -455,9 +456,10 @@ def test_small_worker_memory_limits_are_one_line(tmp_path, megabytes):
             assert_refused(result, contains=f"limit of {megabytes} MB")
 
 
-@pytest.mark.parametrize("tensor, value, words", [("phi.obs_index", 5, "contradicts the configuration"),
-                                                  ("phi.input_scale", float("nan"), "NaN or infinite"),
-                                                  ("phi.input_scale", 0.0, "non-positive")])
+@pytest.mark.parametrize("tensor, value, words", [
+    ("phi.obs_index", 5, "contradicts the configuration"),
+    pytest.param("phi.input_scale", float("nan"), "NaN or infinite", marks=pytest.mark.slow),
+    pytest.param("phi.input_scale", 0.0, "non-positive", marks=pytest.mark.slow)])
 def test_cost_tensors_that_contradict_the_configuration(tmp_path, tensor, value, words):
     import torch
     from safetensors.torch import load_file, save_file
