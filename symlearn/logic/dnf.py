@@ -254,7 +254,10 @@ class Atom:
         number = (int, float, np.integer, np.floating)
         if isinstance(self.value, (bool, np.bool_)) or not isinstance(self.value, number):
             raise DataError(f"the bound of {self.feature} {op} ... must be a number, not {self.value!r}")
-        value = float(self.value)
+        try:
+            value = float(self.value)
+        except OverflowError:  # an integer beyond float64 (a JSON file may hold 10**400)
+            raise DataError(f"the bound of {self.feature} {op} ... is too large for a float") from None
         if not math.isfinite(value):
             raise DataError(f"the bound of {self.feature} {op} ... must be finite, not {value!r}")
         object.__setattr__(self, "op", op)

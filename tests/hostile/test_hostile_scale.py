@@ -512,3 +512,14 @@ def test_hopcroft_partition_agrees_with_moore():
         fast, slow = coarsest_blocks(diagram, roots, accepting), coarsest_blocks_moore(diagram, roots, accepting)
         pairs = [(p, q) for p in range(len(roots)) for q in range(len(roots))]
         assert [fast[p] == fast[q] for p, q in pairs] == [slow[p] == slow[q] for p, q in pairs]
+
+
+def test_integers_too_large_for_a_float(tmp_path):
+    """JSON keeps 10^400 as an exact integer; turning it into a bound overflowed (internal error)."""
+    big = "1" + "0" * 400
+    (tmp_path / "rules.json").write_text('{"symlearn": "dnf", "format_version": 1, "conjunctions": '
+                                         f'[[["x", "<", {big}]]]}}')
+    check(["dnf", "show", "rules.json"], cwd=tmp_path, timeout=30, names="rules.json", contains="too large for a float")
+    from symlearn.logic.automata.json_format import _finite_float
+
+    assert not _finite_float(10**400) and _finite_float(10**300) and not _finite_float(float("nan"))
