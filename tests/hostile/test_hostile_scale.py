@@ -523,3 +523,22 @@ def test_integers_too_large_for_a_float(tmp_path):
     from symlearn.logic.automata.json_format import _finite_float
 
     assert not _finite_float(10**400) and _finite_float(10**300) and not _finite_float(float("nan"))
+
+
+def test_hypothesis_space_of_a_huge_bias_is_refused_without_listing_it():
+    """20,000 #modeb allow ~10^12 rule shapes; they were listed before any limit applied
+    (minutes, gigabytes). Now enumerated lazily and refused at the rule or shape limit."""
+    import resource
+    import time
+
+    from symlearn.errors import LimitExceededError
+    from symlearn.logic.ilp.parser import parse_task
+    from symlearn.logic.ilp.space import generate_space
+
+    task = parse_task("#modeh(goal).\n" + "".join(f"#modeb(1, q{i}).\n" for i in range(20_000)), source="big.las")
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    start = time.perf_counter()
+    with pytest.raises(LimitExceededError, match="more than 2000 rules"):
+        generate_space(task, limit=2_000)
+    assert time.perf_counter() - start < 20
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 300_000  # KB
