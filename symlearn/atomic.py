@@ -14,6 +14,7 @@ leaves neither a partial target nor a ``.tmp`` file behind.
 
 from __future__ import annotations
 
+import errno
 import os
 import stat
 import tempfile
@@ -29,8 +30,10 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
     if mode not in ("w", "wb"):
         raise ValueError("atomic_open only writes ('w' or 'wb')")
     target = Path(path)
+    if len(os.fsencode(target.name)) > _NAME_MAX:  # refused for the name the user gave, not the sibling's
+        raise OSError(errno.ENAMETOOLONG, os.strerror(errno.ENAMETOOLONG), str(target))
     target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp_name = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    fd, tmp_name = tempfile.mkstemp(prefix=f".{_shortened(target.name)}.", suffix=".tmp", dir=target.parent)
     try:
         os.fchmod(fd, _mode_for(target))
         with os.fdopen(fd, mode, encoding=None if "b" in mode else encoding) as handle:
@@ -44,6 +47,17 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
         except FileNotFoundError:
             pass
         raise
+
+
+#: bytes in one path component on Linux and macOS file systems
+_NAME_MAX = 255
+
+
+def _shortened(name: str) -> str:
+    """``name`` cut so ``.NAME.XXXXXXXX.tmp`` still fits in one path component."""
+    room = _NAME_MAX - len(". .12345678.tmp")
+    encoded = os.fsencode(name)
+    return name if len(encoded) <= room else os.fsdecode(encoded[:room])
 
 
 def _umask() -> int:

@@ -1,5 +1,7 @@
 """The envelope symlearn's JSON files share: ``{"symlearn": MAGIC, "format_version": 1, ...}`` (groundings,
-DNF formulas), read with located errors; ``JsonFile`` gives such a value ``save``/``load``."""
+DNF formulas), read with located errors; ``JsonFile`` gives such a value ``save``/``load``;
+:func:`load_option_json` reads JSON given on the command line (``--env-kwargs``) as strictly as
+the file readers read theirs."""
 
 from __future__ import annotations
 
@@ -11,6 +13,11 @@ from typing import Any
 from symlearn.atomic import write_text
 from symlearn.errors import DataError
 from symlearn.input_limits import load_json, read_input_text
+
+#: nesting a JSON option may have (keyword arguments of a constructor need a few levels)
+MAX_OPTION_DEPTH = 32
+#: integers a JSON option may hold: what float64 and int64 parameters can take without overflow
+MAX_OPTION_INTEGER = 2**63 - 1
 
 
 def read_document(text: str | Mapping[str, Any], magic: str, version: int, *,
@@ -43,3 +50,33 @@ class JsonFile:
         except OSError as exc:
             raise DataError(f"cannot read {path}: {exc.strerror}", file=str(path)) from None
         return cls.from_json(text, source=str(path))
+
+
+def load_option_json(text: str, option: str, *, kind: type | None = dict) -> Any:
+    """The JSON value of a command-line option such as ``--env-kwargs``, read like a file:
+    duplicate keys, nesting deeper than :data:`MAX_OPTION_DEPTH`, NaN and infinities, and
+    integers beyond int64 are refused (a :class:`DataError` naming ``option`` and the column);
+    ``kind``: the type the value must have (``None``: any)."""
+
+    def integer(literal: str) -> int:
+        value = int(literal) if len(literal) <= 20 else MAX_OPTION_INTEGER + 1
+        if abs(value) > MAX_OPTION_INTEGER:
+            raise DataError(f"{option}: the integer {literal[:24]}{'...' if len(literal) > 24 else ''} is too large",
+                            hint=f"integers up to {MAX_OPTION_INTEGER:,}")
+        return value
+
+    def number(literal: str) -> float:
+        value = float(literal)
+        if value != value or value in (float("inf"), float("-inf")):
+            raise DataError(f"{option}: the number {literal[:24]} is too large for a float")
+        return value
+
+    def constant(literal: str) -> float:
+        raise DataError(f"{option}: {literal} is not a JSON number", hint="give finite numbers")
+
+    value = load_json(text, source=option, max_depth=MAX_OPTION_DEPTH, error=DataError, syntax="not JSON",
+                      parse_int=integer, parse_float=number, parse_constant=constant)
+    if kind is not None and not isinstance(value, kind):
+        raise DataError(f"{option} must be a JSON {'object' if kind is dict else kind.__name__}, "
+                        f"got {type(value).__name__}")
+    return value

@@ -45,6 +45,9 @@ MEMORY_VARIABLE = "SYMLEARN_MAX_MEMORY_MB"
 #: and measuring what the worker costs: ``benchmarks/ilp_worker_overhead.py``)
 IN_PROCESS_VARIABLE = "SYMLEARN_WORKER"
 DEFAULT_MEMORY_MB = 1024
+#: the smallest memory limit accepted: below it the worker cannot even load numpy and clingo
+#: (their libraries map ~100 MB of address space), so every run would fail the same way
+MIN_MEMORY_MB = 128
 #: Timeouts above this many seconds (about 31 years) mean "no limit": clingo converts a timeout
 #: to a clock deadline, and ``1e308`` overflows it into "already passed".
 NO_LIMIT_ABOVE = 1e9
@@ -84,9 +87,9 @@ def memory_limit_mb(value: float | str | None = None, *, name: str = MEMORY_VARI
     if math.isnan(megabytes) or megabytes < 0:
         raise SymlearnError(f"{name} must be a positive number of megabytes, not {value}",
                             hint="give a positive number of MB, or 0 for no limit")
-    if megabytes < 64:
+    if megabytes < MIN_MEMORY_MB:
         raise SymlearnError(f"{name} of {value} MB is too small to start the worker process",
-                            hint="give at least 64 MB, or 0 for no limit")
+                            hint=f"give at least {MIN_MEMORY_MB} MB, or 0 for no limit")
     return None if megabytes > 2**40 else int(megabytes)  # beyond a million terabytes: no limit
 
 
@@ -120,6 +123,10 @@ def _limit_resources(memory_bytes: int | None, cpu_seconds: float | None) -> Non
         return
     if memory_bytes is not None:
         _one_malloc_arena()
+        # OpenBLAS reserves a buffer per core when numpy loads (tens of MB on a large machine)
+        # and prints to stderr when it cannot; the worker grounds and solves, one thread is plenty
+        for variable in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS"):
+            os.environ.setdefault(variable, "1")
         _soft, hard = resource.getrlimit(resource.RLIMIT_AS)
         bound = memory_bytes if hard == resource.RLIM_INFINITY else min(memory_bytes, hard)
         resource.setrlimit(resource.RLIMIT_AS, (bound, hard))
@@ -148,6 +155,16 @@ def _one_malloc_arena() -> None:
         pass
 
 
+def _out_of_memory(exc: BaseException) -> bool:
+    """Whether ``exc`` is the address-space limit speaking, not a bug: numpy's or clingo's
+    extension unable to map its segments (an ImportError), or a thread that cannot get its stack
+    (``Resource temporarily unavailable``)."""
+    if isinstance(exc, ImportError):
+        return True
+    return isinstance(exc, RuntimeError) and ("Resource temporarily unavailable" in str(exc)
+                                              or "bad_alloc" in str(exc))
+
+
 def _watch_parent(parent: int) -> None:
     """End the child when its parent is gone (killed by a signal, so it could not kill us)."""
     while True:
@@ -174,7 +191,10 @@ def _child(connection, function, args, kwargs, memory_bytes, cpu_seconds, bars, 
     except BaseException as exc:  # noqa: BLE001 - reported to the parent as a crash
         import traceback
 
-        payload = ("crash", f"{type(exc).__name__}: {exc}", traceback.format_exc())
+        if memory_bytes is not None and _out_of_memory(exc):
+            payload = ("memory",)
+        else:
+            payload = ("crash", f"{type(exc).__name__}: {exc}", traceback.format_exc())
     try:
         connection.send(payload)
     except MemoryError:

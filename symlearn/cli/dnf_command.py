@@ -53,17 +53,10 @@ def read_points(path: str, features: str | None):
 
     from symlearn.errors import DataError
 
-    import zipfile
+    from symlearn.data.npz_format import open_npz
 
-    from symlearn.data.npz_format import member_headers, open_npz
-    from symlearn.input_limits import check_size
-
-    # sizes and dtypes from the headers before anything is decompressed (a zip bomb stops here);
-    # a bare .npy is stored uncompressed, so its file size bounds what loading it takes
-    if zipfile.is_zipfile(path):
-        member_headers(path)
-    elif Path(path).is_file():
-        check_size(Path(path).stat().st_size, "SYMLEARN_MAX_ARRAY_MB", what="array file size", file=path)
+    # a regular file, sizes and dtypes from the headers before anything is decompressed (a zip
+    # bomb or /dev/zero stops here)
     archive = open_npz(path)
     try:
         if isinstance(archive, np.ndarray):      # a bare .npy: the points array itself

@@ -31,6 +31,8 @@ def register(subparsers, common) -> None:
     check.add_argument("--max-memory", default=None, metavar="MB",
                        help="memory limit of the worker that grounds the folder's programs (default "
                             "SYMLEARN_MAX_MEMORY_MB or 1024; 0: none)")
+    check.add_argument("--allow-outside", action="store_true",
+                       help="let the domain folder name files outside itself (paths, symlinks, #include); only for a trusted folder")
     check.set_defaults(handler=_check)
 
 
@@ -42,7 +44,7 @@ def _check(args: argparse.Namespace, out) -> None:
         raise DataError("--demos is scored against --rules: give the rule file too")
     # the folder's background and rules are the user's programs: a recursive rule grounds until
     # memory is gone, and clingo cannot be interrupted, so the work runs in a bounded worker
-    doc = run_limited(_check_document, args.folder, args.rules, args.demos,
+    doc = run_limited(_check_document, args.folder, args.rules, args.demos, args.allow_outside,
                       seconds=seconds_limit(args.timeout, name="--timeout"),
                       memory_mb=memory_limit_mb(args.max_memory, name="--max-memory"),
                       what=f"grounding and scoring the domain {args.folder}", time_hint="raise --timeout",
@@ -51,14 +53,14 @@ def _check(args: argparse.Namespace, out) -> None:
     out.result(doc, _render)
 
 
-def _check_document(folder: str, rules: str | None, demos: str | None) -> dict:
+def _check_document(folder: str, rules: str | None, demos: str | None, allow_outside: bool = False) -> dict:
     from pathlib import Path
 
     import numpy as np
 
     from symlearn.grounding import Domain
 
-    domain = Domain.from_folder(folder)
+    domain = Domain.from_folder(folder, allow_outside=allow_outside)
     doc = {"domain": domain.name, "description": domain.description, "states": domain.n_states,
            "actions": domain.n_actions, "pairs": len(domain.pair_ids),
            "forbidden_by_truth": None if domain.truth is None else int(domain.truth_forbidden.sum()),

@@ -53,6 +53,7 @@ def register_learn(commands, common) -> None:
                                      "(your own environment: give --demos and --labeling)")
     where.add_argument("--domain", metavar="DIR",
                        help="your own domain folder (domain.toml with a labeling; deterministic moves)")
+    spec.add_argument("--allow-outside", action="store_true", help="let the domain folder name files outside itself (paths, symlinks, #include); only for a trusted folder")
     source = spec.add_mutually_exclusive_group()
     source.add_argument("--demos", help="expert demonstrations (.jsonl or .npz): state ids for a bundled task; "
                                         "in your own environment, labelled while recorded (or replayable)")
@@ -143,7 +144,7 @@ def _spec(args: argparse.Namespace, out) -> None:
     else:
         from symlearn.grounding import Domain
 
-        env = Domain.from_folder(args.domain)
+        env = Domain.from_folder(args.domain, allow_outside=args.allow_outside)
     if args.demos:
         _check_demos_world(demos, args.demos, task, env)
     with blame_file(args.demos):

@@ -69,6 +69,7 @@ def register_learn(commands, common) -> None:
                        help=f"a bundled environment: {', '.join(CONSTRAINT_ENVS)} (see `symlearn envs`); your own "
                             "world is a domain folder (--domain)")
     where.add_argument("--domain", metavar="DIR", help="your own domain folder (domain.toml; see docs/FORMATS.md)")
+    cmd.add_argument("--allow-outside", action="store_true", help="let the domain folder name files outside itself (paths, symlinks, #include); only for a trusted folder")
     source = cmd.add_mutually_exclusive_group()
     source.add_argument("--demos", help="demonstrations (.jsonl or .npz) with the environment's state/action ids or names")
     source.add_argument("--n-demos", type=int, default=50, help="generate N demonstrations of the bundled expert (50)")
@@ -109,7 +110,7 @@ def _world(args: argparse.Namespace) -> _World:
 
         from symlearn.grounding import Domain
 
-        d = Domain.from_folder(args.domain)
+        d = Domain.from_folder(args.domain, allow_outside=args.allow_outside)
         return _World(d.name, d.mdp, ~d.unavailable, d.truth_forbidden, bool(np.any(d.mdp.rewards != 0)),
                       domain=d, features="state_action")
     from symlearn.envs.constraint_envs import constraint_setting

@@ -42,6 +42,7 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--n-demos", type=int, default=20, help="expert episodes to record with --env (20)")
     cmd.add_argument("--features", help="comma-separated names of the state vector's columns")
     cmd.add_argument("--domain", metavar="DIR", help="a domain folder whose feature map turns state ids into features")
+    cmd.add_argument("--allow-outside", action="store_true", help="let the domain folder name files outside itself (paths, symlinks, #include); only for a trusted folder")
     cmd.add_argument("--max-depth", type=int, default=5, help="deepest split (5)")
     cmd.add_argument("--min-samples-leaf", type=int, default=5, help="fewest points a split may leave in a child (5)")
     cmd.add_argument("--validation", type=float, default=None, metavar="FRACTION",
@@ -65,7 +66,7 @@ def _demonstrations(args: argparse.Namespace):
     if args.domain:
         from symlearn.grounding import Domain
 
-        domain = Domain.from_folder(args.domain)
+        domain = Domain.from_folder(args.domain, allow_outside=args.allow_outside)
         if domain.feature_map is None:
             raise DataError(f"the domain {domain.name} names no feature map", file=args.domain,
                             hint='add features = "features.json" to domain.toml')

@@ -218,6 +218,7 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
 
     out = Output(json_mode=getattr(args, "json", False), quiet=args.quiet)
     try:
+        check_seed(getattr(args, "seed", 0))
         with progress_bars(False if (args.quiet or out.json_mode and not sys.stderr.isatty()) else None):
             code = args.handler(args, out)
         return EXIT_OK if code is None else int(code)
@@ -227,7 +228,9 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         print(f"symlearn: error: {exc}", file=sys.stderr)
         _json_error(out, exc)
         return EXIT_USAGE
-    except (FileNotFoundError, IsADirectoryError, PermissionError, NotADirectoryError) as exc:
+    except OSError as exc:
+        if not _about_a_path(exc):
+            return _internal(args, out, exc)
         if args.debug:
             traceback.print_exc()
         where = f"{exc.filename}: " if exc.filename else ""
@@ -243,13 +246,36 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         _json_error(out, Terminated("terminated"), "terminated")
         return EXIT_TERMINATED
     except Exception as exc:  # a bug in symlearn, not the user's fault
-        if args.debug:
-            traceback.print_exc()
-        else:
-            print(f"symlearn: internal error: {type(exc).__name__}: {exc} "
-                  "(rerun with --debug for the traceback and please report it)", file=sys.stderr)
-        _json_error(out, exc, "internal")
-        return EXIT_INTERNAL
+        return _internal(args, out, exc)
+
+
+def _internal(args: argparse.Namespace, out: Output, exc: BaseException) -> int:
+    if args.debug:
+        traceback.print_exc()
+    else:
+        print(f"symlearn: internal error: {type(exc).__name__}: {exc} "
+              "(rerun with --debug for the traceback and please report it)", file=sys.stderr)
+    _json_error(out, exc, "internal")
+    return EXIT_INTERNAL
+
+
+def _about_a_path(exc: OSError) -> bool:
+    """An OS error about a path the user named (missing, a directory, a file where a folder
+    should be, a name over 255 bytes, a read-only disk ...): the user's to fix, reported in one
+    line. Others (no path: a broken pipe, a failed fork) stay internal errors."""
+    return exc.filename is not None or isinstance(exc, (FileNotFoundError, IsADirectoryError, PermissionError,
+                                                        NotADirectoryError, FileExistsError))
+
+
+#: the seeds numpy's and torch's generators accept
+MAX_SEED = 2**32 - 1
+
+
+def check_seed(seed: int) -> None:
+    """``--seed`` within ``0 .. 2**32 - 1`` (numpy's legacy seeding refuses the rest, torch wraps
+    them), checked once here for every command."""
+    if not isinstance(seed, int) or not 0 <= seed <= MAX_SEED:
+        raise SymlearnError(f"--seed {seed} is out of range", hint=f"give a whole number from 0 to {MAX_SEED:,}")
 
 
 def _json_error(out: Output, exc: BaseException, kind: str | None = None) -> None:

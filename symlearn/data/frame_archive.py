@@ -60,23 +60,25 @@ def save_frames(path: str | os.PathLike[str], runs: Sequence[np.ndarray],
 
 def load_frames(path: str | os.PathLike[str]) -> tuple[list[np.ndarray], tuple[str, ...] | None]:
     """``(runs, feature names or None)``; every problem a :class:`DataError` naming the file."""
-    from symlearn.data.npz_format import member_headers
+    from symlearn.data.npz_format import open_checked
 
     source = str(path)
-    headers = member_headers(path)
-    for name in ("states", "lengths"):
-        if name not in headers:
-            raise DataError(f"a frame archive needs a member {name!r}", file=source,
-                            hint="members: states (frames x features, NaN = unobserved), lengths (frames per "
-                                 "demonstration), optional feature_names")
-    (s_dtype, s_shape), (l_dtype, l_shape) = headers["states"], headers["lengths"]
-    if s_dtype.kind not in "iuf" or len(s_shape) != 2 or s_shape[1] < 1:
-        raise DataError(f"member 'states' must be a numeric (frames, features) array, got {s_dtype.str} "
-                        f"{s_shape}", file=source)
-    if l_dtype.kind not in "iu" or len(l_shape) != 1 or l_shape[0] < 1:
-        raise DataError(f"member 'lengths' must be a non-empty integer vector, got {l_dtype.str} {l_shape}",
-                        file=source)
-    with np.load(path, allow_pickle=False) as archive:
+    headers, archive = open_checked(path)
+    if not isinstance(archive, np.lib.npyio.NpzFile):
+        raise DataError("holds a single array, not a frame archive", file=source)
+    with archive:
+        for name in ("states", "lengths"):
+            if name not in headers:
+                raise DataError(f"a frame archive needs a member {name!r}", file=source,
+                                hint="members: states (frames x features, NaN = unobserved), lengths (frames per "
+                                     "demonstration), optional feature_names")
+        (s_dtype, s_shape), (l_dtype, l_shape) = headers["states"], headers["lengths"]
+        if s_dtype.kind not in "iuf" or len(s_shape) != 2 or s_shape[1] < 1:
+            raise DataError(f"member 'states' must be a numeric (frames, features) array, got {s_dtype.str} "
+                            f"{s_shape}", file=source)
+        if l_dtype.kind not in "iu" or len(l_shape) != 1 or l_shape[0] < 1:
+            raise DataError(f"member 'lengths' must be a non-empty integer vector, got {l_dtype.str} {l_shape}",
+                            file=source)
         lengths = archive["lengths"].astype(np.int64)
         if (lengths < 1).any() or int(lengths.sum()) != s_shape[0]:
             raise DataError(f"'lengths' must be positive and sum to the {s_shape[0]} rows of 'states', "

@@ -23,6 +23,7 @@ from __future__ import annotations
 import io
 import json
 import os
+import stat
 import zipfile
 import zlib
 from pathlib import Path
@@ -100,49 +101,117 @@ def write_npz(demos: Demonstrations, path: str | os.PathLike[str]) -> None:
 
 
 def open_npz(path: str | os.PathLike[str]) -> Any:
-    """``np.load(path, allow_pickle=False)`` with a located error for a file that is no NPZ (a
-    missing or unreadable file keeps its OS error, which the CLI reports as such)."""
+    """The archive (or bare ``.npy`` array) at ``path``; see :func:`open_checked`."""
+    return open_checked(path)[1]
+
+
+def open_checked(path: str | os.PathLike[str]) -> tuple[dict[str, tuple[np.dtype, tuple[int, ...]]], Any]:
+    """``(headers, archive)``: :func:`check_arrays`' headers, then the archive (or bare ``.npy``
+    array) loaded with ``allow_pickle=False``, only after those checks bounded what loading it
+    takes. A file that is no NPZ gets a located error (a missing or unreadable file keeps its OS
+    error, which the CLI reports as such).
+
+    Every reader of a user's NPZ goes through here (demonstrations, frame archives, domain
+    models, ``dnf eval --points``), so one set of checks covers them all."""
+    headers = check_arrays(path)
     try:
-        return np.load(path, allow_pickle=False)
+        return headers, np.load(path, allow_pickle=False)
     except (zipfile.BadZipFile, OSError, ValueError, EOFError) as exc:
         if isinstance(exc, (FileNotFoundError, PermissionError, IsADirectoryError)):
             raise
         raise DataError(f"not a readable NPZ file ({exc})", file=path) from None
 
 
+def _regular_file(path: Path, what: str) -> None:
+    """Refuse what is not a regular file (``/dev/zero``, a pipe): numpy reads those without end."""
+    info = path.stat()  # a missing file keeps its OS error
+    if stat.S_ISDIR(info.st_mode):
+        raise IsADirectoryError(21, "Is a directory", str(path))
+    if not stat.S_ISREG(info.st_mode):
+        raise DataError(f"not a regular file; {what} must be one", file=path,
+                        hint="copy the data to a file first")
+    check_size(info.st_size, "SYMLEARN_MAX_ARRAY_MB", what=f"{what} size", file=path)
+
+
+def _read_npy_header(handle, name: str, path: Path) -> tuple[np.dtype, tuple[int, ...]]:
+    """dtype and shape from a ``.npy`` header (refused: no ``.npy`` magic, other versions, and
+    dtypes that are not plain numbers, booleans or text)."""
+    prefix = handle.read(len(np.lib.format.MAGIC_PREFIX))
+    if prefix != np.lib.format.MAGIC_PREFIX:
+        # numpy would hand such a member back as raw bytes, read whole: refuse it unread
+        raise DataError(f"member {name!r} is not a .npy array", file=path,
+                        hint="symlearn archives hold only arrays written by numpy.savez")
+    version = tuple(handle.read(2))
+    if version == (1, 0):
+        shape, _, dtype = np.lib.format.read_array_header_1_0(handle)
+    elif version == (2, 0):
+        shape, _, dtype = np.lib.format.read_array_header_2_0(handle)
+    else:
+        raise DataError(f"member {name!r}: unsupported .npy version {version}", file=path)
+    if dtype.hasobject or dtype.names is not None or dtype.shape or dtype.kind not in "biufU":
+        raise DataError(f"member {name!r} has dtype {dtype.str!r}; symlearn archives hold only "
+                        "plain numbers, booleans and text", file=path)
+    return dtype, tuple(int(x) for x in shape)
+
+
+def _declared_bytes(dtype: np.dtype, shape: tuple[int, ...]) -> int:
+    count = 1
+    for extent in shape:
+        count *= extent
+    return count * dtype.itemsize
+
+
+def check_arrays(path: str | os.PathLike[str]) -> dict[str, tuple[np.dtype, tuple[int, ...]]]:
+    """:func:`member_headers` of an archive, or ``{"": (dtype, shape)}`` of a bare ``.npy`` file
+    after the same checks (a regular file, its size, its header's declared size)."""
+    path = Path(path)
+    _regular_file(path, "array file")  # before anything opens it: opening a pipe can block
+    if zipfile.is_zipfile(path):
+        return member_headers(path)
+    try:
+        with open(path, "rb") as handle:
+            if handle.read(len(np.lib.format.MAGIC_PREFIX)) != np.lib.format.MAGIC_PREFIX:
+                raise DataError("not a readable NPZ file (neither a zip archive nor a .npy array)", file=path)
+            handle.seek(0)
+            header = _read_npy_header(handle, "(the array)", path)
+    except (OSError, ValueError, EOFError) as exc:
+        if isinstance(exc, (FileNotFoundError, PermissionError, IsADirectoryError)):
+            raise
+        raise DataError(f"not a readable NPZ or NPY file ({exc})", file=path) from None
+    check_size(_declared_bytes(*header), "SYMLEARN_MAX_ARRAY_MB", what="declared array size", file=path)
+    return {"": header}
+
+
 def member_headers(path: str | os.PathLike[str]) -> dict[str, tuple[np.dtype, tuple[int, ...]]]:
     """``{member: (dtype, shape)}`` of an NPZ archive read from the ``.npy`` headers only (a few
     hundred bytes decompressed per member), after checking the archive's size and every declared
-    size against ``SYMLEARN_MAX_ARRAY_MB``; object, structured and sub-array dtypes are refused."""
+    size against ``SYMLEARN_MAX_ARRAY_MB``; object, structured and sub-array dtypes are refused.
+
+    Every member is checked under the name numpy would load it by (``x.npy`` and a bare ``x``
+    both answer to ``archive["x"]``), so no member escapes the checks; two members answering to
+    one name, and members that are not ``.npy`` arrays, are refused. Sizes counted are the larger
+    of what each header declares and what the zip directory says the member expands to (zipfile
+    never inflates past that), so a zip bomb is refused before any of it is expanded."""
     path = Path(path)
-    if path.is_file():
-        check_size(path.stat().st_size, "SYMLEARN_MAX_ARRAY_MB", what="archive size", file=path)
+    _regular_file(path, "archive")
     headers: dict[str, tuple[np.dtype, tuple[int, ...]]] = {}
     total = 0
     try:
         with zipfile.ZipFile(path) as archive:
             for info in archive.infolist():
-                if not info.filename.endswith(".npy"):
-                    continue
-                name = info.filename[:-4]
-                with archive.open(info) as handle:
-                    version = np.lib.format.read_magic(handle)
-                    if version == (1, 0):
-                        shape, _, dtype = np.lib.format.read_array_header_1_0(handle)
-                    elif version == (2, 0):
-                        shape, _, dtype = np.lib.format.read_array_header_2_0(handle)
-                    else:
-                        raise DataError(f"member {name!r}: unsupported .npy version {version}", file=path)
-                if dtype.hasobject or dtype.names is not None or dtype.shape or dtype.kind not in "biufU":
-                    raise DataError(f"member {name!r} has dtype {dtype.str!r}; symlearn archives hold only "
-                                    "plain numbers, booleans and text", file=path)
-                count = 1
-                for extent in shape:
-                    count *= int(extent)
-                total += count * dtype.itemsize
+                name = info.filename[:-4] if info.filename.endswith(".npy") else info.filename
+                if name in headers:
+                    raise DataError(f"two members answer to the name {name!r}", file=path,
+                                    hint="an archive holds each array once")
+                total += info.file_size
                 check_size(total, "SYMLEARN_MAX_ARRAY_MB", what=f"decompressed size (member {name!r} and those "
                            "before it)", file=path)
-                headers[name] = (dtype, tuple(int(x) for x in shape))
+                with archive.open(info) as handle:
+                    dtype, shape = _read_npy_header(handle, name, path)
+                total += max(0, _declared_bytes(dtype, shape) - info.file_size)
+                check_size(total, "SYMLEARN_MAX_ARRAY_MB", what=f"decompressed size (member {name!r} and those "
+                           "before it)", file=path)
+                headers[name] = (dtype, shape)
     except (zipfile.BadZipFile, zipfile.LargeZipFile, OSError, ValueError, EOFError, NotImplementedError,
             zlib.error, RuntimeError) as exc:  # RuntimeError: a member flagged as encrypted
         if isinstance(exc, (FileNotFoundError, PermissionError, IsADirectoryError)):
@@ -153,8 +222,7 @@ def member_headers(path: str | os.PathLike[str]) -> dict[str, tuple[np.dtype, tu
 
 def read_npz(path: str | os.PathLike[str]) -> Demonstrations:
     path = Path(path)
-    headers = member_headers(path)
-    archive = open_npz(path)
+    headers, archive = open_checked(path)
     if not isinstance(archive, np.lib.npyio.NpzFile):
         raise DataError("holds a single array, not a symlearn NPZ archive", file=path)
     with archive:

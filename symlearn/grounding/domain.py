@@ -258,11 +258,13 @@ class Domain:
 
     # --- files --------------------------------------------------------------------------------
     @classmethod
-    def from_folder(cls, folder: str | os.PathLike[str], *, validate: bool = True) -> Domain:
-        """Read a domain folder (``domain.toml`` + the files it names; see ``docs/FORMATS.md``)."""
+    def from_folder(cls, folder: str | os.PathLike[str], *, validate: bool = True,
+                    allow_outside: bool = False) -> Domain:
+        """Read a domain folder (``domain.toml`` + the files it names; see ``docs/FORMATS.md``);
+        files outside the folder are refused unless ``allow_outside``."""
         from symlearn.grounding.domain_folder import read_domain_folder
 
-        domain = read_domain_folder(Path(folder))
+        domain = read_domain_folder(Path(folder), allow_outside=allow_outside)
         return domain.validate() if validate else domain
 
     def save(self, folder: str | os.PathLike[str]) -> Path:

@@ -38,7 +38,11 @@ OPTIONAL = ("description", "truth", "labeling", "features")
 MODEL_ARRAYS = {"transitions": 3, "initial": 1, "terminal": 1, "available": 2, "rewards": 2}
 
 
-def read_domain_folder(folder: Path):
+def read_domain_folder(folder: Path, *, allow_outside: bool = False):
+    """The :class:`~symlearn.grounding.domain.Domain` of ``folder``. Unless ``allow_outside``,
+    everything it reads lies inside the folder: the paths of ``domain.toml`` (no absolute paths,
+    no ``..``, no symlink leading out) and the files the background and bias ``#include``;
+    ``#include`` in a state's facts or an action atom is refused either way (facts are facts)."""
     from symlearn.grounding.domain import Domain
     from symlearn.grounding.facts import FactGrounding
 
@@ -69,15 +73,23 @@ def read_domain_folder(folder: Path):
         if not isinstance(config[key], str):
             raise DataError(f"key {key!r} must be a string, got {type(config[key]).__name__}", file=str(toml_path))
 
+    inside = None if allow_outside else folder.resolve()
+
     def path(key: str) -> Path:
         p = folder / config[key]
+        if inside is not None:
+            _check_inside(config[key], p, inside, key, toml_path)
         if not p.is_file():
             raise DataError(f"key {key!r}: file {config[key]!r} not found in {folder}", file=str(toml_path))
         return p
 
     sources = {k: str(path(k)) for k in (*REQUIRED[1:], *[k for k in ("truth", "labeling", "features") if k in config])}
-    background = _read_program(path("background"))
+    background = _read_program(path("background"), inside)
     bias = read_input_text(path("bias"))
+    if inside is not None:  # the bias's #include directives are followed when the task is parsed
+        from symlearn.logic.asp.program import Program, expand_includes
+
+        expand_includes(Program.from_text(bias, source=str(path("bias"))), within=inside)
     model = _read_model(path("model"))
     grounding = FactGrounding.from_jsonl(path("states"), path("actions"))
     n_s, n_a = model["transitions"].shape[:2]
@@ -107,20 +119,40 @@ def read_domain_folder(folder: Path):
     return domain
 
 
-def _read_program(path: Path):
+def _read_program(path: Path, inside: Path | None):
     from symlearn.logic.asp.program import Program
 
-    return Program.from_file(path)
+    return Program.from_file(path, within=inside)
+
+
+def _check_inside(name: str, path: Path, inside: Path, key: str, toml_path: Path) -> None:
+    """Refuse a path of ``domain.toml`` that leaves the domain folder: absolute, through ``..``,
+    or (symlinks followed) resolving outside it. Checked before the file is opened."""
+    hint = ("paths in domain.toml are relative to its folder and stay inside it (--allow-outside lifts "
+            "this for a trusted folder)")
+    if Path(name).is_absolute() or ".." in Path(name).parts:
+        raise DataError(f"key {key!r}: {name!r} leaves the domain folder", file=str(toml_path), hint=hint)
+    try:
+        resolved = path.resolve()
+    except (OSError, RuntimeError):  # a symlink loop
+        raise DataError(f"key {key!r}: {name!r} cannot be resolved (a symlink loop?)", file=str(toml_path)) from None
+    if not resolved.is_relative_to(inside):
+        raise DataError(f"key {key!r}: {name!r} is a link to a file outside the domain folder", file=str(toml_path),
+                        hint=hint)
 
 
 def _read_model(path: Path) -> dict[str, np.ndarray]:
-    from symlearn.data.npz_format import member_headers
+    from symlearn.data.npz_format import open_checked
 
-    headers = member_headers(path)  # declared sizes checked before anything is decompressed
+    headers, archive = open_checked(path)  # declared sizes checked before anything is decompressed
+    if not isinstance(archive, np.lib.npyio.NpzFile):
+        raise DataError("the model is a single array; it needs an archive of named arrays", file=str(path),
+                        hint="write it with numpy.savez")
     if any(dtype.kind not in "biuf" for dtype, _ in headers.values()):
+        archive.close()
         raise DataError("the model archive holds text arrays; it needs numbers and booleans only", file=str(path))
     try:
-        with np.load(path, allow_pickle=False) as archive:
+        with archive:
             arrays = {k: np.asarray(archive[k]) for k in archive.files}
     except (OSError, ValueError, EOFError, zipfile.BadZipFile, zlib.error, RuntimeError) as exc:
         raise DataError(f"cannot read the model archive: {exc}", file=str(path),

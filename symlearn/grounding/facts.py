@@ -256,6 +256,13 @@ def _read_table(path: Path, key: str, names: dict[int, str] | None = None) -> di
             raise DataError(f"\"id\" must be a non-negative integer, got {ident!r}", file=str(path), line=number)
         if not isinstance(value, str):
             raise DataError(f"\"{key}\" must be a string, got {type(value).__name__}", file=str(path), line=number)
+        if "#include" in value:
+            from symlearn.logic.asp.program import find_include
+
+            if find_include(value) is not None:  # clingo would read the named file into the facts
+                raise DataError(f"\"{key}\" holds an #include directive", file=str(path), line=number,
+                                hint="a state's facts and an action atom are plain facts; put shared rules "
+                                     "in the background program")
         if ident in table:
             raise DataError(f"id {ident} appears twice (first on line {table[ident][1]})", file=str(path), line=number)
         if names is not None and "name" in item:

@@ -76,6 +76,7 @@ features). NaN in a used column is an error (it would compare false with every b
 
 from __future__ import annotations
 
+import gc
 import json
 import math
 import os
@@ -253,7 +254,10 @@ class Atom:
         number = (int, float, np.integer, np.floating)
         if isinstance(self.value, (bool, np.bool_)) or not isinstance(self.value, number):
             raise DataError(f"the bound of {self.feature} {op} ... must be a number, not {self.value!r}")
-        value = float(self.value)
+        try:
+            value = float(self.value)
+        except OverflowError:  # an integer beyond float64 (a JSON file may hold 10**400)
+            raise DataError(f"the bound of {self.feature} {op} ... is too large for a float") from None
         if not math.isfinite(value):
             raise DataError(f"the bound of {self.feature} {op} ... must be finite, not {value!r}")
         object.__setattr__(self, "op", op)
@@ -825,26 +829,157 @@ def _parser():
 
 
 def parse(text: str, *, source: str | None = None) -> DNF:
-    """Read the text format (module docstring); ``source`` names the file in error messages."""
-    from lark.exceptions import UnexpectedInput
+    """Read the text format (module docstring); ``source`` names the file in error messages.
 
+    Well-formed lines are read by a hand-written scanner (a few regular-expression matches per
+    atom, linear in the text: 10^6 lines in seconds); a line it does not accept is handed to the
+    lark grammar, alone, which either reads it (a rarer spelling) or reports the error with the
+    line, column and expected tokens."""
     if not isinstance(text, str):
         raise ParseError(f"a DNF formula must be text, not {type(text).__name__}", file=source)
+    lines = text.split("\n")
+    # Millions of new, long-lived objects make the cyclic collector rescan the old ones again and
+    # again (a fifth of the time at 10^6 lines); they form no cycles, so it can rest meanwhile.
+    collecting = gc.isenabled() and len(lines) > 10_000
+    if collecting:
+        gc.disable()
+    try:
+        return _parse_lines(lines, source)
+    finally:
+        if collecting:
+            gc.enable()
+
+
+def _parse_lines(lines: list[str], source: str | None) -> DNF:
+    conjunctions: list[Conjunction] = []
+    pending: ParseError | None = None  # a bad number; a syntax error on a later line comes first
+    atoms_seen: dict = {}
+    for number, line in enumerate(lines, 1):
+        found = _scan_line(line, atoms_seen)
+        if found is None:
+            try:
+                found = _parse_line_with_grammar(line, number, number == len(lines), source)
+            except _BadNumber as exc:
+                pending = pending or exc.error
+                continue
+        conjunctions.extend(found)
+    if pending is not None:
+        raise pending
+    return DNF(tuple(conjunctions))
+
+
+_WS = r"[ \t\f\r]*"
+_ATOM_TOKEN = re.compile(
+    _WS + r'(?:(?P<name>[A-Za-z_][A-Za-z0-9_]*)|"(?P<quoted>(?:[^"\\\n]|\\.)+)")' + _WS
+    + r"(?P<op><=|>=|<|>|\u2264|\u2265)" + _WS
+    + r"(?P<number>[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)" + _WS
+    + r"(?P<sep>&&|&|\u2227|\|\||\||\u2228|#.*|\Z)")
+_CONSTANT_TOKEN = re.compile(_WS + r"(?P<constant>true|false|\u22a4|\u22a5)" + _WS + r"(?P<sep>\|\||\||\u2228|#.*|\Z)")
+_BLANK_LINE = re.compile(_WS + r"(?:#.*)?\Z")
+_AND_SEPARATORS = ("&", "&&", "\u2227")
+_ESCAPE = re.compile(r"\\(.)")
+_TRUE_CONJUNCTION = Conjunction(())
+
+
+class _BadNumber(Exception):
+    """A line that follows the grammar but holds a number that is no finite float."""
+
+    def __init__(self, error: ParseError) -> None:
+        super().__init__(str(error))
+        self.error = error
+
+
+def _scan_line(line: str, atoms_seen: dict) -> list[Conjunction] | None:
+    """The conjunctions of one well-formed line, or None for the grammar to read (or refuse).
+    ``atoms_seen``: atoms already made, shared (a rule file repeats its thresholds)."""
+    if _BLANK_LINE.match(line):
+        return []
+    out: list[Conjunction] = []
+    atoms: list[Atom] = []
+    position, after_and = 0, False
+    while True:
+        match = _ATOM_TOKEN.match(line, position)
+        if match is None:
+            if after_and:
+                return None
+            match = _CONSTANT_TOKEN.match(line, position)
+            if match is None:
+                return None
+            constant, separator = match.groups()
+            if constant in ("true", "\u22a4"):
+                out.append(_TRUE_CONJUNCTION)
+        else:
+            name, quoted, op, literal, separator = match.groups()
+            key = (name, quoted, op, literal)
+            atom = atoms_seen.get(key)
+            if atom is None:
+                if name is None:
+                    name = _ESCAPE.sub(r"\1", quoted)
+                elif name in _KEYWORDS:  # 'true < 1': the grammar says what is wrong
+                    return None
+                value = float(literal)
+                if not math.isfinite(value):  # the grammar's reader reports it, after the line's syntax
+                    return None
+                atom = atoms_seen[key] = _checked_atom(name, _UNICODE_OPS.get(op, op), value + 0.0)
+            atoms.append(atom)
+        position = match.end()
+        after_and = separator in _AND_SEPARATORS
+        if after_and:
+            continue
+        if atoms:
+            out.append(_checked_conjunction(tuple(atoms)))
+            atoms = []
+        if not separator or separator[0] == "#":  # end of the line
+            return out
+
+
+def _checked_atom(feature: str, op: str, value: float) -> Atom:
+    """An :class:`Atom` whose fields the scanner has already checked (a name, one of :data:`OPS`,
+    a finite float), made without ``__post_init__``'s checks again."""
+    atom = object.__new__(Atom)
+    object.__setattr__(atom, "feature", feature)
+    object.__setattr__(atom, "op", op)
+    object.__setattr__(atom, "value", value)
+    return atom
+
+
+def _checked_conjunction(atoms: tuple[Atom, ...]) -> Conjunction:
+    conjunction = object.__new__(Conjunction)
+    object.__setattr__(conjunction, "atoms", atoms)
+    return conjunction
+
+
+def _parse_line_with_grammar(line: str, number: int, last: bool, source: str | None) -> list[Conjunction]:
+    """One line read by the lark grammar: errors located as if the whole text had been parsed
+    (the line keeps its newline unless it is the last, so an unfinished line is reported as
+    such), with the line number shifted to the line's own."""
+    from lark.exceptions import UnexpectedInput
+
+    text = line if last else line + "\n"
     try:
         tree = _parser().parse(text)
     except UnexpectedInput as exc:
-        raise _syntax_error(text, exc, source) from None
+        error = _syntax_error(text, exc, source)
+        raise ParseError(error.message, file=source, line=None if error.line is None else error.line + number - 1,
+                         column=error.column, hint=error.hint) from None
     conjunctions: list[Conjunction] = []
-    for line in tree.children:
-        for disjunction in line.children:
+    for tree_line in tree.children:
+        for disjunction in tree_line.children:
             for conj in disjunction.children:
                 if conj.data == "false":
                     continue
                 if conj.data == "true":
                     conjunctions.append(Conjunction(()))
                     continue
-                conjunctions.append(Conjunction(tuple(_atom(node, source) for node in conj.children)))
-    return DNF(tuple(conjunctions))
+                atoms = []
+                for node in conj.children:
+                    try:
+                        atoms.append(_atom(node, source))
+                    except ParseError as exc:
+                        raise _BadNumber(ParseError(exc.message, file=source, line=exc.line + number - 1,
+                                                    column=exc.column, hint=exc.hint)) from None
+                conjunctions.append(Conjunction(tuple(atoms)))
+    return conjunctions
 
 
 def _atom(node, source: str | None) -> Atom:

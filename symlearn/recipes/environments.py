@@ -36,54 +36,26 @@ from symlearn.errors import DataError, SymlearnError, UnknownNameError
 
 #: keywords ``gymnasium.make`` itself takes, accepted for every gymnasium id
 _MAKE_KEYWORDS = ("render_mode", "max_episode_steps", "disable_env_checker")
-#: deepest nesting --env-kwargs may have (a JSON bomb of brackets is refused, not recursed into)
-_MAX_DEPTH = 32
 
 
 # --- --env-kwargs ------------------------------------------------------------------------------
 
 
 def parse_env_kwargs(value: str | Mapping[str, Any] | None, *, flag: str = "--env-kwargs") -> dict[str, Any]:
-    """``value`` as a dict: ``None`` -> ``{}``, a mapping as it is, a string as strict JSON (an
-    object; duplicate keys, NaN and nesting deeper than 32 levels refused)."""
+    """``value`` as a dict: ``None`` -> ``{}``, a mapping as it is, a string read as strictly as a
+    file (an object; duplicate keys, NaN, oversized numbers and deep nesting refused:
+    :func:`symlearn.json_document.load_option_json`)."""
     if value is None:
         return {}
     if isinstance(value, Mapping):
         return dict(value)
-    import json
+    from symlearn.json_document import load_option_json
 
-    def no_duplicates(pairs: list[tuple[str, Any]]) -> dict[str, Any]:
-        seen: dict[str, Any] = {}
-        for key, item in pairs:
-            if key in seen:
-                raise DataError(f"{flag} names {key!r} twice", hint="give each keyword once")
-            seen[key] = item
-        return seen
-
-    def no_constant(name: str) -> Any:
-        raise DataError(f"{flag}: {name} is no JSON number", hint="give a finite number")
-
-    text = str(value)
-    depth = running = 0
-    for char in text:  # count brackets before json recurses into them
-        if char in "[{":
-            running += 1
-            depth = max(depth, running)
-        elif char in "]}":
-            running -= 1
-    if depth > _MAX_DEPTH:
-        raise DataError(f"{flag} nests {depth} levels deep (at most {_MAX_DEPTH})")
     try:
-        kwargs = json.loads(text, object_pairs_hook=no_duplicates, parse_constant=no_constant)
-    except json.JSONDecodeError as exc:
-        raise DataError(f"{flag} is not JSON: {exc.msg}", line=exc.lineno, column=exc.colno,
-                        hint='give a JSON object, e.g. \'{"wall": -3.0}\'') from None
-    except RecursionError:
-        raise DataError(f"{flag} nests too deeply") from None
-    if not isinstance(kwargs, dict):
-        raise DataError(f"{flag} must be a JSON object, got {type(kwargs).__name__}",
-                        hint='e.g. \'{"size": 8}\'')
-    return kwargs
+        return load_option_json(str(value), flag)
+    except DataError as exc:
+        raise DataError(exc.message, file=exc.file, line=exc.line, column=exc.column,
+                        hint=exc.hint or 'give a JSON object, e.g. \'{"wall": -3.0}\'') from None
 
 
 def _parameters(constructor: Callable[..., Any]) -> tuple[list[str], bool]:

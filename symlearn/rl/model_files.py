@@ -32,7 +32,7 @@ from safetensors.torch import save as save_tensors
 
 from symlearn.atomic import write_bytes, write_text
 from symlearn.errors import ModelError
-from symlearn.input_limits import load_json, read_input_text
+from symlearn.input_limits import load_json, read_input_bytes, read_input_text
 
 FORMAT = "symlearn-torch-module"
 VERSION = 1
@@ -93,14 +93,16 @@ def load_torch_module(
     """``(module, config)``: ``build(config)`` filled with the saved tensors, names and shapes checked."""
     weights, _ = model_paths(path)
     config = read_model_config(weights, kind=kind)
-    try:
-        tensors = load_tensors(weights.read_bytes())
+    try:  # capped like an array archive: /dev/zero or a huge file stops at the limit
+        tensors = load_tensors(read_input_bytes(weights, variable="SYMLEARN_MAX_ARRAY_MB", what="weights file"))
     except FileNotFoundError:
         raise ModelError("no weights file", file=weights) from None
     except (SafetensorError, ValueError, OSError) as exc:
         raise ModelError(f"not a readable safetensors file: {exc}", file=weights) from None
-    module = build(config)
-    expected = module.state_dict()
+    # The configuration's layer sizes come from a file: build it first on the meta device
+    # (shapes only, no memory), so a configuration asking for 10^12 weights is refused by the
+    # comparison with the (size-capped) file's tensors below instead of being allocated.
+    expected = _build(build, config, weights, device="meta").state_dict()
     missing = sorted(set(expected) - set(tensors))
     unknown = sorted(set(tensors) - set(expected))
     if missing or unknown:
@@ -115,5 +117,28 @@ def load_torch_module(
     if wrong:
         raise ModelError(f"the weights do not fit the configured model: {'; '.join(wrong)}", file=weights,
                          hint="the .json and .safetensors files must come from the same save")
+    module = _build(build, config, weights)  # now no larger than the file's tensors
     module.load_state_dict(tensors, strict=True)
     return module, config
+
+
+def _build(build: Callable[[dict[str, Any]], M], config: dict[str, Any], weights: Path, *,
+           device: str | None = None) -> M:
+    """``build(config)`` (on ``device``); a configuration that cannot build a module (a negative
+    or fractional layer size, a wrong type) is a :class:`ModelError` naming the file."""
+    try:
+        if device is None:
+            return build(config)
+        with torch.device(device):
+            return build(config)
+    except ModelError as exc:  # torch's messages can carry its C++ stack: keep their first line
+        raise ModelError(_first_line(exc.message), file=exc.file or str(weights.with_suffix(".json")),
+                         hint=exc.hint) from None
+    except (TypeError, ValueError, RuntimeError, OverflowError, KeyError, IndexError, AttributeError) as exc:
+        raise ModelError(f"the configuration does not describe a model ({type(exc).__name__}: "
+                         f"{_first_line(str(exc))})", file=weights.with_suffix(".json")) from None
+
+
+def _first_line(text: str) -> str:
+    lines = text.strip().splitlines()
+    return lines[0].rstrip() + (" ..." if len(lines) > 1 else "") if lines else text

@@ -57,8 +57,10 @@ def load_results(folder: str | Path) -> SweepResults:
     meta = read_meta(folder)
     try:
         spec = SweepSpec.from_json(meta["spec"])
+    except DataError as exc:
+        raise DataError(exc.message, file=Path(folder) / "sweep.json") from None
     except (KeyError, TypeError, AttributeError) as exc:
-        raise DataError(f"{Path(folder) / 'sweep.json'}: the recorded sweep is incomplete ({exc})") from None
+        raise DataError(f"the recorded sweep is incomplete ({exc})", file=Path(folder) / "sweep.json") from None
     cells = spec.cells()
     wanted = {c.id: c for c in cells}
     latest_ok: dict[str, dict] = {}

@@ -54,7 +54,8 @@ from pathlib import Path
 from typing import Any
 
 from symlearn.errors import DataError, ParseError
-from symlearn.input_limits import read_input_text
+from symlearn.input_limits import MAX_JSON_DEPTH, depth, read_input_text
+from symlearn.sweep.target_policy import command_refusal, function_refusal
 
 SECTIONS = {"sweep", "fixed", "grid", "cases", "report"}
 SWEEP_KEYS = {"name", "function", "command", "seeds", "metrics", "timeout", "retries", "cpus"}
@@ -62,6 +63,13 @@ REPORT_KEYS = {"x", "group", "labels", "curve_x", "plot"}
 #: the parameter every cell receives; a grid may not set it
 SEED = "seed"
 DEFAULT_RETRIES = 2
+#: cells one sweep may have (each is a record in the store; a typo such as seeds = 1000000000
+#: must not list a billion of them)
+MAX_CELLS = 1_000_000
+#: seeds are passed to numpy's and torch's generators
+MAX_SEED = 2**32 - 1
+#: nesting of a sweep file's values (they are written as JSON)
+MAX_DEPTH = MAX_JSON_DEPTH - 10
 _NAME = re.compile(r"^[A-Za-z_][A-Za-z0-9_]*$")
 _PLACEHOLDER = re.compile(r"\{([A-Za-z_][A-Za-z0-9_]*)\}")
 
@@ -137,11 +145,61 @@ class SweepSpec:
 
     @classmethod
     def from_json(cls, doc: dict[str, Any]) -> "SweepSpec":
+        """The spec a results folder recorded; a field of the wrong type is a :class:`DataError`
+        naming it (the file may have been edited by hand)."""
+        problem = _recorded_problem(doc)
+        if problem:
+            raise DataError(f"the recorded sweep is malformed: {problem}")
         return cls(path=Path(doc["path"]), name=doc["name"], function=doc["function"], command=doc["command"],
                    seeds=list(doc["seeds"]), metrics=doc["metrics"], timeout=doc["timeout"],
                    retries=doc["retries"], cpus=doc["cpus"], fixed=dict(doc["fixed"]),
                    grid={k: list(v) for k, v in doc["grid"].items()}, cases=[dict(c) for c in doc["cases"]],
                    report=dict(doc.get("report") or {}))
+
+
+def _is_int(value: Any) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool)
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _recorded_problem(doc: Any) -> str | None:
+    """What is wrong with a recorded spec (``sweep.json``'s ``spec``), or None."""
+    if not isinstance(doc, dict):
+        return "'spec' must be an object"
+    strings = lambda v: isinstance(v, list) and all(isinstance(w, str) for w in v)  # noqa: E731
+    checks = {
+        "path": lambda v: isinstance(v, str),
+        "name": lambda v: isinstance(v, str),
+        "function": lambda v: v is None or isinstance(v, str),
+        "command": lambda v: v is None or (strings(v) and bool(v)),
+        "seeds": lambda v: isinstance(v, list) and bool(v) and all(_is_int(x) for x in v),
+        "metrics": lambda v: v is None or strings(v),
+        "timeout": lambda v: v is None or (_is_number(v) and v > 0),
+        "retries": lambda v: _is_int(v) and v >= 0,
+        "cpus": lambda v: _is_number(v) and v > 0,
+        "fixed": lambda v: isinstance(v, dict),
+        "grid": lambda v: isinstance(v, dict) and all(isinstance(x, list) and x for x in v.values()),
+        "cases": lambda v: isinstance(v, list) and all(isinstance(c, dict) for c in v),
+    }
+    for key, valid in checks.items():
+        if key not in doc:
+            return f"it lacks {key!r}"
+        if not valid(doc[key]):
+            return f"{key!r} has the wrong type ({type(doc[key]).__name__})"
+    if not isinstance(doc.get("report") or {}, dict):
+        return "'report' must be an object"
+    if (doc["function"] is None) == (doc["command"] is None):
+        return "it needs exactly one of 'function' and 'command'"
+    seeds, grid, cases = doc["seeds"], doc["grid"], doc["cases"]
+    count = len(seeds) * max(1, len(cases))
+    for values in grid.values():
+        count *= len(values)
+        if count > MAX_CELLS:
+            return f"it has more than {MAX_CELLS:,} cells"
+    return None
 
 
 def _canonical(value: Any) -> str:
@@ -169,6 +227,10 @@ def read_spec(path: str | Path, *, check_target: bool = True) -> SweepSpec:
         line, column = _toml_position(str(exc), text)
         message = re.sub(r"\s*\(at (line \d+, column \d+|end of document)\)", "", str(exc))
         raise ParseError(f"invalid TOML: {message}", file=path, line=line, column=column) from None
+    except RecursionError:  # tomllib recurses once per nested array or inline table
+        raise ParseError(f"TOML nested more than {MAX_DEPTH} levels deep", file=path) from None
+    if depth(doc) > MAX_DEPTH:  # the values are written as JSON (cell ids, records): bounded nesting
+        raise ParseError(f"TOML nested more than {MAX_DEPTH} levels deep", file=path)
     where = _Locator(path, text)
     for section in doc:
         if section not in SECTIONS:
@@ -192,6 +254,10 @@ def read_spec(path: str | Path, *, check_target: bool = True) -> SweepSpec:
     if command is not None and (not isinstance(command, list) or not command
                                 or not all(isinstance(w, str) for w in command)):
         raise where.error("command must be a non-empty list of strings", "sweep", "command")
+    refusal = function_refusal(function, path.parent) if function is not None else command_refusal(command)
+    if refusal:  # before anything is imported or run (symlearn/sweep/target_policy.py)
+        raise where.error(f"refused: {refusal}", "sweep", "function" if function is not None else "command",
+                          hint="see 'Sweep files' in docs/FORMATS.md for what a sweep may run")
     seeds = _seeds(sweep.get("seeds", 1), where)
     metrics = sweep.get("metrics")
     if metrics is not None and (not isinstance(metrics, list) or not metrics
@@ -229,6 +295,7 @@ def read_spec(path: str | Path, *, check_target: bool = True) -> SweepSpec:
         if key not in REPORT_KEYS:
             raise where.error(f"unknown key {key!r} in [report]", "report", key,
                               hint=f"the keys are {', '.join(sorted(REPORT_KEYS))}")
+    _check_cell_count(seeds, grid, cases, where)
     spec = SweepSpec(path=path, name=str(sweep.get("name") or path.stem), function=function, command=command,
                      seeds=seeds, metrics=metrics, timeout=timeout, retries=retries, cpus=cpus, fixed=fixed,
                      grid=grid, cases=[dict(c) for c in cases], report=dict(report))
@@ -253,14 +320,32 @@ def _seeds(value: Any, where: "_Locator") -> list[int]:
         if value < 1:
             raise where.error(f"seeds = {value}: the grid has 0 cells", "sweep", "seeds",
                               hint="seeds = N runs seeds 0..N-1; give at least 1")
+        if value > MAX_CELLS:  # before range(value) is listed
+            raise where.error(f"seeds = {value:,} makes more than {MAX_CELLS:,} cells", "sweep", "seeds")
         return list(range(value))
     if isinstance(value, list) and all(isinstance(s, int) and not isinstance(s, bool) for s in value):
         if not value:
             raise where.error("seeds is an empty list: the grid has 0 cells", "sweep", "seeds")
         if len(set(value)) != len(value):
             raise where.error("seeds lists a seed twice", "sweep", "seeds")
+        bad = [s for s in value if not 0 <= s <= MAX_SEED]
+        if bad:
+            raise where.error(f"seed {bad[0]} is out of range", "sweep", "seeds",
+                              hint=f"seeds are whole numbers from 0 to {MAX_SEED:,}")
         return list(value)
     raise where.error(f"seeds must be a count or a list of whole numbers, not {value!r}", "sweep", "seeds")
+
+
+def _check_cell_count(seeds: list[int], grid: dict[str, list[Any]], cases: list[Any], where: "_Locator") -> None:
+    """Refuse a sweep of more than :data:`MAX_CELLS` cells from its sizes, before listing them."""
+    count = len(seeds) * max(1, len(cases))
+    for values in grid.values():
+        count *= len(values)
+        if count > MAX_CELLS:
+            break
+    if count > MAX_CELLS:
+        raise where.error(f"the sweep has more than {MAX_CELLS:,} cells (seeds x cases x grid)", None, "grid",
+                          hint="split it into several sweeps")
 
 
 def _positive(value: Any, name: str, where: "_Locator") -> float | None:

@@ -27,14 +27,15 @@ from __future__ import annotations
 
 import json
 import os
+import stat
 from collections import Counter
 from datetime import datetime, timezone
 from pathlib import Path
 from typing import Any
 
 from symlearn.atomic import write_text
-from symlearn.errors import DataError
-from symlearn.input_limits import load_json, read_input_bytes, decode_utf8
+from symlearn.errors import DataError, LimitExceededError
+from symlearn.input_limits import decode_utf8, describe_bytes, limit, load_json, read_input_bytes
 from symlearn.json_document import read_document
 
 MAGIC = "sweep"
@@ -58,13 +59,25 @@ def read_meta(folder: str | Path) -> dict[str, Any]:
 def read_records(folder: str | Path) -> list[dict[str, Any]]:
     """Every whole record of ``results.jsonl``, in order; a torn last line (the driver was
     killed while writing it) is skipped. Records are read without a size cap on the file (a long
-    sweep's store is large by right); each line is checked as JSON with its line number."""
+    sweep's store is large by right), but each line is capped by ``SYMLEARN_MAX_INPUT_MB`` and
+    the store must be a regular file (a device or an endless line stops there); each line is
+    checked as JSON with its line number."""
     path = Path(folder) / RESULTS
     if not path.exists():
         return []
     records = []
+    bound = limit("SYMLEARN_MAX_INPUT_MB")
     with open(path, "rb") as handle:
-        for number, raw in enumerate(handle, 1):
+        if not stat.S_ISREG(os.fstat(handle.fileno()).st_mode):  # /dev/zero would be one endless line
+            raise DataError("the results store is not a regular file", file=path)
+        number = 0
+        while raw := handle.readline(-1 if bound is None else bound + 1):
+            number += 1
+            if bound is not None and len(raw) > bound:
+                raise LimitExceededError(f"record is longer than the limit of {describe_bytes(bound)} "
+                                         "(reading stopped there)", file=path, line=number,
+                                         hint="raise the limit with SYMLEARN_MAX_INPUT_MB=<megabytes> "
+                                              "(0: no limit) if the file is trusted")
             if not raw.endswith(b"\n"):
                 break  # torn last line: never acknowledged, so never counted
             text = decode_utf8(raw, source=path).rstrip("\r\n")
@@ -100,7 +113,9 @@ class ResultsStore:
         if existed:
             old = read_meta(self.folder)
             if old.get("fingerprint") != fingerprint and not force:
-                wrote = (old.get("spec") or {}).get("path", "another sweep file")
+                recorded = old.get("spec")  # a hand-edited sweep.json may hold anything here
+                wrote = recorded.get("path") if isinstance(recorded, dict) else None
+                wrote = wrote if isinstance(wrote, str) else "another sweep file"
                 mine = (meta.get("spec") or {}).get("path")
                 which = (f"an earlier version of {wrote}" if mine is not None and Path(mine).resolve() ==
                          Path(wrote).resolve() else f"another sweep ({wrote})")

@@ -95,7 +95,7 @@ def test_an_environment_without_ground_truth_reports_none(inside, capsys):
 @pytest.mark.parametrize("args, message", [
     (("--env", "robot_lab:PointRobot-v7"), "did not register the gymnasium id 'PointRobot-v7'"),
     (("--env", "robot_lab:PointRobot-v0", "--env-kwargs", '{"wal": 1}'), "unknown --env-kwargs key 'wal'"),
-    (("--env", "robot_lab:PointRobot-v0", "--env-kwargs", '{"wall": 1, "wall": 2}'), "names 'wall' twice"),
+    (("--env", "robot_lab:PointRobot-v0", "--env-kwargs", '{"wall": 1, "wall": 2}'), 'key "wall" appears twice'),
     (("--env", "no_lab:PointRobot-v0"), "no module named 'no_lab'"),
 ])
 def test_bad_names_are_one_line_everywhere(inside, capsys, args, message):

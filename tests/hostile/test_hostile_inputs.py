@@ -25,6 +25,7 @@ import numpy as np
 import pytest
 
 from hostile import assert_refused, assert_survived, check, run_command, run_python
+from zip_bombs import deflate as _deflate, zip_of as _zip
 
 HERE = Path(__file__).resolve().parent
 REPO = HERE.parents[1]
@@ -74,39 +75,6 @@ def test_jsonl_header_dtypes_must_be_plain_numbers():
         with pytest.raises(DataError, match="not a plain numeric dtype"):
             _plain_dtype(dtype, "state_dtype", Path("d.jsonl"), 1, "")
     assert _plain_dtype("<f8", "state_dtype", Path("d.jsonl"), 1, "") == "float64"
-
-
-def _deflate(data_chunks, repeat: int = 1) -> tuple[bytes, int, int]:
-    """Raw deflate of ``data_chunks`` (bytes) and, ``repeat`` times, of one 8 MB zero block
-    compressed once (full flush makes blocks independent): (compressed, crc, size)."""
-    comp = zlib.compressobj(9, zlib.DEFLATED, -15)
-    out = [comp.compress(data_chunks), comp.flush(zlib.Z_FULL_FLUSH)]
-    crc, size = zlib.crc32(data_chunks), len(data_chunks)
-    if repeat:
-        zeros = bytes(8 << 20)
-        block_comp = zlib.compressobj(9, zlib.DEFLATED, -15)
-        block = block_comp.compress(zeros) + block_comp.flush(zlib.Z_FULL_FLUSH)
-        for _ in range(repeat):
-            out.append(block)
-            crc = zlib.crc32(zeros, crc)
-            size += len(zeros)
-    out.append(b"\x03\x00")  # final empty block
-    return b"".join(out), crc & 0xFFFFFFFF, size
-
-
-def _zip(members: dict[str, tuple[bytes, int, int]]) -> bytes:
-    """A ZIP archive of already deflated members (name -> (compressed, crc, size))."""
-    local, central, offset = [], [], 0
-    for name, (data, crc, size) in members.items():
-        encoded = name.encode()
-        header = struct.pack("<IHHHHHIIIHH", 0x04034B50, 20, 0, 8, 0, 0x21, crc, len(data), size, len(encoded), 0)
-        local.append(header + encoded + data)
-        central.append(struct.pack("<IHHHHHHIIIHHHHHII", 0x02014B50, 20, 20, 0, 8, 0, 0x21, crc, len(data), size,
-                                   len(encoded), 0, 0, 0, 0, 0, offset) + encoded)
-        offset += len(header) + len(encoded) + len(data)
-    directory = b"".join(central)
-    end = struct.pack("<IHHHHIIH", 0x06054B50, 0, 0, len(central), len(central), len(directory), offset, 0)
-    return b"".join(local) + directory + end
 
 
 def _npz_bomb(path: Path, member: str, zero_blocks: int, declared_rows: int) -> None:

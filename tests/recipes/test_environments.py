@@ -52,10 +52,10 @@ def test_names_from_features_flag_are_counted_against_the_observation(user_folde
 @pytest.mark.parametrize("name, kwargs, message", [
     ("my_point_robot:PointRobot-v9", None, "module 'my_point_robot' did not register the gymnasium id 'PointRobot-v9'"),
     ("my_point_robot:PointRobot-v0", '{"wal": 1}', "unknown --env-kwargs key 'wal' for PointRobot-v0"),
-    ("my_point_robot:PointRobot-v0", '{"wall": 1, "wall": 2}', "--env-kwargs names 'wall' twice"),
+    ("my_point_robot:PointRobot-v0", '{"wall": 1, "wall": 2}', 'key "wall" appears twice'),
     ("my_point_robot:PointRobot-v0", "[1]", "--env-kwargs must be a JSON object"),
-    ("my_point_robot:PointRobot-v0", "{wall: 1}", "--env-kwargs is not JSON"),
-    ("my_point_robot:PointRobot-v0", "[" * 40 + "]" * 40, "nests 40 levels deep"),
+    ("my_point_robot:PointRobot-v0", "{wall: 1}", "not JSON"),
+    ("my_point_robot:PointRobot-v0", "[" * 40 + "]" * 40, "nested more than 32 levels deep"),
     ("no_such_module_here:X-v0", None, "no module named 'no_such_module_here'"),
     ("toy-navigaton", None, "unknown environment 'toy-navigaton'"),
     ("CartPol-v1", None, "unknown environment 'CartPol-v1'"),
@@ -133,7 +133,7 @@ def test_every_registry_entry_says_what_it_has():
 
 def test_strict_json_helpers():
     assert parse_env_kwargs(None) == {} and parse_env_kwargs({"a": 1}) == {"a": 1}
-    with pytest.raises(DataError, match="NaN is no JSON number"):
+    with pytest.raises(DataError, match="NaN is not a JSON number"):
         parse_env_kwargs('{"a": NaN}')
     assert parse_feature_names(" x, y ") == ("x", "y")
     with pytest.raises(DataError, match="every name must be non-empty"):

@@ -203,6 +203,16 @@ class NeuralCost(nn.Module):
         cost.eval()
         if not torch.isfinite(cost.lambdas).all() or (cost.lambdas < 0).any():
             raise ModelError("the multipliers must be finite and >= 0", file=str(path))
+        # the tensors must agree with the configuration they were saved with, and be numbers
+        if cost.phi.obs_index.tolist() != list(cost.phi.obs_dims):
+            raise ModelError(f"phi.obs_index {cost.phi.obs_index.tolist()} contradicts the configuration's obs_dims "
+                             f"{list(cost.phi.obs_dims)}", file=str(path),
+                             hint="the .json and .safetensors files must come from the same save")
+        bad = [name for name, tensor in cost.state_dict().items()
+               if tensor.is_floating_point() and not torch.isfinite(tensor).all()]
+        if bad or (cost.phi.input_scale <= 0).any():
+            raise ModelError(f"the tensor {bad[0] if bad else 'phi.input_scale'} holds "
+                             f"{'NaN or infinite' if bad else 'non-positive'} values", file=str(path))
         if env is not None:
             cost.check_environment(env, source=path)
         return cost

@@ -72,6 +72,8 @@ class PrototypeLabeling(LabelingBase):
         self.prototypes = np.asarray(prototypes, dtype=np.float64)
         if self.prototypes.ndim != 2 or len(self.prototypes) == 0:
             raise ModelError(f"prototypes must be a (k, d) array with k >= 1, got shape {self.prototypes.shape}")
+        if not np.isfinite(self.prototypes).all():  # a NaN prototype would match no frame, silently
+            raise ModelError("prototypes must be finite numbers (a NaN or infinite entry is no centre)")
         self.kappa = default_kappa(self.prototypes) if kappa is None else float(kappa)
         if not (np.isfinite(self.kappa) and self.kappa > 0):
             raise DataError(f"kappa must be a positive number, got {kappa!r}")
@@ -142,7 +144,7 @@ class PrototypeLabeling(LabelingBase):
             prototypes = np.asarray(document["prototypes"], dtype=np.float64)
             kappa, names = float(document["kappa"]), document["propositions"]
             features_doc = document["features"]
-        except (KeyError, TypeError, ValueError) as exc:
+        except (KeyError, TypeError, ValueError, OverflowError) as exc:  # OverflowError: 1e400 as an integer
             raise DataError(f"malformed prototype labeling: {exc}", file=path) from None
         kind = features_doc.get("kind") if isinstance(features_doc, dict) else None
         if feature_extractor is not None:
@@ -152,23 +154,25 @@ class PrototypeLabeling(LabelingBase):
             from safetensors import SafetensorError
             from safetensors.numpy import load as load_arrays
 
-            file = features_doc.get("file")
-            if not isinstance(file, str) or Path(file).name != file:
-                raise DataError("the labeling names no features file beside it", file=path)
+            file = _features_file(path, features_doc)
             try:
-                arrays = load_arrays(read_input_bytes(path.with_name(file)))
+                arrays = load_arrays(read_input_bytes(file, variable="SYMLEARN_MAX_ARRAY_MB", what="features file"))
             except (SafetensorError, OSError) as exc:
-                raise DataError(f"cannot read the features file {file}: {exc}", file=path) from None
+                raise DataError(f"cannot read the features file {file.name}: {exc}", file=path) from None
             features = PCAFeatures.from_arrays(features_doc, arrays)
         elif kind == "autoencoder":
             from symlearn.learners.reward_machines.autoencoder import AutoencoderFeatures
 
-            features = AutoencoderFeatures.load(path.with_name(str(features_doc.get("file"))))
+            file = _features_file(path, features_doc)
+            features = AutoencoderFeatures.load(file)
         else:
             raise DataError(f"the labeling's features ({kind}) cannot be loaded from files",
                             file=path, hint="pass feature_extractor= (the encoder it was built with)")
         meanings = document.get("meanings") if isinstance(document.get("meanings"), dict) else None
-        return cls(features, prototypes, kappa, names, meanings)
+        try:
+            return cls(features, prototypes, kappa, names, meanings)
+        except (DataError, ModelError) as exc:
+            raise type(exc)(exc.message, file=exc.file or path, hint=exc.hint) from None
 
 
 def check_exclusive(matrix: np.ndarray, what: str = "demonstration frames") -> int:
@@ -190,3 +194,13 @@ def check_machine_labeling(machine, labeling, *, source: str | None = None) -> N
 
 
 __all__ = ["MultipleLabelsWarning", "PrototypeLabeling", "check_exclusive", "check_machine_labeling", "default_kappa"]
+
+
+def _features_file(labeling: Path, features_doc: dict) -> Path:
+    """The features file a saved labeling names: a plain file name in the labeling's own folder
+    (never a path elsewhere, nor the folder itself)."""
+    file = features_doc.get("file")
+    if not isinstance(file, str) or Path(file).name != file or file in ("", ".", ".."):
+        raise DataError("the labeling names no features file beside it", file=labeling,
+                        hint="'features.file' is a file name in the labeling's folder")
+    return labeling.with_name(file)

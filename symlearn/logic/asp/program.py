@@ -54,16 +54,17 @@ class Program:
         return cls((Part(text, source, line, column),))
 
     @classmethod
-    def from_file(cls, path: str | os.PathLike[str], *, expand: bool = True) -> Program:
+    def from_file(cls, path: str | os.PathLike[str], *, expand: bool = True, within: Path | None = None) -> Program:
         """The program in ``path`` (UTF-8, at most ``SYMLEARN_MAX_INPUT_MB``), its ``#include``
-        directives replaced by the included files (unless ``expand=False``)."""
+        directives replaced by the included files (unless ``expand=False``); ``within``: a
+        folder every included file must lie in (see :func:`expand_includes`)."""
         from symlearn.input_limits import read_input_text
 
         path = Path(path)
         text = read_input_text(path, what="program file")
         check_nesting(text, str(path))
         program = cls.from_text(text, source=str(path))
-        return expand_includes(program) if expand else program
+        return expand_includes(program, within=within) if expand else program
 
     @classmethod
     def compose(cls, pieces: Iterable[Program | str | os.PathLike[str]]) -> Program:
@@ -197,13 +198,15 @@ def _folder_of(source: str) -> Path:
     return path.parent if source and not source.startswith("<") and path.is_file() else Path.cwd()
 
 
-def expand_includes(program: Program, *, seen: set[Path] | None = None) -> Program:
+def expand_includes(program: Program, *, seen: set[Path] | None = None, within: Path | None = None) -> Program:
     """Replace every ``#include "f".`` of ``program`` by the program of ``f``, resolved against
     the folder of the file holding the directive (the current folder for text without a file).
 
     A file already included (or the including file itself) is skipped, as clingo does; a missing
     file or ``#include <name>.`` (clingo's built-in programs) is a :class:`ParseError` at the
-    directive."""
+    directive. With ``within`` (a domain folder), a file that resolves outside that folder
+    (symlinks followed) is refused at the directive too, before it is opened: neither its
+    content nor whether it exists shows in the message."""
     if not any("#include" in part.text for part in program.parts):
         return program
     seen = set() if seen is None else seen
@@ -238,6 +241,11 @@ def expand_includes(program: Program, *, seen: set[Path] | None = None) -> Progr
                 resolved = target.resolve()
             except OSError:
                 resolved = target
+            if within is not None and not resolved.is_relative_to(within.resolve()):
+                raise ParseError(f"#include \"{name}\" names a file outside the folder {str(within)!r}", file=part.source,
+                                 line=line, column=column,
+                                 hint="a domain's programs include files of its own folder only (--allow-outside "
+                                      "lifts this for a trusted folder)")
             if resolved in seen:
                 continue
             if not target.is_file():
@@ -245,7 +253,7 @@ def expand_includes(program: Program, *, seen: set[Path] | None = None) -> Progr
                                  column=column, hint="an included file is looked up next to the file that includes it")
             seen.add(resolved)
             included = Program.from_file(target, expand=False)
-            parts.extend(expand_includes(included, seen=seen).parts)
+            parts.extend(expand_includes(included, seen=seen, within=within).parts)
         rest = text[done:]
         if rest.strip():
             at_line, at_column = _position(text, done, part)

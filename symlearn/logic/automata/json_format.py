@@ -76,7 +76,7 @@ class _Reader:
             if isinstance(value, bool) or not isinstance(value, int):
                 raise self.fail(path, f"expected an integer, got {_json_type(value)}")
         elif kind == "number":
-            if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+            if isinstance(value, bool) or not isinstance(value, (int, float)) or not _finite_float(value):
                 raise self.fail(path, f"expected a finite number, got {_json_type(value)}")
             value = float(value)
         elif kind == "str":
@@ -103,6 +103,14 @@ class _Reader:
             return Guard.parse(text)
         except SymlearnError as exc:
             raise self.fail(path, exc.message, exc.hint) from None
+
+
+def _finite_float(value: int | float) -> bool:
+    """Whether ``value`` is a finite float64 (an integer such as 10**400 is not: it overflows)."""
+    try:
+        return math.isfinite(float(value))
+    except OverflowError:
+        return False
 
 
 def _json_type(value: Any) -> str:

@@ -24,6 +24,7 @@ from collections.abc import Iterable
 from symlearn.errors import LimitExceededError, ModelError
 from symlearn.logic.automata.dfa import DFA
 from symlearn.logic.automata import transition_diagram as td
+from symlearn.logic.automata.partition_refinement import split_blocks
 from symlearn.logic.guards import Guard
 
 SINK_NAME = "sink"
@@ -175,10 +176,9 @@ def coarsest_partition(dfa: DFA) -> list[int]:
     for i, members in enumerate(blocks):
         for q in members:
             block_of[q] = i
-    work, waiting = list(range(len(blocks))), set(range(len(blocks)))
+    work = list(range(len(blocks)))
     while work:
         splitter = work.pop()
-        waiting.discard(splitter)
         into: dict[int, Guard] = {}
         for target in blocks[splitter]:
             for source, guard in predecessors[target]:
@@ -186,22 +186,7 @@ def coarsest_partition(dfa: DFA) -> list[int]:
         touched: dict[int, dict[Guard, list[int]]] = {}
         for q, guard in into.items():
             touched.setdefault(block_of[q], {}).setdefault(guard, []).append(q)
-        for c, classes in touched.items():
-            parts = list(classes.values())
-            rest = [q for q in blocks[c] if q not in into]
-            if rest:
-                parts.append(rest)
-            if len(parts) == 1:
-                continue
-            parts.sort(key=len, reverse=True)
-            blocks[c] = set(parts[0])  # the largest part keeps the id (and its worklist status)
-            for part in parts[1:]:
-                new = len(blocks)
-                blocks.append(set(part))
-                for q in part:
-                    block_of[q] = new
-                work.append(new)
-                waiting.add(new)
+        split_blocks(blocks, block_of, touched, work)
     return block_of
 
 

@@ -39,6 +39,8 @@ from symlearn.logic.ilp.task import ILPTask
 from symlearn.progress import progress
 
 DEFAULT_SPACE_LIMIT = 200_000
+#: head and body-mode multisets the generator may look at (each is expanded into its rules)
+MAX_SHAPES = 2_000_000
 
 
 @dataclass(frozen=True)
@@ -274,8 +276,18 @@ class _Generator:
 
     def generate(self) -> None:
         heads: list[ModeDeclaration | None] = list(self.task.modeh) if self.task.modeh else [None]
-        shapes = [(head, combo) for head in heads for combo in self.body_multisets() if head is not None or combo]
-        for head, combo in progress(shapes, total=len(shapes), desc="hypothesis space", unit="shapes"):
+        # Shapes are enumerated lazily and counted: a bias of 20,000 #modeb allows ~10^12 of
+        # them, which listing first (as before) took minutes and gigabytes before any limit could
+        # apply. ``total`` is the count without recalls (an upper bound, for the bar only).
+        n_modes = len(self.body_modes)
+        total = len(heads) * sum(math.comb(n_modes + size - 1, size) for size in range(self.max_body + 1))
+        shapes = ((head, combo) for head in heads for combo in self.body_multisets() if head is not None or combo)
+        for count, (head, combo) in enumerate(progress(shapes, total=total, desc="hypothesis space", unit="shapes"), 1):
+            if count > MAX_SHAPES:
+                raise LimitExceededError(f"the mode bias allows more than {MAX_SHAPES:,} rule shapes ({n_modes} body "
+                                         f"modes, up to {self.max_body} body literals)", file=self.task.source,
+                                         hint="declare fewer #modeb, lower their recalls or max_body")
+            self._check_time()
             self._expand(head, combo)
             if self.truncated:
                 return

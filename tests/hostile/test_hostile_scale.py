@@ -1,0 +1,544 @@
+"""Reliability at scale and on the newer readers (issue 26): every case is generated here at its
+size (no stored files), run through the real command in a child process under ``RLIMIT_AS``
+(tests/support/hostile.py), and must end in one clear line and exit 2, within bounded time and
+memory, or (for the large-input cases) finish within a time that only linear work allows.
+"""
+
+from __future__ import annotations
+
+import io
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hostile import assert_refused, assert_survived, check, run_command
+from zip_bombs import deflate as _deflate, zip_of as _zip
+
+
+# -- NPZ: every member numpy would load is size-checked, under the name numpy loads it by --------
+def _bomb_member(rows: int, zero_blocks: int) -> tuple[bytes, int, int]:
+    """An int64 ``.npy`` member declaring ``rows`` rows, with ``zero_blocks`` x 8 MB of zeros
+    really inside (a few KB compressed)."""
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(header, {"descr": "<i8", "fortran_order": False, "shape": (rows,)})
+    return _deflate(header.getvalue(), zero_blocks)
+
+
+def _suffixless_bomb(path: Path, member: str, zero_blocks: int = 128) -> Path:
+    """A frame archive whose ``member`` is stored without the ``.npy`` suffix (numpy loads it by
+    that name all the same), holding a ~1 GB bomb."""
+    small = io.BytesIO()
+    np.save(small, np.ones(3, dtype=np.int64))
+    members = {"lengths.npy": _deflate(small.getvalue(), 0),
+               member: _bomb_member(zero_blocks * (8 << 20) // 8, zero_blocks)}
+    path.write_bytes(_zip(members))
+    return path
+
+
+SUFFIXLESS_READERS = [
+    ["data", "info", "{file}"],
+    ["learn", "pdfa", "--demos", "{file}", "--out", "out.json"],
+    ["dnf", "eval", "rules.dnf", "--points", "{file}"],
+    ["learn", "rm", "--demos", "{file}", "--out", "out.json"],
+]
+
+
+@pytest.mark.parametrize("command", SUFFIXLESS_READERS, ids=lambda c: " ".join(c[:2]))
+def test_npz_member_without_npy_suffix_is_size_checked(tmp_path, command):
+    path = _suffixless_bomb(tmp_path / "bomb.npz", "states")
+    assert path.stat().st_size < 1_200_000
+    (tmp_path / "rules.dnf").write_text("x > 0.5\n")
+    result = check([a.replace("{file}", path.name) for a in command], cwd=tmp_path, timeout=30, memory_mb=1024,
+                   names="bomb.npz", contains=["SYMLEARN_MAX_ARRAY_MB", "exceeds the limit"])
+    assert result.max_rss_mb < 400
+
+
+def test_npz_zip_directory_size_bounds_expansion(tmp_path):
+    """A member whose .npy header declares 3 rows but whose zip entry expands to 1 GB: refused
+    from the zip directory, before inflating."""
+    header = io.BytesIO()
+    np.lib.format.write_array_header_1_0(header, {"descr": "<i8", "fortran_order": False, "shape": (3,)})
+    path = tmp_path / "bomb.npz"
+    path.write_bytes(_zip({"points.npy": _deflate(header.getvalue(), 128)}))
+    (tmp_path / "rules.dnf").write_text("x > 0.5\n")
+    result = check(["dnf", "eval", "rules.dnf", "--points", path.name], cwd=tmp_path, timeout=30, memory_mb=1024,
+                   names="bomb.npz", contains="SYMLEARN_MAX_ARRAY_MB")
+    assert result.max_rss_mb < 400
+
+
+def test_npz_member_answering_to_one_name_twice_is_refused(tmp_path):
+    small = io.BytesIO()
+    np.save(small, np.ones(3))
+    path = tmp_path / "twice.npz"
+    path.write_bytes(_zip({"points.npy": _deflate(small.getvalue(), 0), "points": _deflate(small.getvalue(), 0)}))
+    (tmp_path / "rules.dnf").write_text("x > 0.5\n")
+    check(["dnf", "eval", "rules.dnf", "--points", path.name, "--features", "x"], cwd=tmp_path, timeout=30,
+          names="twice.npz", contains="two members answer to the name 'points'")
+
+
+def test_npz_member_that_is_no_array_is_refused(tmp_path):
+    path = tmp_path / "raw.npz"
+    with zipfile.ZipFile(path, "w") as archive:
+        archive.writestr("notes.txt", "hello")
+    check(["data", "info", path.name], cwd=tmp_path, timeout=30, names="raw.npz",
+          contains="member 'notes.txt' is not a .npy array")
+
+
+def test_bare_npy_declaring_more_than_it_holds_is_refused(tmp_path):
+    path = tmp_path / "points.npy"
+    with open(path, "wb") as handle:
+        np.lib.format.write_array_header_1_0(handle, {"descr": "<f8", "fortran_order": False,
+                                                      "shape": (10**9, 4)})
+    (tmp_path / "rules.dnf").write_text("x > 0.5\n")
+    result = check(["dnf", "eval", "rules.dnf", "--points", path.name, "--features", "x,y,z,w"], cwd=tmp_path,
+                   timeout=30, memory_mb=1024, names="points.npy", contains="declared array size")
+    assert result.max_rss_mb < 400
+
+
+@pytest.mark.parametrize("command", [["dnf", "eval", "rules.dnf", "--points", "/dev/zero"],
+                                     ["data", "info", "/dev/zero.npz"]])
+def test_npz_readers_refuse_a_device(tmp_path, command):
+    (tmp_path / "rules.dnf").write_text("x > 0.5\n")
+    if command[-1] == "/dev/zero.npz":  # data picks the format from the suffix: a symlink to the device
+        (tmp_path / "zero.npz").symlink_to("/dev/zero")
+        command = ["data", "info", "zero.npz"]
+    result = check(command, cwd=tmp_path, timeout=30, memory_mb=1024, contains="not a regular file")
+    assert result.seconds < 20
+
+
+# -- model files: weights capped, layer sizes from the configuration never allocated unchecked -----
+def _saved_cost(folder: Path) -> Path:
+    import gymnasium as gym
+    import torch
+
+    import symlearn.envs  # noqa: F401  (registers the gymnasium ids)
+    from symlearn.envs.registry import get
+    from symlearn.learners.neural import NeuralCost
+    from symlearn.learners.neural.feature_network import FeatureNetwork
+
+    cost = NeuralCost.for_env(gym.make(get("blocked-point").gym_id),
+                              FeatureNetwork([0], 0, 1, (8,), torch.Generator().manual_seed(0)))
+    cost.set_lambdas([1.0])
+    cost.save(folder / "cost.safetensors")
+    return folder / "cost.safetensors"
+
+
+@pytest.mark.parametrize("hidden, words", [
+    ([100_000, 100_000, 100_000], "do not fit the configured model"),
+    pytest.param([-3], "positive layer widths", marks=pytest.mark.slow),
+    pytest.param([1e300], "not a feature-network configuration", marks=pytest.mark.slow)])
+def test_cost_configuration_layer_sizes_are_not_allocated(tmp_path, hidden, words):
+    """3 x 10^10 weights declared beside an 8-unit file: refused from shapes built on the meta
+    device, nothing allocated (an internal MemoryError before)."""
+    import json
+
+    path = _saved_cost(tmp_path)
+    document = json.loads(path.with_suffix(".json").read_text())
+    document["config"]["phi"]["hidden_sizes"] = hidden
+    path.with_suffix(".json").write_text(json.dumps(document))
+    result = check(["train", "--env", "blocked-point", "--cost", path.name, "--steps", 256], cwd=tmp_path,
+                   timeout=60, memory_mb=3072, contains=words)
+    assert result.max_rss_mb < 1000
+
+
+def test_weights_file_read_is_capped(tmp_path):
+    path = _saved_cost(tmp_path)
+    path.unlink()
+    path.symlink_to("/dev/zero")
+    result = check(["train", "--env", "blocked-point", "--cost", path.name, "--steps", 256], cwd=tmp_path,
+                   timeout=60, memory_mb=3072, env={"SYMLEARN_MAX_ARRAY_MB": "8"}, names="cost.safetensors",
+                   contains=["larger than the limit of 8 MB", "SYMLEARN_MAX_ARRAY_MB"])
+    assert result.max_rss_mb < 1000
+
+
+def test_saved_labeling_is_checked(tmp_path):
+    """NaN prototypes are refused; a features file outside the labeling's folder is never opened."""
+    import json
+
+    from symlearn.errors import SymlearnError
+    from symlearn.learners.reward_machines.labeling import PrototypeLabeling
+
+    base = {"symlearn": "labeling", "kind": "prototypes", "format_version": 1, "kappa": 1.0,
+            "propositions": ["a"], "prototypes": [[0.0, 1.0]]}
+    cases = [({"prototypes": [[float("nan"), 1.0]], "features": {"kind": "pca", "file": "f.safetensors"}},
+              None),
+             ({"features": {"kind": "autoencoder", "file": "../../etc/passwd"}}, "features file beside it"),
+             ({"features": {"kind": "autoencoder", "file": None}}, "features file beside it"),
+             ({"features": {"kind": "pca", "file": "/etc/passwd"}}, "features file beside it"),
+             ({"prototypes": [[10**400]], "features": {"kind": "pca", "file": "f"}}, "malformed")]
+    for extra, words in cases:
+        path = tmp_path / "m.labeling.json"
+        path.write_text(json.dumps({**base, **extra}))
+        with pytest.raises(SymlearnError) as caught:
+            PrototypeLabeling.load(path, feature_extractor=(lambda x: x) if words is None else None)
+        assert "m.labeling.json" in str(caught.value) and "\n" not in str(caught.value)
+        assert (words or "finite") in str(caught.value), str(caught.value)
+
+
+# -- sweep files: only the experiment named runs; sizes bounded before cells are listed ------------
+CELL = "def cell(seed, n=1):\n    return {'value': seed * n}\n"
+
+
+def _sweep(folder: Path, head: str, rest: str = "") -> Path:
+    (folder / "cells.py").write_text(CELL)
+    path = folder / "s.toml"
+    path.write_text(f"[sweep]\n{head}\n{rest}")
+    return path
+
+
+@pytest.mark.parametrize("target, words", [
+    ('function = "logging:basicConfig"', "standard library"),
+    ('function = "os:system"', "standard library"),
+    ('function = "numpy:savez"', "library symlearn builds on"),
+    ('function = "symlearn.atomic:write_text"', "library symlearn builds on"),
+    (f'function = "{Path(io.__file__).resolve()}:open"', "inside the Python installation"),
+    ('command = ["sh", "-c", "touch pwned"]', "must start with 'symlearn'"),
+    ('command = ["/bin/rm", "x"]', "must start with 'symlearn'"),
+])
+def test_sweep_runs_only_the_experiment_it_names(tmp_path, target, words):
+    path = _sweep(tmp_path, target + "\nseeds = 1")
+    check(["sweep", "run", path.name, "--out", "out", "--local"], cwd=tmp_path, timeout=30, names="s.toml",
+          location=True, contains=["refused", words])
+    assert not (tmp_path / "out").exists() and not (tmp_path / "pwned").exists()
+
+
+def test_sweep_of_its_own_file_still_runs(tmp_path):
+    path = _sweep(tmp_path, 'function = "cells.py:cell"\nseeds = 2')
+    result = run_command(["sweep", "run", path.name, "--out", "out", "--local"], cwd=tmp_path, timeout=60)
+    assert result.returncode == 0, result.describe()
+
+
+@pytest.mark.parametrize("rest, words", [
+    ("seeds = 1000000000\n", "makes more than 1,000,000 cells"),
+    ("seeds = 1000\n[grid]\nn = [" + ", ".join(map(str, range(2000))) + "]\n", "more than 1,000,000 cells"),
+    ("seeds = [-1]\n", "seed -1 is out of range"),
+    ("seeds = [10000000000000000000]\n", "out of range"),
+    ("seeds = 1\n[fixed]\nn = " + "[" * 5000 + "]" * 5000 + "\n", "nested more than"),
+    ("seeds = 1\n[fixed]\nn = " + "{a = " * 5000 + "1" + "}" * 5000 + "\n", "nested more than"),
+])
+def test_sweep_sizes_are_bounded_before_cells_are_listed(tmp_path, rest, words):
+    path = _sweep(tmp_path, 'function = "cells.py:cell"', rest)
+    result = check(["sweep", "run", path.name, "--out", "out", "--local"], cwd=tmp_path, timeout=30,
+                   memory_mb=1024, names="s.toml", contains=words)
+    assert result.seconds < 20 and result.max_rss_mb < 400
+
+
+def test_recorded_sweep_with_wrongly_typed_fields(tmp_path):
+    import json
+
+    path = _sweep(tmp_path, 'function = "cells.py:cell"\nseeds = 2')
+    assert run_command(["sweep", "run", path.name, "--out", "out", "--local"], cwd=tmp_path, timeout=60).returncode == 0
+    meta_path = tmp_path / "out" / "sweep.json"
+    original = json.loads(meta_path.read_text())
+    for key, value in (("seeds", 3), ("grid", [1]), ("path", 7), ("cases", {"a": 1}), ("retries", "x"),
+                       ("seeds", ["a"]), ("function", None)):
+        meta = json.loads(json.dumps(original))
+        meta["spec"][key] = value
+        meta_path.write_text(json.dumps(meta))
+        check(["sweep", "report", "out"], cwd=tmp_path, timeout=30, names="sweep.json",
+              contains="recorded sweep is malformed")
+    meta = dict(original, spec=[1, 2])
+    meta_path.write_text(json.dumps(meta))
+    check(["sweep", "report", "out"], cwd=tmp_path, timeout=30, names="sweep.json")
+    path.write_text(path.read_text().replace("seeds = 2", "seeds = 3"))  # another sweep meets the odd record
+    check(["sweep", "run", path.name, "--out", "out", "--local"], cwd=tmp_path, timeout=30, contains="holds the results")
+
+
+def test_results_store_lines_are_capped(tmp_path):
+    path = _sweep(tmp_path, 'function = "cells.py:cell"\nseeds = 1')
+    assert run_command(["sweep", "run", path.name, "--out", "out", "--local"], cwd=tmp_path, timeout=60).returncode == 0
+    store = tmp_path / "out" / "results.jsonl"
+    store.unlink()
+    store.symlink_to("/dev/zero")
+    result = check(["sweep", "report", "out"], cwd=tmp_path, timeout=30, memory_mb=1024, names="results.jsonl",
+                   contains="not a regular file")
+    assert result.max_rss_mb < 400
+    store.unlink()
+    store.write_bytes(b"[" * (3 << 20))  # one 3 MB line without an end
+    check(["sweep", "report", "out"], cwd=tmp_path, timeout=30, memory_mb=1024, env={"SYMLEARN_MAX_INPUT_MB": "1"},
+          names="results.jsonl", contains="longer than the limit of 1 MB")
+
+
+# -- the command line: seeds and paths ----------------------------------------------------------
+@pytest.mark.parametrize("seed", ["-1", str(10**40), str(2**32)])
+@pytest.mark.parametrize("place", ["before", "after"])
+def test_seed_out_of_range_is_one_line(tmp_path, seed, place):
+    command = ["learn", "pdfa", "--env", "blocks-place-2", "--n-demos", "2", "--out", "p.json"]
+    args = [f"--seed={seed}", *command] if place == "before" else [*command, f"--seed={seed}"]
+    check(args, cwd=tmp_path, timeout=30, contains=["--seed", "out of range", "4,294,967,295"],
+          outputs=["p.json"])
+
+
+@pytest.mark.parametrize("make_out", ["file_as_folder", "long_name"])
+def test_output_path_errors_are_one_line(tmp_path, make_out):
+    (tmp_path / "afile").write_text("x")
+    out = "afile/spec.json" if make_out == "file_as_folder" else "a" * 300 + ".json"
+    check(["ltl", "dfa", "F a", "--save", out], cwd=tmp_path, timeout=30,
+          contains="afile" if make_out == "file_as_folder" else "file name too long")
+    sweep = _sweep(tmp_path, 'function = "cells.py:cell"\nseeds = 1')
+    check(["sweep", "run", sweep.name, "--out", "afile", "--local"], cwd=tmp_path, timeout=30, names="afile")
+
+
+def test_an_output_name_just_under_the_limit_is_written(tmp_path):
+    """250 bytes is a legal name; its temporary sibling (".NAME.XXXXXXXX.tmp") must be too."""
+    name = "a" * 245 + ".json"
+    result = run_command(["ltl", "dfa", "F a", "--save", name], cwd=tmp_path, timeout=30)
+    assert result.returncode == 0, result.describe()
+    assert (tmp_path / name).is_file() and len(list(tmp_path.iterdir())) == 1
+
+
+# -- JSON on the command line is read as strictly as a file --------------------------------------
+@pytest.mark.parametrize("text, words", [
+    ('{"wall": 1, "wall": 2}', 'key "wall" appears twice'),
+    ('{"wall": 1e400}', "too large for a float"),
+    ('{"wall": 1' + "0" * 400 + '}', "is too large"),
+    ('{"wall": ' + "[" * 30_000 + "]" * 30_000 + "}", "nested more than 32 levels"),
+    ('{"wall": NaN}', "NaN is not a JSON number"),
+])
+def test_env_kwargs_json_is_strict(tmp_path, text, words):
+    result = check(["learn", "icrl", "--env", "blocked-point", "--env-kwargs", text, "--out", "c.safetensors"],
+                   cwd=tmp_path, timeout=60, names="--env-kwargs", contains=words, outputs=["c.safetensors"])
+    assert result.seconds < 30
+
+
+def test_option_json_helper():
+    from symlearn.errors import DataError
+    from symlearn.json_document import load_option_json
+
+    assert load_option_json('{"a": [1, 2.5, {"b": null}]}', "--x") == {"a": [1, 2.5, {"b": None}]}
+    assert load_option_json("[1]", "--x", kind=None) == [1]
+    with pytest.raises(DataError, match="--x must be a JSON object"):
+        load_option_json("[1]", "--x")
+
+
+# -- the DNF text parser is linear -----------------------------------------------------------------
+def _rules(n: int) -> str:
+    return "".join(f"x{i % 7} > {i * 0.001:.3f} & y < {i % 97}.5 & z >= -{i % 13}\n" for i in range(n))
+
+
+def test_dnf_parser_is_linear_and_small(tmp_path):
+    """10^5 conjunctions (3 MB): ~50 s and ~400 MB through lark before, a few seconds now."""
+    path = tmp_path / "big.dnf"
+    path.write_text(_rules(100_000))
+    result = run_command(["dnf", "show", path.name, "--json"], cwd=tmp_path, timeout=60, memory_mb=2048)
+    assert result.returncode == 0, result.describe()
+    assert result.seconds < 20 and result.max_rss_mb < 600, result.describe()
+
+
+def test_dnf_scanner_agrees_with_the_grammar(monkeypatch):
+    """Random well- and ill-formed texts: the scanner's reading (and every error) is the one the
+    lark grammar gives when it reads every line itself."""
+    import random
+
+    from symlearn.logic import dnf
+
+    def outcome(text):
+        try:
+            return [str(c) for c in dnf.parse(text, source="f")]
+        except Exception as exc:  # noqa: BLE001 - the error itself is compared
+            return f"{type(exc).__name__}: {exc}"
+
+    rng = random.Random(26)
+    pieces = ["x", "y1", '"a b"', '"q\\"#"', "true", "false", "\u22a4", "\u22a5", "inf", "<", "<=", ">=", "\u2264",
+              "=", "1", "-2.5", "+.5", "1e3", "1e999", "nan", "&", "&&", "\u2227", "|", "||", "\u2228", " ", " ",
+              "\t", "#c", "\n", "\r\n", "and", "1.2.3", "_z"]
+    texts = []
+    for _ in range(3000):
+        if rng.random() < 0.5:
+            atoms = [rng.choice(["x", '"a b"', "inf", "true"]) + rng.choice([" ", ""]) + rng.choice(["<", ">=", "\u2264", "="])
+                     + rng.choice([" ", ""]) + rng.choice(["1", "-2.5", "1e999", "nan", "", "1x"]) for _ in range(3)]
+            texts.append(rng.choice([" & ", "&&", " | "]).join(atoms) + rng.choice(["", " #c", " |", "\r\n"]) * 2)
+        else:
+            texts.append("".join(rng.choice(pieces) for _ in range(rng.randint(1, 12))))
+    fast = [outcome(t) for t in texts]
+    monkeypatch.setattr(dnf, "_scan_line", lambda line, seen: None)
+    slow = [outcome(t) for t in texts]
+    assert fast == slow
+    assert sum(isinstance(f, list) for f in fast) > 50 and sum(isinstance(f, str) for f in fast) > 1000
+
+
+# -- domain folders read only what lies inside them ------------------------------------------------
+SECRET = "secret_fact(42)."
+
+
+def _warehouse(tmp_path: Path) -> tuple[Path, Path]:
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "support"))
+    import warehouse_domain as wh
+
+    folder = wh.write_warehouse(tmp_path / "warehouse")
+    secret = tmp_path / "secret.lp"
+    secret.write_text(SECRET + "\n")
+    return folder, secret
+
+
+def _set_key(folder: Path, key: str, value: str) -> None:
+    import re
+
+    toml = folder / "domain.toml"
+    toml.write_text(re.sub(rf'^{key} = ".*"$', f"{key} = {value!r}".replace("'", '"'), toml.read_text(), flags=re.M))
+
+
+def _escape(folder: Path, secret: Path, how: str) -> None:
+    if how == "absolute":
+        _set_key(folder, "background", str(secret))
+    elif how == "dotdot":
+        _set_key(folder, "background", "../secret.lp")
+    elif how == "symlink":
+        (folder / "bk.lp").unlink()
+        (folder / "bk.lp").symlink_to(secret)
+    elif how == "include_background":
+        (folder / "bk.lp").write_text((folder / "bk.lp").read_text() + '\n#include "../secret.lp".\n')
+    elif how == "include_linked":  # an include of a file inside the folder that is a link out of it
+        (folder / "inner.lp").symlink_to(secret)
+        (folder / "bk.lp").write_text((folder / "bk.lp").read_text() + '\n#include "inner.lp".\n')
+    elif how == "include_bias":
+        (folder / "bias.las").write_text((folder / "bias.las").read_text() + f'\n#include "{secret}".\n')
+    elif how == "include_facts":
+        lines = (folder / "states.jsonl").read_text().splitlines()
+        import json
+
+        first = json.loads(lines[0])
+        first["facts"] += f' #include "{secret}".'
+        (folder / "states.jsonl").write_text("\n".join([json.dumps(first), *lines[1:]]) + "\n")
+    elif how == "include_atom":
+        import json
+
+        lines = (folder / "actions.jsonl").read_text().splitlines()
+        first = json.loads(lines[0])
+        first["atom"] = f'#include "{secret}".'
+        (folder / "actions.jsonl").write_text("\n".join([json.dumps(first), *lines[1:]]) + "\n")
+
+
+ESCAPES = ["absolute", "dotdot", "symlink", "include_background", "include_linked", "include_bias",
+           "include_facts", "include_atom"]
+
+
+@pytest.mark.parametrize("how", ESCAPES)
+def test_domain_folder_is_confined(tmp_path, how):
+    folder, secret = _warehouse(tmp_path)
+    _escape(folder, secret, how)
+    line = check(["domain", "check", folder], cwd=tmp_path, timeout=60, contains="#include" if "include" in how
+                 else "outside" if how != "dotdot" else "leaves the domain folder").stderr
+    assert "secret_fact" not in line and "42" not in line
+
+
+@pytest.mark.parametrize("how", ["absolute", "symlink", "include_background"])
+def test_allow_outside_reads_a_trusted_folder(tmp_path, how):
+    folder, secret = _warehouse(tmp_path)
+    import shutil
+
+    shutil.copy(folder / "bk.lp", secret)  # the outside file is the real background now
+    if how == "include_background":
+        (folder / "bk.lp").write_text('#include "../secret.lp".\n')
+    else:
+        _escape(folder, secret, how)
+    refused = run_command(["domain", "check", folder], cwd=tmp_path, timeout=60)
+    assert refused.returncode == 2, refused.describe()
+    result = run_command(["domain", "check", folder, "--allow-outside"], cwd=tmp_path, timeout=120)
+    assert result.returncode == 0, result.describe()
+
+
+@pytest.mark.parametrize("megabytes", [64, 128, 160])
+def test_small_worker_memory_limits_are_one_line(tmp_path, megabytes):
+    """Below the minimum: refused up front; near it: the limit is reported (an ImportError of
+    numpy or a failed thread start was an internal error), or the check passes."""
+    folder, _ = _warehouse(tmp_path)
+    result = run_command(["domain", "check", folder, "--max-memory", megabytes], cwd=tmp_path, timeout=60)
+    if megabytes < 128:
+        assert_refused(result, contains=["too small", "at least 128 MB"])
+    else:
+        assert_survived(result)
+        if result.returncode == 2:
+            assert_refused(result, contains=f"limit of {megabytes} MB")
+
+
+@pytest.mark.parametrize("tensor, value, words", [
+    ("phi.obs_index", 5, "contradicts the configuration"),
+    pytest.param("phi.input_scale", float("nan"), "NaN or infinite", marks=pytest.mark.slow),
+    pytest.param("phi.input_scale", 0.0, "non-positive", marks=pytest.mark.slow)])
+def test_cost_tensors_that_contradict_the_configuration(tmp_path, tensor, value, words):
+    import torch
+    from safetensors.torch import load_file, save_file
+
+    path = _saved_cost(tmp_path)
+    tensors = load_file(path)
+    tensors[tensor] = torch.full_like(tensors[tensor], value)
+    save_file(tensors, path, metadata={"format": "symlearn-torch-module", "kind": "neural-icrl-cost"})
+    check(["train", "--env", "blocked-point", "--cost", path.name, "--steps", 256], cwd=tmp_path, timeout=60,
+          memory_mb=3072, names="cost.safetensors", contains=words)
+
+
+# -- automata: minimisation is not quadratic on chains ------------------------------------------
+def _chain(n: int) -> dict:
+    edges = [e for i in range(n - 1) for e in ({"source": i, "target": i + 1, "guard": "a"},
+                                             {"source": i, "target": i, "guard": "!a"})]
+    edges.append({"source": n - 1, "target": n - 1, "guard": "true"})
+    return {"format": "symlearn-automaton", "version": 1, "kind": "dfa", "alphabet": ["a"], "states": n,
+            "initial": 0, "accepting": [n - 1], "state_names": None, "transitions": edges}
+
+
+def test_automaton_show_and_convert_of_a_long_chain(tmp_path):
+    """20,000 states: > 60 s before (Moore's rounds, one per state), a few seconds now."""
+    import json
+
+    (tmp_path / "chain.json").write_text(json.dumps(_chain(20_000)))
+    for args in (["automaton", "show", "chain.json"], ["automaton", "convert", "chain.json", "out.hoa"]):
+        result = run_command(args, cwd=tmp_path, timeout=60, memory_mb=2048)
+        assert result.returncode == 0 and result.seconds < 30, result.describe()
+
+
+def test_hopcroft_partition_agrees_with_moore():
+    import json
+    import random
+
+    from symlearn.logic.automata.json_format import dfa_from_dict
+    from symlearn.logic.automata.transition_diagram import coarsest_blocks, coarsest_blocks_moore
+
+    minterms = ["a & b", "a & !b", "!a & b", "!a & !b"]
+    rng = random.Random(26)
+    for _ in range(200):
+        n = rng.randint(1, 12)
+        edges = [{"source": q, "target": rng.randrange(n), "guard": g} for q in range(n) for g in minterms]
+        doc = {"format": "symlearn-automaton", "version": 1, "kind": "dfa", "alphabet": ["a", "b"], "states": n,
+               "initial": 0, "accepting": [q for q in range(n) if rng.random() < 0.4], "state_names": None,
+               "transitions": edges}
+        dfa = dfa_from_dict(json.loads(json.dumps(doc)))
+        diagram, roots = dfa.transition_diagram()
+        accepting = [q in dfa.accepting for q in range(len(roots))]
+        fast, slow = coarsest_blocks(diagram, roots, accepting), coarsest_blocks_moore(diagram, roots, accepting)
+        pairs = [(p, q) for p in range(len(roots)) for q in range(len(roots))]
+        assert [fast[p] == fast[q] for p, q in pairs] == [slow[p] == slow[q] for p, q in pairs]
+
+
+def test_integers_too_large_for_a_float(tmp_path):
+    """JSON keeps 10^400 as an exact integer; turning it into a bound overflowed (internal error)."""
+    big = "1" + "0" * 400
+    (tmp_path / "rules.json").write_text('{"symlearn": "dnf", "format_version": 1, "conjunctions": '
+                                         f'[[["x", "<", {big}]]]}}')
+    check(["dnf", "show", "rules.json"], cwd=tmp_path, timeout=30, names="rules.json", contains="too large for a float")
+    from symlearn.logic.automata.json_format import _finite_float
+
+    assert not _finite_float(10**400) and _finite_float(10**300) and not _finite_float(float("nan"))
+
+
+def test_hypothesis_space_of_a_huge_bias_is_refused_without_listing_it():
+    """20,000 #modeb allow ~10^12 rule shapes; they were listed before any limit applied
+    (minutes, gigabytes). Now enumerated lazily and refused at the rule or shape limit."""
+    import resource
+    import time
+
+    from symlearn.errors import LimitExceededError
+    from symlearn.logic.ilp.parser import parse_task
+    from symlearn.logic.ilp.space import generate_space
+
+    task = parse_task("#modeh(goal).\n" + "".join(f"#modeb(1, q{i}).\n" for i in range(20_000)), source="big.las")
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    start = time.perf_counter()
+    with pytest.raises(LimitExceededError, match="more than 2000 rules"):
+        generate_space(task, limit=2_000)
+    assert time.perf_counter() - start < 20
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 300_000  # KB
