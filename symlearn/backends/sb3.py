@@ -265,6 +265,7 @@ def load_policy(path: Any, env: Any) -> Any:
                              f"{_space(space)}", file=str(path))
     kwargs: dict[str, Any] = {}
     if config.get("net_arch") is not None:
+        _check_net_arch(config["net_arch"], path)
         kwargs["net_arch"] = config["net_arch"]
     if config.get("activation") is not None:
         if config["activation"] not in _ACTIVATIONS:
@@ -277,8 +278,32 @@ def load_policy(path: Any, env: Any) -> Any:
         built["model"] = algorithm(config["policy"], env, policy_kwargs=kwargs, device="cpu")
         return built["model"].policy
 
-    load_torch_module(path, build, kind=POLICY_KIND)
+    # SB3 moves its networks to a device as it builds them, which the meta-device preflight cannot
+    # follow; the layer sizes were bounded above instead
+    load_torch_module(path, build, kind=POLICY_KIND, meta_check=False)
     return built["model"]
+
+
+#: the widest layer and the most layers a policy file may ask for (its sizes come from a file)
+MAX_LAYER_WIDTH = 4096
+MAX_LAYERS = 16
+
+
+def _check_net_arch(net_arch: Any, path: Any) -> None:
+    from symlearn.errors import ModelError
+
+    def widths(value: Any) -> list[Any]:
+        if isinstance(value, dict):
+            return [w for v in value.values() for w in widths(v)]
+        if isinstance(value, list):
+            return [w for v in value for w in widths(v)] if any(isinstance(v, (list, dict)) for v in value) else value
+        return [value]
+
+    found = widths(net_arch)
+    if (len(found) > 2 * MAX_LAYERS or
+            not all(isinstance(w, int) and not isinstance(w, bool) and 1 <= w <= MAX_LAYER_WIDTH for w in found)):
+        raise ModelError(f"the policy's net_arch {str(net_arch)[:80]} is not a list of at most {MAX_LAYERS} layer "
+                         f"widths from 1 to {MAX_LAYER_WIDTH}", file=str(path))
 
 
 def _policy_name(model: Any) -> str:

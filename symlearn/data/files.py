@@ -81,7 +81,15 @@ def detect(path: str | os.PathLike[str]) -> str:
 
 
 def _npz_members(path: Path) -> set[str]:
-    """Member names of an archive (a damaged one: none, and symlearn's reader says what is wrong)."""
+    """Member names of an archive (a damaged one, or no regular file: none, and symlearn's reader
+    says what is wrong -- zipfile would read ``/dev/zero`` without end looking for a directory)."""
+    import stat
+
+    try:
+        if not stat.S_ISREG(path.stat().st_mode):
+            return set()
+    except OSError:
+        return set()
     try:
         with zipfile.ZipFile(path) as archive:
             return {name[:-4] for name in archive.namelist() if name.endswith(".npy")}

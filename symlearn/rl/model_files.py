@@ -88,9 +88,14 @@ def read_model_config(path: str | os.PathLike[str], *, kind: str | None = None) 
 
 
 def load_torch_module(
-    path: str | os.PathLike[str], build: Callable[[dict[str, Any]], M], *, kind: str | None = None
+    path: str | os.PathLike[str], build: Callable[[dict[str, Any]], M], *, kind: str | None = None,
+    meta_check: bool = True,
 ) -> tuple[M, dict[str, Any]]:
-    """``(module, config)``: ``build(config)`` filled with the saved tensors, names and shapes checked."""
+    """``(module, config)``: ``build(config)`` filled with the saved tensors, names and shapes checked.
+
+    ``meta_check=False`` skips building on the meta device first, for builders that move their
+    module to a device themselves (stable-baselines3's constructors); such a caller must bound
+    the configuration's sizes before calling."""
     weights, _ = model_paths(path)
     config = read_model_config(weights, kind=kind)
     try:  # capped like an array archive: /dev/zero or a huge file stops at the limit
@@ -102,7 +107,8 @@ def load_torch_module(
     # The configuration's layer sizes come from a file: build it first on the meta device
     # (shapes only, no memory), so a configuration asking for 10^12 weights is refused by the
     # comparison with the (size-capped) file's tensors below instead of being allocated.
-    expected = _build(build, config, weights, device="meta").state_dict()
+    module = None if meta_check else _build(build, config, weights)
+    expected = (_build(build, config, weights, device="meta") if module is None else module).state_dict()
     missing = sorted(set(expected) - set(tensors))
     unknown = sorted(set(tensors) - set(expected))
     if missing or unknown:
@@ -117,7 +123,8 @@ def load_torch_module(
     if wrong:
         raise ModelError(f"the weights do not fit the configured model: {'; '.join(wrong)}", file=weights,
                          hint="the .json and .safetensors files must come from the same save")
-    module = _build(build, config, weights)  # now no larger than the file's tensors
+    if module is None:
+        module = _build(build, config, weights)  # now no larger than the file's tensors
     module.load_state_dict(tensors, strict=True)
     return module, config
 

@@ -86,4 +86,4 @@ def test_dfa_batch_errors_are_located(tmp_path, capsys):
     code, _, err = run(capsys, "ltl", "dfa", "--file", specs, "--max-states", "50")
     assert code == 2 and f"{specs}:1: " in err and "more than 50 states" in err
     code, _, err = run(capsys, "ltl", "dfa")
-    assert code == 2 and "give either a FORMULA or --file" in err
+    assert code == 2 and "give one of a FORMULA, --file" in err

@@ -39,9 +39,9 @@ def _suffixless_bomb(path: Path, member: str, zero_blocks: int = 128) -> Path:
 
 SUFFIXLESS_READERS = [
     ["data", "info", "{file}"],
-    ["learn", "pdfa", "--demos", "{file}", "--out", "out.json"],
+    ["learn", "pdfa", "--demos", "{file}", "-o", "out.json"],
     ["dnf", "eval", "rules.dnf", "--points", "{file}"],
-    ["learn", "rm", "--demos", "{file}", "--out", "out.json"],
+    ["learn", "rm", "--demos", "{file}", "-o", "out.json"],
 ]
 
 
@@ -265,7 +265,7 @@ def test_results_store_lines_are_capped(tmp_path):
 @pytest.mark.parametrize("seed", ["-1", str(10**40), str(2**32)])
 @pytest.mark.parametrize("place", ["before", "after"])
 def test_seed_out_of_range_is_one_line(tmp_path, seed, place):
-    command = ["learn", "pdfa", "--env", "blocks-place-2", "--n-demos", "2", "--out", "p.json"]
+    command = ["learn", "pdfa", "--env", "blocks-place-2", "--n-demos", "2", "-o", "p.json"]
     args = [f"--seed={seed}", *command] if place == "before" else [*command, f"--seed={seed}"]
     check(args, cwd=tmp_path, timeout=30, contains=["--seed", "out of range", "4,294,967,295"],
           outputs=["p.json"])
@@ -298,7 +298,7 @@ def test_an_output_name_just_under_the_limit_is_written(tmp_path):
     ('{"wall": NaN}', "NaN is not a JSON number"),
 ])
 def test_env_kwargs_json_is_strict(tmp_path, text, words):
-    result = check(["learn", "icrl", "--env", "blocked-point", "--env-kwargs", text, "--out", "c.safetensors"],
+    result = check(["learn", "icrl", "--env", "blocked-point", "--env-kwargs", text, "-o", "c.safetensors"],
                    cwd=tmp_path, timeout=60, names="--env-kwargs", contains=words, outputs=["c.safetensors"])
     assert result.seconds < 30
 
