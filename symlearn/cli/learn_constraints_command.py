@@ -364,9 +364,9 @@ def _render(doc: dict) -> str:
             lines.append(f"learned cost: {len(costly)} state(s) with a positive cost"
                          + ("; highest: " + ", ".join(f"{n} {v:.2f}" for n, v in costly[:5]) if costly else ""))
     if doc.get("validation"):
-        v = doc["validation"]
-        lines.append(f"validation: {v['forbidden']} of {v['steps']} held-out expert steps forbidden ({v['share']:.1%}; "
-                     f"{v['n_held_out']} demonstrations held out, {v['n_train']} learned from)")
+        from symlearn.cli.output import validation_line
+
+        lines.append(validation_line(doc["validation"], "held-out expert steps forbidden"))
     lines += [f"warning: {w}" for w in doc.get("warnings", [])]
     lines += [f"wrote {f}" for f in doc.get("files", [])]
     return "\n".join(lines)

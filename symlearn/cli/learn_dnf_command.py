@@ -149,9 +149,9 @@ def _render(doc: dict) -> str:
     if len(doc["conjunctions"]) > 40:
         lines.append(f"  ... {len(doc['conjunctions']) - 40} more (see --json or -o)")
     if doc.get("validation"):
-        v = doc["validation"]
-        lines.append(f"validation: {v['forbidden']} of {v['steps']} held-out expert states unsafe ({v['share']:.1%}; "
-                     f"{v['n_held_out']} demonstrations held out, {v['n_train']} learned from)")
+        from symlearn.cli.output import validation_line
+
+        lines.append(validation_line(doc["validation"], "held-out expert states unsafe"))
     lines += [f"note: {n}" for n in doc.get("notes", [])]
     lines += [f"warning: {w}" for w in doc.get("warnings", [])]
     lines += [f"wrote {f}" for f in doc.get("files", [])]

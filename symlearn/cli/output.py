@@ -69,3 +69,11 @@ def blame_file(path: Any) -> Iterator[None]:
         if path is None or exc.file:
             raise
         raise type(exc)(exc.message, file=path, line=exc.line, column=exc.column, hint=exc.hint) from None
+
+
+def validation_line(validation: dict, held_out: str) -> str:
+    """The one text line of a ``--validation`` report (``held_out``: what was counted, e.g.
+    "held-out expert steps forbidden")."""
+    v = validation
+    return (f"validation: {v['forbidden']} of {v['steps']} {held_out} ({v['share']:.1%}; "
+            f"{v['n_held_out']} demonstrations held out, {v['n_train']} learned from)")
