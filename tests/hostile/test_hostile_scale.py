@@ -496,7 +496,10 @@ def test_hopcroft_partition_agrees_with_moore():
     import random
 
     from symlearn.logic.automata.json_format import dfa_from_dict
-    from symlearn.logic.automata.transition_diagram import coarsest_blocks, coarsest_blocks_moore
+    from symlearn.logic.automata import transition_diagram as td
+    from symlearn.logic.automata.transition_diagram import (
+        coarsest_blocks, coarsest_blocks_hopcroft, coarsest_blocks_moore,
+    )
 
     minterms = ["a & b", "a & !b", "!a & b", "!a & !b"]
     rng = random.Random(26)
@@ -509,9 +512,17 @@ def test_hopcroft_partition_agrees_with_moore():
         dfa = dfa_from_dict(json.loads(json.dumps(doc)))
         diagram, roots = dfa.transition_diagram()
         accepting = [q in dfa.accepting for q in range(len(roots))]
-        fast, slow = coarsest_blocks(diagram, roots, accepting), coarsest_blocks_moore(diagram, roots, accepting)
+        slow = coarsest_blocks_moore(diagram, roots, accepting)
         pairs = [(p, q) for p in range(len(roots)) for q in range(len(roots))]
-        assert [fast[p] == fast[q] for p, q in pairs] == [slow[p] == slow[q] for p, q in pairs]
+        switched_early = td.MOORE_ROUNDS
+        td.MOORE_ROUNDS = 1  # one Moore round, then Hopcroft from the partition it reached
+        try:
+            mixed = coarsest_blocks(diagram, roots, accepting)
+        finally:
+            td.MOORE_ROUNDS = switched_early
+        for fast in (coarsest_blocks(diagram, roots, accepting), coarsest_blocks_hopcroft(diagram, roots, accepting),
+                     mixed):
+            assert [fast[p] == fast[q] for p, q in pairs] == [slow[p] == slow[q] for p, q in pairs]
 
 
 def test_integers_too_large_for_a_float(tmp_path):

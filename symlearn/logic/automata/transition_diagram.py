@@ -35,7 +35,7 @@ from array import array
 from collections import deque
 from contextlib import contextmanager
 from collections.abc import Iterable, Sequence
-from typing import AbstractSet
+from typing import AbstractSet, Any
 
 from symlearn.errors import LimitExceededError
 from symlearn.logic.automata.partition_refinement import split_blocks
@@ -222,9 +222,27 @@ def live(diagram: TransitionDiagram, roots: Sequence[int], accepting: Iterable[i
     return alive
 
 
+#: Moore rounds tried before minimisation switches to Hopcroft (see :func:`coarsest_blocks`)
+MOORE_ROUNDS = 24
+
+
 def coarsest_blocks(diagram: TransitionDiagram, roots: Sequence[int], accepting: Sequence[bool]) -> list[int]:
-    """Block of every state in the language-equivalence partition: Hopcroft's algorithm with
-    symbolic splitters, as :func:`symlearn.logic.automata.operations.coarsest_partition` does it
+    """Block of every state in the language-equivalence partition.
+
+    Moore's rounds first (:func:`coarsest_blocks_moore`): one pass over the shared diagram per
+    round, which is what a wide automaton wants (``F p1 & ... & F p13``: 8,192 states, 13 rounds,
+    well under a second; Hopcroft's per-splitter walks took 50 s there). A round refines the
+    partition, so when :data:`MOORE_ROUNDS` rounds have not converged -- a long chain needs one
+    round per state -- Hopcroft (:func:`coarsest_blocks_hopcroft`) finishes from the partition
+    reached, which is correct from any partition coarser than the result."""
+    block, converged = coarsest_blocks_moore(diagram, roots, accepting, max_rounds=MOORE_ROUNDS, converged=True)
+    return block if converged else coarsest_blocks_hopcroft(diagram, roots, accepting, start=block)
+
+
+def coarsest_blocks_hopcroft(diagram: TransitionDiagram, roots: Sequence[int], accepting: Sequence[bool], *,
+                             start: Sequence[int] | None = None) -> list[int]:
+    """The partition by Hopcroft's algorithm with symbolic splitters (from the partition
+    ``start``, default: accepting / rejecting), as :func:`symlearn.logic.automata.operations.coarsest_partition` does it
     for guarded edges. Processing block ``B`` gives each predecessor ``q`` of ``B`` the function
     "which letters lead into ``B``": ``q``'s diagram with every leaf replaced by whether it lies
     in ``B``, hash-consed, so equal functions are equal numbers. A block splits by those numbers
@@ -240,9 +258,13 @@ def coarsest_blocks(diagram: TransitionDiagram, roots: Sequence[int], accepting:
     for q, leaves in enumerate(_successor_sets(diagram, roots, None)):
         for leaf in leaves:
             predecessors[~leaf].append(q)
-    first = bool(accepting[0])
-    blocks = [members for members in ({q for q in range(n) if bool(accepting[q]) == first},
-                                      {q for q in range(n) if bool(accepting[q]) != first}) if members]
+    if start is None:
+        first = bool(accepting[0])
+        start = [0 if bool(accepting[q]) == first else 1 for q in range(n)]
+    grouped: dict[int, set[int]] = {}
+    for q, b in enumerate(start):
+        grouped.setdefault(b, set()).add(q)
+    blocks = list(grouped.values())
     block_of = [0] * n
     for b, members in enumerate(blocks):
         for q in members:
@@ -284,16 +306,22 @@ def coarsest_blocks(diagram: TransitionDiagram, roots: Sequence[int], accepting:
     return block_of
 
 
-def coarsest_blocks_moore(diagram: TransitionDiagram, roots: Sequence[int], accepting: Sequence[bool]) -> list[int]:
-    """Reference partition by Moore's rounds with symbolic signatures (one round per refinement
-    step: quadratic on a chain; used in tests)."""
+def coarsest_blocks_moore(diagram: TransitionDiagram, roots: Sequence[int], accepting: Sequence[bool], *,
+                          max_rounds: int | None = None, converged: bool = False) -> Any:
+    """The partition by Moore's rounds with symbolic signatures (one round per refinement step:
+    quadratic on a chain). ``max_rounds``: stop after that many; ``converged=True`` returns
+    ``(block, whether it converged)`` instead of the partition alone."""
     n = len(roots)
     first = bool(accepting[0]) if n else False
     block = [0 if bool(a) == first else 1 for a in accepting]  # block ids 0..n_blocks-1
     n_blocks = len(set(block))
     var, low, high = diagram.var, diagram.low, diagram.high
     n_nodes = len(var)
+    rounds = 0
     while True:
+        if max_rounds is not None and rounds >= max_rounds:
+            return (block, False) if converged else block
+        rounds += 1
         # a node's signature: the node with every leaf replaced by its state's block, hash-consed
         # (ids >= 0; a leaf's signature is ~block); children first, so one loop per round
         unique: dict[tuple[int, int, int], int] = {}
@@ -314,7 +342,7 @@ def coarsest_blocks_moore(diagram: TransitionDiagram, roots: Sequence[int], acce
         new_block = [classes.setdefault((block[q], sig[r] if r >= 0 else ~block[~r]), len(classes))
                      for q, r in enumerate(roots)]
         if len(classes) == n_blocks:
-            return block
+            return (block, True) if converged else block
         block, n_blocks = new_block, len(classes)
 
 
