@@ -142,12 +142,10 @@ def _cost_inputs(text: str | None, names: Any, width: int) -> list[int] | None:
 def _icrl(args: argparse.Namespace, out) -> None:
     import time
 
-    import numpy as np
-
     from symlearn.cli.output import blame_file
     from symlearn.envs.registry import Kind, entries
     from symlearn.errors import DataError
-    from symlearn.recipes.environments import resolve_env
+    from symlearn.recipes.environments import observation_width, resolve_env
     from symlearn.recipes.experts import demonstrations
 
     _check_arguments(args)
@@ -161,7 +159,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
     target = target.as_numeric()  # a Dict observation (MiniGrid's) flattened to what the networks read
     env = target.make()
     names = target.observation_names(env)
-    width = int(np.prod(env.observation_space.shape or (1,)))
+    width = observation_width(env) or 1
     obs_dims = _cost_inputs(args.cost_inputs, names, width)
     seed = getattr(args, "seed", 0) or 0
     demos = demonstrations(target, args.demos, args.n_demos, seed=seed, expert_steps=args.expert_steps,

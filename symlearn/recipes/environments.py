@@ -25,7 +25,8 @@ import importlib
 import inspect
 import os
 import sys
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from difflib import get_close_matches
 from typing import Any
@@ -203,14 +204,24 @@ class EnvTarget:
 
     # names -------------------------------------------------------------------------------------
 
+    @contextmanager
+    def _probe(self, env: Any = None) -> Iterator[Any]:
+        """``env``, or a fresh environment closed afterwards, to look at before any work."""
+        if env is not None:
+            yield env
+            return
+        env = self.make()
+        try:
+            yield env
+        finally:
+            env.close()
+
     def features(self, env: Any = None, override: str | Sequence[str] | None = None) -> Features | None:
         """The features a constraint reads: ``info["features"]`` where the environment reports
-        them, else the observation; named by ``override`` (``--features``), the environment's
-        ``feature_names`` attribute, the entry's names, or the keys of a dict
-        ``info["features"]``. ``None`` when nothing names them. The count is checked."""
-        owned = env is None
-        env = self.make() if owned else env
-        try:
+        them, else the observation; named by ``override`` (``--features``), else the keys of a
+        dict ``info["features"]``, else the environment's ``feature_names`` attribute, else the
+        entry's names. ``None`` when nothing names them. The count is checked."""
+        with self._probe(env) as env:
             _, info = env.reset(seed=0)
             in_info = isinstance(info, Mapping) and "features" in info
             raw = info["features"] if in_info else None
@@ -218,13 +229,12 @@ class EnvTarget:
                 names = tuple(str(k) for k in raw)
                 width = len(names)
             else:
-                width = _width(raw) if in_info else _observation_width(env)
+                width = _width(raw) if in_info else observation_width(env)
                 names = None
-            declared = _declared_names(env, self.entry)
             if override is not None:
                 names = parse_feature_names(override)
             elif names is None:
-                names = declared
+                names = _declared_names(env, self.entry)
             if names is None:
                 return None
             if width is not None and len(names) != width:
@@ -232,9 +242,6 @@ class EnvTarget:
                 raise DataError(f"{len(names)} feature names ({', '.join(names)}) for {width} columns of {where} "
                                 f"of {self.display}", hint="give one name per column with --features a,b,...")
             return Features(tuple(names), "info" if in_info else "observation")
-        finally:
-            if owned:
-                env.close()
 
     def feature_names(self, env: Any = None, override: str | Sequence[str] | None = None) -> tuple[str, ...] | None:
         """The names of :meth:`features` (a sub-goal task's frame columns where there is no
@@ -255,21 +262,16 @@ class EnvTarget:
         found = self.features(env)
         if found is None:
             return None
-        return found.names if found.source == "observation" or len(found.names) == _observation_width(env) else None
+        return found.names if found.source == "observation" or len(found.names) == observation_width(env) else None
 
     def reports_cost(self, env: Any = None) -> bool:
         """Whether the environment reports a ground-truth cost (``info["cost"]`` after a step;
         the safety-gymnasium convention). Where it does not, costs are "n/a", never 0."""
-        owned = env is None
-        env = self.make() if owned else env
-        try:
+        with self._probe(env) as env:
             env.reset(seed=0)
             env.action_space.seed(0)
             info = env.step(env.action_space.sample())[-1]
             return isinstance(info, Mapping) and "cost" in info
-        finally:
-            if owned:
-                env.close()
 
     # experts -----------------------------------------------------------------------------------
 
@@ -293,7 +295,8 @@ class EnvTarget:
         return self.entry.expert(n, seed=seed, env_kwargs=dict(self.kwargs))
 
 
-def _observation_width(env: Any) -> int | None:
+def observation_width(env: Any) -> int | None:
+    """Entries of the flattened observation (``None`` for a space without a shape)."""
     space = getattr(env, "observation_space", None)
     shape = getattr(space, "shape", None)
     if not shape:
@@ -462,4 +465,4 @@ def _gymnasium() -> Any:
     return gymnasium
 
 
-__all__ = ["EnvTarget", "Features", "parse_env_kwargs", "parse_feature_names", "resolve_env"]
+__all__ = ["EnvTarget", "Features", "observation_width", "parse_env_kwargs", "parse_feature_names", "resolve_env"]
