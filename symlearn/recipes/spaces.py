@@ -46,9 +46,10 @@ def _numeric_part(space: spaces.Space, path: str, dropped: list[str]) -> spaces.
     return None
 
 
-def _select(value: Any, space: spaces.Space, kept: spaces.Space) -> Any:
+def _select(value: Any, kept: spaces.Space) -> Any:
+    """The parts of an observation ``value`` that the numeric space ``kept`` holds."""
     if isinstance(kept, spaces.Dict):
-        return {key: _select(value[key], space[key], sub) for key, sub in kept.spaces.items()}
+        return {key: _select(value[key], sub) for key, sub in kept.spaces.items()}
     return value
 
 
@@ -69,7 +70,7 @@ class NumericObservations(gym.ObservationWrapper):
                                             dtype=np.float32)
 
     def observation(self, observation: Any) -> np.ndarray:
-        selected = _select(observation, self.env.observation_space, self._kept)
+        selected = _select(observation, self._kept)
         return np.asarray(spaces.flatten(self._kept, selected), dtype=np.float32)
 
 

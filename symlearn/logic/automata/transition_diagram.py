@@ -35,7 +35,7 @@ from array import array
 from collections import deque
 from contextlib import contextmanager
 from collections.abc import Iterable, Sequence
-from typing import AbstractSet, Any
+from typing import AbstractSet
 
 from symlearn.errors import LimitExceededError
 from symlearn.logic.automata.partition_refinement import split_blocks
@@ -235,7 +235,7 @@ def coarsest_blocks(diagram: TransitionDiagram, roots: Sequence[int], accepting:
     partition, so when :data:`MOORE_ROUNDS` rounds have not converged -- a long chain needs one
     round per state -- Hopcroft (:func:`coarsest_blocks_hopcroft`) finishes from the partition
     reached, which is correct from any partition coarser than the result."""
-    block, converged = coarsest_blocks_moore(diagram, roots, accepting, max_rounds=MOORE_ROUNDS, converged=True)
+    block, converged = _moore_rounds(diagram, roots, accepting, MOORE_ROUNDS)
     return block if converged else coarsest_blocks_hopcroft(diagram, roots, accepting, start=block)
 
 
@@ -306,11 +306,15 @@ def coarsest_blocks_hopcroft(diagram: TransitionDiagram, roots: Sequence[int], a
     return block_of
 
 
-def coarsest_blocks_moore(diagram: TransitionDiagram, roots: Sequence[int], accepting: Sequence[bool], *,
-                          max_rounds: int | None = None, converged: bool = False) -> Any:
+def coarsest_blocks_moore(diagram: TransitionDiagram, roots: Sequence[int], accepting: Sequence[bool]) -> list[int]:
     """The partition by Moore's rounds with symbolic signatures (one round per refinement step:
-    quadratic on a chain). ``max_rounds``: stop after that many; ``converged=True`` returns
-    ``(block, whether it converged)`` instead of the partition alone."""
+    quadratic on a chain; the reference the tests compare Hopcroft with)."""
+    return _moore_rounds(diagram, roots, accepting, None)[0]
+
+
+def _moore_rounds(diagram: TransitionDiagram, roots: Sequence[int], accepting: Sequence[bool],
+                  max_rounds: int | None) -> tuple[list[int], bool]:
+    """``(partition, whether it converged)`` after at most ``max_rounds`` Moore rounds."""
     n = len(roots)
     first = bool(accepting[0]) if n else False
     block = [0 if bool(a) == first else 1 for a in accepting]  # block ids 0..n_blocks-1
@@ -320,7 +324,7 @@ def coarsest_blocks_moore(diagram: TransitionDiagram, roots: Sequence[int], acce
     rounds = 0
     while True:
         if max_rounds is not None and rounds >= max_rounds:
-            return (block, False) if converged else block
+            return block, False
         rounds += 1
         # a node's signature: the node with every leaf replaced by its state's block, hash-consed
         # (ids >= 0; a leaf's signature is ~block); children first, so one loop per round
@@ -342,7 +346,7 @@ def coarsest_blocks_moore(diagram: TransitionDiagram, roots: Sequence[int], acce
         new_block = [classes.setdefault((block[q], sig[r] if r >= 0 else ~block[~r]), len(classes))
                      for q, r in enumerate(roots)]
         if len(classes) == n_blocks:
-            return (block, True) if converged else block
+            return block, True
         block, n_blocks = new_block, len(classes)
 
 

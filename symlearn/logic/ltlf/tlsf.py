@@ -43,7 +43,7 @@ from pathlib import Path
 from symlearn.errors import ParseError
 from symlearn.logic.ltlf.ast import (
     FALSE, TRUE, Always, And, Eventually, Formula, Iff, Implies, Next, Not, Or, Prop, Release, Until, WeakNext,
-    WeakUntil, conjunction,
+    WeakUntil, conjunction, propositions,
 )
 
 #: deepest nesting of parentheses and operators read (a deeper file is refused, not overflowed;
@@ -238,8 +238,6 @@ class _Reader:
                                  hint="basic TLSF has INPUTS, OUTPUTS, INITIALLY, PRESET, REQUIRE, ASSERT, "
                                       "ASSUMPTIONS, GUARANTEES")
         self.take()
-        from symlearn.logic.ltlf.ast import propositions
-
         for section, formula, start in pending:
             unknown = sorted(propositions(formula) - set(declared))
             if unknown:
