@@ -33,6 +33,7 @@ from typing import Any
 
 from symlearn.envs.registry import ENTRIES, Entry, Kind
 from symlearn.envs.registry import get as get_entry
+from symlearn.envs.registry import names as entry_names
 from symlearn.errors import DataError, SymlearnError, UnknownNameError
 
 #: keywords ``gymnasium.make`` itself takes, accepted for every gymnasium id
@@ -333,18 +334,23 @@ def resolve_env(name: str, kwargs: str | Mapping[str, Any] | None = None, *, kin
     if ":" in name:
         return _from_module(name, kwargs)
     key = name.lower()
-    if any(e.name == key for e in ENTRIES):
+    if key in entry_names():
         entry = get_entry(key, kind, what=what) if kind is not None else get_entry(key)
         return _bundled(name, entry, kwargs)
     gymnasium = _gymnasium()
     import symlearn.envs  # noqa: F401 -- registers the symlearn/ ids
 
     if name in gymnasium.registry:
-        bundled = next((e for e in ENTRIES if e.gym_id == name), None)
+        bundled = _entry_with_gym_id(name)
         if bundled is not None:  # symlearn/toy-navigation-v0: the entry, with its expert
             return _bundled(name, bundled, kwargs)
         return _registered(name, name, kwargs)
     raise _unknown(name, gymnasium, kind, what)
+
+
+def _entry_with_gym_id(gym_id: str) -> Entry | None:
+    """The bundled entry a gymnasium id names (the first, for a world several tasks share)."""
+    return next((e for e in ENTRIES if e.gym_id == gym_id), None)
 
 
 def _bundled(name: str, entry: Entry, kwargs: dict[str, Any]) -> EnvTarget:
@@ -395,7 +401,7 @@ def _from_module(name: str, kwargs: dict[str, Any]) -> EnvTarget:
             f"it registers: {', '.join(own[:10])}" if own else
             "it registered no gymnasium id: call gymnasium.register(id=..., entry_point=...) at import")
         raise UnknownNameError(f"module {module!r} did not register the gymnasium id {env_id!r}", hint=hint)
-    bundled = next((e for e in ENTRIES if e.gym_id == env_id), None)
+    bundled = _entry_with_gym_id(env_id)
     if bundled is not None:
         return _bundled(name, bundled, kwargs)
     return _registered(name, env_id, kwargs)
