@@ -208,16 +208,14 @@ def _train_ours(args: argparse.Namespace, target, cost) -> dict:
     lagrangian = None
     constrained = args.algo == "ppo-lag"
     # with a Lagrangian, scale-free advantages and normalisation are the measured defaults (module doc)
-    def chosen(value, default):
-        return default if value is None else value
-
+    normalize_observations = constrained if args.normalize_observations is None else args.normalize_observations
+    normalize_values = constrained if args.normalize_values is None else args.normalize_values
     if constrained:
         lagrangian = LagrangianConfig(cost_limit=args.cost_limit, update=args.multiplier_update,
-                                      lr=args.multiplier_lr, advantage_scale=chosen(args.advantage_scale, "returns"))
+                                      lr=args.multiplier_lr, advantage_scale=args.advantage_scale or "returns")
     config = PPOConfig(seed=seed, n_envs=args.n_envs, n_steps=args.n_steps,
                        batch_size=min(128, args.n_envs * args.n_steps),
-                       normalize_observations=chosen(args.normalize_observations, constrained),
-                       normalize_values=chosen(args.normalize_values, constrained))
+                       normalize_observations=normalize_observations, normalize_values=normalize_values)
     result = train_ppo(env_fn, args.steps, config, lagrangian=lagrangian, cost_fn=cost_fn, reward_fn=reward_fn)
     episodes = evaluate(result.policy, target.make(), args.eval_episodes, seed=seed + 10_000)
     doc = evaluation_document(args, cost, episodes.returns, episodes.lengths,
