@@ -179,7 +179,8 @@ def ppo_config(seed: int):
     # smaller starting action noise: with log std 0 almost every early episode leaves the road
     # within ten steps (steering saturates), which teaches all three agents little
     return PPOConfig(n_envs=4, n_steps=256, batch_size=256, n_epochs=10, learning_rate=3e-4, ent_coef=0.0,
-                     log_std_init=-0.5, seed=seed, torch_threads=1)
+                     log_std_init=-0.5, seed=seed, torch_threads=1, normalize_observations=False,
+                     normalize_values=False)  # the settings of the recorded tables
 
 
 def train_one(method: str, seed: int, steps: int, dnf_text: str | None, cost_limit: float, penalty: float,
@@ -191,7 +192,7 @@ def train_one(method: str, seed: int, steps: int, dnf_text: str | None, cost_lim
     from symlearn.envs.driving import DrivingEnv
     from symlearn.envs.driving.features import FEATURE_NAMES
     from symlearn.logic.dnf import parse
-    from symlearn.rl.ppo import LagrangianConfig, evaluate, train_ppo
+    from symlearn.rl.ppo import LEGACY_LAGRANGIAN, LagrangianConfig, evaluate, train_ppo
 
     log: list = []
     clock = [0]
@@ -199,7 +200,7 @@ def train_one(method: str, seed: int, steps: int, dnf_text: str | None, cost_lim
     if method == "ppo-lag-dnf":
         dnf = parse(dnf_text)
         stats = RuleStats(dnf, FEATURE_NAMES)
-        lagrangian = LagrangianConfig(cost_limit=cost_limit)
+        lagrangian = LagrangianConfig(cost_limit=cost_limit, **LEGACY_LAGRANGIAN)
 
     def make():
         env = EpisodeLog(DrivingEnv(), log, clock)

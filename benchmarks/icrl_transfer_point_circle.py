@@ -37,7 +37,7 @@ from symlearn.learners.neural.episodes import sample_episodes
 from symlearn.learners.neural.icrl_metrics import episode_metrics
 from symlearn.learners.neural.mce_icrl import PPO_DEFAULTS, action_bound_penalty, penalised
 from symlearn.learners.neural.neural_cost import space_spec
-from symlearn.rl.ppo import LagrangianConfig, PPOConfig, train_ppo
+from symlearn.rl.ppo import LEGACY_LAGRANGIAN, LagrangianConfig, PPOConfig, train_ppo
 
 RESULTS = Path(__file__).resolve().parent / "results" / "icrl_transfer_point_circle.json"
 TARGET_STEPS = 100_000
@@ -66,12 +66,12 @@ def main(argv: list[str] | None = None) -> dict:
         learn_seconds = time.perf_counter() - t0
         with tempfile.TemporaryDirectory() as folder:
             cost = NeuralCost.load(learner.save(Path(folder) / "cost.safetensors"), PointCircle())
-        config = PPOConfig(**{**PPO_DEFAULTS, "ent_coef": 0.01, "seed": seed})
+        config = PPOConfig(**{**PPO_DEFAULTS, "ent_coef": 0.01, "seed": seed, "normalize_observations": False})
         agents = {
             "transferred cost": lambda: train_ppo(PointCircle, args.steps, config, reward_fn=penalised(cost, penalty)),
             "unconstrained": lambda: train_ppo(PointCircle, args.steps, config, reward_fn=penalised(None, penalty)),
             "ppo-lagrangian true cost": lambda: train_ppo(PointCircle, args.steps, config,
-                                                          LagrangianConfig(cost_limit=0.0),
+                                                          LagrangianConfig(cost_limit=0.0, **LEGACY_LAGRANGIAN),
                                                           reward_fn=penalised(None, penalty)),
         }
         run: dict = {"seed": seed, "learn_seconds": learn_seconds, "lambda": [float(x) for x in learner.lambda_]}

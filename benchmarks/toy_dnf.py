@@ -203,7 +203,7 @@ def train_run(spec: dict[str, Any]) -> dict[str, Any]:
     from symlearn.demo.dnf_pipeline import toy_lagrangian, toy_ppo_config
     from symlearn.envs.toy_navigation import ToyNavigationEnv
     from symlearn.logic.dnf import parse
-    from symlearn.rl.ppo import LagrangianConfig, PPOConfig, train_ppo
+    from symlearn.rl.ppo import LEGACY_LAGRANGIAN, LagrangianConfig, PPOConfig, train_ppo
 
     torch.set_num_threads(1)
     started = time.perf_counter()
@@ -218,8 +218,9 @@ def train_run(spec: dict[str, Any]) -> dict[str, Any]:
         return EpisodeLog(DnfCostWrapper(ToyNavigationEnv(**env_kwargs), dnf, FEATURES, stats=stats), log, clock)
 
     if spec["settings"] == "before":  # what the demo ran before: PPO defaults, raw advantages
-        config = PPOConfig(seed=seed, **spec.get("ppo", {}))
-        lagrangian = LagrangianConfig(cost_limit=0.0, update="adam", lr=0.035) if spec["lagrangian"] else None
+        config = PPOConfig(**{"seed": seed, "normalize_observations": False, "normalize_values": False,
+                              **spec.get("ppo", {})})
+        lagrangian = LagrangianConfig(**{"cost_limit": 0.0, **LEGACY_LAGRANGIAN}) if spec["lagrangian"] else None
     else:
         config = toy_ppo_config(seed, **spec.get("ppo", {}))
         lagrangian = toy_lagrangian(**spec.get("lag", {})) if spec["lagrangian"] else None

@@ -32,7 +32,8 @@ TASKS = {
     "hazard robot (user module, DNF)": ["--env", "point_robot_env:HazardRobot-v0", "--cost", "hazard.dnf",
                                         "--steps", "30000"],
 }
-VARIANTS = {"old defaults": OLD, "new defaults": [], "sb3-ppo-lag (peer)": ["--algo", "sb3-ppo-lag"]}
+VARIANTS = {"old defaults": OLD, "new defaults": [], "episodes-only multiplier updates": ["--cost-estimate", "episodes"],
+            "sb3-ppo-lag (peer)": ["--algo", "sb3-ppo-lag"]}
 
 
 def _run(folder: Path, task: str, variant: str, seed: int) -> dict:
@@ -58,6 +59,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seeds", type=int, nargs="+", default=[0])
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--variants", nargs="+", choices=list(VARIANTS), default=list(VARIANTS))
     parser.add_argument("--json", type=Path)
     args = parser.parse_args(argv)
     folder = Path(tempfile.mkdtemp(prefix="lagrangian-defaults-"))
@@ -65,7 +67,7 @@ def main(argv: list[str] | None = None) -> int:
     (folder / "hazard.dnf").write_text("x > 0.4 & x < 0.6 & y < 0.6\n")
     subprocess.run([sys.executable, "-m", "symlearn", "learn", "dnf", "--env", "toy-navigation", "--n-demos", "20",
                     "-o", "toy.dnf"], cwd=folder, check=True, capture_output=True)
-    jobs = [(t, v, s) for t in TASKS for v in VARIANTS for s in args.seeds]
+    jobs = [(t, v, s) for t in TASKS for v in args.variants for s in args.seeds]
     with ThreadPoolExecutor(args.workers) as pool:
         rows = list(pool.map(lambda job: _run(folder, *job), jobs))
     for row in rows:

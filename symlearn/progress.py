@@ -50,3 +50,36 @@ def progress(
     from tqdm import tqdm
 
     yield from tqdm(iterable, total=total, desc=desc, unit=unit, file=sys.stderr, leave=False)
+
+
+class ProgressBar:
+    """A bar advanced by hand, with a few numbers beside it (``return=1.2 cost=0.3``): for loops
+    whose progress is worth a glance at what they are learning, not only how far they are.
+    Silent (every method a no-op) where :func:`progress_enabled` says no bar is drawn."""
+
+    def __init__(self, total: int | None, desc: str | None = None, unit: str = "it") -> None:
+        self._bar = None
+        if progress_enabled():
+            from tqdm import tqdm
+
+            self._bar = tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, leave=False)
+
+    def update(self, n: int = 1, **numbers: float | None) -> None:
+        """Advance by ``n`` and show ``numbers`` (None and NaN are left out)."""
+        if self._bar is None:
+            return
+        shown = {key: f"{value:.3g}" for key, value in numbers.items() if value is not None and value == value}
+        if shown:
+            self._bar.set_postfix(shown, refresh=False)
+        self._bar.update(n)
+
+    def close(self) -> None:
+        if self._bar is not None:
+            self._bar.close()
+            self._bar = None
+
+    def __enter__(self) -> ProgressBar:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()

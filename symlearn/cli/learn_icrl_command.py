@@ -3,7 +3,7 @@
 ``symlearn learn icrl --env NAME [--method mce-icrl|me-icrl|vme-icrl|gacl] [--demos D.npz | --n-demos N] [--steps N]
 [--iterations I] [--beta B] [--cost-inputs x,y] [--reset-actor never|every|last] [--lambda-lr L] [--env-kwargs JSON]
 [--expert-steps N]
-[--expert-cache DIR] [-o cost.safetensors] [--json]``
+[--expert-cache DIR] [-o cost.safetensors] [--log run.csv] [--json]``
 
 * ``--env``: a bundled environment with ``mce-icrl`` among its methods (``blocked-point``,
   ``point-circle``; see ``symlearn envs``), a gymnasium id, or ``module:EnvId`` (a user's
@@ -36,6 +36,8 @@ JSON keys: ``reward``, ``violation_rate``, ``feasible_reward``, ``recovery_auc``
 ``recovery_iou``, ``recovery_margin``, ``expert_reward``, ``lambda``, ``iterations``, ``seconds``, ``timings``
 (``nominal``, ``pretrain``, ``policy``, ``cost``), ``history`` (per iteration), ``files``.
 ``-o`` must end in ``.safetensors``; the configuration goes to the ``.json`` beside it.
+``--log run.csv``: the same per-iteration history as a CSV table (one row per iteration, a column
+per number; :mod:`symlearn.rl.training_log`).
 """
 
 from __future__ import annotations
@@ -84,6 +86,8 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--env-kwargs", metavar="JSON", help="keyword arguments of the environment (a JSON object)")
     cmd.add_argument("-o", "--output", metavar="COST.safetensors",
                      help="write the learned cost here (and COST.json beside it)")
+    cmd.add_argument("--log", metavar="FILE.csv", help="one CSV row per ICRL iteration (reward, true violation "
+                                                        "rate, multipliers, seconds, ...)")
     cmd.set_defaults(handler=_icrl)
 
 
@@ -171,6 +175,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
     from symlearn.learners.neural import NeuralGACL, NeuralMCEICRL, NeuralMEICRL, NeuralVMEICRL
     from symlearn.learners.neural.episodes import demonstration_batch, sample_episodes
     from symlearn.learners.neural.icrl_metrics import episode_metrics, recovery
+    from symlearn.rl.training_log import TrainingLog
 
     torch.set_num_threads(1)  # small networks: a second thread only contends on 2 shared cores
 
@@ -183,8 +188,12 @@ def _icrl(args: argparse.Namespace, out) -> None:
                      **({} if args.lambda_lr is None else {"lambda_lr": args.lambda_lr}))
 
     env_fn = target.env_fn
+    log = TrainingLog(args.log, step_key="iteration") if args.log else None  # an unwritable path fails now
     with blame_file(args.demos):
         learner.fit(demos, env_fn)
+    if log is not None:
+        for record in learner.history_:
+            log.write(record.as_dict())
     evaluation = episode_metrics(sample_episodes(learner.policy_, env_fn, EVAL_EPISODES, seed=seed + 50_000,
                                                  deterministic=True))
     expert_obs, _ = demonstration_batch(demos).pairs()

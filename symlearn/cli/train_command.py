@@ -2,9 +2,9 @@
 
 ``symlearn train --env ENV [--env-kwargs JSON] [--algo ALGO] [--cost rules.dnf|cost.safetensors
 [--features a,b] [--per-rule]] [--cost-limit C] [--multiplier-update gradient|adam|pid]
-[--multiplier-lr LR] [--advantage-scale raw|returns] [--normalize-observations]
+[--multiplier-lr LR] [--advantage-scale raw|returns] [--cost-estimate rollout|episodes] [--normalize-observations]
 [--normalize-values] [--n-envs N] [--n-steps T] [--prune [--prune-threshold T]] [--steps N]
-[--eval-episodes E] [-o agent.safetensors] [--json]``
+[--eval-episodes E] [-o agent.safetensors] [--log run.csv] [--tensorboard DIR] [--json]``
 
 * ``--env``: a bundled name (``toy-navigation``, ``safenav-*``; see ``symlearn envs``), any
   registered gymnasium id (``CartPole-v1``), or ``module:EnvId`` (the module is imported and must
@@ -31,14 +31,24 @@
   and on: measured on BlockedPoint, a user's hazard robot and the toy (docs/BENCHMARKS.md,
   "PPO-Lagrangian defaults of `train`"), the old defaults (``raw``, off) gave safe agents that
   earned almost nothing (BlockedPoint 5.7 vs 59.4 with these; the expert earns 57). Plain ``ppo``
-  keeps them off (no clear gain measured: CartPole 350 off vs 211 on, one seed). The library's
-  ``PPOConfig``/``LagrangianConfig`` defaults are unchanged. Our PPO's only (refused with ``sb3-*``).
+  keeps them off (no clear gain measured: CartPole 350 off vs 211 on, one seed). These are also the
+  library's ``PPOConfig``/``LagrangianConfig`` defaults. Our PPO's only (refused with ``sb3-*``).
+* ``--cost-estimate rollout|episodes``: ``ppo-lag``'s multipliers are updated every iteration from
+  the rollout's cost per step times the mean episode length (``rollout``, the default), or, as
+  before, only in iterations in which an episode ended, from those episodes (``episodes``).
 * ``--prune``: after training, rules whose fired/evaluated ratio (conjunctions evaluated in
   ascending number of atoms) stayed below ``--prune-threshold`` (thesis: 0.001) are dropped; the
   pruned formula is written beside the cost file as ``NAME.pruned.dnf`` with a report.
 * Numeric flags are checked before anything runs: ``--steps`` 1 .. 10^9, ``--cost-limit`` finite
   and >= 0, ``--n-envs`` 1 .. 256, ``--n-envs`` x ``--n-steps`` (the rollout held in memory) at
   most 262,144 steps.
+* ``--log run.csv`` / ``--tensorboard DIR`` (our PPO): one row per iteration -- steps, mean return
+  of the episodes that ended, their cost per constraint (``mean_cost_i``; ``learned_cost_i`` with
+  ``--cost``, since the learned cost is what training sees), ``true_cost`` (the environment's
+  ``info["cost"]`` per episode, estimated from the whole rollout; empty when it reports none), the
+  estimate the multipliers were updated from (``cost_estimate_i``), the multipliers, losses, KL,
+  steps/s -- written as training goes (:mod:`symlearn.rl.training_log`).
+  On a terminal the progress bar shows the latest return, cost and largest multiplier.
 * ``-o agent.safetensors``: the policy as safetensors + JSON (our PPO's, or a stable-baselines3
   policy through :func:`symlearn.backends.sb3.save_policy`; a ``.zip`` is refused).
 
@@ -94,6 +104,9 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--advantage-scale", choices=("raw", "returns"), default=None,
                      help="ppo-lag: mix advantages in their own units (raw) or in standard deviations of "
                           "their returns (returns, the default: the multiplier's range no longer depends on the units)")
+    cmd.add_argument("--cost-estimate", choices=("rollout", "episodes"), default="rollout",
+                     help="ppo-lag: update the multipliers every iteration from the rollout's cost per step x the "
+                          "mean episode length (rollout, the default) or only from episodes that ended in it (episodes)")
     cmd.add_argument("--normalize-observations", action=argparse.BooleanOptionalAction, default=None,
                      help="standardise the policy's inputs by running mean/std (saved with the model; "
                           "default: on with ppo-lag, off with ppo)")
@@ -107,6 +120,11 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--steps", type=float, default=None, help="environment steps (ppo: 50000; dqrm/dqn: 300)")
     cmd.add_argument("--eval-episodes", type=float, default=10, help="greedy evaluation episodes (10)")
     cmd.add_argument("-o", "--output", help="write the policy here (.safetensors + .json)")
+    cmd.add_argument("--log", metavar="FILE.csv",
+                     help="ppo/ppo-lag: one CSV row per iteration (return, true and learned cost, multipliers, ...), "
+                          "written as training goes")
+    cmd.add_argument("--tensorboard", metavar="DIR",
+                     help="ppo/ppo-lag: the same numbers as TensorBoard scalars (needs the tensorboard package)")
     cmd.set_defaults(handler=_train)
 
 
@@ -164,6 +182,7 @@ def _train(args: argparse.Namespace, out) -> None:
         ours = [flag for flag, given in (("--normalize-observations", args.normalize_observations),
                                          ("--normalize-values", args.normalize_values),
                                          ("--advantage-scale", args.advantage_scale)) if given is not None]
+        ours += [flag for flag, given in (("--log", args.log), ("--tensorboard", args.tensorboard)) if given]
         if ours:
             raise SymlearnError(f"{ours[0]} is an option of our PPO (--algo ppo|ppo-lag), not of --algo {args.algo}")
     if args.output and str(args.output).endswith(".zip"):
@@ -196,6 +215,7 @@ def _train(args: argparse.Namespace, out) -> None:
 def _train_ours(args: argparse.Namespace, target, cost) -> dict:
     from symlearn.cli.train_costs import penalised
     from symlearn.rl.ppo import LagrangianConfig, PPOConfig, evaluate, train_ppo
+    from symlearn.rl.training_log import TrainingLog
 
     seed = getattr(args, "seed", 0) or 0
     cost_fn = reward_fn = None
@@ -208,15 +228,17 @@ def _train_ours(args: argparse.Namespace, target, cost) -> dict:
     lagrangian = None
     constrained = args.algo == "ppo-lag"
     # with a Lagrangian, scale-free advantages and normalisation are the measured defaults (module doc)
-    normalize_observations = constrained if args.normalize_observations is None else args.normalize_observations
-    normalize_values = constrained if args.normalize_values is None else args.normalize_values
+    # None: the library's measured default (normalisation on with a Lagrangian, off without)
     if constrained:
         lagrangian = LagrangianConfig(cost_limit=args.cost_limit, update=args.multiplier_update,
-                                      lr=args.multiplier_lr, advantage_scale=args.advantage_scale or "returns")
+                                      lr=args.multiplier_lr, advantage_scale=args.advantage_scale or "returns",
+                                      cost_estimate=args.cost_estimate)
     config = PPOConfig(seed=seed, n_envs=args.n_envs, n_steps=args.n_steps,
                        batch_size=min(128, args.n_envs * args.n_steps),
-                       normalize_observations=normalize_observations, normalize_values=normalize_values)
-    result = train_ppo(env_fn, args.steps, config, lagrangian=lagrangian, cost_fn=cost_fn, reward_fn=reward_fn)
+                       normalize_observations=args.normalize_observations, normalize_values=args.normalize_values)
+    with TrainingLog(args.log, args.tensorboard) as log:
+        result = train_ppo(env_fn, args.steps, config, lagrangian=lagrangian, cost_fn=cost_fn, reward_fn=reward_fn,
+                           callback=_logged(log, cost) if (args.log or args.tensorboard) else None)
     episodes = evaluate(result.policy, target.make(), args.eval_episodes, seed=seed + 10_000)
     doc = evaluation_document(args, cost, episodes.returns, episodes.lengths,
                               episodes.costs if episodes.costs.shape[1] else None)
@@ -226,6 +248,19 @@ def _train_ours(args: argparse.Namespace, target, cost) -> dict:
         result.save(args.output)
         doc["files"].append(str(args.output))
     return doc
+
+
+def _logged(log, cost):
+    """The training callback writing one log row per iteration: what :class:`PPOIteration` holds,
+    with the finished episodes' cost named ``learned_cost`` when ``--cost`` drives training (it is
+    the learned one then); ``true_cost`` is always the environment's own ``info["cost"]``."""
+    def write(record, policy) -> None:
+        row = record.as_dict()
+        if cost is not None:
+            row["learned_cost"] = row.pop("mean_cost")
+        log.write(row)
+
+    return write
 
 
 def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_costs) -> dict:

@@ -15,8 +15,9 @@ per constraint; a step without the key costs 0; NaN/inf, or a vector whose lengt
 **PPO-Lagrangian** (``lagrangian=LagrangianConfig(cost_limit=...)``) solves
 ``max_pi J_r(pi)  s.t.  J_ci(pi) <= d_i`` for every constraint ``i`` with one cost critic (GAE on
 its own) and one multiplier ``lambda_i >= 0`` per constraint. Each iteration first updates the
-multipliers from the mean episode cost of the episodes that ended in the rollout (no ended episode:
-no update), by one of three rules (:class:`Multipliers`): ``"gradient"`` (projected dual ascent),
+multipliers from an estimate of the expected episode cost ``J_c`` -- by default the rollout's cost
+per step times the mean episode length, so every rollout counts, also one in which no episode
+ended (``LagrangianConfig.cost_estimate``) --, by one of three rules (:class:`Multipliers`): ``"gradient"`` (projected dual ascent),
 ``"adam"`` (Adam on ``-lambda (J_c - d)``, then projected; OmniSafe's default) or ``"pid"``
 (Stooke et al., 2020). The policy then ascends the advantage of the Lagrangian
 ``J_r - sum_i lambda_i (J_ci - d_i)``:
@@ -35,8 +36,8 @@ corridor with two constraints of ``tests/rl/test_ppo.py`` (12k steps, ``"gradien
 that version stayed at cost 2 per episode (limit 1) while the multiplier climbed past 4; the mix
 above brought the greedy policy to cost 0 on all three seeds, with multipliers near 1.
 
-**Scale-free multipliers** (``LagrangianConfig(advantage_scale="returns")``; the default ``"raw"``
-is the mix above). Raw units make the multiplier's useful range depend on the ratio of the reward's
+**Scale-free multipliers** (``LagrangianConfig(advantage_scale="returns")``, the default;
+``"raw"`` is the mix above). Raw units make the multiplier's useful range depend on the ratio of the reward's
 scale to the cost's, which no step size fits: on the thesis' toy an episode earns about 2 and an
 exploring agent collects 100-200 cost steps, so the price that already makes the safe route pay is
 about 0.01 while Adam moves ``lambda`` by about ``lr`` = 0.035 per iteration; from the second
@@ -51,7 +52,8 @@ objective and constraint moves only the value of the multiplier at the saddle po
 ``PPOIteration.return_scales`` records the scales, so ``lambda_i * scale_r / scale_ci`` is the
 price in raw units.
 
-**Normalisation** (both off by default). ``normalize_observations``: the networks see the features
+**Normalisation** (both on by default with a Lagrangian, off for plain PPO; ``PPOConfig``'s
+``None`` decides it when training starts). ``normalize_observations``: the networks see the features
 standardised by their running mean and variance (every rollout joins the statistics before it is
 learned from; clipped to +-10; saved with the weights, applied by ``act``/``encode``). Without it,
 inputs that all lie on one side of zero (positions in ``[0, 1]^2``) meet a first layer whose zero
@@ -89,7 +91,7 @@ import os
 import time
 from collections import deque
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields, replace
 from typing import Any
 
 import numpy as np
@@ -97,7 +99,7 @@ import torch
 from torch import nn
 
 from symlearn.errors import DataError, ModelError, SymlearnError
-from symlearn.progress import progress
+from symlearn.progress import ProgressBar
 from symlearn.rl.model_files import load_torch_module, save_torch_module
 
 MODEL_KIND = "ppo-actor-critic"
@@ -105,6 +107,11 @@ ACTIVATIONS = {"tanh": nn.Tanh, "relu": nn.ReLU}
 OBS_CLIP = 10.0  # normalised observations are clipped to +-OBS_CLIP (as SB3's VecNormalize)
 OBS_EPSILON = 1e-8  # added to the running variance before the square root
 ADVANTAGE_SCALES = ("raw", "returns")  # LagrangianConfig.advantage_scale
+COST_ESTIMATES = ("rollout", "episodes")  # LagrangianConfig.cost_estimate
+# LagrangianConfig's defaults before they became those of `symlearn train` (with PPOConfig
+# normalize_observations=False, normalize_values=False): what the recorded benchmark tables used
+LEGACY_LAGRANGIAN = {"update": "adam", "lr": 0.035, "advantage_scale": "raw", "cost_estimate": "episodes"}
+LENGTH_MEMORY = 100  # finished episodes whose mean length turns a rollout's cost rate into J_c
 ENTROPY_MODES = ("bonus", "reward")  # PPOConfig.entropy_mode
 RETURN_SCALE_MEMORY = 0.9  # per iteration, for the running standard deviation of each signal's returns
 RETURN_SCALE_FLOOR = 1e-2  # a signal's scale never drops below this share of the largest it had
@@ -139,8 +146,9 @@ class PPOConfig:
     hidden_sizes: tuple[int, ...] = (64, 64)
     activation: str = "tanh"  # "tanh" | "relu"
     log_std_init: float = 0.0  # Box actions
-    normalize_observations: bool = False  # standardise inputs by running mean/std (saved with the model)
-    normalize_values: bool = False  # critics learn returns / their running std (outputs kept, PopArt-style)
+    # None (default): on with a Lagrangian, off for plain PPO (measured; LagrangianConfig's docstring)
+    normalize_observations: bool | None = None  # standardise inputs by running mean/std (saved with the model)
+    normalize_values: bool | None = None  # critics learn returns / their running std (outputs kept, PopArt-style)
     seed: int | None = 0
     device: str = "cpu"
     torch_threads: int | None = 1  # None: leave torch's setting alone
@@ -170,6 +178,15 @@ class PPOConfig:
             raise SymlearnError(f"PPOConfig.entropy_mode must be one of {list(ENTROPY_MODES)}, got {self.entropy_mode!r}")
         if self.activation not in ACTIVATIONS:
             raise SymlearnError(f"PPOConfig.activation must be one of {sorted(ACTIVATIONS)}, got {self.activation!r}")
+        for name in ("normalize_observations", "normalize_values"):
+            if getattr(self, name) not in (None, True, False):
+                raise SymlearnError(f"PPOConfig.{name} must be True, False or None, got {getattr(self, name)!r}")
+
+    def resolved(self, constrained: bool) -> PPOConfig:
+        """This configuration with ``None`` normalisation settings decided: on with a Lagrangian
+        (``constrained``), off without one."""
+        return replace(self, **{name: constrained for name in ("normalize_observations", "normalize_values")
+                                if getattr(self, name) is None})
 
 
 @dataclass(frozen=True)
@@ -185,13 +202,25 @@ class LagrangianConfig:
     ``max_multiplier`` caps every multiplier (``None``: no cap). ``cost_gamma`` discounts costs for
     the cost critics (``None``: the reward's ``gamma``). ``advantage_scale``: ``"raw"`` mixes the
     advantages in their own units (``lambda`` = the price of a unit of cost in reward); ``"returns"``
-    first divides each by the running standard deviation of its signal's returns, which makes the
-    multiplier's range independent of the units of reward and cost (module docstring).
+    (the default) first divides each by the running standard deviation of its signal's returns,
+    which makes the multiplier's range independent of the units of reward and cost (module
+    docstring). ``cost_estimate``: what the multipliers are updated from, every iteration:
+    ``"rollout"`` (the default) the rollout's cost per step times the mean length of the last
+    ``LENGTH_MEMORY`` finished episodes (a ratio estimate of ``J_c`` from every step, finished
+    episode or not); ``"episodes"`` the mean cost of the episodes that ended in the rollout, and no
+    update in a rollout where none ended (the behaviour before; with 1000-step episodes and
+    4 x 128-step rollouts that is one update in eight iterations).
+
+    The defaults (``"gradient"``, ``lr=0.05``, ``"returns"``, ``"rollout"``, with
+    :class:`PPOConfig`'s normalisation, which turns on with a Lagrangian) are the ones ``symlearn
+    train --algo ppo-lag`` uses; they were chosen by measurement (docs/BENCHMARKS.md, "PPO-Lagrangian
+    defaults of `train`"). Before, the library's were ``"adam"``, ``lr=0.035``, ``"raw"``,
+    ``"episodes"`` and no normalisation.
     """
 
     cost_limit: float | Sequence[float]
-    update: str = "adam"
-    lr: float = 0.035
+    update: str = "gradient"
+    lr: float = 0.05
     init: float | Sequence[float] = 0.0
     kp: float = 0.1
     ki: float = 0.01
@@ -201,7 +230,8 @@ class LagrangianConfig:
     d_ema: float = 0.95
     max_multiplier: float | None = None
     cost_gamma: float | None = None
-    advantage_scale: str = "raw"
+    advantage_scale: str = "returns"
+    cost_estimate: str = "rollout"
 
     def __post_init__(self) -> None:
         limits = _numbers(self.cost_limit, "cost_limit")
@@ -230,6 +260,9 @@ class LagrangianConfig:
         if self.advantage_scale not in ADVANTAGE_SCALES:
             raise SymlearnError(f"advantage_scale must be one of {', '.join(map(repr, ADVANTAGE_SCALES))}, "
                                 f"got {self.advantage_scale!r}")
+        if self.cost_estimate not in COST_ESTIMATES:
+            raise SymlearnError(f"cost_estimate must be one of {', '.join(map(repr, COST_ESTIMATES))}, "
+                                f"got {self.cost_estimate!r}")
 
     @property
     def n_constraints(self) -> int | None:
@@ -618,6 +651,11 @@ class PPOIteration:
     # running standard deviation of the returns of the reward, then of each cost (PPO-Lagrangian;
     # the divisors of the advantages under ``advantage_scale="returns"``)
     return_scales: tuple[float, ...] = ()
+    # J_c per constraint the multipliers were updated from in this iteration (empty: no update)
+    cost_estimate: tuple[float, ...] = ()
+    # the environment's own info["cost"] per episode, summed over constraints (rollout cost per step
+    # x mean episode length), also when a learned cost drives training; NaN when it reports none
+    true_cost: float = math.nan
 
     def as_dict(self) -> dict[str, Any]:
         return {f.name: _plain(getattr(self, f.name)) for f in fields(self)}
@@ -778,6 +816,16 @@ def _signal(value: Any, what: str, shape: tuple[int, int]) -> np.ndarray:
     return array
 
 
+def _reported_cost(value: Any) -> float:
+    """An ``info["cost"]`` that only gets reported (a learned cost drives training): its sum, NaN
+    when it is not numbers -- never an error, since training does not depend on it."""
+    try:
+        total = float(np.sum(np.asarray(value, dtype=np.float64)))
+    except (TypeError, ValueError):
+        return math.nan
+    return total if math.isfinite(total) else math.nan
+
+
 class _Rollouts:
     """``n_envs`` environments stepped in turn, each reset as soon as its episode ends."""
 
@@ -793,6 +841,9 @@ class _Rollouts:
         self.ep_cost = np.zeros((n, costs.n or 0))
         self.steps = 0
         self.finished: list[tuple[float, int, np.ndarray, int]] = []  # return, length, costs, end step
+        self.recent_lengths: deque[int] = deque(maxlen=LENGTH_MEMORY)
+        spec = getattr(envs[0], "spec", None)
+        self.time_limit = getattr(spec, "max_episode_steps", None)  # gymnasium's TimeLimit, when known
 
     def collect(self, n_steps: int, actor: NumpyActor, rng: np.random.Generator,
                 cost_fn: Callable[[Rollout], Any] | None = None) -> dict[str, Any]:
@@ -813,6 +864,8 @@ class _Rollouts:
         truncated: list[tuple[int, int, np.ndarray]] = []  # (t, env, last observation) to bootstrap
         ends: list[tuple[int, int]] = []  # (t, env) where an episode ended
         read_costs = self.read_costs
+        # with cost_fn, the environment's own info["cost"] (summed) is kept beside it, for reports only
+        reported = None if read_costs else np.full((n_steps, n_envs), np.nan)
         for t in range(n_steps):
             obs[t] = self.obs
             actions[t] = actor.sample(agent.normalize(self.obs), rng)
@@ -829,6 +882,8 @@ class _Rollouts:
                         if costs.shape[2] != cost.size:  # the first cost ever: widen the zero-width buffer
                             costs = np.zeros((n_steps, n_envs, cost.size))
                         costs[t, i] = cost
+                elif reported is not None and "cost" in info:
+                    reported[t, i] = _reported_cost(info["cost"])
                 for key in self.info_keys:
                     self._record(info_arrays, key, info, t, i, n_steps, n_envs)
                 reached[t, i] = agent.features(np.asarray(o)[None])[0]
@@ -850,8 +905,17 @@ class _Rollouts:
         self._account(rewards, costs, ends, n_steps)
         self.steps += n_steps * n_envs
         return {"obs": obs, "actions": actions, "rewards": rewards, "dones": dones, "costs": costs,
+                "true_costs": reported if reported is not None else costs.sum(axis=2) if self.costs.seen
+                else np.full((n_steps, n_envs), np.nan),
                 "truncated": truncated, "last_obs": self.obs.copy(), "rollout": rollout,
                 "episodes": self.finished[len(self.finished) - len(ends):]}
+
+    def true_cost_estimate(self, true_costs: np.ndarray) -> float:
+        """The environment's cost per episode (summed over constraints) from a rollout's ``[T, N]``
+        step costs, estimated as :meth:`cost_estimate` does; NaN where it reported none."""
+        length = self.episode_length()
+        finite = true_costs[np.isfinite(true_costs)]
+        return float(finite.mean() * length) if finite.size and length is not None else math.nan
 
     def _record(self, arrays: dict[str, np.ndarray], key: str, info: dict[str, Any], t: int, i: int,
                 n_steps: int, n_envs: int) -> None:
@@ -899,6 +963,27 @@ class _Rollouts:
                 self.ep_cost[i] += cost_sums[-1]
         finished.sort(key=lambda row: (row[0], row[1]))  # in the order the steps happened
         self.finished.extend(row for _, _, row in finished)
+        self.recent_lengths.extend(row[1] for _, _, row in finished)
+
+    def episode_length(self) -> float | None:
+        """The expected episode length: the mean of the last finished ones; before any ended, the
+        time limit when the environment declares one, else the longest episode still running (a
+        lower bound); ``None`` before a single step."""
+        if self.recent_lengths:
+            return float(np.mean(self.recent_lengths))
+        if self.time_limit:
+            return float(self.time_limit)
+        longest = int(self.ep_length.max()) if self.ep_length.size else 0
+        return float(longest) if longest > 0 else None
+
+    def cost_estimate(self, costs: np.ndarray) -> np.ndarray | None:
+        """``J_c`` per constraint from a whole rollout's ``[T, N, k]`` step costs: the cost per step
+        times :meth:`episode_length` -- over the episodes that finished, exactly their mean cost
+        (a ratio estimate), and defined in every rollout, also one in which no episode ended."""
+        length = self.episode_length()
+        if length is None or costs.shape[0] * costs.shape[1] == 0:
+            return None
+        return costs.reshape(-1, costs.shape[2]).mean(axis=0) * length
 
     def episode_stats(self, n_costs: int) -> EpisodeStats:
         rows = self.finished
@@ -963,7 +1048,7 @@ def train_ppo(
     not a call per step. Info keys they need are named in their ``info_keys`` attribute.
     ``policy`` continues training an existing :class:`ActorCritic` (same spaces) in place.
     """
-    config = config or PPOConfig()
+    config = (config or PPOConfig()).resolved(constrained=lagrangian is not None)
     if not isinstance(total_steps, (int, np.integer)) or total_steps < 1:
         raise SymlearnError(f"total_steps must be a positive integer, got {total_steps!r}")
     for name, fn in (("reward_fn", reward_fn), ("cost_fn", cost_fn)):
@@ -1021,57 +1106,69 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
     n_iterations = -(-total_steps // batch)
     history: list[PPOIteration] = []
     desc = "PPO-Lagrangian" if lagrangian is not None else "PPO"
-    for iteration in progress(range(1, n_iterations + 1), total=n_iterations, desc=desc, unit="iter"):
-        iteration_start = time.perf_counter()
-        lr = config.learning_rate * (1.0 - (iteration - 1) / n_iterations if config.anneal_lr else 1.0)
-        for opt in (optimizer, cost_optimizer):
-            for group in (opt.param_groups if opt is not None else ()):
-                group["lr"] = lr
+    bar = ProgressBar(n_iterations, desc=desc, unit="iter")
+    with bar:
+        for iteration in range(1, n_iterations + 1):
+            iteration_start = time.perf_counter()
+            lr = config.learning_rate * (1.0 - (iteration - 1) / n_iterations if config.anneal_lr else 1.0)
+            for opt in (optimizer, cost_optimizer):
+                for group in (opt.param_groups if opt is not None else ()):
+                    group["lr"] = lr
 
-        data = rollouts.collect(config.n_steps, agent.numpy_actor(), rng, cost_fn)
-        if reward_fn is not None:  # the agent learns from these; the episode returns stay the environment's
-            learned = _signal(reward_fn(data["rollout"]), "reward_fn", data["rewards"].shape)
-            if learned.ndim != 2:
-                raise DataError(f"reward_fn returned shape {learned.shape}; expected {data['rewards'].shape}")
-            data = {**data, "rewards": learned}
-        if agent.obs_normalization:  # this rollout joins the statistics, then is learned from with them
-            agent.update_observation_stats(data["obs"].reshape(-1, agent.obs_dim))
-            data = {**data, "obs": agent.normalize(data["obs"]), "last_obs": agent.normalize(data["last_obs"]),
-                    "truncated": [(t, i, agent.normalize(x)) for t, i, x in data["truncated"]]}
-        n_costs = costs.n or 0
-        if lagrangian is not None:
-            if not costs.seen:
-                raise DataError("PPO-Lagrangian got no info['cost'] in a whole rollout "
-                                f"({batch} steps)", hint="wrap the environment so that every step reports "
-                                "info['cost'] (0 when nothing is violated), e.g. with symlearn.backends.cost")
-            if agent.n_costs == 0:  # a scalar limit: the first rollout told how many constraints there are
-                new_params = agent.add_cost_critics(n_costs, generator)
-                cost_optimizer = torch.optim.Adam(new_params, lr=lr, eps=1e-5, foreach=True)
-                agent.cost_critics.to(device)
-            if multipliers is None:
-                multipliers = Multipliers(lagrangian, n_costs)
-        episodes = data["episodes"]
-        ep_costs = np.zeros((len(episodes), n_costs))
-        for j, (_, _, c, _) in enumerate(episodes):
-            ep_costs[j, : c.size] = c  # an episode that ended before the first cost arrived cost 0
-        mean_cost = ep_costs.mean(axis=0) if episodes else np.full(n_costs, np.nan)
-        if multipliers is not None and episodes:
-            multipliers.update(mean_cost)
-        lambdas = multipliers.values.copy() if multipliers is not None else np.zeros(0)
+            data = rollouts.collect(config.n_steps, agent.numpy_actor(), rng, cost_fn)
+            if reward_fn is not None:  # the agent learns from these; the episode returns stay the environment's
+                learned = _signal(reward_fn(data["rollout"]), "reward_fn", data["rewards"].shape)
+                if learned.ndim != 2:
+                    raise DataError(f"reward_fn returned shape {learned.shape}; expected {data['rewards'].shape}")
+                data = {**data, "rewards": learned}
+            if agent.obs_normalization:  # this rollout joins the statistics, then is learned from with them
+                agent.update_observation_stats(data["obs"].reshape(-1, agent.obs_dim))
+                data = {**data, "obs": agent.normalize(data["obs"]), "last_obs": agent.normalize(data["last_obs"]),
+                        "truncated": [(t, i, agent.normalize(x)) for t, i, x in data["truncated"]]}
+            n_costs = costs.n or 0
+            if lagrangian is not None:
+                if not costs.seen:
+                    raise DataError("PPO-Lagrangian got no info['cost'] in a whole rollout "
+                                    f"({batch} steps)", hint="wrap the environment so that every step reports "
+                                    "info['cost'] (0 when nothing is violated), e.g. with symlearn.backends.cost")
+                if agent.n_costs == 0:  # a scalar limit: the first rollout told how many constraints there are
+                    new_params = agent.add_cost_critics(n_costs, generator)
+                    cost_optimizer = torch.optim.Adam(new_params, lr=lr, eps=1e-5, foreach=True)
+                    agent.cost_critics.to(device)
+                if multipliers is None:
+                    multipliers = Multipliers(lagrangian, n_costs)
+            episodes = data["episodes"]
+            ep_costs = np.zeros((len(episodes), n_costs))
+            for j, (_, _, c, _) in enumerate(episodes):
+                ep_costs[j, : c.size] = c  # an episode that ended before the first cost arrived cost 0
+            mean_cost = ep_costs.mean(axis=0) if episodes else np.full(n_costs, np.nan)
+            estimate = None
+            if multipliers is not None:
+                if lagrangian.cost_estimate == "rollout":
+                    estimate = rollouts.cost_estimate(data["costs"])
+                elif episodes:
+                    estimate = mean_cost
+                if estimate is not None:
+                    multipliers.update(estimate)
+            lambdas = multipliers.values.copy() if multipliers is not None else np.zeros(0)
 
-        stats = _update(agent, optimizer, cost_optimizer, data, config, lagrangian, lambdas, rng, device,
-                        return_scales, fresh_critics)
-        fresh_critics = False
-        seconds = time.perf_counter() - iteration_start
-        record = PPOIteration(
-            iteration=iteration, steps=rollouts.steps, episodes=len(episodes),
-            mean_return=float(np.mean([e[0] for e in episodes])) if episodes else math.nan,
-            mean_length=float(np.mean([e[1] for e in episodes])) if episodes else math.nan,
-            mean_cost=tuple(float(c) for c in mean_cost), multipliers=tuple(float(x) for x in lambdas),
-            learning_rate=lr, steps_per_second=batch / seconds, seconds=seconds, **stats)
-        history.append(record)
-        if callback is not None and callback(record, agent) is False:
-            break
+            stats = _update(agent, optimizer, cost_optimizer, data, config, lagrangian, lambdas, rng, device,
+                            return_scales, fresh_critics)
+            fresh_critics = False
+            seconds = time.perf_counter() - iteration_start
+            record = PPOIteration(
+                iteration=iteration, steps=rollouts.steps, episodes=len(episodes),
+                mean_return=float(np.mean([e[0] for e in episodes])) if episodes else math.nan,
+                mean_length=float(np.mean([e[1] for e in episodes])) if episodes else math.nan,
+                mean_cost=tuple(float(c) for c in mean_cost), multipliers=tuple(float(x) for x in lambdas),
+                cost_estimate=() if estimate is None else tuple(float(c) for c in estimate),
+                true_cost=rollouts.true_cost_estimate(data["true_costs"]),
+                learning_rate=lr, steps_per_second=batch / seconds, seconds=seconds, **stats)
+            history.append(record)
+            bar.update(1, **{"return": record.mean_return, "cost": float(np.sum(record.mean_cost))
+                             if record.mean_cost else None, "lambda": float(np.max(lambdas)) if lambdas.size else None})
+            if callback is not None and callback(record, agent) is False:
+                break
     agent.eval()
     n_costs = costs.n or 0
     if config.normalize_values and return_scales.values is not None:  # the critics output returns again

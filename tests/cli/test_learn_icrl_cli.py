@@ -25,9 +25,11 @@ def test_short_run_writes_the_cost_and_reports_the_metrics(capsys, tmp_path):
     out = tmp_path / "cost.safetensors"
     code, stdout, err = run(capsys, "learn", "icrl", "--env", "blocked-point", "--n-demos", 3, "--steps", 2048,
                             "--iterations", 2, "--cost-inputs", "x,y", "--env-kwargs", '{"wall": -4.0}',
-                            "-o", out, "--json")
+                            "-o", out, "--log", tmp_path / "icrl.csv", "--json")
     assert code == 0, err
     doc = json.loads(stdout)
+    rows = (tmp_path / "icrl.csv").read_text().splitlines()
+    assert rows[0].startswith("iteration,") and "violation_rate" in rows[0] and len(rows) == 3
     for key in ("reward", "violation_rate", "feasible_reward", "recovery_auc", "iterations", "seconds"):
         assert key in doc
     assert doc["iterations"] == 2 and 0 <= doc["violation_rate"] <= 1 and 0 <= doc["recovery_auc"] <= 1

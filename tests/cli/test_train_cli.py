@@ -140,6 +140,29 @@ def test_ppo_options_reach_the_trainer_and_the_model_file(capsys, tmp_path):
     assert code == 2 and "--n-envs" in err
 
 
+def test_log_csv_has_a_row_per_iteration_with_true_and_learned_cost(capsys, tmp_path):
+    import csv
+
+    rules = tmp_path / "toy.dnf"
+    rules.write_text(UNSAFE_DNF)
+    log = tmp_path / "logs" / "run.csv"
+    code, out, err = run(capsys, "train", "--env", "toy-navigation", "--cost", rules, "--steps", 512,
+                         "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 1, "--log", log,
+                         "--cost-estimate", "episodes", "--json")
+    assert code == 0, err
+    with open(log, newline="") as handle:
+        rows = list(csv.DictReader(handle))
+    assert [int(r["iteration"]) for r in rows] == [1, 2, 3, 4]
+    assert {"steps", "mean_return", "true_cost", "learned_cost_0", "multipliers_0", "cost_estimate_0"} <= set(rows[0])
+    # 200-step episodes end in the fourth 2 x 64-step rollout: "episodes" updated nothing before it
+    assert [r["cost_estimate_0"] == "" for r in rows] == [True, True, True, False]
+    assert all(float(r["true_cost"]) >= 0 for r in rows)  # the toy reports its own cost beside the learned one
+    code, _, err = run(capsys, "train", "--env", "toy-navigation", "--algo", "sb3-ppo", "--log", log)
+    assert code == 2 and "--log is an option of our PPO" in err
+    code, _, err = run(capsys, "train", "--env", "toy-navigation", "--log", tmp_path)
+    assert code == 2 and "is a directory" in err and "Traceback" not in err
+
+
 def _saved_cost(tmp_path, env_name: str):
     """A small learned cost over BlockedPoint's x (random weights, lambda 1), saved as ICRL saves it."""
     import gymnasium as gym
