@@ -60,6 +60,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seeds", type=int, nargs="+", default=[0])
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--variants", nargs="+", choices=list(VARIANTS), default=list(VARIANTS))
+    parser.add_argument("--tasks", nargs="+", choices=list(TASKS), default=list(TASKS))
     parser.add_argument("--json", type=Path)
     args = parser.parse_args(argv)
     folder = Path(tempfile.mkdtemp(prefix="lagrangian-defaults-"))
@@ -67,7 +68,7 @@ def main(argv: list[str] | None = None) -> int:
     (folder / "hazard.dnf").write_text("x > 0.4 & x < 0.6 & y < 0.6\n")
     subprocess.run([sys.executable, "-m", "symlearn", "learn", "dnf", "--env", "toy-navigation", "--n-demos", "20",
                     "-o", "toy.dnf"], cwd=folder, check=True, capture_output=True)
-    jobs = [(t, v, s) for t in TASKS for v in args.variants for s in args.seeds]
+    jobs = [(t, v, s) for t in args.tasks for v in args.variants for s in args.seeds]
     with ThreadPoolExecutor(args.workers) as pool:
         rows = list(pool.map(lambda job: _run(folder, *job), jobs))
     for row in rows:

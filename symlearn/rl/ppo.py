@@ -1048,7 +1048,11 @@ def train_ppo(
     not a call per step. Info keys they need are named in their ``info_keys`` attribute.
     ``policy`` continues training an existing :class:`ActorCritic` (same spaces) in place.
     """
-    config = (config or PPOConfig()).resolved(constrained=lagrangian is not None)
+    config = config or PPOConfig()
+    if isinstance(policy, ActorCritic) and config.normalize_observations is None:
+        # a continued policy keeps its own inputs (a nominal PPO phase, then a Lagrangian one)
+        config = replace(config, normalize_observations=policy.obs_normalization)
+    config = config.resolved(constrained=lagrangian is not None)
     if not isinstance(total_steps, (int, np.integer)) or total_steps < 1:
         raise SymlearnError(f"total_steps must be a positive integer, got {total_steps!r}")
     for name, fn in (("reward_fn", reward_fn), ("cost_fn", cost_fn)):

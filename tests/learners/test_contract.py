@@ -51,6 +51,12 @@ def _mce():
     return _gridworld(MCEICRL, n_iterations=50)()
 
 
+def _me():
+    from symlearn.learners.constraints.mce_icrl import MEICRL
+
+    return _gridworld(MEICRL, n_iterations=50)()
+
+
 def _logic():
     from symlearn.envs.logic_mdp import logic_mdp
     from symlearn.learners.constraints.logic_constraint_inference import LogicConstraintInference
@@ -114,7 +120,7 @@ def _neural(name):
 
 
 BUILDERS = {"ilp": _ilp, "separating-ltl": _separating, "ml": _ml, "mce-icrl": _mce, "logic": _logic,
-            "spec": _spec, "one-class-tree": _one_class_tree, "subgoal-pdfa": _subgoal_pdfa,
+            "me-icrl": _me, "spec": _spec, "one-class-tree": _one_class_tree, "subgoal-pdfa": _subgoal_pdfa,
             "positive-only-ltl": _positive_only_ltl, "neural-mce-icrl": _neural("NeuralMCEICRL"),
             "neural-me-icrl": _neural("NeuralMEICRL"), "neural-gacl": _neural("NeuralGACL"),
             "neural-vme-icrl": _neural("NeuralVMEICRL"),
@@ -146,3 +152,30 @@ def test_learner_contract(name, tmp_path):
     text = path.with_suffix(".json").read_text() if path.suffix == ".safetensors" else path.read_text()
     assert expected_text in text
     assert not twin.__dict__.keys() & {k for k in vars(learner) if k.endswith("_")}  # clones are unfitted
+
+
+def _learner_classes() -> dict[str, type]:
+    """Every concrete Learner subclass defined under symlearn.learners, by qualified name."""
+    import importlib
+    import pkgutil
+
+    import symlearn.learners as package
+
+    found: dict[str, type] = {}
+    for module_info in pkgutil.walk_packages(package.__path__, "symlearn.learners."):
+        module = importlib.import_module(module_info.name)
+        for name, cls in inspect.getmembers(module, inspect.isclass):
+            if issubclass(cls, Learner) and cls is not Learner and cls.__module__ == module.__name__ \
+                    and not inspect.isabstract(cls):
+                found[f"{cls.__module__}.{name}"] = cls
+    return found
+
+
+def test_every_learner_is_under_the_contract_test():
+    # a learner added without a builder above fails here instead of escaping the contract
+    covered = set()
+    for build in BUILDERS.values():
+        learner = build()[0]
+        covered.add(f"{type(learner).__module__}.{type(learner).__name__}")
+    missing = sorted(set(_learner_classes()) - covered)
+    assert not missing, f"learners without a contract builder in tests/learners/test_contract.py: {missing}"

@@ -118,3 +118,12 @@ def test_bad_estimate_is_refused(kwargs, message):
 def test_bad_normalisation_setting_is_refused():
     with pytest.raises(SymlearnError, match="normalize_values must be True, False or None"):
         PPOConfig(normalize_values="yes")
+
+
+def test_a_continued_policy_keeps_its_observation_normalisation_under_a_lagrangian():
+    nominal = train_ppo(lambda: LongCostly(length=64), 128, PPOConfig(seed=0, **SMALL))
+    assert not nominal.policy.obs_normalization
+    continued = train_ppo(lambda: LongCostly(length=64), 128, PPOConfig(seed=0, **SMALL),
+                          LagrangianConfig(cost_limit=0.0), policy=nominal.policy)
+    assert continued.policy is nominal.policy and not continued.config.normalize_observations
+    assert continued.config.normalize_values  # the rest of the Lagrangian defaults still apply

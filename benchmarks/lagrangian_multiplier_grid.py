@@ -1,0 +1,99 @@
+"""PPO-Lagrangian settings on two tasks where the default is safe but not useful: the README's toy
+recipe (the DNF learned from 20 expert episodes) and a user's rover (``tests/support/rover_env.py``,
+its own ``info["cost"]``), cost limit 0, 50k steps, greedy evaluation on 10 episodes.
+
+    python benchmarks/lagrangian_multiplier_grid.py --json benchmarks/results/lagrangian_multiplier_grid.json
+
+Each variant changes the library defaults (``LagrangianConfig``/``PPOConfig`` as ``symlearn train
+--algo ppo-lag`` uses them) in one or two places; reported: greedy return, true cost per episode,
+final multiplier, the policy's entropy at the end.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+VARIANTS = {
+    "defaults (gradient 0.05, returns, rollout estimate)": {},
+    "cost_estimate='episodes'": {"lag": {"cost_estimate": "episodes"}},
+    "adam 0.035": {"lag": {"update": "adam", "lr": 0.035}},
+    "adam 0.1": {"lag": {"update": "adam", "lr": 0.1}},
+    "adam 0.035, init 1, log_std_init -1": {"lag": {"update": "adam", "lr": 0.035, "init": 1.0},
+                                            "ppo": {"log_std_init": -1.0}},
+    "max_multiplier 10": {"lag": {"max_multiplier": 10.0}},
+    "advantage_scale='raw'": {"lag": {"advantage_scale": "raw"}},
+    "pid": {"lag": {"update": "pid"}},
+    "log_std_init -1": {"ppo": {"log_std_init": -1.0}},
+}
+TASKS = ("toy-navigation (learned DNF)", "rover (user module, true cost)")
+
+
+def _target(task: str, folder: Path):
+    from symlearn.cli.train_costs import training_cost
+    from symlearn.recipes.environments import resolve_env
+
+    if task.startswith("toy"):
+        target = resolve_env("toy-navigation").as_numeric()
+        cost = training_cost(str(folder / "toy.dnf"), target, features=None, per_rule=False)
+        env_fn = target.env_fn if cost.wrap is None else (lambda: cost.wrap(target.make()))
+        return target, env_fn, cost.rollout_cost
+    target = resolve_env("rover_env:Rover-v0").as_numeric()
+    return target, target.env_fn, None
+
+
+def run(task: str, variant: str, seed: int, folder: Path, steps: int) -> dict:
+    from symlearn.progress import progress_bars
+    from symlearn.rl.ppo import LagrangianConfig, PPOConfig, evaluate, train_ppo
+
+    spec = VARIANTS[variant]
+    target, env_fn, cost_fn = _target(task, folder)
+    started = time.perf_counter()
+    with progress_bars(False):
+        result = train_ppo(env_fn, steps, PPOConfig(seed=seed, **spec.get("ppo", {})),
+                           lagrangian=LagrangianConfig(cost_limit=0.0, **spec.get("lag", {})), cost_fn=cost_fn)
+    episodes = evaluate(result.policy, target.make(), 10, seed=seed + 10_000)
+    return {"task": task, "variant": variant, "seed": seed, "return": float(np.mean(episodes.returns)),
+            "true_cost": float(episodes.costs.sum(axis=1).mean()),
+            "multipliers": [float(m) for m in result.multipliers], "entropy": result.history[-1].entropy,
+            "seconds": time.perf_counter() - started}
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--tasks", nargs="+", choices=TASKS, default=list(TASKS))
+    parser.add_argument("--variants", nargs="+", choices=list(VARIANTS), default=list(VARIANTS))
+    parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
+    parser.add_argument("--steps", type=int, default=50_000)
+    parser.add_argument("--json", type=Path)
+    args = parser.parse_args(argv)
+    import subprocess
+
+    sys.path.insert(0, str(ROOT / "tests" / "support"))
+    folder = Path(tempfile.mkdtemp(prefix="multiplier-grid-"))
+    subprocess.run([sys.executable, "-m", "symlearn", "learn", "dnf", "--env", "toy-navigation", "--n-demos", "20",
+                    "-o", "toy.dnf"], cwd=folder, check=True, capture_output=True)
+    rows = []
+    for task in args.tasks:
+        for variant in args.variants:
+            for seed in args.seeds:
+                row = run(task, variant, seed, folder, args.steps)
+                rows.append(row)
+                print(f"{task:32s} {variant:45s} seed {seed}: return {row['return']:7.3f}  true cost "
+                      f"{row['true_cost']:6.1f}  multiplier {row['multipliers'][0]:8.2f}  entropy {row['entropy']:.2f}",
+                      flush=True)
+                if args.json:  # after every run: a killed sweep keeps what it finished
+                    args.json.write_text(json.dumps({"command": "python benchmarks/lagrangian_multiplier_grid.py "
+                                                     + " ".join(argv or sys.argv[1:]), "rows": rows}, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
