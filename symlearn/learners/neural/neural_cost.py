@@ -27,56 +27,19 @@ from torch import nn
 from symlearn.errors import DataError, ModelError
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.rl.model_files import load_torch_module, save_torch_module
+from symlearn.rl.spaces import SPACE_KINDS, encode, spec_width
+from symlearn.rl.spaces import space_spec as rl_space_spec
 
 MODEL_KIND = "neural-icrl-cost"
 
 
 def space_spec(space: Any, bounds: bool = False) -> dict[str, Any]:
-    """What a cost needs to know of a gymnasium Box or Discrete space, as JSON (with ``bounds``, a
-    Box's ``low``/``high`` too, an unbounded side as null)."""
-    kind = type(space).__name__
-    if kind == "Discrete":
-        return {"kind": "discrete", "n": int(space.n), "start": int(getattr(space, "start", 0))}
-    if kind == "Box":
-        spec: dict[str, Any] = {"kind": "box", "shape": [int(n) for n in space.shape]}
-        if bounds:
-            spec["low"] = [float(x) if np.isfinite(x) else None for x in np.asarray(space.low, np.float64).ravel()]
-            spec["high"] = [float(x) if np.isfinite(x) else None for x in np.asarray(space.high, np.float64).ravel()]
-        return spec
-    raise DataError(f"a learned cost needs Box or Discrete spaces, got {kind}",
-                    hint="flatten dict/tuple spaces with a gymnasium wrapper (e.g. FlattenObservation)")
-
-
-def spec_width(spec: dict[str, Any]) -> int:
-    """Width of the flattened (Box) or one-hot (Discrete) encoding of a space."""
-    return int(spec["n"]) if spec["kind"] == "discrete" else int(np.prod(spec["shape"], dtype=np.int64))
-
-
-def encode(values: Any, spec: dict[str, Any], what: str) -> np.ndarray:
-    """A batch of raw observations or actions -> float32 ``(B, width)`` (one-hot for Discrete).
-    Wrong shapes, ids out of range and non-finite numbers are :class:`DataError`."""
-    width = spec_width(spec)
-    if spec["kind"] == "discrete":
-        ids = np.asarray(values).reshape(-1)
-        if ids.size and not np.issubdtype(ids.dtype, np.integer):
-            if not np.all(np.isfinite(ids.astype(np.float64))) or np.any(ids != np.round(ids)):
-                raise DataError(f"{what} must be whole ids of a Discrete({width}) space")
-        ids = ids.astype(np.int64) - spec.get("start", 0)
-        if ids.size and (ids.min() < 0 or ids.max() >= width):
-            raise DataError(f"{what} ids outside Discrete({width}): {sorted(set(ids[(ids < 0) | (ids >= width)]))[:5]}")
-        out = np.zeros((ids.size, width), dtype=np.float32)
-        out[np.arange(ids.size), ids] = 1.0
-        return out
-    array = np.asarray(values, dtype=np.float32)
-    shape = tuple(spec["shape"])
-    if array.shape[array.ndim - len(shape):] != shape:
-        raise DataError(f"{what} have shape {array.shape[1:] if array.ndim > len(shape) else array.shape}, "
-                        f"the space's is {shape}")
-    array = array.reshape(-1, width)
-    if not np.isfinite(array).all():
-        rows = np.flatnonzero(~np.isfinite(array).all(1))
-        raise DataError(f"{what} are not finite (NaN or inf) in {rows.size} row(s), the first at row {rows[0]}")
-    return array
+    """What a cost needs to know of a gymnasium Box or Discrete space, as JSON: the encoding of
+    :mod:`symlearn.rl.spaces` (the one PPO's networks use), any other kind of space refused."""
+    if type(space).__name__ not in SPACE_KINDS:
+        raise DataError(f"a learned cost needs Box or Discrete spaces, got {type(space).__name__}",
+                        hint="flatten dict/tuple spaces with a gymnasium wrapper (e.g. FlattenObservation)")
+    return rl_space_spec(space, bounds)
 
 
 class NeuralCost(nn.Module):

@@ -1,0 +1,105 @@
+"""What training reports: one :class:`PPOIteration` per iteration, the finished episodes
+(:class:`EpisodeStats`) and the run as a whole (:class:`PPOResult`, which saves the policy with the
+run's settings); ``as_dict()`` gives JSON-able values (NaN as null)."""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import asdict, dataclass, field, fields
+from typing import Any
+
+import numpy as np
+
+from symlearn.rl.ppo.config import LagrangianConfig, PPOConfig
+from symlearn.rl.ppo.networks import ActorCritic
+
+
+def _plain(value: Any) -> Any:
+    """JSON-able: tuples -> lists, NaN -> None, numpy scalars -> Python."""
+    if isinstance(value, dict):
+        return {key: _plain(v) for key, v in value.items()}
+    if isinstance(value, (tuple, list, np.ndarray)):
+        return [_plain(v) for v in value]
+    if isinstance(value, (float, np.floating)):
+        return None if not math.isfinite(value) else float(value)
+    if isinstance(value, np.integer):
+        return int(value)
+    return value
+
+
+@dataclass(frozen=True)
+class PPOIteration:
+    """One iteration: rollout statistics (episodes that *ended* in it; NaN when none did), the
+    multipliers used for its update, and the update's diagnostics (means over its minibatches)."""
+
+    iteration: int
+    steps: int  # environment steps so far (over all copies)
+    episodes: int
+    mean_return: float
+    mean_length: float
+    mean_cost: tuple[float, ...]  # per constraint
+    multipliers: tuple[float, ...]
+    policy_loss: float
+    value_loss: float
+    cost_value_loss: tuple[float, ...]
+    entropy: float
+    approx_kl: float
+    clip_fraction: float
+    explained_variance: float
+    epochs: float  # passes actually made (fractional when stopped by target_kl)
+    stopped_early: bool
+    learning_rate: float
+    steps_per_second: float
+    seconds: float
+    # running standard deviation of the returns of the reward, then of each cost (PPO-Lagrangian;
+    # the divisors of the advantages under ``advantage_scale="returns"``)
+    return_scales: tuple[float, ...] = ()
+    # J_c per constraint the multipliers were updated from in this iteration (empty: no update)
+    cost_estimate: tuple[float, ...] = ()
+    # the environment's own info["cost"] per episode, summed over constraints (rollout cost per step
+    # x mean episode length), also when a learned cost drives training; NaN when it reports none
+    true_cost: float = math.nan
+
+    def as_dict(self) -> dict[str, Any]:
+        return {f.name: _plain(getattr(self, f.name)) for f in fields(self)}
+
+
+@dataclass(frozen=True)
+class EpisodeStats:
+    """Finished episodes: return, length, cost sum per constraint ``(E, k)``, and the environment
+    step count (over all copies, at the end of the round of steps in which it ended) of its end."""
+
+    returns: np.ndarray
+    lengths: np.ndarray
+    costs: np.ndarray
+    end_steps: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.returns)
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"returns": _plain(self.returns), "lengths": _plain(self.lengths), "costs": _plain(self.costs),
+                "end_steps": _plain(self.end_steps)}
+
+
+@dataclass
+class PPOResult:
+    """What :func:`~symlearn.rl.ppo.train_ppo` returns; ``save(path)`` writes the policy with this run's settings."""
+
+    policy: ActorCritic
+    config: PPOConfig
+    lagrangian: LagrangianConfig | None
+    history: list[PPOIteration]
+    episodes: EpisodeStats
+    multipliers: np.ndarray  # final values, (n_constraints,) (empty for plain PPO)
+    steps: int
+    seconds: float
+    provenance: dict[str, Any] = field(default_factory=dict)
+
+    def save(self, path: str | os.PathLike[str]) -> os.PathLike[str]:
+        lagrangian = None if self.lagrangian is None else asdict(self.lagrangian)
+        training = {"ppo": asdict(self.config), "lagrangian": lagrangian,
+                    "steps": self.steps, "seconds": self.seconds, "multipliers": _plain(self.multipliers),
+                    **self.provenance}
+        return self.policy.save(path, {"training": _plain(training)})
