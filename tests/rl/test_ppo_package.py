@@ -88,8 +88,10 @@ def test_collect_returns_a_frozen_batch_consistent_with_its_episodes():
     assert stats.costs.shape == (len(batch.episodes), 1) and list(stats.lengths) == [e.length for e in batch.episodes]
 
 
-@pytest.mark.parametrize("space", [spaces.Discrete(4, start=2), spaces.Box(-1.0, 1.0, (3,)),
-                                   spaces.Box(np.array([0.0, -np.inf], np.float32), np.array([1.0, np.inf], np.float32))])
+HALF_OPEN = spaces.Box(np.array([0.0, -np.inf], np.float32), np.array([1.0, np.inf], np.float32))
+
+
+@pytest.mark.parametrize("space", [spaces.Discrete(4, start=2), spaces.Box(-1.0, 1.0, (3,)), HALF_OPEN])
 def test_ppo_and_the_neural_cost_share_one_space_encoding(space):
     from symlearn.learners.neural.neural_cost import encode, space_spec, spec_width
 

@@ -99,18 +99,18 @@ class LagrangianConfig:
     :class:`~symlearn.rl.ppo.multipliers.Multipliers`: ``"gradient"`` and ``"adam"`` take steps of
     ``lr``; ``"pid"`` uses ``kp``, ``ki``, ``kd`` with exponential averages ``p_ema``/``d_ema`` of
     the error and the cost and a derivative over ``d_delay`` updates (the defaults are OmniSafe's
-    CPPOPID ones).
-    ``max_multiplier`` caps every multiplier (``None``: no cap). ``cost_gamma`` discounts costs for
+    CPPOPID ones). ``max_multiplier`` caps every multiplier (``None``: no cap). ``cost_gamma`` discounts costs for
     the cost critics (``None``: the reward's ``gamma``). ``advantage_scale``: ``"raw"`` mixes the
     advantages in their own units (``lambda`` = the price of a unit of cost in reward); ``"returns"``
     (the default) first divides each by the running standard deviation of its signal's returns,
     which makes the multiplier's range independent of the units of reward and cost (the
-    docstring of :mod:`symlearn.rl.ppo`). ``cost_estimate``: what the multipliers are updated from, every iteration:
-    ``"rollout"`` (the default) the rollout's cost per step times the mean length of the last
-    :data:`~symlearn.rl.ppo.rollouts.LENGTH_MEMORY` finished episodes (a ratio estimate of ``J_c`` from every step, finished
-    episode or not); ``"episodes"`` the mean cost of the episodes that ended in the rollout, and no
-    update in a rollout where none ended (the behaviour before; with 1000-step episodes and
-    4 x 128-step rollouts that is one update in eight iterations).
+    docstring of :mod:`symlearn.rl.ppo`). ``cost_estimate``: what the multipliers are updated
+    from, every iteration: ``"rollout"`` (the default) the rollout's cost per step times the mean
+    length of the last :data:`~symlearn.rl.ppo.rollouts.LENGTH_MEMORY` finished episodes (a ratio
+    estimate of ``J_c`` from every step, finished episode or not); ``"episodes"`` the mean cost of
+    the episodes that ended in the rollout, and no update in a rollout where none ended (the
+    behaviour before; with 1000-step episodes and 4 x 128-step rollouts that is one update in
+    eight iterations).
 
     The defaults (``"gradient"``, ``lr=0.05``, ``"returns"``, ``"rollout"``, with
     :class:`PPOConfig`'s normalisation, which turns on with a Lagrangian) are the ones ``symlearn
