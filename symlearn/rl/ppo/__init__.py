@@ -54,8 +54,9 @@ exploring agent collects 100-200 cost steps, so the price that already makes the
 about 0.01 while Adam moves ``lambda`` by about ``lr`` = 0.035 per iteration; from the second
 iteration on the cost swamped the reward, and with a cost limit of 0 (no slack: ``lambda`` can only
 grow) the agent learned to stand still near the start. With ``"returns"`` each signal's advantage
-is divided by the running standard deviation of its own returns (:class:`~symlearn.rl.ppo.update._ReturnScales`: an average
-over about ten iterations, floored at 1 % of its largest value), so ``lambda`` weighs standard
+is divided by the running standard deviation of its own returns
+(:class:`~symlearn.rl.ppo.update._ReturnScales`: an average over about ten iterations, floored at
+1 % of its largest value), so ``lambda`` weighs standard
 deviations of cost-to-go against those of reward-to-go: while the exploring agent's costs are large
 and spread, one unit of cost is cheap; as the agent becomes safe the cost's scale shrinks and the
 remaining violations get dearer. The constrained problem is unchanged (a positive rescaling of
