@@ -97,7 +97,8 @@ def icrl_run(demos, seed: int, obs_dims, method=NeuralMCEICRL, **settings) -> tu
 
 def lagrangian_run(seed: int) -> dict:
     config = PPOConfig(n_envs=4, n_steps=256, batch_size=256, learning_rate=1e-3, anneal_lr=False,
-                       normalize_values=True, normalize_observations=False, ent_coef=0.01, seed=seed)
+                       normalize_values=True, normalize_observations=False, log_std_init=0.0, ent_coef=0.01,
+                       seed=seed)
     started = time.perf_counter()  # the recorded table's multiplier settings (the library's defaults then)
     result = train_ppo(BlockedPoint, STEPS, config, LagrangianConfig(cost_limit=0.0, **LEGACY_LAGRANGIAN))
     return {"seconds": time.perf_counter() - started, **evaluate(result.policy, 50_000 + seed),

@@ -66,7 +66,8 @@ def main(argv: list[str] | None = None) -> dict:
         learn_seconds = time.perf_counter() - t0
         with tempfile.TemporaryDirectory() as folder:
             cost = NeuralCost.load(learner.save(Path(folder) / "cost.safetensors"), PointCircle())
-        config = PPOConfig(**{**PPO_DEFAULTS, "ent_coef": 0.01, "seed": seed, "normalize_observations": False})
+        config = PPOConfig(**{**PPO_DEFAULTS, "ent_coef": 0.01, "seed": seed, "normalize_observations": False,
+                              "log_std_init": 0.0})
         agents = {
             "transferred cost": lambda: train_ppo(PointCircle, args.steps, config, reward_fn=penalised(cost, penalty)),
             "unconstrained": lambda: train_ppo(PointCircle, args.steps, config, reward_fn=penalised(None, penalty)),

@@ -32,8 +32,13 @@ VARIANTS = {
     "advantage_scale='raw'": {"lag": {"advantage_scale": "raw"}},
     "pid": {"lag": {"update": "pid"}},
     "log_std_init -1": {"ppo": {"log_std_init": -1.0}},
+    "adam 0.035, learning rate 1e-3, log_std_init -1": {"lag": {"update": "adam", "lr": 0.035},
+                                                        "ppo": {"learning_rate": 1e-3, "log_std_init": -1.0}},
+    "adam 0.1, learning rate 1e-3, log_std_init -1": {"lag": {"update": "adam", "lr": 0.1},
+                                                      "ppo": {"learning_rate": 1e-3, "log_std_init": -1.0}},
 }
-TASKS = ("toy-navigation (learned DNF)", "rover (user module, true cost)")
+TASKS = ("toy-navigation (learned DNF)", "rover (user module, true cost)", "blocked-point (true cost)",
+         "hazard robot (user module, DNF)")
 
 
 def _target(task: str, folder: Path):
@@ -45,7 +50,12 @@ def _target(task: str, folder: Path):
         cost = training_cost(str(folder / "toy.dnf"), target, features=None, per_rule=False)
         env_fn = target.env_fn if cost.wrap is None else (lambda: cost.wrap(target.make()))
         return target, env_fn, cost.rollout_cost
-    target = resolve_env("rover_env:Rover-v0").as_numeric()
+    if task.startswith("hazard"):
+        target = resolve_env("point_robot_env:HazardRobot-v0").as_numeric()
+        cost = training_cost(str(folder / "hazard.dnf"), target, features=None, per_rule=False)
+        env_fn = target.env_fn if cost.wrap is None else (lambda: cost.wrap(target.make()))
+        return target, env_fn, cost.rollout_cost
+    target = resolve_env("rover_env:Rover-v0" if task.startswith("rover") else "blocked-point").as_numeric()
     return target, target.env_fn, None
 
 
@@ -71,7 +81,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--tasks", nargs="+", choices=TASKS, default=list(TASKS))
     parser.add_argument("--variants", nargs="+", choices=list(VARIANTS), default=list(VARIANTS))
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
-    parser.add_argument("--steps", type=int, default=50_000)
+    parser.add_argument("--steps", type=int, default=50_000, help="per run (the hazard robot: 30k, as "
+                        "train_lagrangian_defaults.py)")
     parser.add_argument("--json", type=Path)
     args = parser.parse_args(argv)
     import subprocess
@@ -80,11 +91,12 @@ def main(argv: list[str] | None = None) -> int:
     folder = Path(tempfile.mkdtemp(prefix="multiplier-grid-"))
     subprocess.run([sys.executable, "-m", "symlearn", "learn", "dnf", "--env", "toy-navigation", "--n-demos", "20",
                     "-o", "toy.dnf"], cwd=folder, check=True, capture_output=True)
+    (folder / "hazard.dnf").write_text("x > 0.4 & x < 0.6 & y < 0.6\n")  # as train_lagrangian_defaults.py
     rows = []
     for task in args.tasks:
         for variant in args.variants:
             for seed in args.seeds:
-                row = run(task, variant, seed, folder, args.steps)
+                row = run(task, variant, seed, folder, 30_000 if task.startswith("hazard") else args.steps)
                 rows.append(row)
                 print(f"{task:32s} {variant:45s} seed {seed}: return {row['return']:7.3f}  true cost "
                       f"{row['true_cost']:6.1f}  multiplier {row['multipliers'][0]:8.2f}  entropy {row['entropy']:.2f}",

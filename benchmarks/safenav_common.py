@@ -223,13 +223,14 @@ def ppo_config(budget: Budget, seed: int, normalize: bool = False):
 
     return PPOConfig(n_envs=budget.n_envs, n_steps=budget.n_steps, batch_size=budget.batch_size,
                      n_epochs=budget.n_epochs, learning_rate=3e-4, seed=seed, torch_threads=1,
-                     normalize_observations=normalize, normalize_values=normalize)
+                     normalize_observations=normalize, normalize_values=normalize, log_std_init=0.0)
 
 
 def lagrangian_config(cost_limit: float, multiplier_lr: float, advantage_scale: str = "raw"):
     from symlearn.rl.ppo import LagrangianConfig
 
-    return LagrangianConfig(cost_limit=cost_limit, update="adam", lr=multiplier_lr, advantage_scale=advantage_scale)
+    return LagrangianConfig(cost_limit=cost_limit, update="adam", lr=multiplier_lr, advantage_scale=advantage_scale,
+                            cost_estimate="episodes")  # the recorded tables' rule
 
 
 def _binned(episodes: list[tuple[int, float, float, float]], total: int, bins: int) -> dict[str, list]:

@@ -219,7 +219,7 @@ def train_run(spec: dict[str, Any]) -> dict[str, Any]:
 
     if spec["settings"] == "before":  # what the demo ran before: PPO defaults, raw advantages
         config = PPOConfig(**{"seed": seed, "normalize_observations": False, "normalize_values": False,
-                              **spec.get("ppo", {})})
+                              "learning_rate": 2.5e-4, "log_std_init": 0.0, **spec.get("ppo", {})})
         lagrangian = LagrangianConfig(**{"cost_limit": 0.0, **LEGACY_LAGRANGIAN}) if spec["lagrangian"] else None
     else:
         config = toy_ppo_config(seed, **spec.get("ppo", {}))

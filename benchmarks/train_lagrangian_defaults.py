@@ -25,14 +25,21 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-OLD = ["--advantage-scale", "raw", "--no-normalize-observations", "--no-normalize-values"]
+OLD = ["--advantage-scale", "raw", "--no-normalize-observations", "--no-normalize-values",
+       "--multiplier-update", "gradient", "--multiplier-lr", "0.05", "--learning-rate", "2.5e-4", "--log-std-init", "0"]
+# the defaults of the previous commit: scale-free advantages and normalisation, but the gradient rule
+# and PPO's plain-task learning rate and initial noise
+GRADIENT = ["--multiplier-update", "gradient", "--multiplier-lr", "0.05", "--learning-rate", "2.5e-4",
+            "--log-std-init", "0"]
 TASKS = {
     "blocked-point (true cost)": ["--env", "blocked-point", "--algo", "ppo-lag"],
     "toy-navigation (learned DNF, README recipe)": ["--env", "toy-navigation", "--cost", "toy.dnf", "--prune"],
     "hazard robot (user module, DNF)": ["--env", "point_robot_env:HazardRobot-v0", "--cost", "hazard.dnf",
                                         "--steps", "30000"],
+    "rover (user module, true cost)": ["--env", "rover_env:Rover-v0", "--algo", "ppo-lag"],
 }
-VARIANTS = {"old defaults": OLD, "new defaults": [], "episodes-only multiplier updates": ["--cost-estimate", "episodes"],
+VARIANTS = {"old defaults": OLD, "gradient 0.05, PPO 2.5e-4, log std 0": GRADIENT, "new defaults": [],
+            "episodes-only multiplier updates": ["--cost-estimate", "episodes"],
             "sb3-ppo-lag (peer)": ["--algo", "sb3-ppo-lag"]}
 
 
@@ -65,6 +72,7 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     folder = Path(tempfile.mkdtemp(prefix="lagrangian-defaults-"))
     shutil.copy(ROOT / "tests" / "support" / "point_robot_env.py", folder)
+    shutil.copy(ROOT / "tests" / "support" / "rover_env.py", folder)
     (folder / "hazard.dnf").write_text("x > 0.4 & x < 0.6 & y < 0.6\n")
     subprocess.run([sys.executable, "-m", "symlearn", "learn", "dnf", "--env", "toy-navigation", "--n-demos", "20",
                     "-o", "toy.dnf"], cwd=folder, check=True, capture_output=True)

@@ -2,7 +2,7 @@
 
 ``symlearn train --env ENV [--env-kwargs JSON] [--algo ALGO] [--cost rules.dnf|cost.safetensors
 [--features a,b] [--per-rule]] [--cost-limit C] [--multiplier-update gradient|adam|pid]
-[--multiplier-lr LR] [--advantage-scale raw|returns] [--cost-estimate rollout|episodes] [--normalize-observations]
+[--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns] [--cost-estimate rollout|episodes] [--normalize-observations]
 [--normalize-values] [--n-envs N] [--n-steps T] [--prune [--prune-threshold T]] [--steps N]
 [--eval-episodes E] [-o agent.safetensors] [--log run.csv] [--tensorboard DIR] [--json]``
 
@@ -26,6 +26,11 @@
   spaces). The learned cost is the constrained signal of ``ppo-lag`` / ``sb3-*-lag`` or, with
   ``ppo`` / ``sb3-*``, subtracted from the reward (the thesis' transfer experiment). It drives
   training only: the environment's ``info["cost"]`` stays the reported ground truth.
+* ``--multiplier-update``/``--multiplier-lr`` (``adam``, 0.1), ``--learning-rate`` and
+  ``--log-std-init`` (with ``ppo-lag`` 1e-3 and -1; with ``ppo`` 2.5e-4 and 0): the library's
+  defaults, chosen on four tasks x 3 seeds (docs/BENCHMARKS.md, "PPO-Lagrangian defaults of
+  `train`"): the earlier ``gradient``/0.05 with 2.5e-4 and 0 was safe everywhere but froze the
+  toy's and a user's rover's agents at their start.
 * ``--advantage-scale raw|returns``, ``--[no-]normalize-observations``, ``--[no-]normalize-values``:
   options of :mod:`symlearn.rl.ppo`. With a Lagrangian (``ppo-lag``) they default to ``returns``
   and on: measured on BlockedPoint, a user's hazard robot and the toy (docs/BENCHMARKS.md,
@@ -98,9 +103,14 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--per-rule", action="store_true", help="one cost (and multiplier) per rule of --cost")
     cmd.add_argument("--cost-limit", type=float, default=0.0,
                      help="Lagrangian: allowed expected cost per episode (default 0)")
-    cmd.add_argument("--multiplier-lr", type=float, default=0.05, help="Lagrangian: multiplier step size (0.05)")
-    cmd.add_argument("--multiplier-update", choices=("gradient", "adam", "pid"), default="gradient",
-                     help="Lagrangian: multiplier update rule (gradient)")
+    cmd.add_argument("--multiplier-lr", type=float, default=0.1, help="Lagrangian: multiplier step size (0.1)")
+    cmd.add_argument("--multiplier-update", choices=("gradient", "adam", "pid"), default="adam",
+                     help="Lagrangian: multiplier update rule (adam: steps of about --multiplier-lr whatever the "
+                          "size of the violation)")
+    cmd.add_argument("--learning-rate", type=float, default=None,
+                     help="our PPO's Adam step (default: 1e-3 with ppo-lag, 2.5e-4 with ppo)")
+    cmd.add_argument("--log-std-init", type=float, default=None,
+                     help="our PPO's initial log standard deviation of Box actions (default: -1 with ppo-lag, 0 with ppo)")
     cmd.add_argument("--advantage-scale", choices=("raw", "returns"), default=None,
                      help="ppo-lag: mix advantages in their own units (raw) or in standard deviations of "
                           "their returns (returns, the default: the multiplier's range no longer depends on the units)")
@@ -156,6 +166,10 @@ def check_numbers(args: argparse.Namespace, default_steps: int) -> None:
         raise SymlearnError(f"--cost-limit must be a finite number >= 0, got {args.cost_limit:g}")
     if not (math.isfinite(args.multiplier_lr) and args.multiplier_lr > 0):
         raise SymlearnError(f"--multiplier-lr must be a finite number > 0, got {args.multiplier_lr:g}")
+    if args.learning_rate is not None and not (math.isfinite(args.learning_rate) and 0 < args.learning_rate <= 1):
+        raise SymlearnError(f"--learning-rate must be a number in (0, 1], got {args.learning_rate:g}")
+    if args.log_std_init is not None and not (math.isfinite(args.log_std_init) and -20 <= args.log_std_init <= 5):
+        raise SymlearnError(f"--log-std-init must be a number in [-20, 5], got {args.log_std_init:g}")
     if not (math.isfinite(args.prune_threshold) and 0 <= args.prune_threshold <= 1):
         raise SymlearnError(f"--prune-threshold must be in [0, 1], got {args.prune_threshold:g}")
 
@@ -181,7 +195,9 @@ def _train(args: argparse.Namespace, out) -> None:
     if args.algo in SB3_ALGOS:
         ours = [flag for flag, given in (("--normalize-observations", args.normalize_observations),
                                          ("--normalize-values", args.normalize_values),
-                                         ("--advantage-scale", args.advantage_scale)) if given is not None]
+                                         ("--advantage-scale", args.advantage_scale),
+                                         ("--learning-rate", args.learning_rate),
+                                         ("--log-std-init", args.log_std_init)) if given is not None]
         ours += [flag for flag, given in (("--log", args.log), ("--tensorboard", args.tensorboard)) if given]
         if ours:
             raise SymlearnError(f"{ours[0]} is an option of our PPO (--algo ppo|ppo-lag), not of --algo {args.algo}")
@@ -235,7 +251,8 @@ def _train_ours(args: argparse.Namespace, target, cost) -> dict:
                                       cost_estimate=args.cost_estimate)
     config = PPOConfig(seed=seed, n_envs=args.n_envs, n_steps=args.n_steps,
                        batch_size=min(128, args.n_envs * args.n_steps),
-                       normalize_observations=args.normalize_observations, normalize_values=args.normalize_values)
+                       normalize_observations=args.normalize_observations, normalize_values=args.normalize_values,
+                       learning_rate=args.learning_rate, log_std_init=args.log_std_init)
     with TrainingLog(args.log, args.tensorboard) as log:
         result = train_ppo(env_fn, args.steps, config, lagrangian=lagrangian, cost_fn=cost_fn, reward_fn=reward_fn,
                            callback=_logged(log, cost) if (args.log or args.tensorboard) else None)

@@ -95,8 +95,15 @@ def test_true_cost_is_reported_beside_a_learned_cost_and_nan_without_one():
 
 def test_library_defaults_are_the_cli_defaults():
     lag = LagrangianConfig(cost_limit=0.0)
-    assert (lag.update, lag.lr, lag.advantage_scale, lag.cost_estimate) == ("gradient", 0.05, "returns", "rollout")
+    assert (lag.update, lag.lr, lag.advantage_scale, lag.cost_estimate) == ("adam", 0.1, "returns", "rollout")
+    from symlearn.cli.main import build_parser
+
+    args = build_parser().parse_args(["train", "--env", "toy-navigation"])
+    assert (args.multiplier_update, args.multiplier_lr, args.cost_estimate) == (lag.update, lag.lr, lag.cost_estimate)
     config = PPOConfig()
+    assert (config.resolved(True).learning_rate, config.resolved(True).log_std_init) == (1e-3, -1.0)
+    assert (config.resolved(False).learning_rate, config.resolved(False).log_std_init) == (2.5e-4, 0.0)
+    assert PPOConfig(learning_rate=3e-4).resolved(True).learning_rate == 3e-4
     assert config.resolved(constrained=True).normalize_observations is True
     assert config.resolved(constrained=True).normalize_values is True
     assert config.resolved(constrained=False).normalize_observations is False
@@ -118,6 +125,10 @@ def test_bad_estimate_is_refused(kwargs, message):
 def test_bad_normalisation_setting_is_refused():
     with pytest.raises(SymlearnError, match="normalize_values must be True, False or None"):
         PPOConfig(normalize_values="yes")
+    with pytest.raises(SymlearnError, match="learning_rate must be a finite number or None"):
+        PPOConfig(learning_rate=float("nan"))
+    with pytest.raises(SymlearnError, match="log_std_init must be a finite number or None"):
+        PPOConfig(log_std_init="-1")
 
 
 def test_a_continued_policy_keeps_its_observation_normalisation_under_a_lagrangian():

@@ -29,7 +29,8 @@ class PPOConfig:
     n_steps: int = 128  # steps per environment per iteration (rollout = n_envs * n_steps)
     batch_size: int = 128  # minibatch size (the last minibatch of an epoch may be smaller)
     n_epochs: int = 4  # passes over the rollout per iteration
-    learning_rate: float = 2.5e-4
+    # None (default): 1e-3 with a Lagrangian, 2.5e-4 (CleanRL's) for plain PPO (resolved())
+    learning_rate: float | None = None
     anneal_lr: bool = True  # linearly to 0 over training
     gamma: float = 0.99
     gae_lambda: float = 0.95
@@ -45,7 +46,7 @@ class PPOConfig:
     target_kl: float | None = None  # stop the epochs once a minibatch's approx. KL exceeds 1.5 x this
     hidden_sizes: tuple[int, ...] = (64, 64)
     activation: str = "tanh"  # "tanh" | "relu"
-    log_std_init: float = 0.0  # Box actions
+    log_std_init: float | None = None  # Box actions; None: -1 with a Lagrangian, 0 for plain PPO (resolved())
     # None (default): on with a Lagrangian, off for plain PPO (measured; LagrangianConfig's docstring)
     normalize_observations: bool | None = None  # standardise inputs by running mean/std (saved with the model)
     normalize_values: bool | None = None  # critics learn returns / their running std (outputs kept, PopArt-style)
@@ -59,8 +60,13 @@ class PPOConfig:
             value = getattr(self, name)
             if not isinstance(value, (int, np.integer)) or value < 1:
                 raise SymlearnError(f"PPOConfig.{name} must be a positive integer, got {value!r}")
+        for name in ("learning_rate", "log_std_init"):
+            value = getattr(self, name)
+            if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float, np.number))
+                                      or not np.isfinite(value)):
+                raise SymlearnError(f"PPOConfig.{name} must be a finite number or None, got {value!r}")
         checks = [
-            ("learning_rate", self.learning_rate > 0, "> 0"),
+            ("learning_rate", self.learning_rate is None or self.learning_rate > 0, "> 0 or None"),
             ("gamma", 0 <= self.gamma <= 1, "in [0, 1]"),
             ("gae_lambda", 0 <= self.gae_lambda <= 1, "in [0, 1]"),
             ("clip_range", self.clip_range > 0, "> 0"),
@@ -83,10 +89,16 @@ class PPOConfig:
                 raise SymlearnError(f"PPOConfig.{name} must be True, False or None, got {getattr(self, name)!r}")
 
     def resolved(self, constrained: bool) -> PPOConfig:
-        """This configuration with ``None`` normalisation settings decided: on with a Lagrangian
-        (``constrained``), off without one."""
-        return replace(self, **{name: constrained for name in ("normalize_observations", "normalize_values")
-                                if getattr(self, name) is None})
+        """This configuration with its ``None`` settings decided. With a Lagrangian (``constrained``):
+        normalised observations and values, learning rate 1e-3, initial log standard deviation -1;
+        without one: no normalisation, 2.5e-4 and 0 (CleanRL's). Why the two differ: under a cost,
+        an agent that keeps the initial noise (std 1 on a [-1, 1] action box) cannot follow a safe
+        route narrower than its own jitter, and at 2.5e-4 the log standard deviation moves by at most
+        ~0.004 an iteration -- in 50k steps the noise barely shrinks, and the safe agent freezes
+        where it started (measured: docs/BENCHMARKS.md, "PPO-Lagrangian defaults of `train`")."""
+        choices = {"normalize_observations": constrained, "normalize_values": constrained,
+                   "learning_rate": 1e-3 if constrained else 2.5e-4, "log_std_init": -1.0 if constrained else 0.0}
+        return replace(self, **{name: value for name, value in choices.items() if getattr(self, name) is None})
 
 
 @dataclass(frozen=True)
@@ -112,16 +124,19 @@ class LagrangianConfig:
     behaviour before; with 1000-step episodes and 4 x 128-step rollouts that is one update in
     eight iterations).
 
-    The defaults (``"gradient"``, ``lr=0.05``, ``"returns"``, ``"rollout"``, with
-    :class:`PPOConfig`'s normalisation, which turns on with a Lagrangian) are the ones ``symlearn
-    train --algo ppo-lag`` uses; they were chosen by measurement (docs/BENCHMARKS.md, "PPO-Lagrangian
-    defaults of `train`"). Before, the library's were ``"adam"``, ``lr=0.035``, ``"raw"``,
-    ``"episodes"`` and no normalisation.
+    The defaults (``"adam"``, ``lr=0.1``, ``"returns"``, ``"rollout"``, with :class:`PPOConfig`'s
+    Lagrangian settings: normalisation, learning rate 1e-3, log std -1) are the ones ``symlearn
+    train --algo ppo-lag`` uses; they were chosen by measurement on four tasks x 3 seeds
+    (docs/BENCHMARKS.md, "PPO-Lagrangian defaults of `train`"): Adam moves ``lambda`` by about
+    ``lr`` an iteration whatever the size of the violation, where the gradient rule's first steps
+    (``0.05 x`` an exploring agent's 100 cost steps) priced every cost out of reach of the reward and
+    froze the agent at its start. Before, the library's were ``"adam"``, ``lr=0.035``, ``"raw"``,
+    ``"episodes"``, no normalisation (``LEGACY_LAGRANGIAN``); the CLI's, ``"gradient"``, ``lr=0.05``.
     """
 
     cost_limit: float | Sequence[float]
-    update: str = "gradient"
-    lr: float = 0.05
+    update: str = "adam"
+    lr: float = 0.1
     init: float | Sequence[float] = 0.0
     kp: float = 0.1
     ki: float = 0.01
