@@ -38,8 +38,10 @@ import math
 from symlearn.errors import LimitExceededError
 from symlearn.logic.bdd import FALSE, TRUE
 
-__all__ = ["independent_groups", "check_state_bound", "STEPS", "PER_STEP"]
+__all__ = ["independent_groups", "check_state_bound", "MIN_GROUPS", "STEPS", "PER_STEP"]
 
+#: the bound is computed for conjunctions of at least this many independent groups
+MIN_GROUPS = 8
 #: steps explored per group (blow-ups of products show from the first step: ``F p`` has two
 #: states after one letter, so ``F p1 & ... & F pn`` has 2^n)
 STEPS = 6
@@ -70,6 +72,8 @@ def independent_groups(nodes: list[tuple], root: int, conjunction: int, literals
             stack += (key[2], key[1])
         else:
             operands.append(nid)
+    if len(operands) < MIN_GROUPS:
+        return [operands]  # too few to make MIN_GROUPS groups: no need to tell them apart
     parent = list(range(len(operands)))
 
     def find(i: int) -> int:
@@ -110,8 +114,11 @@ def check_state_bound(translation, groups: list[list[int]], max_states: int) -> 
     ``translation``: a :class:`~symlearn.logic.ltlf.to_dfa._Translation` whose levels are set
     (``_now``, ``_compose``, ``_balanced``, ``bdd``, ``props``, ``ne_level`` ready).
     """
-    if len(groups) < 2:
-        return  # one group: the exploration's own limits are as early as any bound
+    if len(groups) < MIN_GROUPS:
+        # few groups: their states multiply too, but each state's transitions then test few
+        # groups' propositions, so the exploration meets its own limits before the memory is
+        # gone; and the check would cost small formulas a third of their translation time
+        return
     bdd = translation.bdd
     max_nodes = bdd.max_nodes
     products = [1] * (STEPS + 1)
