@@ -553,3 +553,46 @@ def test_hypothesis_space_of_a_huge_bias_is_refused_without_listing_it():
         generate_space(task, limit=2_000)
     assert time.perf_counter() - start < 20
     assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 300_000  # KB
+
+
+@pytest.mark.parametrize("limit, words", [
+    (["--timeout", "2"], "time limit of 2 s reached while learning constraints in the domain"),
+    pytest.param(["--max-memory", "300"], "memory limit of 300 MB reached while learning constraints",
+                 marks=pytest.mark.slow)])
+def test_learn_constraints_on_a_domain_runs_in_the_bounded_worker(tmp_path, limit, words):
+    """A bias with 20,000 #modeb: learning in the folder ran in-process, past 90 s and 2 GB, before;
+    now in domain check's bounded worker, stopped at --timeout / --max-memory (18 s and the rule
+    limit without them)."""
+    import warehouse_domain as wh
+
+    folder, _ = _warehouse(tmp_path)
+    bias = folder / "bias.las"
+    bias.write_text(bias.read_text() + "".join(f"#modeb(1, q{i}).\n" for i in range(20_000)))
+    wh.expert_demonstrations(20).save(tmp_path / "demos.jsonl")
+    result = check(["learn", "constraints", "--domain", folder, "--demos", "demos.jsonl", "-o", "rules.lp", *limit],
+                   cwd=tmp_path, timeout=30, memory_mb=2048, contains=words, outputs=["rules.lp"])
+    assert result.seconds < 15 and result.max_rss_mb < 600
+
+
+# -- ltl dfa: conjunctions of thousands of conjuncts --------------------------------------------
+@pytest.mark.parametrize("conjunct, n", [("p{i}", 10_000), ("G(!a{i}p | a{i}q)", 4_000)])
+def test_ltl_dfa_of_thousands_of_small_conjuncts(tmp_path, conjunct, n):
+    """Joined one by one, each conjunct copied the BDD built so far: > 60 s and > 2 GB (the node
+    limit) for 10,000 literals before; a balanced join makes it a few seconds."""
+    (tmp_path / "f.ltl").write_text(" & ".join(conjunct.format(i=i) for i in range(n)) + "\n")
+    result = run_command(["ltl", "dfa", "--file", "f.ltl"], cwd=tmp_path, timeout=60, memory_mb=4096)
+    assert result.returncode == 0, result.describe()
+    assert result.seconds < 20 and result.max_rss_mb < 600, result.describe()
+
+
+@pytest.mark.parametrize("conjunct, n, words", [
+    ("F p{i}", 2000, "2000 independent conjuncts reach at least"),
+    ("G(!p{i} | q{i})", 4_000, "interleave in name order"),
+])
+def test_ltl_dfa_refuses_products_from_a_bound_before_the_work(tmp_path, conjunct, n, words):
+    """F p1 & ... & F p2000 climbed past 2 GB before the state limit stopped it; the product of
+    independent conjuncts is now bounded first (symlearn/logic/ltlf/conjunct_bound.py)."""
+    (tmp_path / "f.ltl").write_text(" & ".join(conjunct.format(i=i) for i in range(n)) + "\n")
+    result = check(["ltl", "dfa", "--file", "f.ltl"], cwd=tmp_path, timeout=60, memory_mb=4096, names="f.ltl",
+                   contains=words)
+    assert result.seconds < 15 and result.max_rss_mb < 400, result.describe()

@@ -228,7 +228,7 @@ def _widest_cut(profiles: list[list[tuple[int, int]]], bound: int) -> tuple[int,
     test disjoint propositions), as ``(level, count)``; None when there is none."""
     events = sorted((cut, group, width) for group, profile in enumerate(profiles) for cut, width in profile)
     factors = [1] * len(profiles)
-    logs, target = 0.0, math.log2(bound) + 1.0  # a bit of margin for rounding; confirmed exactly
+    logs, target = 0.0, math.log2(bound) - 1e-6  # rounding: every candidate is confirmed exactly
     for cut, group, width in events:
         if width < 1:
             return None  # cannot happen for a satisfiable function; no claim then
