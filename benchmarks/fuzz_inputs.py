@@ -34,7 +34,7 @@ HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
 sys.path.insert(0, str(REPO / "tests" / "support"))
 
-from fuzz_inputs import COMMANDS, mutants, seeds  # noqa: E402  (tests/support)
+from fuzz_inputs import CLI_CAP, COMMANDS, mutants, place, seeds  # noqa: E402  (tests/support)
 from hostile import assert_survived, run_command, run_python  # noqa: E402
 
 
@@ -77,13 +77,15 @@ def run_cli_fuzz(per_command: int, seed: int, folder: Path, source: str | None =
     start = time.perf_counter()
     for fmt, paths in sorted(by_format.items()):
         streams = [(p, mutants(p.read_bytes(), fmt, rng)) for p in paths]
-        for i in range(per_command):
+        for i in range(min(per_command, CLI_CAP.get(fmt, per_command))):
             path, stream = streams[i % len(streams)]
             mutation, data = next(stream)
-            target = work / f"mutant{path.suffix}"
-            target.write_bytes(data)
-            args = [a.replace("{path}", target.name).replace("{dfa}", str(dfa)) for a in COMMANDS[fmt]]
-            command = " ".join(COMMANDS[fmt][:2])
+            target = place(work, fmt, path, data)
+            relative = target.relative_to(work)
+            args = [a.replace("{path}", str(relative)).replace("{folder}", str(relative.parent))
+                    .replace("{dfa}", str(dfa)) for a in COMMANDS[fmt]]
+            command = " ".join(COMMANDS[fmt][:2]) + (f" ({fmt})" if fmt.split("-")[0] in ("sweep", "cost", "dnf")
+                                                     else "")
             result = run_command(args, cwd=work, timeout=60, memory_mb=1024, env=_env(source))
             try:
                 assert_survived(result)
