@@ -596,3 +596,17 @@ def test_ltl_dfa_refuses_products_from_a_bound_before_the_work(tmp_path, conjunc
     result = check(["ltl", "dfa", "--file", "f.ltl"], cwd=tmp_path, timeout=60, memory_mb=4096, names="f.ltl",
                    contains=words)
     assert result.seconds < 15 and result.max_rss_mb < 400, result.describe()
+
+
+@pytest.mark.parametrize("flag, value, words", [
+    ("--n-steps", "1e9", "--n-steps must be between 1 and 262,144"),
+    ("--steps", "1e12", "--steps must be between 1 and 1,000,000,000"),
+    ("--n-envs", "1e6", "--n-envs must be between 1 and 256"),
+    ("--n-steps", "1e400", "--n-steps must be a whole number"),
+])
+def test_train_sizes_from_flags_are_bounded_before_allocation(tmp_path, flag, value, words):
+    """A rollout buffer is n_envs x n_steps: sized from the flags, it is refused before anything
+    is built (torch is not even imported)."""
+    result = check(["train", "--env", "CartPole-v1", flag, value], cwd=tmp_path, timeout=30, memory_mb=1024,
+                   contains=words)
+    assert result.seconds < 10 and result.max_rss_mb < 200
