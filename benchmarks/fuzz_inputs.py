@@ -3,11 +3,16 @@
 Two parts, both in child processes under 1 GB of address space (tests/support/hostile.py):
 
 * ``--inputs N``: N mutants read in-process by the library readers (tests/support/fuzz_inputs.py:
-  demonstrations JSONL/NPZ, automaton JSON, MONA/LTLf2DFA DOT, reward-machine text, formula
-  files, trace files, a trace, labelings, LTL samples);
-* ``--cli K``: K mutants per command through the real CLI (``data validate``, ``automaton
-  show``/``explain``, ``ltl dfa --file``, ``ltl eval --traces``), each checked for the promise:
-  exit 0 or a clean exit 2 with one line, no traceback, within 60 s and 1 GB.
+  demonstrations JSONL/NPZ (image kind too), automaton JSON (DFA, PDFA, reward machine),
+  MONA/LTLf2DFA DOT, reward-machine text, formula files, trace files, a trace, labelings, LTL
+  samples, DNF rule files (text, JSON), frame archives, TLSF, sweep files, sweep records and
+  results, learned-cost models (configuration, weights), domain folders (in the bounded worker
+  ``domain check`` uses)), round robin over the formats;
+* ``--cli K``: K mutants per format through the real CLI (``data validate|info``, ``automaton
+  show``/``explain``, ``ltl dfa --file|--tlsf``, ``ltl eval --traces``, ``dnf show``, ``sweep
+  run|report``, ``domain check``, ``train --cost``: at most 5 each, a training run takes seconds),
+  each checked for the promise: exit 0 or a clean exit 2 with one line, no traceback, within 60 s
+  and 1 GB.
 
 Counts per reader/command, and every crash (kept under ``--work``/crashes), go to
 ``benchmarks/results/fuzz_inputs.json``. ``--source DIR`` runs another source tree (a "before"

@@ -2,7 +2,9 @@
 
 Valid inputs of every format (built from bundled data: an expert's demonstrations, a translated
 DFA, the MONA/LTLf2DFA DOT test files, a reward machine, a labeling, an LTL sample, formulas,
-traces) are mutated: truncated, bytes flipped or inserted, a JSON key duplicated, brackets nested
+traces; since issue 26 also DNF rule files (text and JSON), a PDFA, image and frame archives, a
+TLSF specification, a sweep file with its results store, a learned-cost model and a domain
+folder) are mutated: truncated, bytes flipped or inserted, a JSON key duplicated, brackets nested
 deeply, numbers made huge, lines duplicated or swapped, NPZ members given huge shapes, odd dtypes
 or dropped. Each mutant goes to its reader; the promise is that the reader returns a value or
 raises a :class:`~symlearn.errors.SymlearnError`, nothing else (no ``RecursionError``,

@@ -411,9 +411,12 @@ class _Translation:
             # (disjunction) of obligation variables and what lies below: composed as one
             # balanced junction of their unfoldings, not by one ite per node, each of which
             # would copy the proposition layer built so far (quadratic on G p1 & ... & G pn)
+            # (the run stops at a node composed before, e.g. another state's: that work is reused)
             run, w = [], u
             absorbing = FALSE if low[u] == FALSE else TRUE if high[u] == TRUE else None
-            while absorbing is not None and w > TRUE and (low[w] if absorbing == FALSE else high[w]) == absorbing:
+            memo = self.compose_memo
+            while absorbing is not None and w > TRUE and (low[w] if absorbing == FALSE else high[w]) == absorbing \
+                    and (w == u or w not in memo):
                 run.append(bdd.level[w])
                 w = high[w] if absorbing == FALSE else low[w]
             if len(run) >= _LONG_JUNCTION:
