@@ -112,7 +112,7 @@ def check_state_bound(translation, groups: list[list[int]], max_states: int) -> 
     more nodes than the translation's BDD may hold (see the module docstring); else return.
 
     ``translation``: a :class:`~symlearn.logic.ltlf.to_dfa._Translation` whose levels are set
-    (``_now``, ``_compose``, ``_balanced``, ``bdd``, ``props``, ``ne_level`` ready).
+    (``_now``, ``_compose_state``, ``_balanced``, ``bdd``, ``props``, ``ne_level`` ready).
     """
     if len(groups) < MIN_GROUPS:
         # few groups: their states multiply too, but each state's transitions then test few
@@ -169,7 +169,7 @@ def _explore_group(translation, group: list[int]) -> tuple[list[int], list[tuple
             for state in states:
                 if state == FALSE:
                     continue
-                top = translation._compose(state)
+                top = translation._compose_state(state)
                 if step == 0:
                     profile = _profile(bdd, top, n_props, ne)
                 stack, walked = [top], set()

@@ -104,3 +104,19 @@ def test_many_independent_conjuncts_below_the_limits_still_translate():
     dfa = translate(parse(" & ".join(f"X p{i}" for i in range(2000)) + " & F z"))
     assert dfa.accepts([set(), {f"p{i}" for i in range(2000)} | {"z"}])
     assert not dfa.accepts([set(), {f"p{i}" for i in range(1999)} | {"z"}])
+
+
+def test_balanced_junctions_give_the_same_automata(monkeypatch):
+    """Joining long junctions in a balanced order (NNF trees, and runs in a state's obligation) is
+    only a different order of the same Boolean operations: forced on every junction of two or more,
+    the DFAs are identical (== compares states, acceptance and guards)."""
+    import importlib
+
+    to_dfa = importlib.import_module("symlearn.logic.ltlf.to_dfa")  # the module (the package exports a function)
+    rng = random.Random(7)
+    texts = [_conjunction(rng, rng.randint(2, 5)) for _ in range(30)]
+    texts += [" | ".join(f"(F g{i}x & G g{i}y)" for i in range(4)), "G(a & b & c & d) & F(e | f | g | h)"]
+    expected = [translate(parse(t)) for t in texts]
+    monkeypatch.setattr(to_dfa, "_LONG_JUNCTION", 1)
+    monkeypatch.setattr(to_dfa, "_LONG_RUN", 0)
+    assert [translate(parse(t)) for t in texts] == expected
