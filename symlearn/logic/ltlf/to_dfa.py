@@ -34,6 +34,13 @@ Construction (our own; sound by the progression identities, exact by minimisatio
    signatures). Either way the result is the unique minimal complete DFA (the rejecting sink,
    when there is one, is a state like any other).
 
+6. Large inputs: junctions of more than 16 operands (``c1 & ... & cn``) and states that are long
+   conjunctions (disjunctions) of obligation variables are joined in a balanced order, so a
+   conjunction of 10,000 conjuncts costs about n log n node operations, not n^2. Before the
+   exploration, a conjunction of at least 8 independent conjuncts is checked against the state
+   and node limits by a proven lower bound (:mod:`~symlearn.logic.ltlf.conjunct_bound`), so
+   ``F p1 & ... & F p2000`` is refused before its first state's 2^2000 successors are built.
+
 The result is a :class:`~symlearn.logic.automata.dfa.DFA` over the formula's propositions,
 complete and minimal. With at most
 :data:`~symlearn.logic.automata.transition_diagram.EXPLICIT_EDGES` guarded edges it has explicit
