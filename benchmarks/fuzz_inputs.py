@@ -44,10 +44,10 @@ from hostile import assert_survived, run_command, run_python  # noqa: E402
 
 
 def _env(source: str | None) -> dict[str, str]:
-    if not source:
-        return {}
+    """The children's path: ``source`` or this checkout first (not whatever symlearn the
+    interpreter has installed, which may be another checkout's)."""
     support = str(REPO / "tests" / "support")
-    return {"PYTHONPATH": os.pathsep.join([str(Path(source).resolve()), support])}
+    return {"PYTHONPATH": os.pathsep.join([str(Path(source).resolve()) if source else str(REPO), support])}
 
 
 def run_reader_fuzz(n: int, seed: int, folder: Path, source: str | None = None, timeout: float = 3600) -> dict:
