@@ -426,6 +426,16 @@ def test_domain_folder_is_confined(tmp_path, how):
     assert "secret_fact" not in line and "42" not in line
 
 
+def test_domain_path_the_file_system_refuses_is_one_short_line(tmp_path):
+    """A 100 kB name in domain.toml (found by the fuzzer): OSError 'File name too long' escaped
+    the reader; now a located error that quotes the name cut short."""
+    folder, _ = _warehouse(tmp_path)
+    _set_key(folder, "bias", "a" * 100_000)
+    line = check(["domain", "check", folder], cwd=tmp_path, timeout=60, names="domain.toml",
+                 contains=["key 'bias'", "100,000 characters", "is not a usable file name"]).stderr
+    assert len(line) < 600
+
+
 @pytest.mark.parametrize("how", ["absolute", "symlink", "include_background"])
 def test_allow_outside_reads_a_trusted_folder(tmp_path, how):
     folder, secret = _warehouse(tmp_path)

@@ -348,7 +348,7 @@ COMMANDS: dict[str, list[str]] = {
     "trace": ["automaton", "explain", "{dfa}", "--trace", "{path}"],
     "dnf-text": ["dnf", "show", "{path}"],
     "dnf-json": ["dnf", "show", "{path}", "--json"],
-    "frames-npz": ["data", "info", "{path}"],
+    "frames-npz": ["learn", "pdfa", "--demos", "{path}", "-o", "pdfa.json"],
     "tlsf": ["ltl", "dfa", "--tlsf", "{path}"],
     "sweep-toml": ["sweep", "run", "{path}", "--out", "{folder}/fresh", "--local", "--workers", "1"],
     "sweep-meta": ["sweep", "report", "{folder}"],
