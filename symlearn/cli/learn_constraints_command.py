@@ -152,7 +152,8 @@ def _constraints(args: argparse.Namespace, out) -> None:
     # interrupted, so the whole run happens in the bounded worker `domain check` and `ilp` use
     seconds = seconds_limit(args.timeout, name="--timeout")
     memory = memory_limit_mb(args.max_memory, name="--max-memory")
-    job = {key: value for key, value in vars(args).items() if isinstance(value, (str, int, float, bool, type(None)))}
+    job = {key: value for key, value in vars(args).items()  # what the worker needs: the options, not the handler
+           if isinstance(value, (str, int, float, bool, list, tuple, type(None)))}
     notes, doc = run_limited(_learn_in_worker, job, seconds=seconds, memory_mb=memory,
                              what=f"learning constraints in the domain {args.domain}", time_hint="raise --timeout",
                              memory_hint="raise --max-memory (or SYMLEARN_MAX_MEMORY_MB; 0: no limit) if the "
