@@ -3,11 +3,16 @@
 Two parts, both in child processes under 1 GB of address space (tests/support/hostile.py):
 
 * ``--inputs N``: N mutants read in-process by the library readers (tests/support/fuzz_inputs.py:
-  demonstrations JSONL/NPZ, automaton JSON, MONA/LTLf2DFA DOT, reward-machine text, formula
-  files, trace files, a trace, labelings, LTL samples);
-* ``--cli K``: K mutants per command through the real CLI (``data validate``, ``automaton
-  show``/``explain``, ``ltl dfa --file``, ``ltl eval --traces``), each checked for the promise:
-  exit 0 or a clean exit 2 with one line, no traceback, within 60 s and 1 GB.
+  demonstrations JSONL/NPZ (image kind too), automaton JSON (DFA, PDFA, reward machine),
+  MONA/LTLf2DFA DOT, reward-machine text, formula files, trace files, a trace, labelings, LTL
+  samples, DNF rule files (text, JSON), frame archives, TLSF, sweep files, sweep records and
+  results, learned-cost models (configuration, weights), domain folders (in the bounded worker
+  ``domain check`` uses)), round robin over the formats;
+* ``--cli K``: K mutants per format through the real CLI (``data validate|info``, ``automaton
+  show``/``explain``, ``ltl dfa --file|--tlsf``, ``ltl eval --traces``, ``dnf show``, ``sweep
+  run|report``, ``domain check``, ``train --cost``: at most 5 each, a training run takes seconds),
+  each checked for the promise: exit 0 or a clean exit 2 with one line, no traceback, within 60 s
+  and 1 GB.
 
 Counts per reader/command, and every crash (kept under ``--work``/crashes), go to
 ``benchmarks/results/fuzz_inputs.json``. ``--source DIR`` runs another source tree (a "before"
@@ -34,15 +39,15 @@ HERE = Path(__file__).resolve().parent
 REPO = HERE.parent
 sys.path.insert(0, str(REPO / "tests" / "support"))
 
-from fuzz_inputs import COMMANDS, mutants, seeds  # noqa: E402  (tests/support)
+from fuzz_inputs import CLI_CAP, COMMANDS, mutants, place, seeds  # noqa: E402  (tests/support)
 from hostile import assert_survived, run_command, run_python  # noqa: E402
 
 
 def _env(source: str | None) -> dict[str, str]:
-    if not source:
-        return {}
+    """The children's path: ``source`` or this checkout first (not whatever symlearn the
+    interpreter has installed, which may be another checkout's)."""
     support = str(REPO / "tests" / "support")
-    return {"PYTHONPATH": os.pathsep.join([str(Path(source).resolve()), support])}
+    return {"PYTHONPATH": os.pathsep.join([str(Path(source).resolve()) if source else str(REPO), support])}
 
 
 def run_reader_fuzz(n: int, seed: int, folder: Path, source: str | None = None, timeout: float = 3600) -> dict:
@@ -77,13 +82,15 @@ def run_cli_fuzz(per_command: int, seed: int, folder: Path, source: str | None =
     start = time.perf_counter()
     for fmt, paths in sorted(by_format.items()):
         streams = [(p, mutants(p.read_bytes(), fmt, rng)) for p in paths]
-        for i in range(per_command):
+        for i in range(min(per_command, CLI_CAP.get(fmt, per_command))):
             path, stream = streams[i % len(streams)]
             mutation, data = next(stream)
-            target = work / f"mutant{path.suffix}"
-            target.write_bytes(data)
-            args = [a.replace("{path}", target.name).replace("{dfa}", str(dfa)) for a in COMMANDS[fmt]]
-            command = " ".join(COMMANDS[fmt][:2])
+            target = place(work, fmt, path, data)
+            relative = target.relative_to(work)
+            args = [a.replace("{path}", str(relative)).replace("{folder}", str(relative.parent))
+                    .replace("{dfa}", str(dfa)) for a in COMMANDS[fmt]]
+            command = " ".join(COMMANDS[fmt][:2]) + (f" ({fmt})" if fmt.split("-")[0] in ("sweep", "cost", "dnf")
+                                                     else "")
             result = run_command(args, cwd=work, timeout=60, memory_mb=1024, env=_env(source))
             try:
                 assert_survived(result)

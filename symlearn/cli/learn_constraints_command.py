@@ -20,6 +20,11 @@ learning and reports (``validation`` in the JSON) the share of held-out expert s
 constraint forbids -- a check that needs no ground truth; a warning (``warnings``) when it is
 not 0.
 
+With ``--domain`` the whole run (reading the folder, grounding, learning, writing ``-o``) happens
+in a worker process bounded by ``--timeout`` (default 600 s) and ``--max-memory`` (default
+``SYMLEARN_MAX_MEMORY_MB`` or 1024 MB), as in ``domain check``: the folder's programs are the
+user's, and grounding them cannot be interrupted. Its notes are printed when it ends.
+
 ``-o`` must end in ``.lp`` for ``logic`` and in ``.json`` otherwise: a mismatch is refused before
 anything is learned (``--method ml -o X.lp`` would put JSON into a file named like rules).
 
@@ -70,6 +75,12 @@ def register_learn(commands, common) -> None:
                             "world is a domain folder (--domain)")
     where.add_argument("--domain", metavar="DIR", help="your own domain folder (domain.toml; see docs/FORMATS.md)")
     cmd.add_argument("--allow-outside", action="store_true", help="let the domain folder name files outside itself (paths, symlinks, #include); only for a trusted folder")
+    cmd.add_argument("--timeout", default="600", metavar="S",
+                     help="--domain: seconds for reading, grounding and learning, in a worker process ('inf': no "
+                          "limit; default 600)")
+    cmd.add_argument("--max-memory", default=None, metavar="MB",
+                     help="--domain: memory limit of the worker that grounds the folder's programs and learns "
+                          "(default SYMLEARN_MAX_MEMORY_MB or 1024; 0: none)")
     source = cmd.add_mutually_exclusive_group()
     source.add_argument("--demos", help="demonstrations (.jsonl or .npz) with the environment's state/action ids or names")
     source.add_argument("--n-demos", type=int, default=50, help="generate N demonstrations of the bundled expert (50)")
@@ -129,10 +140,52 @@ def _world(args: argparse.Namespace) -> _World:
 
 
 def _constraints(args: argparse.Namespace, out) -> None:
-    from symlearn.errors import DataError, SymlearnError
-
     if args.output and args.method:  # before the world is built: a mismatch costs nothing
         _check_output(args.output, args.method)
+    if not args.domain:
+        _learn(args, out)
+        return
+    from symlearn.worker import memory_limit_mb, run_limited, seconds_limit
+
+    # a domain folder's background and bias are the user's programs: grounding them (or a bias
+    # whose hypothesis space explodes) can take any time and memory, and clingo cannot be
+    # interrupted, so the whole run happens in the bounded worker `domain check` and `ilp` use
+    seconds = seconds_limit(args.timeout, name="--timeout")
+    memory = memory_limit_mb(args.max_memory, name="--max-memory")
+    job = {key: value for key, value in vars(args).items()  # what the worker needs: the options, not the handler
+           if isinstance(value, (str, int, float, bool, list, tuple, type(None)))}
+    notes, doc = run_limited(_learn_in_worker, job, seconds=seconds, memory_mb=memory,
+                             what=f"learning constraints in the domain {args.domain}", time_hint="raise --timeout",
+                             memory_hint="raise --max-memory (or SYMLEARN_MAX_MEMORY_MB; 0: no limit) if the "
+                                         "domain is meant to be this large")
+    for line in notes:
+        out.note(line)
+    out.result(doc, _render)
+
+
+class _Collected:
+    """What the worker's run would print: its notes and its result document, sent back whole."""
+
+    def __init__(self) -> None:
+        self.notes: list[str] = []
+        self.doc = None
+
+    def note(self, message: str) -> None:
+        self.notes.append(message)
+
+    def result(self, document, render=None) -> None:
+        self.doc = document
+
+
+def _learn_in_worker(job: dict) -> tuple[list[str], dict]:
+    collected = _Collected()
+    _learn(argparse.Namespace(**job), collected)
+    return collected.notes, collected.doc
+
+
+def _learn(args: argparse.Namespace, out) -> None:
+    from symlearn.errors import DataError, SymlearnError
+
     world = _world(args)
     method = args.method or ("logic" if world.domain is not None else "mce-icrl")
     if method == "logic" and world.domain is None:

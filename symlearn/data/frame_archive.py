@@ -79,14 +79,14 @@ def load_frames(path: str | os.PathLike[str]) -> tuple[list[np.ndarray], tuple[s
         if l_dtype.kind not in "iu" or len(l_shape) != 1 or l_shape[0] < 1:
             raise DataError(f"member 'lengths' must be a non-empty integer vector, got {l_dtype.str} {l_shape}",
                             file=source)
-        lengths = archive["lengths"].astype(np.int64)
+        lengths = _member(archive, "lengths", source).astype(np.int64)
         if (lengths < 1).any() or int(lengths.sum()) != s_shape[0]:
             raise DataError(f"'lengths' must be positive and sum to the {s_shape[0]} rows of 'states', "
                             f"they sum to {int(lengths.sum())}", file=source)
-        states = archive["states"].astype(np.float64)
+        states = _member(archive, "states", source).astype(np.float64)
         names = None
         if "feature_names" in headers:
-            raw = archive["feature_names"]
+            raw = _member(archive, "feature_names", source)
             if raw.dtype.kind != "U" or raw.shape != (s_shape[1],):
                 raise DataError(f"'feature_names' must be {s_shape[1]} strings", file=source)
             names = tuple(str(n) for n in raw)
@@ -96,3 +96,17 @@ def load_frames(path: str | os.PathLike[str]) -> tuple[list[np.ndarray], tuple[s
         raise DataError(f"demonstration {demo} has an infinite feature value (row {row} of 'states')",
                         file=source, hint="NaN marks an unobserved feature; infinity is not allowed")
     return np.split(states, np.cumsum(lengths)[:-1]), names
+
+
+def _member(archive, name: str, source: str) -> np.ndarray:
+    """One member, its data read: a member shorter than its header declares (truncated, or a
+    corrupt zip entry) is a :class:`DataError`, not numpy's ``ValueError``/``EOFError``."""
+    import zipfile
+    import zlib
+
+    try:
+        return archive[name]
+    except (ValueError, EOFError, OSError, zipfile.BadZipFile, zlib.error, RuntimeError) as exc:
+        if isinstance(exc, DataError):
+            raise
+        raise DataError(f"member {name!r} is malformed: {exc}", file=source) from None

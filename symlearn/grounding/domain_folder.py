@@ -79,8 +79,13 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
         p = folder / config[key]
         if inside is not None:
             _check_inside(config[key], p, inside, key, toml_path)
-        if not p.is_file():
-            raise DataError(f"key {key!r}: file {config[key]!r} not found in {folder}", file=str(toml_path))
+        try:
+            found = p.is_file()
+        except OSError as exc:  # a name the file system refuses (a component over 255 bytes, ...)
+            raise DataError(f"key {key!r}: {_shown(config[key])} is not a usable file name ({exc.strerror})",
+                            file=str(toml_path)) from None
+        if not found:
+            raise DataError(f"key {key!r}: file {_shown(config[key])} not found in {folder}", file=str(toml_path))
         return p
 
     sources = {k: str(path(k)) for k in (*REQUIRED[1:], *[k for k in ("truth", "labeling", "features") if k in config])}
@@ -119,6 +124,11 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
     return domain
 
 
+def _shown(name: str, limit: int = 80) -> str:
+    """A file name from domain.toml as a message quotes it: cut short (one line stays readable)."""
+    return repr(name) if len(name) <= limit else repr(name[:limit]) + f"... ({len(name):,} characters)"
+
+
 def _read_program(path: Path, inside: Path | None):
     from symlearn.logic.asp.program import Program
 
@@ -131,13 +141,13 @@ def _check_inside(name: str, path: Path, inside: Path, key: str, toml_path: Path
     hint = ("paths in domain.toml are relative to its folder and stay inside it (--allow-outside lifts "
             "this for a trusted folder)")
     if Path(name).is_absolute() or ".." in Path(name).parts:
-        raise DataError(f"key {key!r}: {name!r} leaves the domain folder", file=str(toml_path), hint=hint)
+        raise DataError(f"key {key!r}: {_shown(name)} leaves the domain folder", file=str(toml_path), hint=hint)
     try:
         resolved = path.resolve()
     except (OSError, RuntimeError):  # a symlink loop
-        raise DataError(f"key {key!r}: {name!r} cannot be resolved (a symlink loop?)", file=str(toml_path)) from None
+        raise DataError(f"key {key!r}: {_shown(name)} cannot be resolved (a symlink loop?)", file=str(toml_path)) from None
     if not resolved.is_relative_to(inside):
-        raise DataError(f"key {key!r}: {name!r} is a link to a file outside the domain folder", file=str(toml_path),
+        raise DataError(f"key {key!r}: {_shown(name)} is a link to a file outside the domain folder", file=str(toml_path),
                         hint=hint)
 
 

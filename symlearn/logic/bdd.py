@@ -208,8 +208,20 @@ class BDD:
         """The variables ``u`` depends on."""
         found = self._support.get(u)
         if found is None:
-            found = self.support(self.low[u]) | self.support(self.high[u]) | {self.level[u]}
-            self._support[u] = found
+            # one walk over the nodes below u, remembered for u only: a set per node would take
+            # memory quadratic in a chain's length (a conjunction of n literals: n^2/2 entries),
+            # and a recursion per node would exceed Python's depth on such a chain
+            level, low, high = self.level, self.low, self.high
+            seen, names, stack = set(), set(), [u]
+            while stack:
+                w = stack.pop()
+                if w <= TRUE or w in seen:
+                    continue
+                seen.add(w)
+                names.add(level[w])
+                stack.append(low[w])
+                stack.append(high[w])
+            found = self._support[u] = frozenset(names)
         return found
 
     # -- memory ------------------------------------------------------------------------------------

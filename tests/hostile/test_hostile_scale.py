@@ -426,6 +426,16 @@ def test_domain_folder_is_confined(tmp_path, how):
     assert "secret_fact" not in line and "42" not in line
 
 
+def test_domain_path_the_file_system_refuses_is_one_short_line(tmp_path):
+    """A 100 kB name in domain.toml (found by the fuzzer): OSError 'File name too long' escaped
+    the reader; now a located error that quotes the name cut short."""
+    folder, _ = _warehouse(tmp_path)
+    _set_key(folder, "bias", "a" * 100_000)
+    line = check(["domain", "check", folder], cwd=tmp_path, timeout=60, names="domain.toml",
+                 contains=["key 'bias'", "100,000 characters", "is not a usable file name"]).stderr
+    assert len(line) < 600
+
+
 @pytest.mark.parametrize("how", ["absolute", "symlink", "include_background"])
 def test_allow_outside_reads_a_trusted_folder(tmp_path, how):
     folder, secret = _warehouse(tmp_path)
@@ -553,3 +563,60 @@ def test_hypothesis_space_of_a_huge_bias_is_refused_without_listing_it():
         generate_space(task, limit=2_000)
     assert time.perf_counter() - start < 20
     assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 300_000  # KB
+
+
+@pytest.mark.parametrize("limit, words", [
+    (["--timeout", "2"], "time limit of 2 s reached while learning constraints in the domain"),
+    pytest.param(["--max-memory", "300"], "memory limit of 300 MB reached while learning constraints",
+                 marks=pytest.mark.slow)])
+def test_learn_constraints_on_a_domain_runs_in_the_bounded_worker(tmp_path, limit, words):
+    """A bias with 20,000 #modeb: learning in the folder ran in-process, past 90 s and 2 GB, before;
+    now in domain check's bounded worker, stopped at --timeout / --max-memory (18 s and the rule
+    limit without them)."""
+    import warehouse_domain as wh
+
+    folder, _ = _warehouse(tmp_path)
+    bias = folder / "bias.las"
+    bias.write_text(bias.read_text() + "".join(f"#modeb(1, q{i}).\n" for i in range(20_000)))
+    wh.expert_demonstrations(20).save(tmp_path / "demos.jsonl")
+    result = check(["learn", "constraints", "--domain", folder, "--demos", "demos.jsonl", "-o", "rules.lp", *limit],
+                   cwd=tmp_path, timeout=30, memory_mb=2048, contains=words, outputs=["rules.lp"])
+    assert result.seconds < 15 and result.max_rss_mb < 600
+
+
+# -- ltl dfa: conjunctions of thousands of conjuncts --------------------------------------------
+@pytest.mark.parametrize("conjunct, n", [("p{i}", 10_000), ("G(!a{i}p | a{i}q)", 4_000)])
+def test_ltl_dfa_of_thousands_of_small_conjuncts(tmp_path, conjunct, n):
+    """Joined one by one, each conjunct copied the BDD built so far: > 60 s and > 2 GB (the node
+    limit) for 10,000 literals before; a balanced join makes it a few seconds."""
+    (tmp_path / "f.ltl").write_text(" & ".join(conjunct.format(i=i) for i in range(n)) + "\n")
+    result = run_command(["ltl", "dfa", "--file", "f.ltl"], cwd=tmp_path, timeout=60, memory_mb=4096)
+    assert result.returncode == 0, result.describe()
+    assert result.seconds < 20 and result.max_rss_mb < 600, result.describe()
+
+
+@pytest.mark.parametrize("conjunct, n, words", [
+    ("F p{i}", 2000, "2000 independent conjuncts reach at least"),
+    ("G(!p{i} | q{i})", 4_000, "interleave in name order"),
+])
+def test_ltl_dfa_refuses_products_from_a_bound_before_the_work(tmp_path, conjunct, n, words):
+    """F p1 & ... & F p2000 climbed past 2 GB before the state limit stopped it; the product of
+    independent conjuncts is now bounded first (symlearn/logic/ltlf/conjunct_bound.py)."""
+    (tmp_path / "f.ltl").write_text(" & ".join(conjunct.format(i=i) for i in range(n)) + "\n")
+    result = check(["ltl", "dfa", "--file", "f.ltl"], cwd=tmp_path, timeout=60, memory_mb=4096, names="f.ltl",
+                   contains=words)
+    assert result.seconds < 15 and result.max_rss_mb < 400, result.describe()
+
+
+@pytest.mark.parametrize("flag, value, words", [
+    ("--n-steps", "1e9", "--n-steps must be between 1 and 262,144"),
+    ("--steps", "1e12", "--steps must be between 1 and 1,000,000,000"),
+    ("--n-envs", "1e6", "--n-envs must be between 1 and 256"),
+    ("--n-steps", "1e400", "--n-steps must be a whole number"),
+])
+def test_train_sizes_from_flags_are_bounded_before_allocation(tmp_path, flag, value, words):
+    """A rollout buffer is n_envs x n_steps: sized from the flags, it is refused before anything
+    is built (torch is not even imported)."""
+    result = check(["train", "--env", "CartPole-v1", flag, value], cwd=tmp_path, timeout=30, memory_mb=1024,
+                   contains=words)
+    assert result.seconds < 10 and result.max_rss_mb < 200

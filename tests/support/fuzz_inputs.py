@@ -2,7 +2,9 @@
 
 Valid inputs of every format (built from bundled data: an expert's demonstrations, a translated
 DFA, the MONA/LTLf2DFA DOT test files, a reward machine, a labeling, an LTL sample, formulas,
-traces) are mutated: truncated, bytes flipped or inserted, a JSON key duplicated, brackets nested
+traces; since issue 26 also DNF rule files (text and JSON), a PDFA, image and frame archives, a
+TLSF specification, a sweep file with its results store, a learned-cost model and a domain
+folder) are mutated: truncated, bytes flipped or inserted, a JSON key duplicated, brackets nested
 deeply, numbers made huge, lines duplicated or swapped, NPZ members given huge shapes, odd dtypes
 or dropped. Each mutant goes to its reader; the promise is that the reader returns a value or
 raises a :class:`~symlearn.errors.SymlearnError`, nothing else (no ``RecursionError``,
@@ -93,7 +95,116 @@ def seeds(folder: str | Path) -> list[tuple[str, Path]]:
     sample = sample_from_traces([[{"a"}, {"b"}], [{"a", "b"}]], [[set(), {"b"}], [{"b"}]], propositions=["a", "b"])
     save_sample(sample, folder / "sample.json")
     out.append(("ltl-sample", folder / "sample.json"))
+    out += _newer_seeds(folder, dfa)
     return out
+
+
+def _newer_seeds(folder: Path, dfa) -> list[tuple[str, Path]]:
+    """The readers added since issue 15 (issue 26): DNF rule files, PDFA JSON, image and frame
+    archives, TLSF, sweep files and result stores, learned-cost models, domain folders. Formats
+    in :data:`IN_FOLDER` are one file of a folder: the mutant replaces it in a copy of the folder."""
+    import numpy as np
+
+    from symlearn.data import Demonstrations, Trajectory
+    from symlearn.data.frame_archive import save_frames
+    from symlearn.logic import dnf
+    from symlearn.logic.automata.pdfa import PDFA
+
+    out: list[tuple[str, Path]] = []
+    rules = dnf.parse("x > 0.5 & y <= 2\n\"a b\" >= 1\nz < -3.25 & x >= 1e3\n", source="seed")
+    rules.save(folder / "rules.dnf", header="fuzz seed")
+    rules.save(folder / "rules.json")
+    out += [("dnf-text", folder / "rules.dnf"), ("dnf-json", folder / "rules.json")]
+    (folder / "pdfa.json").write_text(PDFA.from_dfa(dfa, termination=0.25).to_json())
+    out.append(("automaton-json", folder / "pdfa.json"))
+    images = Demonstrations([Trajectory(states=np.arange(3 * 4 * 5, dtype=np.float32).reshape(3, 4, 5) / 60,
+                                        actions=[0, 1])])
+    images.save(folder / "images.npz")
+    out.append(("demos-npz", folder / "images.npz"))
+    save_frames(folder / "frames.npz", [np.array([[0.0, np.nan], [1.0, 2.0]]), np.zeros((3, 2))], ["x", "y"])
+    out.append(("frames-npz", folder / "frames.npz"))
+    (folder / "spec.tlsf").write_text(TLSF_SEED)
+    out.append(("tlsf", folder / "spec.tlsf"))
+
+    sweep = folder / "sweep"
+    sweep.mkdir(exist_ok=True)
+    (sweep / "cells.py").write_text("def cell(seed, n=1, rate=0.5):\n    return {'value': seed * n * rate}\n")
+    (sweep / "s.toml").write_text('[sweep]\nfunction = "cells.py:cell"\nseeds = 2\nmetrics = ["value"]\n'
+                                  '[grid]\nn = [1, 2]\n[fixed]\nrate = 0.25\n')
+    out.append(("sweep-toml", sweep / "s.toml"))
+    from symlearn.sweep.runner import run_sweep
+    from symlearn.sweep.spec import read_spec
+
+    run_sweep(read_spec(sweep / "s.toml"), sweep / "out", backend="local", workers=1, progress=False)
+    out += [("sweep-meta", sweep / "out" / "sweep.json"), ("sweep-results", sweep / "out" / "results.jsonl")]
+
+    cost = folder / "cost"
+    cost.mkdir(exist_ok=True)
+    _save_cost(cost / "cost.safetensors")
+    out += [("cost-config", cost / "cost.json"), ("cost-weights", cost / "cost.safetensors")]
+
+    import warehouse_domain  # tests/support
+
+    domain = warehouse_domain.write_warehouse(folder / "domain")
+    out += [("domain", domain / name) for name in ("domain.toml", "bk.lp", "bias.las", "states.jsonl",
+                                                     "actions.jsonl", "truth.lp")]
+    return out
+
+
+TLSF_SEED = """INFO {
+  TITLE:       "fuzz seed"
+  DESCRIPTION: "a request is granted"
+  SEMANTICS:   Finite,Mealy
+  TARGET:      Mealy
+}
+
+MAIN {
+  INPUTS { req; }
+  OUTPUTS { grant; }
+  ASSUMPTIONS { G F req; }
+  GUARANTEES {
+    G (req -> X[!] grant);
+    !grant W req;
+  }
+}
+"""
+
+#: formats whose file is read with its folder (the mutant replaces the file in a copy)
+IN_FOLDER = {"sweep-toml", "sweep-meta", "sweep-results", "cost-config", "cost-weights", "domain"}
+
+
+def _save_cost(path: Path) -> None:
+    import gymnasium as gym
+    import torch
+
+    import symlearn.envs  # noqa: F401  (registers the gymnasium ids)
+    from symlearn.envs.registry import get
+    from symlearn.learners.neural import NeuralCost
+    from symlearn.learners.neural.feature_network import FeatureNetwork
+
+    cost = NeuralCost.for_env(gym.make(get("blocked-point").gym_id),
+                              FeatureNetwork([0], 0, 1, (8,), torch.Generator().manual_seed(0)))
+    cost.set_lambdas([1.0])
+    cost.save(path)
+
+
+def place(work: Path, fmt: str, seed: Path, data: bytes) -> Path:
+    """Write a mutant where its reader finds it: ``work/mutant.SUFFIX``, or, for a format of
+    :data:`IN_FOLDER`, in place of ``seed`` inside a fresh copy of the seed's folder."""
+    import shutil
+
+    if fmt not in IN_FOLDER:
+        target = work / f"mutant{seed.suffix}"
+        target.write_bytes(data)
+        return target
+    top = seed.parent.parent if fmt in ("sweep-meta", "sweep-results") else seed.parent
+    copy = work / f"mutant-{fmt}"
+    if copy.exists():
+        shutil.rmtree(copy)
+    shutil.copytree(top, copy, symlinks=True)
+    target = copy / seed.relative_to(top)
+    target.write_bytes(data)
+    return target
 
 
 # -- readers --------------------------------------------------------------------------------------
@@ -166,10 +277,63 @@ def _read_sample(path: Path):
     return load_sample(path)
 
 
+def _read_dnf(path: Path):
+    from symlearn.logic import dnf
+
+    return str(dnf.load(path))
+
+
+def _read_frames(path: Path):
+    from symlearn.data.frame_archive import load_frames
+
+    return load_frames(path)
+
+
+def _read_tlsf(path: Path):
+    """What ``ltl parse|dfa --tlsf`` read: the specification and its formula, printed."""
+    from symlearn.logic.ltlf import to_string
+    from symlearn.logic.ltlf.tlsf import load_tlsf
+
+    return to_string(load_tlsf(path).formula)
+
+
+def _read_sweep(path: Path):
+    """What ``sweep run`` reads before any cell runs: the file, its target and its cells."""
+    from symlearn.sweep.spec import read_spec
+
+    return [cell.label for cell in read_spec(path).cells()]
+
+
+def _read_store(path: Path):
+    """What ``sweep report`` reads: the record and the results of the store ``path`` is in."""
+    from symlearn.sweep.report import load_results
+
+    return load_results(path.parent)
+
+
+def _read_cost(path: Path):
+    from symlearn.learners.neural import NeuralCost
+
+    return NeuralCost.load(path.with_suffix(".safetensors"))
+
+
+def _read_domain(path: Path):
+    """What ``domain check DIR`` does, in its bounded worker (grounding a mutated program in
+    this process could run until the machine's memory is gone: that is why the CLI uses one)."""
+    from symlearn.cli.domain_command import _check_document
+    from symlearn.worker import run_limited
+
+    return run_limited(_check_document, str(path.parent), None, None, False, seconds=30, memory_mb=768,
+                       what="reading a mutated domain folder")
+
+
 READERS: dict[str, Callable[[Path], object]] = {
     "demos-jsonl": _read_demos, "demos-npz": _read_demos, "automaton-json": _read_automaton,
     "mona-dot": _read_dot, "rm-text": _read_rm, "formulas": _read_formulas, "traces": _read_traces,
     "trace": _read_trace, "labeling": _read_labeling, "ltl-sample": _read_sample,
+    "dnf-text": _read_dnf, "dnf-json": _read_dnf, "frames-npz": _read_frames, "tlsf": _read_tlsf,
+    "sweep-toml": _read_sweep, "sweep-meta": _read_store, "sweep-results": _read_store,
+    "cost-config": _read_cost, "cost-weights": _read_cost, "domain": _read_domain,
 }
 
 #: the CLI command that reads each format (``{path}`` replaced by the mutant's file)
@@ -182,7 +346,20 @@ COMMANDS: dict[str, list[str]] = {
     "formulas": ["ltl", "dfa", "--file", "{path}"],
     "traces": ["ltl", "eval", "F a", "--traces", "{path}"],
     "trace": ["automaton", "explain", "{dfa}", "--trace", "{path}"],
+    "dnf-text": ["dnf", "show", "{path}"],
+    "dnf-json": ["dnf", "show", "{path}", "--json"],
+    "frames-npz": ["learn", "pdfa", "--demos", "{path}", "-o", "pdfa.json"],
+    "tlsf": ["ltl", "dfa", "--tlsf", "{path}"],
+    "sweep-toml": ["sweep", "run", "{path}", "--out", "{folder}/fresh", "--local", "--workers", "1"],
+    "sweep-meta": ["sweep", "report", "{folder}"],
+    "sweep-results": ["sweep", "report", "{folder}"],
+    "cost-config": ["train", "--env", "blocked-point", "--cost", "{folder}/cost.safetensors", "--steps", "64"],
+    "cost-weights": ["train", "--env", "blocked-point", "--cost", "{folder}/cost.safetensors", "--steps", "64"],
+    "domain": ["domain", "check", "{folder}", "--timeout", "30"],
 }
+
+#: CLI runs per format at most (a training command takes seconds just to start)
+CLI_CAP: dict[str, int] = {"cost-config": 5, "cost-weights": 5}
 
 # -- mutations ------------------------------------------------------------------------------------
 
@@ -361,7 +538,7 @@ def npz_mutants(data: bytes, rng: random.Random) -> tuple[str, bytes]:
 def mutants(data: bytes, fmt: str, rng: random.Random) -> Iterator[tuple[str, bytes]]:
     """Endless ``(mutation, bytes)`` for an input of format ``fmt``."""
     while True:
-        if fmt == "demos-npz" and rng.random() < 0.85:
+        if fmt.endswith("-npz") and rng.random() < 0.85:
             yield npz_mutants(data, rng)
             continue
         name = rng.choice(list(TEXT_MUTATIONS))
@@ -377,7 +554,8 @@ def mutants(data: bytes, fmt: str, rng: random.Random) -> Iterator[tuple[str, by
 
 def fuzz_readers(n: int, seed: int, folder: str | Path, *, formats: list[str] | None = None,
                  deadline: float | None = None) -> dict:
-    """``n`` mutants spread over every format (round robin), each read in-process.
+    """``n`` mutants spread over every format (round robin; a seed file of the format at random),
+    each read in-process; ``formats``: only these.
 
     Returns ``{"inputs", "seconds", "per_format": {fmt: {"accepted", "refused", "crashed"}},
     "crashes": [{"format", "mutation", "file", "error"}]}``; a crash's input is kept in
@@ -388,7 +566,11 @@ def fuzz_readers(n: int, seed: int, folder: str | Path, *, formats: list[str] | 
     folder = Path(folder)
     rng = random.Random(seed)
     inputs = [(fmt, path) for fmt, path in seeds(folder / "seeds") if formats is None or fmt in formats]
-    streams = [(fmt, path, mutants(path.read_bytes(), fmt, rng)) for fmt, path in inputs]
+    by_format: dict[str, list] = defaultdict(list)
+    for fmt, path in inputs:
+        by_format[fmt].append((fmt, path, mutants(path.read_bytes(), fmt, rng)))
+    # round robin over the formats (not the seed files), so each reader gets its share
+    order = sorted(by_format)
     work = folder / "work"
     work.mkdir(parents=True, exist_ok=True)
     crash_dir = folder / "crashes"
@@ -399,10 +581,9 @@ def fuzz_readers(n: int, seed: int, folder: str | Path, *, formats: list[str] | 
     for i in range(n):
         if deadline is not None and time.monotonic() > deadline:
             break
-        fmt, path, stream = streams[i % len(streams)]
+        fmt, path, stream = rng.choice(by_format[order[i % len(order)]])
         mutation, data = next(stream)
-        target = work / f"mutant{path.suffix}"
-        target.write_bytes(data)
+        target = place(work, fmt, path, data)
         mutations[mutation.split(":")[0].split("+")[0]] += 1
         try:
             READERS[fmt](target)

@@ -11,7 +11,8 @@ True
 Modules: ``ast`` (nodes), ``parser`` / ``printer`` (dialects ours, spot, ltlf2dfa; ``fast_parser``
 reads well-formed formulas without lark),
 ``semantics`` (``holds``), ``vectorized`` (one formula on many traces), ``progression``,
-``simplify``, ``to_dfa`` (LTLf -> minimal :class:`~symlearn.logic.automata.DFA`), ``mona`` (LTLf2DFA + MONA oracle adapter).
+``simplify``, ``to_dfa`` (LTLf -> minimal :class:`~symlearn.logic.automata.DFA`; ``conjunct_bound``, its
+refusal before the work), ``mona`` (LTLf2DFA + MONA oracle adapter).
 Heavy or optional pieces (numpy evaluation, sympy, MONA) load only when used.
 """
 

@@ -34,6 +34,13 @@ Construction (our own; sound by the progression identities, exact by minimisatio
    signatures). Either way the result is the unique minimal complete DFA (the rejecting sink,
    when there is one, is a state like any other).
 
+6. Large inputs: junctions of more than 16 operands (``c1 & ... & cn``) and states that are long
+   conjunctions (disjunctions) of obligation variables are joined in a balanced order, so a
+   conjunction of 10,000 conjuncts costs about n log n node operations, not n^2. Before the
+   exploration, a conjunction of at least 8 independent conjuncts is checked against the state
+   and node limits by a proven lower bound (:mod:`~symlearn.logic.ltlf.conjunct_bound`), so
+   ``F p1 & ... & F p2000`` is refused before its first state's 2^2000 successors are built.
+
 The result is a :class:`~symlearn.logic.automata.dfa.DFA` over the formula's propositions,
 complete and minimal. With at most
 :data:`~symlearn.logic.automata.transition_diagram.EXPLICIT_EDGES` guarded edges it has explicit
@@ -63,12 +70,20 @@ from symlearn.logic.ltlf.ast import (
     Always, And, Const, Eventually, Formula, Iff, Implies, Next, Not, Or, Prop, Release, Then, Until,
     WeakNext, WeakUntil,
 )
+from symlearn.logic.ltlf.conjunct_bound import check_state_bound, independent_groups
 from symlearn.logic.ltlf.progression import holds_at_end
 
 __all__ = ["translate", "to_dfa", "equivalent", "DEFAULT_MAX_STATES"]
 
 DEFAULT_MAX_STATES = 20_000
 _RECURSION_LIMIT = 12_000
+#: trees of one of ``& |`` with more operands than this are joined in a balanced order;
+#: smaller ones exactly as they are written
+_LONG_JUNCTION = 16
+#: runs of conjunctive (disjunctive) obligation nodes longer than this are composed as one
+#: balanced junction; shorter ones node by node, which reuses more between states (measured:
+#: a run threshold of 16 made ``p1 T ... T p12`` 1.5x slower, 64 leaves it as it was)
+_LONG_RUN = 64
 
 # NNF node kinds
 _TT, _FF, _LIT, _NLIT, _AND, _OR, _X, _WX, _F, _G, _U, _R = range(12)
@@ -230,6 +245,10 @@ class _Translation:
             self.step_of_level[level] = self._step(nid)
         self.compose_memo: dict[int, int] = {}
         self.split_memo: dict[int, dict[int, int]] = {}
+        # independent conjuncts multiply their states (F p1 & ... & F pn: 2^n): refuse from a
+        # proven lower bound before the exploration spends the memory (conjunct_bound.py)
+        groups = independent_groups(self.nodes, self.root, _AND, (_LIT, _NLIT), (_TT, _FF))
+        check_state_bound(self, groups, max_states)
 
         start = self._now(self.root)
         index = {start: 0}
@@ -259,7 +278,7 @@ class _Translation:
             return j
 
         for state in states:  # grows while we iterate: breadth-first exploration
-            top = self._compose(state)
+            top = self._compose_state(state)
             roots.append(top)
             if edges is not None:
                 out = self._split(top)
@@ -348,10 +367,8 @@ class _Translation:
             found = TRUE
         elif kind == _FF:
             found = FALSE
-        elif kind == _AND:
-            found = self.bdd.apply_and(self._now(key[1]), self._now(key[2]))
-        elif kind == _OR:
-            found = self.bdd.apply_or(self._now(key[1]), self._now(key[2]))
+        elif kind == _AND or kind == _OR:
+            found = self._junction_bdd(nid, self._now)
         else:
             found = self.bdd.var(self.level_of[nid])
         self.now_memo[nid] = found
@@ -372,10 +389,8 @@ class _Translation:
             found = bdd.var(self.props[key[1]])
         elif kind == _NLIT:
             found = bdd.negate(bdd.var(self.props[key[1]]))
-        elif kind == _AND:
-            found = bdd.apply_and(self._step(key[1]), self._step(key[2]))
-        elif kind == _OR:
-            found = bdd.apply_or(self._step(key[1]), self._step(key[2]))
+        elif kind == _AND or kind == _OR:
+            found = self._junction_bdd(nid, self._step)
         elif kind == _X:
             nxt = self._now(key[1])
             found = bdd.apply_and(nxt, self.ne) if self._end(nxt) else nxt
@@ -405,6 +420,79 @@ class _Translation:
             found = bdd.ite(self.step_of_level[bdd.level[u]], self._compose(bdd.high[u]), self._compose(bdd.low[u]))
             self.compose_memo[u] = found
         return found
+
+    def _compose_state(self, u: int) -> int:
+        """:meth:`_compose` of a state. A state that starts with a long run of nodes whose low
+        (high) child is FALSE (TRUE) is a conjunction (disjunction) of obligation variables and
+        what lies below: composed as one balanced junction of their unfoldings, not by one ite
+        per node, each of which would copy the proposition layer built so far (quadratic on
+        ``G p1 & ... & G pn``). The run stops at a node composed before (another state's work
+        is reused); only states are probed, so a short run costs one probe, not one per node."""
+        if u <= TRUE or u in self.compose_memo:
+            return self._compose(u)
+        bdd = self.bdd
+        low, high = bdd.low, bdd.high
+        absorbing = FALSE if low[u] == FALSE else TRUE if high[u] == TRUE else None
+        if absorbing is None:
+            return self._compose(u)
+        memo = self.compose_memo
+        run, w = [], u
+        while w > TRUE and (low[w] if absorbing == FALSE else high[w]) == absorbing and (w == u or w not in memo):
+            run.append(bdd.level[w])
+            w = high[w] if absorbing == FALSE else low[w]
+        if len(run) <= _LONG_RUN:
+            return self._compose(u)
+        parts = [self.step_of_level[level] for level in run]
+        parts.append(self._compose(w))
+        found = memo[u] = self._balanced(parts, absorbing == FALSE)
+        return found
+
+    def _junction_bdd(self, nid: int, part) -> int:
+        """``part`` of an ``&``/``|`` node: of its two operands, or, for a long tree of one kind
+        (``c1 & c2 & ... & cn``), of all its operands joined in a balanced order."""
+        nodes = self.nodes
+        kind = nodes[nid][0]
+        operands, stack = [], [nid]
+        while stack and len(operands) + len(stack) <= _LONG_JUNCTION:  # small trees: as before
+            key = nodes[stack.pop()]
+            if key[0] == kind:
+                stack += (key[2], key[1])
+            else:
+                operands.append(key)
+        if len(operands) + len(stack) <= _LONG_JUNCTION:
+            key = nodes[nid]
+            op = self.bdd.apply_and if kind == _AND else self.bdd.apply_or
+            return op(part(key[1]), part(key[2]))
+        operands, stack = [], [nid]
+        while stack:  # the tree's operands, left to right, without recursion (a long chain is deep)
+            child = stack.pop()
+            key = nodes[child]
+            if key[0] == kind:
+                stack += (key[2], key[1])
+            else:
+                operands.append(child)
+        return self._balanced([part(c) for c in operands], kind == _AND)
+
+    def _balanced(self, parts: list[int], conjunction: bool) -> int:
+        """The conjunction (disjunction) of ``parts``: sorted by top variable, then joined in
+        pairs of neighbours, round by round. Joining the n parts one by one costs up to n times
+        the size of the result (each step walks what is built so far); in pairs of neighbours,
+        about log n times."""
+        bdd = self.bdd
+        absorbing = FALSE if conjunction else TRUE
+        if absorbing in parts:
+            return absorbing
+        level = bdd.level
+        parts = sorted({p for p in parts if p > TRUE}, key=lambda p: level[p])
+        if not parts:
+            return TRUE if conjunction else FALSE
+        op = bdd.apply_and if conjunction else bdd.apply_or
+        while len(parts) > 1:
+            joined = [op(parts[i], parts[i + 1]) for i in range(0, len(parts) - 1, 2)]
+            if len(parts) % 2:
+                joined.append(parts[-1])
+            parts = joined
+        return parts[0]
 
     def _split(self, u: int) -> dict[int, int]:
         """Successor obligations of u (below the proposition layer) -> guard over propositions."""
@@ -526,7 +614,11 @@ def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFA:
     collecting = gc.isenabled()
     gc.disable()
     try:
-        translation = _Translation(formula)
+        translation = _Translation(formula)  # (the negation normal form is built without recursion)
+        # room for the BDD operations: a few frames per variable level (propositions, then one
+        # per elementary sub-formula), so a conjunction of 10,000 conjuncts is not "too deep"
+        levels = len(translation.props) + sum(key[0] in _ELEMENTARY for key in translation.nodes) + 1
+        sys.setrecursionlimit(max(limit, _RECURSION_LIMIT, 3 * levels + 1000))
         explored = translation.explore(max_states)
         # the obligation manager and its caches go before minimisation, whose peak memory then
         # does not add to the exploration's
