@@ -26,7 +26,9 @@
   spaces). The learned cost is the constrained signal of ``ppo-lag`` / ``sb3-*-lag`` or, with
   ``ppo`` / ``sb3-*``, subtracted from the reward (the thesis' transfer experiment). It drives
   training only: the environment's ``info["cost"]`` stays the reported ground truth.
-* ``--multiplier-update``/``--multiplier-lr`` (``adam``, 0.1), ``--learning-rate`` and
+* ``--multiplier-update``/``--multiplier-lr`` (``adam``, 0.1; with ``sb3-*-lag`` ``gradient``, 0.05:
+  Adam 0.1 left SB3's PPO running through BlockedPoint's wall on 3 seeds of 3, the gradient rule on
+  1), ``--learning-rate`` and
   ``--log-std-init`` (with ``ppo-lag`` 1e-3 and -1; with ``ppo`` 2.5e-4 and 0): the library's
   defaults, chosen on four tasks x 3 seeds (docs/BENCHMARKS.md, "PPO-Lagrangian defaults of
   `train`"): the earlier ``gradient``/0.05 with 2.5e-4 and 0 was safe everywhere but froze the
@@ -103,10 +105,11 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--per-rule", action="store_true", help="one cost (and multiplier) per rule of --cost")
     cmd.add_argument("--cost-limit", type=float, default=0.0,
                      help="Lagrangian: allowed expected cost per episode (default 0)")
-    cmd.add_argument("--multiplier-lr", type=float, default=0.1, help="Lagrangian: multiplier step size (0.1)")
-    cmd.add_argument("--multiplier-update", choices=("gradient", "adam", "pid"), default="adam",
-                     help="Lagrangian: multiplier update rule (adam: steps of about --multiplier-lr whatever the "
-                          "size of the violation)")
+    cmd.add_argument("--multiplier-lr", type=float, default=None,
+                     help="Lagrangian: multiplier step size (ppo-lag: 0.1; sb3-*-lag: 0.05)")
+    cmd.add_argument("--multiplier-update", choices=("gradient", "adam", "pid"), default=None,
+                     help="Lagrangian: multiplier update rule (ppo-lag: adam, steps of about --multiplier-lr "
+                          "whatever the size of the violation; sb3-*-lag: gradient)")
     cmd.add_argument("--learning-rate", type=float, default=None,
                      help="our PPO's Adam step (default: 1e-3 with ppo-lag, 2.5e-4 with ppo)")
     cmd.add_argument("--log-std-init", type=float, default=None,
@@ -164,7 +167,7 @@ def check_numbers(args: argparse.Namespace, default_steps: int) -> None:
                             hint="lower --n-steps or --n-envs")
     if not (math.isfinite(args.cost_limit) and args.cost_limit >= 0):
         raise SymlearnError(f"--cost-limit must be a finite number >= 0, got {args.cost_limit:g}")
-    if not (math.isfinite(args.multiplier_lr) and args.multiplier_lr > 0):
+    if args.multiplier_lr is not None and not (math.isfinite(args.multiplier_lr) and args.multiplier_lr > 0):
         raise SymlearnError(f"--multiplier-lr must be a finite number > 0, got {args.multiplier_lr:g}")
     if args.learning_rate is not None and not (math.isfinite(args.learning_rate) and 0 < args.learning_rate <= 1):
         raise SymlearnError(f"--learning-rate must be a number in (0, 1], got {args.learning_rate:g}")
@@ -246,9 +249,10 @@ def _train_ours(args: argparse.Namespace, target, cost) -> dict:
     # with a Lagrangian, scale-free advantages and normalisation are the measured defaults (module doc)
     # None: the library's measured default (normalisation on with a Lagrangian, off without)
     if constrained:
-        lagrangian = LagrangianConfig(cost_limit=args.cost_limit, update=args.multiplier_update,
-                                      lr=args.multiplier_lr, advantage_scale=args.advantage_scale or "returns",
-                                      cost_estimate=args.cost_estimate)
+        given = {key: value for key, value in (("update", args.multiplier_update), ("lr", args.multiplier_lr))
+                 if value is not None}  # the rest: the library's defaults
+        lagrangian = LagrangianConfig(cost_limit=args.cost_limit, advantage_scale=args.advantage_scale or "returns",
+                                      cost_estimate=args.cost_estimate, **given)
     config = PPOConfig(seed=seed, n_envs=args.n_envs, n_steps=args.n_steps,
                        batch_size=min(128, args.n_envs * args.n_steps),
                        normalize_observations=args.normalize_observations, normalize_values=args.normalize_values,

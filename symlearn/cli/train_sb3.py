@@ -51,8 +51,10 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any) -> dict[str, Any
     cost_key = "cost" if cost is None else "learned_cost"
     n_costs = 1 if cost is None else cost.n_costs
     if lagrangian:
-        multipliers = SharedMultipliers(LagrangianConfig(cost_limit=args.cost_limit, update=args.multiplier_update,
-                                                         lr=args.multiplier_lr), n_costs)
+        # SB3's measured rule (train_command's docstring), unless the flags name another
+        multipliers = SharedMultipliers(LagrangianConfig(cost_limit=args.cost_limit,
+                                                         update=args.multiplier_update or "gradient",
+                                                         lr=args.multiplier_lr or 0.05), n_costs)
     elif cost is not None:
         multipliers = SharedMultipliers(n_costs=n_costs, fixed=[1.0] * n_costs)
 

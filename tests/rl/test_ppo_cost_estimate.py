@@ -99,7 +99,8 @@ def test_library_defaults_are_the_cli_defaults():
     from symlearn.cli.main import build_parser
 
     args = build_parser().parse_args(["train", "--env", "toy-navigation"])
-    assert (args.multiplier_update, args.multiplier_lr, args.cost_estimate) == (lag.update, lag.lr, lag.cost_estimate)
+    # None: train passes nothing, so LagrangianConfig's own defaults apply
+    assert (args.multiplier_update, args.multiplier_lr, args.cost_estimate) == (None, None, lag.cost_estimate)
     config = PPOConfig()
     assert (config.resolved(True).learning_rate, config.resolved(True).log_std_init) == (1e-3, -1.0)
     assert (config.resolved(False).learning_rate, config.resolved(False).log_std_init) == (2.5e-4, 0.0)
