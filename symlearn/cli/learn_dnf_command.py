@@ -1,7 +1,7 @@
 """``symlearn learn dnf``: learn continuous constraints as a DNF formula with a one-class tree.
 
 ``symlearn learn dnf [--demos D.npz|D.jsonl] [--env NAME|GYM-ID|module:EnvId [--env-kwargs JSON] [--n-demos N]]
-[--features a,b,...] [--domain DIR] [--max-depth D] [--min-samples-leaf M] [-o rules.dnf] [--json]``
+[--features a,b,...] [--inputs a,b] [--domain DIR] [--max-depth D] [--min-samples-leaf M] [-o rules.dnf] [--json]``
 
 * ``--demos``: demonstrations with vector states (columns named by ``--features``, else by the
   file's ``metadata["feature_names"]`` -- a flattened Minari or D4RL observation -- else
@@ -42,6 +42,9 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--n-demos", type=int, default=20, help="expert episodes to record with --env (20)")
     cmd.add_argument("--features", help="comma-separated names of the state vector's columns")
     cmd.add_argument("--domain", metavar="DIR", help="a domain folder whose feature map turns state ids into features")
+    cmd.add_argument("--inputs", metavar="A,B,...",
+                     help="the features the rules may test (default all), e.g. the positions of an observation "
+                          "that also holds velocities")
     cmd.add_argument("--allow-outside", action="store_true", help="let the domain folder name files outside itself (paths, symlinks, #include); only for a trusted folder")
     cmd.add_argument("--max-depth", type=int, default=5, help="deepest split (5)")
     cmd.add_argument("--min-samples-leaf", type=int, default=5, help="fewest points a split may leave in a child (5)")
@@ -107,7 +110,12 @@ def _dnf(args: argparse.Namespace, out) -> None:
         from symlearn.learners.validation import holdout
 
         demos, held = holdout(demos, args.validation, seed=getattr(args, "seed", 0) or 0)
-    learner = OneClassTreeConstraint(max_depth=args.max_depth, min_samples_leaf=args.min_samples_leaf)
+    inputs = None
+    if args.inputs:
+        from symlearn.recipes.environments import parse_feature_names
+
+        inputs = list(parse_feature_names(args.inputs, flag="--inputs"))
+    learner = OneClassTreeConstraint(max_depth=args.max_depth, min_samples_leaf=args.min_samples_leaf, inputs=inputs)
     try:
         with warnings.catch_warnings():  # the learner's warnings go into the result (text and JSON)
             warnings.simplefilter("ignore", UserWarning)

@@ -55,3 +55,33 @@ def test_feature_names_the_file_carries_name_the_columns(capsys, tmp_path):
     assert json.loads(out)["features"] == ["speed", "gap"]
     code, out, err = run(capsys, "learn", "dnf", "--demos", path, "--features", "a,b", "--json")
     assert code == 0 and json.loads(out)["features"] == ["a", "b"]  # the flag wins
+
+
+def test_inputs_keep_the_rules_to_the_named_features_and_train_reads_the_default_names(capsys, tmp_path):
+    # positions spread over a box, velocities that barely vary: without --inputs the tree splits on
+    # the velocities too (any other velocity is "unsafe"); with --inputs x0,x1 only positions count
+    rng = np.random.default_rng(0)
+    states = [np.column_stack([rng.uniform(-1, 0, 40), rng.uniform(-1, 1, 40), rng.normal(0, 0.01, (40, 2))])
+              for _ in range(6)]
+    path = tmp_path / "rover.npz"
+    Demonstrations([Trajectory(states=s.astype(np.float32)) for s in states]).save(path)
+    code, out, err = run(capsys, "learn", "dnf", "--demos", path, "--json")
+    assert code == 0, err
+    assert {"x2", "x3"} & {atom.split()[0] for c in json.loads(out)["conjunctions"] for atom in c.split(" & ")}
+    rules = tmp_path / "rules.dnf"
+    code, out, err = run(capsys, "learn", "dnf", "--demos", path, "--inputs", "x0,x1", "--validation", 0.3,
+                         "-o", rules, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["features"] == ["x0", "x1"] and any("x0 > " in c for c in doc["conjunctions"])
+    assert set(load_dnf(rules).features) <= {"x0", "x1"}
+    code, _, err = run(capsys, "learn", "dnf", "--demos", path, "--inputs", "x0,speed")
+    assert code == 2 and "no feature named 'speed'" in err and "x0, x1, x2, x3" in err
+    # an environment that names nothing: train reads the formula's x0, x1 as learn dnf named them
+    code, out, err = run(capsys, "train", "--env", "rover_env:Rover-v0", "--cost", rules, "--steps", 256,
+                         "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 1, "--json")
+    assert code == 0, err
+    assert json.loads(out)["cost_kind"] == "dnf"
+    rules.write_text("x7 > 0\n")  # a column the rover's 4-entry observation does not have
+    code, _, err = run(capsys, "train", "--env", "rover_env:Rover-v0", "--cost", rules, "--steps", 256)
+    assert code == 2 and "names no features" in err

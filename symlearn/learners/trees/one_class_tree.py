@@ -310,7 +310,10 @@ class OneClassTreeConstraint(Learner):
     neighbouring children narrower than the feature's bandwidth are closed -- see
     :mod:`~symlearn.learners.trees.readable_bounds`; False keeps the data's values and every gap),
     ``warn_unsafe_share`` (default 0.5: a ``UserWarning``, also in ``warnings_``, when the formula
-    marks more than this share of the data's bounding box unsafe; None: never), ``random_state``
+    marks more than this share of the data's bounding box unsafe; None: never), ``inputs`` (names
+    of the features the rules may test, e.g. the positions of an observation that also holds
+    velocities; default None: every feature -- the tree splits on whatever the expert's states
+    vary in, so a velocity the expert never had makes a state unsafe), ``random_state``
     (the fit is deterministic and does not use it; it is kept so that pipelines can pass one to
     every learner).
 
@@ -328,7 +331,8 @@ class OneClassTreeConstraint(Learner):
 
     Results: ``tree_`` (:class:`OneClassTree`), ``dnf_`` (the unsafe set, a
     :class:`~symlearn.logic.dnf.DNF`), ``safe_boxes_`` (the leaf boxes, :class:`Box`),
-    ``feature_names_``,
+    ``feature_names_`` (the features the rules test: ``inputs`` when given), ``input_columns_``
+    (their positions among all the features, or None),
     ``bounds_`` (the data's per-feature minimum and maximum, a :class:`Box`), ``n_samples_``,
     ``history_`` (one :class:`SplitRecord` per split), ``unsafe_share_``, ``slivers_closed_``,
     ``notes_`` and ``warnings_`` (the ``#`` header lines of the text), ``result_`` (text: the header
@@ -341,7 +345,7 @@ class OneClassTreeConstraint(Learner):
     def __init__(self, *, max_depth: int = 5, bandwidth: str | float = "silverman", min_samples_leaf: int = 5,
                  density_threshold: float = 0.5, min_gain: float = 0.05, box_sigmas: float = 2.5,
                  grid_size: int = 256, readable: bool = True, warn_unsafe_share: float | None = 0.5,
-                 random_state: Any = None) -> None:
+                 inputs: Sequence[str] | None = None, random_state: Any = None) -> None:
         self.max_depth = max_depth
         self.bandwidth = bandwidth
         self.min_samples_leaf = min_samples_leaf
@@ -351,6 +355,7 @@ class OneClassTreeConstraint(Learner):
         self.grid_size = grid_size
         self.readable = readable
         self.warn_unsafe_share = warn_unsafe_share
+        self.inputs = inputs
         self.random_state = random_state
 
     # --- fitting -------------------------------------------------------------------------------
@@ -389,6 +394,9 @@ class OneClassTreeConstraint(Learner):
         self._check_params()
         started = time.perf_counter()
         X, names = feature_matrix(demonstrations, features)
+        self.input_columns_ = _input_columns(self.inputs, names)
+        if self.input_columns_ is not None:  # the rules may test only these (velocities left out, ...)
+            X, names = X[:, self.input_columns_], tuple(names[i] for i in self.input_columns_)
         t_features = time.perf_counter()
         grower = _Grower(X, self)
         tree = OneClassTree(grower.grow(), names)
@@ -437,8 +445,14 @@ class OneClassTreeConstraint(Learner):
 
     # --- using the result ---------------------------------------------------------------------
     def predict(self, X: Any) -> np.ndarray:
-        """``True`` for each row of ``X`` (``[N, k]``, or one point ``[k]``) outside every safe box."""
+        """``True`` for each row of ``X`` (``[N, k]``, or one point ``[k]``) outside every safe box.
+        With ``inputs``, rows may hold every feature (the chosen columns are read) or just those."""
         self.check_fitted()
+        columns = self.__dict__.get("input_columns_")
+        if columns is not None:
+            X = np.asarray(X, dtype=np.float64)
+            if X.shape[-1] != len(self.feature_names_):
+                X = X[..., columns]
         return ~self.tree_.contains(X)
 
     def export_text(self, digits: int = 4) -> str:
@@ -463,6 +477,24 @@ class OneClassTreeConstraint(Learner):
 
 
 # -- input ------------------------------------------------------------------------------------------
+
+
+def _input_columns(inputs: Sequence[str] | None, names: Sequence[str]) -> list[int] | None:
+    """The positions of ``inputs`` among the feature ``names`` (None: every feature)."""
+    if inputs is None:
+        return None
+    if isinstance(inputs, str):
+        inputs = [part.strip() for part in inputs.split(",")]
+    chosen = list(inputs)
+    if not chosen:
+        raise SymlearnError("inputs names no feature", hint=f"the features are {', '.join(names)}")
+    unknown = [name for name in chosen if name not in names]
+    if unknown:
+        raise SymlearnError(f"inputs: no feature named {', '.join(map(repr, unknown))}",
+                            hint=f"the features are {', '.join(names)}")
+    if len(set(chosen)) != len(chosen):
+        raise SymlearnError(f"inputs names a feature twice: {', '.join(chosen)}")
+    return [list(names).index(name) for name in chosen]
 
 def feature_matrix(demonstrations: Any, features: Any = None) -> tuple[np.ndarray, tuple[str, ...]]:
     """``([N, k] float array, names)`` of the demonstrated states (see the module docstring)."""
