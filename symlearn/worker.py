@@ -175,6 +175,11 @@ def _watch_parent(parent: int) -> None:
 
 def _child(connection, function, args, kwargs, memory_bytes, cpu_seconds, bars, parent) -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the parent's: it kills us
+    # the worker loads what `import symlearn` loaded before the version became lazy: with ~10 MB
+    # less mapped, a task at its address-space limit failed in clingo's thread creation (a glibc
+    # abort line on stderr) instead of a MemoryError (tests/hostile/test_hostile_ilp.py)
+    import symlearn._version  # noqa: F401
+
     _limit_resources(memory_bytes, cpu_seconds)
     threading.Thread(target=_watch_parent, args=(parent,), daemon=True).start()
     payload: tuple
