@@ -33,6 +33,7 @@ from symlearn.learners.base import Learner
 from symlearn.learners.neural.episodes import sample_episodes
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.icrl_metrics import episode_metrics
+from symlearn.learners.neural.input_sparsity import inputs_report
 from symlearn.learners.neural.fit_setup import check_common, fit_setup, resets_actor
 from symlearn.learners.neural.mce_icrl import action_bound_penalty, jsonable_params, policy_ppo_config, seed_offset
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
@@ -161,7 +162,8 @@ class NeuralGACL(Learner):
         timings.update(policy=sum(h.policy_seconds for h in history), cost=sum(h.cost_seconds for h in history),
                        total=self.seconds_)
         expert_reward = float(np.where(expert.mask, expert.rewards, 0.0).sum(axis=1).mean())
-        self._set_result(cost, "", metrics={"expert_reward": expert_reward, "final_sample": final.as_dict()},
+        self._set_result(cost, "", metrics={"expert_reward": expert_reward, "final_sample": final.as_dict(),
+                                            "cost_inputs": inputs_report(cost, setup.inputs_from)},
                          timings=timings, history=history)
         return self
 

@@ -87,6 +87,7 @@ from symlearn.learners.base import Learner
 from symlearn.learners.neural.episodes import sample_episodes
 from symlearn.learners.neural.feature_network import FeatureNetwork, pretrain_autoencoder
 from symlearn.learners.neural.icrl_metrics import episode_metrics
+from symlearn.learners.neural.input_sparsity import input_penalty, inputs_report
 from symlearn.learners.neural.fit_setup import check_common, environment_factory, fit_setup, resets_actor  # noqa: F401 (re-exported)
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.learners.neural.records import IterationRecord
@@ -142,7 +143,8 @@ class NeuralMCEICRL(Learner):
                  pretrain_epochs: int = 30, lambda_lr: float = 0.02, zeta_lr: float = 3e-3, zeta_decay: float = 0.9,
                  zeta_steps: int = 20, alpha: float = 0.0, discount: float = 0.99, n_policy_episodes: int = 16,
                  bound_penalty: float = 1.0, lambda_init: float = 0.0, reset_actor: str = "never",
-                 ppo: dict[str, Any] | None = None, random_state: int | None = 0) -> None:
+                 input_sparsity: float = 0.0, ppo: dict[str, Any] | None = None,
+                 random_state: int | None = 0) -> None:
         self.beta = beta
         self.n_iterations = n_iterations
         self.nominal_steps = nominal_steps
@@ -163,6 +165,7 @@ class NeuralMCEICRL(Learner):
         self.bound_penalty = bound_penalty
         self.lambda_init = lambda_init
         self.reset_actor = reset_actor
+        self.input_sparsity = input_sparsity
         self.ppo = ppo
         self.random_state = random_state
 
@@ -175,6 +178,8 @@ class NeuralMCEICRL(Learner):
         for name, ok in (("lambda_lr", self.lambda_lr > 0), ("zeta_lr", self.zeta_lr > 0),
                          ("zeta_decay", 0 < self.zeta_decay <= 1), ("alpha", self.alpha >= 0),
                          ("discount", 0 < self.discount <= 1), ("bound_penalty", self.bound_penalty >= 0),
+                         ("input_sparsity", isinstance(self.input_sparsity, (int, float))
+                          and math.isfinite(self.input_sparsity) and self.input_sparsity >= 0),
                          ("lambda_init", isinstance(self.lambda_init, (int, float)) and math.isfinite(self.lambda_init)
                           and self.lambda_init >= 0)):
             if not ok:
@@ -243,7 +248,8 @@ class NeuralMCEICRL(Learner):
                 zeta_lr = self.zeta_lr * self.zeta_decay ** (iteration - 1)
                 lambdas, expert_features, policy_features = dual_step(
                     phi, optimizer, lambdas, (expert_t, expert_w), (policy_t, policy_w), lambda_lr=self.lambda_lr,
-                    alpha=self.alpha, zeta_lr=zeta_lr, zeta_steps=int(self.zeta_steps))
+                    alpha=self.alpha, zeta_lr=zeta_lr, zeta_steps=int(self.zeta_steps),
+                    input_sparsity=float(self.input_sparsity))
                 cost.set_lambdas(lambdas)
                 cost_seconds = time.perf_counter() - t0
                 metrics = episode_metrics(batch)
@@ -285,7 +291,8 @@ class NeuralMCEICRL(Learner):
         expert_reward = float(np.where(expert.mask, expert.rewards, 0.0).sum(axis=1).mean())
         self._set_result(cost, "", metrics={"lambda": [float(x) for x in lambdas], "expert_reward": expert_reward,
                                             "final_sample": final.as_dict(),
-                                            "pretrain": None if pretrain is None else pretrain.as_dict()},
+                                            "pretrain": None if pretrain is None else pretrain.as_dict(),
+                                            "cost_inputs": inputs_report(cost, setup.inputs_from)},
                          timings=timings, history=history)
         return self
 
@@ -341,13 +348,17 @@ def penalised(cost: NeuralCost | None, penalty: Callable[[np.ndarray], np.ndarra
 def dual_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer, lambdas: np.ndarray,
               expert: tuple[tuple[torch.Tensor, torch.Tensor | None], torch.Tensor],
               policy: tuple[tuple[torch.Tensor, torch.Tensor | None], torch.Tensor], *, lambda_lr: float,
-              alpha: float, zeta_lr: float, zeta_steps: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+              alpha: float, zeta_lr: float, zeta_steps: int, input_sparsity: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """One step on the dual variables: ``lambda`` (eq. 2.12, projected on ``lambda >= 0``), then
     ``zeta_steps`` steps of ``optimizer`` (on ``phi``'s parameters, learning rate ``zeta_lr``)
     down ``lambda . (F_D - F_pi)`` (eq. 2.13). ``expert``/``policy``: ``((obs, actions), weights)``
     with the per-row weights of :meth:`EpisodeBatch.discount_weights`, so ``weights @ phi`` is a
-    mean discounted feature sum. Returns the new ``lambda`` and the feature sums ``F_D``,
-    ``F_pi`` it was computed from."""
+    mean discounted feature sum. ``input_sparsity > 0`` adds the group lasso on ``phi``'s inputs
+    (:func:`~symlearn.learners.neural.input_sparsity.input_penalty`) with that weight, against the
+    gap divided by ``sum(lambda)`` and the expert's discounted episode length (a number in
+    ``(-1, 1)``: the weight means the same whatever the multipliers' size and the episodes'
+    length); at 0 the steps are as without it. Returns the new ``lambda`` and the feature sums
+    ``F_D``, ``F_pi`` it was computed from."""
     (expert_in, expert_w), (policy_in, policy_w) = expert, policy
     with torch.no_grad():
         expert_features = (expert_w @ phi(*expert_in)).double().numpy()
@@ -358,8 +369,15 @@ def dual_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer, lambdas: np
         group["lr"] = zeta_lr
     if lambdas.any():
         lam = torch.from_numpy(lambdas).float()
+        # the gap per unit of lambda and per discounted expert step, so that input_sparsity weighs
+        # the group lasso against a number in (-1, 1) whatever the multipliers' size and the
+        # episodes' length (Adam's steps do not depend on the loss's scale: without the penalty
+        # this division changes nothing)
+        scale = float(lambdas.sum()) * float(expert_w.sum()) if input_sparsity else 1.0
         for _ in range(zeta_steps):
             loss = lam @ (expert_w @ phi(*expert_in) - policy_w @ phi(*policy_in))
+            if input_sparsity:
+                loss = loss / scale + input_sparsity * input_penalty(phi)
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
             optimizer.step()
