@@ -119,7 +119,8 @@ def check_common(learner: Any, integers: Sequence[str], *, zero_allowed: Sequenc
     """The checks every neural learner makes of its parameters: ``beta`` a finite number >= 0
     (> 0 when ``beta_hint`` is given: MCE-ICRL needs some entropy), ``features`` one of
     :data:`~symlearn.learners.neural.feature_network.INPUTS`, the named counts positive integers
-    (``zero_allowed`` ones may be 0), ``reset_actor`` one of :data:`RESET_ACTOR`."""
+    (``zero_allowed`` ones may be 0), ``reset_actor`` one of :data:`RESET_ACTOR`, ``select_inputs``
+    a tolerance in ``[0, 0.5]``."""
     beta = learner.beta
     positive = beta_hint is not None
     if not (isinstance(beta, (int, float)) and math.isfinite(beta) and (beta > 0 if positive else beta >= 0)):
@@ -132,6 +133,15 @@ def check_common(learner: Any, integers: Sequence[str], *, zero_allowed: Sequenc
             raise SymlearnError(f"{name} must be a positive integer, got {value!r}")
     if learner.reset_actor not in RESET_ACTOR:
         raise SymlearnError(f"reset_actor must be one of {list(RESET_ACTOR)}, got {learner.reset_actor!r}")
+    if not check_tolerance(learner.select_inputs):
+        raise SymlearnError(f"select_inputs must be a number in [0, 0.5] (0 = every candidate entry), got "
+                            f"{learner.select_inputs!r}")
+
+
+def check_tolerance(value: Any) -> bool:
+    """Whether ``select_inputs`` is a finite number in ``[0, 0.5]`` (0: selection off; an AUC
+    gain above 0.5 is impossible)."""
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and 0 <= value <= 0.5
 
 
 #: when the policy phases start from a fresh actor (NeuralMCEICRL's docstring says why)
@@ -144,5 +154,5 @@ def resets_actor(setting: str, iteration: int, n_iterations: int) -> bool:
     return setting == "every" or (setting == "last" and iteration == n_iterations)
 
 
-__all__ = ["RESET_ACTOR", "FitSetup", "check_common", "cost_inputs", "declared_inputs", "environment_factory", "fit_setup",
+__all__ = ["RESET_ACTOR", "FitSetup", "check_common", "check_tolerance", "cost_inputs", "declared_inputs", "environment_factory", "fit_setup",
            "resets_actor"]

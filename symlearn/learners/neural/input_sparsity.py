@@ -18,8 +18,6 @@ reads.
 
 from __future__ import annotations
 
-from typing import Any
-
 import torch
 
 from symlearn.learners.neural.feature_network import FeatureNetwork
@@ -49,17 +47,4 @@ def input_shares(phi: FeatureNetwork) -> list[float]:
     return [x / total if total > 0 else 0.0 for x in norms]
 
 
-def inputs_report(cost: Any, inputs_from: str) -> dict[str, Any]:
-    """What a learner's result says of its cost's inputs: the observation ``entries`` its
-    network reads, their ``names`` (None where the environment names none), where the choice came
-    from (``from``: ``"given"``, ``"declared features"`` or ``"all"``, see
-    :func:`~symlearn.learners.neural.fit_setup.cost_inputs`) and every input's ``shares`` of the
-    first layer's weight (:func:`input_shares`; the action's entries last for state-action
-    features)."""
-    entries = [int(i) for i in cost.phi.obs_dims]
-    names = cost.observation_names
-    return {"entries": entries, "names": None if names is None else [names[i] for i in entries],
-            "from": inputs_from, "shares": input_shares(cost.phi)}
-
-
-__all__ = ["first_layer_weight", "input_norms", "input_penalty", "input_shares", "inputs_report"]
+__all__ = ["first_layer_weight", "input_norms", "input_penalty", "input_shares"]

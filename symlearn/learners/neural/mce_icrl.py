@@ -55,6 +55,16 @@ exactly. Here every exact step has its sampled, neural counterpart:
    phase, which would run on ``lambda = 0`` and so repeat the nominal one, left out), so the
    cost returned is the one the returned policy was trained on last.
 
+**Inputs of the cost.** ``obs_dims=None`` (the default) reads the observation entries the
+environment declares its constraints to be about (``feature_names``, where they name entries of
+``observation_names``), else all; ``"all"`` every entry; a list of indices those
+(:mod:`~symlearn.learners.neural.fit_setup` says why). ``input_sparsity > 0`` adds a group-lasso
+penalty on the feature network's inputs to the cost update (:mod:`~symlearn.learners.neural.input_sparsity`,
+:func:`dual_step`), so the cost reads few inputs where few separate expert from policy; off by
+default: on BlockedPoint with every entry it keeps a velocity, not the position
+(docs/BENCHMARKS.md). The result's ``metrics["cost_inputs"]`` names the entries read and each
+one's share of the first layer's weight.
+
 ``fit(demonstrations, env)``: ``env`` is a function returning a fresh gymnasium environment,
 a gymnasium id, or an environment (copied for PPO's parallel copies); the demonstrations'
 states must be that environment's observations and they must carry the actions. The learner
@@ -87,7 +97,8 @@ from symlearn.learners.base import Learner
 from symlearn.learners.neural.episodes import sample_episodes
 from symlearn.learners.neural.feature_network import FeatureNetwork, pretrain_autoencoder
 from symlearn.learners.neural.icrl_metrics import episode_metrics
-from symlearn.learners.neural.input_sparsity import input_penalty, inputs_report
+from symlearn.learners.neural.input_selection import choose_inputs, inputs_report
+from symlearn.learners.neural.input_sparsity import input_penalty
 from symlearn.learners.neural.fit_setup import check_common, environment_factory, fit_setup, resets_actor  # noqa: F401 (re-exported)
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.learners.neural.records import IterationRecord
@@ -124,13 +135,15 @@ class NeuralMCEICRL(Learner):
     Parameters: ``beta`` (entropy coefficient of the policy phases, > 0), ``n_iterations``,
     ``nominal_steps`` / ``policy_steps`` (PPO steps of the nominal phase / of every iteration),
     ``features`` (``"state"`` or ``"state_action"``), ``obs_dims`` (observation entries ``phi``
-    reads; None = all), ``n_features`` (width of ``phi``, one multiplier each),
+    reads: indices, ``"all"``, or None = the environment's declared constraint features, else
+    all; module docstring), ``n_features`` (width of ``phi``, one multiplier each),
     ``hidden_sizes``, ``pretrain`` (autoencoder pre-training on/off) and ``pretrain_epochs``,
     ``lambda_lr``, ``zeta_lr``, ``zeta_decay`` (per iteration), ``zeta_steps`` (Adam steps per
     iteration), ``alpha`` (the budget; 0 = hard constraints), ``discount`` (of the feature
     sums), ``n_policy_episodes`` (episodes sampled per dual step), ``bound_penalty`` (module
     docstring), ``lambda_init`` (every multiplier's start, >= 0; see ``fit``'s comment on why
-    episodes that end at a goal need it > 0), ``reset_actor`` (module docstring), ``ppo`` (a dict of
+    episodes that end at a goal need it > 0), ``reset_actor`` (module docstring), ``input_sparsity``
+    (weight of the group lasso on ``phi``'s inputs, >= 0; 0 = off), ``ppo`` (a dict of
     :class:`~symlearn.rl.ppo.PPOConfig` fields over :data:`PPO_DEFAULTS`; ``ent_coef`` is
     ``beta``), ``random_state``.
     """
@@ -143,7 +156,7 @@ class NeuralMCEICRL(Learner):
                  pretrain_epochs: int = 30, lambda_lr: float = 0.02, zeta_lr: float = 3e-3, zeta_decay: float = 0.9,
                  zeta_steps: int = 20, alpha: float = 0.0, discount: float = 0.99, n_policy_episodes: int = 16,
                  bound_penalty: float = 1.0, lambda_init: float = 0.0, reset_actor: str = "never",
-                 input_sparsity: float = 0.0, ppo: dict[str, Any] | None = None,
+                 select_inputs: float = 0.01, input_sparsity: float = 0.0, ppo: dict[str, Any] | None = None,
                  random_state: int | None = 0) -> None:
         self.beta = beta
         self.n_iterations = n_iterations
@@ -165,6 +178,7 @@ class NeuralMCEICRL(Learner):
         self.bound_penalty = bound_penalty
         self.lambda_init = lambda_init
         self.reset_actor = reset_actor
+        self.select_inputs = select_inputs
         self.input_sparsity = input_sparsity
         self.ppo = ppo
         self.random_state = random_state
@@ -212,6 +226,9 @@ class NeuralMCEICRL(Learner):
             t0 = time.perf_counter()
             batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes), seed=seed_offset(seed, 10_000))
             sampling = time.perf_counter() - t0
+            selection = choose_inputs(setup, batch, self.select_inputs, seed)
+            if selection is not None:
+                obs_dims = list(selection.selected)
 
             action_dim = spec_width(act_spec) if self.features == "state_action" else 0
             phi = FeatureNetwork(obs_dims, action_dim, int(self.n_features), self.hidden_sizes, generator)
@@ -292,7 +309,7 @@ class NeuralMCEICRL(Learner):
         self._set_result(cost, "", metrics={"lambda": [float(x) for x in lambdas], "expert_reward": expert_reward,
                                             "final_sample": final.as_dict(),
                                             "pretrain": None if pretrain is None else pretrain.as_dict(),
-                                            "cost_inputs": inputs_report(cost, setup.inputs_from)},
+                                            "cost_inputs": inputs_report(cost, setup.inputs_from, selection)},
                          timings=timings, history=history)
         return self
 

@@ -52,7 +52,7 @@ from symlearn.learners.base import Learner
 from symlearn.learners.neural.episodes import EpisodeBatch, sample_episodes
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.icrl_metrics import episode_metrics
-from symlearn.learners.neural.input_sparsity import inputs_report
+from symlearn.learners.neural.input_selection import choose_inputs, inputs_report
 from symlearn.learners.neural.fit_setup import check_common, fit_setup, resets_actor
 from symlearn.learners.neural.mce_icrl import (action_bound_penalty, jsonable_params, penalised, policy_ppo_config,
                                                seed_offset)
@@ -107,7 +107,7 @@ class NeuralMEICRL(Learner):
                  regularizer: float = 0.1, target_kl: float = 10.0, n_policy_episodes: int = 16,
                  bound_penalty: float = 1.0, reset_actor: str = "never", ppo: dict[str, Any] | None = None,
                  lagrangian: dict[str, Any] | None = None, lambda_lr: float | None = 0.02, discount: float = 0.99,
-                 random_state: int | None = 0) -> None:
+                 select_inputs: float = 0.01, random_state: int | None = 0) -> None:
         self.beta = beta
         self.n_iterations = n_iterations
         self.nominal_steps = nominal_steps
@@ -126,6 +126,7 @@ class NeuralMEICRL(Learner):
         self.lagrangian = lagrangian
         self.lambda_lr = lambda_lr
         self.discount = discount
+        self.select_inputs = select_inputs
         self.random_state = random_state
 
     def _check_parameters(self) -> None:
@@ -170,13 +171,16 @@ class NeuralMEICRL(Learner):
                                reward_fn=penalised(None, penalty)).policy
             timings["nominal"] = time.perf_counter() - t0
             nominal_policy = copy.deepcopy(policy)
+            batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes), seed=seed_offset(seed, 10_000))
+            selection = choose_inputs(setup, batch, self.select_inputs, seed)  # see mce_icrl's docstring
+            if selection is not None:
+                obs_dims = list(selection.selected)
             action_dim = spec_width(act_spec) if self.features == "state_action" else 0
             # phi = 1 - zeta: the network's sigmoid output is the cost; zeta = 1 - phi
             phi = FeatureNetwork(obs_dims, action_dim, self._n_outputs, self.hidden_sizes, generator)
             cost = NeuralCost.for_env(probe, phi, provenance={"learner": type(self).__name__,
                                                               "parameters": jsonable_params(self.get_params())})
             cost.set_lambdas([1.0] + [0.0] * (self._n_outputs - 1))  # the cost is the first output
-            batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes), seed=seed_offset(seed, 10_000))
             nominal_x, nominal_a = cost.tensors(*batch.pairs())
             phi.fit_standardisation(np.concatenate([expert_x, nominal_x.numpy()]),
                                     None if not action_dim else np.concatenate([expert_a, nominal_a.numpy()]))
@@ -219,7 +223,7 @@ class NeuralMEICRL(Learner):
         expert_reward = float(np.where(expert.mask, expert.rewards, 0.0).sum(axis=1).mean())
         self._set_result(cost, "", metrics={"multiplier": multiplier, "expert_reward": expert_reward,
                                             "final_sample": final.as_dict(),
-                                            "cost_inputs": inputs_report(cost, setup.inputs_from)},
+                                            "cost_inputs": inputs_report(cost, setup.inputs_from, selection)},
                          timings=timings, history=history)
         return self
 

@@ -76,7 +76,8 @@ class NeuralVMEICRL(NeuralMEICRL):
                  concentration: Sequence[float] = (1.0, 100.0), target_kl: float = 10.0,
                  n_policy_episodes: int = 16, bound_penalty: float = 1.0, reset_actor: str = "never",
                  ppo: dict[str, Any] | None = None, lagrangian: dict[str, Any] | None = None,
-                 lambda_lr: float | None = 0.02, discount: float = 0.99, random_state: int | None = 0) -> None:
+                 lambda_lr: float | None = 0.02, discount: float = 0.99, select_inputs: float = 0.01,
+                 random_state: int | None = 0) -> None:
         # set here rather than through NeuralMEICRL.__init__: ``regularizer`` is no parameter of
         # this learner (the KL from the prior takes its place), and the parameters are __init__'s
         self.beta = beta
@@ -99,6 +100,7 @@ class NeuralVMEICRL(NeuralMEICRL):
         self.lagrangian = lagrangian
         self.lambda_lr = lambda_lr
         self.discount = discount
+        self.select_inputs = select_inputs
         self.random_state = random_state
 
     def _check_parameters(self) -> None:

@@ -12,6 +12,7 @@ from symlearn.learners.neural import NeuralMCEICRL, NeuralMEICRL
 from symlearn.learners.neural.episodes import EpisodeBatch
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.fit_setup import cost_inputs, declared_inputs
+from symlearn.learners.neural.input_selection import select_inputs
 from symlearn.learners.neural.input_sparsity import input_norms, input_penalty, input_shares
 from symlearn.learners.neural.mce_icrl import dual_step
 from symlearn.learners.neural.me_icrl import PER_ROLLOUT_RULE, discounted_cost, forward_lagrangian
@@ -57,13 +58,43 @@ def test_declared_features_are_the_default_inputs():
 def test_learners_read_the_declared_features_and_report_them():
     demos = expert_demonstrations(3, seed=0)
     tiny = dict(n_iterations=1, nominal_steps=512, policy_steps=512, n_policy_episodes=2, hidden_sizes=(8,))
-    learner = NeuralMCEICRL(**tiny, n_features=2, pretrain_epochs=1).fit(demos, BlockedPoint)
+    learner = NeuralMCEICRL(**tiny, n_features=2, pretrain_epochs=1, select_inputs=0).fit(demos, BlockedPoint)
     assert learner.cost_.phi.obs_dims == (0, 1)
     inputs = learner.result_.metrics["cost_inputs"]
     assert inputs["entries"] == [0, 1] and inputs["names"] == ["x", "y"] and inputs["from"] == "declared features"
+    assert inputs["selection"] is None
     assert len(inputs["shares"]) == 2 and sum(inputs["shares"]) == pytest.approx(1.0)
-    every = NeuralMEICRL(**tiny, backward_epochs=1, obs_dims="all").fit(demos, BlockedPoint)
+    every = NeuralMEICRL(**tiny, backward_epochs=1, obs_dims="all", select_inputs=0).fit(demos, BlockedPoint)
     assert every.cost_.phi.obs_dims == (0, 1, 2, 3) and every.result_.metrics["cost_inputs"]["from"] == "all"
+    # with the selection (the default): a subset of the candidates, recorded
+    selected = NeuralMCEICRL(**tiny, n_features=2, pretrain_epochs=1).fit(demos, BlockedPoint)
+    record = selected.result_.metrics["cost_inputs"]["selection"]
+    assert record["candidates"] == [0, 1] and set(record["selected"]) <= {0, 1} and record["selected"]
+    assert list(selected.cost_.phi.obs_dims) == record["selected"]
+
+
+def test_selection_keeps_the_fewest_entries_that_separate():
+    """Expert and policy differ in entry 2 only (entry 0 a weaker copy of it, 1 and 3 noise): the
+    selection keeps entry 2 alone; where two entries are needed (an XOR of 0 and 1) it keeps both."""
+    rng = np.random.default_rng(0)
+    n = 600
+    expert, policy = rng.normal(0, 1, (n, 4)), rng.normal(0, 1, (n, 4))
+    expert[:, 2] += 3.0
+    expert[:, 0] += 0.5 * 3.0 + rng.normal(0, 1, n)
+    chosen = select_inputs(expert, policy, [0, 1, 2, 3], tolerance=0.01, seed=0)
+    assert chosen.selected == (2,) and chosen.steps[0] > 0.95 and chosen.all_candidates_auc > 0.95
+    # XOR: neither entry alone separates, both together do
+    a, b = rng.choice([-1.0, 1.0], (2, 2 * n))
+    points = np.stack([a + rng.normal(0, 0.2, 2 * n), b + rng.normal(0, 0.2, 2 * n), rng.normal(0, 1, 2 * n)], 1)
+    same = a == b
+    both = select_inputs(points[same], points[~same], [0, 1, 2], tolerance=0.01, seed=0)
+    assert both.selected == (0, 1) and both.steps[-1] > 0.95
+    # off, a single candidate, too few rows: every candidate
+    assert select_inputs(expert, policy, [0, 1, 2, 3], tolerance=0.0).selected == (0, 1, 2, 3)
+    assert select_inputs(expert, policy, [3], tolerance=0.01).selected == (3,)
+    assert select_inputs(expert[:10], policy[:10], [0, 2], tolerance=0.01).selected == (0, 2)
+    with pytest.raises(SymlearnError, match="select_inputs"):
+        NeuralMCEICRL(select_inputs=0.7).fit(expert_demonstrations(1, seed=0), BlockedPoint)
 
 
 def test_group_sparsity_drops_the_inputs_the_gap_does_not_need():
