@@ -1,8 +1,8 @@
 """``symlearn learn icrl``: learn a neural cost by inverse constrained RL in a continuous environment.
 
 ``symlearn learn icrl --env NAME [--method mce-icrl|me-icrl|vme-icrl|gacl] [--demos D.npz | --n-demos N] [--steps N]
-[--iterations I] [--beta B] [--cost-inputs x,y|all] [--cost-sparsity S] [--reset-actor never|every|last] [--lambda-lr L]
-[--env-kwargs JSON] [--expert-steps N]
+[--iterations I] [--beta B] [--cost-inputs x,y|all] [--select-inputs TOL] [--cost-sparsity S]
+[--reset-actor never|every|last] [--lambda-lr L] [--env-kwargs JSON] [--expert-steps N]
 [--expert-cache DIR] [-o cost.safetensors] [--json]``
 
 * ``--env``: a bundled environment with ``mce-icrl`` among its methods (``blocked-point``,
@@ -26,7 +26,10 @@
   observation entries the cost reads, by name (``x,y``) or index, or ``all``; by default the
   entries the environment declares its constraints to be about (its ``feature_names``, where each
   names an observation entry: ``x,y`` on BlockedPoint, ``x`` on the blocked MuJoCo tasks), else
-  all (:mod:`symlearn.learners.neural.fit_setup` says why). ``--cost-sparsity S``: MCE-ICRL's
+  all (:mod:`symlearn.learners.neural.fit_setup` says why). ``--select-inputs TOL``: of those
+  candidates the cost reads the fewest that tell the expert's states from the nominal policy's
+  within ``TOL`` of all of them (held-out AUC; default 0.01, 0 = every candidate;
+  :mod:`symlearn.learners.neural.input_selection`). ``--cost-sparsity S``: MCE-ICRL's
   group-sparsity penalty on the cost network's inputs (default 0 = off;
   :mod:`symlearn.learners.neural.input_sparsity`). ``--reset-actor``: which policy phases start
   from a fresh actor (critic kept), see :mod:`symlearn.learners.neural.mce_icrl`;
@@ -40,7 +43,8 @@ and unsafe states (``recovery_margin``; :mod:`symlearn.learners.neural.icrl_metr
 
 JSON keys: ``reward``, ``violation_rate``, ``feasible_reward``, ``recovery_auc``,
 ``recovery_iou``, ``recovery_margin``, ``expert_reward``, ``lambda``, ``cost_inputs`` (``entries``,
-``names``, ``from``: given / declared features / all, ``shares`` of the first layer's weight),
+``names``, ``from``: given / declared features / all, ``selection``: candidates, selected, AUCs,
+``shares`` of the first layer's weight),
 ``iterations``, ``seconds``, ``timings``
 (``nominal``, ``pretrain``, ``policy``, ``cost``), ``history`` (per iteration), ``files``.
 ``-o`` must end in ``.safetensors``; the configuration goes to the ``.json`` beside it.
@@ -85,6 +89,9 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--beta", type=float, default=0.01, help="entropy coefficient, > 0 (0.01)")
     cmd.add_argument("--cost-inputs", help="observation entries the cost reads: names (x,y), indices or 'all' (default: "
                                             "the environment's declared constraint features, else all)")
+    cmd.add_argument("--select-inputs", type=float, default=0.01, metavar="TOL",
+                     help="keep the fewest candidate inputs that tell expert from nominal states within TOL of all "
+                          "of them (held-out AUC; default 0.01, 0 = every candidate)")
     cmd.add_argument("--cost-sparsity", type=float, default=0.0,
                      help="mce-icrl: group-sparsity penalty on the cost network's inputs (default 0 = off)")
     cmd.add_argument("--reset-actor", choices=("never", "every", "last"), default="never",
@@ -122,6 +129,9 @@ def _check_arguments(args: argparse.Namespace) -> None:
                                                                       and args.lambda_lr > 0)):
         raise DataError(f"--lambda-lr must be a number > 0 and is for --method mce-icrl, me-icrl or vme-icrl, got "
                         f"{args.lambda_lr:g} with {args.method}")
+    if not (math.isfinite(args.select_inputs) and 0 <= args.select_inputs <= 0.5):
+        raise DataError(f"--select-inputs must be a number in [0, 0.5] (an AUC tolerance; 0 = off), got "
+                        f"{args.select_inputs:g}")
     if not (math.isfinite(args.cost_sparsity) and args.cost_sparsity >= 0) or (
             args.cost_sparsity and args.method != "mce-icrl"):
         raise DataError(f"--cost-sparsity must be a number >= 0 and is for --method mce-icrl only, got "
@@ -197,7 +207,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
               "gacl": NeuralGACL}[args.method]
     learner = method(beta=args.beta, n_iterations=args.iterations, nominal_steps=nominal,
                      policy_steps=max((args.steps - nominal) // args.iterations, 1), obs_dims=obs_dims,
-                     random_state=seed, reset_actor=args.reset_actor,
+                     random_state=seed, reset_actor=args.reset_actor, select_inputs=args.select_inputs,
                      **({} if args.lambda_lr is None else {"lambda_lr": args.lambda_lr}),
                      **({} if not args.cost_sparsity else {"input_sparsity": args.cost_sparsity}))
 
@@ -240,7 +250,8 @@ def _render(doc: dict) -> str:
              + ("n/a" if doc["feasible_reward"] is None else f"{doc['feasible_reward']:.2f}"),
              f"  recovery of the unsafe set: AUC {number(doc['recovery_auc'])}, IoU {number(doc['recovery_iou'])}",
              "  lambda " + ", ".join(f"{x:.3g}" for x in doc["lambda"]),
-             "  cost inputs (" + doc["cost_inputs"]["from"] + "): " + ", ".join(
+             "  cost inputs (" + doc["cost_inputs"]["from"]
+             + (", selected" if doc["cost_inputs"]["selection"] else "") + "): " + ", ".join(
                  f"{name} {share:.2f}" for name, share in zip(doc["cost_inputs"]["names"] or doc["cost_inputs"]["entries"],
                                                               doc["cost_inputs"]["shares"]))]
     lines += [f"wrote {f}" for f in doc["files"]]

@@ -12,10 +12,12 @@ what the DNF learners read: docs/FORMATS.md), where every one of them names an e
 declaration rather than one found in the data: a cost reading the whole observation is free to
 separate expert from policy by whatever differs most, and on BlockedPoint that is the velocity
 (the expert never moves toward the wall, so "never move toward the wall" explains the
-demonstrations at least as well as the wall does; a group-sparsity penalty on the network's
-inputs picks one velocity entry, measured in docs/BENCHMARKS.md, "Neural ICRL: the cost's default
-inputs"). No criterion on the demonstrations alone tells the two apart; the environment's
-declaration of what its constraints read does, and the DNF learners already rely on it.
+demonstrations at least as well as the wall does: ``vx`` alone tells expert from nominal states
+with a held-out AUC of 0.9996, ``x`` alone with 0.993, and the input selection of
+:mod:`~symlearn.learners.neural.input_selection` keeps ``vx``; measured in docs/BENCHMARKS.md,
+"Neural ICRL: the cost's inputs"). No criterion on the demonstrations alone tells the two apart;
+the environment's declaration of what its constraints read does, and the DNF learners already
+rely on it. The selection then picks among the candidates.
 """
 
 from __future__ import annotations

@@ -55,15 +55,19 @@ exactly. Here every exact step has its sampled, neural counterpart:
    phase, which would run on ``lambda = 0`` and so repeat the nominal one, left out), so the
    cost returned is the one the returned policy was trained on last.
 
-**Inputs of the cost.** ``obs_dims=None`` (the default) reads the observation entries the
-environment declares its constraints to be about (``feature_names``, where they name entries of
-``observation_names``), else all; ``"all"`` every entry; a list of indices those
-(:mod:`~symlearn.learners.neural.fit_setup` says why). ``input_sparsity > 0`` adds a group-lasso
-penalty on the feature network's inputs to the cost update (:mod:`~symlearn.learners.neural.input_sparsity`,
-:func:`dual_step`), so the cost reads few inputs where few separate expert from policy; off by
-default: on BlockedPoint with every entry it keeps a velocity, not the position
-(docs/BENCHMARKS.md). The result's ``metrics["cost_inputs"]`` names the entries read and each
-one's share of the first layer's weight.
+**Inputs of the cost** (all four neural learners alike). The candidates: ``obs_dims=None`` (the
+default) the observation entries the environment declares its constraints to be about
+(``feature_names``, where they name entries of ``observation_names``), else all; ``"all"`` every
+entry; a list of indices those (:mod:`~symlearn.learners.neural.fit_setup` says why). Of the
+candidates the network reads the fewest that tell the demonstrations' states from the nominal
+policy's within ``select_inputs`` (0.01) of the held-out AUC of all of them
+(:mod:`~symlearn.learners.neural.input_selection`; 0 = every candidate): on BlockedPoint ``x`` of
+``(x, y)``, where reading ``y`` too let the cost follow the nominal policy's drift along ``y``.
+``input_sparsity > 0`` adds a group-lasso penalty on the feature network's inputs to the cost
+update instead (:mod:`~symlearn.learners.neural.input_sparsity`, :func:`dual_step`); off by
+default: with Adam's per-weight steps it shrank every input's weights alike on BlockedPoint
+rather than dropping any (docs/BENCHMARKS.md). The result's ``metrics["cost_inputs"]`` names the
+entries read, the selection and each entry's share of the first layer's weight.
 
 ``fit(demonstrations, env)``: ``env`` is a function returning a fresh gymnasium environment,
 a gymnasium id, or an environment (copied for PPO's parallel copies); the demonstrations'
@@ -136,7 +140,8 @@ class NeuralMCEICRL(Learner):
     ``nominal_steps`` / ``policy_steps`` (PPO steps of the nominal phase / of every iteration),
     ``features`` (``"state"`` or ``"state_action"``), ``obs_dims`` (observation entries ``phi``
     reads: indices, ``"all"``, or None = the environment's declared constraint features, else
-    all; module docstring), ``n_features`` (width of ``phi``, one multiplier each),
+    all: the candidates), ``select_inputs`` (the input selection's AUC tolerance, 0 = off; module
+    docstring), ``n_features`` (width of ``phi``, one multiplier each),
     ``hidden_sizes``, ``pretrain`` (autoencoder pre-training on/off) and ``pretrain_epochs``,
     ``lambda_lr``, ``zeta_lr``, ``zeta_decay`` (per iteration), ``zeta_steps`` (Adam steps per
     iteration), ``alpha`` (the budget; 0 = hard constraints), ``discount`` (of the feature

@@ -87,8 +87,8 @@ class NeuralMEICRL(Learner):
     """ME-ICRL: ``NeuralMEICRL(...).fit(demonstrations, env)`` (module docstring).
 
     Parameters as :class:`~symlearn.learners.neural.NeuralMCEICRL` where they share a meaning
-    (``beta`` is PPO's entropy coefficient; ``bound_penalty`` and ``reset_actor`` as there), and
-    ``learning_rate`` (Adam, backward step), ``backward_epochs``, ``regularizer``, ``target_kl``,
+    (``beta`` is PPO's entropy coefficient; ``bound_penalty``, ``reset_actor``, ``obs_dims`` and
+    ``select_inputs`` as there), and ``learning_rate`` (Adam, backward step), ``backward_epochs``, ``regularizer``, ``target_kl``,
     ``lambda_lr`` (the multiplier's step per iteration, MCE-ICRL's rule and default; None: the
     PPO-Lagrangian's per-rollout rule, module docstring), ``discount`` (of the cost sums that
     step reads), ``lagrangian`` (a dict of :class:`~symlearn.rl.ppo.LagrangianConfig` fields; the
