@@ -17,7 +17,8 @@ For every seed: record the scripted expert's demonstrations, then
   before), with it, and with the group-sparsity penalty on the inputs instead
   (``input_sparsity=0.01``, :mod:`symlearn.learners.neural.input_sparsity`),
 * **ME-ICRL / VME-ICRL, per-rollout multiplier**: the two baselines with ``lambda_lr=None``
-  (the PPO-Lagrangian's own Adam step of 0.035 per rollout, their behaviour before),
+  (the PPO-Lagrangian's own Adam step of 0.035 per rollout, their behaviour before), and both
+  rules again on a cost reading ``(x, y)`` (no selection),
 * **unconstrained PPO**: the nominal policy of the MCE-ICRL run (PPO on the reward alone),
 * **PPO-Lagrangian on the true cost** (cost limit 0, as many steps as MCE-ICRL's policy phases):
   what a learner told the constraint reaches with the same budget,
@@ -33,6 +34,7 @@ an iteration (policy update vs cost update). The targets of issue 12 are checked
     python benchmarks/icrl_blocked_point.py --ablations      # beta sweep and pre-training off (MCE-ICRL only)
     python benchmarks/icrl_blocked_point.py --wall 2 --json benchmarks/results/icrl_blocked_point_wall2.json
     python benchmarks/icrl_blocked_point.py --peers me-icrl,vme-icrl    # only these rows after MCE-ICRL
+    python benchmarks/icrl_blocked_point.py --no-figures --peers "me-icrl x,y no selection,me-icrl x,y no selection (per-rollout multiplier),vme-icrl x,y no selection,vme-icrl x,y no selection (per-rollout multiplier)" --json benchmarks/results/icrl_blocked_point_multiplier.json
 
 ``--wall W`` moves the wall (BlockedPoint's ``wall``; a positive one forbids ``x > W`` and turns
 the expert round): the defaults were chosen at ``wall=-3`` and are checked at others.
@@ -87,6 +89,11 @@ PEER_SETTINGS = {
     "mce-icrl all inputs, sparse": (NeuralMCEICRL, {"obs_dims": "all", "select_inputs": 0.0, "input_sparsity": 0.01}),
     "me-icrl per-rollout multiplier": (NeuralMEICRL, {"lambda_lr": None}),
     "vme-icrl per-rollout multiplier": (NeuralVMEICRL, {"lambda_lr": None}),
+    # the multiplier rules on a cost that reads (x, y), where they differed before the selection
+    "me-icrl x,y no selection": (NeuralMEICRL, {"select_inputs": 0.0}),
+    "me-icrl x,y no selection (per-rollout multiplier)": (NeuralMEICRL, {"select_inputs": 0.0, "lambda_lr": None}),
+    "vme-icrl x,y no selection": (NeuralVMEICRL, {"select_inputs": 0.0}),
+    "vme-icrl x,y no selection (per-rollout multiplier)": (NeuralVMEICRL, {"select_inputs": 0.0, "lambda_lr": None}),
     "ppo-lagrangian true cost": (None, {}),
 }
 PEERS = tuple(PEER_SETTINGS)  # the methods with a learned cost and a history
@@ -195,7 +202,8 @@ def main(argv: list[str] | None = None) -> dict:
     parser.add_argument("--figures", type=Path, default=FIGURES, help=f"directory of the plots (default {FIGURES})")
     parser.add_argument("--no-figures", action="store_true", help="write no plots")
     parser.add_argument("--wall", type=float, default=-3.0, help="BlockedPoint's wall (-3)")
-    parser.add_argument("--peers", help="comma-separated rows to run after MCE-ICRL (default all: " + ", ".join(PEERS) + ")")
+    parser.add_argument("--peers", help="comma-separated rows to run after MCE-ICRL (default all: "
+                        + ", ".join(PEERS) + ")")
     args = parser.parse_args(argv)
     peers = () if args.no_peers else PEERS if not args.peers else peer_names(args.peers)
     unknown = [p for p in peers if p not in PEER_SETTINGS]
@@ -253,7 +261,10 @@ def main(argv: list[str] | None = None) -> dict:
                for method in ("expert", "mce-icrl", "unconstrained", *PEERS) if any(method in r for r in runs)}
     for method in ("mce-icrl", *PEERS[:-1]):
         if method in summary:
-            summary[method]["multiplier"] = float(np.mean([sum(r[method]["lambda"]) for r in runs]))
+            # MCE-ICRL's multipliers are the cost's lambda; the others' the PPO-Lagrangian's (GACL: none)
+            summary[method]["multiplier"] = float(np.mean([
+                r[method]["history"][-1].get("multiplier", sum(r[method]["lambda"])) if not method.startswith("gacl")
+                else float("nan") for r in runs if method in r]))
             summary[method]["recovery_auc"] = float(np.mean([r[method]["recovery"]["auc"] for r in runs]))
             summary[method]["recovery_iou"] = float(np.mean([r[method]["recovery"]["iou"] for r in runs]))
             summary[method]["seconds"] = mean(method, "seconds")

@@ -87,8 +87,8 @@ def register_learn(commands, common) -> None:
                      help="PPO steps in all: 1/8 nominal, the rest over the iterations (240000)")
     cmd.add_argument("--iterations", type=int, default=10, help="ICRL iterations (10)")
     cmd.add_argument("--beta", type=float, default=0.01, help="entropy coefficient, > 0 (0.01)")
-    cmd.add_argument("--cost-inputs", help="observation entries the cost reads: names (x,y), indices or 'all' (default: "
-                                            "the environment's declared constraint features, else all)")
+    cmd.add_argument("--cost-inputs", help="candidate observation entries of the cost: names (x,y), indices or 'all' "
+                                            "(default: the environment's declared constraint features, else all)")
     cmd.add_argument("--select-inputs", type=float, default=0.01, metavar="TOL",
                      help="keep the fewest candidate inputs that tell expert from nominal states within TOL of all "
                           "of them (held-out AUC; default 0.01, 0 = every candidate)")
@@ -240,6 +240,14 @@ def _icrl(args: argparse.Namespace, out) -> None:
     out.result(doc, _render)
 
 
+def _render_inputs(inputs: dict) -> str:
+    """One line: where the cost's candidate inputs came from, whether they were selected, and the
+    entries read with their share of the first layer's weight."""
+    names = inputs["names"] or inputs["entries"]
+    read = ", ".join(f"{name} {share:.2f}" for name, share in zip(names, inputs["shares"]))
+    return f"  cost inputs ({inputs['from']}{', selected' if inputs['selection'] else ''}): {read}"
+
+
 def _render(doc: dict) -> str:
     def number(x: Any) -> str:
         return "n/a" if x is None else f"{x:.3f}"
@@ -250,9 +258,6 @@ def _render(doc: dict) -> str:
              + ("n/a" if doc["feasible_reward"] is None else f"{doc['feasible_reward']:.2f}"),
              f"  recovery of the unsafe set: AUC {number(doc['recovery_auc'])}, IoU {number(doc['recovery_iou'])}",
              "  lambda " + ", ".join(f"{x:.3g}" for x in doc["lambda"]),
-             "  cost inputs (" + doc["cost_inputs"]["from"]
-             + (", selected" if doc["cost_inputs"]["selection"] else "") + "): " + ", ".join(
-                 f"{name} {share:.2f}" for name, share in zip(doc["cost_inputs"]["names"] or doc["cost_inputs"]["entries"],
-                                                              doc["cost_inputs"]["shares"]))]
+             _render_inputs(doc["cost_inputs"])]
     lines += [f"wrote {f}" for f in doc["files"]]
     return "\n".join(lines)

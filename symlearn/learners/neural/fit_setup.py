@@ -143,7 +143,8 @@ def check_common(learner: Any, integers: Sequence[str], *, zero_allowed: Sequenc
 def check_tolerance(value: Any) -> bool:
     """Whether ``select_inputs`` is a finite number in ``[0, 0.5]`` (0: selection off; an AUC
     gain above 0.5 is impossible)."""
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and 0 <= value <= 0.5
+    return (isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+            and 0 <= value <= 0.5)
 
 
 #: when the policy phases start from a fresh actor (NeuralMCEICRL's docstring says why)
@@ -156,5 +157,6 @@ def resets_actor(setting: str, iteration: int, n_iterations: int) -> bool:
     return setting == "every" or (setting == "last" and iteration == n_iterations)
 
 
-__all__ = ["RESET_ACTOR", "FitSetup", "check_common", "check_tolerance", "cost_inputs", "declared_inputs", "environment_factory", "fit_setup",
+__all__ = ["RESET_ACTOR", "FitSetup", "check_common", "check_tolerance", "cost_inputs", "declared_inputs",
+           "environment_factory", "fit_setup",
            "resets_actor"]

@@ -370,7 +370,8 @@ def penalised(cost: NeuralCost | None, penalty: Callable[[np.ndarray], np.ndarra
 def dual_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer, lambdas: np.ndarray,
               expert: tuple[tuple[torch.Tensor, torch.Tensor | None], torch.Tensor],
               policy: tuple[tuple[torch.Tensor, torch.Tensor | None], torch.Tensor], *, lambda_lr: float,
-              alpha: float, zeta_lr: float, zeta_steps: int, input_sparsity: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+              alpha: float, zeta_lr: float, zeta_steps: int,
+              input_sparsity: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """One step on the dual variables: ``lambda`` (eq. 2.12, projected on ``lambda >= 0``), then
     ``zeta_steps`` steps of ``optimizer`` (on ``phi``'s parameters, learning rate ``zeta_lr``)
     down ``lambda . (F_D - F_pi)`` (eq. 2.13). ``expert``/``policy``: ``((obs, actions), weights)``

@@ -88,7 +88,8 @@ class NeuralMEICRL(Learner):
 
     Parameters as :class:`~symlearn.learners.neural.NeuralMCEICRL` where they share a meaning
     (``beta`` is PPO's entropy coefficient; ``bound_penalty``, ``reset_actor``, ``obs_dims`` and
-    ``select_inputs`` as there), and ``learning_rate`` (Adam, backward step), ``backward_epochs``, ``regularizer``, ``target_kl``,
+    ``select_inputs`` as there), and ``learning_rate`` (Adam, backward step), ``backward_epochs``,
+    ``regularizer``, ``target_kl``,
     ``lambda_lr`` (the multiplier's step per iteration, MCE-ICRL's rule and default; None: the
     PPO-Lagrangian's per-rollout rule, module docstring), ``discount`` (of the cost sums that
     step reads), ``lagrangian`` (a dict of :class:`~symlearn.rl.ppo.LagrangianConfig` fields; the
@@ -133,8 +134,8 @@ class NeuralMEICRL(Learner):
         check_common(self, ("n_iterations", "nominal_steps", "policy_steps", "backward_epochs", "n_policy_episodes"))
         if not (self.learning_rate > 0 and self.regularizer >= 0 and self.target_kl > 0 and self.bound_penalty >= 0):
             raise SymlearnError("learning_rate and target_kl must be > 0, regularizer and bound_penalty >= 0")
-        if self.lambda_lr is not None and not (isinstance(self.lambda_lr, (int, float)) and math.isfinite(self.lambda_lr)
-                                               and self.lambda_lr > 0):
+        rate = self.lambda_lr
+        if rate is not None and not (isinstance(rate, (int, float)) and math.isfinite(rate) and rate > 0):
             raise SymlearnError(f"lambda_lr must be a number > 0 or None, got {self.lambda_lr!r}")
         if not 0 < self.discount <= 1:
             raise SymlearnError(f"discount out of range: {self.discount!r}")
@@ -195,7 +196,8 @@ class NeuralMEICRL(Learner):
                 cost_seconds = time.perf_counter() - t0
                 metrics = episode_metrics(batch)
                 if self.lambda_lr is not None:  # MCE-ICRL's rule on the constraint gap (module docstring)
-                    multiplier = max(0.0, multiplier + float(self.lambda_lr) * discounted_cost(cost, batch, self.discount))
+                    gap = discounted_cost(cost, batch, self.discount)
+                    multiplier = max(0.0, multiplier + float(self.lambda_lr) * gap)
                 t0 = time.perf_counter()
                 lagrangian = LagrangianConfig(**forward_lagrangian(self.lagrangian, multiplier, self.lambda_lr is None))
                 if resets_actor(self.reset_actor, iteration, int(self.n_iterations)):  # see NeuralMCEICRL
