@@ -23,10 +23,10 @@
   discriminator, the policy learning from ``r + log D``).
 * ``--steps``: PPO steps in all: one eighth for the nominal policy, the rest split evenly over
   the ``--iterations``. ``--beta``: the entropy coefficient (> 0). ``--cost-inputs``: the
-  observation entries the cost reads, by name (``x,y``) or index, or ``all``; by default the
-  entries the environment declares its constraints to be about (its ``feature_names``, where each
-  names an observation entry: ``x,y`` on BlockedPoint, ``x`` on the blocked MuJoCo tasks), else
-  all (:mod:`symlearn.learners.neural.fit_setup` says why). ``--select-inputs TOL``: of those
+  observation entries the cost may read (its candidates), by name (``x,y``) or index, or ``all``;
+  by default the entries the environment declares its constraints to be about (its
+  ``feature_names``, where each names an observation entry: ``x,y`` on BlockedPoint, ``x`` on the
+  blocked MuJoCo tasks), else all (:mod:`symlearn.learners.neural.fit_setup` says why). ``--select-inputs TOL``: of those
   candidates the cost reads the fewest that tell the expert's states from the nominal policy's
   within ``TOL`` of all of them (held-out AUC; default 0.01, 0 = every candidate;
   :mod:`symlearn.learners.neural.input_selection`). ``--cost-sparsity S``: MCE-ICRL's
