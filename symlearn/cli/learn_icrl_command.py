@@ -1,8 +1,8 @@
 """``symlearn learn icrl``: learn a neural cost by inverse constrained RL in a continuous environment.
 
 ``symlearn learn icrl --env NAME [--method mce-icrl|me-icrl|vme-icrl|gacl] [--demos D.npz | --n-demos N] [--steps N]
-[--iterations I] [--beta B] [--cost-inputs x,y] [--reset-actor never|every|last] [--lambda-lr L] [--env-kwargs JSON]
-[--expert-steps N]
+[--iterations I] [--beta B] [--cost-inputs x,y|all] [--select-inputs TOL] [--cost-sparsity S]
+[--reset-actor never|every|last] [--lambda-lr L] [--env-kwargs JSON] [--expert-steps N]
 [--expert-cache DIR] [-o cost.safetensors] [--log run.csv] [--json]``
 
 * ``--env``: a bundled environment with ``mce-icrl`` among its methods (``blocked-point``,
@@ -23,9 +23,18 @@
   discriminator, the policy learning from ``r + log D``).
 * ``--steps``: PPO steps in all: one eighth for the nominal policy, the rest split evenly over
   the ``--iterations``. ``--beta``: the entropy coefficient (> 0). ``--cost-inputs``: the
-  observation entries the cost reads, by name (``x,y``) or index (default: all).
-  ``--reset-actor``: which policy phases start from a fresh actor (critic kept), see
-  :mod:`symlearn.learners.neural.mce_icrl`; ``--lambda-lr``: MCE-ICRL's multiplier step.
+  observation entries the cost may read (its candidates), by name (``x,y``) or index, or ``all``;
+  by default the entries the environment declares its constraints to be about (its
+  ``feature_names``, where each names an observation entry: ``x,y`` on BlockedPoint, ``x`` on the
+  blocked MuJoCo tasks), else all (:mod:`symlearn.learners.neural.fit_setup` says why). ``--select-inputs TOL``: of those
+  candidates the cost reads the fewest that tell the expert's states from the nominal policy's
+  within ``TOL`` of all of them (held-out AUC; default 0.01, 0 = every candidate;
+  :mod:`symlearn.learners.neural.input_selection`). ``--cost-sparsity S``: MCE-ICRL's
+  group-sparsity penalty on the cost network's inputs (default 0 = off;
+  :mod:`symlearn.learners.neural.input_sparsity`). ``--reset-actor``: which policy phases start
+  from a fresh actor (critic kept), see :mod:`symlearn.learners.neural.mce_icrl`;
+  ``--lambda-lr``: the multiplier step per iteration of MCE-ICRL (default 0.02) and of ME-/VME-ICRL
+  (the same rule and default, on their learned cost's discounted sum).
 
 After learning, the policy is evaluated on 20 episodes (mean action) against the environment's
 ground truth (``info["cost"]``), and the cost's recovery of the true unsafe set is measured on
@@ -33,7 +42,10 @@ states sampled around the expert's, in the expert states' box widened until it h
 and unsafe states (``recovery_margin``; :mod:`symlearn.learners.neural.icrl_metrics`).
 
 JSON keys: ``reward``, ``violation_rate``, ``feasible_reward``, ``recovery_auc``,
-``recovery_iou``, ``recovery_margin``, ``expert_reward``, ``lambda``, ``iterations``, ``seconds``, ``timings``
+``recovery_iou``, ``recovery_margin``, ``expert_reward``, ``lambda``, ``cost_inputs`` (``entries``,
+``names``, ``from``: given / declared features / all, ``selection``: candidates, selected, AUCs,
+``shares`` of the first layer's weight),
+``iterations``, ``seconds``, ``timings``
 (``nominal``, ``pretrain``, ``policy``, ``cost``), ``history`` (per iteration), ``files``.
 ``-o`` must end in ``.safetensors``; the configuration goes to the ``.json`` beside it.
 ``--log run.csv``: the same per-iteration history as a CSV table (one row per iteration, a column
@@ -77,12 +89,19 @@ def register_learn(commands, common) -> None:
                      help="PPO steps in all: 1/8 nominal, the rest over the iterations (240000)")
     cmd.add_argument("--iterations", type=int, default=10, help="ICRL iterations (10)")
     cmd.add_argument("--beta", type=float, default=0.01, help="entropy coefficient, > 0 (0.01)")
-    cmd.add_argument("--cost-inputs", help="observation entries the cost reads: names (x,y) or indices (default all)")
+    cmd.add_argument("--cost-inputs", help="candidate observation entries of the cost: names (x,y), indices or 'all' "
+                                            "(default: the environment's declared constraint features, else all)")
+    cmd.add_argument("--select-inputs", type=float, default=0.01, metavar="TOL",
+                     help="keep the fewest candidate inputs that tell expert from nominal states within TOL of all "
+                          "of them (held-out AUC; default 0.01, 0 = every candidate)")
+    cmd.add_argument("--cost-sparsity", type=float, default=0.0,
+                     help="mce-icrl: group-sparsity penalty on the cost network's inputs (default 0 = off)")
     cmd.add_argument("--reset-actor", choices=("never", "every", "last"), default="never",
                      help="which policy phases start from a fresh actor (critic kept): never (default), every, or "
                           "the last (the returned policy learns afresh on the final cost)")
     cmd.add_argument("--lambda-lr", type=float,
-                     help="MCE-ICRL's step on the multipliers (default 0.02; 0.1 met the blocked HalfCheetah target)")
+                     help="the multipliers' step per iteration, mce-icrl, me-icrl and vme-icrl (default 0.02; 0.1 met "
+                          "the blocked HalfCheetah target with mce-icrl)")
     cmd.add_argument("--env-kwargs", metavar="JSON", help="keyword arguments of the environment (a JSON object)")
     cmd.add_argument("-o", "--output", metavar="COST.safetensors",
                      help="write the learned cost here (and COST.json beside it)")
@@ -110,10 +129,17 @@ def _check_arguments(args: argparse.Namespace) -> None:
         raise DataError(f"--iterations must be at least 1, got {args.iterations}")
     if args.n_demos < 1:
         raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
-    if args.lambda_lr is not None and (args.method != "mce-icrl" or not (math.isfinite(args.lambda_lr)
-                                                                        and args.lambda_lr > 0)):
-        raise DataError(f"--lambda-lr must be a number > 0 and is for --method mce-icrl only, got {args.lambda_lr:g} "
-                        f"with {args.method}")
+    if args.lambda_lr is not None and (args.method == "gacl" or not (math.isfinite(args.lambda_lr)
+                                                                      and args.lambda_lr > 0)):
+        raise DataError(f"--lambda-lr must be a number > 0 and is for --method mce-icrl, me-icrl or vme-icrl, got "
+                        f"{args.lambda_lr:g} with {args.method}")
+    if not (math.isfinite(args.select_inputs) and 0 <= args.select_inputs <= 0.5):
+        raise DataError(f"--select-inputs must be a number in [0, 0.5] (an AUC tolerance; 0 = off), got "
+                        f"{args.select_inputs:g}")
+    if not (math.isfinite(args.cost_sparsity) and args.cost_sparsity >= 0) or (
+            args.cost_sparsity and args.method != "mce-icrl"):
+        raise DataError(f"--cost-sparsity must be a number >= 0 and is for --method mce-icrl only, got "
+                        f"{args.cost_sparsity:g} with {args.method}")
     if args.expert_steps < 1:
         raise DataError(f"--expert-steps must be at least 1, got {args.expert_steps}")
     if args.steps < 8 * args.iterations:
@@ -125,6 +151,8 @@ def _cost_inputs(text: str | None, names: Any, width: int) -> list[int] | None:
 
     if not text:
         return None
+    if text.strip() == "all":
+        return list(range(width))
     dims = []
     for item in (part.strip() for part in text.split(",")):
         if item.lstrip("-").isdigit():
@@ -184,8 +212,9 @@ def _icrl(args: argparse.Namespace, out) -> None:
               "gacl": NeuralGACL}[args.method]
     learner = method(beta=args.beta, n_iterations=args.iterations, nominal_steps=nominal,
                      policy_steps=max((args.steps - nominal) // args.iterations, 1), obs_dims=obs_dims,
-                     random_state=seed, reset_actor=args.reset_actor,
-                     **({} if args.lambda_lr is None else {"lambda_lr": args.lambda_lr}))
+                     random_state=seed, reset_actor=args.reset_actor, select_inputs=args.select_inputs,
+                     **({} if args.lambda_lr is None else {"lambda_lr": args.lambda_lr}),
+                     **({} if not args.cost_sparsity else {"input_sparsity": args.cost_sparsity}))
 
     env_fn = target.env_fn
     log = TrainingLog(args.log, step_key="iteration") if args.log else None  # an unwritable path fails now
@@ -210,6 +239,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
            "recovery_margin": None if rec is None else rec.margin,
            "expert_reward": result.metrics["expert_reward"],
            "lambda": [float(x) for x in learner.cost_.lambdas.numpy()],
+           "cost_inputs": result.metrics["cost_inputs"],
            "iterations": len(learner.history_), "seconds": time.perf_counter() - started,
            "timings": {k: v for k, v in result.timings.items() if k != "total"},
            "history": [h.as_dict() for h in learner.history_], "files": []}
@@ -217,6 +247,14 @@ def _icrl(args: argparse.Namespace, out) -> None:
         path = learner.save(args.output)
         doc["files"] = [str(path), str(path.with_suffix(".json"))]
     out.result(doc, _render)
+
+
+def _render_inputs(inputs: dict) -> str:
+    """One line: where the cost's candidate inputs came from, whether they were selected, and the
+    entries read with their share of the first layer's weight."""
+    names = inputs["names"] or inputs["entries"]
+    read = ", ".join(f"{name} {share:.2f}" for name, share in zip(names, inputs["shares"]))
+    return f"  cost inputs ({inputs['from']}{', selected' if inputs['selection'] else ''}): {read}"
 
 
 def _render(doc: dict) -> str:
@@ -228,6 +266,7 @@ def _render(doc: dict) -> str:
              f"{number(doc['violation_rate'])}, feasible reward "
              + ("n/a" if doc["feasible_reward"] is None else f"{doc['feasible_reward']:.2f}"),
              f"  recovery of the unsafe set: AUC {number(doc['recovery_auc'])}, IoU {number(doc['recovery_iou'])}",
-             "  lambda " + ", ".join(f"{x:.3g}" for x in doc["lambda"])]
+             "  lambda " + ", ".join(f"{x:.3g}" for x in doc["lambda"]),
+             _render_inputs(doc["cost_inputs"])]
     lines += [f"wrote {f}" for f in doc["files"]]
     return "\n".join(lines)

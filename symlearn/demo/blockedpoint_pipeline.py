@@ -2,7 +2,8 @@
 
 A point mass is paid for distance along x, faster toward a wall at ``x = -3`` beyond which it
 must not go. From the scripted expert's demonstrations (full speed away from the wall) MCE-ICRL
-learns a cost ``lambda . phi(x, y)`` and a policy by PPO on ``r - C``; the section reports the
+learns a cost ``lambda . phi`` over the entries of ``(x, y)`` its input selection keeps
+(:mod:`symlearn.learners.neural.input_selection`) and a policy by PPO on ``r - C``; the section reports the
 policy's reward and violation rate against the unconstrained (nominal) policy of the same run,
 the cost's recovery of the true unsafe set (ROC AUC), the cost map over ``(x, y)`` and the
 per-iteration reward, violation rate and multipliers. ``benchmarks/icrl_blocked_point.py`` runs
@@ -113,8 +114,8 @@ def run(context: DemoContext) -> Section:
     demos = expert_demonstrations(budget["demos"], seed=context.seed)
     nominal = budget["steps"] // 8
     learner = NeuralMCEICRL(n_iterations=budget["iterations"], nominal_steps=nominal,
-                            policy_steps=(budget["steps"] - nominal) // budget["iterations"], obs_dims=[0, 1],
-                            random_state=context.seed).fit(demos, BlockedPoint)
+                            policy_steps=(budget["steps"] - nominal) // budget["iterations"],
+                            random_state=context.seed).fit(demos, BlockedPoint)  # the default inputs
     cost_path = learner.save(context.path("blockedpoint", "cost.safetensors"))
 
     def evaluate(policy: Any) -> Any:
@@ -144,10 +145,11 @@ def run(context: DemoContext) -> Section:
         for name, m in (("expert (demonstrations)", expert), ("unconstrained PPO (nominal policy)", nominal_eval),
                         ("MCE-ICRL policy", learned)))
     note = " (quick settings: far too few steps for the policy to turn)" if context.quick else ""
+    inputs = ", ".join(learner.result_.metrics["cost_inputs"]["names"])
     markdown = f"""
 BlockedPoint (`symlearn learn icrl --env blocked-point`): a point mass paid for distance along x,
 faster toward the wall at x = {env.wall:g}; the true constraint forbids x < {env.wall:g}. Neural
-MCE-ICRL (thesis Algorithm 2.1) learned a cost over the position (x, y) from {budget["demos"]}
+MCE-ICRL (thesis Algorithm 2.1) learned a cost over {inputs} (selected from the position x, y) from {budget["demos"]}
 scripted expert episodes with {budget["steps"]} PPO steps ({nominal} nominal, then
 {len(learner.history_)} iterations), in {timings["total"]:.0f} s{note}. Evaluation: {EVAL_EPISODES}
 episodes of the mean action against the ground truth.

@@ -90,7 +90,12 @@ def test_other_refusals(capsys, tmp_path):
     _refused(capsys, "--env", "blocked-pont", match="did you mean 'blocked-point'")
     _refused(capsys, "--env", "gridworld", match="no environment for neural ICRL")
     _refused(capsys, "--env", "blocked-point", "--expert-steps", 0, match="--expert-steps must be at least 1")
-    _refused(capsys, "--env", "blocked-point", "--method", "gacl", "--lambda-lr", 0.1, match="for --method mce-icrl only")
+    _refused(capsys, "--env", "blocked-point", "--method", "gacl", "--lambda-lr", 0.1,
+             match="for --method mce-icrl, me-icrl or vme-icrl")
+    _refused(capsys, "--env", "blocked-point", "--method", "me-icrl", "--cost-sparsity", 0.1,
+             match="for --method mce-icrl only")
+    _refused(capsys, "--env", "blocked-point", "--cost-sparsity", "nan", match="--cost-sparsity must be a number >= 0")
+    _refused(capsys, "--env", "blocked-point", "--select-inputs", 0.6, match="--select-inputs must be a number in [0, 0.5]")
     _refused(capsys, "--env", "blocked-point", "--lambda-lr", -1, match="--lambda-lr must be a number > 0")
     _refused(capsys, "--env", "blocked-point", "--cost-inputs", "x,z", match="unknown observation entry 'z'")
     assert not (tmp_path / "cost.pt").exists()
@@ -111,6 +116,24 @@ def test_recorded_expert_demonstrations_are_accepted(capsys, tmp_path, method):
     assert code == 0, err
     doc = json.loads(stdout)
     assert doc["iterations"] == 1 and doc["method"] == method and doc["recovery_auc"] is not None
+    # no --cost-inputs: the entries BlockedPoint declares its constraint to be about are the candidates
+    inputs = doc["cost_inputs"]
+    assert inputs["from"] == "declared features" and inputs["selection"]["candidates"] == [0, 1]
+    assert inputs["entries"] == inputs["selection"]["selected"] and set(inputs["names"]) <= {"x", "y"}
+
+
+def test_all_cost_inputs_sparsity_and_the_baselines_multiplier_step(capsys):
+    code, stdout, err = run(capsys, "learn", "icrl", "--env", "blocked-point", "--n-demos", 2, "--steps", 1024,
+                            "--iterations", 1, "--cost-inputs", "all", "--select-inputs", 0, "--cost-sparsity", 0.05,
+                            "--json")
+    assert code == 0, err
+    inputs = json.loads(stdout)["cost_inputs"]
+    assert inputs["names"] == ["x", "y", "vx", "vy"] and inputs["from"] == "given" and len(inputs["shares"]) == 4
+    assert inputs["selection"] is None
+    code, stdout, err = run(capsys, "learn", "icrl", "--env", "blocked-point", "--n-demos", 2, "--steps", 1024,
+                            "--iterations", 1, "--method", "vme-icrl", "--lambda-lr", 0.5)
+    assert code == 0, err
+    assert "cost inputs (declared features, selected): " in stdout
 
 
 def test_without_a_scripted_expert_a_lagrangian_expert_is_trained_and_cached(capsys, tmp_path):

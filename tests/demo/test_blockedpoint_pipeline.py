@@ -22,7 +22,8 @@ def test_blockedpoint_pipeline_writes_the_cost_and_its_map(tmp_path):
     assert "![learned cost over (x, y)](blockedpoint/cost_map.png)" in section.markdown
     json.dumps(fig)
     cost = NeuralCost.load(tmp_path / "blockedpoint" / "cost.safetensors", BlockedPoint())
-    assert cost.phi.obs_dims == (0, 1) and np.allclose(cost.lambdas.numpy(), fig["lambda"], atol=1e-3)
+    # the candidates are BlockedPoint's declared features (x, y); the selection keeps some of them
+    assert set(cost.phi.obs_dims) <= {0, 1} and np.allclose(cost.lambdas.numpy(), fig["lambda"], atol=1e-3)
 
 
 def test_cost_map_evaluates_positions_at_rest():

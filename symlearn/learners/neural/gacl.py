@@ -33,6 +33,7 @@ from symlearn.learners.base import Learner
 from symlearn.learners.neural.episodes import sample_episodes
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.icrl_metrics import episode_metrics
+from symlearn.learners.neural.input_selection import choose_inputs, inputs_report
 from symlearn.learners.neural.fit_setup import check_common, fit_setup, resets_actor
 from symlearn.learners.neural.mce_icrl import action_bound_penalty, jsonable_params, policy_ppo_config, seed_offset
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
@@ -68,7 +69,8 @@ class NeuralGACL(Learner):
                  policy_steps: int = 20_480, features: str = "state", obs_dims: Sequence[int] | None = None,
                  hidden_sizes: Sequence[int] = (64, 64), learning_rate: float = 3e-3, disc_steps: int = 20,
                  n_policy_episodes: int = 16, bound_penalty: float = 1.0, reset_actor: str = "never",
-                 ppo: dict[str, Any] | None = None, random_state: int | None = 0) -> None:
+                 select_inputs: float = 0.01, ppo: dict[str, Any] | None = None,
+                 random_state: int | None = 0) -> None:
         self.beta = beta
         self.n_iterations = n_iterations
         self.nominal_steps = nominal_steps
@@ -81,6 +83,7 @@ class NeuralGACL(Learner):
         self.n_policy_episodes = n_policy_episodes
         self.bound_penalty = bound_penalty
         self.reset_actor = reset_actor
+        self.select_inputs = select_inputs
         self.ppo = ppo
         self.random_state = random_state
 
@@ -120,12 +123,15 @@ class NeuralGACL(Learner):
             policy = train_ppo(env_fn, int(self.nominal_steps), ppo_config(0), reward_fn=reward_fn(None)).policy
             timings["nominal"] = time.perf_counter() - t0
             nominal_policy = copy.deepcopy(policy)
+            batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes), seed=seed_offset(seed, 10_000))
+            selection = choose_inputs(setup, batch, self.select_inputs, seed)  # see mce_icrl's docstring
+            if selection is not None:
+                obs_dims = list(selection.selected)
             action_dim = spec_width(act_spec) if self.features == "state_action" else 0
             phi = FeatureNetwork(obs_dims, action_dim, 1, self.hidden_sizes, generator)  # phi = 1 - D
             cost = NeuralCost.for_env(probe, phi, provenance={"learner": type(self).__name__,
                                                               "parameters": jsonable_params(self.get_params())})
             cost.set_lambdas([1.0])
-            batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes), seed=seed_offset(seed, 10_000))
             nominal_x, nominal_a = cost.tensors(*batch.pairs())
             phi.fit_standardisation(np.concatenate([expert_x, nominal_x.numpy()]),
                                     None if not action_dim else np.concatenate([expert_a, nominal_a.numpy()]))
@@ -161,7 +167,8 @@ class NeuralGACL(Learner):
         timings.update(policy=sum(h.policy_seconds for h in history), cost=sum(h.cost_seconds for h in history),
                        total=self.seconds_)
         expert_reward = float(np.where(expert.mask, expert.rewards, 0.0).sum(axis=1).mean())
-        self._set_result(cost, "", metrics={"expert_reward": expert_reward, "final_sample": final.as_dict()},
+        self._set_result(cost, "", metrics={"expert_reward": expert_reward, "final_sample": final.as_dict(),
+                                            "cost_inputs": inputs_report(cost, setup.inputs_from, selection)},
                          timings=timings, history=history)
         return self
 

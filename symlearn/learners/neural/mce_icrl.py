@@ -55,6 +55,20 @@ exactly. Here every exact step has its sampled, neural counterpart:
    phase, which would run on ``lambda = 0`` and so repeat the nominal one, left out), so the
    cost returned is the one the returned policy was trained on last.
 
+**Inputs of the cost** (all four neural learners alike). The candidates: ``obs_dims=None`` (the
+default) the observation entries the environment declares its constraints to be about
+(``feature_names``, where they name entries of ``observation_names``), else all; ``"all"`` every
+entry; a list of indices those (:mod:`~symlearn.learners.neural.fit_setup` says why). Of the
+candidates the network reads the fewest that tell the demonstrations' states from the nominal
+policy's within ``select_inputs`` (0.01) of the held-out AUC of all of them
+(:mod:`~symlearn.learners.neural.input_selection`; 0 = every candidate): on BlockedPoint ``x`` of
+``(x, y)``, where reading ``y`` too let the cost follow the nominal policy's drift along ``y``.
+``input_sparsity > 0`` adds a group-lasso penalty on the feature network's inputs to the cost
+update instead (:mod:`~symlearn.learners.neural.input_sparsity`, :func:`dual_step`); off by
+default: with Adam's per-weight steps it shrank every input's weights alike on BlockedPoint
+rather than dropping any (docs/BENCHMARKS.md). The result's ``metrics["cost_inputs"]`` names the
+entries read, the selection and each entry's share of the first layer's weight.
+
 ``fit(demonstrations, env)``: ``env`` is a function returning a fresh gymnasium environment,
 a gymnasium id, or an environment (copied for PPO's parallel copies); the demonstrations'
 states must be that environment's observations and they must carry the actions. The learner
@@ -87,6 +101,8 @@ from symlearn.learners.base import Learner
 from symlearn.learners.neural.episodes import sample_episodes
 from symlearn.learners.neural.feature_network import FeatureNetwork, pretrain_autoencoder
 from symlearn.learners.neural.icrl_metrics import episode_metrics
+from symlearn.learners.neural.input_selection import choose_inputs, inputs_report
+from symlearn.learners.neural.input_sparsity import input_penalty
 from symlearn.learners.neural.fit_setup import check_common, environment_factory, fit_setup, resets_actor  # noqa: F401 (re-exported)
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.learners.neural.records import IterationRecord
@@ -123,13 +139,16 @@ class NeuralMCEICRL(Learner):
     Parameters: ``beta`` (entropy coefficient of the policy phases, > 0), ``n_iterations``,
     ``nominal_steps`` / ``policy_steps`` (PPO steps of the nominal phase / of every iteration),
     ``features`` (``"state"`` or ``"state_action"``), ``obs_dims`` (observation entries ``phi``
-    reads; None = all), ``n_features`` (width of ``phi``, one multiplier each),
+    reads: indices, ``"all"``, or None = the environment's declared constraint features, else
+    all: the candidates), ``select_inputs`` (the input selection's AUC tolerance, 0 = off; module
+    docstring), ``n_features`` (width of ``phi``, one multiplier each),
     ``hidden_sizes``, ``pretrain`` (autoencoder pre-training on/off) and ``pretrain_epochs``,
     ``lambda_lr``, ``zeta_lr``, ``zeta_decay`` (per iteration), ``zeta_steps`` (Adam steps per
     iteration), ``alpha`` (the budget; 0 = hard constraints), ``discount`` (of the feature
     sums), ``n_policy_episodes`` (episodes sampled per dual step), ``bound_penalty`` (module
     docstring), ``lambda_init`` (every multiplier's start, >= 0; see ``fit``'s comment on why
-    episodes that end at a goal need it > 0), ``reset_actor`` (module docstring), ``ppo`` (a dict of
+    episodes that end at a goal need it > 0), ``reset_actor`` (module docstring), ``input_sparsity``
+    (weight of the group lasso on ``phi``'s inputs, >= 0; 0 = off), ``ppo`` (a dict of
     :class:`~symlearn.rl.ppo.PPOConfig` fields over :data:`PPO_DEFAULTS`; ``ent_coef`` is
     ``beta``), ``random_state``.
     """
@@ -142,7 +161,8 @@ class NeuralMCEICRL(Learner):
                  pretrain_epochs: int = 30, lambda_lr: float = 0.02, zeta_lr: float = 3e-3, zeta_decay: float = 0.9,
                  zeta_steps: int = 20, alpha: float = 0.0, discount: float = 0.99, n_policy_episodes: int = 16,
                  bound_penalty: float = 1.0, lambda_init: float = 0.0, reset_actor: str = "never",
-                 ppo: dict[str, Any] | None = None, random_state: int | None = 0) -> None:
+                 select_inputs: float = 0.01, input_sparsity: float = 0.0, ppo: dict[str, Any] | None = None,
+                 random_state: int | None = 0) -> None:
         self.beta = beta
         self.n_iterations = n_iterations
         self.nominal_steps = nominal_steps
@@ -163,6 +183,8 @@ class NeuralMCEICRL(Learner):
         self.bound_penalty = bound_penalty
         self.lambda_init = lambda_init
         self.reset_actor = reset_actor
+        self.select_inputs = select_inputs
+        self.input_sparsity = input_sparsity
         self.ppo = ppo
         self.random_state = random_state
 
@@ -175,6 +197,8 @@ class NeuralMCEICRL(Learner):
         for name, ok in (("lambda_lr", self.lambda_lr > 0), ("zeta_lr", self.zeta_lr > 0),
                          ("zeta_decay", 0 < self.zeta_decay <= 1), ("alpha", self.alpha >= 0),
                          ("discount", 0 < self.discount <= 1), ("bound_penalty", self.bound_penalty >= 0),
+                         ("input_sparsity", isinstance(self.input_sparsity, (int, float))
+                          and math.isfinite(self.input_sparsity) and self.input_sparsity >= 0),
                          ("lambda_init", isinstance(self.lambda_init, (int, float)) and math.isfinite(self.lambda_init)
                           and self.lambda_init >= 0)):
             if not ok:
@@ -207,6 +231,9 @@ class NeuralMCEICRL(Learner):
             t0 = time.perf_counter()
             batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes), seed=seed_offset(seed, 10_000))
             sampling = time.perf_counter() - t0
+            selection = choose_inputs(setup, batch, self.select_inputs, seed)
+            if selection is not None:
+                obs_dims = list(selection.selected)
 
             action_dim = spec_width(act_spec) if self.features == "state_action" else 0
             phi = FeatureNetwork(obs_dims, action_dim, int(self.n_features), self.hidden_sizes, generator)
@@ -243,7 +270,8 @@ class NeuralMCEICRL(Learner):
                 zeta_lr = self.zeta_lr * self.zeta_decay ** (iteration - 1)
                 lambdas, expert_features, policy_features = dual_step(
                     phi, optimizer, lambdas, (expert_t, expert_w), (policy_t, policy_w), lambda_lr=self.lambda_lr,
-                    alpha=self.alpha, zeta_lr=zeta_lr, zeta_steps=int(self.zeta_steps))
+                    alpha=self.alpha, zeta_lr=zeta_lr, zeta_steps=int(self.zeta_steps),
+                    input_sparsity=float(self.input_sparsity))
                 cost.set_lambdas(lambdas)
                 cost_seconds = time.perf_counter() - t0
                 metrics = episode_metrics(batch)
@@ -285,7 +313,8 @@ class NeuralMCEICRL(Learner):
         expert_reward = float(np.where(expert.mask, expert.rewards, 0.0).sum(axis=1).mean())
         self._set_result(cost, "", metrics={"lambda": [float(x) for x in lambdas], "expert_reward": expert_reward,
                                             "final_sample": final.as_dict(),
-                                            "pretrain": None if pretrain is None else pretrain.as_dict()},
+                                            "pretrain": None if pretrain is None else pretrain.as_dict(),
+                                            "cost_inputs": inputs_report(cost, setup.inputs_from, selection)},
                          timings=timings, history=history)
         return self
 
@@ -341,13 +370,18 @@ def penalised(cost: NeuralCost | None, penalty: Callable[[np.ndarray], np.ndarra
 def dual_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer, lambdas: np.ndarray,
               expert: tuple[tuple[torch.Tensor, torch.Tensor | None], torch.Tensor],
               policy: tuple[tuple[torch.Tensor, torch.Tensor | None], torch.Tensor], *, lambda_lr: float,
-              alpha: float, zeta_lr: float, zeta_steps: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+              alpha: float, zeta_lr: float, zeta_steps: int,
+              input_sparsity: float = 0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """One step on the dual variables: ``lambda`` (eq. 2.12, projected on ``lambda >= 0``), then
     ``zeta_steps`` steps of ``optimizer`` (on ``phi``'s parameters, learning rate ``zeta_lr``)
     down ``lambda . (F_D - F_pi)`` (eq. 2.13). ``expert``/``policy``: ``((obs, actions), weights)``
     with the per-row weights of :meth:`EpisodeBatch.discount_weights`, so ``weights @ phi`` is a
-    mean discounted feature sum. Returns the new ``lambda`` and the feature sums ``F_D``,
-    ``F_pi`` it was computed from."""
+    mean discounted feature sum. ``input_sparsity > 0`` adds the group lasso on ``phi``'s inputs
+    (:func:`~symlearn.learners.neural.input_sparsity.input_penalty`) with that weight, against the
+    gap divided by ``sum(lambda)`` and the expert's discounted episode length (a number in
+    ``(-1, 1)``: the weight means the same whatever the multipliers' size and the episodes'
+    length); at 0 the steps are as without it. Returns the new ``lambda`` and the feature sums
+    ``F_D``, ``F_pi`` it was computed from."""
     (expert_in, expert_w), (policy_in, policy_w) = expert, policy
     with torch.no_grad():
         expert_features = (expert_w @ phi(*expert_in)).double().numpy()
@@ -358,8 +392,15 @@ def dual_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer, lambdas: np
         group["lr"] = zeta_lr
     if lambdas.any():
         lam = torch.from_numpy(lambdas).float()
+        # the gap per unit of lambda and per discounted expert step, so that input_sparsity weighs
+        # the group lasso against a number in (-1, 1) whatever the multipliers' size and the
+        # episodes' length (Adam's steps do not depend on the loss's scale: without the penalty
+        # this division changes nothing)
+        scale = float(lambdas.sum()) * float(expert_w.sum()) if input_sparsity else 1.0
         for _ in range(zeta_steps):
             loss = lam @ (expert_w @ phi(*expert_in) - policy_w @ phi(*policy_in))
+            if input_sparsity:
+                loss = loss / scale + input_sparsity * input_penalty(phi)
             optimizer.zero_grad(set_to_none=True)
             loss.backward()
             optimizer.step()

@@ -6,7 +6,18 @@ modelled as ``P(tau) ~ exp(R(tau)) * prod_t zeta(s_t, a_t)`` (a trajectory-level
 model in which infeasible steps have probability 0). After a nominal PPO phase, each iteration
 
 1. **forward**: PPO-Lagrangian continues the policy with the cost ``1 - zeta`` and a cost limit
-   of 0 (hard constraints; the multiplier carried over from the previous iteration);
+   of 0 (hard constraints). Its multiplier follows MCE-ICRL's rule (so the two are compared with
+   the same multiplier control): once per iteration, from the same sampled episodes as the
+   backward step, ``lambda <- max(0, lambda + lambda_lr * J)`` with ``J`` the episodes' mean
+   discounted sum (``discount``) of the learned cost after the backward step -- the constraint
+   gap, as MCE-ICRL's ``F_pi - F_D`` is its own --, and held fixed during the PPO phase (the
+   PPO-Lagrangian capped at its starting value, so its per-rollout rule cannot move it). With
+   ``lambda_lr=None`` the PPO-Lagrangian's own per-rollout rule moves it instead (``lagrangian``'s
+   fields over ``{"update": "adam", "lr": 0.035}``, the behaviour before: a step of about 0.035
+   per rollout whatever the size of the violation, measured too slow on BlockedPoint, where the
+   policy still violated after 10 iterations on one seed in three). Either way the advantages mix
+   in raw units (``advantage_scale="raw"``, passed explicitly): ``lambda`` is a price in reward per
+   unit of cost, as MCE-ICRL's;
 2. **backward**: ``backward_epochs`` Adam steps on the network's weights maximising the
    demonstrations' log-likelihood under the model, whose gradient is
    ``E_D[sum_t grad log zeta] - E_pi[w(tau) sum_t grad log zeta]`` with the policy's sampled
@@ -41,6 +52,7 @@ from symlearn.learners.base import Learner
 from symlearn.learners.neural.episodes import EpisodeBatch, sample_episodes
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.icrl_metrics import episode_metrics
+from symlearn.learners.neural.input_selection import choose_inputs, inputs_report
 from symlearn.learners.neural.fit_setup import check_common, fit_setup, resets_actor
 from symlearn.learners.neural.mce_icrl import (action_bound_penalty, jsonable_params, penalised, policy_ppo_config,
                                                seed_offset)
@@ -75,10 +87,13 @@ class NeuralMEICRL(Learner):
     """ME-ICRL: ``NeuralMEICRL(...).fit(demonstrations, env)`` (module docstring).
 
     Parameters as :class:`~symlearn.learners.neural.NeuralMCEICRL` where they share a meaning
-    (``beta`` is PPO's entropy coefficient; ``bound_penalty`` and ``reset_actor`` as there), and
-    ``learning_rate`` (Adam, backward step), ``backward_epochs``, ``regularizer``, ``target_kl``,
-    ``lagrangian`` (a dict of
-    :class:`~symlearn.rl.ppo.LagrangianConfig` fields; the cost limit is 0).
+    (``beta`` is PPO's entropy coefficient; ``bound_penalty``, ``reset_actor``, ``obs_dims`` and
+    ``select_inputs`` as there), and ``learning_rate`` (Adam, backward step), ``backward_epochs``,
+    ``regularizer``, ``target_kl``,
+    ``lambda_lr`` (the multiplier's step per iteration, MCE-ICRL's rule and default; None: the
+    PPO-Lagrangian's per-rollout rule, module docstring), ``discount`` (of the cost sums that
+    step reads), ``lagrangian`` (a dict of :class:`~symlearn.rl.ppo.LagrangianConfig` fields; the
+    cost limit is 0; ``init`` is the multiplier's start).
     """
 
     artefact_suffix = ".safetensors"
@@ -92,8 +107,8 @@ class NeuralMEICRL(Learner):
                  hidden_sizes: Sequence[int] = (64, 64), learning_rate: float = 3e-3, backward_epochs: int = 20,
                  regularizer: float = 0.1, target_kl: float = 10.0, n_policy_episodes: int = 16,
                  bound_penalty: float = 1.0, reset_actor: str = "never", ppo: dict[str, Any] | None = None,
-                 lagrangian: dict[str, Any] | None = None,
-                 random_state: int | None = 0) -> None:
+                 lagrangian: dict[str, Any] | None = None, lambda_lr: float | None = 0.02, discount: float = 0.99,
+                 select_inputs: float = 0.01, random_state: int | None = 0) -> None:
         self.beta = beta
         self.n_iterations = n_iterations
         self.nominal_steps = nominal_steps
@@ -110,12 +125,20 @@ class NeuralMEICRL(Learner):
         self.reset_actor = reset_actor
         self.ppo = ppo
         self.lagrangian = lagrangian
+        self.lambda_lr = lambda_lr
+        self.discount = discount
+        self.select_inputs = select_inputs
         self.random_state = random_state
 
     def _check_parameters(self) -> None:
         check_common(self, ("n_iterations", "nominal_steps", "policy_steps", "backward_epochs", "n_policy_episodes"))
         if not (self.learning_rate > 0 and self.regularizer >= 0 and self.target_kl > 0 and self.bound_penalty >= 0):
             raise SymlearnError("learning_rate and target_kl must be > 0, regularizer and bound_penalty >= 0")
+        rate = self.lambda_lr
+        if rate is not None and not (isinstance(rate, (int, float)) and math.isfinite(rate) and rate > 0):
+            raise SymlearnError(f"lambda_lr must be a number > 0 or None, got {self.lambda_lr!r}")
+        if not 0 < self.discount <= 1:
+            raise SymlearnError(f"discount out of range: {self.discount!r}")
 
     def _backward(self, phi: FeatureNetwork, optimizer: torch.optim.Optimizer,
                   expert_in: tuple[torch.Tensor, torch.Tensor | None], batch: EpisodeBatch,
@@ -149,13 +172,16 @@ class NeuralMEICRL(Learner):
                                reward_fn=penalised(None, penalty)).policy
             timings["nominal"] = time.perf_counter() - t0
             nominal_policy = copy.deepcopy(policy)
+            batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes), seed=seed_offset(seed, 10_000))
+            selection = choose_inputs(setup, batch, self.select_inputs, seed)  # see mce_icrl's docstring
+            if selection is not None:
+                obs_dims = list(selection.selected)
             action_dim = spec_width(act_spec) if self.features == "state_action" else 0
             # phi = 1 - zeta: the network's sigmoid output is the cost; zeta = 1 - phi
             phi = FeatureNetwork(obs_dims, action_dim, self._n_outputs, self.hidden_sizes, generator)
             cost = NeuralCost.for_env(probe, phi, provenance={"learner": type(self).__name__,
                                                               "parameters": jsonable_params(self.get_params())})
             cost.set_lambdas([1.0] + [0.0] * (self._n_outputs - 1))  # the cost is the first output
-            batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes), seed=seed_offset(seed, 10_000))
             nominal_x, nominal_a = cost.tensors(*batch.pairs())
             phi.fit_standardisation(np.concatenate([expert_x, nominal_x.numpy()]),
                                     None if not action_dim else np.concatenate([expert_a, nominal_a.numpy()]))
@@ -169,8 +195,11 @@ class NeuralMEICRL(Learner):
                 record = self._backward(phi, optimizer, expert_in, batch, cost)
                 cost_seconds = time.perf_counter() - t0
                 metrics = episode_metrics(batch)
+                if self.lambda_lr is not None:  # MCE-ICRL's rule on the constraint gap (module docstring)
+                    gap = discounted_cost(cost, batch, self.discount)
+                    multiplier = max(0.0, multiplier + float(self.lambda_lr) * gap)
                 t0 = time.perf_counter()
-                lagrangian = LagrangianConfig(**{**(self.lagrangian or {}), "cost_limit": 0.0, "init": multiplier})
+                lagrangian = LagrangianConfig(**forward_lagrangian(self.lagrangian, multiplier, self.lambda_lr is None))
                 if resets_actor(self.reset_actor, iteration, int(self.n_iterations)):  # see NeuralMCEICRL
                     policy.reset_actor(generator)
                 trained = train_ppo(env_fn, int(self.policy_steps), ppo_config(iteration), lagrangian,
@@ -195,7 +224,9 @@ class NeuralMEICRL(Learner):
                        total=self.seconds_)
         expert_reward = float(np.where(expert.mask, expert.rewards, 0.0).sum(axis=1).mean())
         self._set_result(cost, "", metrics={"multiplier": multiplier, "expert_reward": expert_reward,
-                                            "final_sample": final.as_dict()}, timings=timings, history=history)
+                                            "final_sample": final.as_dict(),
+                                            "cost_inputs": inputs_report(cost, setup.inputs_from, selection)},
+                         timings=timings, history=history)
         return self
 
     def save(self, path: Any) -> Any:
@@ -204,6 +235,29 @@ class NeuralMEICRL(Learner):
 
         self.check_fitted()
         return Path(self.cost_.save(path))
+
+
+#: the PPO-Lagrangian's own rule when ``lambda_lr=None`` (the defaults of LagrangianConfig before
+#: they changed: passed explicitly so that this baseline does not move with them)
+PER_ROLLOUT_RULE: dict[str, Any] = {"update": "adam", "lr": 0.035}
+
+
+def forward_lagrangian(settings: dict[str, Any] | None, multiplier: float, per_rollout: bool) -> dict[str, Any]:
+    """The :class:`~symlearn.rl.ppo.LagrangianConfig` fields of a forward step starting at
+    ``multiplier``: raw advantage units, cost limit 0, and either the per-rollout rule
+    (:data:`PER_ROLLOUT_RULE` under ``settings``) or the multiplier held fixed (capped at its
+    start: with a limit of 0 and costs >= 0 every rule only raises it)."""
+    fields: dict[str, Any] = {**PER_ROLLOUT_RULE, "advantage_scale": "raw", **(settings or {}),
+                              "cost_limit": 0.0, "init": float(multiplier)}
+    if not per_rollout:
+        fields["max_multiplier"] = max(float(multiplier), 1e-12)  # LagrangianConfig needs a cap > 0
+    return fields
+
+
+def discounted_cost(cost: NeuralCost, batch: EpisodeBatch, discount: float) -> float:
+    """The mean discounted episode sum of the learned cost over ``batch``'s episodes."""
+    weights = batch.discount_weights(discount)[batch.mask]
+    return float(weights @ cost(*batch.pairs()))
 
 
 def log_feasibility(phi: FeatureNetwork, inputs: tuple[torch.Tensor, torch.Tensor | None]) -> torch.Tensor:
@@ -263,4 +317,5 @@ def backward_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer,
     return expert_feasibility, policy_feasibility, epochs_run, kl_old_new, kl_new_old
 
 
-__all__ = ["ImportanceWeights", "MEIteration", "NeuralMEICRL", "backward_step", "log_feasibility"]
+__all__ = ["PER_ROLLOUT_RULE", "ImportanceWeights", "MEIteration", "NeuralMEICRL", "backward_step", "discounted_cost",
+           "forward_lagrangian", "log_feasibility"]

@@ -22,7 +22,9 @@ are those of the other learners, and the second feature (the certainty) travels 
 ``E_q[log zeta] = digamma(a) - digamma(a + b)`` is used in closed form (no sampling of
 ``zeta``: the same expectation with no Monte Carlo noise), floored at ``log 1e-6`` as ME-ICRL
 floors ``log zeta``. The forward step, the importance weights (on the mean feasibility ``m``)
-and the KL early stopping are ME-ICRL's: PPO-Lagrangian on ``C`` with cost limit 0.
+and the KL early stopping are ME-ICRL's: PPO-Lagrangian on ``C`` with cost limit 0, its
+multiplier stepped once per iteration by ``lambda_lr`` times the sampled episodes' discounted cost
+(MCE-ICRL's rule; ``lambda_lr=None``: the PPO-Lagrangian's per-rollout rule).
 
 Results as :class:`~symlearn.learners.neural.NeuralMEICRL`, with :class:`VMEIteration` records
 (also the mean KL from the prior and the mean concentration after each backward step).
@@ -74,6 +76,7 @@ class NeuralVMEICRL(NeuralMEICRL):
                  concentration: Sequence[float] = (1.0, 100.0), target_kl: float = 10.0,
                  n_policy_episodes: int = 16, bound_penalty: float = 1.0, reset_actor: str = "never",
                  ppo: dict[str, Any] | None = None, lagrangian: dict[str, Any] | None = None,
+                 lambda_lr: float | None = 0.02, discount: float = 0.99, select_inputs: float = 0.01,
                  random_state: int | None = 0) -> None:
         # set here rather than through NeuralMEICRL.__init__: ``regularizer`` is no parameter of
         # this learner (the KL from the prior takes its place), and the parameters are __init__'s
@@ -95,6 +98,9 @@ class NeuralVMEICRL(NeuralMEICRL):
         self.reset_actor = reset_actor
         self.ppo = ppo
         self.lagrangian = lagrangian
+        self.lambda_lr = lambda_lr
+        self.discount = discount
+        self.select_inputs = select_inputs
         self.random_state = random_state
 
     def _check_parameters(self) -> None:
