@@ -45,6 +45,8 @@ VARIANTS = {
                                                         "ppo": {"learning_rate": 1e-3, "log_std_init": -1.0}},
     "adam 0.1, learning rate 1e-3, log_std_init -1 (the new defaults)": {
         "lag": {"update": "adam", "lr": 0.1}, "ppo": {"learning_rate": 1e-3, "log_std_init": -1.0}},
+    "adam 0.1 with beta2 0.99, learning rate 1e-3, log_std_init -1": {
+        "lag": {"update": "adam", "lr": 0.1, "adam_beta2": 0.99}, "ppo": {"learning_rate": 1e-3, "log_std_init": -1.0}},
 }
 TASKS = ("toy-navigation (learned DNF)", "rover (user module, true cost)", "blocked-point (true cost)",
          "hazard robot (user module, DNF)")

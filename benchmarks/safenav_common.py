@@ -229,7 +229,8 @@ def ppo_config(budget: Budget, seed: int, normalize: bool = False):
 def lagrangian_config(cost_limit: float, multiplier_lr: float, advantage_scale: str = "raw"):
     from symlearn.rl.ppo import LagrangianConfig
 
-    return LagrangianConfig(cost_limit=cost_limit, update="adam", lr=multiplier_lr, advantage_scale=advantage_scale,
+    return LagrangianConfig(cost_limit=cost_limit, update="adam", lr=multiplier_lr, adam_beta2=0.999,
+                            advantage_scale=advantage_scale,
                             cost_estimate="episodes")  # the recorded tables' rule
 
 

@@ -2,7 +2,8 @@
 
 ``symlearn train --env ENV [--env-kwargs JSON] [--algo ALGO] [--cost rules.dnf|cost.safetensors
 [--features a,b] [--per-rule]] [--cost-limit C] [--multiplier-update gradient|adam|pid]
-[--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns] [--cost-estimate rollout|episodes] [--normalize-observations]
+[--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns]
+[--cost-estimate rollout|episodes] [--normalize-observations]
 [--normalize-values] [--n-envs N] [--n-steps T] [--prune [--prune-threshold T]] [--steps N]
 [--eval-episodes E] [-o agent.safetensors] [--log run.csv] [--tensorboard DIR] [--json]``
 

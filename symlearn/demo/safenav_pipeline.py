@@ -69,7 +69,8 @@ def run(context: DemoContext) -> Section:
     # the same PPO for both; the learned formula is the cost of the constrained one
     config = PPOConfig(n_envs=4, n_steps=256, batch_size=256, n_epochs=5, learning_rate=3e-4,
                        normalize_values=True, normalize_observations=False, log_std_init=0.0, seed=context.seed)
-    lagrangian = LagrangianConfig(cost_limit=_COST_LIMIT, update="adam", lr=0.035, advantage_scale="returns",
+    lagrangian = LagrangianConfig(cost_limit=_COST_LIMIT, update="adam", lr=0.035, adam_beta2=0.999,
+                                  advantage_scale="returns",
                                   cost_estimate="episodes")
     curves, results, multipliers = {}, {}, []
     for name, constrained in (("PPO", False), ("PPO-Lagrangian, learned DNF", True)):

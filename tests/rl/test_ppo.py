@@ -279,9 +279,9 @@ def test_gradient_rule_by_hand_and_cap():
 
 def test_adam_rule_matches_torch_adam():
     """The numpy Adam step of the multipliers is torch's Adam on the loss -lambda (J_c - d), projected."""
-    m = Multipliers(LagrangianConfig(cost_limit=1.0, update="adam", lr=0.05), 1)
+    m = Multipliers(LagrangianConfig(cost_limit=1.0, update="adam", lr=0.05), 1)  # adam_beta2 0.99 by default
     lam = torch.zeros(1, requires_grad=True)
-    optimizer = torch.optim.Adam([lam], lr=0.05)
+    optimizer = torch.optim.Adam([lam], lr=0.05, betas=(0.9, 0.99))
     for cost in [3.0, 2.5, 0.5, 4.0, 0.0, 0.0, 0.0]:
         optimizer.zero_grad()
         (-lam * (cost - 1.0)).sum().backward()

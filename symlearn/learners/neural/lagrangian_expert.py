@@ -39,7 +39,7 @@ EXPERT_PPO: dict[str, Any] = {"n_envs": 4, "n_steps": 512, "batch_size": 256, "n
 #: PPO-Lagrangian settings of the expert (module docstring)
 # the multiplier rule the cached experts were trained with (the library's defaults moved since)
 EXPERT_LAGRANGIAN: dict[str, Any] = {"cost_limit": 0.0, "advantage_scale": "returns", "init": 1.0, "update": "adam",
-                                     "lr": 0.035, "cost_estimate": "episodes"}
+                                     "adam_beta2": 0.999, "lr": 0.035, "cost_estimate": "episodes"}
 #: bumped when what is cached changes meaning
 CACHE_VERSION = 1
 #: an expert violating on more than this share of its steps is reported with a warning

@@ -239,7 +239,7 @@ class NeuralMEICRL(Learner):
 
 #: the PPO-Lagrangian's own rule when ``lambda_lr=None`` (the defaults of LagrangianConfig before
 #: they changed: passed explicitly so that this baseline does not move with them)
-PER_ROLLOUT_RULE: dict[str, Any] = {"update": "adam", "lr": 0.035}
+PER_ROLLOUT_RULE: dict[str, Any] = {"update": "adam", "lr": 0.035, "adam_beta2": 0.999}
 
 
 def forward_lagrangian(settings: dict[str, Any] | None, multiplier: float, per_rollout: bool) -> dict[str, Any]:

@@ -18,7 +18,8 @@ ADVANTAGE_SCALES = ("raw", "returns")  # LagrangianConfig.advantage_scale
 COST_ESTIMATES = ("rollout", "episodes")  # LagrangianConfig.cost_estimate
 # LagrangianConfig's defaults before they became those of `symlearn train` (with PPOConfig
 # normalize_observations=False, normalize_values=False): what the recorded benchmark tables used
-LEGACY_LAGRANGIAN = {"update": "adam", "lr": 0.035, "advantage_scale": "raw", "cost_estimate": "episodes"}
+LEGACY_LAGRANGIAN = {"update": "adam", "lr": 0.035, "advantage_scale": "raw", "cost_estimate": "episodes",
+                     "adam_beta2": 0.999}
 
 
 @dataclass(frozen=True)
@@ -124,14 +125,15 @@ class LagrangianConfig:
     behaviour before; with 1000-step episodes and 4 x 128-step rollouts that is one update in
     eight iterations).
 
-    The defaults (``"adam"``, ``lr=0.1``, ``"returns"``, ``"rollout"``, with :class:`PPOConfig`'s
-    Lagrangian settings: normalisation, learning rate 1e-3, log std -1) are the ones ``symlearn
+    The defaults (``"adam"``, ``lr=0.1``, ``adam_beta2=0.99``, ``"returns"``, ``"rollout"``, with
+    :class:`PPOConfig`'s Lagrangian settings: normalisation, learning rate 1e-3, log std -1) are the ones ``symlearn
     train --algo ppo-lag`` uses; they were chosen by measurement on four tasks x 3 seeds
     (docs/BENCHMARKS.md, "PPO-Lagrangian defaults of `train`"): Adam moves ``lambda`` by about
     ``lr`` an iteration whatever the size of the violation, where the gradient rule's first steps
     (``0.05 x`` an exploring agent's 100 cost steps) priced every cost out of reach of the reward and
     froze the agent at its start. Before, the library's were ``"adam"``, ``lr=0.035``, ``"raw"``,
-    ``"episodes"``, no normalisation (``LEGACY_LAGRANGIAN``); the CLI's, ``"gradient"``, ``lr=0.05``.
+    ``"episodes"``, no normalisation (``LEGACY_LAGRANGIAN``, with torch's ``adam_beta2=0.999``); the
+    CLI's, ``"gradient"``, ``lr=0.05``.
     """
 
     cost_limit: float | Sequence[float]
@@ -144,6 +146,10 @@ class LagrangianConfig:
     d_delay: int = 10
     p_ema: float = 0.95
     d_ema: float = 0.95
+    # Adam's second-moment memory for the multipliers: 0.99, about 100 updates (torch's 0.999
+    # remembers ~1000: an exploring agent's early violations, 10-20x the late ones, then kept the
+    # late steps ~10x smaller than lr and the toy's agent on its diagonal shortcut; BENCHMARKS)
+    adam_beta2: float = 0.99
     max_multiplier: float | None = None
     cost_gamma: float | None = None
     advantage_scale: str = "returns"
@@ -169,6 +175,8 @@ class LagrangianConfig:
             raise SymlearnError("need lr > 0, kp, ki, kd >= 0 and d_delay >= 1")
         if not (0 <= self.p_ema < 1 and 0 <= self.d_ema < 1):
             raise SymlearnError("p_ema and d_ema must be in [0, 1)")
+        if not 0 < self.adam_beta2 < 1:
+            raise SymlearnError(f"adam_beta2 must be in (0, 1), got {self.adam_beta2!r}")
         if self.max_multiplier is not None and not self.max_multiplier > 0:
             raise SymlearnError(f"max_multiplier must be > 0 or None, got {self.max_multiplier!r}")
         if self.cost_gamma is not None and not 0 <= self.cost_gamma <= 1:

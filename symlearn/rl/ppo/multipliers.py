@@ -49,13 +49,13 @@ class Multipliers:
         error = costs - self.limits  # > 0: constraint violated, the multiplier should rise
         if c.update == "gradient":
             self.values = np.maximum(0.0, self.values + c.lr * error)
-        elif c.update == "adam":  # torch.optim.Adam's defaults: betas (0.9, 0.999), eps 1e-8
+        elif c.update == "adam":  # torch.optim.Adam's: beta1 0.9, eps 1e-8; beta2 = adam_beta2
             grad = -error
             self._adam_t += 1
             self._adam_m = 0.9 * self._adam_m + 0.1 * grad
-            self._adam_v = 0.999 * self._adam_v + 0.001 * grad**2
+            self._adam_v = c.adam_beta2 * self._adam_v + (1 - c.adam_beta2) * grad**2
             m_hat = self._adam_m / (1 - 0.9**self._adam_t)
-            v_hat = self._adam_v / (1 - 0.999**self._adam_t)
+            v_hat = self._adam_v / (1 - c.adam_beta2**self._adam_t)
             self.values = np.maximum(0.0, self.values - c.lr * m_hat / (np.sqrt(v_hat) + 1e-8))
         else:  # pid
             self._pid_i = np.maximum(0.0, self._pid_i + c.ki * error)
