@@ -80,14 +80,13 @@ def _dnf(path: str, target: Any, features: str | None, per_rule: bool) -> Traini
     dnf = load(path)
     env = target.make()
     try:
-        found = target.features(env, override=features)   # names counted against the columns
+        # names counted against the columns; learn dnf's own x0 .. x{k-1} where nothing names them
+        found = target.features(env, override=features, numbered=True)
         _, info = env.reset(seed=0)
-        if found is None:  # learn dnf's own default names, x0 .. x{k-1}, for a formula that uses them
-            defaults = _default_names(env, info)
-            if defaults and set(dnf.features) <= set(defaults):
-                found = target.features(env, override=defaults)
     finally:
         env.close()
+    if found is not None and not found.named and not set(dnf.features) <= set(found.names):
+        found = None  # numbered columns, but the formula names others
     if found is None:
         raise DataError(f"{target.display} names no features, so the formula's {', '.join(sorted(dnf.features))} "
                         "cannot be read there", file=str(path),
@@ -111,20 +110,6 @@ def _dnf(path: str, target: Any, features: str | None, per_rule: bool) -> Traini
 
     n = len(dnf.conjunctions) if per_rule else 1
     return TrainingCost("dnf", rollout, step_cost, n, stats=stats, wrap=wrap)
-
-
-def _default_names(env: Any, info: Any) -> list[str] | None:
-    """``x0 .. x{k-1}`` for the ``k`` columns a DNF cost reads (``info["features"]`` when the
-    environment reports them, else the observation): the names ``learn dnf`` gives columns that
-    nothing names, so its formula trains an agent on the same environment without ``--features``."""
-    from symlearn.recipes.environments import observation_width
-
-    raw = info.get("features") if isinstance(info, dict) else None
-    try:
-        width = int(np.asarray(raw, dtype=np.float64).size) if raw is not None else observation_width(env)
-    except (TypeError, ValueError):
-        return None
-    return [f"x{i}" for i in range(width)] if width else None
 
 
 def penalised(cost: TrainingCost) -> Any:

@@ -104,11 +104,13 @@ class Features:
     """Where an environment's features come from and what they are called.
 
     ``source`` is ``"info"`` (``info["features"]``, a vector or a dict) or ``"observation"``
-    (the flattened observation); ``names`` has one entry per column.
+    (the flattened observation); ``names`` has one entry per column; ``named`` is False where
+    nothing named them and they are the numbered ``x0 .. x{k-1}`` (``features(numbered=True)``).
     """
 
     names: tuple[str, ...]
     source: str
+    named: bool = True
 
 
 def _width(vector: Any) -> int | None:
@@ -217,11 +219,13 @@ class EnvTarget:
         finally:
             env.close()
 
-    def features(self, env: Any = None, override: str | Sequence[str] | None = None) -> Features | None:
+    def features(self, env: Any = None, override: str | Sequence[str] | None = None, *,
+                 numbered: bool = False) -> Features | None:
         """The features a constraint reads: ``info["features"]`` where the environment reports
         them, else the observation; named by ``override`` (``--features``), else the keys of a
         dict ``info["features"]``, else the environment's ``feature_names`` attribute, else the
-        entry's names. ``None`` when nothing names them. The count is checked."""
+        entry's names. When nothing names them: ``None``, or with ``numbered`` the names
+        ``learn dnf`` gives such columns, ``x0 .. x{k-1}`` (``named=False``). The count is checked."""
         with self._probe(env) as env:
             _, info = env.reset(seed=0)
             in_info = isinstance(info, Mapping) and "features" in info
@@ -237,7 +241,10 @@ class EnvTarget:
             elif names is None:
                 names = _declared_names(env, self.entry)
             if names is None:
-                return None
+                if not numbered or not width:
+                    return None
+                return Features(tuple(f"x{i}" for i in range(width)), "info" if in_info else "observation",
+                                named=False)
             if width is not None and len(names) != width:
                 where = 'info["features"]' if in_info else "the observation"
                 raise DataError(f"{len(names)} feature names ({', '.join(names)}) for {width} columns of {where} "

@@ -234,13 +234,6 @@ class _Rollouts:
                             true_costs=true_costs, truncated=tuple(truncated), last_obs=self.obs.copy(),
                             rollout=rollout, episodes=tuple(self.finished[len(self.finished) - len(ends):]))
 
-    def true_cost_estimate(self, true_costs: np.ndarray) -> float:
-        """The environment's cost per episode (summed over constraints) from a rollout's ``[T, N]``
-        step costs, estimated as :meth:`cost_estimate` does; NaN where it reported none."""
-        length = self.episode_length()
-        finite = true_costs[np.isfinite(true_costs)]
-        return float(finite.mean() * length) if finite.size and length is not None else math.nan
-
     def _record(self, arrays: dict[str, np.ndarray], key: str, info: dict[str, Any], t: int, i: int,
                 n_steps: int, n_envs: int) -> None:
         if key not in info:
@@ -309,6 +302,14 @@ class _Rollouts:
         if length is None or costs.shape[0] * costs.shape[1] == 0:
             return None
         return costs.reshape(-1, costs.shape[2]).mean(axis=0) * length
+
+    def true_cost_estimate(self, true_costs: np.ndarray) -> float:
+        """The environment's cost per episode (summed over constraints) from a rollout's ``[T, N]``
+        step costs, estimated as :meth:`cost_estimate` does over the steps that reported one;
+        NaN where none did."""
+        finite = true_costs[np.isfinite(true_costs)]
+        estimate = self.cost_estimate(finite.reshape(-1, 1, 1)) if finite.size else None
+        return math.nan if estimate is None else float(estimate[0])
 
     def episode_stats(self, n_costs: int) -> EpisodeStats:
         return episode_stats(self.finished, n_costs)
