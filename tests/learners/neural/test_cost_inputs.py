@@ -20,14 +20,6 @@ from symlearn.learners.neural.neural_cost import NeuralCost
 from symlearn.rl.ppo import LagrangianConfig, Multipliers
 
 
-@pytest.fixture(autouse=True)
-def one_torch_thread():
-    before = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(before)
-
-
 class Named(gym.Env):
     """A 3-entry observation with names; ``features`` as given."""
 

@@ -14,14 +14,6 @@ from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.gacl import discriminator_step
 
 
-@pytest.fixture(autouse=True)
-def one_torch_thread():
-    before = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(before)
-
-
 def test_discriminator_separates_expert_from_policy_pairs():
     phi = FeatureNetwork([0], 0, 1, (16,), torch.Generator().manual_seed(0))
     expert = torch.zeros((100, 4))

@@ -14,14 +14,6 @@ TINY = dict(n_iterations=2, nominal_steps=1024, policy_steps=1024, n_policy_epis
             ppo={"normalize_observations": True}, beta=0.05)
 
 
-@pytest.fixture(autouse=True)
-def one_torch_thread():
-    before = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(before)
-
-
 def test_lambda_init_starts_the_multipliers_and_is_checked():
     env = CoordinateGridworld(0.0)
     demos = expert_demonstrations(env, 3, seed=0)

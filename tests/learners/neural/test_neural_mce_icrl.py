@@ -23,15 +23,6 @@ TINY = dict(n_iterations=2, nominal_steps=1024, policy_steps=1024, n_policy_epis
             obs_dims=[0, 1], n_features=2, hidden_sizes=(16,))
 
 
-@pytest.fixture(autouse=True)
-def one_torch_thread():
-    """The project's default; on 2 shared cores a second thread makes these small networks crawl."""
-    before = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(before)
-
-
 @pytest.fixture(scope="module")
 def tiny_fit():
     return NeuralMCEICRL(**TINY).fit(expert_demonstrations(4, seed=0), BlockedPoint)

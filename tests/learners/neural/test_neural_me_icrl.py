@@ -22,14 +22,6 @@ TINY = dict(n_iterations=2, nominal_steps=1024, policy_steps=1024, n_policy_epis
             obs_dims=[0, 1], hidden_sizes=(16,))
 
 
-@pytest.fixture(autouse=True)
-def one_torch_thread():
-    before = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(before)
-
-
 def test_backward_step_makes_policy_only_states_infeasible():
     env = BlockedPoint()
     phi = FeatureNetwork([0], 0, 1, (16,), torch.Generator().manual_seed(0))

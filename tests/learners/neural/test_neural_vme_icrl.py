@@ -23,14 +23,6 @@ TINY = dict(n_iterations=2, nominal_steps=1024, policy_steps=1024, n_policy_epis
             obs_dims=[0, 1], hidden_sizes=(16,))
 
 
-@pytest.fixture(autouse=True)
-def one_torch_thread():
-    before = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(before)
-
-
 def test_beta_parameters_mean_and_concentration():
     outputs = torch.tensor([[0.25, 0.0], [0.5, 1.0], [0.9, 0.5]])
     a, b = beta_parameters(outputs, (2.0, 10.0))
