@@ -4,7 +4,6 @@ the learned cost marking the forbidden block."""
 
 import numpy as np
 import pytest
-import torch
 
 from symlearn.envs.gridworld_coordinates import CoordinateGridworld, expert_demonstrations
 from symlearn.errors import SymlearnError
