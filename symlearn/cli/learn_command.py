@@ -25,6 +25,7 @@ import argparse
 import importlib
 from pathlib import Path
 
+from symlearn.cli.bounded_domain import add_domain_limits, load_domain
 from symlearn.cli.output import blame_file
 
 # Modules defining register_learn(commands, common); this module registers "spec" itself.
@@ -54,6 +55,7 @@ def register_learn(commands, common) -> None:
     where.add_argument("--domain", metavar="DIR",
                        help="your own domain folder (domain.toml with a labeling; deterministic moves)")
     spec.add_argument("--allow-outside", action="store_true", help="let the domain folder name files outside itself (paths, symlinks, #include); only for a trusted folder")
+    add_domain_limits(spec)
     source = spec.add_mutually_exclusive_group()
     source.add_argument("--demos", help="expert demonstrations (.jsonl or .npz): state ids for a bundled task; "
                                         "in your own environment, labelled while recorded (or replayable)")
@@ -142,9 +144,7 @@ def _spec(args: argparse.Namespace, out) -> None:
     if task is not None:
         env = task.make_env()
     else:
-        from symlearn.grounding import Domain
-
-        env = Domain.from_folder(args.domain, allow_outside=args.allow_outside)
+        env = load_domain(args)
     if args.demos:
         _check_demos_world(demos, args.demos, task, env)
     with blame_file(args.demos):

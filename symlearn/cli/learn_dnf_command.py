@@ -29,6 +29,8 @@ from __future__ import annotations
 import argparse
 import warnings
 
+from symlearn.cli.bounded_domain import add_domain_limits, load_domain
+
 def register_learn(commands, common) -> None:
     cmd = commands.add_parser(
         "dnf", parents=[common()], help="learn continuous constraints as a DNF formula (one-class tree)",
@@ -46,6 +48,7 @@ def register_learn(commands, common) -> None:
                      help="the features the rules may test (default all), e.g. the positions of an observation "
                           "that also holds velocities")
     cmd.add_argument("--allow-outside", action="store_true", help="let the domain folder name files outside itself (paths, symlinks, #include); only for a trusted folder")
+    add_domain_limits(cmd)
     cmd.add_argument("--max-depth", type=int, default=5, help="deepest split (5)")
     cmd.add_argument("--min-samples-leaf", type=int, default=5, help="fewest points a split may leave in a child (5)")
     cmd.add_argument("--validation", type=float, default=None, metavar="FRACTION",
@@ -67,9 +70,7 @@ def _demonstrations(args: argparse.Namespace):
         raise DataError("--domain and --env both name the features; give one")
     features = None
     if args.domain:
-        from symlearn.grounding import Domain
-
-        domain = Domain.from_folder(args.domain, allow_outside=args.allow_outside)
+        domain = load_domain(args)
         if domain.feature_map is None:
             raise DataError(f"the domain {domain.name} names no feature map", file=args.domain,
                             hint='add features = "features.json" to domain.toml')

@@ -144,3 +144,21 @@ def test_spec_learning_refuses_stochastic_domains(warehouse):
 
     with pytest.raises(ModelError, match="deterministic"):
         SpecLearner().fit(wh.expert_demonstrations(2, seed=0), Domain.from_folder(folder))
+
+
+def test_dnf_learning_through_a_domain_feature_map(tmp_path, capsys):
+    # the folder is read in the bounded worker and comes back whole, feature map included
+    from symlearn.grounding import FeatureMap
+
+    folder = wh.write_warehouse(tmp_path / "warehouse", alarm_prob=0.0)
+    cells = [s[0] if s != "done" else (-1, -1) for s in wh.states()]
+    FeatureMap(["x", "y"], table=np.array(cells, dtype=float)).save(folder / "features.json")
+    (folder / "domain.toml").write_text((folder / "domain.toml").read_text() + 'features = "features.json"\n')
+    wh.expert_demonstrations(20, seed=0, alarm_prob=0.0).save(tmp_path / "demos.jsonl")
+    code, out, err = run(capsys, "learn", "dnf", "--domain", folder, "--demos", tmp_path / "demos.jsonl", "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["features"] == ["x", "y"] and doc["samples"] > 0
+    code, out, err = run(capsys, "learn", "dnf", "--domain", folder, "--demos", tmp_path / "demos.jsonl",
+                         "--timeout", "-1")
+    assert code == 2 and "--timeout" in err and len(err.strip().splitlines()) == 1
