@@ -37,16 +37,18 @@ TASKS = {
     "hazard robot (user module, DNF)": ["--env", "point_robot_env:HazardRobot-v0", "--cost", "hazard.dnf",
                                         "--steps", "30000"],
     "rover (user module, true cost)": ["--env", "rover_env:Rover-v0", "--algo", "ppo-lag"],
+    "rover, 150k steps": ["--env", "rover_env:Rover-v0", "--algo", "ppo-lag", "--steps", "150000"],
 }
 VARIANTS = {"old defaults": OLD, "gradient 0.05, PPO 2.5e-4, log std 0": GRADIENT, "new defaults": [],
             "episodes-only multiplier updates": ["--cost-estimate", "episodes"],
-            "sb3-ppo-lag (peer)": ["--algo", "sb3-ppo-lag"]}
+            "sb3-ppo-lag (peer)": ["--algo", "sb3-ppo-lag"],
+            "unconstrained PPO (reference)": ["--algo", "ppo"]}
 
 
 def _run(folder: Path, task: str, variant: str, seed: int) -> dict:
     args = list(TASKS[task])
     extra = list(VARIANTS[variant])
-    if variant.startswith("sb3"):
+    if variant.startswith(("sb3", "unconstrained")):
         args = [a for a in args if a != "--prune"]
         if "--algo" in args:  # the true-cost task names ppo-lag itself
             i = args.index("--algo")
