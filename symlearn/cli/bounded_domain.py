@@ -15,14 +15,13 @@ from __future__ import annotations
 import argparse
 
 
-def add_domain_limits(parser: argparse.ArgumentParser) -> None:
-    """``--timeout`` and ``--max-memory`` for reading the folder given with ``--domain``."""
+def add_domain_limits(parser: argparse.ArgumentParser, work: str = "reading and grounding the folder") -> None:
+    """``--timeout`` and ``--max-memory`` for the ``work`` done with the folder given with ``--domain``."""
     parser.add_argument("--timeout", default="600", metavar="S",
-                        help="--domain: seconds for reading and grounding the folder, in a worker process "
-                             "('inf': no limit; default 600)")
+                        help=f"--domain: seconds for {work}, in a worker process ('inf': no limit; default 600)")
     parser.add_argument("--max-memory", default=None, metavar="MB",
-                        help="--domain: memory limit of the worker that grounds the folder's programs "
-                             "(default SYMLEARN_MAX_MEMORY_MB or 1024; 0: none)")
+                        help=f"--domain: memory limit of the worker ({work}; default SYMLEARN_MAX_MEMORY_MB or "
+                             "1024; 0: none)")
 
 
 def load_domain(args: argparse.Namespace):

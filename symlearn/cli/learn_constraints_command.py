@@ -40,6 +40,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from symlearn.cli.bounded_domain import add_domain_limits
 from symlearn.cli.output import blame_file
 
 METHODS = ("logic", "ml", "mce-icrl")
@@ -75,12 +76,7 @@ def register_learn(commands, common) -> None:
                             "world is a domain folder (--domain)")
     where.add_argument("--domain", metavar="DIR", help="your own domain folder (domain.toml; see docs/FORMATS.md)")
     cmd.add_argument("--allow-outside", action="store_true", help="let the domain folder name files outside itself (paths, symlinks, #include); only for a trusted folder")
-    cmd.add_argument("--timeout", default="600", metavar="S",
-                     help="--domain: seconds for reading, grounding and learning, in a worker process ('inf': no "
-                          "limit; default 600)")
-    cmd.add_argument("--max-memory", default=None, metavar="MB",
-                     help="--domain: memory limit of the worker that grounds the folder's programs and learns "
-                          "(default SYMLEARN_MAX_MEMORY_MB or 1024; 0: none)")
+    add_domain_limits(cmd, "reading, grounding and learning")
     source = cmd.add_mutually_exclusive_group()
     source.add_argument("--demos", help="demonstrations (.jsonl or .npz) with the environment's state/action ids or names")
     source.add_argument("--n-demos", type=int, default=50, help="generate N demonstrations of the bundled expert (50)")
