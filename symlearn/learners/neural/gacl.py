@@ -38,7 +38,7 @@ from symlearn.learners.neural.fit_setup import check_common, fit_setup, resets_a
 from symlearn.learners.neural.mce_icrl import action_bound_penalty, jsonable_params, policy_ppo_config, seed_offset
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.learners.neural.records import IterationRecord
-from symlearn.progress import progress
+from symlearn.progress import ProgressBar
 
 LOG_FLOOR = 1e-6
 
@@ -117,6 +117,7 @@ class NeuralGACL(Learner):
 
         previous_threads = torch.get_num_threads()
         torch.set_num_threads(1)
+        bar = None
         try:
             timings: dict[str, float] = {}
             t0 = time.perf_counter()
@@ -138,8 +139,9 @@ class NeuralGACL(Learner):
             expert_in = (torch.from_numpy(expert_x), None if not action_dim else torch.from_numpy(expert_a))
             optimizer = torch.optim.Adam(phi.parameters(), lr=self.learning_rate)
             history: list[GACLIteration] = []
-            for iteration in progress(range(1, int(self.n_iterations) + 1), total=int(self.n_iterations),
-                                      desc="GACL", unit="iter"):
+            # the bar shows the sampled policy's return and true violation rate (and the multiplier)
+            bar = ProgressBar(int(self.n_iterations), desc="GACL", unit="iter")
+            for iteration in range(1, int(self.n_iterations) + 1):
                 t0 = time.perf_counter()
                 expert_d, policy_d = discriminator_step(phi, optimizer, expert_in, cost.tensors(*batch.pairs()),
                                                         steps=int(self.disc_steps))
@@ -153,10 +155,13 @@ class NeuralGACL(Learner):
                 policy_seconds = time.perf_counter() - t0
                 batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes),
                                         seed=seed_offset(seed, 10_000 + 100 * iteration))
+                bar.update(1, **{"return": metrics.reward, "violation": metrics.violation_rate})
                 history.append(GACLIteration(iteration, metrics.reward, metrics.violation_rate, expert_d, policy_d,
                                              policy_seconds, cost_seconds))
             final = episode_metrics(batch)
         finally:
+            if bar is not None:
+                bar.close()
             torch.set_num_threads(previous_threads)
             probe.close()
         phi.eval()

@@ -106,7 +106,7 @@ from symlearn.learners.neural.input_sparsity import input_penalty
 from symlearn.learners.neural.fit_setup import check_common, environment_factory, fit_setup, resets_actor  # noqa: F401 (re-exported)
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.learners.neural.records import IterationRecord
-from symlearn.progress import progress
+from symlearn.progress import ProgressBar
 
 #: PPO settings of the policy phases unless ``ppo=`` overrides them (a shorter rollout and a
 #: larger step than PPOConfig's defaults: the phases are short, and each continues the last)
@@ -219,6 +219,7 @@ class NeuralMCEICRL(Learner):
         seed = self.random_state
         previous_threads = torch.get_num_threads()
         torch.set_num_threads(1)
+        bar = None
         try:
             timings: dict[str, float] = {}
             t0 = time.perf_counter()
@@ -261,8 +262,9 @@ class NeuralMCEICRL(Learner):
             lambdas = np.full(int(self.n_features), float(self.lambda_init))
             history: list[ICRLIteration] = []
             expert_features = np.zeros_like(lambdas)
-            for iteration in progress(range(1, int(self.n_iterations) + 1), total=int(self.n_iterations),
-                                      desc="MCE-ICRL", unit="iter"):
+            # the bar shows the sampled policy's return and true violation rate (and the multiplier)
+            bar = ProgressBar(int(self.n_iterations), desc="MCE-ICRL", unit="iter")
+            for iteration in range(1, int(self.n_iterations) + 1):
                 # dual step on the current policy's samples
                 t0 = time.perf_counter()
                 policy_t = cost.tensors(*batch.pairs())
@@ -289,12 +291,16 @@ class NeuralMCEICRL(Learner):
                 batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes),
                                         seed=seed_offset(seed, 10_000 + 100 * iteration))
                 sampling = time.perf_counter() - t0
+                bar.update(1, **{"return": metrics.reward, "violation": metrics.violation_rate,
+                                 "lambda": float(max(lambdas, default=0.0))})
                 history.append(ICRLIteration(iteration, tuple(map(float, lambdas)),
                                              tuple(map(float, expert_features)), tuple(map(float, policy_features)),
                                              metrics.reward, metrics.violation_rate, zeta_lr, policy_seconds,
                                              cost_seconds, sampling))
             final = episode_metrics(batch)
         finally:
+            if bar is not None:
+                bar.close()
             torch.set_num_threads(previous_threads)
             probe.close()
         phi.eval()

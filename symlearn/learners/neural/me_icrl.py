@@ -58,7 +58,7 @@ from symlearn.learners.neural.mce_icrl import (action_bound_penalty, jsonable_pa
                                                seed_offset)
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.learners.neural.records import IterationRecord
-from symlearn.progress import progress
+from symlearn.progress import ProgressBar
 
 LOG_FLOOR = 1e-6  # log(zeta) is taken of max(zeta, LOG_FLOOR): a step called infeasible costs log(1e-6), not -inf
 
@@ -164,6 +164,7 @@ class NeuralMEICRL(Learner):
 
         previous_threads = torch.get_num_threads()
         torch.set_num_threads(1)
+        bar = None
         try:
             timings: dict[str, float] = {}
             t0 = time.perf_counter()
@@ -189,8 +190,9 @@ class NeuralMEICRL(Learner):
             optimizer = torch.optim.Adam(phi.parameters(), lr=self.learning_rate)
             multiplier = float((self.lagrangian or {}).get("init", 0.0))
             history: list[MEIteration] = []
-            for iteration in progress(range(1, int(self.n_iterations) + 1), total=int(self.n_iterations),
-                                      desc=self._label, unit="iter"):
+            # the bar shows the sampled policy's return and true violation rate (and the multiplier)
+            bar = ProgressBar(int(self.n_iterations), desc=self._label, unit="iter")
+            for iteration in range(1, int(self.n_iterations) + 1):
                 t0 = time.perf_counter()
                 record = self._backward(phi, optimizer, expert_in, batch, cost)
                 cost_seconds = time.perf_counter() - t0
@@ -208,10 +210,14 @@ class NeuralMEICRL(Learner):
                 policy_seconds = time.perf_counter() - t0
                 batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes),
                                         seed=seed_offset(seed, 10_000 + 100 * iteration))
+                bar.update(1, **{"return": metrics.reward, "violation": metrics.violation_rate,
+                                 "lambda": float(multiplier)})
                 history.append(self._record_type(iteration, metrics.reward, metrics.violation_rate, *record[:5],
                                                  multiplier, policy_seconds, cost_seconds, *record[5:]))
             final = episode_metrics(batch)
         finally:
+            if bar is not None:
+                bar.close()
             torch.set_num_threads(previous_threads)
             probe.close()
         phi.eval()

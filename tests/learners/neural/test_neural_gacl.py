@@ -45,3 +45,24 @@ def test_gacl_contract(tmp_path):
     cost = NeuralCost.load(learner.save(tmp_path / "gacl.safetensors"), BlockedPoint())
     states = np.zeros((3, 4), dtype=np.float32)
     assert ((cost(states) > 0) & (cost(states) < 1)).all()  # C = 1 - D
+
+
+
+def test_icrl_bar_shows_return_and_violation(monkeypatch):
+    # the learner's own bar (beside the inner PPO's) carries the sampled policy's return and true violation rate
+    import symlearn.learners.neural.gacl as gacl
+    from symlearn.progress import ProgressBar
+
+    shown = []
+
+    class Recording(ProgressBar):
+        def update(self, n=1, **numbers):
+            shown.append(numbers)
+            super().update(n, **numbers)
+
+    monkeypatch.setattr(gacl, "ProgressBar", Recording)
+    learner = NeuralGACL(n_iterations=2, nominal_steps=512, policy_steps=512, n_policy_episodes=2, disc_steps=1,
+                         obs_dims=[0, 1], hidden_sizes=(8,))
+    learner.fit(expert_demonstrations(2, seed=0), BlockedPoint)
+    assert [set(numbers) for numbers in shown] == [{"return", "violation"}] * 2
+    assert [numbers["return"] for numbers in shown] == [h.reward for h in learner.history_]
