@@ -24,19 +24,24 @@ def add_domain_limits(parser: argparse.ArgumentParser, work: str = "reading and 
                              "1024; 0: none)")
 
 
-def load_domain(args: argparse.Namespace):
-    """The folder ``args.domain`` read and grounded in the bounded worker (limits from
-    ``args.timeout``/``args.max_memory``); one :class:`~symlearn.errors.SymlearnError` line when it
-    is malformed or grounds past a limit."""
+def run_on_domain(function, /, *arguments, args: argparse.Namespace, what: str):
+    """``function(*arguments)`` in the bounded worker under the limits of ``args.timeout`` and
+    ``args.max_memory``; ``what`` names the work in the message when a limit is reached."""
     from symlearn.worker import memory_limit_mb, run_limited, seconds_limit
 
     seconds = seconds_limit(getattr(args, "timeout", None), name="--timeout")
     memory = memory_limit_mb(getattr(args, "max_memory", None), name="--max-memory")
-    return run_limited(_read, args.domain, bool(getattr(args, "allow_outside", False)), seconds=seconds,
-                       memory_mb=memory, what=f"reading and grounding the domain {args.domain}",
+    return run_limited(function, *arguments, seconds=seconds, memory_mb=memory, what=what,
                        time_hint="raise --timeout",
                        memory_hint="raise --max-memory (or SYMLEARN_MAX_MEMORY_MB; 0: no limit) if the "
                                    "domain is meant to be this large")
+
+
+def load_domain(args: argparse.Namespace):
+    """The folder ``args.domain`` read and grounded in the bounded worker; one
+    :class:`~symlearn.errors.SymlearnError` line when it is malformed or grounds past a limit."""
+    return run_on_domain(_read, args.domain, bool(getattr(args, "allow_outside", False)), args=args,
+                         what=f"reading and grounding the domain {args.domain}")
 
 
 def _read(folder: str, allow_outside: bool):

@@ -40,7 +40,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from symlearn.cli.bounded_domain import add_domain_limits
+from symlearn.cli.bounded_domain import add_domain_limits, run_on_domain
 from symlearn.cli.output import blame_file
 
 METHODS = ("logic", "ml", "mce-icrl")
@@ -141,19 +141,13 @@ def _constraints(args: argparse.Namespace, out) -> None:
     if not args.domain:
         _learn(args, out)
         return
-    from symlearn.worker import memory_limit_mb, run_limited, seconds_limit
-
     # a domain folder's background and bias are the user's programs: grounding them (or a bias
     # whose hypothesis space explodes) can take any time and memory, and clingo cannot be
     # interrupted, so the whole run happens in the bounded worker `domain check` and `ilp` use
-    seconds = seconds_limit(args.timeout, name="--timeout")
-    memory = memory_limit_mb(args.max_memory, name="--max-memory")
     job = {key: value for key, value in vars(args).items()  # what the worker needs: the options, not the handler
            if isinstance(value, (str, int, float, bool, list, tuple, type(None)))}
-    notes, doc = run_limited(_learn_in_worker, job, seconds=seconds, memory_mb=memory,
-                             what=f"learning constraints in the domain {args.domain}", time_hint="raise --timeout",
-                             memory_hint="raise --max-memory (or SYMLEARN_MAX_MEMORY_MB; 0: no limit) if the "
-                                         "domain is meant to be this large")
+    notes, doc = run_on_domain(_learn_in_worker, job, args=args,
+                               what=f"learning constraints in the domain {args.domain}")
     for line in notes:
         out.note(line)
     out.result(doc, _render)

@@ -31,6 +31,7 @@ import warnings
 
 from symlearn.cli.bounded_domain import add_domain_limits, load_domain
 
+
 def register_learn(commands, common) -> None:
     cmd = commands.add_parser(
         "dnf", parents=[common()], help="learn continuous constraints as a DNF formula (one-class tree)",

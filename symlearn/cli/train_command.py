@@ -131,9 +131,10 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--n-steps", type=float, default=128, help="steps per copy per iteration (128)")
     cmd.add_argument("--prune", action="store_true", help="prune rules the agent never ran into (needs --cost)")
     cmd.add_argument("--prune-threshold", type=float, default=1e-3, help="fired/evaluated ratio to keep a rule")
-    cmd.add_argument("--steps", type=float, default=None, help="environment steps (ppo: 50000; dqrm/dqn: 300); with a cost, raise it when the safe "
-                          "route is a detour the reward does not point to (docs/BENCHMARKS.md: a rover safe at 50k, "
-                          "at its target by 150k)")
+    cmd.add_argument("--steps", type=float, default=None,
+                     help="environment steps (ppo: 50000; dqrm/dqn: 300); with a cost, raise it when the safe route "
+                          "is a detour the reward does not point to (docs/BENCHMARKS.md: a rover safe at 50k, at its "
+                          "target by 150k)")
     cmd.add_argument("--eval-episodes", type=float, default=10, help="greedy evaluation episodes (10)")
     cmd.add_argument("-o", "--output", help="write the policy here (.safetensors + .json)")
     cmd.add_argument("--log", metavar="FILE.csv",

@@ -139,7 +139,7 @@ class NeuralGACL(Learner):
             expert_in = (torch.from_numpy(expert_x), None if not action_dim else torch.from_numpy(expert_a))
             optimizer = torch.optim.Adam(phi.parameters(), lr=self.learning_rate)
             history: list[GACLIteration] = []
-            # the bar shows the sampled policy's return and true violation rate (and the multiplier)
+            # the bar shows the sampled policy's return and true violation rate
             bar = ProgressBar(int(self.n_iterations), desc="GACL", unit="iter")
             for iteration in range(1, int(self.n_iterations) + 1):
                 t0 = time.perf_counter()

@@ -47,7 +47,6 @@ def test_gacl_contract(tmp_path):
     assert ((cost(states) > 0) & (cost(states) < 1)).all()  # C = 1 - D
 
 
-
 def test_icrl_bar_shows_return_and_violation(monkeypatch):
     # the learner's own bar (beside the inner PPO's) carries the sampled policy's return and true violation rate
     import symlearn.learners.neural.gacl as gacl
