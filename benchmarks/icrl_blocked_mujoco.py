@@ -5,7 +5,7 @@ Thesis section 2.5.2 at a fraction of its budget, on any task of
 swimmer, inverted-pendulum). For every seed:
 
 1. **expert**: PPO-Lagrangian on the true cost (cost limit 0) for ``--expert-steps``
-   (:func:`symlearn.learners.neural.lagrangian_expert.lagrangian_expert`); its ``--demos``
+   (:func:`symlearn.rl.lagrangian_expert.lagrangian_expert`); its ``--demos``
    mean-action episodes are the demonstrations, cached under ``benchmarks/results/cache/``
    (generated from the seed, never downloaded; delete the file to regenerate);
 2. every method of ``--methods`` (``mce-icrl``, ``me-icrl``, ``vme-icrl``, ``gacl``) with the cost
@@ -49,9 +49,10 @@ from icrl_common import write_document
 from symlearn.envs.blocked_mujoco import make_blocked
 from symlearn.envs.blocked_mujoco_tasks import TASKS
 from symlearn.learners.neural import NeuralGACL, NeuralMCEICRL, NeuralMEICRL, NeuralVMEICRL
-from symlearn.learners.neural.episodes import sample_episodes
-from symlearn.learners.neural.icrl_metrics import episode_metrics, recovery
-from symlearn.learners.neural.lagrangian_expert import EXPERT_LAGRANGIAN, EXPERT_PPO, lagrangian_expert
+from symlearn.rl.episodes import sample_episodes
+from symlearn.learners.neural.icrl_metrics import recovery
+from symlearn.rl.episode_metrics import episode_metrics
+from symlearn.rl.lagrangian_expert import EXPERT_LAGRANGIAN, EXPERT_PPO, lagrangian_expert
 
 ROOT = Path(__file__).resolve().parent
 CACHE = ROOT / "results" / "cache"

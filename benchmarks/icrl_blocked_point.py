@@ -69,8 +69,9 @@ import torch
 from symlearn.atomic import write_text
 from symlearn.envs.blocked_point import BlockedPoint, expert_demonstrations
 from symlearn.learners.neural import NeuralMCEICRL
-from symlearn.learners.neural.episodes import demonstration_batch, sample_episodes
-from symlearn.learners.neural.icrl_metrics import episode_metrics, recovery
+from symlearn.rl.episodes import demonstration_batch, sample_episodes
+from symlearn.learners.neural.icrl_metrics import recovery
+from symlearn.rl.episode_metrics import episode_metrics
 from symlearn.learners.neural.gacl import NeuralGACL
 from symlearn.learners.neural.me_icrl import NeuralMEICRL
 from symlearn.learners.neural.vme_icrl import NeuralVMEICRL

@@ -55,8 +55,8 @@ from symlearn.atomic import write_bytes, write_text
 from symlearn.data import Demonstrations, Trajectory
 from symlearn.envs.gridworld_coordinates import CoordinateGridworld, expert_demonstrations
 from symlearn.learners.neural import NeuralGACL, NeuralMCEICRL, NeuralMEICRL, NeuralVMEICRL
-from symlearn.learners.neural.episodes import demonstration_batch, sample_episodes
-from symlearn.learners.neural.icrl_metrics import episode_metrics
+from symlearn.rl.episodes import demonstration_batch, sample_episodes
+from symlearn.rl.episode_metrics import episode_metrics
 
 ROOT = Path(__file__).resolve().parent
 RESULTS = ROOT / "results" / "icrl_gridworld_sweep.json"

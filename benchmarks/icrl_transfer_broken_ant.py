@@ -1,7 +1,7 @@
 """Cost transfer to the broken ant (thesis section 2.5.4, Fig. 2.4 in shape), at a reduced budget.
 
 For every seed: the PPO-Lagrangian expert of blocked Ant (``x < -3`` forbidden) records the
-demonstrations (cached, :mod:`symlearn.learners.neural.lagrangian_expert`); MCE-ICRL learns a cost
+demonstrations (cached, :mod:`symlearn.rl.lagrangian_expert`); MCE-ICRL learns a cost
 on blocked Ant reading only ``x``; the cost file is saved and loaded back against the broken ant
 (``NeuralCost.load(path, env)``: the check a user's transfer goes through -- same observation
 layout and names). Then three fresh PPO agents learn on the broken ant (two legs' actuators off)
@@ -36,9 +36,10 @@ import torch
 from icrl_common import write_document
 from symlearn.envs.blocked_mujoco import make_blocked_ant, make_broken_ant
 from symlearn.learners.neural import NeuralCost, NeuralMCEICRL
-from symlearn.learners.neural.episodes import sample_episodes
-from symlearn.learners.neural.icrl_metrics import episode_metrics, recovery
-from symlearn.learners.neural.lagrangian_expert import EXPERT_LAGRANGIAN, EXPERT_PPO, lagrangian_expert
+from symlearn.rl.episodes import sample_episodes
+from symlearn.learners.neural.icrl_metrics import recovery
+from symlearn.rl.episode_metrics import episode_metrics
+from symlearn.rl.lagrangian_expert import EXPERT_LAGRANGIAN, EXPERT_PPO, lagrangian_expert
 from symlearn.learners.neural.mce_icrl import action_bound_penalty, penalised
 from symlearn.learners.neural.neural_cost import space_spec
 from symlearn.rl.ppo import LagrangianConfig, PPOConfig, train_ppo

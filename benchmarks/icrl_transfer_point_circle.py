@@ -33,8 +33,8 @@ from icrl_common import write_document
 from symlearn.envs.blocked_point import BlockedPoint, expert_demonstrations
 from symlearn.envs.point_circle import PointCircle
 from symlearn.learners.neural import NeuralCost, NeuralMCEICRL
-from symlearn.learners.neural.episodes import sample_episodes
-from symlearn.learners.neural.icrl_metrics import episode_metrics
+from symlearn.rl.episodes import sample_episodes
+from symlearn.rl.episode_metrics import episode_metrics
 from symlearn.learners.neural.mce_icrl import PPO_DEFAULTS, action_bound_penalty, penalised
 from symlearn.learners.neural.neural_cost import space_spec
 from symlearn.rl.ppo import LEGACY_LAGRANGIAN, LagrangianConfig, PPOConfig, train_ppo

@@ -34,8 +34,8 @@ import torch
 
 from icrl_common import write_document
 from symlearn.envs.gridworld_coordinates import CoordinateGridworld
-from symlearn.learners.neural.episodes import sample_episodes
-from symlearn.learners.neural.icrl_metrics import episode_metrics
+from symlearn.rl.episodes import sample_episodes
+from symlearn.rl.episode_metrics import episode_metrics
 from symlearn.rl.ppo import PPOConfig, train_ppo
 
 RESULTS = Path(__file__).resolve().parent / "results" / "ppo_continuation.json"

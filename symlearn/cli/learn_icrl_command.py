@@ -15,7 +15,7 @@
   observations and which carry actions; otherwise ``--n-demos`` episodes of the environment's
   scripted expert (BlockedPoint: full speed away from the wall), generated from ``--seed``, or,
   where there is none (the blocked MuJoCo tasks), of a PPO-Lagrangian expert trained on the true
-  cost for ``--expert-steps`` (:mod:`symlearn.learners.neural.lagrangian_expert`; minutes, so
+  cost for ``--expert-steps`` (:mod:`symlearn.rl.lagrangian_expert`; minutes, so
   cached under ``--expert-cache``, default ``~/.cache/symlearn/experts``; ``none`` = no cache).
 * ``--method``: ``mce-icrl`` (thesis chapter 2, the default), ``me-icrl`` (Malik et al.'s
   baseline: feasibility network, PPO-Lagrangian with cost limit 0), ``vme-icrl`` (Liu et al.'s
@@ -201,8 +201,9 @@ def _icrl(args: argparse.Namespace, out) -> None:
     import torch
 
     from symlearn.learners.neural import NeuralGACL, NeuralMCEICRL, NeuralMEICRL, NeuralVMEICRL
-    from symlearn.learners.neural.episodes import demonstration_batch, sample_episodes
-    from symlearn.learners.neural.icrl_metrics import episode_metrics, recovery
+    from symlearn.learners.neural.icrl_metrics import recovery
+    from symlearn.rl.episode_metrics import episode_metrics
+    from symlearn.rl.episodes import demonstration_batch, sample_episodes
     from symlearn.rl.training_log import TrainingLog
 
     torch.set_num_threads(1)  # small networks: a second thread only contends on 2 shared cores

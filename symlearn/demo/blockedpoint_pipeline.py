@@ -107,8 +107,9 @@ def plot_iterations(path: Any, histories: Mapping[str, Sequence[Sequence[Mapping
 def run(context: DemoContext) -> Section:
     from symlearn.envs.blocked_point import BlockedPoint, expert_demonstrations
     from symlearn.learners.neural import NeuralMCEICRL
-    from symlearn.learners.neural.episodes import demonstration_batch, sample_episodes
-    from symlearn.learners.neural.icrl_metrics import episode_metrics, recovery
+    from symlearn.learners.neural.icrl_metrics import recovery
+    from symlearn.rl.episode_metrics import episode_metrics
+    from symlearn.rl.episodes import demonstration_batch, sample_episodes
 
     budget = QUICK if context.quick else FULL
     demos = expert_demonstrations(budget["demos"], seed=context.seed)

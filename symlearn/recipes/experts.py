@@ -40,7 +40,7 @@ def trained_expert(target: EnvTarget, n: int, *, seed: int = 0, steps: int = 1_0
                    note: Callable[[str], None] | None = None) -> Any:
     """``n`` episodes of a PPO-Lagrangian expert trained on ``target``'s true cost, cached under
     ``cache`` (default ``~/.cache/symlearn/experts``; ``"none"``: not cached)."""
-    from symlearn.learners.neural.lagrangian_expert import default_cache_dir, lagrangian_expert
+    from symlearn.rl.lagrangian_expert import default_cache_dir, lagrangian_expert
 
     if n < 1:
         raise DataError(f"--n-demos must be at least 1, got {n}")

@@ -6,8 +6,8 @@ import pytest
 from symlearn.data import record
 from symlearn.envs.gridworld import StochasticGridworld
 from symlearn.envs.gridworld_coordinates import CoordinateGridworld, expert_demonstrations
-from symlearn.learners.neural.episodes import sample_episodes
-from symlearn.learners.neural.icrl_metrics import episode_metrics
+from symlearn.rl.episodes import sample_episodes
+from symlearn.rl.episode_metrics import episode_metrics
 
 
 def test_observations_are_coordinates_and_the_cost_marks_forbidden_cells():

@@ -1,5 +1,6 @@
 """Neural learners: maximum causal entropy inverse constrained RL with a neural feature network
-(thesis chapter 2) and the ME-ICRL, VME-ICRL and GACL baselines, the learned cost, episodes as arrays and the ICRL metrics."""
+(thesis chapter 2) and the ME-ICRL, VME-ICRL and GACL baselines, the learned cost and the ICRL metrics
+(episodes as arrays and the PPO-Lagrangian expert live in :mod:`symlearn.rl`)."""
 
 from symlearn.learners.neural.gacl import GACLIteration, NeuralGACL
 from symlearn.learners.neural.mce_icrl import ICRLIteration, NeuralMCEICRL

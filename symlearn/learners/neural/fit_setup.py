@@ -32,9 +32,9 @@ import numpy as np
 import torch
 
 from symlearn.errors import DataError, SymlearnError
-from symlearn.learners.neural.episodes import EpisodeBatch, demonstration_batch
 from symlearn.learners.neural.feature_network import INPUTS
 from symlearn.learners.neural.neural_cost import encode, space_spec, spec_width
+from symlearn.rl.episodes import EpisodeBatch, demonstration_batch
 
 
 def environment_factory(env: Any) -> Callable[[], Any]:

@@ -30,15 +30,15 @@ import torch
 
 from symlearn.errors import SymlearnError
 from symlearn.learners.base import Learner
-from symlearn.learners.neural.episodes import sample_episodes
 from symlearn.learners.neural.feature_network import FeatureNetwork
-from symlearn.learners.neural.icrl_metrics import episode_metrics
 from symlearn.learners.neural.input_selection import choose_inputs, inputs_report
 from symlearn.learners.neural.fit_setup import check_common, fit_setup, resets_actor
 from symlearn.learners.neural.mce_icrl import action_bound_penalty, jsonable_params, policy_ppo_config, seed_offset
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.learners.neural.records import IterationRecord
 from symlearn.progress import ProgressBar
+from symlearn.rl.episode_metrics import episode_metrics
+from symlearn.rl.episodes import sample_episodes
 
 LOG_FLOOR = 1e-6
 

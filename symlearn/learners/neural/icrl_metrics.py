@@ -1,11 +1,8 @@
 """What an ICRL run is judged by: reward, violations, feasible reward and recovery of the constraint.
 
-* **reward**: mean episode return (the environment's reward).
-* **violation rate**: per episode the fraction of its steps whose ``info["cost"]`` is positive
-  (the thesis' "fraction of all timesteps of a trajectory that violate at least one constraint",
-  section 2.5), averaged over episodes.
-* **feasible reward**: per episode the reward collected before the first violating step (that
-  step's own reward excluded; the whole return when nothing was violated), averaged.
+* **reward**, **violation rate**, **feasible reward** of a policy's episodes:
+  :func:`~symlearn.rl.episode_metrics.episode_metrics` (they judge any policy, so they live in
+  ``rl``; named here too, beside the recovery they are reported with).
 * **recovery** (:func:`recovery`): how well the learned cost separates the true unsafe set from
   the safe one on states sampled uniformly from the box around the expert's states, widened by
   ``margin`` times its width on every side (so the sample reaches past where the expert went --
@@ -28,36 +25,7 @@ from typing import Any
 import numpy as np
 
 from symlearn.errors import DataError
-from symlearn.learners.neural.episodes import EpisodeBatch
-
-
-@dataclass(frozen=True)
-class EpisodeMetrics:
-    reward: float
-    violation_rate: float
-    feasible_reward: float
-    episodes: int
-
-    def as_dict(self) -> dict[str, Any]:
-        return {"reward": self.reward, "violation_rate": self.violation_rate,
-                "feasible_reward": self.feasible_reward, "episodes": self.episodes}
-
-
-def episode_metrics(batch: EpisodeBatch) -> EpisodeMetrics:
-    """Reward, violation rate and feasible reward of a batch of episodes (module docstring)."""
-    mask = batch.mask
-    lengths = mask.sum(axis=1)
-    if not len(lengths) or lengths.min() == 0:
-        raise DataError("metrics need at least one episode, each with at least one step")
-    rewards = np.where(mask, batch.rewards, 0.0)
-    violating = mask & (batch.costs > 0)
-    # reward before the first violation: steps strictly before the first violating one
-    first = np.where(violating.any(axis=1), violating.argmax(axis=1), lengths)
-    before = np.arange(mask.shape[1])[None, :] < first[:, None]
-    return EpisodeMetrics(reward=float(rewards.sum(axis=1).mean()),
-                          violation_rate=float((violating.sum(axis=1) / lengths).mean()),
-                          feasible_reward=float(np.where(before, rewards, 0.0).sum(axis=1).mean()),
-                          episodes=int(len(lengths)))
+from symlearn.rl.episode_metrics import EpisodeMetrics, episode_metrics
 
 
 @dataclass(frozen=True)

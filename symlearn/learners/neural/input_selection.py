@@ -113,7 +113,7 @@ def inputs_report(cost: Any, inputs_from: str, selection: InputSelection | None 
 def choose_inputs(setup: Any, nominal: Any, tolerance: float, seed: int | None) -> InputSelection | None:
     """:func:`select_inputs` among a fit's candidate entries (``setup``: a
     :class:`~symlearn.learners.neural.fit_setup.FitSetup`) on its demonstrations and the nominal
-    policy's episodes ``nominal`` (an :class:`~symlearn.learners.neural.episodes.EpisodeBatch`);
+    policy's episodes ``nominal`` (an :class:`~symlearn.rl.episodes.EpisodeBatch`);
     None when ``tolerance`` is 0 (selection off)."""
     from symlearn.learners.neural.neural_cost import encode
 

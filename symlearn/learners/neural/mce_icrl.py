@@ -98,15 +98,15 @@ import torch
 
 from symlearn.errors import SymlearnError
 from symlearn.learners.base import Learner
-from symlearn.learners.neural.episodes import sample_episodes
 from symlearn.learners.neural.feature_network import FeatureNetwork, pretrain_autoencoder
-from symlearn.learners.neural.icrl_metrics import episode_metrics
 from symlearn.learners.neural.input_selection import choose_inputs, inputs_report
 from symlearn.learners.neural.input_sparsity import input_penalty
 from symlearn.learners.neural.fit_setup import check_common, environment_factory, fit_setup, resets_actor  # noqa: F401 (re-exported)
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.learners.neural.records import IterationRecord
 from symlearn.progress import ProgressBar
+from symlearn.rl.episode_metrics import episode_metrics
+from symlearn.rl.episodes import sample_episodes
 
 #: PPO settings of the policy phases unless ``ppo=`` overrides them (a shorter rollout and a
 #: larger step than PPOConfig's defaults: the phases are short, and each continues the last)

@@ -41,10 +41,10 @@ import torch
 from torch.distributions import Beta, kl_divergence
 
 from symlearn.errors import SymlearnError
-from symlearn.learners.neural.episodes import EpisodeBatch
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.me_icrl import LOG_FLOOR, ImportanceWeights, MEIteration, NeuralMEICRL, log_feasibility
 from symlearn.learners.neural.neural_cost import NeuralCost
+from symlearn.rl.episodes import EpisodeBatch
 
 SHAPE_FLOOR = 1e-4  # Beta parameters stay above this (a sigmoid output of exactly 0 or 1)
 

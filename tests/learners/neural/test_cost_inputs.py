@@ -9,7 +9,7 @@ import torch
 from symlearn.envs.blocked_point import BlockedPoint, expert_demonstrations
 from symlearn.errors import SymlearnError
 from symlearn.learners.neural import NeuralMCEICRL, NeuralMEICRL
-from symlearn.learners.neural.episodes import EpisodeBatch
+from symlearn.rl.episodes import EpisodeBatch
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.fit_setup import cost_inputs, declared_inputs
 from symlearn.learners.neural.input_selection import select_inputs

@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 from symlearn.errors import DataError
-from symlearn.learners.neural.episodes import EpisodeBatch
-from symlearn.learners.neural.icrl_metrics import episode_metrics, recovery, sample_around
+from symlearn.rl.episodes import EpisodeBatch
+from symlearn.learners.neural.icrl_metrics import recovery, sample_around
+from symlearn.rl.episode_metrics import episode_metrics
 
 
 def _batch(rewards, costs, lengths):

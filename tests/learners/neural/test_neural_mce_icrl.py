@@ -14,9 +14,10 @@ from symlearn.envs.point_circle import PointCircle
 from symlearn.errors import DataError, ModelError, SymlearnError
 from symlearn.learners.base import Learner, LearnerResult, NotFittedError, record_dict
 from symlearn.learners.neural import NeuralCost, NeuralMCEICRL
-from symlearn.learners.neural.episodes import demonstration_batch, sample_episodes
+from symlearn.rl.episodes import demonstration_batch, sample_episodes
 from symlearn.learners.neural.feature_network import FeatureNetwork, pretrain_autoencoder
-from symlearn.learners.neural.icrl_metrics import episode_metrics, recovery
+from symlearn.learners.neural.icrl_metrics import recovery
+from symlearn.rl.episode_metrics import episode_metrics
 from symlearn.learners.neural.mce_icrl import dual_step
 
 TINY = dict(n_iterations=2, nominal_steps=1024, policy_steps=1024, n_policy_episodes=4, pretrain_epochs=2,

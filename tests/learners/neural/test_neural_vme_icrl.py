@@ -14,7 +14,7 @@ from symlearn.envs.blocked_point import BlockedPoint, expert_demonstrations
 from symlearn.errors import SymlearnError
 from symlearn.learners.base import Learner, NotFittedError, record_dict
 from symlearn.learners.neural import NeuralCost, NeuralVMEICRL, VMEIteration
-from symlearn.learners.neural.episodes import EpisodeBatch
+from symlearn.rl.episodes import EpisodeBatch
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.icrl_metrics import recovery
 from symlearn.learners.neural.vme_icrl import beta_parameters, expected_log_feasibility, variational_backward_step

@@ -7,7 +7,7 @@ import pytest
 
 from symlearn.envs.blocked_point import BlockedPoint
 from symlearn.errors import DataError
-from symlearn.learners.neural.lagrangian_expert import (
+from symlearn.rl.lagrangian_expert import (
     EXPERT_LAGRANGIAN,
     EXPERT_PPO,
     cache_name,
@@ -80,3 +80,19 @@ def test_an_expert_that_still_violates_is_reported():
 def test_bad_settings_are_refused(kwargs, message):
     with pytest.raises(DataError, match=message):
         lagrangian_expert(BlockedPoint, **{"n_demos": 2, "steps": 100, **kwargs})
+
+
+def test_the_former_import_paths_name_the_same_objects():
+    """The expert lived in ``learners/neural`` and the episode arrays beside it; users' imports still work."""
+    import symlearn.learners.neural.episodes as old_episodes
+    import symlearn.learners.neural.icrl_metrics as icrl_metrics
+    import symlearn.learners.neural.lagrangian_expert as old_expert
+    import symlearn.rl.episode_metrics as metrics
+    import symlearn.rl.episodes as episodes
+    import symlearn.rl.lagrangian_expert as expert
+
+    for name in old_expert.__all__:
+        assert getattr(old_expert, name) is getattr(expert, name)
+    for name in old_episodes.__all__:
+        assert getattr(old_episodes, name) is getattr(episodes, name)
+    assert icrl_metrics.episode_metrics is metrics.episode_metrics
