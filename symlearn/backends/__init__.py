@@ -13,6 +13,9 @@
   pays the reward (optionally potential-shaped), acceptance ends the episode, and counterfactual
   (CRM) experiences are offered for off-policy learners;
   :func:`~symlearn.backends.reward_machine.task_machine` compiles an LTLf task into a machine.
+* :mod:`~symlearn.backends.dnf_cost`, :mod:`~symlearn.backends.neural_cost` -- a learned DNF or
+  neural cost in the forms the trainers take: a whole PPO rollout's cost (or reward ``r - C``),
+  and one step's cost for stable-baselines3.
 * :mod:`~symlearn.backends.sb3` -- stable-baselines3 glue (optional extra ``sb3``): a callback
   that puts counterfactual experiences into a replay buffer.
 

@@ -66,11 +66,7 @@ def _neural(path: str, target: Any) -> TrainingCost:
     finally:
         env.close()
 
-    def step_cost(observation: Any, action: Any, next_observation: Any, info: dict[str, Any]) -> np.ndarray:
-        actions = None if not cost.uses_actions else np.asarray(action)[None]
-        return np.asarray(cost(np.asarray(observation)[None], actions), dtype=np.float64).reshape(1)
-
-    return TrainingCost("neural", cost.cost_fn(), step_cost, 1)
+    return TrainingCost("neural", cost.cost_fn(), cost.step_cost(), 1)
 
 
 def _dnf(path: str, target: Any, features: str | None, per_rule: bool) -> TrainingCost:

@@ -2,10 +2,12 @@
 
 :class:`NeuralCost` holds the feature network (:mod:`~symlearn.learners.neural.feature_network`),
 the multipliers ``lambda`` and a description of the observation (and action) space it was
-learned for. ``cost(obs, actions)`` evaluates a whole batch in one torch forward pass;
-:meth:`NeuralCost.reward_fn` and :meth:`NeuralCost.cost_fn` turn it into the per-rollout
-callables of :func:`symlearn.rl.ppo.train_ppo` (``r - C`` to learn from, or ``C`` as the cost of
-PPO-Lagrangian when a learned cost trains a fresh agent).
+learned for. ``cost(obs, actions)`` evaluates a whole batch in one torch forward pass.
+What an agent is given is built in :mod:`symlearn.backends.neural_cost` (beside the DNF cost's
+forms): :meth:`NeuralCost.reward_fn` and :meth:`NeuralCost.cost_fn` return its per-rollout
+callables for :func:`symlearn.rl.ppo.train_ppo` (``r - C`` to learn from, or ``C`` as the cost of
+PPO-Lagrangian when a learned cost trains a fresh agent), :meth:`NeuralCost.step_cost` its
+per-step form for stable-baselines3.
 
 Files: ``NAME.safetensors`` (the network's weights and standardisation, and ``lambda``) and
 ``NAME.json`` (kind ``neural-icrl-cost``: the network's shape, the spaces, the observation entry
@@ -101,26 +103,36 @@ class NeuralCost(nn.Module):
         """The cost ``lambda . phi`` of a batch, ``(B,)`` (one forward pass)."""
         return self.features(obs, actions) @ self.lambdas.numpy()
 
+    # the agent-facing forms live in backends/neural_cost.py (beside the DNF cost's); these delegate,
+    # importing it when asked: the backends package loads clingo and gymnasium, a cost needs neither
+
     def cost_of_rollout(self, rollout: Any) -> np.ndarray:
         """``[T, N]`` costs of a :class:`~symlearn.rl.ppo.Rollout` (its ``obs`` and ``actions``)."""
-        T, N = rollout.rewards.shape
-        obs = rollout.obs.reshape(T * N, -1)
-        actions = None if not self.uses_actions else rollout.actions.reshape(T * N, *rollout.actions.shape[2:])
-        if actions is not None and "low" in self.action_spec:  # PPO's are unclipped; the env saw them clipped
-            low = [-np.inf if x is None else x for x in self.action_spec["low"]]
-            high = [np.inf if x is None else x for x in self.action_spec["high"]]
-            actions = np.clip(actions.reshape(T * N, -1), low, high)
-        return self(obs, actions).reshape(T, N)
+        from symlearn.backends.neural_cost import NeuralRolloutCost
+
+        return NeuralRolloutCost(self)(rollout)
 
     def reward_fn(self) -> Any:
-        """``rollout -> rewards - cost`` for ``train_ppo(reward_fn=...)``."""
-        def learned_reward(rollout: Any) -> np.ndarray:
-            return rollout.rewards - self.cost_of_rollout(rollout)
-        return learned_reward
+        """``rollout -> rewards - cost`` for ``train_ppo(reward_fn=...)``
+        (:class:`~symlearn.backends.neural_cost.NeuralRolloutReward`)."""
+        from symlearn.backends.neural_cost import NeuralRolloutReward
+
+        return NeuralRolloutReward(self)
 
     def cost_fn(self) -> Any:
-        """``rollout -> cost`` for ``train_ppo(cost_fn=...)`` (a learned cost under PPO-Lagrangian)."""
-        return self.cost_of_rollout
+        """``rollout -> cost`` for ``train_ppo(cost_fn=...)`` (a learned cost under PPO-Lagrangian;
+        :class:`~symlearn.backends.neural_cost.NeuralRolloutCost`)."""
+        from symlearn.backends.neural_cost import NeuralRolloutCost
+
+        return NeuralRolloutCost(self)
+
+    def step_cost(self) -> Any:
+        """``(observation, action, next_observation, info) -> (1,)`` for
+        :class:`~symlearn.backends.lagrangian.StepCostWrapper` (stable-baselines3 learners;
+        :class:`~symlearn.backends.neural_cost.NeuralStepCost`)."""
+        from symlearn.backends.neural_cost import NeuralStepCost
+
+        return NeuralStepCost(self)
 
     # --- compatibility -----------------------------------------------------------------------------
 
