@@ -108,33 +108,17 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any) -> dict[str, Any
 
 
 def _evaluate(model: Any, target: Any, n_episodes: int, seed: int) -> tuple[np.ndarray, np.ndarray, Any]:
-    """Greedy episodes on fresh environments: returns, lengths, and the summed ``info["cost"]``
-    ``(E, k)`` -- or None when the environment reports none."""
+    """Greedy episodes on a fresh environment, through the loop our PPO is evaluated with: returns,
+    lengths, and the summed ``info["cost"]`` ``(E, k)`` -- or None when the environment reports none."""
+    from symlearn.rl.evaluation import run_episodes
+
     env = target.make()
-    returns, lengths, costs, reported = [], [], [], False
     try:
-        for episode in range(n_episodes):
-            observation, _ = env.reset(seed=seed + episode)
-            total, length, cost = 0.0, 0, np.zeros(0)
-            while True:
-                action, _ = model.predict(observation, deterministic=True)
-                observation, reward, terminated, truncated, info = env.step(action)
-                total, length = total + float(reward), length + 1
-                if "cost" in info:
-                    reported = True
-                    step = np.asarray(info["cost"], dtype=np.float64).reshape(-1)
-                    cost = step if cost.size == 0 else cost + step
-                if terminated or truncated or length >= 100_000:
-                    break
-            returns.append(total)
-            lengths.append(length)
-            costs.append(cost)
+        episodes = run_episodes(env, lambda observation: model.predict(observation, deterministic=True)[0],
+                                n_episodes, seed=seed)
     finally:
         env.close()
-    if not reported:
-        return np.array(returns), np.array(lengths), None
-    width = max(c.size for c in costs)
-    return np.array(returns), np.array(lengths), np.array([c if c.size else np.zeros(width) for c in costs])
+    return episodes.returns, episodes.lengths, episodes.costs if episodes.costs.shape[1] else None
 
 
 __all__ = ["train_sb3"]

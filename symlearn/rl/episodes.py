@@ -9,6 +9,11 @@ reads :class:`~symlearn.data.Demonstrations` into an :class:`EpisodeBatch` (the 
 pairs: every state in which an action was taken). It lives in ``rl`` (it needs only a policy
 and environments) so that the PPO-Lagrangian expert (:mod:`~symlearn.rl.lagrangian_expert`)
 records its demonstrations with it as the neural ICRL learners sample theirs.
+
+Not the evaluation loop (:func:`symlearn.rl.evaluation.run_episodes`): that one plays episodes
+one after another and keeps only their sums (one environment, any length); this one keeps every
+step of ``E`` episodes at once, as feature expectations need, and its batched sampling draws
+other random numbers than one action at a time would.
 """
 
 from __future__ import annotations

@@ -18,7 +18,8 @@ pytest.importorskip("torch")
 import symlearn.rl.ppo as ppo  # noqa: E402
 from symlearn.errors import DataError, SymlearnError  # noqa: E402
 from symlearn.rl import spaces as encoding  # noqa: E402
-from symlearn.rl.ppo.rollouts import RolloutBatch, _CostReader, _Rollouts  # noqa: E402
+from symlearn.rl.episode_stats import CostReader  # noqa: E402
+from symlearn.rl.ppo.rollouts import RolloutBatch, _Rollouts  # noqa: E402
 
 PACKAGE = Path(ppo.__file__).parent
 # the order of the package docstring's module list: each imports only modules before it
@@ -69,7 +70,7 @@ class Walk(gym.Env):
 
 def test_collect_returns_a_frozen_batch_consistent_with_its_episodes():
     agent = ppo.ActorCritic.for_spaces(Walk.observation_space, Walk.action_space)
-    rollouts = _Rollouts([Walk(), Walk()], agent, _CostReader(None), seed=0)
+    rollouts = _Rollouts([Walk(), Walk()], agent, CostReader(None), seed=0)
     batch = rollouts.collect(16, agent.numpy_actor(), np.random.default_rng(0))
     assert isinstance(batch, RolloutBatch)
     with pytest.raises(dataclasses.FrozenInstanceError):

@@ -11,13 +11,15 @@ are flattened, ``Discrete`` ones one-hot encoded (:mod:`symlearn.rl.spaces`).
 **Modules.** :mod:`~symlearn.rl.ppo.config` (:class:`PPOConfig`, :class:`LagrangianConfig`,
 :data:`LEGACY_LAGRANGIAN`), :mod:`~symlearn.rl.ppo.multipliers` (:class:`Multipliers`),
 :mod:`~symlearn.rl.ppo.networks` (:class:`ActorCritic`, :class:`NumpyActor`),
-:mod:`~symlearn.rl.ppo.records` (:class:`PPOIteration`, :class:`EpisodeStats`,
-:class:`PPOResult`), :mod:`~symlearn.rl.ppo.rollouts` (:class:`Rollout`, the rollout collector and
-its typed :class:`RolloutBatch`, the cost reader, the episode accounting),
-:mod:`~symlearn.rl.ppo.update` (GAE, return scales, the clipped-surrogate epochs),
-:mod:`~symlearn.rl.ppo.training` (:func:`train_ppo`) and :mod:`~symlearn.rl.ppo.evaluation`
-(:func:`evaluate`). Every name is importable from ``symlearn.rl.ppo``; each module imports only
-those before it in this list.
+:mod:`~symlearn.rl.ppo.records` (:class:`PPOIteration`, :class:`PPOResult`),
+:mod:`~symlearn.rl.ppo.rollouts` (:class:`Rollout`, the rollout collector and its typed
+:class:`RolloutBatch`), :mod:`~symlearn.rl.ppo.update` (GAE, return scales, the clipped-surrogate
+epochs), :mod:`~symlearn.rl.ppo.training` (:func:`train_ppo`) and
+:mod:`~symlearn.rl.ppo.evaluation` (:func:`evaluate`). Every name is importable from
+``symlearn.rl.ppo``; each module imports only those before it in this list, and two modules of
+``rl`` that are not PPO's own: :mod:`symlearn.rl.episode_stats` (the cost reader and the accounting
+of finished episodes, :class:`EpisodeStats`, :class:`FinishedEpisode`) and
+:mod:`symlearn.rl.evaluation` (the one evaluation loop, which any policy can be run with).
 
 **Costs.** Every step's ``info["cost"]`` is read: a number or a vector of fixed length (one entry
 per constraint; a step without the key costs 0; NaN/inf, or a vector whose length changes, is a
@@ -100,6 +102,7 @@ from __future__ import annotations
 
 import numpy as np  # noqa: F401  (the doctest above uses it)
 
+from symlearn.rl.episode_stats import EpisodeStats, FinishedEpisode
 from symlearn.rl.ppo.config import (
     ACTIVATIONS,
     ADVANTAGE_SCALES,
@@ -112,8 +115,8 @@ from symlearn.rl.ppo.config import (
 from symlearn.rl.ppo.evaluation import evaluate
 from symlearn.rl.ppo.multipliers import Multipliers
 from symlearn.rl.ppo.networks import MODEL_KIND, OBS_CLIP, OBS_EPSILON, ActorCritic, NumpyActor
-from symlearn.rl.ppo.records import EpisodeStats, PPOIteration, PPOResult
-from symlearn.rl.ppo.rollouts import LENGTH_MEMORY, FinishedEpisode, Rollout, RolloutBatch
+from symlearn.rl.ppo.records import PPOIteration, PPOResult
+from symlearn.rl.ppo.rollouts import LENGTH_MEMORY, Rollout, RolloutBatch
 from symlearn.rl.ppo.training import train_ppo
 from symlearn.rl.ppo.update import RETURN_SCALE_FLOOR, RETURN_SCALE_MEMORY
 

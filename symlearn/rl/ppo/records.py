@@ -1,5 +1,5 @@
 """What training reports: one :class:`PPOIteration` per iteration, the finished episodes
-(:class:`EpisodeStats`) and the run as a whole (:class:`PPOResult`, which saves the policy with the
+(:class:`~symlearn.rl.episode_stats.EpisodeStats`, named here too) and the run as a whole (:class:`PPOResult`, which saves the policy with the
 run's settings); ``as_dict()`` gives JSON-able values (NaN as null)."""
 
 from __future__ import annotations
@@ -11,21 +11,10 @@ from typing import Any
 
 import numpy as np
 
+from symlearn.rl.episode_stats import EpisodeStats
+from symlearn.rl.episode_stats import plain as _plain
 from symlearn.rl.ppo.config import LagrangianConfig, PPOConfig
 from symlearn.rl.ppo.networks import ActorCritic
-
-
-def _plain(value: Any) -> Any:
-    """JSON-able: tuples -> lists, NaN -> None, numpy scalars -> Python."""
-    if isinstance(value, dict):
-        return {key: _plain(v) for key, v in value.items()}
-    if isinstance(value, (tuple, list, np.ndarray)):
-        return [_plain(v) for v in value]
-    if isinstance(value, (float, np.floating)):
-        return None if not math.isfinite(value) else float(value)
-    if isinstance(value, np.integer):
-        return int(value)
-    return value
 
 
 @dataclass(frozen=True)
@@ -63,24 +52,6 @@ class PPOIteration:
 
     def as_dict(self) -> dict[str, Any]:
         return {f.name: _plain(getattr(self, f.name)) for f in fields(self)}
-
-
-@dataclass(frozen=True)
-class EpisodeStats:
-    """Finished episodes: return, length, cost sum per constraint ``(E, k)``, and the environment
-    step count (over all copies, at the end of the round of steps in which it ended) of its end."""
-
-    returns: np.ndarray
-    lengths: np.ndarray
-    costs: np.ndarray
-    end_steps: np.ndarray
-
-    def __len__(self) -> int:
-        return len(self.returns)
-
-    def as_dict(self) -> dict[str, Any]:
-        return {"returns": _plain(self.returns), "lengths": _plain(self.lengths), "costs": _plain(self.costs),
-                "end_steps": _plain(self.end_steps)}
 
 
 @dataclass

@@ -1,7 +1,7 @@
 """Collecting experience: ``n_envs`` environments stepped in turn, each reset as soon as its
-episode ends (:class:`_Rollouts`), the ``info["cost"]`` they report (:class:`_CostReader`), the
-accounting of finished episodes (:class:`FinishedEpisode`, carried over from one rollout to the
-next), and what one iteration's steps become: a :class:`Rollout` for the ``reward_fn``/``cost_fn``
+episode ends (:class:`_Rollouts`), the ``info["cost"]`` they report and the finished episodes
+(read and counted by :mod:`symlearn.rl.episode_stats`, as evaluation does; episodes are carried
+over from one rollout to the next), and what one iteration's steps become: a :class:`Rollout` for the ``reward_fn``/``cost_fn``
 hooks and a :class:`RolloutBatch` for the update. Why a plain list of environments and a numpy
 actor: the package docstring (:mod:`symlearn.rl.ppo`, "Speed").
 """
@@ -10,60 +10,17 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 
 from symlearn.errors import DataError, SymlearnError
+from symlearn.rl.episode_stats import CostReader, EpisodeStats, FinishedEpisode, episode_stats
 from symlearn.rl.ppo.networks import ActorCritic, NumpyActor
-from symlearn.rl.ppo.records import EpisodeStats
 
 LENGTH_MEMORY = 100  # finished episodes whose mean length turns a rollout's cost rate into J_c
-
-
-class _CostReader:
-    """Reads ``info["cost"]``: a number or a vector whose length, once seen, stays fixed."""
-
-    def __init__(self, n: int | None) -> None:
-        self.n = n  # None until the first cost arrives (or the Lagrangian limits fix it)
-        self.seen = False
-
-    def read(self, info: dict[str, Any], env_index: int, step: int) -> np.ndarray | None:
-        raw = info.get("cost")
-        if raw is None:
-            return None
-        try:
-            cost = np.asarray(raw, dtype=np.float64).reshape(-1)
-        except (TypeError, ValueError):
-            raise DataError(f"info['cost'] must be a number or a vector of numbers, got {raw!r} "
-                            f"(environment {env_index}, step {step})") from None
-        if cost.size == 0:
-            raise DataError(f"info['cost'] is empty (environment {env_index}, step {step})")
-        if not np.all(np.isfinite(cost)):
-            raise DataError(f"info['cost'] is not finite: {cost.tolist()} (environment {env_index}, step {step})",
-                            hint="an environment must report a finite cost on every step")
-        if self.n is None:
-            self.n = cost.size
-        elif cost.size != self.n:
-            before = "the cost limits name" if not self.seen else "earlier steps reported"
-            raise DataError(f"info['cost'] has {cost.size} entries, {before} {self.n} "
-                            f"(environment {env_index}, step {step})",
-                            hint="report one cost per constraint on every step, always in the same order")
-        self.seen = True
-        return cost
-
-    def accept(self, k: int) -> None:
-        """A whole rollout's costs arrived at once (``cost_fn``): ``k`` per step, fixed once seen."""
-        if self.n is None:
-            self.n = k
-        elif k != self.n:
-            before = "the cost limits name" if not self.seen else "earlier rollouts had"
-            raise DataError(f"cost_fn returned {k} cost(s) per step, {before} {self.n}",
-                            hint="return one cost per constraint, always in the same order")
-        self.seen = True
-
 
 
 @dataclass(frozen=True)
@@ -120,17 +77,6 @@ def _reported_cost(value: Any) -> float:
     return total if math.isfinite(total) else math.nan
 
 
-class FinishedEpisode(NamedTuple):
-    """One episode that ended: its return, length, cost sum per constraint (empty before the first
-    cost arrived) and the environment step count (over all copies) at the end of the round of
-    steps in which it ended."""
-
-    episode_return: float
-    length: int
-    costs: np.ndarray
-    end_step: int
-
-
 @dataclass(frozen=True)
 class RolloutBatch:
     """One iteration's steps as :meth:`_Rollouts.collect` returns them and the update learns from
@@ -153,7 +99,7 @@ class RolloutBatch:
 class _Rollouts:
     """``n_envs`` environments stepped in turn, each reset as soon as its episode ends."""
 
-    def __init__(self, envs: list[Any], agent: ActorCritic, costs: _CostReader, seed: int | None,
+    def __init__(self, envs: list[Any], agent: ActorCritic, costs: CostReader, seed: int | None,
                  info_keys: tuple[str, ...] = (), read_costs: bool = True) -> None:
         self.envs, self.agent, self.costs = envs, agent, costs
         self.info_keys, self.read_costs = info_keys, read_costs
@@ -313,20 +259,4 @@ class _Rollouts:
 
     def episode_stats(self, n_costs: int) -> EpisodeStats:
         return episode_stats(self.finished, n_costs)
-
-
-def episode_costs(episodes: Sequence[FinishedEpisode], n_costs: int) -> np.ndarray:
-    """The episodes' cost sums as ``(E, n_costs)``: an episode that ended before the first cost
-    arrived cost 0."""
-    costs = np.zeros((len(episodes), n_costs))
-    for j, episode in enumerate(episodes):
-        costs[j, : episode.costs.size] = episode.costs
-    return costs
-
-
-def episode_stats(episodes: Sequence[FinishedEpisode], n_costs: int) -> EpisodeStats:
-    """Finished episodes as the arrays of :class:`EpisodeStats`."""
-    return EpisodeStats(np.array([e.episode_return for e in episodes]),
-                        np.array([e.length for e in episodes], dtype=np.int64), episode_costs(episodes, n_costs),
-                        np.array([e.end_step for e in episodes], dtype=np.int64))
 

@@ -18,11 +18,12 @@ import torch
 
 from symlearn.errors import DataError, SymlearnError
 from symlearn.progress import ProgressBar
+from symlearn.rl.episode_stats import CostReader, episode_costs
 from symlearn.rl.ppo.config import LagrangianConfig, PPOConfig
 from symlearn.rl.ppo.multipliers import Multipliers
 from symlearn.rl.ppo.networks import ActorCritic, _space_spec
 from symlearn.rl.ppo.records import PPOIteration, PPOResult
-from symlearn.rl.ppo.rollouts import Rollout, _CostReader, _info_keys, _Rollouts, _signal, episode_costs
+from symlearn.rl.ppo.rollouts import Rollout, _info_keys, _Rollouts, _signal
 from symlearn.rl.ppo.update import _ReturnScales, _rescale_critics, _update
 
 
@@ -89,7 +90,7 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
                                        obs_normalization=config.normalize_observations)
     else:
         agent = _continued(policy, envs[0], config)
-    costs = _CostReader(None if lagrangian is None else lagrangian.n_constraints)
+    costs = CostReader(None if lagrangian is None else lagrangian.n_constraints)
     if policy is not None and lagrangian is not None and agent.n_costs:
         if costs.n is not None and costs.n != agent.n_costs:
             raise SymlearnError(f"the policy has {agent.n_costs} cost critic(s) but the cost limits name {costs.n}")

@@ -1,0 +1,123 @@
+"""Finished episodes and the costs they report, as training and evaluation account for them.
+
+:class:`CostReader` reads a step's ``info["cost"]`` (a number or a vector whose length, once
+seen, stays fixed; NaN/inf refused), :class:`FinishedEpisode` is one episode's sums,
+:class:`EpisodeStats` many as arrays (:func:`episode_stats`). PPO's rollouts
+(:mod:`symlearn.rl.ppo.rollouts`) and the one evaluation loop (:mod:`symlearn.rl.evaluation`)
+both count through them, so a cost means the same in training and in evaluation. Numpy only:
+evaluating a stable-baselines3 or tabular policy loads nothing of our PPO.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from symlearn.errors import DataError
+
+
+def plain(value: Any) -> Any:
+    """JSON-able: tuples -> lists, NaN -> None, numpy scalars -> Python."""
+    if isinstance(value, dict):
+        return {key: plain(v) for key, v in value.items()}
+    if isinstance(value, (tuple, list, np.ndarray)):
+        return [plain(v) for v in value]
+    if isinstance(value, (float, np.floating)):
+        return None if not math.isfinite(value) else float(value)
+    if isinstance(value, np.integer):
+        return int(value)
+    return value
+
+
+class CostReader:
+    """Reads ``info["cost"]``: a number or a vector whose length, once seen, stays fixed."""
+
+    def __init__(self, n: int | None) -> None:
+        self.n = n  # None until the first cost arrives (or the Lagrangian limits fix it)
+        self.seen = False
+
+    def read(self, info: dict[str, Any], env_index: int, step: int) -> np.ndarray | None:
+        raw = info.get("cost")
+        if raw is None:
+            return None
+        try:
+            cost = np.asarray(raw, dtype=np.float64).reshape(-1)
+        except (TypeError, ValueError):
+            raise DataError(f"info['cost'] must be a number or a vector of numbers, got {raw!r} "
+                            f"(environment {env_index}, step {step})") from None
+        if cost.size == 0:
+            raise DataError(f"info['cost'] is empty (environment {env_index}, step {step})")
+        if not np.all(np.isfinite(cost)):
+            raise DataError(f"info['cost'] is not finite: {cost.tolist()} (environment {env_index}, step {step})",
+                            hint="an environment must report a finite cost on every step")
+        if self.n is None:
+            self.n = cost.size
+        elif cost.size != self.n:
+            before = "the cost limits name" if not self.seen else "earlier steps reported"
+            raise DataError(f"info['cost'] has {cost.size} entries, {before} {self.n} "
+                            f"(environment {env_index}, step {step})",
+                            hint="report one cost per constraint on every step, always in the same order")
+        self.seen = True
+        return cost
+
+    def accept(self, k: int) -> None:
+        """A whole rollout's costs arrived at once (``cost_fn``): ``k`` per step, fixed once seen."""
+        if self.n is None:
+            self.n = k
+        elif k != self.n:
+            before = "the cost limits name" if not self.seen else "earlier rollouts had"
+            raise DataError(f"cost_fn returned {k} cost(s) per step, {before} {self.n}",
+                            hint="return one cost per constraint, always in the same order")
+        self.seen = True
+
+
+class FinishedEpisode(NamedTuple):
+    """One episode that ended: its return, length, cost sum per constraint (empty before the first
+    cost arrived) and the environment step count (over all copies) at the end of the round of
+    steps in which it ended."""
+
+    episode_return: float
+    length: int
+    costs: np.ndarray
+    end_step: int
+
+
+@dataclass(frozen=True)
+class EpisodeStats:
+    """Finished episodes: return, length, cost sum per constraint ``(E, k)``, and the environment
+    step count (over all copies, at the end of the round of steps in which it ended) of its end."""
+
+    returns: np.ndarray
+    lengths: np.ndarray
+    costs: np.ndarray
+    end_steps: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.returns)
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"returns": plain(self.returns), "lengths": plain(self.lengths), "costs": plain(self.costs),
+                "end_steps": plain(self.end_steps)}
+
+
+def episode_costs(episodes: Sequence[FinishedEpisode], n_costs: int) -> np.ndarray:
+    """The episodes' cost sums as ``(E, n_costs)``: an episode that ended before the first cost
+    arrived cost 0."""
+    costs = np.zeros((len(episodes), n_costs))
+    for j, episode in enumerate(episodes):
+        costs[j, : episode.costs.size] = episode.costs
+    return costs
+
+
+def episode_stats(episodes: Sequence[FinishedEpisode], n_costs: int) -> EpisodeStats:
+    """Finished episodes as the arrays of :class:`EpisodeStats`."""
+    return EpisodeStats(np.array([e.episode_return for e in episodes]),
+                        np.array([e.length for e in episodes], dtype=np.int64), episode_costs(episodes, n_costs),
+                        np.array([e.end_step for e in episodes], dtype=np.int64))
+
+
+__all__ = ["CostReader", "EpisodeStats", "FinishedEpisode", "episode_costs", "episode_stats", "plain"]
