@@ -3,10 +3,13 @@
 * ``__init__`` takes hyper-parameters as keyword arguments and stores them under the same names,
   nothing else (no data, no computation) -- so :meth:`get_params` / :meth:`set_params` /
   ``repr`` work as in scikit-learn (:class:`Learner` extends ``sklearn.base.BaseEstimator``).
-* ``fit(demonstrations, domain=None) -> self``: ``demonstrations`` is what the method learns
-  from (trajectories, labelled traces, an ILP task); ``domain`` is the world they come from (a
-  :class:`~symlearn.grounding.Domain`, a tabular MDP or environment), or None when the data
-  carries everything.
+* ``fit(demonstrations, world=None) -> self``, spelt so by every learner (a generic caller may
+  pass either by keyword): ``demonstrations`` is what the method learns from (trajectories,
+  labelled traces, frames, an ILP task, an LTL sample); ``world`` is what they are read against:
+  the world they come from (a :class:`~symlearn.grounding.Domain`, a tabular MDP, an environment
+  or a factory of one) or the names of their features or propositions, or None when the data
+  carries everything. Old names of these arguments keep working for a while with a warning
+  (:mod:`symlearn.learners.fit_arguments`).
 * Results live in attributes ending in ``_``. Every learner sets ``result_``, a
   :class:`LearnerResult`: what was learned (``artefact``), its text form, metrics, timings and
   the per-iteration history as dataclasses with ``as_dict()``.
@@ -74,7 +77,7 @@ class Learner(BaseEstimator):
     #: suffix of the file :meth:`save` writes by default (documentation for users and the CLI)
     artefact_suffix = ".txt"
 
-    def fit(self, demonstrations: Any, domain: Any = None) -> Learner:  # pragma: no cover - abstract
+    def fit(self, demonstrations: Any, world: Any = None) -> Learner:  # pragma: no cover - abstract
         raise NotImplementedError
 
     # --- results --------------------------------------------------------------------------------

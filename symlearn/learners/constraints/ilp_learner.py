@@ -23,6 +23,7 @@ from pathlib import Path
 from typing import Any
 
 from symlearn.learners.base import Learner
+from symlearn.learners.fit_arguments import renamed_arguments
 
 
 class ILPLearner(Learner):
@@ -43,9 +44,13 @@ class ILPLearner(Learner):
         self.method = method
         self.max_body = max_body
 
-    def fit(self, task: Any, domain: Any = None) -> ILPLearner:
+    @renamed_arguments(task="demonstrations", domain="world")
+    def fit(self, demonstrations: Any, world: Any = None) -> ILPLearner:
+        """Learn from ``demonstrations``, an ILP task (its examples are the data) or the path of a
+        ``.las`` file; ``world`` is not used: the task carries its background and bias."""
         from symlearn.logic.ilp import learn, load_task
 
+        task = demonstrations
         if isinstance(task, (str, os.PathLike)):
             task = load_task(Path(task))
         found = learn(task, timeout=self.timeout, noise=self.noise, method=self.method, max_body=self.max_body)

@@ -41,6 +41,7 @@ import numpy as np
 from symlearn.errors import DataError, SymlearnError
 from symlearn.grounding import Domain, as_domain
 from symlearn.learners.base import Learner
+from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.learners.constraints.constraint_metrics import constraint_metrics
 from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
 from symlearn.progress import progress
@@ -186,9 +187,9 @@ class RuleInduction:
 
 
 class LogicConstraintInference(Learner):
-    """``LogicConstraintInference(iterations=...).fit(demonstrations, domain)``.
+    """``LogicConstraintInference(iterations=...).fit(demonstrations, world)``.
 
-    ``domain``: a :class:`~symlearn.grounding.Domain` (or a bundled wrapper with ``.domain``).
+    ``world``: a :class:`~symlearn.grounding.Domain` (or a bundled wrapper with ``.domain``).
 
     **When it stops.** Algorithm 3.1 runs a fixed eta iterations and gives no convergence test, so
     ``iterations`` is a cap here and the loop stops earlier on a measured criterion
@@ -247,15 +248,16 @@ class LogicConstraintInference(Learner):
         self.penalty = penalty
         self.known = known
 
-    def fit(self, demonstrations: Any, domain: Any = None) -> LogicConstraintInference:
+    @renamed_arguments(domain="world")
+    def fit(self, demonstrations: Any, world: Any = None) -> LogicConstraintInference:
         if self.iterations < 1:
             raise SymlearnError(f"iterations must be at least 1, got {self.iterations}")
         if self.patience < 1:
             raise SymlearnError(f"patience must be at least 1, got {self.patience}")
-        if domain is None:
-            raise SymlearnError("logic constraint inference needs the domain: fit(demonstrations, domain)")
+        if world is None:
+            raise SymlearnError("logic constraint inference needs the domain: fit(demonstrations, world=domain)")
         started = time.perf_counter()
-        d = as_domain(domain)
+        d = as_domain(world)
         episodes = d.episodes(demonstrations)
         _check_available(episodes, d)
         from symlearn.learners.constraints.bias_reach import bias_reach

@@ -41,6 +41,7 @@ import numpy as np
 
 from symlearn.errors import ModelError, SymlearnError
 from symlearn.learners.base import Learner
+from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.learners.constraints.ml_constraint_inference import tabular_model
 from symlearn.mdp import TabularMDP
 from symlearn.mdp.episodes import check_constraints, discounted_counts, tabular_episodes
@@ -74,9 +75,9 @@ class DualStep:
 
 
 class MCEICRL(Learner):
-    """Tabular MCE-ICRL: ``MCEICRL(...).fit(demonstrations, domain)``.
+    """Tabular MCE-ICRL: ``MCEICRL(...).fit(demonstrations, world)``.
 
-    ``domain``: a :class:`~symlearn.grounding.Domain`, a :class:`TabularMDP` or an environment
+    ``world``: a :class:`~symlearn.grounding.Domain`, a :class:`TabularMDP` or an environment
     with ``to_tabular()``; its rewards are the known reward, moves it does not have are known
     constraints. Parameters: ``reward`` (``"given"``: the model's rewards; ``"sparse"``: 1 for
     entering a state where a demonstration ended, which becomes terminal -- for worlds without a
@@ -146,11 +147,12 @@ class MCEICRL(Learner):
             raise ModelError("features must be finite and non-negative")
         return phi
 
-    def fit(self, demonstrations: Iterable[Any], domain: Any = None) -> MCEICRL:
+    @renamed_arguments(domain="world")
+    def fit(self, demonstrations: Iterable[Any], world: Any = None) -> MCEICRL:
         if self.learning_rate <= 0 or self.n_iterations < 1 or self.horizon < 1:
             raise SymlearnError("learning_rate must be positive, n_iterations and horizon at least 1")
         started = time.perf_counter()
-        mdp, known = tabular_model(domain)
+        mdp, known = tabular_model(world)
         episodes = tabular_episodes(demonstrations, mdp)
         if self.reward == "sparse":
             # no reward given: the expert is taken to head for where its demonstrations end

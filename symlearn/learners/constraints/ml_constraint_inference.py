@@ -63,6 +63,7 @@ import numpy as np
 
 from symlearn.errors import SymlearnError
 from symlearn.learners.base import Learner
+from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.mdp import TabularMDP
 from symlearn.mdp.episodes import as_tabular, check_constraints, demonstrated_pairs, final_states, tabular_episodes
 from symlearn.rl.maxent import forward_pass, maxent_backward_pass
@@ -97,7 +98,7 @@ def tabular_model(domain: Any) -> tuple[TabularMDP, np.ndarray | None]:
         d = as_domain(domain)
         return d.mdp, d.known
     if domain is None:
-        raise SymlearnError("constraint inference needs the domain: fit(demonstrations, domain)",
+        raise SymlearnError("constraint inference needs the domain: fit(demonstrations, world=domain)",
                             hint="a symlearn.grounding.Domain, a TabularMDP or an environment with to_tabular()")
     return as_tabular(domain), None
 
@@ -151,9 +152,9 @@ class PassedOver:
 
 
 class MLConstraintInference(Learner):
-    """``MLConstraintInference(reward=..., horizon=..., ...).fit(demonstrations, domain)``.
+    """``MLConstraintInference(reward=..., horizon=..., ...).fit(demonstrations, world)``.
 
-    ``domain``: a :class:`~symlearn.grounding.Domain` (moves it does not have are known
+    ``world``: a :class:`~symlearn.grounding.Domain` (moves it does not have are known
     constraints), a :class:`TabularMDP` or an environment with ``to_tabular()``.
 
     Results: ``constraints_`` (forbidden (S, A) mask), ``empty_states_``, ``policy_`` (nominal
@@ -193,12 +194,13 @@ class MLConstraintInference(Learner):
         self.choosable = choosable
         self.stop_when = stop_when
 
-    def fit(self, demonstrations: Iterable[Any], domain: Any = None) -> MLConstraintInference:
+    @renamed_arguments(domain="world")
+    def fit(self, demonstrations: Iterable[Any], world: Any = None) -> MLConstraintInference:
         if self.horizon < 1 or self.max_iterations < 0:
             raise SymlearnError("horizon must be at least 1 and max_iterations non-negative")
         share = _uniform_share(self.start)
         started = time.perf_counter()
-        mdp, domain_known = tabular_model(domain)
+        mdp, domain_known = tabular_model(world)
         episodes = tabular_episodes(demonstrations, mdp)
         seen = demonstrated_pairs(episodes, mdp)
         known = np.zeros_like(seen) if domain_known is None else domain_known.copy()

@@ -30,6 +30,7 @@ import torch
 
 from symlearn.errors import SymlearnError
 from symlearn.learners.base import Learner
+from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.input_selection import choose_inputs, inputs_report
 from symlearn.learners.neural.fit_setup import check_common, fit_setup, resets_actor
@@ -92,12 +93,13 @@ class NeuralGACL(Learner):
         if not (self.learning_rate > 0 and self.bound_penalty >= 0):
             raise SymlearnError("learning_rate must be > 0 and bound_penalty >= 0")
 
-    def fit(self, demonstrations: Any, domain: Any = None) -> NeuralGACL:
+    @renamed_arguments(domain="world")
+    def fit(self, demonstrations: Any, world: Any = None) -> NeuralGACL:
         from symlearn.rl.ppo import train_ppo
 
         self._check_parameters()
         started = time.perf_counter()
-        setup = fit_setup(demonstrations, domain, self.obs_dims, self.random_state)
+        setup = fit_setup(demonstrations, world, self.obs_dims, self.random_state)
         env_fn, probe, act_spec = setup.env_fn, setup.probe, setup.act_spec
         expert, expert_x, expert_a = setup.expert, setup.expert_x, setup.expert_a
         obs_dims, generator = setup.obs_dims, setup.generator

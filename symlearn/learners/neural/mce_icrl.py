@@ -98,6 +98,7 @@ import torch
 
 from symlearn.errors import SymlearnError
 from symlearn.learners.base import Learner
+from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.learners.neural.feature_network import FeatureNetwork, pretrain_autoencoder
 from symlearn.learners.neural.input_selection import choose_inputs, inputs_report
 from symlearn.learners.neural.input_sparsity import input_penalty
@@ -206,13 +207,15 @@ class NeuralMCEICRL(Learner):
 
     # --- fit -----------------------------------------------------------------------------------------
 
-    def fit(self, demonstrations: Any, domain: Any = None) -> NeuralMCEICRL:
-        """Learn a cost and a policy from ``demonstrations`` in the environment ``domain``."""
+    @renamed_arguments(domain="world")
+    def fit(self, demonstrations: Any, world: Any = None) -> NeuralMCEICRL:
+        """Learn a cost and a policy from ``demonstrations`` in the environment ``world`` (an
+        environment, a factory or class of one, or a gymnasium id)."""
         from symlearn.rl.ppo import train_ppo
 
         self._check_parameters()
         started = time.perf_counter()
-        setup = fit_setup(demonstrations, domain, self.obs_dims, self.random_state)
+        setup = fit_setup(demonstrations, world, self.obs_dims, self.random_state)
         env_fn, probe, act_spec = setup.env_fn, setup.probe, setup.act_spec
         expert, expert_x, expert_a = setup.expert, setup.expert_x, setup.expert_a
         obs_dims, generator = setup.obs_dims, setup.generator

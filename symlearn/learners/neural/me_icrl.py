@@ -49,6 +49,7 @@ import torch
 
 from symlearn.errors import SymlearnError
 from symlearn.learners.base import Learner
+from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.input_selection import choose_inputs, inputs_report
 from symlearn.learners.neural.fit_setup import check_common, fit_setup, resets_actor
@@ -148,12 +149,13 @@ class NeuralMEICRL(Learner):
         return backward_step(phi, optimizer, expert_in, batch, cost, epochs=int(self.backward_epochs),
                              regularizer=self.regularizer, target_kl=self.target_kl)
 
-    def fit(self, demonstrations: Any, domain: Any = None) -> NeuralMEICRL:
+    @renamed_arguments(domain="world")
+    def fit(self, demonstrations: Any, world: Any = None) -> NeuralMEICRL:
         from symlearn.rl.ppo import LagrangianConfig, train_ppo
 
         self._check_parameters()
         started = time.perf_counter()
-        setup = fit_setup(demonstrations, domain, self.obs_dims, self.random_state)
+        setup = fit_setup(demonstrations, world, self.obs_dims, self.random_state)
         env_fn, probe, act_spec = setup.env_fn, setup.probe, setup.act_spec
         expert, expert_x, expert_a = setup.expert, setup.expert_x, setup.expert_a
         obs_dims, generator = setup.obs_dims, setup.generator

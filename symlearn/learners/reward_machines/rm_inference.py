@@ -31,6 +31,7 @@ import numpy as np
 from symlearn.backends.goal_shaping import shape
 from symlearn.errors import DataError
 from symlearn.learners.base import Learner
+from symlearn.learners.fit_arguments import FIT_CALLER, renamed_arguments
 from symlearn.learners.reward_machines.features import as_frames, extract, make_extractor
 from symlearn.learners.reward_machines.labeling import PrototypeLabeling, check_exclusive
 from symlearn.learners.reward_machines.machine_building import infer_transitions, machine_from_edges
@@ -109,7 +110,8 @@ class RewardMachineInference(Learner):
         self.cache = cache
         self.random_state = random_state
 
-    def fit(self, demonstrations: Any, domain: Any = None) -> RewardMachineInference:
+    @renamed_arguments(domain="world")
+    def fit(self, demonstrations: Any, world: Any = None) -> RewardMachineInference:
         clock = time.perf_counter()
         timings: dict[str, float] = {}
         frames, lengths = frames_of(demonstrations)
@@ -153,7 +155,7 @@ class RewardMachineInference(Learner):
             warnings.simplefilter("always")
             several = check_exclusive(matrix)
         for w in caught:
-            warnings.warn(w.message, w.category, stacklevel=2)
+            warnings.warn(w.message, w.category, stacklevel=FIT_CALLER)
         words = [[frozenset(all_names[c] for c in np.flatnonzero(row)) for row in matrix[s:s + n]]
                  for s, n in zip(starts, lengths)]
         timings["labeling"] = time.perf_counter() - tick
@@ -175,7 +177,7 @@ class RewardMachineInference(Learner):
         dropped = [c for c in range(clusters.n_clusters) if c not in order]
         if dropped:
             warnings.warn(f"{len(dropped)} of {clusters.n_clusters} clusters are never entered by a demonstration "
-                          "and are left out of the machine", DroppedClustersWarning, stacklevel=2)
+                          "and are left out of the machine", DroppedClustersWarning, stacklevel=FIT_CALLER)
         state_of_cluster = {c: k for k, c in enumerate(order)}
         names = [f"p{k}" for k in range(len(order))]
         edges = {(state_of_cluster[u], names[state_of_cluster[int(p[1:])]]): state_of_cluster[v]

@@ -33,6 +33,7 @@ from typing import Any
 from symlearn.backends.subgoal_plan import greedy_plan
 from symlearn.errors import DataError
 from symlearn.learners.base import Learner
+from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.learners.subgoals.clustering import METHODS, find_subgoals
 from symlearn.learners.subgoals.frames import demonstration_frames
 from symlearn.learners.subgoals.ordering_automaton import PROBABILITIES, count_orderings, ordering_pdfa
@@ -65,15 +66,16 @@ class SubgoalPDFALearner(Learner):
         self.cell_fraction = cell_fraction
         self.probabilities = probabilities
 
-    def fit(self, demonstrations: Any, features: Any = None) -> SubgoalPDFALearner:
+    @renamed_arguments(features="world")
+    def fit(self, demonstrations: Any, world: Any = None) -> SubgoalPDFALearner:
         """``demonstrations``: see :func:`.frames.demonstration_frames` (NaN = unobserved);
-        ``features``: a FeatureMap, feature names, or None."""
+        ``world`` names the features: a FeatureMap, feature names, or None."""
         if self.probabilities not in PROBABILITIES:
             raise DataError(f"unknown probabilities {self.probabilities!r}", hint="use " + " or ".join(PROBABILITIES))
         if self.method not in METHODS:
             raise DataError(f"unknown clustering method {self.method!r}", hint="use " + " or ".join(METHODS))
         started = time.perf_counter()
-        frames, names = demonstration_frames(demonstrations, features)
+        frames, names = demonstration_frames(demonstrations, world)
         subsets = feature_subsets(self.subsets, names)
         t_read = time.perf_counter()
         subgoals, records = find_subgoals(frames, subsets, eps=self.eps, min_samples=self.min_samples,

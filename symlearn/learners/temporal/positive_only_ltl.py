@@ -39,6 +39,7 @@ import numpy as np
 
 from symlearn.errors import DataError
 from symlearn.learners.base import Learner
+from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.learners.temporal.ltl_bitsets import Frame
 from symlearn.learners.temporal.ltl_enumeration import Enumerator
 from symlearn.logic.ltlf import ast
@@ -129,9 +130,14 @@ class PositiveOnlyLtlLearner(Learner):
         self.random_state = random_state
         self.timeout = timeout
 
-    def fit(self, sample: Any, propositions: Sequence[str] | None = None) -> PositiveOnlyLtlLearner:
+    @renamed_arguments(sample="demonstrations", propositions="world")
+    def fit(self, demonstrations: Any, world: Sequence[str] | None = None) -> PositiveOnlyLtlLearner:
+        """Learn from ``demonstrations``: an :class:`LtlSample` (or its path; its positives are used)
+        or traces (sequences of label sets); ``world`` names the propositions of traces (default:
+        those they show)."""
         from symlearn.data.ltl_samples import LtlSample
 
+        sample, propositions = demonstrations, world
         if isinstance(sample, (str, os.PathLike)):
             from symlearn.data.ltl_samples import load_sample
 

@@ -48,6 +48,7 @@ import numpy as np
 from symlearn.data.ltl_samples import LtlSample, sample_from_traces
 from symlearn.errors import SymlearnError
 from symlearn.learners.base import Learner
+from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.learners.temporal.ltl_bitsets import BINARY, UNARY, Frame, _pack, first_bits, unpack
 from symlearn.learners.temporal.ltl_enumeration import Enumerator
 from symlearn.logic.ltlf import ast
@@ -396,7 +397,11 @@ class SeparatingLtlLearner(Learner):
         self.operators = operators
         self.max_work = max_work
 
-    def fit(self, sample: LtlSample | str | os.PathLike, domain: Any = None) -> SeparatingLtlLearner:
+    @renamed_arguments(sample="demonstrations", domain="world")
+    def fit(self, demonstrations: LtlSample | str | os.PathLike, world: Any = None) -> SeparatingLtlLearner:
+        """Learn from ``demonstrations``, an :class:`LtlSample` or the path of one; ``world`` is not
+        used: the sample carries its propositions."""
+        sample = demonstrations
         if not isinstance(sample, LtlSample):
             from symlearn.data.ltl_samples import load_sample
 

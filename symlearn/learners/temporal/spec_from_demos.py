@@ -41,6 +41,7 @@ import numpy as np
 
 from symlearn.errors import DataError, ModelError
 from symlearn.learners.base import Learner, NotFittedError
+from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.learners.temporal.spec_env_world import EnvWorld
 from symlearn.learners.temporal.task_model import TaskModel, task_model
 from symlearn.mdp.episodes import state_sequences
@@ -139,20 +140,21 @@ class SpecLearner(Learner):
         self.state_key = state_key
 
     # ------------------------------------------------------------------------------------------
-    def fit(self, demonstrations, domain=None) -> SpecLearner:
+    @renamed_arguments(domain="world")
+    def fit(self, demonstrations, world=None) -> SpecLearner:
         """Learn from ``demonstrations`` (Demonstrations, trajectories or state sequences) in
-        ``domain``: a Domain or a labelled tabular environment (see :func:`task_model`; the fast
+        ``world``: a Domain or a labelled tabular environment (see :func:`task_model`; the fast
         path), or any gymnasium environment or factory of one, whose observations ``labeling``
         labels (see :mod:`~symlearn.learners.temporal.spec_env_world`)."""
         t_start = time.perf_counter()
         self._check_parameters()
-        if domain is None:
-            raise ModelError("specification learning needs the world: fit(demonstrations, domain_or_env)")
+        if world is None:
+            raise ModelError("specification learning needs the world: fit(demonstrations, world=domain_or_env)")
         self._rng = np.random.default_rng(self.random_state)
         learn = self.propositions == "learn"
         self.world_: EnvWorld | None = None
-        if _has_model(domain):
-            self.model_: TaskModel | None = task_model(domain, horizon=self.horizon)
+        if _has_model(world):
+            self.model_: TaskModel | None = task_model(world, horizon=self.horizon)
             experts = state_sequences(demonstrations, self.model_.n_states)
             labeling, names = (Labeling({}), []) if learn else self._given_labeling()
         else:
@@ -160,7 +162,7 @@ class SpecLearner(Learner):
                 raise ModelError("learned propositions need a tabular model (states to name); in a gymnasium "
                                  "environment give a labeling", hint="propositions='given' with labeling=")
             self.model_ = None
-            self.world_ = EnvWorld(domain, self.labeling, horizon=self.horizon, policy=self.policy,
+            self.world_ = EnvWorld(world, self.labeling, horizon=self.horizon, policy=self.policy,
                                    q_steps=self.q_steps, ppo_steps=self.ppo_steps, discount=self.discount,
                                    epsilon=self.epsilon, state_key=self.state_key)
             labeling = self.world_.labeling
@@ -416,7 +418,7 @@ class SpecLearner(Learner):
 
     def _check_fitted(self) -> None:
         if not hasattr(self, "formula_"):
-            raise NotFittedError("this SpecLearner is not fitted yet; call fit(demonstrations, domain) first")
+            raise NotFittedError("this SpecLearner is not fitted yet; call fit(demonstrations, world) first")
 
 
 def _has_model(world: Any) -> bool:

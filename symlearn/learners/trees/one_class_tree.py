@@ -85,7 +85,7 @@ The thesis' toy (Fig. 4.1): an expert going along ``[0.1, 0.7] x [0.1, 0.3]`` an
 >>> tree.predict([[0.3, 0.2], [0.3, 0.6], [1.0, 0.5]]).tolist()  # True = unsafe
 [False, True, True]
 
-**Features.** ``fit(demonstrations, features)``: the states of a
+**Features.** ``fit(demonstrations, features)`` (the second argument is ``world``): the states of a
 :class:`~symlearn.data.Demonstrations` (vectors, feature dicts, or anything a
 :class:`~symlearn.grounding.FeatureMap` with a function or table maps), or a plain ``[N, k]``
 array (a 1-D array is ``N`` values of one feature). Only *states* are read: to learn over
@@ -107,6 +107,7 @@ import numpy as np
 from symlearn.errors import DataError, SymlearnError
 from symlearn.grounding.features import FeatureMap
 from symlearn.learners.base import Learner
+from symlearn.learners.fit_arguments import FIT_CALLER, renamed_arguments
 from symlearn.logic.dnf import DNF, Atom, Conjunction
 
 __all__ = ["Box", "TreeNode", "OneClassTree", "SplitRecord", "OneClassTreeConstraint", "binned_kde"]
@@ -385,15 +386,16 @@ class OneClassTreeConstraint(Learner):
                 or not 0 < float(self.box_sigmas) < math.inf:
             raise SymlearnError(f"box_sigmas must be a positive number, got {self.box_sigmas!r}")
 
-    def fit(self, demonstrations: Any, features: Any = None) -> OneClassTreeConstraint:
+    @renamed_arguments(features="world")
+    def fit(self, demonstrations: Any, world: Any = None) -> OneClassTreeConstraint:
         """Learn the tree and the DNF from ``demonstrations`` (see the module docstring).
 
-        ``features``: a :class:`~symlearn.grounding.FeatureMap`, a list of names, or None
-        (the keys of feature-dict states, else ``x0 .. x{k-1}``).
+        ``world`` names the features: a :class:`~symlearn.grounding.FeatureMap`, a list of
+        names, or None (the keys of feature-dict states, else ``x0 .. x{k-1}``).
         """
         self._check_params()
         started = time.perf_counter()
-        X, names = feature_matrix(demonstrations, features)
+        X, names = feature_matrix(demonstrations, world)
         self.input_columns_ = _input_columns(self.inputs, names)
         if self.input_columns_ is not None:  # the rules may test only these (velocities left out, ...)
             X, names = X[:, self.input_columns_], tuple(names[i] for i in self.input_columns_)
@@ -431,7 +433,7 @@ class OneClassTreeConstraint(Learner):
                 "state the expert never visited counts as unsafe; if the allowed space is larger, give "
                 "demonstrations that cover it")
         for message in self.warnings_:
-            warnings.warn(message, UserWarning, stacklevel=2)
+            warnings.warn(message, UserWarning, stacklevel=FIT_CALLER)
         metrics = {"n_samples": len(X), "n_features": len(names), "n_nodes": tree.n_nodes,
                    "n_leaves": tree.n_leaves, "depth": tree.depth, "n_conjunctions": len(dnf),
                    "n_atoms": sum(len(c) for c in dnf),
