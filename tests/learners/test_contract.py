@@ -166,6 +166,9 @@ def test_learner_contract(name, tmp_path):
     before = dict(learner.get_params())
     assert learner.fit(demonstrations=demonstrations, world=world) is learner
     assert learner.get_params() == before
+    # what a fit leaves on the learner is results (named with a trailing _), never working state
+    working = sorted(k for k in set(vars(learner)) - set(init_names) if not k.endswith("_"))
+    assert not working, f"fit left working state on the learner: {working}"
     result = learner.result_
     assert isinstance(result, LearnerResult) and result.learner == cls.__name__
     assert result.timings["total"] > 0

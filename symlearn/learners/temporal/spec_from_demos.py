@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
@@ -76,6 +76,23 @@ class SpecIteration:
         if not isinstance(key, str) or key not in self.__dataclass_fields__:
             raise KeyError(f"{key!r} is no field of SpecIteration (use as_dict() for a mapping)")
         return getattr(self, key)
+
+
+@dataclass
+class _SpecFit:
+    """The working state of one :meth:`SpecLearner.fit`: built when it starts and dropped when it
+    returns, so two fits on one learner share nothing and a fit that fails leaves the previous
+    results whole. What the fit learned is copied onto the learner at its end."""
+
+    rng: np.random.Generator  # draws the seeds of nominal rollouts, in order
+    model: TaskModel | None  # the successor-table world, or
+    world: EnvWorld | None  # a gymnasium environment read through its labeling
+    history: list[SpecIteration] = field(default_factory=list)
+    pruned: list[str] = field(default_factory=list)  # conjuncts dropped by pruning, in order
+
+    @property
+    def n_states(self) -> int:
+        return self.world.n_states if self.world is not None else self.model.n_states
 
 
 class SpecLearner(Learner):
@@ -150,48 +167,47 @@ class SpecLearner(Learner):
         self._check_parameters()
         if world is None:
             raise ModelError("specification learning needs the world: fit(demonstrations, world=domain_or_env)")
-        self._rng = np.random.default_rng(self.random_state)
         learn = self.propositions == "learn"
-        self.world_: EnvWorld | None = None
         if _has_model(world):
-            self.model_: TaskModel | None = task_model(world, horizon=self.horizon)
-            experts = state_sequences(demonstrations, self.model_.n_states)
-            labeling, names = (Labeling({}), []) if learn else self._given_labeling()
+            run = _SpecFit(np.random.default_rng(self.random_state), task_model(world, horizon=self.horizon), None)
+            experts = state_sequences(demonstrations, run.model.n_states)
+            labeling, names = (Labeling({}), []) if learn else self._given_labeling(run.model)
         else:
             if learn:
                 raise ModelError("learned propositions need a tabular model (states to name); in a gymnasium "
                                  "environment give a labeling", hint="propositions='given' with labeling=")
-            self.model_ = None
-            self.world_ = EnvWorld(world, self.labeling, horizon=self.horizon, policy=self.policy,
-                                   q_steps=self.q_steps, ppo_steps=self.ppo_steps, discount=self.discount,
-                                   epsilon=self.epsilon, state_key=self.state_key)
-            labeling = self.world_.labeling
-            experts = self.world_.expert_traces(demonstrations)
+            run = _SpecFit(np.random.default_rng(self.random_state), None,
+                           EnvWorld(world, self.labeling, horizon=self.horizon, policy=self.policy,
+                                    q_steps=self.q_steps, ppo_steps=self.ppo_steps, discount=self.discount,
+                                    epsilon=self.epsilon, state_key=self.state_key))
+            labeling = run.world.labeling
+            experts = run.world.expert_traces(demonstrations)
             names = None  # read from the labels met, every iteration
+        model = run.model
         n_nominal = self.n_nominal or len(experts)
 
         conjuncts: list[tuple[Formula, tuple[str, tuple[str, ...]]]] = []
-        self.history_: list[SpecIteration] = []
         policy = last_policy = None
-        self.stopped_because_ = "max_iterations"
+        stopped_because = "max_iterations"
         for iteration in range(1, self.max_iterations + 1):
             t0 = time.perf_counter()
-            nominal = self._random_traces(n_nominal) if policy is None else self._policy_traces(policy, n_nominal)
+            nominal = (self._random_traces(run, n_nominal) if policy is None else
+                       self._policy_traces(run, policy, n_nominal))
             spec = conjunction(*(f for f, _ in conjuncts))
-            nominal_success = self._satisfaction(spec, labeling, nominal)
-            if self.world_ is not None:  # label ids stand in for states (see spec_env_world)
-                atom_names = self._env_names()
-                atom_of_state = self.world_.atoms(atom_names)
+            nominal_success = self._satisfaction(run, spec, labeling, nominal)
+            if run.world is not None:  # label ids stand in for states (see spec_env_world)
+                atom_names = self._env_names(run.world)
+                atom_of_state = run.world.atoms(atom_names)
             elif learn:
                 states = np.unique(np.concatenate([*experts, *nominal]))
                 atom_names = [self._state_name(labeling, int(s)) for s in states]
-                atom_of_state = np.zeros((self.model_.n_states, len(states)), dtype=bool)
+                atom_of_state = np.zeros((model.n_states, len(states)), dtype=bool)
                 atom_of_state[states, np.arange(len(states))] = True
             else:
                 atom_names = list(names)
-                atom_of_state = np.array([[p in labeling.label(s) for p in names] for s in range(self.model_.n_states)],
-                                         dtype=bool).reshape(self.model_.n_states, len(names))
-            covered = np.zeros(self._n_states, dtype=bool)
+                atom_of_state = np.array([[p in labeling.label(s) for p in names] for s in range(model.n_states)],
+                                         dtype=bool).reshape(model.n_states, len(names))
+            covered = np.zeros(run.n_states, dtype=bool)
             covered[np.concatenate(nominal)] = True
             exclude = {(key[0], tuple(atom_names.index(a) for a in key[1]), False)
                        for _, key in conjuncts if all(a in atom_names for a in key[1])}
@@ -206,8 +222,8 @@ class SpecLearner(Learner):
             if choice is None or choice.gain < self.threshold:
                 record.update(self._describe(choice, atom_names, None), added=False,
                               seconds=time.perf_counter() - t0)
-                self._log(record)
-                self.stopped_because_ = ("gain below threshold" if choice is not None else
+                self._log(run, record)
+                stopped_because = ("gain below threshold" if choice is not None else
                                          "no candidates" if contrast else "nominal reproduces the demonstrations")
                 break
             chosen = [atom_names[i] for i in choice.atoms]
@@ -216,29 +232,39 @@ class SpecLearner(Learner):
                     if name.startswith("s"):  # a state not yet a proposition
                         state = int(name[1:])
                         new = f"p{len(labeling.propositions)}"
-                        labeling = labeling.with_proposition(new, [state], self._meaning(state))
+                        labeling = labeling.with_proposition(new, [state], model.describe(state))
                         chosen[k] = new
             formula = instantiate(choice.template, chosen, choice.negated)
             conjuncts.append((formula, (choice.template, tuple(chosen))))
             if self.policy_updates:
-                policy = last_policy = self._train(conjunction(*(f for f, _ in conjuncts)), labeling, seed=iteration)
+                policy = last_policy = self._train(run, conjunction(*(f for f, _ in conjuncts)), labeling,
+                                                   seed=iteration)
             record.update(self._describe(choice, atom_names, formula), added=True,
                           spec=str(conjunction(*(f for f, _ in conjuncts))), seconds=time.perf_counter() - t0)
-            self._log(record)
+            self._log(run, record)
 
-        self.unpruned_formula_ = conjunction(*(f for f, _ in conjuncts))
-        self.pruned_: list[str] = []
+        unpruned = conjunction(*(f for f, _ in conjuncts))
         if self.prune and len(conjuncts) > 1:
-            conjuncts = self._pruned(conjuncts, labeling)
-        self.formula_ = conjunction(*(f for f, _ in conjuncts))
+            conjuncts = self._pruned(run, conjuncts, labeling)
+        formula = conjunction(*(f for f, _ in conjuncts))
+        same = last_policy is not None and formula == unpruned
+        policy = last_policy if same else self._train(run, formula, labeling, seed=10_000)
+        entropy = self._entropy(run, policy)
+
+        # the results, all set together once the fit has succeeded
+        self.model_, self.world_ = run.model, run.world
+        self.history_ = run.history
+        self.pruned_ = run.pruned
+        self.stopped_because_ = stopped_because
+        self.unpruned_formula_ = unpruned
+        self.formula_ = formula
         self.full_labeling_ = labeling
-        self.labeling_ = _restrict(labeling, self.formula_) if learn else labeling
-        same = last_policy is not None and self.formula_ == self.unpruned_formula_
-        self.policy_ = last_policy if same else self._train(self.formula_, labeling, seed=10_000)
-        self.entropy_ = self._entropy(self.policy_)
-        self.rejected_ = self._rejected()
-        self.dfa_ = self._dfa(self.formula_)
-        self.iterations_ = sum(1 for h in self.history_ if h.added)
+        self.labeling_ = _restrict(labeling, formula) if learn else labeling
+        self.policy_ = policy
+        self.entropy_ = entropy
+        self.rejected_ = self._rejected(run)
+        self.dfa_ = self._dfa(formula)
+        self.iterations_ = sum(1 for h in run.history if h.added)
         self.seconds_ = time.perf_counter() - t_start
         self._set_result(self.formula_, str(self.formula_) + "\n",
                          metrics={"length": self.length_, "iterations": self.iterations_, "entropy": self.entropy_,
@@ -279,13 +305,13 @@ class SpecLearner(Learner):
                 (not isinstance(self.propositions, str) and all(isinstance(p, str) for p in self.propositions))):
             raise ModelError(f"propositions must be 'given', 'learn' or a list of names, got {self.propositions!r}")
 
-    def _given_labeling(self) -> tuple[Labeling, list[str]]:
-        labeling = self.labeling if self.labeling is not None else self.model_.labeling
+    def _given_labeling(self, model: TaskModel) -> tuple[Labeling, list[str]]:
+        labeling = self.labeling if self.labeling is not None else model.labeling
         if labeling is None:
             raise DataError("the world has no labeling, so there are no given propositions",
                             hint="give the domain a labeling (labeling = ... in domain.toml), pass labeling=, "
                                  "or use propositions='learn'")
-        n_states = self.model_.n_states
+        n_states = model.n_states
         for state, _ in getattr(labeling, "items", lambda: [])():
             if not (isinstance(state, (int, np.integer)) and 0 <= state < n_states):
                 raise DataError(f"the labeling labels state {state!r}, which is not one of the environment's "
@@ -303,88 +329,83 @@ class SpecLearner(Learner):
         found = [p for p in labeling.label(state)]
         return found[0] if found else f"s{state}"
 
-    def _meaning(self, state: int) -> str:
-        return self.model_.describe(state)
-
-    @property
-    def _n_states(self) -> int:
-        return self.world_.n_states if self.world_ is not None else self.model_.n_states
-
     def _seed(self, offset: int) -> int:
         base = 0 if self.random_state is None else int(self.random_state)
         return base * 100_003 + offset
 
-    def _env_names(self) -> list[str]:
-        names = self.world_.propositions()
+    def _env_names(self, world: EnvWorld) -> list[str]:
+        names = world.propositions()
         if self.propositions == "given":
             return names
         unknown = [p for p in self.propositions if p not in names and p not in
-                   getattr(self.world_.labeling, "propositions", ())]
+                   getattr(world.labeling, "propositions", ())]
         if unknown:
             raise DataError(f"unknown proposition {unknown[0]!r}: the labeling never produced it",
                             hint="met so far: " + (", ".join(names) or "none"))
         return list(self.propositions)
 
-    def _random_traces(self, n: int) -> list[np.ndarray]:
-        if self.world_ is not None:
-            return self.world_.random_traces(n, seed=int(self._rng.integers(1 << 31)))
-        n_a = self.model_.successors.shape[1]
-        s = np.full(n, self.model_.start)
+    def _random_traces(self, run: _SpecFit, n: int) -> list[np.ndarray]:
+        if run.world is not None:
+            return run.world.random_traces(n, seed=int(run.rng.integers(1 << 31)))
+        model = run.model
+        n_a = model.successors.shape[1]
+        s = np.full(n, model.start)
         path = [s]
-        for _ in range(self.model_.horizon):
-            s = self.model_.successors[s, self._rng.integers(0, n_a, n)]
+        for _ in range(model.horizon):
+            s = model.successors[s, run.rng.integers(0, n_a, n)]
             path.append(s)
         return list(np.stack(path, axis=1))
 
-    def _policy_traces(self, policy, n: int) -> list[np.ndarray]:
+    def _policy_traces(self, run: _SpecFit, policy, n: int) -> list[np.ndarray]:
         from symlearn.rl.crm_q_learning import sample_episodes
 
-        if self.world_ is not None:
-            return self.world_.policy_traces(policy, n, seed=int(self._rng.integers(1 << 31)))
-        return sample_episodes(policy, n, seed=int(self._rng.integers(1 << 31)))
+        if run.world is not None:
+            return run.world.policy_traces(policy, n, seed=int(run.rng.integers(1 << 31)))
+        return sample_episodes(policy, n, seed=int(run.rng.integers(1 << 31)))
 
-    def _train(self, formula: Formula, labeling: Labeling, seed: int):
+    def _train(self, run: _SpecFit, formula: Formula, labeling: Labeling, seed: int):
         from symlearn.logic.automata.reward_machine import RewardMachine
         from symlearn.rl.crm_q_learning import crm_q_learning
 
-        if self.world_ is not None:
-            return self.world_.train(formula, seed=self._seed(seed))
+        if run.world is not None:
+            return run.world.train(formula, seed=self._seed(seed))
+        model = run.model
         machine = RewardMachine.from_formula(formula)
-        steps = self.q_steps or min(400 * self.model_.n_states * (1 + machine.n_states // 8), 4_000_000)
-        labels = [labeling.label(s) for s in range(self.model_.n_states)]
-        base = 0 if self.random_state is None else int(self.random_state)
-        return crm_q_learning(self.model_.successors, labels, machine, self.model_.start, n_steps=steps, n_envs=self.n_envs,
-                              horizon=self.model_.horizon, discount=self.discount, epsilon=self.epsilon,
-                              seed=base * 100_003 + seed)
+        steps = self.q_steps or min(400 * model.n_states * (1 + machine.n_states // 8), 4_000_000)
+        labels = [labeling.label(s) for s in range(model.n_states)]
+        return crm_q_learning(model.successors, labels, machine, model.start, n_steps=steps, n_envs=self.n_envs,
+                              horizon=model.horizon, discount=self.discount, epsilon=self.epsilon,
+                              seed=self._seed(seed))
 
-    def _satisfaction(self, formula: Formula, labeling: Labeling, traces: Sequence[np.ndarray]) -> float:
+    def _satisfaction(self, run: _SpecFit, formula: Formula, labeling: Labeling,
+                      traces: Sequence[np.ndarray]) -> float:
         from symlearn.logic.ltlf import evaluate_many
 
-        label = self.world_.label if self.world_ is not None else (lambda s: labeling.label(int(s)))
+        label = run.world.label if run.world is not None else (lambda s: labeling.label(int(s)))
         words = [[label(s) for s in t] for t in traces]
         return float(np.mean(evaluate_many(formula, words)))
 
-    def _pruned(self, conjuncts, labeling):
+    def _pruned(self, run: _SpecFit, conjuncts, labeling):
         kept = list(conjuncts)
         for item in list(conjuncts):
             rest = [c for c in kept if c is not item]
             if not rest:
                 break
-            policy = self._train(conjunction(*(f for f, _ in rest)), labeling, seed=20_000 + len(self.pruned_))
-            rate = self._satisfaction(item[0], labeling, self._policy_traces(policy, self.n_eval * 2))
+            policy = self._train(run, conjunction(*(f for f, _ in rest)), labeling, seed=20_000 + len(run.pruned))
+            rate = self._satisfaction(run, item[0], labeling, self._policy_traces(run, policy, self.n_eval * 2))
             if rate >= self.prune_threshold:
                 kept = rest
-                self.pruned_.append(str(item[0]))
-                self._log({"pruned": str(item[0]), "satisfied_without_it": rate})
+                run.pruned.append(str(item[0]))
+                self._log(run, {"pruned": str(item[0]), "satisfied_without_it": rate})
         return kept
 
-    def _entropy(self, policy) -> float:
+    def _entropy(self, run: _SpecFit, policy) -> float:
         from symlearn.rl.crm_q_learning import policy_entropy
 
-        if self.world_ is not None:
-            self._policy_traces(policy, self.n_eval)
-            return self.world_.last_entropy
-        return policy_entropy(policy, self._policy_traces(policy, self.n_eval))
+        if run.world is not None:
+            self._policy_traces(run, policy, self.n_eval)
+            return run.world.last_entropy
+        return policy_entropy(policy, self._policy_traces(run, policy, self.n_eval))
 
     @staticmethod
     def _dfa(formula: Formula):
@@ -392,13 +413,13 @@ class SpecLearner(Learner):
 
         return to_dfa(formula)
 
-    def _rejected(self) -> list[dict[str, Any]]:
+    def _rejected(self, run: _SpecFit) -> list[dict[str, Any]]:
         """The candidates the search weighed and did not keep: the last, below-threshold best
         candidate and every conjunct pruning dropped."""
         out = [{"formula": h.formula, "why": f"information gain {h.gain:.3f} is below the threshold {self.threshold}"}
-               for h in self.history_ if not h.added and h.formula]
+               for h in run.history if not h.added and h.formula]
         out += [{"formula": f, "why": "implied by the rest (a policy trained without it still satisfies it)"}
-                for f in self.pruned_]
+                for f in run.pruned]
         return out
 
     def _describe(self, choice: Choice | None, atom_names, formula) -> dict[str, Any]:
@@ -410,9 +431,9 @@ class SpecLearner(Learner):
         return {"template": template, "formula": str(shown), "gain": choice.gain, "expert_rate": choice.expert_rate,
                 "nominal_rate": choice.nominal_rate, "candidates": choice.n_candidates}
 
-    def _log(self, record: dict[str, Any]) -> None:
+    def _log(self, run: _SpecFit, record: dict[str, Any]) -> None:
         if "iteration" in record:
-            self.history_.append(SpecIteration(**{f: record.get(f) for f in SpecIteration.__dataclass_fields__}))
+            run.history.append(SpecIteration(**{f: record.get(f) for f in SpecIteration.__dataclass_fields__}))
         if self.callback is not None:
             self.callback(record)
 

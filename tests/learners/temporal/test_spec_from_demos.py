@@ -12,7 +12,7 @@ from symlearn.envs.spec_experts import expert_demonstrations
 from symlearn.envs.spec_tasks import get_task
 from symlearn.errors import DataError, ModelError
 from symlearn.learners.base import NotFittedError
-from symlearn.learners.temporal.spec_from_demos import SpecLearner, _without_reproductions
+from symlearn.learners.temporal.spec_from_demos import SpecLearner, _SpecFit, _without_reproductions
 from symlearn.learners.temporal.spec_templates import (
     TEMPLATES, TraceBounds, best_candidate, information_gain, instantiate, novelty_depth,
 )
@@ -128,6 +128,30 @@ def test_learned_propositions_office1(office1_demos, tmp_path):
     assert json.loads((tmp_path / "lab.json").read_text())["symlearn"] == "labeling"
 
 
+def _outcome(learner):
+    return (str(learner.formula_), [{k: v for k, v in h.as_dict().items() if k != "seconds"} for h in learner.history_],
+            learner.pruned_, learner.entropy_, learner.labeling_.propositions, learner.stopped_because_)
+
+
+def test_two_fits_on_one_learner_share_nothing(office1_demos):
+    # a fit's working state lives in an object of its own (spec_from_demos._SpecFit): a second
+    # fit on the same learner gives what a fresh learner gives, and a fit that fails part-way
+    # leaves the previous results whole
+    office2 = expert_demonstrations("office-2", 10, seed=1)
+    learner = SpecLearner(random_state=0, max_iterations=3)
+    learner.fit(office1_demos[:10], task_env("office-1"))
+    first = _outcome(learner)
+    learner.fit(office2, task_env("office-2"))
+    assert _outcome(learner) == _outcome(SpecLearner(random_state=0, max_iterations=3).fit(office2, task_env("office-2")))
+    learner.fit(office1_demos[:10], task_env("office-1"))
+    assert _outcome(learner) == first
+    model = learner.model_
+    with pytest.raises(DataError, match="unknown proposition"):
+        learner.set_params(propositions=["nowhere"]).fit(office2, task_env("office-2"))
+    assert learner.model_ is model and _outcome(learner) == first
+    assert not [k for k in vars(learner) if k.startswith("_")]
+
+
 def test_without_policy_updates_the_nominal_stays_random(office1_demos):
     learner = SpecLearner(policy_updates=False, max_iterations=3, prune=False, random_state=0)
     learner.fit(office1_demos[:10], task_env("office-1"))
@@ -178,9 +202,10 @@ def test_pruning_drops_implied_conjuncts(office1_demos):
     env = task_env("office-1")
     learner = SpecLearner(random_state=0).fit(office1_demos[:10], env)
     labeling = env.labeling
-    kept = learner._pruned([(parse("F f"), ("F", ("f",))), (parse("f T g"), ("T", ("f", "g")))], labeling)
+    run = _SpecFit(np.random.default_rng(0), learner.model_, None)  # the working state of one fit
+    kept = learner._pruned(run, [(parse("F f"), ("F", ("f",))), (parse("f T g"), ("T", ("f", "g")))], labeling)
     assert [str(f) for f, _ in kept] == ["f T g"]
-    assert learner.pruned_ == ["F f"]
+    assert run.pruned == ["F f"]
 
 
 # --- bad input ---------------------------------------------------------------------------------
