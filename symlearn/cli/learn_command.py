@@ -308,8 +308,7 @@ def _write_outputs(learner, output: str) -> list[str]:
 
     path = Path(output)
     stem = path.with_suffix("") if path.suffix else path
-    write_text(path, str(learner.formula_) + "\n")
-    files = [str(path)]
+    files = [str(learner.save(path))]  # the formula, as SpecLearner.save writes it in Python
     if hasattr(learner.labeling_, "save") and hasattr(learner.labeling_, "to_json"):  # a function is not saved
         labeling_path = stem.with_name(stem.name + ".labeling.json")
         learner.labeling_.save(labeling_path)

@@ -35,7 +35,6 @@ truth over every pair that exists; they are ``null`` for a domain without truth 
 from __future__ import annotations
 
 import argparse
-import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -227,7 +226,7 @@ def _learn(args: argparse.Namespace, out) -> None:
     if method == "mce-icrl":
         doc["cost_map"] = _cost_map(world, learner, args)
     if args.output:
-        doc["files"] = _write(args.output, method, doc, learned, world, learner)
+        doc["files"] = _write(args.output, method, doc, world, learner)
     out.result(doc, _render)
 
 
@@ -332,18 +331,14 @@ def _rationality(args: argparse.Namespace, world: _World) -> float:
     return value
 
 
-def _write(output: str, method: str, doc: dict, learned, world: _World, learner) -> list[str]:
-    from symlearn.atomic import write_text
-    from symlearn.learners.constraints.constraint_file import constraint_set_document
-
+def _write(output: str, method: str, doc: dict, world: _World, learner) -> list[str]:
+    """The learner's own file (``save``: what Python gives for the same fit), and for MCE-ICRL the
+    cost map beside it."""
     path = Path(output)
     if method == "logic":
-        learner.to_lp(path)
+        learner.to_lp(path)  # save, refusing an empty rule set with a hint
         return [str(path)]
-    payload = constraint_set_document(learned, world.mdp, method=method, domain=world.name,
-                                      multipliers=doc.get("multipliers") if method == "mce-icrl" else None)
-    write_text(path, json.dumps(payload, indent=1) + "\n")
-    files = [str(path)]
+    files = [str(learner.save(path))]
     if method == "mce-icrl":
         files += _write_cost_map(path.with_suffix(""), doc["cost_map"], world, learner)
     return files

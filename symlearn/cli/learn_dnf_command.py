@@ -144,11 +144,7 @@ def _dnf(args: argparse.Namespace, out) -> None:
         if report.warning():
             doc["warnings"].append(report.warning())
     if args.output:
-        source = args.demos or f"{args.n_demos} expert episodes of {args.env}"
-        header = [f"unsafe set learned by a one-class tree (max depth {args.max_depth}) from {source}; one rule per "
-                  "line, edit freely"] + learner.notes_ + [f"warning: {w}" for w in learner.warnings_]
-        dnf.save(args.output, header="\n".join(header))
-        doc["files"] = [args.output]
+        doc["files"] = [str(learner.save(args.output))]  # the file OneClassTreeConstraint.save writes in Python
     out.result(doc, _render)
 
 

@@ -145,7 +145,6 @@ def _pdfa(args: argparse.Namespace, out) -> None:
         doc["truth"] = _score(learner, task)
     files = []
     if args.output:
-        from symlearn.atomic import write_text
         from symlearn.logic.automata.pdfa import PDFA
 
         if args.probabilities == "thesis":
@@ -155,7 +154,7 @@ def _pdfa(args: argparse.Namespace, out) -> None:
                 raise DataError("with --probabilities thesis this automaton's states do not sum to 1, so its JSON "
                                 "could not be read back as a PDFA", hint="write it with --probabilities consistent; "
                                 "--json shows the thesis values") from None
-        files.append(str(write_text(args.output, learner.result_.text)))
+        files.append(str(learner.save(args.output)))  # the file SubgoalPDFALearner.save writes in Python
     if args.dot:
         from symlearn.atomic import write_text
         from symlearn.learners.subgoals.pdfa_dot import subgoal_pdfa_dot

@@ -12,6 +12,7 @@ import inspect
 import pytest
 from sklearn.base import clone
 
+from learner_classes import learner_classes
 from symlearn.learners.base import Learner, LearnerResult, NotFittedError, record_dict
 
 
@@ -93,26 +94,7 @@ def _neural():
     return params, expert_demonstrations(3, seed=0), BlockedPoint, "neural-icrl-cost"
 
 
-def _learner_classes() -> dict[str, type]:
-    """Every public concrete Learner subclass defined under symlearn.learners, by qualified name."""
-    import importlib
-    import pkgutil
-
-    import symlearn.learners as package
-
-    found: dict[str, type] = {}
-    for module_info in pkgutil.walk_packages(package.__path__, "symlearn.learners."):
-        if any(part.startswith("_") for part in module_info.name.split(".")):
-            continue
-        module = importlib.import_module(module_info.name)
-        for name, cls in inspect.getmembers(module, inspect.isclass):
-            if issubclass(cls, Learner) and cls is not Learner and cls.__module__ == module.__name__ \
-                    and not name.startswith("_") and not inspect.isabstract(cls):
-                found[f"{cls.__module__}.{name}"] = cls
-    return found
-
-
-LEARNERS = _learner_classes()
+LEARNERS = learner_classes()
 
 #: qualified class name -> () -> (hyper-parameters, demonstrations, world, text the saved file contains)
 FIXTURES = {

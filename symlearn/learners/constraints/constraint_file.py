@@ -2,14 +2,27 @@
 
 ``{"format": "symlearn-constraints", "version": 1, "method": ..., "domain": ...,
 "forbidden": [[state, action], ...], "multipliers": {state: value}}`` (``multipliers`` only for
-MCE-ICRL). Names are the model's state and action names, so the file reads without the ids.
+MCE-ICRL with one multiplier per state), ``domain`` only when the learner's world is a named
+:class:`~symlearn.grounding.Domain` (:func:`world_name`). Names are the model's state and action
+names, so the file reads without the ids. The learners' ``save`` and ``learn constraints -o``
+write this text, so both give the same file.
 
 >>> import numpy as np
 >>> from symlearn.mdp import TabularMDP
 >>> P = np.zeros((2, 2, 2)); P[:, :, 1] = 1
 >>> mdp = TabularMDP(P, np.zeros((2, 2)), [1, 0], [False, True], ("a", "b"), ("left", "right"))
->>> print(constraint_set_text(np.array([[True, False], [False, False]]), mdp, method="ml"))
-{"format": "symlearn-constraints", "version": 1, "method": "ml", "forbidden": [["a", "left"]]}
+>>> print(constraint_set_text(np.array([[True, False], [False, False]]), mdp, method="ml"), end="")
+{
+ "format": "symlearn-constraints",
+ "version": 1,
+ "method": "ml",
+ "forbidden": [
+  [
+   "a",
+   "left"
+  ]
+ ]
+}
 """
 
 from __future__ import annotations
@@ -34,7 +47,19 @@ def constraint_set_document(forbidden: np.ndarray, mdp: Any, *, method: str, dom
 
 
 def constraint_set_text(forbidden: np.ndarray, mdp: Any, **kwargs: Any) -> str:
-    return json.dumps(constraint_set_document(forbidden, mdp, **kwargs))
+    """The document as the file holds it (one-space indents: a person reads and edits it)."""
+    return json.dumps(constraint_set_document(forbidden, mdp, **kwargs), indent=1) + "\n"
 
 
-__all__ = ["constraint_set_document", "constraint_set_text"]
+def world_name(world: Any) -> str | None:
+    """The name a constraint set gives its world: a Domain's (or a bundled wrapper's ``.domain``),
+    else None (a bare TabularMDP or environment does not name itself)."""
+    from symlearn.grounding import Domain
+
+    for candidate in (world, getattr(world, "domain", None)):
+        if isinstance(candidate, Domain):
+            return candidate.name
+    return None
+
+
+__all__ = ["constraint_set_document", "constraint_set_text", "world_name"]

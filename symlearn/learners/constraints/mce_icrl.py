@@ -208,14 +208,14 @@ class MCEICRL(Learner):
         self.n_iter_ = len(history)
         self.seconds_ = time.perf_counter() - started
         self.forbidden_ = self._forbidden_pairs(mdp, known)
-        from symlearn.learners.constraints.constraint_file import constraint_set_text
+        from symlearn.learners.constraints.constraint_file import constraint_set_text, world_name
 
         names = mdp.state_names or tuple(str(s) for s in range(mdp.n_states))
         # by state name, for one multiplier per state (state features); None otherwise
         self.multipliers_ = ({names[s]: float(v) for s, v in enumerate(lam) if v > 0}
                              if lam.shape[0] == mdp.n_states else None)
         self._set_result(self.forbidden_, constraint_set_text(self.forbidden_, mdp, method="mce-icrl",
-                                                              multipliers=self.multipliers_),
+                                                              domain=world_name(world), multipliers=self.multipliers_),
                          metrics={"constraints": int(self.forbidden_.sum()), "converged": converged},
                          timings={"total": self.seconds_}, history=history)
         return self

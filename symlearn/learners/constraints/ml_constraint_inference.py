@@ -271,10 +271,10 @@ class MLConstraintInference(Learner):
         self.stop_reason_ = self.stopped_because_ = stopped
         self.passed_over_ = passed
         self.seconds_ = time.perf_counter() - started
-        from symlearn.learners.constraints.constraint_file import constraint_set_text
+        from symlearn.learners.constraints.constraint_file import constraint_set_text, world_name
 
         learned = self.constraints_ & ~known
-        self._set_result(learned, constraint_set_text(learned, mdp, method="ml"),
+        self._set_result(learned, constraint_set_text(learned, mdp, method="ml", domain=world_name(world)),
                          metrics={"constraints": int(learned.sum()), "stopped_because": stopped},
                          timings={"total": self.seconds_}, history=history)
         return self

@@ -94,7 +94,7 @@ def write_results(learner, path: str | os.PathLike[str], *, dot: str | os.PathLi
     path = Path(path)
     stem = path.with_suffix("")
     machine = learner.shaped_machine_ or learner.machine_
-    written = [write_text(path, machine.to_json())]
+    written = [learner.save(path)]  # the machine (shaped when it was): the learner's own file
     written += learner.labeling_.save(stem.with_name(stem.name + ".labeling.json"))
     folder = stem.with_name(stem.name + ".prototypes")
     folder.mkdir(parents=True, exist_ok=True)

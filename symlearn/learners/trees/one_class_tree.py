@@ -100,6 +100,7 @@ import time
 import warnings
 from collections.abc import Iterator, Sequence
 from dataclasses import asdict, dataclass, field
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -441,9 +442,19 @@ class OneClassTreeConstraint(Learner):
                    "slivers_closed": slivers}
         timings = {"features": t_features - started, "tree": t_tree - t_features, "dnf": t_dnf - t_tree,
                    "total": max(time.perf_counter() - started, 1e-9)}
-        header = "".join(f"# {line}\n" for line in self.notes_ + [f"warning: {w}" for w in self.warnings_])
+        made = (f"unsafe set learned by a one-class tree (max depth {self.max_depth}) from {len(X)} points; one rule "
+                "per line, edit freely")
+        header = "".join(f"# {line}\n" for line in [made, *self.notes_, *(f"warning: {w}" for w in self.warnings_)])
         self._set_result(dnf, header + str(dnf), metrics=metrics, timings=timings, history=self.history_)
         return self
+
+    def save(self, path: Any) -> Path:
+        """Write the unsafe set: the DNF text with its ``#`` header (how it was made, notes,
+        warnings), or the DNF's JSON when ``path`` ends in ``.json`` (as :meth:`DNF.save`)."""
+        self.check_fitted()
+        if str(path).endswith(".json"):
+            return self.dnf_.save(path)
+        return super().save(path)
 
     # --- using the result ---------------------------------------------------------------------
     def predict(self, X: Any) -> np.ndarray:
