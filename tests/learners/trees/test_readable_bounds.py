@@ -83,7 +83,8 @@ def test_a_sliver_between_neighbouring_boxes_is_closed():
     assert exact.predict(inside_gap).all() and not readable.predict(inside_gap).any()
     check_formula(readable, boundary_grid(readable))
     text = readable.artefact_text()
-    assert "1 gap(s) between neighbouring safe boxes" in text and text.startswith("# thresholds: ")
+    assert "1 gap(s) between neighbouring safe boxes" in text and text.startswith("# unsafe set learned by a one-class tree")
+    assert text.splitlines()[1].startswith("# thresholds: ")
     states = np.concatenate([t.states for t in demos])
     assert not readable.predict(states).any()
 
