@@ -116,7 +116,8 @@ def _plain_atom(rng: random.Random) -> str:
     name = rng.choice(NAMES)
     if rng.random() < 0.2:
         return name
-    return ("-" if rng.random() < 0.1 else "") + f"{name}({', '.join(_plain_term(rng) for _ in range(rng.randint(1, 3)))})"
+    args = ", ".join(_plain_term(rng) for _ in range(rng.randint(1, 3)))
+    return ("-" if rng.random() < 0.1 else "") + f"{name}({args})"
 
 
 def _plain_literal(rng: random.Random) -> str:
