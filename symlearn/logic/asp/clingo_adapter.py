@@ -397,9 +397,8 @@ class PredicateUse:
     defines: bool
 
 
-def predicate_uses(program: Program) -> list[PredicateUse]:
-    """Every predicate atom of ``program``'s statements (comparisons and built-ins are not atoms);
-    syntax errors raise :class:`ParseError` located in the program's files."""
+def _atom_uses(statement: clingo.ast.AST) -> list[PredicateUse]:
+    """The predicate atoms of one statement, walked through clingo's AST (every kind of statement)."""
     found: list[PredicateUse] = []
 
     def atoms(node: Any, defines: bool) -> None:
@@ -424,13 +423,64 @@ def predicate_uses(program: Program) -> list[PredicateUse]:
             else:
                 atoms(getattr(node, key), defines)
 
-    def statement(node: clingo.ast.AST) -> None:
-        if node.ast_type == clingo.ast.ASTType.Rule:
-            atoms(node.head, True)
-            atoms(node.body, False)
-
-    parse_statements(program.text, statement, program=program)
+    if statement.ast_type == clingo.ast.ASTType.Rule:
+        atoms(statement.head, True)
+        atoms(statement.body, False)
     return found
+
+
+class PredicateUses:
+    """Every predicate atom of a program's statements, in the order :func:`predicate_uses` lists
+    them: ``signatures[i]`` = (name, arity, defines) of the i-th; :meth:`located` its position.
+
+    A simple rule's atoms (see :func:`_simple_rule`) are read from its printed text and located
+    only on demand, by the AST walk of that one statement, so a rule file of many rules costs
+    a parse and a string split per rule; a message naming a position (a misspelt predicate)
+    locates a handful of atoms."""
+
+    def __init__(self, program: Program) -> None:
+        self.signatures: list[tuple[str, int, bool]] = []
+        self._statement_of: list[int] = []  # per atom: index into _statements
+        self._statements: list[clingo.ast.AST] = []
+        self._first: list[int] = []  # per statement: index of its first atom
+        self._walked: dict[int, list[PredicateUse]] = {}
+
+        def statement(node: clingo.ast.AST) -> None:
+            if node.ast_type != clingo.ast.ASTType.Rule:
+                return
+            index = len(self._statements)
+            self._statements.append(node)
+            self._first.append(len(self.signatures))
+            simple = _simple_rule(str(node))
+            if simple is None:
+                uses = self._walked[index] = _atom_uses(node)
+                found = [(u.name, u.arity, u.defines) for u in uses]
+            else:
+                head, body = simple
+                found = [(head[1], head[3], True)] if head is not None else []
+                found += [(b[1], b[3], False) for b in body if not isinstance(b, str)]
+            self.signatures.extend(found)
+            self._statement_of.extend([index] * len(found))
+
+        parse_statements(program.text, statement, program=program)
+
+    def __len__(self) -> int:
+        return len(self.signatures)
+
+    def located(self, index: int) -> PredicateUse:
+        """The ``index``-th atom with its line and column in the program's text."""
+        statement = self._statement_of[index]
+        if statement not in self._walked:
+            self._walked[statement] = _atom_uses(self._statements[statement])
+        return self._walked[statement][index - self._first[statement]]
+
+
+def predicate_uses(program: Program) -> list[PredicateUse]:
+    """Every predicate atom of ``program``'s statements (comparisons and built-ins are not atoms);
+    syntax errors raise :class:`ParseError` located in the program's files. (Many statements and
+    few positions wanted: :class:`PredicateUses`.)"""
+    uses = PredicateUses(program)
+    return [uses.located(i) for i in range(len(uses))]
 
 
 Function = clingo.Function
@@ -484,6 +534,125 @@ class _Tagger(clingo.ast.Transformer):
             head = self.visit(head)
         rule = rule.update(head=head, body=[self.visit(b) for b in rule.body])
         return rule.update(body=[*rule.body, *self.guard])
+
+
+# Rules whose every element is a plain atom, a comparison or #true/#false are copied from their
+# printed text: walking the AST through clingo's Python bindings (a Transformer visit, ``update``
+# per node) costs about 1 ms a rule, the text about 20 us. The printed text is clingo's own
+# (``str(statement)``: canonical spacing, ``; `` between body elements, binary terms in
+# parentheses), so the few forms read here are exact; anything else (aggregates, conditions,
+# pools, disjunctions, strings, ...) goes the AST way. tests/logic/asp/test_tagging_fast_path.py
+# compares both ways on thousands of generated rules.
+_ATOM_TEXT = re.compile(r"(-?)(_*[a-z][A-Za-z0-9_']*)(?:\((.+)\))?\Z")
+_NOT_SIMPLE = re.compile(r'["{}\[\]|&@:; ]|#(?!(?:inf|sup)\b)')  # in an atom's arguments
+_COMPARISON = re.compile(r"[^\s]+(?: (?:=|!=|<|<=|>|>=) [^\s]+)+\Z")
+_NOT_COMPARISON = re.compile(r'["{}\[\]|&@:;]|#(?!(?:inf|sup)\b)')
+
+
+def _arity(args: str) -> int | None:
+    """Number of arguments in ``args`` (the text between an atom's parentheses), None when its
+    parentheses do not balance."""
+    if "(" not in args:
+        return None if ")" in args else args.count(",") + 1
+    depth, commas = 0, 0
+    for char in args:
+        if char == "(":
+            depth += 1
+        elif char == ")":
+            depth -= 1
+            if depth < 0:
+                return None
+        elif char == "," and not depth:
+            commas += 1
+    return commas + 1 if depth == 0 else None
+
+
+def _simple_element(text: str, head: bool) -> tuple[str, str, str | None, int] | str | None:
+    """An atom of a rule's printed text as (prefix, name, argument text or None, arity), where
+    ``prefix`` is its ``not ``s and classical ``-``; a comparison or ``#true``/``#false`` of a body
+    as its text; None for anything else."""
+    rest = text
+    nots = 0
+    while rest.startswith("not "):
+        rest = rest[4:]
+        nots += 1
+    if head and nots:
+        return None
+    if rest in ("#true", "#false"):
+        return None if head else text
+    match = _ATOM_TEXT.match(rest)
+    if match is not None:
+        minus, name, args = match.groups()
+        if args is None:
+            return text[:len(text) - len(rest)] + minus, name, None, 0
+        if _NOT_SIMPLE.search(args) is None:
+            arity = _arity(args)
+            if arity is not None:
+                return text[:len(text) - len(rest)] + minus, name, args, arity
+        return None
+    if not head and _COMPARISON.match(rest) and _NOT_COMPARISON.search(rest) is None:
+        return text
+    return None
+
+
+def _simple_rule(text: str) -> tuple[tuple[str, str, str | None, int] | None, list] | None:
+    """A rule's printed text as (head atom or None for ``#false``, body elements) when every
+    element is simple (:func:`_simple_element`), else None."""
+    if not text.endswith("."):
+        return None
+    head_text, separator, body_text = text[:-1].partition(" :- ")
+    if head_text == "#false":
+        head = None
+    else:
+        head = _simple_element(head_text, True)
+        if head is None:
+            return None
+    body = []
+    if separator:
+        for piece in body_text.split("; "):
+            element = _simple_element(piece, False)
+            if element is None:
+                return None
+            body.append(element)
+    return head, body
+
+
+def simple_rule_length(text: str) -> int | None:
+    """ILASP length (head atoms + body literals) of the rule printed as ``text`` when it is a
+    simple rule (:func:`_simple_rule`: no conditions, aggregates or disjunctions), else None."""
+    simple = _simple_rule(text)
+    if simple is None:
+        return None
+    head, body = simple
+    return (head is not None) + len(body)
+
+
+def _tag_simple(text: str, tag: str, guard: Sequence[str], constraint_head: str | None,
+                untagged: frozenset[str]) -> str | None:
+    """What :class:`_Tagger` prints for the rule printed as ``text`` (``tag``, ``guard``: their
+    printed forms), when the rule is simple and names no ``untagged`` predicate; else None."""
+    simple = _simple_rule(text)
+    if simple is None:
+        return None
+    head, body = simple
+
+    def tagged(atom: tuple[str, str, str | None, int]) -> str | None:
+        prefix, name, args, _arity = atom
+        if name in untagged:
+            return None
+        return f"{prefix}{name}({tag},{args})" if args is not None else f"{prefix}{name}({tag})"
+
+    if head is None:
+        head_out = f"{constraint_head}({tag})" if constraint_head else "#false"
+    else:
+        head_out = tagged(head)
+    parts = [head_out]
+    for element in body:
+        parts.append(element if isinstance(element, str) else tagged(element))
+    if None in parts:
+        return None
+    elements = [*parts[1:], *guard]
+    return f"{parts[0]} :- {'; '.join(elements)}." if elements else f"{parts[0]}."
 
 
 def _ground_fact(statement: clingo.ast.AST) -> tuple[str, list[str], bool] | None:
@@ -588,6 +757,8 @@ def tag_programs_located(pieces: Sequence[tuple[Program, str, Sequence[str]]], *
     def piece_of(statement_line: int) -> int:
         return nonempty[bisect.bisect_right(nonempty_starts, statement_line) - 1]
 
+    printed: dict[int, tuple[str, list[str]]] = {}  # the tag and guard as clingo prints them
+
     def tagger(index: int) -> _Tagger:
         if index not in taggers:
             _program, tag, guard = pieces[index]
@@ -597,6 +768,7 @@ def tag_programs_located(pieces: Sequence[tuple[Program, str, Sequence[str]]], *
                                     parsed.append)
             rule = parsed[-1]
             taggers[index] = _Tagger(rule.head.atom.symbol.arguments[0], list(rule.body), constraint_head, untagged)
+            printed[index] = (str(taggers[index].tag), [str(g) for g in taggers[index].guard])
         return taggers[index]
 
     def visit(statement: clingo.ast.AST) -> None:
@@ -616,7 +788,11 @@ def tag_programs_located(pieces: Sequence[tuple[Program, str, Sequence[str]]], *
                 suffix = f" :- {', '.join(guard)}." if guard else "."
                 text = f"{'-' if negative else ''}{name}({','.join([tag, *args])}){suffix}"
             else:
-                text = str(tagger(index).visit(statement))
+                rewriter = tagger(index)
+                tag_text, guard_texts = printed[index]
+                text = _tag_simple(str(statement), tag_text, guard_texts, constraint_head, untagged)
+                if text is None:
+                    text = str(rewriter.visit(statement))
         else:
             text = str(statement)
         outputs[index].append(text)

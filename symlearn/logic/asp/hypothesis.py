@@ -37,6 +37,9 @@ def rule_length(statement: cl.clingo.ast.AST) -> int:
     """
     if statement.ast_type != ASTType.Rule:
         raise SymlearnError(f"not a rule: {statement}")
+    simple = cl.simple_rule_length(str(statement))  # most rules: from the printed text, no AST walk
+    if simple is not None:
+        return simple
     head = statement.head
     n_head = 0
     if head.ast_type == ASTType.Literal:

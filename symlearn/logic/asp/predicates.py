@@ -49,22 +49,23 @@ def defined_signatures(programs: Iterable[Program]) -> set[Signature]:
     """``name/arity`` of every predicate the programs' heads and facts define."""
     found: set[Signature] = set()
     for program in programs:
-        found |= {(u.name, u.arity) for u in cl.predicate_uses(program) if u.defines}
+        found |= {(name, arity) for name, arity, defines in cl.PredicateUses(program).signatures if defines}
     return found
 
 
 def undefined_predicates(rules: Program, defined: set[Signature]) -> list[UndefinedPredicate]:
     """The predicates ``rules`` use (bodies, conditions) that neither ``defined`` nor the rules'
     own heads define, each once, in the order the file first uses them."""
-    uses = cl.predicate_uses(rules)
-    known = set(defined) | {(u.name, u.arity) for u in uses if u.defines}
+    uses = cl.PredicateUses(rules)  # positions only of the atoms reported
+    known = set(defined) | {(name, arity) for name, arity, defines in uses.signatures if defines}
     out: dict[Signature, UndefinedPredicate] = {}
-    for use in uses:
-        signature = (use.name, use.arity)
-        if use.defines or signature in known or signature in out:
+    for index, (name, arity, defines) in enumerate(uses.signatures):
+        signature = (name, arity)
+        if defines or signature in known or signature in out:
             continue
+        use = uses.located(index)
         source, line, column = rules.locate(use.line, use.column)
-        out[signature] = UndefinedPredicate(use.name, use.arity, source, line, column, _closest(signature, known))
+        out[signature] = UndefinedPredicate(name, arity, source, line, column, _closest(signature, known))
     return list(out.values())
 
 

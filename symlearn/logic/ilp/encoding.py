@@ -69,27 +69,31 @@ def examples_program(task: ILPTask, indexed: Iterable[tuple[int, Example]], *, a
 def accepted_by(task: ILPTask, rules: Sequence[str] | Program, examples: Sequence[Example], *,
                 timeout: float | None = None) -> dict[str, bool]:
     """For each example: does B ∪ rules ∪ context have an answer set extending it?"""
-    return {k: v is not None for k, v in witnesses(task, rules, examples, timeout=timeout).items()}
+    return {k: v is not None for k, v in witnesses(task, rules, examples, timeout=timeout, atoms=False).items()}
 
 
 def witnesses(task: ILPTask, rules: Sequence[str] | Program, examples: Sequence[Example], *,
-              timeout: float | None = None) -> dict[str, list[cl.Symbol] | None]:
+              timeout: float | None = None, atoms: bool = True) -> dict[str, list[cl.Symbol] | None]:
     """Per example, an answer set of B ∪ rules ∪ context extending it (atoms tagged with the
     example's position in ``examples``), or None when there is none.
 
     One clingo call for all examples: each copy may be switched off (``{active__(i)}``) and the
     number of active copies is maximised; since the copies are independent, the optimum switches
-    on exactly the examples that are accepted.
+    on exactly the examples that are accepted. ``atoms=False``: which examples only (an accepted
+    one gets an empty list); the answer set is not read back, which for rules that derive many
+    atoms is most of the time (``ilp check``, issue 26).
     """
     if not examples:
         return {}
     indexed = list(enumerate(examples))
     program = examples_program(task, indexed) + tagged_rules(rules) + Program.from_text(
         "\n".join(f"{{ {ACTIVE}({i}) }}." for i, _ in indexed)
-        + f"\n#maximize {{ 1,E : {ACTIVE}(E) }}.", source="<coverage check>")
+        + f"\n#maximize {{ 1,E : {ACTIVE}(E) }}." + ("" if atoms else f"\n#show {ACTIVE}/1."),
+        source="<coverage check>")
     # core-guided optimisation: every copy that cannot be active is one small unsatisfiable core,
     # where branch-and-bound would improve the count one copy at a time
-    outcome = cl.optimize(program, timeout=timeout, shown_only=False, arguments=["--opt-strategy=usc"])
+    # (the tagged copies have no #show of their own: tagging drops it)
+    outcome = cl.optimize(program, timeout=timeout, shown_only=not atoms, arguments=["--opt-strategy=usc"])
     if not outcome.models:
         return {e.id: None for e in examples}
     if not outcome.complete:
@@ -97,6 +101,8 @@ def witnesses(task: ILPTask, rules: Sequence[str] | Program, examples: Sequence[
                                     hint="raise the timeout")
     model = outcome.models[-1]
     active = {s.arguments[0].number for s in model if s.name == ACTIVE}
+    if not atoms:
+        return {e.id: ([] if i in active else None) for i, e in indexed}
     by_tag: dict[int, list[cl.Symbol]] = {i: [] for i in active}
     for atom in model:
         if atom.name != ACTIVE and atom.arguments and atom.arguments[0].type == cl.SymbolType.Number:
