@@ -462,10 +462,91 @@ def _successor_sets(diagram: TransitionDiagram, roots: Sequence[int], limit: int
     return result
 
 
+#: bytes of successor bit sets :func:`count_edges` keeps alive at once before it counts with
+#: frozensets instead (bit sets are ~100x smaller than frozensets, but a few successors far apart
+#: in numbering make a wide one)
+COUNT_BITSET_BYTES = 64 << 20
+
+
 def count_edges(diagram: TransitionDiagram, roots: Sequence[int], limit: int | None = None) -> int | None:
     """Guarded edges of the DFA (distinct successors summed over states); ``None`` beyond ``limit``."""
+    counted = _count_by_bitsets(diagram, roots, limit, COUNT_BITSET_BYTES)
+    if counted is not _TOO_WIDE:
+        return counted
     sets = _successor_sets(diagram, roots, limit)
     return None if sets is None else sum(len(x) for x in sets)
+
+
+_TOO_WIDE = object()
+
+
+def _count_by_bitsets(diagram: TransitionDiagram, roots: Sequence[int], limit: int | None, budget: int):
+    """:func:`count_edges` in one children-first loop over the nodes below the roots (ids are
+    children-first), each node's successors an integer bit set (bit ``i`` is state ``offset + i``),
+    freed when its last parent has used it. Unions are single big-integer ORs, so the 3^14
+    successors of ``F p1 & ... & F p14`` are counted in a fraction of the time per-node
+    frozensets take. ``_TOO_WIDE`` when the live sets would pass ``budget`` bytes."""
+    low, high = diagram.low, diagram.high
+    total = 0
+    root_uses: dict[int, int] = {}
+    for r in roots:
+        if r < 0:
+            total += 1  # every letter goes to one state
+        else:
+            root_uses[r] = root_uses.get(r, 0) + 1
+    if not root_uses or (limit is not None and total > limit):
+        return None if limit is not None and total > limit else total
+    top = max(root_uses)
+    # uses still to come of each node below the roots: one per parent below a root, one per root
+    uses = [0] * (top + 1)
+    for r, k in root_uses.items():
+        uses[r] = k
+    for u in range(top, -1, -1):
+        if uses[u]:
+            lo, hi = low[u], high[u]
+            if lo >= 0:
+                uses[lo] += 1
+            if hi >= 0:
+                uses[hi] += 1
+    offsets = [0] * (top + 1)
+    sets = [0] * (top + 1)
+    live = 0
+    for u in range(top + 1):
+        if not uses[u]:
+            continue
+        lo, hi = low[u], high[u]
+        if lo < 0:
+            o1, b1 = ~lo, 1
+        else:
+            o1, b1 = offsets[lo], sets[lo]
+            uses[lo] -= 1
+            if not uses[lo]:
+                live -= b1.bit_length() >> 3
+                sets[lo] = 0
+        if hi < 0:
+            o2, b2 = ~hi, 1
+        else:
+            o2, b2 = offsets[hi], sets[hi]
+            uses[hi] -= 1
+            if not uses[hi]:
+                live -= b2.bit_length() >> 3
+                sets[hi] = 0
+        if o1 <= o2:
+            offset, bits = o1, b1 | (b2 << (o2 - o1))
+        else:
+            offset, bits = o2, b2 | (b1 << (o1 - o2))
+        k = root_uses.get(u)
+        if k is not None:
+            total += k * bits.bit_count()
+            if limit is not None and total > limit:
+                return None
+            uses[u] -= k
+        if uses[u]:  # a parent above still needs it
+            offsets[u], sets[u] = offset, bits
+            live += bits.bit_length() >> 3
+            if live > budget:
+                return _TOO_WIDE
+    return total
 
 
 def materialise(diagram: TransitionDiagram, roots: Sequence[int], limit: int | None = MAX_MATERIALISED_EDGES):

@@ -70,6 +70,7 @@ from symlearn.logic.ltlf.ast import (
     Always, And, Const, Eventually, Formula, Iff, Implies, Next, Not, Or, Prop, Release, Then, Until,
     WeakNext, WeakUntil,
 )
+from symlearn.logic.ltlf.composition import compose
 from symlearn.logic.ltlf.conjunct_bound import check_state_bound, independent_groups
 from symlearn.logic.ltlf.progression import holds_at_end
 
@@ -207,7 +208,7 @@ class _Translation:
         return arg if self.nodes[arg][0] == _TT else self._mk((_WX, arg))
 
     # -- symbolic automaton --------------------------------------------------------------------
-    def explore(self, max_states: int) -> tuple | DFA:
+    def explore(self, max_states: int, max_nodes: int | None = None) -> tuple | DFA:
         """``(diagram, roots, accepting, initial, propositions)`` of the reachable obligations, or
         the minimal DFA itself when it has at most EXPLICIT_EDGES edges before minimisation)."""
         # a manager of its own, dropped after the translation: obligation nodes outnumber the edge
@@ -217,7 +218,10 @@ class _Translation:
         # bounded like the guard table, so a formula whose obligations explode stops with a clear
         # error before memory runs out (SYMLEARN_MAX_TRANSLATION_NODES, docs/FORMATS.md); a limit
         # of its own, as large minimal DFAs (2^18 states) need more nodes than the guard table ever holds
-        bdd = self.bdd = BDD(max_nodes=limit("SYMLEARN_MAX_TRANSLATION_NODES"),
+        nodes = limit("SYMLEARN_MAX_TRANSLATION_NODES")
+        if max_nodes is not None:  # a trial (composition.py): the smaller of the two
+            nodes = max_nodes if nodes is None else min(nodes, max_nodes)
+        bdd = self.bdd = BDD(max_nodes=nodes,
                              limit_hint="the formula's obligations need too many BDD nodes; split the formula "
                                         "or raise SYMLEARN_MAX_TRANSLATION_NODES (0: no limit)")
         # propositions take the top levels in name order, the order of the shared guard table, so
@@ -245,6 +249,7 @@ class _Translation:
             self.step_of_level[level] = self._step(nid)
         self.compose_memo: dict[int, int] = {}
         self.split_memo: dict[int, dict[int, int]] = {}
+        self.paths_memo: dict[int, int] = {}
         # independent conjuncts multiply their states (F p1 & ... & F pn: 2^n): refuse from a
         # proven lower bound before the exploration spends the memory (conjunct_bound.py)
         groups = independent_groups(self.nodes, self.root, _AND, (_LIT, _NLIT), (_TT, _FF))
@@ -281,14 +286,17 @@ class _Translation:
             top = self._compose_state(state)
             roots.append(top)
             if edges is not None:
-                out = self._split(top)
-                get = index.get
-                edges.append([(get(t) if t in index else register(t), g) for t, g in out.items()])
-                n_edges += len(out)
-                if n_edges > EXPLICIT_EDGES:
-                    edges = None  # large: symbolic from here on (the successors so far are registered)
-                    self.split_memo = {}
-                continue
+                if self._successors_fit(top, EXPLICIT_EDGES - n_edges):
+                    out = self._split(top)
+                    get = index.get
+                    edges.append([(get(t) if t in index else register(t), g) for t, g in out.items()])
+                    n_edges += len(out)
+                    continue
+                # large: symbolic from here on (the successors so far are registered; this
+                # state's are found by the walk below). Checked before splitting: the split of
+                # F p1 & ... & F p14's first state alone would build 16,384 guards, then be dropped
+                edges = None
+                self.split_memo = self.paths_memo = {}
             stack = [top]
             while stack:  # discover the successors below nodes not walked before
                 u = stack.pop()
@@ -494,6 +502,39 @@ class _Translation:
             parts = joined
         return parts[0]
 
+    def _successors_fit(self, u: int, room: int) -> bool:
+        """Whether u's proposition layer leads to at most ``room`` distinct obligations: at once
+        when its paths are that few (counted once per node overall), else by a walk that stops
+        at the first obligation past ``room``."""
+        if self._paths(u) <= room:
+            return True
+        bdd = self.bdd
+        n_props, level, low, high = len(self.props), bdd.level, bdd.low, bdd.high
+        found: set[int] = set()
+        seen: set[int] = set()
+        stack = [u]
+        while stack:
+            w = stack.pop()
+            if w <= TRUE or level[w] >= n_props:
+                found.add(w)
+                if len(found) > room:
+                    return False
+            elif w not in seen:
+                seen.add(w)
+                stack.append(high[w])
+                stack.append(low[w])
+        return True
+
+    def _paths(self, u: int) -> int:
+        """Paths through u's proposition layer to the obligations below it (>= their number)."""
+        bdd = self.bdd
+        if u <= TRUE or bdd.level[u] >= len(self.props):
+            return 1
+        found = self.paths_memo.get(u)
+        if found is None:
+            found = self.paths_memo[u] = self._paths(bdd.low[u]) + self._paths(bdd.high[u])
+        return found
+
     def _split(self, u: int) -> dict[int, int]:
         """Successor obligations of u (below the proposition layer) -> guard over propositions."""
         found = self.split_memo.get(u)
@@ -614,16 +655,9 @@ def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFA:
     collecting = gc.isenabled()
     gc.disable()
     try:
-        translation = _Translation(formula)  # (the negation normal form is built without recursion)
-        # room for the BDD operations: a few frames per variable level (propositions, then one
-        # per elementary sub-formula), so a conjunction of 10,000 conjuncts is not "too deep"
-        levels = len(translation.props) + sum(key[0] in _ELEMENTARY for key in translation.nodes) + 1
-        sys.setrecursionlimit(max(limit, _RECURSION_LIMIT, 3 * levels + 1000))
-        explored = translation.explore(max_states)
-        # the obligation manager and its caches go before minimisation, whose peak memory then
-        # does not add to the exploration's
-        del translation
-        return explored if isinstance(explored, DFA) else minimal(*explored)
+        # a Boolean combination of parts sharing propositions: a DFA per part, joined by
+        # minimised products (composition.py); anything else: progression of the whole formula
+        return compose(formula, _progression, max_states)
     except RecursionError:
         raise LimitExceededError("the formula is nested too deeply to translate",
                                  hint="split it into smaller conjuncts") from None
@@ -631,6 +665,21 @@ def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFA:
         sys.setrecursionlimit(limit)
         if collecting:
             gc.enable()
+
+
+def _progression(formula: Formula, max_states: int, max_nodes: int | None = None) -> DFA:
+    """The minimal DFA of ``formula`` by progression of the whole formula (steps 1-6 above);
+    ``max_nodes`` bounds the obligation manager below its configured limit."""
+    translation = _Translation(formula)  # (the negation normal form is built without recursion)
+    # room for the BDD operations: a few frames per variable level (propositions, then one
+    # per elementary sub-formula), so a conjunction of 10,000 conjuncts is not "too deep"
+    levels = len(translation.props) + sum(key[0] in _ELEMENTARY for key in translation.nodes) + 1
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), 3 * levels + 1000))
+    explored = translation.explore(max_states, max_nodes)
+    # the obligation manager and its caches go before minimisation, whose peak memory then
+    # does not add to the exploration's
+    del translation
+    return explored if isinstance(explored, DFA) else minimal(*explored)
 
 
 to_dfa = translate  # the name the automata side reads better with

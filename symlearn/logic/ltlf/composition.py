@@ -1,0 +1,247 @@
+"""Compositional LTLf -> DFA: a minimal DFA per part of the formula's Boolean skeleton, joined by
+products that are minimised as they are built.
+
+Progression (:mod:`~symlearn.logic.ltlf.to_dfa`) explores the obligations of the whole formula at
+once. When the top of a formula is a Boolean combination of parts that share propositions, the
+obligations multiply before minimisation can merge them: the 18 conjuncts ``G F a -> G F b`` and
+``G !(b & c)`` of a Random/Lydia specification of SYNTCOMP's ``tlsf-fin`` set give thousands of
+obligation sets and a 30 s timeout, for a minimal DFA of 3 states. Built part by part, each part's
+DFA is minimal before it enters a product, and each product is minimised before the next one, so
+the intermediate automata stay near the size of the result (how MONA, Lydia and LydiaSyft stay
+ahead on those families).
+
+The skeleton is read down from the top: ``&`` and ``|`` (flattened, n-ary), ``->``, ``<->`` and
+``!`` over one of these. Everything else -- a temporal operator, a proposition -- is a *leaf*,
+translated by progression. Languages combine exactly (the empty word included: its verdict,
+:func:`~symlearn.logic.ltlf.progression.holds_at_end`, is itself Boolean in the parts), so the
+result is the same unique minimal DFA progression gives, numbered the same canonical way.
+
+When the parts of a junction are pairwise *independent* (no shared proposition), products have
+nothing to merge and progression builds the same automaton faster: ``F p1 & ... & F p14`` (16,384
+states) stays one progression, as do its refusals from a proven state bound
+(:mod:`~symlearn.logic.ltlf.conjunct_bound`). Parts are grouped by shared propositions
+(connected components); the independent single parts of a junction are translated together by
+progression, each group of dependent parts by products, and the groups' DFAs joined smallest
+first (the order Lydia uses). ``max_states`` bounds every product before minimisation, as it
+bounds the obligations of a progression.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+from symlearn.errors import LimitExceededError
+from symlearn.logic.automata import transition_diagram as td
+from symlearn.logic.automata.dfa import DFA
+from symlearn.logic.automata.operations import complement
+from symlearn.logic.ltlf.ast import And, Binary, Const, Formula, Iff, Implies, Not, Or, Prop, Unary
+
+__all__ = ["compose", "is_composite"]
+
+Direct = Callable[..., DFA]  # direct(formula, max_states, max_nodes=None): progression
+
+#: a composite formula is first given to progression within these bounds: small formulas (the
+#: LTLf learning benchmark's, Dwyer's patterns) finish there, 1.5-5x faster than through products
+#: of their parts; past them, progression is dropped for composition (measured on tlsf-fin and
+#: our formula set, docs/BENCHMARKS.md)
+TRIAL_STATES = 256
+TRIAL_NODES = 100_000
+
+_ACCEPT = {
+    "and": lambda a, b: a and b,
+    "or": lambda a, b: a or b,
+    "iff": lambda a, b: a == b,
+}
+
+
+def is_composite(formula: Formula) -> bool:
+    """Whether ``formula``'s top is a Boolean combination whose parts share a proposition (the
+    case composition is for); otherwise progression translates it whole."""
+    return _Composer(None, 0).composite(formula)
+
+
+def compose(formula: Formula, direct: Direct, max_states: int) -> DFA:
+    """The minimal complete DFA of ``formula``: leaves (and independent junctions) by ``direct``
+    (progression), the Boolean skeleton above them by minimised products."""
+    return _Composer(direct, max_states).dfa(formula)
+
+
+class _Composer:
+    """One composition: the propositions and verdicts of sub-formulas are memoised by identity,
+    so a deep skeleton is read in time linear in its size."""
+
+    def __init__(self, direct: Direct | None, max_states: int) -> None:
+        self.direct = direct
+        self.max_states = max_states
+        self.props: dict[int, frozenset[str]] = {}
+        self.verdicts: dict[int, bool] = {}
+
+    def composite(self, formula: Formula) -> bool:
+        found = self.verdicts.get(id(formula))
+        if found is None:
+            if isinstance(formula, Not):
+                found = self.composite(formula.arg)
+            elif isinstance(formula, (Implies, Iff)):
+                found = bool(self.propositions(formula.left) & self.propositions(formula.right)) or \
+                    self.composite(formula.left) or self.composite(formula.right)
+            elif isinstance(formula, (And, Or)):
+                parts = _operands(formula)
+                found = any(len(g) > 1 for g in self.groups(parts)) or any(self.composite(p) for p in parts)
+            else:
+                found = False
+            self.verdicts[id(formula)] = found
+        return found
+
+    def dfa(self, formula: Formula) -> DFA:
+        if not self.composite(formula):
+            return self.direct(formula, self.max_states)
+        try:
+            return self.direct(formula, min(self.max_states, TRIAL_STATES), TRIAL_NODES)
+        except LimitExceededError:
+            pass  # too large for progression of the whole: compose its parts
+        if isinstance(formula, Not):
+            return complement(self.dfa(formula.arg))
+        if isinstance(formula, Implies):
+            return self.join([complement(self.dfa(formula.left)), self.dfa(formula.right)], "or")
+        if isinstance(formula, Iff):
+            return self.join([self.dfa(formula.left), self.dfa(formula.right)], "iff")
+        mode = "and" if isinstance(formula, And) else "or"
+        parts = _operands(formula)
+        if mode == "and":
+            parts = self.attach_state_conditions(parts)
+        groups = self.groups(parts)
+        # parts sharing nothing with the others and composite in nothing: one progression
+        loose = [parts[g[0]] for g in groups if len(g) == 1 and not self.composite(parts[g[0]])]
+        dfas = []
+        if loose:
+            dfas.append(self.direct(_rebuild(loose, And if mode == "and" else Or), self.max_states))
+        for group in groups:
+            if len(group) > 1 or self.composite(parts[group[0]]):
+                dfas.append(self.join([self.dfa(parts[i]) for i in group], mode))
+        return self.join(dfas, mode)
+
+    def attach_state_conditions(self, parts: list[Formula]) -> list[Formula]:
+        """Conjuncts without a temporal operator (conditions on the first letter, such as a game's
+        initial position) joined to every temporal conjunct they share a proposition with:
+        ``(A & c) & (B & c)`` is ``A & B & c``, and progression of ``A & c`` explores only what
+        follows a first letter satisfying ``c`` -- alone, the ``G(...)`` rules of a Nim game
+        reach every position (273 states, 4.3 s), with their start 235 in 3.0 s."""
+        conditions = [p for p in parts if self.state_condition(p)]
+        if not conditions or len(conditions) == len(parts):
+            return parts
+        joined, used = [], set()
+        for part in parts:
+            if self.state_condition(part):
+                continue
+            mine = [c for c in conditions if self.propositions(c) & self.propositions(part)]
+            if mine:
+                used.update(id(c) for c in mine)
+                part = _rebuild([part, *mine], And)
+                # one progression: composed, the part would lose its start again (and a composite
+                # part, taken apart, would meet its conditions here once more)
+                self.verdicts[id(part)] = False
+            joined.append(part)
+        return joined + [c for c in conditions if id(c) not in used]
+
+    def state_condition(self, formula: Formula) -> bool:
+        """Whether ``formula`` is Boolean over propositions only (it speaks of the first letter)."""
+        stack = [formula]
+        while stack:
+            node = stack.pop()
+            if isinstance(node, (And, Or, Implies, Iff)):
+                stack += (node.left, node.right)
+            elif isinstance(node, Not):
+                stack.append(node.arg)
+            elif not isinstance(node, (Prop, Const)):
+                return False
+        return True
+
+    def join(self, dfas: list[DFA], mode: str) -> DFA:
+        """The product of ``dfas`` under ``mode``, the two smallest first, minimised after each."""
+        accept = _ACCEPT[mode]
+        while len(dfas) > 1:
+            dfas.sort(key=lambda d: d.n_states)
+            left, right = dfas.pop(0), dfas.pop(0)
+            dfas.append(_product(left, right, accept, self.max_states))
+        return dfas[0]
+
+    def groups(self, parts: list[Formula]) -> list[list[int]]:
+        """Indices of ``parts`` grouped by shared propositions (connected components), in order."""
+        parent = list(range(len(parts)))
+
+        def find(i: int) -> int:
+            while parent[i] != i:
+                parent[i] = parent[parent[i]]
+                i = parent[i]
+            return i
+
+        owner: dict[str, int] = {}
+        for i, part in enumerate(parts):
+            for name in self.propositions(part):
+                a, b = find(i), find(owner.setdefault(name, i))
+                if a != b:
+                    parent[max(a, b)] = min(a, b)
+        groups: dict[int, list[int]] = {}
+        for i in range(len(parts)):
+            groups.setdefault(find(i), []).append(i)
+        return list(groups.values())
+
+    def propositions(self, formula: Formula) -> frozenset[str]:
+        """The propositions ``formula`` mentions (children before parents, without recursion)."""
+        memo = self.props
+        stack = [formula]
+        while stack:
+            node = stack[-1]
+            if id(node) in memo:
+                stack.pop()
+                continue
+            children = (node.arg,) if isinstance(node, Unary) else \
+                (node.left, node.right) if isinstance(node, Binary) else ()
+            waiting = [c for c in children if id(c) not in memo]
+            if waiting:
+                stack += waiting
+                continue
+            stack.pop()
+            if isinstance(node, Prop):
+                memo[id(node)] = frozenset((node.name,))
+            else:
+                memo[id(node)] = frozenset().union(*(memo[id(c)] for c in children))
+        return memo[id(formula)]
+
+
+def _product(left: DFA, right: DFA, accept, max_states: int) -> DFA:
+    """The minimal DFA of the product of two complete DFAs, a pair accepting by ``accept``."""
+    d1, r1 = left.transition_diagram()
+    d2, r2 = right.transition_diagram()
+    try:
+        diagram, roots, pairs = td.product((d1, r1, left.initial), (d2, r2, right.initial), max_states=max_states)
+    except LimitExceededError:
+        raise LimitExceededError(f"the automaton of this formula needs more than {max_states} states",
+                                 hint="raise max_states (CLI: --max-states) or split the formula") from None
+    a1, a2 = left.accepting, right.accepting
+    accepting = [accept(p in a1, q in a2) for p, q in pairs]
+    return td.minimal(diagram, roots, accepting, 0, left.alphabet | right.alphabet)
+
+
+def _operands(formula: Formula) -> list[Formula]:
+    """The operands of a tree of one kind of junction, left to right (no recursion: trees are deep)."""
+    kind = type(formula)
+    out, stack = [], [formula]
+    while stack:
+        node = stack.pop()
+        if type(node) is kind:
+            stack += (node.right, node.left)
+        else:
+            out.append(node)
+    return out
+
+
+def _rebuild(parts: list[Formula], kind: type) -> Formula:
+    """The junction of ``parts`` as a balanced tree (progression joins long ones balanced anyway)."""
+    while len(parts) > 1:
+        joined = [kind(parts[i], parts[i + 1]) for i in range(0, len(parts) - 1, 2)]
+        if len(parts) % 2:
+            joined.append(parts[-1])
+        parts = joined
+    return parts[0]
+
