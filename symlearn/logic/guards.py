@@ -37,6 +37,7 @@ grow without bound. The table is not thread-safe: build guards from one thread a
 from __future__ import annotations
 
 import re
+import sys
 import weakref
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from functools import lru_cache
@@ -466,12 +467,18 @@ class Guard:
     def __str__(self) -> str:
         text = _text_cache.get(self._node)
         if text is None:
+            # the diagram operations printing uses recurse once per proposition level: room for
+            # a guard over 10,000 propositions (F(p1 & ... & p10000)), as translation has
+            depth = sys.getrecursionlimit()
+            sys.setrecursionlimit(max(depth, 4 * len(_support(self._node)) + 1000))
             try:
                 text = _text(self._node)
             except RecursionError:
                 raise LimitExceededError(
                     f"guard over {len(self.propositions)} propositions is too deep to print",
                     hint="guards over hundreds of propositions exceed the printer's recursion depth") from None
+            finally:
+                sys.setrecursionlimit(depth)
             _text_cache[self._node] = text
         return text
 

@@ -234,3 +234,14 @@ def test_from_bdd_converts_nodes_of_another_manager():
     assert from_bdd(m, [both, either, x], ["a", "b"]) == [a & ~b, a | b, a]
     with pytest.raises(ValueError, match="name order"):
         from_bdd(m, [both], ["b", "a"])
+
+
+def test_guards_over_thousands_of_propositions_print():
+    """The printer's diagram operations recurse once per proposition: a guard over 10,000
+    (the edge guard of F(p0 & ... & p9999)) stopped as "too deep to print" before."""
+    from symlearn.logic.ltlf import parse, translate
+
+    dfa = translate(parse("F(" + " & ".join(f"p{i}" for i in range(10_000)) + ")"))
+    texts = [str(g) for q in dfa.states for g, _ in dfa.successors(q)]
+    assert "!p0 | !p1 | !p2" in texts[0] and texts[0].endswith("!p9999")
+    assert "p9999" in max(texts, key=len)

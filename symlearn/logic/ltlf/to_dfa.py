@@ -41,6 +41,12 @@ Construction (our own; sound by the progression identities, exact by minimisatio
    and node limits by a proven lower bound (:mod:`~symlearn.logic.ltlf.conjunct_bound`), so
    ``F p1 & ... & F p2000`` is refused before its first state's 2^2000 successors are built.
 
+7. Boolean skeletons: :func:`translate` hands a formula whose top is ``& | -> <-> !`` over
+   parts sharing propositions to :mod:`~symlearn.logic.ltlf.composition` first, which tries this
+   progression within a small budget and otherwise builds a minimal DFA per part and joins them
+   by minimised products (the same DFA, without the obligations of every part multiplying before
+   minimisation can merge them).
+
 The result is a :class:`~symlearn.logic.automata.dfa.DFA` over the formula's propositions,
 complete and minimal. With at most
 :data:`~symlearn.logic.automata.transition_diagram.EXPLICIT_EDGES` guarded edges it has explicit
