@@ -180,7 +180,7 @@ class StochasticGridworld(gym.Env):
         terminal[self.goal_state] = True
         names = tuple(self.state_name(s) for s in range(S))
         return TabularMDP(self._transitions, rewards, self.initial_state_distrib, terminal,
-                          names, ACTIONS, goals=(self.goal_state,))
+                          names, ACTIONS, goals=(self.goal_state,), name="gridworld")
 
     # --- ground truth -------------------------------------------------------------------------
     def constraint_mask(self) -> np.ndarray:

@@ -23,6 +23,9 @@ _TOLERANCE = 1e-8
 class TabularMDP:
     """A finite MDP with named states and actions and optional goal conditioning.
 
+    ``name`` (optional) says which world the model is (``"gridworld"``): what files learned in it
+    name as their domain (a constraint set's ``"domain"``); derived models keep it.
+
     >>> P = np.zeros((2, 1, 2)); P[0, 0, 1] = P[1, 0, 1] = 1
     >>> mdp = TabularMDP(P, rewards=np.array([[0.0], [1.0]]), initial=[1, 0], terminal=[False, True])
     >>> mdp.n_states, mdp.n_actions, mdp.state_names
@@ -36,6 +39,7 @@ class TabularMDP:
     state_names: tuple[str, ...] = field(default=())
     action_names: tuple[str, ...] = field(default=())
     goals: tuple[int, ...] = field(default=())
+    name: str | None = None
 
     def __post_init__(self) -> None:
         P = np.asarray(self.transitions, dtype=np.float64)
@@ -78,6 +82,8 @@ class TabularMDP:
         object.__setattr__(self, "state_names", names_s)
         object.__setattr__(self, "action_names", names_a)
         object.__setattr__(self, "goals", goals)
+        if self.name is not None and not (isinstance(self.name, str) and self.name.strip()):
+            raise ModelError(f"name must be a non-empty string or None, got {self.name!r}")
 
     # --- sizes and names --------------------------------------------------------------------
     @property

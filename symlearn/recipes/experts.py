@@ -5,6 +5,11 @@ One function answers "where do the demonstrations come from" for every ``learn``
 allows it (``trained_expert``: the blocked MuJoCo robots, PointCircle), a PPO-Lagrangian expert
 trained on the environment's true cost (minutes, cached; thesis chapter 2's experts). A user's
 environment has no expert, and the message says to give ``--demos``.
+
+The demonstrations returned say where they came from in ``metadata["source"]`` (the file's path,
+``"20 expert episodes of toy-navigation"``, ...): learners that write a header into their
+artefact name it there (:class:`~symlearn.learners.trees.OneClassTreeConstraint`'s DNF file), so
+the file ``learn ... -o`` writes through ``learner.save`` says what it was learned from.
 """
 
 from __future__ import annotations
@@ -21,19 +26,33 @@ from symlearn.recipes.environments import EnvTarget
 def demonstrations(target: EnvTarget | None, demos: str | Path | None, n_demos: int, *, seed: int = 0,
                    expert_steps: int = 1_000_000, expert_cache: str | None = None,
                    note: Callable[[str], None] | None = None) -> Any:
-    """The demonstrations a learner reads (see the module doc)."""
+    """The demonstrations a learner reads, their ``metadata["source"]`` saying where from (see
+    the module doc)."""
     if demos is not None:
         from symlearn.data import load
 
-        return load(demos)
+        loaded = load(demos)
+        earlier = loaded.metadata.get("source")  # a file we wrote may say how it was recorded
+        return with_source(loaded, str(demos) if not isinstance(earlier, str) else f"{demos} ({earlier})")
     if target is None:
         raise DataError("give your demonstrations with --demos FILE")
     if target.has_expert:
-        return target.expert_demonstrations(n_demos, seed=seed)
+        return with_source(target.expert_demonstrations(n_demos, seed=seed),
+                           f"{n_demos} expert episodes of {target.display}")
     if target.trains_expert:
-        return trained_expert(target, n_demos, seed=seed, steps=expert_steps, cache=expert_cache, note=note)
+        return with_source(trained_expert(target, n_demos, seed=seed, steps=expert_steps, cache=expert_cache,
+                                          note=note),
+                           f"{n_demos} episodes of a PPO-Lagrangian expert trained on {target.display}")
     raise DataError(f"{target.display} has no expert: give your demonstrations with --demos FILE",
                     hint="record them with symlearn.data.record(env, policy, n) and save them as .npz or .jsonl")
+
+
+def with_source(demos: Any, source: str) -> Any:
+    """``demos`` with ``metadata["source"] = source`` (the trajectories shared, the rest of the
+    metadata kept)."""
+    from symlearn.data import Demonstrations
+
+    return Demonstrations(demos, metadata={**demos.metadata, "source": source})
 
 
 def trained_expert(target: EnvTarget, n: int, *, seed: int = 0, steps: int = 1_000_000, cache: str | None = None,
@@ -58,4 +77,4 @@ def trained_expert(target: EnvTarget, n: int, *, seed: int = 0, steps: int = 1_0
     return demos
 
 
-__all__ = ["demonstrations", "trained_expert"]
+__all__ = ["demonstrations", "trained_expert", "with_source"]

@@ -10,6 +10,7 @@ command that writes the artefact itself records no ``save`` call and fails.
 from __future__ import annotations
 
 import functools
+import json
 from pathlib import Path
 
 import pytest
@@ -90,6 +91,18 @@ def test_the_command_writes_what_learner_save_writes(case, saves, capsys, tmp_pa
         assert output.with_suffix(".json").read_bytes() == again.with_suffix(".json").read_bytes()
     else:
         assert output.read_bytes() == again.read_bytes()
+    if case in PROVENANCE:  # what the file says of its origin came to the learner with its inputs
+        assert PROVENANCE[case](output)
+
+
+#: case -> what its file must say of where it comes from (the CLI knows; the learner is told
+#: through the demonstrations' metadata["source"] and the world's name)
+PROVENANCE = {
+    "dnf": lambda path: path.read_text().splitlines()[0].startswith(
+        "# unsafe set learned by a one-class tree (max depth 5) from 20 expert episodes of toy-navigation ("),
+    "constraints-ml": lambda path: json.loads(path.read_text())["domain"] == "gridworld",
+    "constraints-mce-icrl": lambda path: json.loads(path.read_text())["domain"] == "gridworld",
+}
 
 
 def _safetensors(path: Path) -> tuple[dict, dict]:

@@ -90,3 +90,14 @@ def test_from_gymnasium_uses_an_environments_own_model():
     assert (mdp.n_states, mdp.n_actions) == (108, 4) and mdp.action_names == ("up", "right", "down", "left")
     renamed = TabularMDP.from_gymnasium(make_office_world(), action_names=["n", "e", "s", "w"])
     assert renamed.action_names == ("n", "e", "s", "w")
+
+
+def test_a_name_says_which_world_and_derived_models_keep_it():
+    from symlearn.learners.constraints.constraint_file import world_name
+
+    named = TabularMDP(chain().transitions, np.zeros((4, 2)), np.eye(4)[0], np.zeros(4, bool), name="corridor")
+    assert named.with_goal(3).name == named.make_absorbing([2]).name == "corridor"
+    assert world_name(named) == "corridor" and world_name(chain()) is None and chain().name is None
+    for bad in ("", "  ", 3):
+        with pytest.raises(ModelError, match="name"):
+            TabularMDP(chain().transitions, np.zeros((4, 2)), np.eye(4)[0], np.zeros(4, bool), name=bad)

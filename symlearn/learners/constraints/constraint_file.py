@@ -2,8 +2,9 @@
 
 ``{"format": "symlearn-constraints", "version": 1, "method": ..., "domain": ...,
 "forbidden": [[state, action], ...], "multipliers": {state: value}}`` (``multipliers`` only for
-MCE-ICRL with one multiplier per state), ``domain`` only when the learner's world is a named
-:class:`~symlearn.grounding.Domain` (:func:`world_name`). Names are the model's state and action
+MCE-ICRL with one multiplier per state), ``domain`` only when the learner's world names itself: a
+:class:`~symlearn.grounding.Domain`, or a :class:`~symlearn.mdp.TabularMDP` with a ``name``
+(:func:`world_name`). Names are the model's state and action
 names, so the file reads without the ids. The learners' ``save`` and ``learn constraints -o``
 write this text, so both give the same file.
 
@@ -53,13 +54,15 @@ def constraint_set_text(forbidden: np.ndarray, mdp: Any, **kwargs: Any) -> str:
 
 def world_name(world: Any) -> str | None:
     """The name a constraint set gives its world: a Domain's (or a bundled wrapper's ``.domain``),
-    else None (a bare TabularMDP or environment does not name itself)."""
+    a TabularMDP's ``name`` (the bundled gridworld's model is ``"gridworld"``), else None (an
+    unnamed model or an environment does not name itself)."""
     from symlearn.grounding import Domain
+    from symlearn.mdp import TabularMDP
 
     for candidate in (world, getattr(world, "domain", None)):
         if isinstance(candidate, Domain):
             return candidate.name
-    return None
+    return world.name if isinstance(world, TabularMDP) else None
 
 
 __all__ = ["constraint_set_document", "constraint_set_text", "world_name"]

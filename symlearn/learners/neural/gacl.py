@@ -33,13 +33,12 @@ from symlearn.learners.base import Learner
 from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.input_selection import choose_inputs, inputs_report
-from symlearn.learners.neural.fit_setup import check_common, fit_setup, resets_actor
-from symlearn.learners.neural.mce_icrl import action_bound_penalty, jsonable_params, policy_ppo_config, seed_offset
+from symlearn.learners.neural.alternation import Alternation, Round, seed_offset
+from symlearn.learners.neural.fit_setup import check_common, fit_setup
+from symlearn.learners.neural.mce_icrl import action_bound_penalty, jsonable_params, policy_ppo_config
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.learners.neural.records import IterationRecord
-from symlearn.progress import ProgressBar
 from symlearn.rl.episode_metrics import episode_metrics
-from symlearn.rl.episodes import sample_episodes
 
 LOG_FLOOR = 1e-6
 
@@ -119,14 +118,15 @@ class NeuralGACL(Learner):
 
         previous_threads = torch.get_num_threads()
         torch.set_num_threads(1)
-        bar = None
         try:
             timings: dict[str, float] = {}
             t0 = time.perf_counter()
             policy = train_ppo(env_fn, int(self.nominal_steps), ppo_config(0), reward_fn=reward_fn(None)).policy
             timings["nominal"] = time.perf_counter() - t0
             nominal_policy = copy.deepcopy(policy)
-            batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes), seed=seed_offset(seed, 10_000))
+            loop = Alternation("GACL", int(self.n_iterations), env_fn, int(self.n_policy_episodes), seed,
+                               self.reset_actor, generator)
+            batch = loop.sample(policy)
             selection = choose_inputs(setup, batch, self.select_inputs, seed)  # see mce_icrl's docstring
             if selection is not None:
                 obs_dims = list(selection.selected)
@@ -140,30 +140,26 @@ class NeuralGACL(Learner):
                                     None if not action_dim else np.concatenate([expert_a, nominal_a.numpy()]))
             expert_in = (torch.from_numpy(expert_x), None if not action_dim else torch.from_numpy(expert_a))
             optimizer = torch.optim.Adam(phi.parameters(), lr=self.learning_rate)
-            history: list[GACLIteration] = []
-            # the bar shows the sampled policy's return and true violation rate
-            bar = ProgressBar(int(self.n_iterations), desc="GACL", unit="iter")
-            for iteration in range(1, int(self.n_iterations) + 1):
-                t0 = time.perf_counter()
-                expert_d, policy_d = discriminator_step(phi, optimizer, expert_in, cost.tensors(*batch.pairs()),
-                                                        steps=int(self.disc_steps))
-                cost_seconds = time.perf_counter() - t0
-                metrics = episode_metrics(batch)
-                t0 = time.perf_counter()
-                if resets_actor(self.reset_actor, iteration, int(self.n_iterations)):  # see NeuralMCEICRL
-                    policy.reset_actor(generator)
-                policy = train_ppo(env_fn, int(self.policy_steps), ppo_config(iteration), reward_fn=reward_fn(cost),
-                                   policy=policy).policy
-                policy_seconds = time.perf_counter() - t0
-                batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes),
-                                        seed=seed_offset(seed, 10_000 + 100 * iteration))
-                bar.update(1, **{"return": metrics.reward, "violation": metrics.violation_rate})
-                history.append(GACLIteration(iteration, metrics.reward, metrics.violation_rate, expert_d, policy_d,
-                                             policy_seconds, cost_seconds))
+
+            def cost_step(iteration: int, batch: Any) -> tuple[float, float]:
+                """The discriminator step on the current policy's samples: mean ``D`` of expert and policy."""
+                return discriminator_step(phi, optimizer, expert_in, cost.tensors(*batch.pairs()),
+                                          steps=int(self.disc_steps))
+
+            def policy_step(iteration: int, policy: Any) -> Any:
+                """PPO on ``r + log D``, continuing ``policy``."""
+                return train_ppo(env_fn, int(self.policy_steps), ppo_config(iteration), reward_fn=reward_fn(cost),
+                                 policy=policy)
+
+            def record(step: Round) -> GACLIteration:
+                expert_d, policy_d = step.cost
+                return GACLIteration(step.iteration, step.metrics.reward, step.metrics.violation_rate, expert_d,
+                                     policy_d, step.policy_seconds, step.cost_seconds)
+
+            policy, batch, history = loop.run(policy, batch, cost_step=cost_step, policy_step=policy_step,
+                                              record=record)
             final = episode_metrics(batch)
         finally:
-            if bar is not None:
-                bar.close()
             torch.set_num_threads(previous_threads)
             probe.close()
         phi.eval()

@@ -102,12 +102,11 @@ from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.learners.neural.feature_network import FeatureNetwork, pretrain_autoencoder
 from symlearn.learners.neural.input_selection import choose_inputs, inputs_report
 from symlearn.learners.neural.input_sparsity import input_penalty
-from symlearn.learners.neural.fit_setup import check_common, environment_factory, fit_setup, resets_actor  # noqa: F401 (re-exported)
+from symlearn.learners.neural.alternation import Alternation, Round, seed_offset
+from symlearn.learners.neural.fit_setup import check_common, environment_factory, fit_setup  # noqa: F401 (re-exported)
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.learners.neural.records import IterationRecord
-from symlearn.progress import ProgressBar
 from symlearn.rl.episode_metrics import episode_metrics
-from symlearn.rl.episodes import sample_episodes
 
 #: PPO settings of the policy phases unless ``ppo=`` overrides them (a shorter rollout and a
 #: larger step than PPOConfig's defaults: the phases are short, and each continues the last)
@@ -132,6 +131,9 @@ class ICRLIteration(IterationRecord):
     policy_seconds: float
     cost_seconds: float
     sampling_seconds: float
+
+    def bar_numbers(self) -> dict[str, float]:
+        return {**super().bar_numbers(), "lambda": float(max(self.lambdas, default=0.0))}
 
 
 class NeuralMCEICRL(Learner):
@@ -222,7 +224,6 @@ class NeuralMCEICRL(Learner):
         seed = self.random_state
         previous_threads = torch.get_num_threads()
         torch.set_num_threads(1)
-        bar = None
         try:
             timings: dict[str, float] = {}
             t0 = time.perf_counter()
@@ -232,9 +233,9 @@ class NeuralMCEICRL(Learner):
             timings["nominal"] = time.perf_counter() - t0
             policy = nominal.policy
             nominal_policy = copy.deepcopy(policy)
-            t0 = time.perf_counter()
-            batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes), seed=seed_offset(seed, 10_000))
-            sampling = time.perf_counter() - t0
+            loop = Alternation("MCE-ICRL", int(self.n_iterations), env_fn, int(self.n_policy_episodes), seed,
+                               self.reset_actor, generator)
+            batch = loop.sample(policy)
             selection = choose_inputs(setup, batch, self.select_inputs, seed)
             if selection is not None:
                 obs_dims = list(selection.selected)
@@ -263,13 +264,11 @@ class NeuralMCEICRL(Learner):
             # (measured on the gridworld: lambda 0 for all 5 iterations); lambda_init > 0 lets phi
             # first concentrate on where the policy goes and the expert does not.
             lambdas = np.full(int(self.n_features), float(self.lambda_init))
-            history: list[ICRLIteration] = []
             expert_features = np.zeros_like(lambdas)
-            # the bar shows the sampled policy's return and true violation rate (and the multiplier)
-            bar = ProgressBar(int(self.n_iterations), desc="MCE-ICRL", unit="iter")
-            for iteration in range(1, int(self.n_iterations) + 1):
-                # dual step on the current policy's samples
-                t0 = time.perf_counter()
+
+            def cost_step(iteration: int, batch: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+                """The dual step on the current policy's samples; sets the cost's multipliers."""
+                nonlocal lambdas, expert_features
                 policy_t = cost.tensors(*batch.pairs())
                 policy_w = torch.from_numpy(batch.discount_weights(self.discount)[batch.mask]).float()
                 zeta_lr = self.zeta_lr * self.zeta_decay ** (iteration - 1)
@@ -278,32 +277,25 @@ class NeuralMCEICRL(Learner):
                     alpha=self.alpha, zeta_lr=zeta_lr, zeta_steps=int(self.zeta_steps),
                     input_sparsity=float(self.input_sparsity))
                 cost.set_lambdas(lambdas)
-                cost_seconds = time.perf_counter() - t0
-                metrics = episode_metrics(batch)
+                return lambdas, expert_features, policy_features, zeta_lr
 
-                # policy step on r - lambda . phi
-                t0 = time.perf_counter()
-                if resets_actor(self.reset_actor, iteration, int(self.n_iterations)):  # see NeuralMCEICRL
-                    policy.reset_actor(generator)
-                trained = train_ppo(env_fn, int(self.policy_steps),
-                                    policy_ppo_config(self.ppo, self.beta, seed_offset(seed, iteration)),
-                                    reward_fn=penalised(cost, penalty), policy=policy)
-                policy = trained.policy
-                policy_seconds = time.perf_counter() - t0
-                t0 = time.perf_counter()
-                batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes),
-                                        seed=seed_offset(seed, 10_000 + 100 * iteration))
-                sampling = time.perf_counter() - t0
-                bar.update(1, **{"return": metrics.reward, "violation": metrics.violation_rate,
-                                 "lambda": float(max(lambdas, default=0.0))})
-                history.append(ICRLIteration(iteration, tuple(map(float, lambdas)),
-                                             tuple(map(float, expert_features)), tuple(map(float, policy_features)),
-                                             metrics.reward, metrics.violation_rate, zeta_lr, policy_seconds,
-                                             cost_seconds, sampling))
+            def policy_step(iteration: int, policy: Any) -> Any:
+                """PPO on r - lambda . phi, continuing ``policy``."""
+                return train_ppo(env_fn, int(self.policy_steps),
+                                 policy_ppo_config(self.ppo, self.beta, seed_offset(seed, iteration)),
+                                 reward_fn=penalised(cost, penalty), policy=policy)
+
+            def record(step: Round) -> ICRLIteration:
+                step_lambdas, step_expert, policy_features, zeta_lr = step.cost
+                return ICRLIteration(step.iteration, tuple(map(float, step_lambdas)),
+                                     tuple(map(float, step_expert)), tuple(map(float, policy_features)),
+                                     step.metrics.reward, step.metrics.violation_rate, zeta_lr, step.policy_seconds,
+                                     step.cost_seconds, step.sampling_seconds)
+
+            policy, batch, history = loop.run(policy, batch, cost_step=cost_step, policy_step=policy_step,
+                                              record=record)
             final = episode_metrics(batch)
         finally:
-            if bar is not None:
-                bar.close()
             torch.set_num_threads(previous_threads)
             probe.close()
         phi.eval()
@@ -416,10 +408,6 @@ def dual_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer, lambdas: np
     return lambdas, expert_features, policy_features
 
 
-def seed_offset(seed: int | None, k: int) -> int | None:
-    return None if seed is None else int(seed) + k
-
-
 def jsonable_params(params: dict[str, Any]) -> dict[str, Any]:
     out: dict[str, Any] = {}
     for key, value in params.items():
@@ -431,4 +419,4 @@ def jsonable_params(params: dict[str, Any]) -> dict[str, Any]:
 
 
 __all__ = ["ICRLIteration", "NeuralMCEICRL", "PPO_DEFAULTS", "action_bound_penalty", "dual_step", "environment_factory",
-           "jsonable_params", "penalised", "policy_ppo_config", "seed_offset"]
+           "jsonable_params", "penalised", "policy_ppo_config"]

@@ -52,14 +52,13 @@ from symlearn.learners.base import Learner
 from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.learners.neural.feature_network import FeatureNetwork
 from symlearn.learners.neural.input_selection import choose_inputs, inputs_report
-from symlearn.learners.neural.fit_setup import check_common, fit_setup, resets_actor
-from symlearn.learners.neural.mce_icrl import (action_bound_penalty, jsonable_params, penalised, policy_ppo_config,
-                                               seed_offset)
+from symlearn.learners.neural.alternation import Alternation, Round, seed_offset
+from symlearn.learners.neural.fit_setup import check_common, fit_setup
+from symlearn.learners.neural.mce_icrl import action_bound_penalty, jsonable_params, penalised, policy_ppo_config
 from symlearn.learners.neural.neural_cost import NeuralCost, spec_width
 from symlearn.learners.neural.records import IterationRecord
-from symlearn.progress import ProgressBar
 from symlearn.rl.episode_metrics import episode_metrics
-from symlearn.rl.episodes import EpisodeBatch, sample_episodes
+from symlearn.rl.episodes import EpisodeBatch
 
 LOG_FLOOR = 1e-6  # log(zeta) is taken of max(zeta, LOG_FLOOR): a step called infeasible costs log(1e-6), not -inf
 
@@ -82,6 +81,9 @@ class MEIteration(IterationRecord):
     multiplier: float
     policy_seconds: float
     cost_seconds: float
+
+    def bar_numbers(self) -> dict[str, float]:
+        return {**super().bar_numbers(), "lambda": float(self.multiplier)}
 
 
 class NeuralMEICRL(Learner):
@@ -166,7 +168,6 @@ class NeuralMEICRL(Learner):
 
         previous_threads = torch.get_num_threads()
         torch.set_num_threads(1)
-        bar = None
         try:
             timings: dict[str, float] = {}
             t0 = time.perf_counter()
@@ -175,7 +176,9 @@ class NeuralMEICRL(Learner):
                                reward_fn=penalised(None, penalty)).policy
             timings["nominal"] = time.perf_counter() - t0
             nominal_policy = copy.deepcopy(policy)
-            batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes), seed=seed_offset(seed, 10_000))
+            loop = Alternation(self._label, int(self.n_iterations), env_fn, int(self.n_policy_episodes), seed,
+                               self.reset_actor, generator)
+            batch = loop.sample(policy)
             selection = choose_inputs(setup, batch, self.select_inputs, seed)  # see mce_icrl's docstring
             if selection is not None:
                 obs_dims = list(selection.selected)
@@ -191,35 +194,36 @@ class NeuralMEICRL(Learner):
             expert_in = (torch.from_numpy(expert_x), None if not action_dim else torch.from_numpy(expert_a))
             optimizer = torch.optim.Adam(phi.parameters(), lr=self.learning_rate)
             multiplier = float((self.lagrangian or {}).get("init", 0.0))
-            history: list[MEIteration] = []
-            # the bar shows the sampled policy's return and true violation rate (and the multiplier)
-            bar = ProgressBar(int(self.n_iterations), desc=self._label, unit="iter")
-            for iteration in range(1, int(self.n_iterations) + 1):
-                t0 = time.perf_counter()
-                record = self._backward(phi, optimizer, expert_in, batch, cost)
-                cost_seconds = time.perf_counter() - t0
-                metrics = episode_metrics(batch)
-                if self.lambda_lr is not None:  # MCE-ICRL's rule on the constraint gap (module docstring)
+
+            def cost_step(iteration: int, batch: EpisodeBatch) -> tuple[Any, ...]:
+                """The backward step, then (with ``lambda_lr``) MCE-ICRL's multiplier rule on the
+                constraint gap (module docstring)."""
+                nonlocal multiplier
+                backward = self._backward(phi, optimizer, expert_in, batch, cost)
+                if self.lambda_lr is not None:
                     gap = discounted_cost(cost, batch, self.discount)
                     multiplier = max(0.0, multiplier + float(self.lambda_lr) * gap)
-                t0 = time.perf_counter()
+                return backward
+
+            def policy_step(iteration: int, policy: Any) -> Any:
+                """PPO-Lagrangian on the cost ``1 - zeta``, continuing ``policy`` from ``multiplier``."""
+                nonlocal multiplier
                 lagrangian = LagrangianConfig(**forward_lagrangian(self.lagrangian, multiplier, self.lambda_lr is None))
-                if resets_actor(self.reset_actor, iteration, int(self.n_iterations)):  # see NeuralMCEICRL
-                    policy.reset_actor(generator)
                 trained = train_ppo(env_fn, int(self.policy_steps), ppo_config(iteration), lagrangian,
                                     cost_fn=cost.cost_fn(), reward_fn=penalised(None, penalty), policy=policy)
-                policy, multiplier = trained.policy, float(trained.multipliers[0])
-                policy_seconds = time.perf_counter() - t0
-                batch = sample_episodes(policy, env_fn, int(self.n_policy_episodes),
-                                        seed=seed_offset(seed, 10_000 + 100 * iteration))
-                bar.update(1, **{"return": metrics.reward, "violation": metrics.violation_rate,
-                                 "lambda": float(multiplier)})
-                history.append(self._record_type(iteration, metrics.reward, metrics.violation_rate, *record[:5],
-                                                 multiplier, policy_seconds, cost_seconds, *record[5:]))
+                multiplier = float(trained.multipliers[0])
+                return trained
+
+            def record(step: Round) -> MEIteration:
+                backward = step.cost
+                return self._record_type(step.iteration, step.metrics.reward, step.metrics.violation_rate,
+                                         *backward[:5], float(step.trained.multipliers[0]), step.policy_seconds,
+                                         step.cost_seconds, *backward[5:])
+
+            policy, batch, history = loop.run(policy, batch, cost_step=cost_step, policy_step=policy_step,
+                                              record=record)
             final = episode_metrics(batch)
         finally:
-            if bar is not None:
-                bar.close()
             torch.set_num_threads(previous_threads)
             probe.close()
         phi.eval()

@@ -337,8 +337,9 @@ class OneClassTreeConstraint(Learner):
     (their positions among all the features, or None),
     ``bounds_`` (the data's per-feature minimum and maximum, a :class:`Box`), ``n_samples_``,
     ``history_`` (one :class:`SplitRecord` per split), ``unsafe_share_``, ``slivers_closed_``,
-    ``notes_`` and ``warnings_`` (the ``#`` header lines of the text), ``result_`` (text: the header
-    and ``str(dnf_)``).
+    ``notes_`` and ``warnings_`` (the ``#`` header lines of the text after the first, which says
+    how the set was made and from what: the demonstrations' ``metadata["source"]`` where they
+    carry one, and the number of points), ``result_`` (text: the header and ``str(dnf_)``).
     ``save(path)`` writes the DNF text (``symlearn.logic.dnf.parse`` reads it back).
     """
 
@@ -442,8 +443,8 @@ class OneClassTreeConstraint(Learner):
                    "slivers_closed": slivers}
         timings = {"features": t_features - started, "tree": t_tree - t_features, "dnf": t_dnf - t_tree,
                    "total": max(time.perf_counter() - started, 1e-9)}
-        made = (f"unsafe set learned by a one-class tree (max depth {self.max_depth}) from {len(X)} points; one rule "
-                "per line, edit freely")
+        made = (f"unsafe set learned by a one-class tree (max depth {self.max_depth}) from "
+                f"{_data_description(demonstrations, len(X))}; one rule per line, edit freely")
         header = "".join(f"# {line}\n" for line in [made, *self.notes_, *(f"warning: {w}" for w in self.warnings_)])
         self._set_result(dnf, header + str(dnf), metrics=metrics, timings=timings, history=self.history_)
         return self
@@ -918,6 +919,19 @@ class _Volume:
             lower = np.concatenate([lower[:i], merged_lo[i:i + 1], lower[i + 2:]])
             upper = np.concatenate([upper[:i], merged_hi[i:i + 1], upper[i + 2:]])
         return groups, hists
+
+
+def _data_description(demonstrations: Any, n_points: int) -> str:
+    """What the header says the formula was learned from: the demonstrations' own
+    ``metadata["source"]`` (``"20 expert episodes of toy-navigation"``, a file's path: set where
+    they were loaded or recorded, e.g. by ``recipes.experts.demonstrations``) with the number of
+    points, else the number of points alone (an array, or demonstrations that do not say)."""
+    metadata = getattr(demonstrations, "metadata", None)
+    source = metadata.get("source") if isinstance(metadata, dict) else None
+    # one line whatever a file's metadata holds: a line break would end the # comment mid-header
+    source = " ".join(source.split()) if isinstance(source, str) else ""
+    points = f"{n_points} points"
+    return f"{source} ({points})" if source else points
 
 
 def _notes(learner: OneClassTreeConstraint, slivers: int) -> list[str]:

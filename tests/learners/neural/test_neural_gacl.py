@@ -49,7 +49,7 @@ def test_gacl_contract(tmp_path):
 
 def test_icrl_bar_shows_return_and_violation(monkeypatch):
     # the learner's own bar (beside the inner PPO's) carries the sampled policy's return and true violation rate
-    import symlearn.learners.neural.gacl as gacl
+    import symlearn.learners.neural.alternation as alternation
     from symlearn.progress import ProgressBar
 
     shown = []
@@ -59,7 +59,7 @@ def test_icrl_bar_shows_return_and_violation(monkeypatch):
             shown.append(numbers)
             super().update(n, **numbers)
 
-    monkeypatch.setattr(gacl, "ProgressBar", Recording)
+    monkeypatch.setattr(alternation, "ProgressBar", Recording)
     learner = NeuralGACL(n_iterations=2, nominal_steps=512, policy_steps=512, n_policy_episodes=2, disc_steps=1,
                          obs_dims=[0, 1], hidden_sizes=(8,))
     learner.fit(expert_demonstrations(2, seed=0), BlockedPoint)

@@ -358,3 +358,14 @@ def test_dnf_value_type():
     learner = OneClassTreeConstraint().fit(np.array([[0.0, 0.0], [1.0, 1.0]]))
     assert isinstance(learner.dnf_, DNF)
     assert learner.dnf_.features == ("x0", "x1")
+
+
+def test_header_names_the_demonstrations_source():
+    points = [[0.0, 0.0], [0.1, 0.2], [0.2, 0.1]]
+    demos = Demonstrations([Trajectory(points)], metadata={"source": "3 steps of a\nhand-made\texpert"})
+    made = OneClassTreeConstraint(max_depth=2).fit(demos, ["x", "y"]).artefact_text().splitlines()[0]
+    # one line whatever the metadata holds, so the header stays a comment
+    assert made.startswith("# unsafe set learned by a one-class tree (max depth 2) from 3 steps of a hand-made "
+                           "expert (3 points); ")
+    untold = OneClassTreeConstraint(max_depth=2).fit(points, ["x", "y"]).artefact_text().splitlines()[0]
+    assert " from 3 points; " in untold
