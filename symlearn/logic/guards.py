@@ -84,6 +84,11 @@ _collect_at = _COLLECT_FROM
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _KEYWORDS = {"true", "false"}
 _SOP_LIMIT = 8  # beyond this many propositions, print BDD paths instead of a minimal cover
+# sympy's Quine-McCluskey grows fast with the minterms at 7-8 propositions (random functions: 64
+# minterms 0.02 s, 192 1.6 s; an edge guard of a Random/Lydia DFA of SYNTCOMP's tlsf-fin needed
+# 79 such covers, 37 s to print): there, past this many minterms, the prime cover is printed
+_SOP_ANY = 6
+_SOP_MINTERMS = 64
 _CUBE_BUDGET = 16  # beyond 8 propositions, a cover needing more cubes is printed factored
 _TEXT_LIMIT = 200_000  # characters; a guard whose printed form would be longer is refused
 
@@ -549,7 +554,7 @@ def _cover(u: int, budget: int | None = None) -> tuple[tuple[tuple[str, bool], .
     if clause is not None:  # a clause: one literal per cube
         return _sorted_cover([((name, not value),) for name, value in clause])
     support = sorted(_support(u))
-    if len(support) <= _SOP_LIMIT:
+    if len(support) <= _SOP_LIMIT and (len(support) <= _SOP_ANY or _count_models(u, support) <= _SOP_MINTERMS):
         cubes = _minimal_cover(u, support)
     else:
         cubes = _prime_cover(u, budget)
@@ -690,6 +695,26 @@ def _prime_cover(u: int, budget: int | None = None) -> list[tuple[tuple[str, boo
         cubes.append(tuple(sorted(cube.items())))
         remaining = _and(remaining, _not(_cube_node(cube)))
     return cubes
+
+
+def _count_models(u: int, support: list[str]) -> int:
+    """Labels over ``support`` (which contains every variable of ``u``) that satisfy ``u``."""
+    position = {name: i for i, name in enumerate(support)}
+    memo: dict[int, int] = {}
+    n = len(support)
+
+    def below(w: int) -> tuple[int, int]:  # (models over the variables from w's level, that level)
+        if w <= _TRUE:
+            return w, n
+        if w not in memo:
+            lo, lo_level = below(_low[w])
+            hi, hi_level = below(_high[w])
+            level = position[_var[w]]
+            memo[w] = (lo << (lo_level - level - 1)) + (hi << (hi_level - level - 1))
+        return memo[w], position[_var[w]]
+
+    models, level = below(u)
+    return models << level
 
 
 def _minimal_cover(u: int, support: list[str]) -> list[tuple[tuple[str, bool], ...]]:
