@@ -17,7 +17,7 @@ True
 Text syntax (``grammars/guard.lark``): ``true``, ``false``, names ``[A-Za-z_][A-Za-z0-9_]*`` or
 double-quoted strings, ``!``/``~``, ``&``/``&&``, ``|``/``||`` and parentheses; ``!`` binds
 tightest, then ``&``, then ``|``. ``str(g)`` prints a minimal sum of products over the guard's
-support (a single cube or clause directly, Quine-McCluskey via sympy for up to 8 propositions,
+support (a single cube or clause directly, a minimum cover (symlearn.logic.two_level) for up to 8 propositions,
 a greedy cover by prime implicants computed on the BDD above that) and
 ``Guard.parse(str(g)) == g`` always holds. A sum of products can be exponentially longer than
 the BDD (``!((p0 & q0) | ... | (p11 & q11))`` needs 4096 cubes), so above 8 propositions a
@@ -46,6 +46,7 @@ from typing import AbstractSet
 from symlearn.errors import LimitExceededError, ParseError
 from symlearn.input_limits import limit as _limit
 from symlearn.logic.bdd import BDD
+from symlearn.logic.two_level import cube_literals, minimum_cover
 
 __all__ = ["Guard", "GuardParseError", "from_bdd", "collect", "node_count"]
 
@@ -84,11 +85,6 @@ _collect_at = _COLLECT_FROM
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\Z")
 _KEYWORDS = {"true", "false"}
 _SOP_LIMIT = 8  # beyond this many propositions, print BDD paths instead of a minimal cover
-# sympy's Quine-McCluskey grows fast with the minterms at 7-8 propositions (random functions: 64
-# minterms 0.02 s, 192 1.6 s; an edge guard of a Random/Lydia DFA of SYNTCOMP's tlsf-fin needed
-# 79 such covers, 37 s to print): there, past this many minterms, the prime cover is printed
-_SOP_ANY = 6
-_SOP_MINTERMS = 64
 _CUBE_BUDGET = 16  # beyond 8 propositions, a cover needing more cubes is printed factored
 _TEXT_LIMIT = 200_000  # characters; a guard whose printed form would be longer is refused
 
@@ -554,7 +550,7 @@ def _cover(u: int, budget: int | None = None) -> tuple[tuple[tuple[str, bool], .
     if clause is not None:  # a clause: one literal per cube
         return _sorted_cover([((name, not value),) for name, value in clause])
     support = sorted(_support(u))
-    if len(support) <= _SOP_LIMIT and (len(support) <= _SOP_ANY or _count_models(u, support) <= _SOP_MINTERMS):
+    if len(support) <= _SOP_LIMIT:
         cubes = _minimal_cover(u, support)
     else:
         cubes = _prime_cover(u, budget)
@@ -697,50 +693,17 @@ def _prime_cover(u: int, budget: int | None = None) -> list[tuple[tuple[str, boo
     return cubes
 
 
-def _count_models(u: int, support: list[str]) -> int:
-    """Labels over ``support`` (which contains every variable of ``u``) that satisfy ``u``."""
-    position = {name: i for i, name in enumerate(support)}
-    memo: dict[int, int] = {}
-    n = len(support)
-
-    def below(w: int) -> tuple[int, int]:  # (models over the variables from w's level, that level)
-        if w <= _TRUE:
-            return w, n
-        if w not in memo:
-            lo, lo_level = below(_low[w])
-            hi, hi_level = below(_high[w])
-            level = position[_var[w]]
-            memo[w] = (lo << (lo_level - level - 1)) + (hi << (hi_level - level - 1))
-        return memo[w], position[_var[w]]
-
-    models, level = below(u)
-    return models << level
-
-
 def _minimal_cover(u: int, support: list[str]) -> list[tuple[tuple[str, bool], ...]]:
-    from sympy import Symbol
-    from sympy.logic import SOPform
-    from sympy.logic.boolalg import And, Not, Or
-
+    """A minimum sum of products of ``u`` (``support``: its at most 8 variables), by
+    :mod:`~symlearn.logic.two_level` on the truth table."""
+    n = len(support)
     minterms = []
-    for bits in range(2 ** len(support)):
-        values = [(bits >> (len(support) - 1 - i)) & 1 for i in range(len(support))]
-        label = {name for name, bit in zip(support, values) if bit}
+    for bits in range(2 ** n):  # the first variable is the most significant bit
+        label = {name for i, name in enumerate(support) if (bits >> (n - 1 - i)) & 1}
         if _evaluate(u, label):
-            minterms.append(values)
-    symbols = [Symbol(f"v{i}") for i in range(len(support))]
-    expr = SOPform(symbols, minterms)
-    terms = expr.args if isinstance(expr, Or) else (expr,)
-    cubes = []
-    for term in terms:
-        literals = term.args if isinstance(term, And) else (term,)
-        cube = []
-        for lit in literals:
-            negated = isinstance(lit, Not)
-            sym = lit.args[0] if negated else lit
-            cube.append((support[int(sym.name[1:])], not negated))
-        cubes.append(tuple(sorted(cube)))
-    return cubes
+            minterms.append(bits)
+    return [tuple(sorted((support[i], value) for i, value in cube_literals(cube, n)))
+            for cube in minimum_cover(minterms, n)]
 
 
 def _name_text(name: str) -> str:
