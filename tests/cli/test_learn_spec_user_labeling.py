@@ -142,3 +142,18 @@ def test_demonstrations_of_another_environment_are_refused_when_replayed(capsys,
                          "--labeling", f"{labels}:label")
     line = _one_line_error(code, out, err)
     assert "demonstration 0, step 0: an action of shape (2,) does not fit" in line and "Discrete(4)" in line
+
+
+def test_feature_labeling_given_on_the_command_line(capsys, cart_demos):
+    """README: ``--labeling '{"near_goal": "x > 0.8 & y > 0.8"}'`` -- the object itself, not only a file."""
+    from symlearn.grounding.labeling_function import read_labeling
+
+    labeling = read_labeling('{"right": "x > 0.05"}', feature_names=["x", "v", "a", "w"])
+    assert list(labeling.propositions) == ["right"]
+    assert set(labeling.label([0.1, 0.0, 0.0, 0.0])) == {"right"}
+    code, out, err = run(capsys, "learn", "spec", "--env", "CartPole-v1", "--demos", cart_demos,
+                         "--labeling", '{"right": "q > 0.05"}', "--features", "x,v,a,w")
+    assert "--labeling: proposition 'right' uses unknown feature 'q'" in _one_line_error(code, out, err)
+    code, out, err = run(capsys, "learn", "spec", "--env", "CartPole-v1", "--demos", cart_demos,
+                         "--labeling", '{"right": "x > 0.05",}', "--features", "x,v,a,w")
+    assert "--labeling:1:" in _one_line_error(code, out, err)
