@@ -66,7 +66,8 @@ def register_learn(commands, common) -> None:
                       help="use the environment's propositions, or learn propositions from states")
     spec.add_argument("--labeling", metavar="FILE.json|FILE.py:function",
                       help="the propositions: a labeling JSON file (a table, or {proposition: condition} over the "
-                           "features), or a Python function (observation, info) -> names")
+                           "features; that object may also be given here as it is), or a Python function "
+                           "(observation, info) -> names")
     spec.add_argument("--features", metavar="A,B,...",
                       help="names of the observation's columns, for a feature labeling {prop: 'a > 0.5'}")
     spec.add_argument("--policy", choices=("auto", "tabular", "ppo"), default="auto",

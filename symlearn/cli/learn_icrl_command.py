@@ -196,6 +196,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
     seed = getattr(args, "seed", 0) or 0
     demos = demonstrations(target, args.demos, args.n_demos, seed=seed, expert_steps=args.expert_steps,
                            expert_cache=args.expert_cache, note=out.note)
+    demos = _in_the_view(demos, env, args.demos)
     has_cost = target.reports_cost(env)
 
     import torch
@@ -248,6 +249,30 @@ def _icrl(args: argparse.Namespace, out) -> None:
         path = learner.save(args.output)
         doc["files"] = [str(path), str(path.with_suffix(".json"))]
     out.result(doc, _render)
+
+
+def _in_the_view(demos: Any, env: Any, path: Any) -> Any:
+    """Demonstrations that store a ``Dict``-observing environment's own observations (``record``
+    keeps a dict of scalars as feature states), seen as the flat numeric view that the policy and
+    the cost read (:mod:`symlearn.recipes.spaces`)."""
+    from collections.abc import Mapping
+
+    import numpy as np
+
+    from symlearn.data import Demonstrations, Trajectory
+    from symlearn.errors import DataError
+    from symlearn.recipes.spaces import NumericObservations
+
+    if not isinstance(env, NumericObservations) or not isinstance(demos[0].states[0], Mapping):
+        return demos
+    try:
+        items = [Trajectory(np.stack([env.observation(s) for s in t.states]), t.actions, t.rewards, t.labels, t.info)
+                 for t in demos]
+    except (KeyError, TypeError, ValueError, AssertionError) as exc:
+        raise DataError(f"the demonstrations' states do not fit the observation space {env.env.observation_space}"
+                        f" ({type(exc).__name__}: {exc})", file=path,
+                        hint="were they recorded in this environment?") from None
+    return Demonstrations(items, metadata=demos.metadata)
 
 
 def _render_inputs(inputs: dict) -> str:

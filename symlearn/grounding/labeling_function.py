@@ -183,21 +183,30 @@ def _line_in(exc: BaseException, path: str | None) -> int | None:
 
 def read_labeling(spec: str, *, feature_names: Sequence[str] | None = None):
     """A labeling from ``--labeling``: ``FILE.py:function``, a saved labeling JSON (table or
-    features), or a plain JSON object ``{proposition: condition}`` over ``feature_names``."""
+    features), or a plain JSON object ``{proposition: condition}`` over ``feature_names`` (in a
+    file, or the object itself as the argument)."""
     if ".py:" in spec or spec.endswith(".py"):
         return load_labeling_function(spec)
     from symlearn.grounding.labeling import load_labeling_text
     from symlearn.input_limits import read_input_text
 
     path = Path(spec)
-    try:
-        text = read_input_text(path, what="labeling file")
-    except OSError as exc:
-        raise DataError(f"cannot read the labeling: {exc.strerror}", file=spec) from None
-    try:
-        doc = json.loads(text)
-    except json.JSONDecodeError as exc:
-        raise DataError(f"the labeling is not JSON: {exc.msg}", file=spec, line=exc.lineno, column=exc.colno) from None
+    if spec.lstrip().startswith("{") and not path.exists():
+        # the JSON object itself: --labeling '{"near_goal": "x > 0.8 & y > 0.8"}' (README)
+        from symlearn.json_document import load_option_json
+
+        text, spec = spec, "--labeling"
+        doc = load_option_json(text, spec)
+    else:
+        try:
+            text = read_input_text(path, what="labeling file")
+        except OSError as exc:
+            raise DataError(f"cannot read the labeling: {exc.strerror}", file=spec) from None
+        try:
+            doc = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise DataError(f"the labeling is not JSON: {exc.msg}", file=spec, line=exc.lineno,
+                            column=exc.colno) from None
     if isinstance(doc, dict) and "symlearn" in doc:
         return load_labeling_text(text, source=spec)
     if not isinstance(doc, dict) or not doc or not all(isinstance(v, str) for v in doc.values()):

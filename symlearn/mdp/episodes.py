@@ -116,7 +116,9 @@ def _ids(values: Any, where: str, size: int, what: str, names: Sequence[str]) ->
         lookup = {n: k for k, n in enumerate(names)}
         unknown = [v for v in array.tolist() if v not in lookup]
         if unknown:
-            raise DataError(f"{where}: unknown {what} {unknown[0]!r}", hint=f"the model's {what}s are {', '.join(names[:8])}...")
+            hint = (f"the model's {what}s are {', '.join(names[:8])}{'...' if len(names) > 8 else ''}" if names
+                    else f"the model's {what}s have no names: give ids 0..{size - 1}")
+            raise DataError(f"{where}: unknown {what} {unknown[0]!r}", hint=hint)
         return np.array([lookup[v] for v in array.tolist()], dtype=np.int64)
     if array.size and (array.dtype.kind not in "iu"):
         if array.dtype.kind == "f" and np.all(np.equal(np.mod(array, 1), 0)):

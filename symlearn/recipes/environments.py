@@ -29,6 +29,7 @@ from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from difflib import get_close_matches
+from pathlib import Path
 from typing import Any
 
 from symlearn.envs.registry import ENTRIES, Entry, Kind
@@ -420,6 +421,12 @@ def _defined_in(entry_point: Any, module: str) -> bool:
 
 
 def _import_user_module(module: str) -> None:
+    if module.endswith(".py") or "/" in module or "\\" in module:  # a file's path, not a module's name
+        path = Path(module)
+        name = path.stem if path.suffix == ".py" else path.name
+        folder = str(path.parent) if str(path.parent) not in ("", ".") else "its folder"
+        raise UnknownNameError(f"--env takes a module's name, not a file: {module!r}",
+                               hint=f"run from {folder} with --env {name}:..., or add that folder to PYTHONPATH")
     # As for `python -m`: the current directory is importable.
     cwd = os.getcwd()
     if cwd not in sys.path and "" not in sys.path:

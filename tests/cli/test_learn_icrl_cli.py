@@ -151,3 +151,54 @@ def test_without_a_scripted_expert_a_lagrangian_expert_is_trained_and_cached(cap
     code, stdout, err = run(capsys, *args)
     assert code == 0, err
     assert cached[0].stat().st_mtime_ns == stamp and json.loads(stdout)["expert_reward"] == first
+
+
+DICT_ROBOT = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class Lift(gym.Env):
+    """A lift between 4 floors with a door: Dict(floor=Discrete(4), door=Discrete(2))."""
+
+    def __init__(self):
+        self.observation_space = spaces.Dict({"floor": spaces.Discrete(4), "door": spaces.Discrete(2)})
+        self.action_space = spaces.Discrete(3)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.floor, self.door = 0, 0
+        return {"floor": self.floor, "door": self.door}, {}
+
+    def step(self, action):
+        if action == 0:
+            self.door = 1 - self.door
+        else:
+            self.floor = int(np.clip(self.floor + (1 if action == 1 else -1), 0, 3))
+        done = self.floor == 3 and self.door == 1
+        return {"floor": self.floor, "door": self.door}, float(done), done, False, {}
+
+
+gym.register(id="DictLift-v0", entry_point=lambda: gym.wrappers.TimeLimit(Lift(), 12))
+'''
+
+
+def test_demonstrations_of_a_dict_observing_environment(capsys, tmp_path, monkeypatch):
+    """``record`` keeps a Dict observation as feature states; learn icrl reads them through the
+    same flat view as the environment (before: an internal TypeError from a dict)."""
+    import gymnasium
+
+    (tmp_path / "lift_lab.py").write_text(DICT_ROBOT)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import lift_lab  # noqa: F401 -- registers DictLift-v0
+
+    from symlearn.data import record
+
+    plan = iter([1, 1, 1, 0] * 4)
+    record(gymnasium.make("DictLift-v0"), lambda obs: next(plan), 4, seed=0).save(tmp_path / "lift.jsonl")
+    code, out, err = run(capsys, "learn", "icrl", "--env", "lift_lab:DictLift-v0", "--demos", "lift.jsonl",
+                         "--steps", 600, "--iterations", 1, "--json")
+    assert code == 0, err
+    assert json.loads(out)["reward"] is not None

@@ -128,3 +128,32 @@ def test_ppo_update_needs_array_observations(capsys, tmp_path, lake_demos):
     code, out, err = run(capsys, "learn", "spec", "--env", "FrozenLake-v1", "--demos", lake_demos,
                          "--labeling", f"{labels}:label", "--policy", "ppo")
     assert "a PPO policy update needs array observations (a Box), not Discrete(16)" in _one_line_error(code, out, err)
+
+
+def test_demonstrations_of_another_environment_are_refused_when_replayed(capsys, tmp_path):
+    """A labeling that reads ``info`` replays the demonstrations' actions; vector actions (recorded
+    in a continuous environment) in FrozenLake are one line, not an internal error."""
+    import numpy as np
+
+    path = tmp_path / "robot.npz"
+    Demonstrations([Trajectory(np.zeros((3, 2)), np.zeros((2, 2)), info={"seed": 1})]).save(path)
+    labels = _labels_file(tmp_path, "def label(obs, info):\n    return ['goal'] if obs == 15 else []\n")
+    code, out, err = run(capsys, "learn", "spec", "--env", "FrozenLake-v1", "--demos", path,
+                         "--labeling", f"{labels}:label")
+    line = _one_line_error(code, out, err)
+    assert "demonstration 0, step 0: an action of shape (2,) does not fit" in line and "Discrete(4)" in line
+
+
+def test_feature_labeling_given_on_the_command_line(capsys, cart_demos):
+    """README: ``--labeling '{"near_goal": "x > 0.8 & y > 0.8"}'`` -- the object itself, not only a file."""
+    from symlearn.grounding.labeling_function import read_labeling
+
+    labeling = read_labeling('{"right": "x > 0.05"}', feature_names=["x", "v", "a", "w"])
+    assert list(labeling.propositions) == ["right"]
+    assert set(labeling.label([0.1, 0.0, 0.0, 0.0])) == {"right"}
+    code, out, err = run(capsys, "learn", "spec", "--env", "CartPole-v1", "--demos", cart_demos,
+                         "--labeling", '{"right": "q > 0.05"}', "--features", "x,v,a,w")
+    assert "--labeling: proposition 'right' uses unknown feature 'q'" in _one_line_error(code, out, err)
+    code, out, err = run(capsys, "learn", "spec", "--env", "CartPole-v1", "--demos", cart_demos,
+                         "--labeling", '{"right": "x > 0.05",}', "--features", "x,v,a,w")
+    assert "--labeling:1:" in _one_line_error(code, out, err)

@@ -10,7 +10,7 @@ import pytest
 import warehouse_domain as wh
 from cli_runner import run
 
-from symlearn.data import load
+from symlearn.data import Demonstrations, Trajectory, load
 from symlearn.grounding import Domain
 from symlearn.learners.base import LearnerResult, NotFittedError
 from symlearn.learners.constraints.logic_constraint_inference import LogicConstraintInference
@@ -136,6 +136,20 @@ def test_spec_learning_on_a_user_domain(tmp_path, capsys):
     assert (tmp_path / "spec.ltl").read_text().strip() == doc["formula"]
     learned = SpecLearner(propositions="learn", random_state=0).fit(demos, domain)
     assert learned.labeling_.propositions  # grown propositions "agent in state ..."
+
+
+def test_spec_learning_reads_demonstrations_that_name_their_states(tmp_path, capsys):
+    """states.jsonl's names are usable in demonstrations instead of ids (docs/FORMATS.md), for
+    `learn spec --domain` as for `learn constraints --domain`."""
+    folder = wh.write_warehouse(tmp_path / "det", alarm_prob=0.0)
+    demos = wh.expert_demonstrations(10, seed=0, alarm_prob=0.0)
+    domain = Domain.from_folder(folder)
+    named = Demonstrations([Trajectory(states=[domain.state_names[s] for s in t.states], actions=t.actions)
+                            for t in demos])
+    named.save(tmp_path / "named.jsonl")
+    code, out, err = run(capsys, "learn", "spec", "--domain", folder, "--demos", tmp_path / "named.jsonl", "--json")
+    assert code == 0, err
+    assert "delivered" in json.loads(out)["formula"]
 
 
 def test_spec_learning_refuses_stochastic_domains(warehouse):

@@ -78,6 +78,20 @@ def test_hints_say_what_was_meant(user_folder):
     with pytest.raises(UnknownNameError) as info:
         resolve_env("CartPol-v1")
     assert "did you mean 'CartPole-v1'?" in info.value.hint
+
+
+@pytest.mark.parametrize("name, hint", [
+    ("my_point_robot.py:PointRobot-v0", "run from its folder with --env my_point_robot:..."),
+    ("/home/me/lab/my_point_robot.py:PointRobot-v0", "run from /home/me/lab with --env my_point_robot:..."),
+    ("./my_point_robot:PointRobot-v0", "--env my_point_robot:..."),
+])
+def test_a_file_path_for_the_module_says_to_name_the_module(user_folder, name, hint):
+    """``my_robot.py:MyRobot-v0`` run from the folder that holds my_robot.py: the old message ("no
+    module named 'my_robot.py'; run from the folder that holds my_robot.py") told the user to do
+    what they had done."""
+    with pytest.raises(UnknownNameError) as info:
+        resolve_env(name)
+    assert "--env takes a module's name, not a file" in str(info.value) and hint in info.value.hint
     with pytest.raises(UnknownNameError) as info:
         resolve_env("Gridlabs-Maze-v3")  # as an id a package registers only when imported
     assert "gridlabs:Gridlabs-Maze-v3" in info.value.hint

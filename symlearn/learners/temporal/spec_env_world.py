@@ -108,6 +108,20 @@ def _same_or_refuse(i: int, t: int, stored: Any, observation: Any, seed: Any) ->
                         f"at step {t} than the one stored", hint=_RECORD_HINT)
 
 
+def _fitting_action(i: int, t: int, stored: Any, space: Any, discrete: bool) -> Any:
+    """A demonstration's action as the environment takes it; one of another shape (demonstrations
+    recorded in another environment) is refused, not handed to the environment."""
+    action = np.asarray(stored)
+    shape = getattr(space, "shape", None)
+    fits = (action.ndim == 0 and action.dtype.kind in "biuf") if discrete else \
+        (shape is None or action.shape == tuple(shape))
+    if not fits:
+        raise DataError(f"demonstration {i}, step {t}: an action of shape {action.shape} does not fit the "
+                        f"environment's action space {space}",
+                        hint="were the demonstrations recorded in this environment?")
+    return int(action) if discrete else action
+
+
 class EnvWorld:
     """Rollouts, labels and policy updates in ``env`` (an environment or a factory of them).
 
@@ -243,7 +257,7 @@ class EnvWorld:
         word = [self.labeler(observation, info, f"demonstration {i}, step 0")]
         for t in range(len(states) - 1):
             _same_or_refuse(i, t, states[t], observation, seed)
-            action = int(actions[t]) if discrete else np.asarray(actions[t])
+            action = _fitting_action(i, t, actions[t], self.env.action_space, discrete)
             observation, _r, terminated, truncated, info = self.env.step(action)
             word.append(self.labeler(observation, info, f"demonstration {i}, step {t + 1}"))
             if (terminated or truncated) and t + 2 < len(states):

@@ -170,7 +170,7 @@ class SpecLearner(Learner):
         learn = self.propositions == "learn"
         if _has_model(world):
             run = _SpecFit(np.random.default_rng(self.random_state), task_model(world, horizon=self.horizon), None)
-            experts = state_sequences(demonstrations, run.model.n_states)
+            experts = state_sequences(demonstrations, run.model.n_states, run.model.state_names)
             labeling, names = (Labeling({}), []) if learn else self._given_labeling(run.model)
         else:
             if learn:

@@ -40,6 +40,7 @@ class TaskModel:
     start: int
     horizon: int
     describe: Callable[[int], str]  # "agent in cell (3, 4)" -- meaning of a learned proposition
+    state_names: tuple[str, ...] = ()  # a domain's state names, which demonstrations may use for ids
 
     @property
     def n_states(self) -> int:
@@ -80,7 +81,7 @@ def _from_domain(domain: Any, horizon: int | None) -> TaskModel:
                          f"{np.count_nonzero(initial)} states", hint="give model.npz a one-hot initial array")
     names = domain.state_names
     return TaskModel(P.argmax(axis=2).astype(np.int64), domain.labeling, int(initial.argmax()),
-                     int(horizon or 200), lambda s: f"agent in state {names[s]}")
+                     int(horizon or 200), lambda s: f"agent in state {names[s]}", tuple(names or ()))
 
 
 __all__ = ["TaskModel", "task_model"]
