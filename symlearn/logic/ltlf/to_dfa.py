@@ -67,22 +67,30 @@ from __future__ import annotations
 import gc
 import sys
 
+from typing import TYPE_CHECKING
+
 from symlearn.errors import LimitExceededError
-from symlearn.logic.automata.dfa import DFA
-from symlearn.logic.automata.transition_diagram import EXPLICIT_EDGES, TransitionDiagram, minimal
 from symlearn.logic.bdd import BDD, FALSE, TRUE
-from symlearn.logic.guards import from_bdd
 from symlearn.logic.ltlf.ast import (
     Always, And, Const, Eventually, Formula, Iff, Implies, Next, Not, Or, Prop, Release, Then, Until,
     WeakNext, WeakUntil,
 )
-from symlearn.logic.ltlf.composition import compose
 from symlearn.logic.ltlf.conjunct_bound import check_state_bound, independent_groups
 from symlearn.logic.ltlf.progression import holds_at_end
+
+if TYPE_CHECKING:
+    from symlearn.logic.automata.dfa import DFA
+
+# The automata side (DFA, transition diagrams, guards) is imported where a translation needs it,
+# not with this module: `symlearn ltl parse` imports the ltlf package, and with it this module,
+# but never translates (~60 ms of its start-up without bytecode files, issue 27).
 
 __all__ = ["translate", "to_dfa", "equivalent", "DEFAULT_MAX_STATES"]
 
 DEFAULT_MAX_STATES = 20_000
+#: transition_diagram.EXPLICIT_EDGES, repeated so this module need not import the automata side
+#: (tests/logic/ltlf/test_to_dfa.py checks the two agree)
+EXPLICIT_EDGES = 10_000
 _RECURSION_LIMIT = 12_000
 #: trees of one of ``& |`` with more operands than this are joined in a balanced order;
 #: smaller ones exactly as they are written
@@ -220,6 +228,7 @@ class _Translation:
         # a manager of its own, dropped after the translation: obligation nodes outnumber the edge
         # guards it produces (3.8x on the benchmark families, see symlearn/logic/bdd.py)
         from symlearn.input_limits import limit
+        from symlearn.logic.automata.transition_diagram import TransitionDiagram
 
         # bounded like the guard table, so a formula whose obligations explode stops with a clear
         # error before memory runs out (SYMLEARN_MAX_TRANSLATION_NODES, docs/FORMATS.md); a limit
@@ -363,6 +372,9 @@ class _Translation:
 
     def build(self, max_states: int) -> DFA:
         """The minimal DFA (the translation object keeps its manager: benchmarks count its nodes)."""
+        from symlearn.logic.automata.dfa import DFA
+        from symlearn.logic.automata.transition_diagram import minimal
+
         explored = self.explore(max_states)
         return explored if isinstance(explored, DFA) else minimal(*explored)
 
@@ -608,6 +620,9 @@ class _Translation:
 
     def _minimal(self, states: list[int], edges: list[list[tuple[int, int]]], accepting: list[bool],
                  initial: int) -> DFA:
+        from symlearn.logic.automata.dfa import DFA
+        from symlearn.logic.guards import from_bdd
+
         bdd = self.bdd
         block = self._refine(edges, accepting)
         # the blocks reachable from the initial state (numbered as found), one representative each
@@ -663,6 +678,8 @@ def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFA:
     try:
         # a Boolean combination of parts sharing propositions: a DFA per part, joined by
         # minimised products (composition.py); anything else: progression of the whole formula
+        from symlearn.logic.ltlf.composition import compose
+
         return compose(formula, _progression, max_states)
     except RecursionError:
         raise LimitExceededError("the formula is nested too deeply to translate",
@@ -676,6 +693,9 @@ def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFA:
 def _progression(formula: Formula, max_states: int, max_nodes: int | None = None) -> DFA:
     """The minimal DFA of ``formula`` by progression of the whole formula (steps 1-6 above);
     ``max_nodes`` bounds the obligation manager below its configured limit."""
+    from symlearn.logic.automata.dfa import DFA
+    from symlearn.logic.automata.transition_diagram import minimal
+
     translation = _Translation(formula)  # (the negation normal form is built without recursion)
     # room for the BDD operations: a few frames per variable level (propositions, then one
     # per elementary sub-formula), so a conjunction of 10,000 conjuncts is not "too deep"

@@ -110,3 +110,11 @@ def test_diagram_minimisation_gives_the_same_dfa_as_the_explicit_one(f):
         assert translate(f) == expected
     finally:
         module.EXPLICIT_EDGES = saved
+
+
+def test_explicit_edge_threshold_is_the_automata_side_one():
+    import sys
+
+    from symlearn.logic.automata import transition_diagram
+
+    assert sys.modules["symlearn.logic.ltlf.to_dfa"].EXPLICIT_EDGES == transition_diagram.EXPLICIT_EDGES
