@@ -202,3 +202,26 @@ def test_a_users_environment_named_by_feature_names_only(capsys, tmp_path, monke
     config = json.loads((tmp_path / "cost.json").read_text())["config"]
     assert config["provenance"]["demonstrations"] == "demos.npz"
     assert config["provenance"]["learner"] == "NeuralMCEICRL"
+
+
+def test_demonstrations_recorded_in_another_environment_get_a_warning(capsys, tmp_path, monkeypatch):
+    """learn icrl reads its --demos through recipes.experts.demonstrations, so a file recorded in
+    another environment than --env is read with one warning line (the same check as learn dnf)."""
+    import gymnasium
+
+    from user_envs import PLAIN_ROBOT, POINT_ROBOT, careful_expert
+
+    (tmp_path / "here_lab.py").write_text(POINT_ROBOT.replace("PointRobot-v0", "HereRobot-v0"))
+    (tmp_path / "there_lab.py").write_text(PLAIN_ROBOT.replace("PlainRobot-v0", "ThereRobot-v0"))
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import here_lab  # noqa: F401 -- registers HereRobot-v0
+
+    from symlearn.data import record
+
+    record(gymnasium.make("HereRobot-v0", horizon=10), careful_expert(), 2, seed=0).save(tmp_path / "demos.npz")
+    code, out, err = run(capsys, "learn", "icrl", "--env", "there_lab:ThereRobot-v0", "--demos", "demos.npz",
+                         "--steps", 200, "--iterations", 1, "--select-inputs", 0)
+    assert code == 0, err
+    warning = [line for line in err.splitlines() if line.startswith("warning:")]
+    assert len(warning) == 1 and "HereRobot-v0" in warning[0] and "there_lab:ThereRobot-v0" in warning[0], err
