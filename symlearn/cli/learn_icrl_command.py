@@ -17,6 +17,8 @@
   where there is none (the blocked MuJoCo tasks), of a PPO-Lagrangian expert trained on the true
   cost for ``--expert-steps`` (:mod:`symlearn.rl.lagrangian_expert`; minutes, so
   cached under ``--expert-cache``, default ``~/.cache/symlearn/experts``; ``none`` = no cache).
+  A file whose ``metadata["env"]`` names another gymnasium id than ``--env`` is read all the same,
+  with a ``warning:`` line on stderr (:func:`symlearn.recipes.experts.check_recorded_env`).
 * ``--method``: ``mce-icrl`` (thesis chapter 2, the default), ``me-icrl`` (Malik et al.'s
   baseline: feasibility network, PPO-Lagrangian with cost limit 0), ``vme-icrl`` (Liu et al.'s
   variational baseline: Beta-distributed feasibility, KL from a prior) or ``gacl`` (a GAIL
