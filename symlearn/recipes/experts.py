@@ -33,7 +33,8 @@ def demonstrations(target: EnvTarget | None, demos: str | Path | None, n_demos: 
                    expert_steps: int = 1_000_000, expert_cache: str | None = None,
                    note: Callable[[str], None] | None = None) -> Any:
     """The demonstrations a learner reads, their ``metadata["source"]`` saying where from (see
-    the module doc)."""
+    the module doc); a ``--demos`` file recorded in another environment than ``target`` is read
+    with a warning through ``note`` (:func:`check_recorded_env`)."""
     if demos is not None:
         from symlearn.data import load
 
