@@ -14,6 +14,8 @@
   Any other environment (a gymnasium id, or ``module:EnvId`` -- see
   :mod:`symlearn.recipes.environments`) has no expert: give ``--demos`` too; the environment then
   names the features (``feature_names``, the keys of a dict ``info["features"]``, or ``--features``).
+  ``--demos`` recorded in another environment than ``--env`` (their ``metadata["env"]`` names
+  another gymnasium id) are read all the same, with a ``warning:`` line on stderr.
 
 JSON keys: ``formula`` (the text), ``conjunctions`` (one string each), ``leaves`` (safe boxes as
 ``{feature: [low, high]}``), ``features``, ``seconds``, ``unsafe_share`` (of the data's bounding
@@ -59,7 +61,7 @@ def register_learn(commands, common) -> None:
     cmd.set_defaults(handler=_dnf)
 
 
-def _demonstrations(args: argparse.Namespace):
+def _demonstrations(args: argparse.Namespace, note=None):
     from symlearn.errors import DataError
     from symlearn.recipes.environments import parse_feature_names, resolve_env
     from symlearn.recipes.experts import demonstrations
@@ -93,7 +95,7 @@ def _demonstrations(args: argparse.Namespace):
         features = list(parse_feature_names(args.features))
     if not args.demos and args.n_demos < 1:
         raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
-    demos = demonstrations(target, args.demos, args.n_demos, seed=seed)
+    demos = demonstrations(target, args.demos, args.n_demos, seed=seed, note=note)
     if features is None:  # names the file carries (a flattened Minari/D4RL observation, a bundled expert's)
         meta = demos.metadata if isinstance(demos.metadata, dict) else {}
         named = meta.get("feature_names", meta.get("features"))
@@ -106,7 +108,7 @@ def _dnf(args: argparse.Namespace, out) -> None:
     from symlearn.errors import DataError
     from symlearn.learners.trees.one_class_tree import OneClassTreeConstraint
 
-    demos, features = _demonstrations(args)
+    demos, features = _demonstrations(args, out.note)
     held = None
     if args.validation is not None:
         from symlearn.learners.validation import holdout

@@ -17,6 +17,8 @@
   where there is none (the blocked MuJoCo tasks), of a PPO-Lagrangian expert trained on the true
   cost for ``--expert-steps`` (:mod:`symlearn.rl.lagrangian_expert`; minutes, so
   cached under ``--expert-cache``, default ``~/.cache/symlearn/experts``; ``none`` = no cache).
+  A file whose ``metadata["env"]`` names another gymnasium id than ``--env`` is read all the same,
+  with a ``warning:`` line on stderr (:func:`symlearn.recipes.experts.check_recorded_env`).
 * ``--method``: ``mce-icrl`` (thesis chapter 2, the default), ``me-icrl`` (Malik et al.'s
   baseline: feasibility network, PPO-Lagrangian with cost limit 0), ``vme-icrl`` (Liu et al.'s
   variational baseline: Beta-distributed feasibility, KL from a prior) or ``gacl`` (a GAIL
@@ -44,7 +46,10 @@ and unsafe states (``recovery_margin``; :mod:`symlearn.learners.neural.icrl_metr
 JSON keys: ``reward``, ``violation_rate``, ``feasible_reward``, ``recovery_auc``,
 ``recovery_iou``, ``recovery_margin``, ``expert_reward``, ``lambda``, ``cost_inputs`` (``entries``,
 ``names``, ``from``: given / declared features / all, ``selection``: candidates, selected, AUCs,
-``shares`` of the first layer's weight),
+``shares`` of the first layer's weight; ``names`` from the environment's ``observation_names``,
+else its ``feature_names`` where there is one per observation entry, else null),
+``demonstrations`` (where they came from: their ``metadata["source"]``, the ``--demos`` file or
+the expert that was run; also in the cost file's provenance),
 ``iterations``, ``seconds``, ``timings``
 (``nominal``, ``pretrain``, ``policy``, ``cost``), ``history`` (per iteration), ``files``.
 ``-o`` must end in ``.safetensors``; the configuration goes to the ``.json`` beside it.
@@ -241,7 +246,8 @@ def _icrl(args: argparse.Namespace, out) -> None:
            "recovery_margin": None if rec is None else rec.margin,
            "expert_reward": result.metrics["expert_reward"],
            "lambda": [float(x) for x in learner.cost_.lambdas.numpy()],
-           "cost_inputs": result.metrics["cost_inputs"],
+           "cost_inputs": _named_inputs(result.metrics["cost_inputs"], names),
+           "demonstrations": learner.cost_.learned_from,
            "iterations": len(learner.history_), "seconds": time.perf_counter() - started,
            "timings": {k: v for k, v in result.timings.items() if k != "total"},
            "history": [h.as_dict() for h in learner.history_], "files": []}
@@ -275,6 +281,19 @@ def _in_the_view(demos: Any, env: Any, path: Any) -> Any:
     return Demonstrations(items, metadata=demos.metadata)
 
 
+def _named_inputs(inputs: dict, names: Any) -> dict:
+    """The learner's report of the cost's inputs, its entries named by what the CLI knows of the
+    observation (``EnvTarget.observation_names``: ``observation_names``, else ``feature_names``
+    one per observation entry) where the cost itself carries no names; indices only when nothing
+    names them."""
+    if inputs.get("names") is not None or names is None:
+        return inputs
+    names = list(names)
+    if any(not 0 <= int(i) < len(names) for i in inputs["entries"]):
+        return inputs
+    return {**inputs, "names": [str(names[int(i)]) for i in inputs["entries"]]}
+
+
 def _render_inputs(inputs: dict) -> str:
     """One line: where the cost's candidate inputs came from, whether they were selected, and the
     entries read with their share of the first layer's weight."""
@@ -294,5 +313,7 @@ def _render(doc: dict) -> str:
              f"  recovery of the unsafe set: AUC {number(doc['recovery_auc'])}, IoU {number(doc['recovery_iou'])}",
              "  lambda " + ", ".join(f"{x:.3g}" for x in doc["lambda"]),
              _render_inputs(doc["cost_inputs"])]
+    if doc.get("demonstrations"):
+        lines.append(f"  learned from {doc['demonstrations']}")
     lines += [f"wrote {f}" for f in doc["files"]]
     return "\n".join(lines)

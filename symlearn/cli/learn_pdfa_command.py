@@ -8,7 +8,9 @@
   ``lengths``; :mod:`symlearn.data.frame_archive`) or symlearn demonstrations (NPZ/JSONL) with
   vector or feature-dict states.
 * ``--env``: the simulated block world's scripted demonstrator (``--n-demos`` demonstrations,
-  ``--seed``); the result is then also scored against the ground truth (key ``truth``).
+  ``--seed``); the result is then also scored against the ground truth (key ``truth``). With
+  ``--demos``, ``--env`` names their features; demonstrations whose ``metadata["env"]`` names
+  another gymnasium id are read all the same, with a ``warning:`` line on stderr.
 * ``--subsets``: the candidate feature subsets (default: all features as one subset), by column
   index or feature name.
 
@@ -64,7 +66,7 @@ def _check_outputs(args: argparse.Namespace) -> None:
         raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
 
 
-def _demonstrations(args: argparse.Namespace):
+def _demonstrations(args: argparse.Namespace, note=None):
     """``(frames or Demonstrations, feature names or None, subsets, task or None)``."""
     from symlearn.errors import DataError
 
@@ -101,8 +103,11 @@ def _demonstrations(args: argparse.Namespace):
                                 file=str(path), hint="drop --features to use the archive's names")
             return runs, features or names, args.subsets, None
     from symlearn.data import load
+    from symlearn.recipes.experts import check_recorded_env
 
-    return load(path), features, args.subsets, None
+    demos = load(path)
+    check_recorded_env(target, demos, path, note)  # recorded elsewhere: read all the same, with a warning
+    return demos, features, args.subsets, None
 
 
 def _pdfa(args: argparse.Namespace, out) -> None:
@@ -110,7 +115,7 @@ def _pdfa(args: argparse.Namespace, out) -> None:
     from symlearn.learners.subgoals import SubgoalPDFALearner
 
     _check_outputs(args)
-    demos, features, subsets, task = _demonstrations(args)
+    demos, features, subsets, task = _demonstrations(args, out.note)
     learner = SubgoalPDFALearner(subsets=subsets, eps=args.eps, min_samples=args.min_samples, method=args.method,
                                  probabilities=args.probabilities)
     try:

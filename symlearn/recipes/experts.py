@@ -10,10 +10,16 @@ The demonstrations returned say where they came from in ``metadata["source"]`` (
 ``"20 expert episodes of toy-navigation"``, ...): learners that write a header into their
 artefact name it there (:class:`~symlearn.learners.trees.OneClassTreeConstraint`'s DNF file), so
 the file ``learn ... -o`` writes through ``learner.save`` says what it was learned from.
+
+A ``--demos`` file whose metadata names the environment it was recorded in (``metadata["env"]``,
+what :func:`symlearn.data.record` stores: the gymnasium id, ``Name-vN``) and names another than
+``--env`` is still read -- a user may relabel data on purpose, and the columns are checked by the
+learner anyway -- but :func:`check_recorded_env` says so in one ``warning:`` note.
 """
 
 from __future__ import annotations
 
+import re
 import warnings
 from collections.abc import Callable
 from pathlib import Path
@@ -27,11 +33,13 @@ def demonstrations(target: EnvTarget | None, demos: str | Path | None, n_demos: 
                    expert_steps: int = 1_000_000, expert_cache: str | None = None,
                    note: Callable[[str], None] | None = None) -> Any:
     """The demonstrations a learner reads, their ``metadata["source"]`` saying where from (see
-    the module doc)."""
+    the module doc); a ``--demos`` file recorded in another environment than ``target`` is read
+    with a warning through ``note`` (:func:`check_recorded_env`)."""
     if demos is not None:
         from symlearn.data import load
 
         loaded = load(demos)
+        check_recorded_env(target, loaded, demos, note)
         earlier = loaded.metadata.get("source")  # a file we wrote may say how it was recorded
         return with_source(loaded, str(demos) if not isinstance(earlier, str) else f"{demos} ({earlier})")
     if target is None:
@@ -45,6 +53,39 @@ def demonstrations(target: EnvTarget | None, demos: str | Path | None, n_demos: 
                            f"{n_demos} episodes of a PPO-Lagrangian expert trained on {target.display}")
     raise DataError(f"{target.display} has no expert: give your demonstrations with --demos FILE",
                     hint="record them with symlearn.data.record(env, policy, n) and save them as .npz or .jsonl")
+
+
+#: a gymnasium id as ``record`` stores it (``spec.id``): optional namespace, name, ``-v`` version; an
+#: environment built without a spec is stored by its class name, which says too little to compare
+_GYM_ID = re.compile(r"(?:[\w.-]+/)?[\w.-]+-v\d+")
+
+
+def recorded_env(demos: Any) -> str | None:
+    """The gymnasium id the demonstrations say they were recorded in (``metadata["env"]``), or
+    None when they name none, or name it otherwise (a class name, a description)."""
+    metadata = getattr(demos, "metadata", None)
+    env = metadata.get("env") if isinstance(metadata, dict) else None
+    return env.strip() if isinstance(env, str) and _GYM_ID.fullmatch(env.strip()) else None
+
+
+def check_recorded_env(target: EnvTarget | None, demos: Any, path: str | Path,
+                       note: Callable[[str], None] | None = None) -> bool:
+    """Whether ``demos`` (read from ``path``) were recorded in ``target``'s environment as far as
+    their metadata tells; when they name another gymnasium id, one ``warning:`` line through
+    ``note`` (a :class:`UserWarning` without one). Never an error: relabelling may be meant."""
+    recorded = recorded_env(demos)
+    if target is None or recorded is None:
+        return True
+    known = {target.display, target.name, *(i for i in (target.gym_id, getattr(target.entry, "gym_id", None)) if i)}
+    if recorded in known:
+        return True
+    message = (f"warning: {path} was recorded in {recorded} (its metadata), not in {target.display} (--env); "
+               f"reading its columns as {target.display}'s")
+    if note is not None:
+        note(message)
+    else:
+        warnings.warn(message, UserWarning, stacklevel=2)
+    return False
 
 
 def with_source(demos: Any, source: str) -> Any:
@@ -77,4 +118,4 @@ def trained_expert(target: EnvTarget, n: int, *, seed: int = 0, steps: int = 1_0
     return demos
 
 
-__all__ = ["demonstrations", "trained_expert", "with_source"]
+__all__ = ["check_recorded_env", "demonstrations", "recorded_env", "trained_expert", "with_source"]

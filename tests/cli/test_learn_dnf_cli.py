@@ -85,3 +85,27 @@ def test_inputs_keep_the_rules_to_the_named_features_and_train_reads_the_default
     rules.write_text("x7 > 0\n")  # a column the rover's 4-entry observation does not have
     code, _, err = run(capsys, "train", "--env", "rover_env:Rover-v0", "--cost", rules, "--steps", 256)
     assert code == 2 and "names no features" in err
+
+
+def test_demonstrations_recorded_in_another_environment_get_a_warning(capsys, tmp_path):
+    """Two columns fit toy-navigation's x, y whatever they were: a file recorded in another
+    environment is read (relabelling may be meant) with one warning line, which --quiet drops."""
+    rng = np.random.default_rng(0)
+    states = [rng.uniform(0, 1, (30, 2)) for _ in range(3)]
+    elsewhere, here, unnamed = tmp_path / "elsewhere.npz", tmp_path / "here.npz", tmp_path / "unnamed.npz"
+    Demonstrations([Trajectory(states=s) for s in states], metadata={"env": "PointRobot-v0"}).save(elsewhere)
+    Demonstrations([Trajectory(states=s) for s in states], metadata={"env": "symlearn/toy-navigation-v0"}).save(here)
+    # record() of an environment built without a spec stores its class name: too little to compare
+    Demonstrations([Trajectory(states=s) for s in states], metadata={"env": "ToyNavigationEnv"}).save(unnamed)
+    code, out, err = run(capsys, "learn", "dnf", "--env", "toy-navigation", "--demos", elsewhere, "--json")
+    assert code == 0, err
+    assert json.loads(out)["features"] == ["x", "y"]
+    warning = [line for line in err.splitlines() if line.startswith("warning:")]
+    assert len(warning) == 1 and "PointRobot-v0" in warning[0] and "toy-navigation" in warning[0], err
+    assert str(elsewhere) in warning[0]
+    code, out, err = run(capsys, "learn", "dnf", "--env", "toy-navigation", "--demos", elsewhere, "--quiet")
+    assert code == 0 and "warning" not in err, err
+    for path in (here, unnamed):
+        for env in ("toy-navigation", "symlearn/toy-navigation-v0"):
+            code, out, err = run(capsys, "learn", "dnf", "--env", env, "--demos", path, "--json")
+            assert code == 0 and "warning" not in err, (path, env, err)

@@ -172,3 +172,56 @@ def test_demonstrations_of_a_dict_observing_environment(capsys, tmp_path, monkey
                          "--steps", 600, "--iterations", 1, "--json")
     assert code == 0, err
     assert json.loads(out)["reward"] is not None
+
+
+def test_a_users_environment_named_by_feature_names_only(capsys, tmp_path, monkeypatch):
+    """A user's environment with ``feature_names`` (one per observation entry) but no
+    ``observation_names``: the report names the cost's inputs (before: by column index), says
+    where the demonstrations came from, and the cost file's provenance records it."""
+    import gymnasium
+
+    from user_envs import POINT_ROBOT, careful_expert
+
+    (tmp_path / "named_lab.py").write_text(POINT_ROBOT.replace("PointRobot-v0", "NamedRobot-v0"))
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import named_lab  # noqa: F401 -- registers NamedRobot-v0
+
+    from symlearn.data import record
+
+    record(gymnasium.make("NamedRobot-v0", horizon=20), careful_expert(), 4, seed=0).save(tmp_path / "demos.npz")
+    code, out, err = run(capsys, "learn", "icrl", "--env", "named_lab:NamedRobot-v0", "--env-kwargs",
+                         '{"horizon": 20}', "--demos", "demos.npz", "--steps", 600, "--iterations", 1,
+                         "-o", "cost.safetensors")
+    assert code == 0, err
+    assert "warning" not in err, err  # recorded in the environment --env names
+    line = next(line for line in out.splitlines() if "cost inputs" in line)
+    read = line.split(":", 1)[1].split(",")
+    assert read and all(entry.split()[0] in ("px", "py") for entry in read), line
+    assert "  learned from demos.npz" in out, out
+    config = json.loads((tmp_path / "cost.json").read_text())["config"]
+    assert config["provenance"]["demonstrations"] == "demos.npz"
+    assert config["provenance"]["learner"] == "NeuralMCEICRL"
+
+
+def test_demonstrations_recorded_in_another_environment_get_a_warning(capsys, tmp_path, monkeypatch):
+    """learn icrl reads its --demos through recipes.experts.demonstrations, so a file recorded in
+    another environment than --env is read with one warning line (the same check as learn dnf)."""
+    import gymnasium
+
+    from user_envs import PLAIN_ROBOT, POINT_ROBOT, careful_expert
+
+    (tmp_path / "here_lab.py").write_text(POINT_ROBOT.replace("PointRobot-v0", "HereRobot-v0"))
+    (tmp_path / "there_lab.py").write_text(PLAIN_ROBOT.replace("PlainRobot-v0", "ThereRobot-v0"))
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import here_lab  # noqa: F401 -- registers HereRobot-v0
+
+    from symlearn.data import record
+
+    record(gymnasium.make("HereRobot-v0", horizon=10), careful_expert(), 2, seed=0).save(tmp_path / "demos.npz")
+    code, out, err = run(capsys, "learn", "icrl", "--env", "there_lab:ThereRobot-v0", "--demos", "demos.npz",
+                         "--steps", 200, "--iterations", 1, "--select-inputs", 0)
+    assert code == 0, err
+    warning = [line for line in err.splitlines() if line.startswith("warning:")]
+    assert len(warning) == 1 and "HereRobot-v0" in warning[0] and "there_lab:ThereRobot-v0" in warning[0], err

@@ -68,6 +68,14 @@ class FitSetup:
     obs_dims: list[int]       # the observation entries the cost reads
     generator: torch.Generator
     inputs_from: str = "given"  # where obs_dims came from: "given", "declared features" or "all"
+    source: str | None = None   # the demonstrations' metadata["source"], one line (None: they do not say)
+
+    def provenance(self, learner: Any, parameters: dict[str, Any]) -> dict[str, Any]:
+        """What the learned cost's file says of its origin: the learner, its parameters and,
+        where the demonstrations say where they came from, ``demonstrations`` (their
+        ``metadata["source"]``, as the DNF file's header names it)."""
+        return {"learner": type(learner).__name__, "parameters": parameters,
+                **({"demonstrations": self.source} if self.source else {})}
 
 
 def fit_setup(demonstrations: Any, domain: Any, obs_dims: Sequence[int] | None,
@@ -81,7 +89,17 @@ def fit_setup(demonstrations: Any, domain: Any, obs_dims: Sequence[int] | None,
     expert_a = encode(expert_act, act_spec, "demonstration actions")
     dims, inputs_from = cost_inputs(probe, obs_dims, spec_width(obs_spec))
     generator = torch.Generator().manual_seed(0 if random_state is None else int(random_state))
-    return FitSetup(env_fn, probe, obs_spec, act_spec, expert, expert_x, expert_a, dims, generator, inputs_from)
+    return FitSetup(env_fn, probe, obs_spec, act_spec, expert, expert_x, expert_a, dims, generator, inputs_from,
+                    demonstrations_source(demonstrations))
+
+
+def demonstrations_source(demonstrations: Any) -> str | None:
+    """The demonstrations' ``metadata["source"]`` (set by ``recipes.experts.demonstrations``: the
+    ``--demos`` file, the expert it ran) on one line, or None where they carry none."""
+    metadata = getattr(demonstrations, "metadata", None)
+    source = metadata.get("source") if isinstance(metadata, dict) else None
+    source = " ".join(source.split()) if isinstance(source, str) else ""
+    return source or None
 
 
 def declared_inputs(env: Any) -> list[int] | None:
@@ -158,5 +176,5 @@ def resets_actor(setting: str, iteration: int, n_iterations: int) -> bool:
 
 
 __all__ = ["RESET_ACTOR", "FitSetup", "check_common", "check_tolerance", "cost_inputs", "declared_inputs",
-           "environment_factory", "fit_setup",
+           "demonstrations_source", "environment_factory", "fit_setup",
            "resets_actor"]

@@ -132,8 +132,8 @@ class NeuralGACL(Learner):
                 obs_dims = list(selection.selected)
             action_dim = spec_width(act_spec) if self.features == "state_action" else 0
             phi = FeatureNetwork(obs_dims, action_dim, 1, self.hidden_sizes, generator)  # phi = 1 - D
-            cost = NeuralCost.for_env(probe, phi, provenance={"learner": type(self).__name__,
-                                                              "parameters": jsonable_params(self.get_params())})
+            cost = NeuralCost.for_env(probe, phi, provenance=setup.provenance(
+                self, jsonable_params(self.get_params())))
             cost.set_lambdas([1.0])
             nominal_x, nominal_a = cost.tensors(*batch.pairs())
             phi.fit_standardisation(np.concatenate([expert_x, nominal_x.numpy()]),

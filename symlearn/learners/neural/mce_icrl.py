@@ -242,8 +242,8 @@ class NeuralMCEICRL(Learner):
 
             action_dim = spec_width(act_spec) if self.features == "state_action" else 0
             phi = FeatureNetwork(obs_dims, action_dim, int(self.n_features), self.hidden_sizes, generator)
-            cost = NeuralCost.for_env(probe, phi, provenance={"learner": type(self).__name__,
-                                                              "parameters": jsonable_params(self.get_params())})
+            cost = NeuralCost.for_env(probe, phi, provenance=setup.provenance(
+                self, jsonable_params(self.get_params())))
             nominal_x, nominal_a = cost.tensors(*batch.pairs())
             all_x = np.concatenate([expert_x, nominal_x.numpy()])
             all_a = None if not action_dim else np.concatenate([expert_a, nominal_a.numpy()])

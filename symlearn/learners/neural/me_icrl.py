@@ -185,8 +185,8 @@ class NeuralMEICRL(Learner):
             action_dim = spec_width(act_spec) if self.features == "state_action" else 0
             # phi = 1 - zeta: the network's sigmoid output is the cost; zeta = 1 - phi
             phi = FeatureNetwork(obs_dims, action_dim, self._n_outputs, self.hidden_sizes, generator)
-            cost = NeuralCost.for_env(probe, phi, provenance={"learner": type(self).__name__,
-                                                              "parameters": jsonable_params(self.get_params())})
+            cost = NeuralCost.for_env(probe, phi, provenance=setup.provenance(
+                self, jsonable_params(self.get_params())))
             cost.set_lambdas([1.0] + [0.0] * (self._n_outputs - 1))  # the cost is the first output
             nominal_x, nominal_a = cost.tensors(*batch.pairs())
             phi.fit_standardisation(np.concatenate([expert_x, nominal_x.numpy()]),

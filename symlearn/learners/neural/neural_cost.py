@@ -11,7 +11,9 @@ per-step form for stable-baselines3.
 
 Files: ``NAME.safetensors`` (the network's weights and standardisation, and ``lambda``) and
 ``NAME.json`` (kind ``neural-icrl-cost``: the network's shape, the spaces, the observation entry
-names when the environment has them, provenance) through :mod:`symlearn.rl.model_files`; loading
+names when the environment has them, provenance: the learner, its parameters and, where the
+demonstrations said, their ``metadata["source"]`` -- :attr:`NeuralCost.learned_from`) through
+:mod:`symlearn.rl.model_files`; loading
 reads numbers and JSON only. :meth:`NeuralCost.check_environment` refuses an environment whose
 observation space (kind, shape; entry names where both sides have them) or action space differs
 from the one the cost was learned in.
@@ -70,6 +72,14 @@ class NeuralCost(nn.Module):
         names = getattr(getattr(env, "unwrapped", env), "observation_names", None)
         return cls(phi, space_spec(env.observation_space), space_spec(env.action_space, bounds=True),
                    None if names is None else list(names), **kwargs)
+
+    @property
+    def learned_from(self) -> str | None:
+        """Where the demonstrations this cost was learned from came from (their
+        ``metadata["source"]``, kept in the provenance as ``demonstrations``); None where they did
+        not say, and in files written before it was recorded."""
+        source = self.provenance.get("demonstrations")
+        return source if isinstance(source, str) and source else None
 
     # --- evaluation -------------------------------------------------------------------------------
 
