@@ -10,23 +10,13 @@ import json
 import pytest
 
 from cli_runner import run
-from dict_lift_env import DICT_ROBOT
+from dict_lift_env import lift_demonstrations
 
 pytest.importorskip("gymnasium")
 
 
 def test_dnf_of_dict_observations_trains_there(capsys, tmp_path, monkeypatch):
-    import gymnasium
-
-    (tmp_path / "lift_lab.py").write_text(DICT_ROBOT)
-    monkeypatch.chdir(tmp_path)
-    monkeypatch.syspath_prepend(str(tmp_path))
-    import lift_lab  # noqa: F401 -- registers DictLift-v0
-
-    from symlearn.data import record
-
-    plan = iter([1, 1, 1, 0] * 6)
-    record(gymnasium.make("DictLift-v0"), lambda obs: next(plan), 6, seed=0).save(tmp_path / "lift.jsonl")
+    lift_demonstrations(tmp_path, monkeypatch, 6)
     code, out, err = run(capsys, "learn", "dnf", "--env", "lift_lab:DictLift-v0", "--demos", "lift.jsonl",
                          "-o", "lift.dnf", "--json")
     assert code == 0, err

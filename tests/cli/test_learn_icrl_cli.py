@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from cli_runner import run
-from dict_lift_env import DICT_ROBOT
+from dict_lift_env import lift_demonstrations
 from symlearn.data import Demonstrations, Trajectory
 from symlearn.envs.blocked_point import expert_demonstrations
 
@@ -157,17 +157,7 @@ def test_without_a_scripted_expert_a_lagrangian_expert_is_trained_and_cached(cap
 def test_demonstrations_of_a_dict_observing_environment(capsys, tmp_path, monkeypatch):
     """``record`` keeps a Dict observation as feature states; learn icrl reads them through the
     same flat view as the environment (before: an internal TypeError from a dict)."""
-    import gymnasium
-
-    (tmp_path / "lift_lab.py").write_text(DICT_ROBOT)
-    monkeypatch.chdir(tmp_path)
-    monkeypatch.syspath_prepend(str(tmp_path))
-    import lift_lab  # noqa: F401 -- registers DictLift-v0
-
-    from symlearn.data import record
-
-    plan = iter([1, 1, 1, 0] * 4)
-    record(gymnasium.make("DictLift-v0"), lambda obs: next(plan), 4, seed=0).save(tmp_path / "lift.jsonl")
+    lift_demonstrations(tmp_path, monkeypatch, 4)
     code, out, err = run(capsys, "learn", "icrl", "--env", "lift_lab:DictLift-v0", "--demos", "lift.jsonl",
                          "--steps", 600, "--iterations", 1, "--json")
     assert code == 0, err

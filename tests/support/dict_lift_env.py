@@ -30,3 +30,20 @@ class Lift(gym.Env):
 
 gym.register(id="DictLift-v0", entry_point=lambda: gym.wrappers.TimeLimit(Lift(), 12))
 '''
+
+
+def lift_demonstrations(tmp_path, monkeypatch, episodes: int) -> str:
+    """Write the module into ``tmp_path``, import it (registering ``DictLift-v0``), change into
+    ``tmp_path`` and record ``episodes`` expert episodes (up, up, up, open) to ``lift.jsonl``."""
+    import gymnasium
+
+    from symlearn.data import record
+
+    (tmp_path / "lift_lab.py").write_text(DICT_ROBOT)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import lift_lab  # noqa: F401 -- registers DictLift-v0
+
+    plan = iter([1, 1, 1, 0] * episodes)
+    record(gymnasium.make("DictLift-v0"), lambda obs: next(plan), episodes, seed=0).save(tmp_path / "lift.jsonl")
+    return "lift.jsonl"

@@ -12,7 +12,7 @@ from symlearn.envs.blocked_point import BlockedPoint, expert_demonstrations
 from symlearn.learners.neural import NeuralMCEICRL, NeuralMEICRL, NeuralVMEICRL
 from symlearn.learners.neural.alternation import Alternation, Round, seed_offset
 from symlearn.learners.neural.records import IterationRecord
-from symlearn.progress import ProgressBar
+from progress_recording import recording_bar
 from symlearn.rl.episodes import EpisodeBatch
 
 
@@ -43,18 +43,6 @@ class Record(IterationRecord):
     cost: str
 
 
-def recording_bar(monkeypatch) -> list:
-    shown = []
-
-    class Recording(ProgressBar):
-        def update(self, n=1, **numbers):
-            shown.append(numbers)
-            super().update(n, **numbers)
-
-    monkeypatch.setattr(alternation, "ProgressBar", Recording)
-    return shown
-
-
 def test_one_loop_in_order_with_its_seeds(monkeypatch):
     log, seeds = [], []
 
@@ -64,7 +52,7 @@ def test_one_loop_in_order_with_its_seeds(monkeypatch):
         return batch_of(float(len(seeds)))
 
     monkeypatch.setattr(alternation, "sample_episodes", sample)
-    shown = recording_bar(monkeypatch)
+    shown = recording_bar(monkeypatch, alternation)
     loop = Alternation("test", 3, env_fn=lambda: None, n_episodes=2, seed=5, reset_actor="last",
                        generator=torch.Generator())
     first = loop.sample(Policy("nominal", log))
@@ -105,7 +93,7 @@ def test_one_loop_in_order_with_its_seeds(monkeypatch):
     (NeuralVMEICRL(backward_epochs=1), lambda h: h.multiplier),
 ])
 def test_bar_shows_the_multiplier(monkeypatch, learner, multiplier):
-    shown = recording_bar(monkeypatch)
+    shown = recording_bar(monkeypatch, alternation)
     learner.set_params(n_iterations=2, nominal_steps=512, policy_steps=512, n_policy_episodes=2, obs_dims=[0, 1],
                        hidden_sizes=(8,))
     learner.fit(expert_demonstrations(2, seed=0), BlockedPoint)

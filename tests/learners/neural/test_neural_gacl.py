@@ -50,16 +50,9 @@ def test_gacl_contract(tmp_path):
 def test_icrl_bar_shows_return_and_violation(monkeypatch):
     # the learner's own bar (beside the inner PPO's) carries the sampled policy's return and true violation rate
     import symlearn.learners.neural.alternation as alternation
-    from symlearn.progress import ProgressBar
+    from progress_recording import recording_bar
 
-    shown = []
-
-    class Recording(ProgressBar):
-        def update(self, n=1, **numbers):
-            shown.append(numbers)
-            super().update(n, **numbers)
-
-    monkeypatch.setattr(alternation, "ProgressBar", Recording)
+    shown = recording_bar(monkeypatch, alternation)
     learner = NeuralGACL(n_iterations=2, nominal_steps=512, policy_steps=512, n_policy_episodes=2, disc_steps=1,
                          obs_dims=[0, 1], hidden_sizes=(8,))
     learner.fit(expert_demonstrations(2, seed=0), BlockedPoint)
