@@ -697,13 +697,35 @@ def _minimal_cover(u: int, support: list[str]) -> list[tuple[tuple[str, bool], .
     """A minimum sum of products of ``u`` (``support``: its at most 8 variables), by
     :mod:`~symlearn.logic.two_level` on the truth table."""
     n = len(support)
-    minterms = []
-    for bits in range(2 ** n):  # the first variable is the most significant bit
-        label = {name for i, name in enumerate(support) if (bits >> (n - 1 - i)) & 1}
-        if _evaluate(u, label):
-            minterms.append(bits)
     return [tuple(sorted((support[i], value) for i, value in cube_literals(cube, n)))
-            for cube in minimum_cover(minterms, n)]
+            for cube in minimum_cover(_minterms(u, support), n)]
+
+
+def _minterms(u: int, support: list[str]) -> list[int]:
+    """The labels over ``support`` satisfying ``u`` as bit masks (the first variable the most
+    significant bit): its paths to true, each with its untested variables expanded -- one walk of
+    the diagram instead of one evaluation per label."""
+    n = len(support)
+    position = {name: n - 1 - i for i, name in enumerate(support)}  # bit of each variable
+    found: list[int] = []
+    stack = [(u, 0, 0)]  # node, values set so far, variables tested so far
+    while stack:
+        w, value, tested = stack.pop()
+        if w == _FALSE:
+            continue
+        if w == _TRUE:
+            free = ((1 << n) - 1) & ~tested
+            sub = free
+            while True:  # every assignment of the untested variables
+                found.append(value | sub)
+                if not sub:
+                    break
+                sub = (sub - 1) & free
+            continue
+        bit = 1 << position[_var[w]]
+        stack.append((_low[w], value, tested | bit))
+        stack.append((_high[w], value | bit, tested | bit))
+    return sorted(found)
 
 
 def _name_text(name: str) -> str:
