@@ -494,8 +494,10 @@ def _count_by_bitsets(diagram: TransitionDiagram, roots: Sequence[int], limit: i
             total += 1  # every letter goes to one state
         else:
             root_uses[r] = root_uses.get(r, 0) + 1
-    if not root_uses or (limit is not None and total > limit):
-        return None if limit is not None and total > limit else total
+    if limit is not None and total > limit:
+        return None
+    if not root_uses:
+        return total
     top = max(root_uses)
     # uses still to come of each node below the roots: one per parent below a root, one per root
     uses = [0] * (top + 1)

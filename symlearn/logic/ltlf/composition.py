@@ -67,13 +67,7 @@ def compose(formula: Formula, direct: Direct, max_states: int) -> DFA:
     The bounded trial comes first, before the skeleton is read: nearly every formula a learner
     translates finishes there, and reading the skeleton (its parts' propositions) cost ~25 us of
     their ~0.5 ms. A formula that is not composite and fails the trial is progressed unbounded."""
-    composer = _Composer(direct, max_states)
-    try:
-        return direct(formula, min(max_states, TRIAL_STATES), TRIAL_NODES)
-    except LimitExceededError:
-        if not composer.composite(formula):
-            return direct(formula, max_states)  # (a refusal within the trial's bounds comes again, as fast)
-    return composer.dfa(formula, tried=True)
+    return _Composer(direct, max_states).dfa(formula, trial_first=True)
 
 
 class _Composer:
@@ -102,14 +96,17 @@ class _Composer:
             self.verdicts[id(formula)] = found
         return found
 
-    def dfa(self, formula: Formula, tried: bool = False) -> DFA:
-        if not self.composite(formula):
+    def dfa(self, formula: Formula, trial_first: bool = False) -> DFA:
+        """The formula's DFA. A part (``trial_first`` false) that is not composite is progressed
+        at once, without a trial it would mostly fail; the whole formula is tried first."""
+        if not trial_first and not self.composite(formula):
             return self.direct(formula, self.max_states)
-        if not tried:
-            try:
-                return self.direct(formula, min(self.max_states, TRIAL_STATES), TRIAL_NODES)
-            except LimitExceededError:
-                pass  # too large for progression of the whole: compose its parts
+        try:
+            return self.direct(formula, min(self.max_states, TRIAL_STATES), TRIAL_NODES)
+        except LimitExceededError:
+            if not self.composite(formula):  # (a refusal within the trial's bounds comes again, as fast)
+                return self.direct(formula, self.max_states)
+        # too large for progression of the whole: compose its parts
         if isinstance(formula, Not):
             return complement(self.dfa(formula.arg))
         if isinstance(formula, Implies):
@@ -140,9 +137,10 @@ class _Composer:
         conditions = [p for p in parts if self.state_condition(p)]
         if not conditions or len(conditions) == len(parts):
             return parts
+        condition_ids = {id(c) for c in conditions}
         joined, used = [], set()
         for part in parts:
-            if self.state_condition(part):
+            if id(part) in condition_ids:
                 continue
             mine = [c for c in conditions if self.propositions(c) & self.propositions(part)]
             if mine:
