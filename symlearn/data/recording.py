@@ -10,6 +10,7 @@ import inspect
 import numpy as np
 
 from symlearn.data.demonstrations import Demonstrations
+from symlearn.data.flat_observations import is_symbolic_mapping, observation_columns
 from symlearn.data.trajectory import Trajectory
 from symlearn.errors import DataError, SymlearnError
 from symlearn.progress import progress
@@ -22,7 +23,7 @@ DEFAULT_MAX_STEPS = 10_000
 
 def _plain(value: Any) -> Any:
     """Observation or action as a value the data model accepts (numpy scalars -> Python)."""
-    if isinstance(value, np.generic):
+    if isinstance(value, np.generic) or (isinstance(value, np.ndarray) and value.ndim == 0):
         return value.item()
     if isinstance(value, Mapping):
         return {k: _plain(v) for k, v in value.items()}
@@ -54,6 +55,10 @@ def record(
     ``max_steps`` caps episodes without a time limit of their own. ``observation`` maps each
     observation to what is stored (e.g. ``lambda o: o["image"]`` for a dict holding an image,
     which a trajectory cannot store as it is); policy and labeler see the observation itself.
+    Without it, a ``Dict``/``Tuple`` observation holding vectors or nested parts is stored as one
+    vector per step, its columns named in ``metadata["feature_names"]`` (``pos[0]``,
+    ``arm.joint[1]``: :mod:`symlearn.data.flat_observations`, the names ``train`` reports in
+    ``info["features"]``); a flat dict of numbers is stored as it is.
     """
     if n_episodes < 1:
         raise SymlearnError(f"n_episodes must be at least 1, got {n_episodes}")
@@ -68,11 +73,44 @@ def record(
     episode_seeds = np.random.SeedSequence(seed).generate_state(n_episodes).tolist()
 
     trajectories = []
+    flat = _FlatStates()
     for episode_seed in progress(episode_seeds, total=n_episodes, desc=desc, unit="episode"):
-        trajectories.append(_run_episode(env, policy, int(episode_seed), limit, labeler, observation))
+        trajectories.append(_run_episode(env, policy, int(episode_seed), limit, labeler, observation or flat))
     meta = {"env": getattr(spec, "id", type(env).__name__), "seed": seed, "n_episodes": n_episodes}
+    if flat.names is not None:
+        meta["feature_names"] = flat.names
     meta.update(metadata or {})
     return Demonstrations(trajectories, metadata=meta)
+
+
+class _FlatStates:
+    """What ``record`` stores of an observation when the caller chose nothing: the observation
+    itself, except a ``Dict``/``Tuple`` holding vectors or nested parts, which becomes one vector
+    with a name per column (:mod:`symlearn.data.flat_observations`: the names Minari reading gives
+    and ``train --cost`` reports in ``info["features"]``). A flat mapping of numbers stays a
+    symbolic state."""
+
+    def __init__(self) -> None:
+        self.names: list[str] | None = None
+
+    def __call__(self, observation: Any) -> Any:
+        nested = isinstance(observation, Mapping) or (
+            isinstance(observation, tuple) and any(isinstance(v, (Mapping, tuple, list, np.ndarray)) for v in observation))
+        if not nested or is_symbolic_mapping(observation):
+            return observation
+        try:
+            vector, names = observation_columns(observation, "the observation")
+        except DataError as exc:
+            keys = ", ".join(map(str, observation)) if isinstance(observation, Mapping) else ""
+            raise DataError(f"the observations cannot be stored as they are: {exc.message}",
+                            hint="choose what to keep with record(..., observation=lambda o: o[KEY])"
+                                 + (f"; keys: {keys}" if keys else "")) from None
+        if self.names is None:
+            self.names = names
+        elif names != self.names:
+            raise DataError(f"the observation's entries changed between steps: {names} after {self.names}",
+                            hint="an observation space keeps its keys and shapes")
+        return vector
 
 
 def _names(found: Any) -> list[str]:
@@ -126,7 +164,7 @@ def _run_episode(env: Any, policy: Policy, seed: int, limit: int, labeler: Label
     try:
         return Trajectory(states, actions, rewards, labels, info)
     except DataError as exc:
-        if stored is not None or not isinstance(states[0], Mapping):
+        if not isinstance(states[0], Mapping):
             raise
         keys = ", ".join(map(str, states[0]))  # a dict observation holding arrays (MiniGrid's image)
         raise DataError(f"the observations cannot be stored as they are: {exc.message}",

@@ -10,11 +10,13 @@ named in :attr:`NumericObservations.dropped`), and flattens what is kept with gy
 the view sees the same vector every time. An environment that is already ``Box`` or ``Discrete``
 is returned unchanged.
 
-A ``Dict`` whose kept parts are all scalars (``Discrete``, one-element ``Box``) -- a grid cell and
-a key flag -- is also reported by name: ``info["features"]`` becomes ``{key: value}`` (where the
-environment reports no features of its own), the values :func:`~symlearn.data.record` stores for
-such observations. A DNF learned from those demonstrations (``cell < 3 & key > 0.5``) then reads the
-same named values in ``train --cost``, not the one-hot columns the policy sees.
+A ``Dict`` or ``Tuple`` observation is also reported by name: ``info["features"]`` becomes
+``{name: value}`` (where the environment reports no features of its own) with the names
+:func:`~symlearn.data.record` and the Minari/imitation readers give its columns
+(:mod:`symlearn.data.flat_observations`): a flat ``Dict`` of scalars by its keys (``cell``,
+``key``), vector parts as ``pos[0]``, ``pos[1]``, nested parts as ``arm.joint[2]``; images are
+left out. A DNF learned from those demonstrations (``cell < 3 & key > 0.5``, ``'pos[0]' > 0.3``)
+then reads the same named values in ``train --cost``, not the one-hot columns the policy sees.
 """
 
 from __future__ import annotations
@@ -25,6 +27,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
+from symlearn.data.flat_observations import observation_features
 from symlearn.errors import DataError
 
 _NUMERIC = (spaces.Box, spaces.Discrete, spaces.MultiBinary, spaces.MultiDiscrete)
@@ -75,17 +78,21 @@ class NumericObservations(gym.ObservationWrapper):
         self.observation_space = spaces.Box(flat.low.astype(np.float32), flat.high.astype(np.float32),
                                             dtype=np.float32)
 
-        self.scalar_names = _scalar_leaves(kept)
+        # a Dict/Tuple is also reported by name (info["features"]), as record() names its columns
+        self.named = isinstance(kept, (spaces.Dict, spaces.Tuple))
 
     def observation(self, observation: Any) -> np.ndarray:
         selected = _select(observation, self._kept)
         return np.asarray(spaces.flatten(self._kept, selected), dtype=np.float32)
 
     def _named(self, observation: Any, info: dict) -> dict:
-        if self.scalar_names is None or not isinstance(info, dict) or "features" in info:
+        if not self.named or not isinstance(info, dict) or "features" in info:
+            return info
+        features = observation_features(_select(observation, self._kept))
+        if not features:
             return info
         info = dict(info)
-        info["features"] = {key: float(np.asarray(observation[key]).reshape(-1)[0]) for key in self.scalar_names}
+        info["features"] = features
         return info
 
     def reset(self, **kwargs: Any):
@@ -95,16 +102,6 @@ class NumericObservations(gym.ObservationWrapper):
     def step(self, action: Any):
         observation, reward, terminated, truncated, info = self.env.step(action)
         return self.observation(observation), reward, terminated, truncated, self._named(observation, info)
-
-
-def _scalar_leaves(space: spaces.Space) -> tuple[str, ...] | None:
-    """The keys of a flat ``Dict`` of scalar parts (``Discrete``, one-element ``Box``), else None."""
-    if not isinstance(space, spaces.Dict):
-        return None
-    for sub in space.spaces.values():
-        if not (isinstance(sub, spaces.Discrete) or (isinstance(sub, spaces.Box) and int(np.prod(sub.shape)) == 1)):
-            return None
-    return tuple(str(key) for key in space.spaces)
 
 
 def numeric_observations(env: gym.Env) -> gym.Env:

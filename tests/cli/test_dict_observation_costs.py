@@ -30,3 +30,22 @@ def test_dnf_of_dict_observations_trains_there(capsys, tmp_path, monkeypatch):
     assert doc["cost_kind"] == "dnf" and doc["multipliers"], doc
     assert doc["cost"] is None  # the environment reports no info["cost"]: n/a, never 0
     assert features is None or features <= {"floor", "door"}
+
+
+def test_dnf_of_vector_dict_observations_trains_there(capsys, tmp_path, monkeypatch):
+    """A Dict of vectors (pos, vel) is recorded as named columns (pos[0], ..., as Minari's reader
+    names them) and train --cost reads the same names from the live observation."""
+    from dict_lift_env import rover_demonstrations
+
+    demos = rover_demonstrations(tmp_path, monkeypatch, 8)
+    code, out, err = run(capsys, "learn", "dnf", "--demos", demos, "--inputs", "pos[0],pos[1]", "-o", "rover.dnf",
+                         "--json")
+    assert code == 0, err
+    text = (tmp_path / "rover.dnf").read_text()
+    assert '"pos[0]"' in text and "vel" not in text.split("\n", 3)[-1], text
+    code, out, err = run(capsys, "train", "--env", "vector_rover:VectorRover-v0", "--algo", "ppo-lag",
+                         "--cost", "rover.dnf", "--steps", 1024, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["cost_kind"] == "dnf" and doc["multipliers"], doc
+    assert doc["cost"] is not None   # the environment's own info["cost"] is reported beside it

@@ -100,3 +100,50 @@ def test_a_dict_observation_holding_an_image_names_the_way_out():
         record(Viewing(), lambda obs: 0, 1, seed=0)
     kept = record(Viewing(), lambda obs: 0, 1, seed=0, observation=lambda obs: obs["image"])
     assert kept.state_kind == "image" and kept[0].states[-1].tolist() == [[3, 3], [3, 3]]
+
+
+class _Rover(_InfoEnv):
+    """Dict(mode=Discrete, pos=Box(2), arm=Dict(joint=Box(1))): vectors and a nested part."""
+
+    def _obs(self):
+        return {"pos": np.array([0.5 * self.t, -0.25], np.float32), "mode": self.t % 2,
+                "arm": {"joint": np.array([0.1 * self.t])}}
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        return self._obs(), {}
+
+    def step(self, action):
+        _, r, end, cut, info = super().step(action)
+        return self._obs(), r, end, cut, info
+
+
+def test_a_dict_observation_of_vectors_becomes_named_columns():
+    from symlearn.data.flat_observations import observation_features
+
+    demos = record(_Rover(), lambda obs: 0, 1, seed=0)
+    # the names of Minari's and imitation's readers: sorted keys, nested parts joined by ".",
+    # a vector's entries (also a one-element vector's) as name[i]
+    assert demos.metadata["feature_names"] == ["arm.joint[0]", "mode", "pos[0]", "pos[1]"]
+    assert demos.state_kind == "vector"
+    assert demos[0].states[2].tolist() == pytest.approx([0.2, 0.0, 1.0, -0.25])
+    # the same names and values that train --cost reads from info["features"]
+    live = _Rover()
+    observation, _ = live.reset(seed=0)
+    assert observation_features(observation) == dict(zip(demos.metadata["feature_names"],
+                                                         demos[0].states[0].tolist()))
+
+
+def test_a_flat_dict_of_numbers_stays_a_symbolic_state():
+    class Cells(_InfoEnv):
+        def reset(self, seed=None, options=None):
+            super().reset(seed=seed)
+            return {"cell": np.int64(0), "key": np.array(1)}, {}
+
+        def step(self, action):
+            _, r, end, cut, info = super().step(action)
+            return {"cell": np.int64(self.t), "key": np.array(1)}, r, end, cut, info
+
+    demos = record(Cells(), lambda obs: 0, 1, seed=0)
+    assert "feature_names" not in demos.metadata
+    assert demos[0].states[1] == {"cell": 1, "key": 1}

@@ -69,3 +69,40 @@ def test_train_reaches_a_third_party_dict_environment(capsys):
     assert code == 0, err
     doc = json.loads(out)
     assert doc["algo"] == "ppo" and doc["cost"] is None and doc["violation_rate"] is None
+
+
+class _Arm(gym.Env):
+    """A Dict with a vector part and an image: features by name, the image left out of them."""
+    observation_space = spaces.Dict({"pos": spaces.Box(-1.0, 1.0, (2,)), "mode": spaces.Discrete(3),
+                                     "camera": spaces.Box(0, 255, (2, 2), np.uint8)})
+    action_space = spaces.Discrete(2)
+
+    def _obs(self):
+        return {"pos": np.array([0.25, -0.5], np.float32), "mode": 2, "camera": np.zeros((2, 2), np.uint8)}
+
+    def reset(self, seed=None, options=None):
+        return self._obs(), {}
+
+    def step(self, action):
+        return self._obs(), 0.0, True, False, {}
+
+
+def test_dict_observations_are_reported_by_the_recorded_names():
+    env = numeric_observations(_Arm())
+    observation, info = env.reset()
+    assert observation.shape == (3 + 2 + 4,)   # the policy's view: one-hot mode, pos, the pixels
+    assert info["features"] == {"mode": 2.0, "pos[0]": 0.25, "pos[1]": -0.5}
+    *_, info = env.step(0)
+    assert set(info["features"]) == {"mode", "pos[0]", "pos[1]"}
+
+
+def test_a_tuple_of_numbers_is_named_as_learn_dnf_names_a_vector():
+    class Cards(_Arm):
+        observation_space = spaces.Tuple((spaces.Discrete(32), spaces.Discrete(11), spaces.Discrete(2)))
+
+        def _obs(self):
+            return (14, 10, 0)
+
+    _, info = numeric_observations(Cards()).reset()
+    # not the one-hot columns (32 + 11 + 2) that a formula over x0 would otherwise misread
+    assert info["features"] == {"x0": 14.0, "x1": 10.0, "x2": 0.0}

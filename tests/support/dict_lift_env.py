@@ -47,3 +47,57 @@ def lift_demonstrations(tmp_path, monkeypatch, episodes: int) -> str:
     plan = iter([1, 1, 1, 0] * episodes)
     record(gymnasium.make("DictLift-v0"), lambda obs: next(plan), episodes, seed=0).save(tmp_path / "lift.jsonl")
     return "lift.jsonl"
+
+
+VECTOR_ROVER = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class Rover(gym.Env):
+    """A 2-D point observed as Dict(pos=Box(2), vel=Box(2)); info["cost"] right of x = 0.6."""
+
+    def __init__(self):
+        self.observation_space = spaces.Dict({"pos": spaces.Box(-1, 1, (2,), np.float32),
+                                              "vel": spaces.Box(-1, 1, (2,), np.float32)})
+        self.action_space = spaces.Box(-1, 1, (2,), np.float32)
+
+    def _obs(self):
+        return {"pos": self.p.astype(np.float32), "vel": self.v.astype(np.float32)}
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.p, self.v = self.np_random.uniform(-0.9, -0.5, 2), np.zeros(2)
+        return self._obs(), {}
+
+    def step(self, action):
+        self.v = np.clip(0.5 * self.v + 0.05 * np.clip(action, -1, 1), -1, 1)
+        self.p = np.clip(self.p + self.v, -1, 1)
+        return self._obs(), -float(abs(self.p[1] - 0.5)), False, False, {"cost": float(self.p[0] > 0.6)}
+
+
+gym.register(id="VectorRover-v0", entry_point=lambda: gym.wrappers.TimeLimit(Rover(), 40))
+'''
+
+
+def rover_demonstrations(tmp_path, monkeypatch, episodes: int) -> str:
+    """Write the vector-Dict module into ``tmp_path``, import it (``vector_rover:VectorRover-v0``),
+    change into ``tmp_path`` and record ``episodes`` episodes of an expert heading for y = 0.5 while
+    keeping x below 0.2, to ``rover.npz``."""
+    import gymnasium
+    import numpy as np
+
+    from symlearn.data import record
+
+    (tmp_path / "vector_rover.py").write_text(VECTOR_ROVER)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import vector_rover  # noqa: F401 -- registers VectorRover-v0
+
+    def expert(obs):
+        target = np.array([min(obs["pos"][0], 0.2), 0.5])
+        return np.clip(5 * (target - obs["pos"]) - 2 * obs["vel"], -1, 1).astype(np.float32)
+
+    record(gymnasium.make("VectorRover-v0"), expert, episodes, seed=0).save(tmp_path / "rover.npz")
+    return "rover.npz"
