@@ -25,7 +25,7 @@ def _random_function(rng, n):
 @pytest.mark.parametrize("n", [1, 2, 3, 4, 5, 6, 7, 8])
 def test_covers_are_exact_and_made_of_primes(n):
     rng = random.Random(n)
-    for _ in range(40):
+    for _ in range(40 if n <= 6 else 10):  # the prime check walks all 2^n points per prime
         minterms = _random_function(rng, n)
         primes = set(prime_implicants(minterms, n))
         cover = minimum_cover(minterms, n)
