@@ -116,3 +116,21 @@ def test_errors_in_a_long_file_are_located_as_before(capsys, monkeypatch, tmp_pa
     assert fast == slow
     code, _out, err = fast
     assert code == 2 and err.startswith(f"symlearn: error: {rules}{where}") and len(err.strip().splitlines()) == 1
+
+
+def test_many_misspelt_predicates_are_listed_with_bounded_suggestions():
+    """Every undefined predicate is reported; "did you mean" is looked up for the first
+    MAX_SUGGESTIONS only (each lookup compares with every known name: no quadratic blow-up)."""
+    from symlearn.logic.asp import predicates
+    from symlearn.logic.asp.program import Program
+
+    n = predicates.MAX_SUGGESTIONS + 50
+    known = {(f"known_{i}", 1) for i in range(2000)}
+    rules = Program.from_text("".join(f":- move(D), known_{i}x(D).\n" for i in range(n)), source="rules.lp")
+    start = time.process_time()
+    found = predicates.undefined_predicates(rules, known | {("move", 1)})
+    assert time.process_time() - start < 10
+    assert [u.name for u in found] == [f"known_{i}x" for i in range(n)]
+    assert all(u.suggestion == f"known_{i}/1" for i, u in enumerate(found[:predicates.MAX_SUGGESTIONS]))
+    assert all(u.suggestion is None for u in found[predicates.MAX_SUGGESTIONS:])
+    assert found[3].line == 4 and found[3].file == "rules.lp"

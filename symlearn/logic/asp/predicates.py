@@ -59,27 +59,46 @@ def undefined_predicates(rules: Program, defined: set[Signature]) -> list[Undefi
     uses = cl.PredicateUses(rules)  # positions only of the atoms reported
     known = set(defined) | {(name, arity) for name, arity, defines in uses.signatures if defines}
     out: dict[Signature, UndefinedPredicate] = {}
+    closest = _Suggestions(known)
     for index, (name, arity, defines) in enumerate(uses.signatures):
         signature = (name, arity)
         if defines or signature in known or signature in out:
             continue
         use = uses.located(index)
         source, line, column = rules.locate(use.line, use.column)
-        out[signature] = UndefinedPredicate(name, arity, source, line, column, _closest(signature, known))
+        suggestion = closest(signature) if len(out) < MAX_SUGGESTIONS else None
+        out[signature] = UndefinedPredicate(name, arity, source, line, column, suggestion)
     return list(out.values())
 
 
-def _closest(signature: Signature, known: set[Signature]) -> str | None:
-    name, arity = signature
-    same_name = sorted(a for n, a in known if n == name)
-    if same_name:  # the right name with another number of arguments
-        return f"{name}/{same_name[0]}"
-    names = sorted({n for n, a in known if a == arity}) or sorted({n for n, _ in known})
-    close = difflib.get_close_matches(name, names, n=1, cutoff=0.6)
-    if not close:
-        return None
-    arities = sorted(a for n, a in known if n == close[0])
-    return f"{close[0]}/{arity if arity in arities else arities[0]}"
+#: "did you mean" is looked up for the first this many undefined predicates of a file; each lookup
+#: compares against every known name, so a generated file with thousands of them stays linear
+MAX_SUGGESTIONS = 100
+
+
+class _Suggestions:
+    """The closest known predicate to a misspelt one, with the known names indexed once."""
+
+    def __init__(self, known: set[Signature]) -> None:
+        self.arities: dict[str, list[int]] = {}
+        for name, arity in known:
+            self.arities.setdefault(name, []).append(arity)
+        for arities in self.arities.values():
+            arities.sort()
+        self.by_arity: dict[int, list[str]] = {}
+        for name, arity in sorted(known):
+            self.by_arity.setdefault(arity, []).append(name)
+        self.names = sorted(self.arities)
+
+    def __call__(self, signature: Signature) -> str | None:
+        name, arity = signature
+        if name in self.arities:  # the right name with another number of arguments
+            return f"{name}/{self.arities[name][0]}"
+        close = difflib.get_close_matches(name, self.by_arity.get(arity) or self.names, n=1, cutoff=0.6)
+        if not close:
+            return None
+        arities = self.arities[close[0]]
+        return f"{close[0]}/{arity if arity in arities else arities[0]}"
 
 
 __all__ = ["UndefinedPredicate", "defined_signatures", "undefined_predicates"]
