@@ -51,7 +51,7 @@ def register(subparsers, common) -> None:
     dfa.add_argument("--svg", help="render the automaton to SVG (needs Graphviz's dot)")
     dfa.add_argument("--save", help="write the automaton as symlearn DFA JSON")
     dfa.add_argument("--max-states", type=int, default=None,
-                     help="stop with an error beyond this many states explored (default 20000; checked before "
+                     help="stop with an error beyond this many states explored (default 100000; checked before "
                           "the work for conjunctions of many independent conjuncts)")
     dfa.set_defaults(handler=_dfa)
 

@@ -87,7 +87,7 @@ if TYPE_CHECKING:
 
 __all__ = ["translate", "to_dfa", "equivalent", "DEFAULT_MAX_STATES"]
 
-DEFAULT_MAX_STATES = 20_000
+DEFAULT_MAX_STATES = 100_000  # obligations before minimisation (docs/BENCHMARKS.md: tlsf-fin, the default)
 #: transition_diagram.EXPLICIT_EDGES, repeated so this module need not import the automata side
 #: (tests/logic/ltlf/test_to_dfa.py checks the two agree)
 EXPLICIT_EDGES = 10_000
