@@ -269,11 +269,23 @@ def _in_the_view(demos: Any, env: Any, path: Any) -> Any:
     from symlearn.errors import DataError
     from symlearn.recipes.spaces import NumericObservations
 
-    if not isinstance(env, NumericObservations) or not isinstance(demos[0].states[0], Mapping):
+    if not isinstance(env, NumericObservations):
+        return demos
+    names = demos.metadata.get("feature_names")
+    if isinstance(demos[0].states[0], Mapping):
+        view = env.observation
+    elif names and demos.state_kind == "vector":
+        # named columns of a Dict observation (record, Minari): rebuilt as the observation, so a
+        # Discrete part becomes the one-hot columns the policy reads
+        def view(row: Any) -> Any:
+            return env.from_columns(dict(zip(names, np.asarray(row).tolist())))
+    else:
         return demos
     try:
-        items = [Trajectory(np.stack([env.observation(s) for s in t.states]), t.actions, t.rewards, t.labels, t.info)
+        items = [Trajectory(np.stack([view(s) for s in t.states]), t.actions, t.rewards, t.labels, t.info)
                  for t in demos]
+    except DataError as exc:
+        raise DataError(exc.message, file=path, hint=exc.hint) from None
     except (KeyError, TypeError, ValueError, AssertionError) as exc:
         raise DataError(f"the demonstrations' states do not fit the observation space {env.env.observation_space}"
                         f" ({type(exc).__name__}: {exc})", file=path,

@@ -268,6 +268,9 @@ class EnvTarget:
         names = getattr(env.unwrapped, "observation_names", None)
         if names is not None:
             return tuple(names)
+        view = getattr(env, "column_names", None)   # recipes.spaces.NumericObservations' flattened view
+        if view is not None and len(view) == observation_width(env):
+            return tuple(view)
         found = self.features(env)
         if found is None:
             return None

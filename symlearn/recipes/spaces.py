@@ -21,13 +21,14 @@ then reads the same named values in ``train --cost``, not the one-hot columns th
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any
 
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from symlearn.data.flat_observations import observation_features
+from symlearn.data.flat_observations import leaf_name, observation_features
 from symlearn.errors import DataError
 
 _NUMERIC = (spaces.Box, spaces.Discrete, spaces.MultiBinary, spaces.MultiDiscrete)
@@ -78,12 +79,20 @@ class NumericObservations(gym.ObservationWrapper):
         self.observation_space = spaces.Box(flat.low.astype(np.float32), flat.high.astype(np.float32),
                                             dtype=np.float32)
 
+        self.column_names = tuple(_view_names(kept, ()))   # one per entry of the flattened view
         # a Dict/Tuple is also reported by name (info["features"]), as record() names its columns
         self.named = isinstance(kept, (spaces.Dict, spaces.Tuple))
 
     def observation(self, observation: Any) -> np.ndarray:
         selected = _select(observation, self._kept)
         return np.asarray(spaces.flatten(self._kept, selected), dtype=np.float32)
+
+    def from_columns(self, columns: Mapping[str, Any]) -> np.ndarray:
+        """The view of an observation given as named columns -- a vector state that
+        :func:`~symlearn.data.record` (or the Minari/imitation readers) stored with
+        ``feature_names``, or a dict state -- rebuilt as the observation and flattened as
+        :meth:`observation` does. A missing name is a ``DataError`` naming it."""
+        return self.observation(_rebuild(self._kept, (), columns))
 
     def _named(self, observation: Any, info: dict) -> dict:
         if not self.named or not isinstance(info, dict) or "features" in info:
@@ -102,6 +111,42 @@ class NumericObservations(gym.ObservationWrapper):
     def step(self, action: Any):
         observation, reward, terminated, truncated, info = self.env.step(action)
         return self.observation(observation), reward, terminated, truncated, self._named(observation, info)
+
+
+def _rebuild(space: spaces.Space, path: tuple[str, ...], columns: Mapping[str, Any]) -> Any:
+    """The observation of ``space`` whose leaves are named in ``columns`` (flat_observations' names)."""
+    if isinstance(space, spaces.Dict):
+        return {key: _rebuild(sub, path + (key,), columns) for key, sub in space.spaces.items()}
+    if isinstance(space, spaces.Tuple):
+        return tuple(_rebuild(sub, path + (f"_index_{i}",), columns) for i, sub in enumerate(space.spaces))
+    name = leaf_name(path) if path else "observation"
+    shape = tuple(space.shape or ())
+    wanted = [name] if not shape else [f"{name}[{i}]" for i in range(int(np.prod(shape)))]
+    missing = [w for w in wanted if w not in columns]
+    if missing:
+        raise DataError(f"the demonstrations name no column {missing[0]!r} of the observation's part {name!r}",
+                        hint="known columns: " + ", ".join(list(columns)[:12]))
+    values = np.asarray([columns[w] for w in wanted], dtype=np.float64)
+    if isinstance(space, spaces.Discrete):
+        return int(values[0])
+    if isinstance(space, (spaces.MultiBinary, spaces.MultiDiscrete)):
+        return values.reshape(shape).astype(np.int64)
+    return values.reshape(shape).astype(space.dtype)
+
+
+def _view_names(space: spaces.Space, path: tuple[str, ...]) -> list[str]:
+    """A name per entry of ``spaces.flatten(space, ...)``: ``pos[0]``, a one-hot ``mode=2``."""
+    if isinstance(space, spaces.Dict):
+        return [n for key, sub in space.spaces.items() for n in _view_names(sub, path + (key,))]
+    if isinstance(space, spaces.Tuple):
+        return [n for i, sub in enumerate(space.spaces) for n in _view_names(sub, path + (f"_index_{i}",))]
+    name = leaf_name(path) if path else "observation"
+    if isinstance(space, spaces.Discrete):
+        return [f"{name}={int(space.start) + v}" for v in range(int(space.n))]
+    if isinstance(space, spaces.MultiDiscrete):
+        return [f"{name}[{i}]={v}" for i, n in enumerate(np.asarray(space.nvec).reshape(-1)) for v in range(int(n))]
+    size = int(np.prod(space.shape or ()))
+    return [name] if not space.shape else [f"{name}[{i}]" for i in range(size)]
 
 
 def numeric_observations(env: gym.Env) -> gym.Env:

@@ -49,3 +49,18 @@ def test_dnf_of_vector_dict_observations_trains_there(capsys, tmp_path, monkeypa
     doc = json.loads(out)
     assert doc["cost_kind"] == "dnf" and doc["multipliers"], doc
     assert doc["cost"] is not None   # the environment's own info["cost"] is reported beside it
+
+
+def test_learn_icrl_reads_named_columns_of_a_dict_environment(capsys, tmp_path, monkeypatch):
+    """Recorded columns (moving as one integer) are rebuilt into the policy's view (moving
+    one-hot): before, 'observations have shape (5,), the space's is (6,)'."""
+    from dict_lift_env import rover_demonstrations
+
+    demos = rover_demonstrations(tmp_path, monkeypatch, 4)
+    code, out, err = run(capsys, "learn", "icrl", "--env", "vector_rover:VectorRover-v0", "--demos", demos,
+                         "--steps", 2048, "--iterations", 1, "--json")
+    assert code == 0, err
+    inputs = json.loads(out)["cost_inputs"]
+    # the view's entries are named (pos[0], moving=1, ...), not numbered
+    assert inputs["names"] and all(isinstance(n, str) for n in inputs["names"]), inputs
+    assert set(inputs["names"]) <= {"moving=0", "moving=1", "pos[0]", "pos[1]", "vel[0]", "vel[1]"}

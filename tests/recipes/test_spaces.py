@@ -106,3 +106,26 @@ def test_a_tuple_of_numbers_is_named_as_learn_dnf_names_a_vector():
     _, info = numeric_observations(Cards()).reset()
     # not the one-hot columns (32 + 11 + 2) that a formula over x0 would otherwise misread
     assert info["features"] == {"x0": 14.0, "x1": 10.0, "x2": 0.0}
+
+
+def test_named_columns_rebuild_the_policy_view():
+    """What record() stores of an observation (named columns) maps back onto the flattened view,
+    for every kind of numeric part, and the view's entries are named."""
+    from symlearn.data.flat_observations import observation_features
+
+    class Every(_Arm):
+        observation_space = spaces.Dict({"pos": spaces.Box(-1.0, 1.0, (2,)), "m": spaces.Discrete(3, start=1),
+                                         "md": spaces.MultiDiscrete([2, 3]), "b": spaces.MultiBinary(2),
+                                         "arm": spaces.Dict({"joint": spaces.Box(-1.0, 1.0, (1,))})})
+
+        def _obs(self):
+            return {"pos": np.array([0.1, 0.2], np.float32), "m": 2, "md": np.array([1, 2]),
+                    "b": np.array([1, 0], np.int8), "arm": {"joint": np.array([0.5], np.float32)}}
+
+    env = numeric_observations(Every())
+    observation = Every()._obs()
+    assert np.array_equal(env.from_columns(observation_features(observation)), env.observation(observation))
+    assert env.column_names == ("arm.joint[0]", "b[0]", "b[1]", "m=1", "m=2", "m=3", "md[0]=0", "md[0]=1",
+                                "md[1]=0", "md[1]=1", "md[1]=2", "pos[0]", "pos[1]")
+    with pytest.raises(DataError, match="no column 'pos\\[1\\]'"):
+        env.from_columns({k: v for k, v in observation_features(observation).items() if k != "pos[1]"})

@@ -56,15 +56,18 @@ from gymnasium import spaces
 
 
 class Rover(gym.Env):
-    """A 2-D point observed as Dict(pos=Box(2), vel=Box(2)); info["cost"] right of x = 0.6."""
+    """A 2-D point observed as Dict(pos=Box(2), vel=Box(2), moving=Discrete(2)); info["cost"]
+    right of x = 0.6. The policy's view one-hots ``moving``; recorded states keep it one column."""
 
     def __init__(self):
         self.observation_space = spaces.Dict({"pos": spaces.Box(-1, 1, (2,), np.float32),
-                                              "vel": spaces.Box(-1, 1, (2,), np.float32)})
+                                              "vel": spaces.Box(-1, 1, (2,), np.float32),
+                                              "moving": spaces.Discrete(2)})
         self.action_space = spaces.Box(-1, 1, (2,), np.float32)
 
     def _obs(self):
-        return {"pos": self.p.astype(np.float32), "vel": self.v.astype(np.float32)}
+        return {"pos": self.p.astype(np.float32), "vel": self.v.astype(np.float32),
+                "moving": int(np.abs(self.v).sum() > 0.01)}
 
     def reset(self, *, seed=None, options=None):
         super().reset(seed=seed)
