@@ -2,7 +2,7 @@
 
 ``symlearn learn icrl --env NAME [--method mce-icrl|me-icrl|vme-icrl|gacl] [--demos D.npz | --n-demos N] [--steps N]
 [--iterations I] [--beta B] [--cost-inputs x,y|all] [--select-inputs TOL] [--cost-sparsity S]
-[--reset-actor never|every|last] [--lambda-lr L] [--env-kwargs JSON] [--expert-steps N]
+[--reset-actor never|every|last|auto] [--lambda-lr L] [--env-kwargs JSON] [--expert-steps N]
 [--expert-cache DIR] [-o cost.safetensors] [--log run.csv] [--json]``
 
 * ``--env``: a bundled environment with ``mce-icrl`` among its methods (``blocked-point``,
@@ -101,9 +101,11 @@ def register_learn(commands, common) -> None:
                           "of them (held-out AUC; default 0.01, 0 = every candidate)")
     cmd.add_argument("--cost-sparsity", type=float, default=0.0,
                      help="mce-icrl: group-sparsity penalty on the cost network's inputs (default 0 = off)")
-    cmd.add_argument("--reset-actor", choices=("never", "every", "last"), default="never",
-                     help="which policy phases start from a fresh actor (critic kept): never (default), every, or "
-                          "the last (the returned policy learns afresh on the final cost)")
+    cmd.add_argument("--reset-actor", choices=("never", "every", "last", "auto"), default="never",
+                     help="which policy phases start from a fresh actor (critic kept): never (default), every, "
+                          "the last (the returned policy learns afresh on the final cost), or auto (mce-icrl: "
+                          "after two phases in a row that left the learned cost's excess over the expert's "
+                          "almost unchanged)")
     cmd.add_argument("--lambda-lr", type=float,
                      help="the multipliers' step per iteration, mce-icrl, me-icrl and vme-icrl (default 0.02; 0.1 met "
                           "the blocked HalfCheetah target with mce-icrl)")
@@ -248,7 +250,8 @@ def _icrl(args: argparse.Namespace, out) -> None:
            "lambda": [float(x) for x in learner.cost_.lambdas.numpy()],
            "cost_inputs": _named_inputs(result.metrics["cost_inputs"], names),
            "demonstrations": learner.cost_.learned_from,
-           "iterations": len(learner.history_), "seconds": time.perf_counter() - started,
+           "iterations": len(learner.history_), "actor_resets": result.metrics.get("actor_resets"),
+           "seconds": time.perf_counter() - started,
            "timings": {k: v for k, v in result.timings.items() if k != "total"},
            "history": [h.as_dict() for h in learner.history_], "files": []}
     if args.output:

@@ -81,14 +81,21 @@ class Alternation:
 
     def run(self, policy: Any, batch: EpisodeBatch, *, cost_step: Callable[[int, EpisodeBatch], Any],
             policy_step: Callable[[int, Any], Any],
-            record: Callable[[Round], Any]) -> tuple[Any, EpisodeBatch, list[Any]]:
+            record: Callable[[Round], Any],
+            excess: Callable[[EpisodeBatch], float] | None = None,
+            resets: list[int] | None = None) -> tuple[Any, EpisodeBatch, list[Any]]:
         """Alternate from ``policy`` and its sample ``batch`` (module docstring):
         ``cost_step(iteration, batch)`` learns the cost and returns what the record needs of it,
         ``policy_step(iteration, policy)`` continues the policy and returns ``train_ppo``'s result,
         ``record(round)`` builds the history record (whose ``bar_numbers()`` the bar shows).
+        ``excess(sample)``: how much more the *current* learned cost charges the sample than the
+        expert (0 when it charges no more), which ``reset_actor="auto"`` reads (:class:`Stall`);
+        the iterations whose phase started from a fresh actor are appended to ``resets``.
         Returns the last policy, its sample and the history."""
         n = int(self.n_iterations)
         history: list[Any] = []
+        stall = Stall() if self.reset_actor == "auto" and excess is not None else None
+        previous: EpisodeBatch | None = None  # the sample before the last policy phase
         with ProgressBar(n, desc=self.label, unit="iter") as bar:
             for iteration in range(1, n + 1):
                 t0 = time.perf_counter()
@@ -96,8 +103,14 @@ class Alternation:
                 cost_seconds = time.perf_counter() - t0
                 metrics = episode_metrics(batch)
                 t0 = time.perf_counter()
-                if resets_actor(self.reset_actor, iteration, n):
+                fresh = resets_actor(self.reset_actor, iteration, n)
+                if stall is not None and previous is not None:
+                    fresh = stall.update(excess(previous), excess(batch))
+                if fresh:
                     policy.reset_actor(self.generator)
+                    if resets is not None:
+                        resets.append(iteration)
+                previous = batch
                 trained = policy_step(iteration, policy)
                 policy = trained.policy
                 policy_seconds = time.perf_counter() - t0
@@ -111,4 +124,33 @@ class Alternation:
         return policy, batch, history
 
 
-__all__ = ["Alternation", "Round", "SAMPLE_SEEDS", "seed_offset"]
+class Stall:
+    """``reset_actor="auto"``: a fresh actor once the policy has stopped moving away from what
+    the learned cost forbids. After each policy phase the *current* cost is applied to the samples
+    before and after it; a phase that removed less than :attr:`PROGRESS` of the excess cost over
+    the expert's is a stall, and :attr:`STALLS` stalls in a row reset the actor (and the count).
+
+    Why: a policy continued from a nearly deterministic one may never leave a behaviour the cost
+    now forbids when the way out needs many consecutive deviations (the nominal HalfCheetah kept
+    running backward through the wall under any multiplier), while a fresh actor each phase needs
+    phases long enough to learn from scratch (BlockedPoint's 21k-step phases then earn 15-52
+    instead of 59). Comparing the two samples under one cost keeps the test free of the cost's own
+    drift between iterations."""
+
+    PROGRESS = 0.1
+    STALLS = 2
+
+    def __init__(self) -> None:
+        self.count = 0
+
+    def update(self, before: float, after: float) -> bool:
+        """Record one phase (excess cost of the samples before and after it); whether to reset."""
+        stalled = after > 0.0 and after > (1.0 - self.PROGRESS) * before
+        self.count = self.count + 1 if stalled else 0
+        if self.count >= self.STALLS:
+            self.count = 0
+            return True
+        return False
+
+
+__all__ = ["Alternation", "Round", "SAMPLE_SEEDS", "Stall", "seed_offset"]

@@ -166,7 +166,7 @@ def check_tolerance(value: Any) -> bool:
 
 
 #: when the policy phases start from a fresh actor (NeuralMCEICRL's docstring says why)
-RESET_ACTOR = ("never", "every", "last")
+RESET_ACTOR = ("never", "every", "last", "auto")
 
 
 def resets_actor(setting: str, iteration: int, n_iterations: int) -> bool:

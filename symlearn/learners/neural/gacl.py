@@ -156,8 +156,17 @@ class NeuralGACL(Learner):
                 return GACLIteration(step.iteration, step.metrics.reward, step.metrics.violation_rate, expert_d,
                                      policy_d, step.policy_seconds, step.cost_seconds)
 
+            def penalty_sum(sample: Any) -> float:
+                """The mean episode sum of ``-log D`` (the reward's penalty) over ``sample``."""
+                weights = sample.discount_weights(1.0)[sample.mask]
+                return float(weights @ -np.log(np.maximum(1.0 - cost(*sample.pairs()), LOG_FLOOR)))
+
+            def excess(sample: Any) -> float:
+                return max(0.0, penalty_sum(sample) - penalty_sum(expert))
+
+            resets: list[int] = []
             policy, batch, history = loop.run(policy, batch, cost_step=cost_step, policy_step=policy_step,
-                                              record=record)
+                                              record=record, excess=excess, resets=resets)
             final = episode_metrics(batch)
         finally:
             torch.set_num_threads(previous_threads)
@@ -171,6 +180,7 @@ class NeuralGACL(Learner):
                        total=self.seconds_)
         expert_reward = float(np.where(expert.mask, expert.rewards, 0.0).sum(axis=1).mean())
         self._set_result(cost, "", metrics={"expert_reward": expert_reward, "final_sample": final.as_dict(),
+                                            "actor_resets": resets,
                                             "cost_inputs": inputs_report(cost, setup.inputs_from, selection)},
                          timings=timings, history=history)
         return self

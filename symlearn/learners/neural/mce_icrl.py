@@ -50,6 +50,13 @@ exactly. Here every exact step has its sampled, neural counterpart:
    history's violation rate rises again). ``"last"`` keeps the continued phases, during which the
    multipliers keep growing as long as the policy violates, and trains the returned policy
    afresh on the final cost -- the learned cost used as one would use it on a new agent.
+   ``"auto"`` continues the policy until it stalls -- two phases in a row after which the current
+   cost charges the new sample almost as much more than the expert (less than 10 % of that excess
+   removed) as the sample before the phase -- and then starts the next phase from a fresh actor
+   (:class:`~symlearn.learners.neural.alternation.Stall`; the iterations in
+   ``result_.metrics["actor_resets"]``). Measured (docs/BENCHMARKS.md): on BlockedPoint it never
+   fires (the continued policy turns away from the wall by itself); on the blocked HalfCheetah it
+   fires once the continued policy has kept its backward gait for two phases.
 
    The first dual step uses the nominal policy's samples (Algorithm 2.1 with its first PPO
    phase, which would run on ``lambda = 0`` and so repeat the nominal one, left out), so the
@@ -292,8 +299,17 @@ class NeuralMCEICRL(Learner):
                                      step.metrics.reward, step.metrics.violation_rate, zeta_lr, step.policy_seconds,
                                      step.cost_seconds, step.sampling_seconds)
 
+            def excess(sample: Any) -> float:
+                """``lambda . (F_pi - F_D)`` of ``sample`` under the current cost, at least 0."""
+                sample_t = cost.tensors(*sample.pairs())
+                sample_w = torch.from_numpy(sample.discount_weights(self.discount)[sample.mask]).float()
+                with torch.no_grad():
+                    gap = (sample_w @ phi(*sample_t) - expert_w @ phi(*expert_t)).double().numpy()
+                return max(0.0, float(np.dot(lambdas, gap)))
+
+            resets: list[int] = []
             policy, batch, history = loop.run(policy, batch, cost_step=cost_step, policy_step=policy_step,
-                                              record=record)
+                                              record=record, excess=excess, resets=resets)
             final = episode_metrics(batch)
         finally:
             torch.set_num_threads(previous_threads)
@@ -313,7 +329,7 @@ class NeuralMCEICRL(Learner):
         timings["total"] = self.seconds_
         expert_reward = float(np.where(expert.mask, expert.rewards, 0.0).sum(axis=1).mean())
         self._set_result(cost, "", metrics={"lambda": [float(x) for x in lambdas], "expert_reward": expert_reward,
-                                            "final_sample": final.as_dict(),
+                                            "final_sample": final.as_dict(), "actor_resets": resets,
                                             "pretrain": None if pretrain is None else pretrain.as_dict(),
                                             "cost_inputs": inputs_report(cost, setup.inputs_from, selection)},
                          timings=timings, history=history)

@@ -220,8 +220,15 @@ class NeuralMEICRL(Learner):
                                          *backward[:5], float(step.trained.multipliers[0]), step.policy_seconds,
                                          step.cost_seconds, *backward[5:])
 
+            def excess(sample: EpisodeBatch) -> float:
+                """The learned cost's discounted sum over ``sample`` beyond the expert's."""
+                with torch.no_grad():
+                    return max(0.0, discounted_cost(cost, sample, self.discount)
+                               - discounted_cost(cost, expert, self.discount))
+
+            resets: list[int] = []
             policy, batch, history = loop.run(policy, batch, cost_step=cost_step, policy_step=policy_step,
-                                              record=record)
+                                              record=record, excess=excess, resets=resets)
             final = episode_metrics(batch)
         finally:
             torch.set_num_threads(previous_threads)
@@ -236,7 +243,7 @@ class NeuralMEICRL(Learner):
                        total=self.seconds_)
         expert_reward = float(np.where(expert.mask, expert.rewards, 0.0).sum(axis=1).mean())
         self._set_result(cost, "", metrics={"multiplier": multiplier, "expert_reward": expert_reward,
-                                            "final_sample": final.as_dict(),
+                                            "final_sample": final.as_dict(), "actor_resets": resets,
                                             "cost_inputs": inputs_report(cost, setup.inputs_from, selection)},
                          timings=timings, history=history)
         return self

@@ -99,3 +99,41 @@ def test_bar_shows_the_multiplier(monkeypatch, learner, multiplier):
     learner.fit(expert_demonstrations(2, seed=0), BlockedPoint)
     assert shown == [{"return": h.reward, "violation": h.violation_rate, "lambda": multiplier(h)}
                      for h in learner.history_]
+
+
+def test_stall_resets_after_two_phases_without_progress():
+    from symlearn.learners.neural.alternation import Stall
+
+    stall = Stall()
+    assert [stall.update(b, a) for b, a in [(10, 9.5), (9.5, 9.4), (9.4, 9.3), (9.3, 5.0), (5.0, 4.9), (4.9, 4.8)]] \
+        == [False, True, False, False, False, True]
+    stall = Stall()  # a policy that matches the expert (no excess) never stalls
+    assert not any(stall.update(0.0, 0.0) for _ in range(5))
+
+
+def test_auto_reset_reads_the_excess_of_the_samples_before_and_after_each_phase(monkeypatch):
+    """``reset_actor="auto"``: the loop compares, under the cost of the iteration, the sample
+    before the last phase with the one after it; two stalls in a row reset the actor."""
+    log = []
+    monkeypatch.setattr(alternation, "sample_episodes",
+                        lambda policy, env_fn, n, *, seed: batch_of(float(seed - 10_000) / 100))
+    loop = Alternation("test", 5, env_fn=lambda: None, n_episodes=2, seed=0, reset_actor="auto",
+                       generator=torch.Generator())
+    first = loop.sample(Policy("nominal", log))
+    # the excess of a sample is set by the iteration it was drawn after: it never shrinks
+    excess = lambda batch: 10.0 - 0.01 * batch.rewards[0, 0]
+    resets = []
+    loop.run(Policy("nominal", log), first, cost_step=lambda i, b: None,
+             policy_step=lambda i, p: Trained(Policy(f"p{i}", log)),
+             record=lambda step: Record(step.iteration, 0.0, 0.0, ""), excess=excess, resets=resets)
+    # iteration 2 compares samples 0 and 1 (stall 1), iteration 3 samples 1 and 2 (stall 2: reset),
+    # then the count starts again: 4 (stall 1), 5 (stall 2: reset)
+    assert resets == [3, 5] and [e for e in log if e[0] == "reset"] == [("reset", "p2"), ("reset", "p4")]
+
+
+def test_mce_icrl_accepts_auto_and_reports_its_resets():
+    learner = NeuralMCEICRL(n_iterations=3, nominal_steps=512, policy_steps=512, n_policy_episodes=2,
+                            obs_dims=[0, 1], hidden_sizes=(8,), reset_actor="auto")
+    learner.fit(expert_demonstrations(2, seed=0), lambda: BlockedPoint(max_steps=30))
+    resets = learner.result_.metrics["actor_resets"]
+    assert isinstance(resets, list) and all(i in (3,) for i in resets)

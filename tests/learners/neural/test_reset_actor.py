@@ -10,7 +10,7 @@ from symlearn.rl.ppo import ActorCritic
 
 
 @pytest.mark.parametrize("name", ["NeuralMCEICRL", "NeuralMEICRL", "NeuralVMEICRL", "NeuralGACL"])
-@pytest.mark.parametrize("reset, expected", [("never", 0), ("every", 2), ("last", 1)])
+@pytest.mark.parametrize("reset, expected", [("never", 0), ("every", 2), ("last", 1), ("auto", 0)])
 def test_reset_actor_before_the_chosen_policy_phases(name, reset, expected, monkeypatch):
     calls = []
     original = ActorCritic.reset_actor
