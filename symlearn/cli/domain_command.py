@@ -64,7 +64,8 @@ def _check_document(folder: str, rules: str | None, demos: str | None, allow_out
     doc = {"domain": domain.name, "description": domain.description, "states": domain.n_states,
            "actions": domain.n_actions, "pairs": len(domain.pair_ids),
            "forbidden_by_truth": None if domain.truth is None else int(domain.truth_forbidden.sum()),
-           "labeling": None if domain.labeling is None else list(domain.labeling.propositions)}
+           "labeling": None if domain.labeling is None else list(domain.labeling.propositions),
+           "bias_warnings": [w.as_dict() for w in domain.bias_warnings()]}
     if rules:
         from symlearn.learners.constraints.constraint_metrics import constraint_metrics
 
@@ -72,7 +73,7 @@ def _check_document(folder: str, rules: str | None, demos: str | None, allow_out
         learned = domain.rule_mask(Path(rules))
         doc.update({"rules": list(hypothesis.rules), "forbidden": int(learned.sum()),
                     "fpr": None, "fnr": None, "accuracy": None, "missed_truth_rules": None,
-                    "warnings": _undefined_predicates(domain, rules)})
+                    "warnings": [u.as_dict() for u in domain.undefined_predicates(rules)]})
         if domain.truth is not None:
             scores = constraint_metrics(learned, domain.truth_forbidden, ~domain.unavailable)
             truth = domain.hypothesis(domain.truth)
@@ -96,18 +97,6 @@ def _check_document(folder: str, rules: str | None, demos: str | None, allow_out
     return doc
 
 
-def _undefined_predicates(domain, rules: str) -> list[dict]:
-    """Body predicates of the rule file that the background, the states' facts and the actions
-    define nowhere (a misspelt predicate makes a rule that never fires)."""
-    from symlearn.logic.asp.predicates import defined_signatures, undefined_predicates
-    from symlearn.logic.asp.program import Program
-
-    facts = sorted({fact for s, a in domain.pair_ids for fact in domain.facts(s, a)})
-    defined = defined_signatures([domain.background + domain.bias.background,
-                                  Program.from_text(" ".join(facts), source=f"<{domain.name} state facts>")])
-    return [u.as_dict() for u in undefined_predicates(Program.from_file(rules, expand=False), defined)]
-
-
 def _render(doc: dict) -> str:
     lines = [f"{doc['domain']}: {doc['states']} states x {doc['actions']} actions, {doc['pairs']} state-action pairs; "
              "every context has one answer set"]
@@ -115,6 +104,9 @@ def _render(doc: dict) -> str:
         lines.append(f"truth rules forbid {doc['forbidden_by_truth']} pairs")
     if doc["labeling"] is not None:
         lines.append("labeling: " + ", ".join(doc["labeling"]))
+    for w in doc.get("bias_warnings", []):
+        where = ":".join(str(w[k]) for k in ("file", "line", "column") if w[k] is not None)
+        lines.append(f"warning: {where}: {w['message']}" if where else f"warning: {w['message']}")
     if "rules" in doc:
         lines.append(f"rules ({len(doc['rules'])}) forbid {doc['forbidden']} pairs")
         if doc["fpr"] is not None:

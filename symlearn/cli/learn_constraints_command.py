@@ -175,6 +175,9 @@ def _learn_in_worker(job: dict) -> tuple[list[str], dict]:
 def _learn(args: argparse.Namespace, out) -> None:
     from symlearn.errors import DataError, SymlearnError
 
+    if args.iterations is not None and args.iterations < 1:  # 0 would read as "the default" below
+        raise SymlearnError(f"--iterations must be at least 1, got {args.iterations}",
+                            hint="leave it out for the default (logic: at most 20, stopping on convergence)")
     world = _world(args)
     method = args.method or ("logic" if world.domain is not None else "mce-icrl")
     if method == "logic" and world.domain is None:
@@ -200,19 +203,46 @@ def _learn(args: argparse.Namespace, out) -> None:
             demos = world.bundled.expert_demonstrations(args.n_demos, seed, source="sumo")
         else:
             demos = world.expert(args.n_demos, seed)
+    reading_warnings: list[str] = []
+    if world.domain is not None:
+        import warnings
+
+        from symlearn.learners.constraints.logic_constraint_inference import check_available
+
+        # read against the domain once, before any are held out: a mistake is named by its
+        # place in the file (line, column), atoms are matched as ASP reads them, and what looks
+        # like noise (a step of probability zero) is one warning of the result
+        with warnings.catch_warnings(record=True) as caught, blame_file(args.demos):
+            warnings.simplefilter("always")
+            demos = world.domain.episodes(demos)
+            check_available(demos, world.domain)
+        reading_warnings = [f"{args.demos}: {w.message}" if args.demos else str(w.message) for w in caught]
     known = None
     if args.known:
         known = world.domain.rule_mask(Path(args.known))
-    held = None
+        if not args.noise:
+            with blame_file(args.demos):
+                _check_known(demos, known, world.domain, args.known)
+    held, held_numbers = None, None
     if args.validation is not None:
-        from symlearn.learners.validation import holdout
+        from symlearn.learners.validation import holdout, holdout_indices
 
+        n_all = len(demos)
         demos, held = holdout(demos, args.validation, seed=seed)
-    with blame_file(args.demos):
+        held_numbers = holdout_indices(n_all, args.validation, seed=seed)[1]  # their places in the file
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught, blame_file(args.demos):
+        warnings.simplefilter("always")  # the learner's warnings (noise counted) belong in the result
         doc, learned, learner = _run(method, world, demos, args, known, out)
-    doc["warnings"] = []
+    doc["warnings"] = reading_warnings + list(dict.fromkeys(str(w.message) for w in caught))
+    if args.domain:  # a misspelt bias or --known file is silent to clingo: say where it is
+        doc["warnings"] += [w.located() for w in world.domain.bias_warnings()]
+    if known is not None:
+        doc["warnings"] += [f"{u.file}:{u.line}:{u.column}: --known: {u.message()}"
+                            for u in world.domain.undefined_predicates(args.known)]
     if held is not None:
-        doc["validation"] = _validation(world, learned, held, args.validation, len(demos))
+        doc["validation"] = _validation(world, learned, held, args.validation, len(demos), held_numbers)
         warning = doc["validation"].pop("warning")
         if warning:
             doc["warnings"].append(warning)
@@ -230,7 +260,25 @@ def _learn(args: argparse.Namespace, out) -> None:
     out.result(doc, _render)
 
 
-def _validation(world: _World, learned, held, fraction: float, n_train: int) -> dict:
+def _check_known(episodes, known, domain, rules: str) -> None:
+    """A demonstrated step that the ``--known`` rules forbid is a contradiction unless the data
+    is declared noisy: name the first one (its place in the file, the pair by name)."""
+    import numpy as np
+
+    from symlearn.errors import DemonstrationError
+
+    hits = [(i, int(t)) for i, e in enumerate(episodes)
+            for t in np.flatnonzero(known[e.states[: len(e.actions)], e.actions])]
+    if hits:
+        i, t = hits[0]
+        pair = domain.describe_pair(int(episodes[i].states[t]), int(episodes[i].actions[t]))
+        raise DemonstrationError(f"demonstration {i}, step {t}: {pair} breaks the given constraints (--known "
+                                 f"{rules}; {len(hits)} demonstrated step(s) in all)", demonstration=i, key="actions", step=t,
+                                 hint="fix the demonstrations or the rules, or pass --noise to treat such steps "
+                                      "as noise")
+
+
+def _validation(world: _World, learned, held, fraction: float, n_train: int, numbers=None) -> dict:
     """The held-out expert steps the learned constraint forbids (see symlearn.learners.validation)."""
     from symlearn.learners.validation import forbidden_pairs_report
     from symlearn.mdp.episodes import tabular_episodes
@@ -240,7 +288,7 @@ def _validation(world: _World, learned, held, fraction: float, n_train: int) -> 
     actions = getattr(world.mdp, "action_names", None)
     describe = (world.domain.describe_pair if world.domain is not None else
                 (lambda s, a: f"{names[s]} / {actions[a]}") if names is not None and actions is not None else None)
-    report = forbidden_pairs_report(learned, episodes, fraction, n_train, describe)
+    report = forbidden_pairs_report(learned, episodes, fraction, n_train, describe, numbers)
     return {**report.as_dict(), "warning": report.warning()}
 
 

@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from symlearn.errors import DataError, SymlearnError
+from symlearn.errors import DemonstrationError, SymlearnError
 from symlearn.grounding import Domain, as_domain
 from symlearn.learners.base import Learner
 from symlearn.learners.fit_arguments import renamed_arguments
@@ -259,7 +259,7 @@ class LogicConstraintInference(Learner):
         started = time.perf_counter()
         d = as_domain(world)
         episodes = d.episodes(demonstrations)
-        _check_available(episodes, d)
+        check_available(episodes, d)
         from symlearn.learners.constraints.bias_reach import bias_reach
         from symlearn.mdp.episodes import demonstrated_pairs
 
@@ -374,7 +374,7 @@ def unexplained_lines(unexplained: list[Unexplained], shown: int = 20) -> list[s
     return lines
 
 
-def _check_available(episodes, d: Domain) -> None:
+def check_available(episodes, d: Domain) -> None:
     """A demonstrated move that does not exist is a wrong file, not noise: say where it is."""
     for i, e in enumerate(episodes):
         n = len(e.actions)
@@ -383,10 +383,11 @@ def _check_available(episodes, d: Domain) -> None:
             t = int(bad[0])
             s, a = int(e.states[t]), int(e.actions[t])
             where = "after the episode ended" if d.mdp.terminal[s] else "there"
-            raise DataError(f"demonstration {i}, step {t}: action {d.action_names[a]!r} is not available in "
-                            f"state {d.state_names[s]!r} ({where})",
-                            hint=f"{d.name}: were the demonstrations recorded in another environment?")
+            raise DemonstrationError(f"demonstration {i}, step {t}: action {d.action_names[a]!r} is not available "
+                                     f"in state {d.state_names[s]!r} ({where})", demonstration=i, key="actions",
+                                     step=t, hint=f"{d.name}: were the demonstrations recorded in another "
+                                                  "environment?")
 
 
-__all__ = ["STOP_REASONS", "Induction", "LogicConstraintInference", "LogicIteration", "RuleInduction", "Unexplained",
+__all__ = ["STOP_REASONS", "Induction", "check_available", "LogicConstraintInference", "LogicIteration", "RuleInduction", "Unexplained",
            "unexplained_lines"]

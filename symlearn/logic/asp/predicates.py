@@ -65,11 +65,13 @@ def undefined_predicates(rules: Program, defined: set[Signature]) -> list[Undefi
             continue
         use = uses.located(index)
         source, line, column = rules.locate(use.line, use.column)
-        out[signature] = UndefinedPredicate(name, arity, source, line, column, _closest(signature, known))
+        out[signature] = UndefinedPredicate(name, arity, source, line, column, closest_signature(signature, known))
     return list(out.values())
 
 
-def _closest(signature: Signature, known: set[Signature]) -> str | None:
+def closest_signature(signature: Signature, known: set[Signature]) -> str | None:
+    """The defined ``name/arity`` a misspelt ``signature`` most likely means (same name, other
+    arity first; then a close name), or None."""
     name, arity = signature
     same_name = sorted(a for n, a in known if n == name)
     if same_name:  # the right name with another number of arguments
@@ -82,4 +84,4 @@ def _closest(signature: Signature, known: set[Signature]) -> str | None:
     return f"{close[0]}/{arity if arity in arities else arities[0]}"
 
 
-__all__ = ["UndefinedPredicate", "defined_signatures", "undefined_predicates"]
+__all__ = ["UndefinedPredicate", "closest_signature", "defined_signatures", "undefined_predicates"]
