@@ -256,8 +256,27 @@ def _learn(args: argparse.Namespace, out) -> None:
     if method == "mce-icrl":
         doc["cost_map"] = _cost_map(world, learner, args)
     if args.output:
+        if method == "logic" and learner.hypothesis_ is None:
+            raise _nothing_to_write(args.output, learner, doc["warnings"])
         doc["files"] = _write(args.output, method, doc, world, learner)
     out.result(doc, _render)
+
+
+def _nothing_to_write(output: str, learner, warnings: list[str]):
+    """No rules for ``-o``: say why the loop found none, and what to change."""
+    from symlearn.errors import SymlearnError
+
+    bias = [w for w in warnings if "#mode" in w]
+    if bias:
+        hint = (f"{len(bias)} declaration(s) of the bias can give no literal, e.g. {bias[0]}; fix the bias "
+                "(symlearn domain check DIR lists them)")
+    elif learner.stop_reason_ == "no_candidates":
+        hint = ("no rule of the bias forbids an undemonstrated pair without forbidding a demonstrated one: widen "
+                "the bias (more #modeb literals, a larger #maxv)")
+    else:
+        hint = "give more demonstrations or more iterations"
+    return SymlearnError(f"no rules were induced ({learner.stop_text()}), so there is nothing to write to {output}",
+                         hint=hint)
 
 
 def _check_known(episodes, known, domain, rules: str) -> None:

@@ -169,3 +169,22 @@ def test_iterations_below_one_are_refused(capsys, blocks):
     folder, demos = blocks
     code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", demos, "--iterations", 0)
     assert code == 2 and "--iterations must be at least 1, got 0" in err
+
+
+def test_no_rules_to_write_says_why(capsys, blocks, tmp_path):
+    folder, demos = blocks
+    (folder / "bias.las").write_text("#modeb(1, stak(var(block), var(block)), (positive)).\n#maxv(2).\n")
+    target = tmp_path / "rules.lp"
+    code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", demos, "-q", "-o", target)
+    assert code == 2 and not target.exists()
+    assert "no rules were induced (no undemonstrated pair the bias can forbid is left)" in err
+    assert f"{folder / 'bias.las'}:1:1: #modeb(stak(var(block),var(block)))" in err and "did you mean stack/2?" in err
+
+
+def test_a_feature_table_one_row_short_is_refused(capsys, blocks):
+    folder, _ = blocks
+    doc = json.loads((folder / "features.json").read_text())
+    doc["table"] = doc["table"][:-1]
+    (folder / "features.json").write_text(json.dumps(doc))
+    code, out, err = run(capsys, "domain", "check", folder)
+    assert code == 2 and f"{folder / 'features.json'}: state 12 of 13 has no features" in err
