@@ -32,7 +32,7 @@ def locate_step(path: str | os.PathLike[str], demonstration: int, key: str | Non
     column = None
     if key is not None:
         try:
-            column = _value_column(lines[number - 1], key, step)
+            column = value_column(lines[number - 1], key, step)
         except (ValueError, IndexError):
             column = None
     return number, column
@@ -44,7 +44,7 @@ def _skip(raw: str, i: int) -> int:
     return i
 
 
-def _value_column(raw: str, key: str, step: int | None) -> int | None:
+def value_column(raw: str, key: str, step: int | None = None) -> int | None:
     """1-based column of ``raw``'s top-level ``key`` value, or of its ``step``-th list element."""
     i = _skip(raw, 0)
     if raw[i] != "{":
@@ -81,4 +81,4 @@ def _value_column(raw: str, key: str, step: int | None) -> int | None:
     return None
 
 
-__all__ = ["locate_step"]
+__all__ = ["locate_step", "value_column"]

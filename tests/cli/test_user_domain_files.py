@@ -188,3 +188,45 @@ def test_a_feature_table_one_row_short_is_refused(capsys, blocks):
     (folder / "features.json").write_text(json.dumps(doc))
     code, out, err = run(capsys, "domain", "check", folder)
     assert code == 2 and f"{folder / 'features.json'}: state 12 of 13 has no features" in err
+
+
+# --- states.jsonl / actions.jsonl ---------------------------------------------------------------
+def _edit_line(path, number, old, new):
+    lines = path.read_text(encoding="utf-8").splitlines()
+    assert old in lines[number - 1]
+    lines[number - 1] = lines[number - 1].replace(old, new, 1)
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return lines[number - 1]
+
+
+@pytest.mark.parametrize("fact, mistake, hint", [
+    ("temp(21.5). ", ".5", "ASP has no decimal numbers"),
+    ("Temp(21). ", "(21", "Temp starts with a capital letter"),
+])
+def test_a_syntax_error_in_a_states_facts_is_located_in_the_line(capsys, blocks, fact, mistake, hint):
+    folder, _ = blocks
+    line = _edit_line(folder / "states.jsonl", 5, '"facts": "', '"facts": "on_table(a).  ' + fact)
+    code, out, err = run(capsys, "domain", "check", folder)
+    column = line.index(fact) + fact.index(mistake) + 1
+    assert code == 2 and err.startswith(f"symlearn: error: {folder / 'states.jsonl'}:5:{column}: clingo: syntax "
+                                        "error"), err
+    assert hint in err
+
+
+def test_a_repeated_action_atom_or_state_name_is_named_in_its_own_file(capsys, blocks, elevator):
+    folder, _ = elevator
+    _edit_line(folder / "actions.jsonl", 5, '"atom": "wait"', '"atom": "up"')
+    code, out, err = run(capsys, "domain", "check", folder)
+    assert code == 2 and f"{folder / 'actions.jsonl'}:5: action atom 'up' of id 4 is already that of id 0" in err
+    folder, _ = blocks
+    first = json.loads((folder / "states.jsonl").read_text(encoding="utf-8").splitlines()[0])["name"]
+    _edit_line(folder / "states.jsonl", 3, '"name": "', f'"name": "{first}", "old": "')
+    code, out, err = run(capsys, "domain", "check", folder)
+    assert code == 2 and f"{folder / 'states.jsonl'}:3: state name '{first}' of id 2 is already that of id 0" in err
+
+
+def test_a_gap_in_the_ids_points_at_the_largest_id(capsys, blocks):
+    folder, _ = blocks
+    _edit_line(folder / "states.jsonl", 8, '"id": 7,', '"id": 77,')
+    code, out, err = run(capsys, "domain", "check", folder)
+    assert code == 2 and f"{folder / 'states.jsonl'}:8: ids must be 0..77 without gaps; id 7 is missing" in err
