@@ -258,7 +258,7 @@ def _learn(args: argparse.Namespace, out) -> None:
     if args.output:
         if method == "logic" and learner.hypothesis_ is None:
             raise _nothing_to_write(args.output, learner, doc["warnings"])
-        doc["files"] = _write(args.output, method, doc, world, learner)
+        doc["files"] = _write(args.output, method, doc, world, learner, args)
     out.result(doc, _render)
 
 
@@ -398,12 +398,20 @@ def _rationality(args: argparse.Namespace, world: _World) -> float:
     return value
 
 
-def _write(output: str, method: str, doc: dict, world: _World, learner) -> list[str]:
-    """The learner's own file (``save``: what Python gives for the same fit), and for MCE-ICRL the
-    cost map beside it."""
+def _write(output: str, method: str, doc: dict, world: _World, learner, args=None) -> list[str]:
+    """The learner's own file (``save``: what Python gives for the same fit; for rules learned on a
+    domain folder the header's re-check command names the folder, the file and the demonstrations),
+    and for MCE-ICRL the cost map beside it."""
     path = Path(output)
     if method == "logic":
-        learner.to_lp(path)  # save, refusing an empty rule set with a hint
+        recheck = None
+        if getattr(args, "domain", None):  # the header's re-check command, ready to paste
+            import shlex
+
+            recheck = f"symlearn domain check {shlex.quote(args.domain)} --rules {shlex.quote(output)}"
+            if args.demos:
+                recheck += f" --demos {shlex.quote(args.demos)}"
+        learner.to_lp(path, recheck=recheck)  # refusing an empty rule set with a hint
         return [str(path)]
     files = [str(learner.save(path))]
     if method == "mce-icrl":

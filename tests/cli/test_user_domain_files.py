@@ -230,3 +230,17 @@ def test_a_gap_in_the_ids_points_at_the_largest_id(capsys, blocks):
     _edit_line(folder / "states.jsonl", 8, '"id": 7,', '"id": 77,')
     code, out, err = run(capsys, "domain", "check", folder)
     assert code == 2 and f"{folder / 'states.jsonl'}:8: ids must be 0..77 without gaps; id 7 is missing" in err
+
+
+def test_the_rule_files_recheck_command_can_be_pasted(capsys, blocks, tmp_path):
+    import shlex
+
+    folder, demos = blocks
+    target = tmp_path / "my rules.lp"
+    code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", demos, "-q", "-o", target)
+    assert code == 0, err
+    line = next(x for x in target.read_text().splitlines() if "re-check with:" in x)
+    command = shlex.split(line.split("re-check with: ", 1)[1])
+    assert command[:3] == ["symlearn", "domain", "check"] and str(target) in command
+    code, out, err = run(capsys, *command[1:])
+    assert code == 0 and "demonstrated steps the rules forbid: 0" in out

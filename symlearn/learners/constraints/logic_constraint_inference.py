@@ -339,7 +339,7 @@ class LogicConstraintInference(Learner):
         return STOP_REASONS.get(self.stop_reason_, self.stop_reason_).format(patience=self.patience,
                                                                               iterations=self.iterations)
 
-    def _lp_text(self) -> str:
+    def _lp_text(self, recheck: str | None = None) -> str:
         if self.hypothesis_ is None:
             return ""
         header = (f"Rules learned by logic constraint inference on {self.domain_name_} "
@@ -347,16 +347,23 @@ class LogicConstraintInference(Learner):
                   f"Stopped: {self.stop_text()}.")
         if self.unexplained_:
             header += "\n" + "\n".join(unexplained_lines(self.unexplained_))
-        return self.hypothesis_.lp_text(header, recheck="symlearn domain check DOMAIN_DIR --rules THIS.lp "
-                                                        "[--demos DEMOS.jsonl] (or Domain.rule_mask in Python)")
+        return self.hypothesis_.lp_text(header, recheck=recheck or "symlearn domain check DOMAIN_DIR --rules THIS.lp "
+                                                                   "[--demos DEMOS.jsonl] (or Domain.rule_mask in "
+                                                                   "Python)")
 
-    def to_lp(self, path: Any) -> Any:
-        """Write the rules as an editable ``.lp`` file with a provenance header (see :meth:`save`)."""
+    def to_lp(self, path: Any, *, recheck: str | None = None) -> Any:
+        """Write the rules as an editable ``.lp`` file with a provenance header (see :meth:`save`);
+        ``recheck``: the command the header's last line recommends after an edit (the CLI names
+        the domain folder, this file and the demonstrations), instead of the placeholder one."""
         self.check_fitted()
         if self.hypothesis_ is None:
             raise SymlearnError("no rules were induced, so there is nothing to write",
                                 hint="give more demonstrations or more iterations")
-        return self.save(path)
+        if recheck is None:
+            return self.save(path)
+        from symlearn.atomic import write_text
+
+        return write_text(path, self._lp_text(recheck))
 
 
 def unexplained_lines(unexplained: list[Unexplained], shown: int = 20) -> list[str]:
