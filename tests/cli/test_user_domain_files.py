@@ -244,3 +244,13 @@ def test_the_rule_files_recheck_command_can_be_pasted(capsys, blocks, tmp_path):
     assert command[:3] == ["symlearn", "domain", "check"] and str(target) in command
     code, out, err = run(capsys, *command[1:])
     assert code == 0 and "demonstrated steps the rules forbid: 0" in out
+
+
+def test_learn_dnf_reads_states_by_name_through_the_feature_map(capsys, blocks):
+    folder, demos = blocks
+    code, out, err = run(capsys, "learn", "dnf", "--domain", folder, "--demos", demos, "-q", "--json")
+    assert code == 0, err
+    assert "height" in out and "stacks" in out
+    _edit_demo(demos, 0, "states", 0, "no such state")
+    code, out, err = run(capsys, "learn", "dnf", "--domain", folder, "--demos", demos, "-q")
+    assert code == 2 and f"{demos}:2:" in err and "unknown state 'no such state'" in err
