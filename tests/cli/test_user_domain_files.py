@@ -254,3 +254,22 @@ def test_learn_dnf_reads_states_by_name_through_the_feature_map(capsys, blocks):
     _edit_demo(demos, 0, "states", 0, "no such state")
     code, out, err = run(capsys, "learn", "dnf", "--domain", folder, "--demos", demos, "-q")
     assert code == 2 and f"{demos}:2:" in err and "unknown state 'no such state'" in err
+
+
+def test_domain_check_reads_demonstrations_without_rules(capsys, blocks):
+    folder, demos = blocks
+    code, out, err = run(capsys, "domain", "check", folder, "--demos", demos, "--json")
+    assert code == 0, err
+    report = json.loads(out)["demonstrations"]
+    assert report["episodes"] == 40 and report["impossible_steps"] == 0 and 0 < report["pairs"] <= 24
+    # a step the model cannot make is counted and shown (the expert was put where it was not)
+    lines = demos.read_text(encoding="utf-8").splitlines()
+    index = next(i for i, line in enumerate(lines[1:]) if len(json.loads(line)["actions"]) == 1)
+    record = json.loads(lines[index + 1])
+    record["states"][1] = record["states"][0]  # the one move, and the expert stays where it was
+    lines[index + 1] = json.dumps(record, ensure_ascii=False)
+    demos.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    code, out, err = run(capsys, "domain", "check", folder, "--demos", demos)
+    assert code == 0, err
+    assert f"warning: 1 step(s) have probability zero under the model (first: demonstration {index}, step 0" in out
+    assert "Traceback" not in err and "UserWarning" not in err
