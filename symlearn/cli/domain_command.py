@@ -67,7 +67,9 @@ def _check_document(folder: str, rules: str | None, demos: str | None, allow_out
            "actions": domain.n_actions, "pairs": len(domain.pair_ids),
            "forbidden_by_truth": None if domain.truth is None else int(domain.truth_forbidden.sum()),
            "labeling": None if domain.labeling is None else list(domain.labeling.propositions),
-           "bias_warnings": [w.as_dict() for w in domain.bias_warnings()]}
+           "bias_warnings": [w.as_dict() for w in domain.bias_warnings()],
+           "truth_warnings": [u.as_dict() for u in domain.undefined_predicates(domain.sources["truth"])]
+           if domain.truth is not None and "truth" in domain.sources else []}
     if demos:
         doc["demonstrations"] = _demonstrations_report(domain, demos)
     if rules:
@@ -136,7 +138,7 @@ def _render(doc: dict) -> str:
         lines.append(f"truth rules forbid {doc['forbidden_by_truth']} pairs")
     if doc["labeling"] is not None:
         lines.append("labeling: " + ", ".join(doc["labeling"]))
-    for w in doc.get("bias_warnings", []):
+    for w in [*doc.get("bias_warnings", []), *doc.get("truth_warnings", [])]:
         where = ":".join(str(w[k]) for k in ("file", "line", "column") if w[k] is not None)
         lines.append(f"warning: {where}: {w['message']}" if where else f"warning: {w['message']}")
     if "demonstrations" in doc:

@@ -236,8 +236,12 @@ def _learn(args: argparse.Namespace, out) -> None:
         warnings.simplefilter("always")  # the learner's warnings (noise counted) belong in the result
         doc, learned, learner = _run(method, world, demos, args, known, out)
     doc["warnings"] = reading_warnings + list(dict.fromkeys(str(w.message) for w in caught))
-    if args.domain:  # a misspelt bias or --known file is silent to clingo: say where it is
+    if args.domain:  # a misspelt bias, truth or --known file is silent to clingo: say where it is
         doc["warnings"] += [w.located() for w in world.domain.bias_warnings()]
+        truth_file = world.domain.sources.get("truth")
+        if world.domain.truth is not None and truth_file:
+            doc["warnings"] += [f"{u.file}:{u.line}:{u.column}: truth: {u.message()}"
+                                for u in world.domain.undefined_predicates(truth_file)]
     if known is not None:
         doc["warnings"] += [f"{u.file}:{u.line}:{u.column}: --known: {u.message()}"
                             for u in world.domain.undefined_predicates(args.known)]

@@ -273,3 +273,12 @@ def test_domain_check_reads_demonstrations_without_rules(capsys, blocks):
     assert code == 0, err
     assert f"warning: 1 step(s) have probability zero under the model (first: demonstration {index}, step 0" in out
     assert "Traceback" not in err and "UserWarning" not in err
+
+
+def test_a_misspelt_truth_rule_is_warned_about(capsys, blocks):
+    folder, demos = blocks
+    (folder / "truth.lp").write_text("% truth\n:- stak(X, Y), heavier(X, Y).\n")
+    code, out, err = run(capsys, "domain", "check", folder, "--json")
+    assert code == 0 and json.loads(out)["truth_warnings"][0]["did_you_mean"] == "stack/2"
+    code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", demos, "-q")
+    assert code == 0 and f"warning: {folder / 'truth.lp'}:2:4: truth: predicate stak/2 is defined nowhere" in out
