@@ -18,7 +18,9 @@
 ``--validation FRACTION`` holds out that share of the demonstrations (whole episodes) before
 learning and reports (``validation`` in the JSON) the share of held-out expert steps the learned
 constraint forbids -- a check that needs no ground truth; a warning (``warnings``) when it is
-not 0.
+not 0. ``warnings`` also holds what the data or the folder's files give reason to doubt: steps the
+model gives probability zero, noise counted under ``--noise``, and (``--domain``) bias
+declarations, truth rules or ``--known`` rules that name a predicate defined nowhere.
 
 With ``--domain`` the whole run (reading the folder, grounding, learning, writing ``-o``) happens
 in a worker process bounded by ``--timeout`` (default 600 s) and ``--max-memory`` (default
@@ -216,7 +218,7 @@ def _learn(args: argparse.Namespace, out) -> None:
             warnings.simplefilter("always")
             demos = world.domain.episodes(demos)
             check_available(demos, world.domain)
-        reading_warnings = [f"{args.demos}: {w.message}" if args.demos else str(w.message) for w in caught]
+        reading_warnings = [f"{args.demos}: {m}" if args.demos else m for m in _user_warnings(caught)]
     known = None
     if args.known:
         known = world.domain.rule_mask(Path(args.known))
@@ -235,7 +237,7 @@ def _learn(args: argparse.Namespace, out) -> None:
     with warnings.catch_warnings(record=True) as caught, blame_file(args.demos):
         warnings.simplefilter("always")  # the learner's warnings (noise counted) belong in the result
         doc, learned, learner = _run(method, world, demos, args, known, out)
-    doc["warnings"] = reading_warnings + list(dict.fromkeys(str(w.message) for w in caught))
+    doc["warnings"] = reading_warnings + list(dict.fromkeys(_user_warnings(caught)))
     if args.domain:  # a misspelt bias, truth or --known file is silent to clingo: say where it is
         doc["warnings"] += [w.located() for w in world.domain.bias_warnings()]
         truth_file = world.domain.sources.get("truth")
@@ -281,6 +283,20 @@ def _nothing_to_write(output: str, learner, warnings: list[str]):
         hint = "give more demonstrations or more iterations"
     return SymlearnError(f"no rules were induced ({learner.stop_text()}), so there is nothing to write to {output}",
                          hint=hint)
+
+
+def _user_warnings(caught) -> list[str]:
+    """The messages of the recorded ``UserWarning`` s (symlearn's remarks about the data, for the
+    result); any other category (a library's deprecation, numpy's overflow) is shown as usual."""
+    import warnings
+
+    messages = []
+    for w in caught:
+        if issubclass(w.category, UserWarning):
+            messages.append(str(w.message))
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return messages
 
 
 def _check_known(episodes, known, domain, rules: str) -> None:
