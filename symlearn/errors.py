@@ -62,6 +62,27 @@ class DataError(SymlearnError):
     """Demonstrations or arrays that are malformed: ragged, NaN/inf, mismatched lengths, empty."""
 
 
+class DemonstrationError(DataError):
+    """A mistake in one demonstration: ``demonstration`` is its index in the file (0-based), and
+    where known ``key`` (``"states"``/``"actions"``) and ``step`` say which value. A command that
+    knows which file the demonstrations came from turns them into the file's line and column
+    (:func:`symlearn.cli.output.blame_file`)."""
+
+    def __init__(self, message: str, *, demonstration: int, key: str | None = None, step: int | None = None,
+                 **location) -> None:
+        super().__init__(message, **location)
+        self.demonstration, self.key, self.step = demonstration, key, step
+
+    def __reduce__(self):
+        return (_rebuild_demonstration, (type(self), self.message, self.file, self.line, self.column, self.hint,
+                                         self.demonstration, self.key, self.step))
+
+
+def _rebuild_demonstration(cls, message, file, line, column, hint, demonstration, key, step):
+    return cls(message, file=file, line=line, column=column, hint=hint, demonstration=demonstration, key=key,
+               step=step)
+
+
 class UnknownNameError(DataError):
     """A name that is none of the known ones (environment, task, domain); the hint lists them."""
 

@@ -7,12 +7,16 @@ every state-action context has exactly one answer set, and prints the domain's s
 ``--rules`` (learned, edited or hand-written integrity constraints) it counts the pairs they
 forbid, scores them against the folder's truth rules when there are any (FPR, FNR, accuracy,
 and which truth rules they miss), and, with ``--demos``, counts the demonstrated steps the rules
-would forbid: the re-check after editing a learned rule file.
+would forbid: the re-check after editing a learned rule file. ``--demos`` alone reads your
+demonstrations against the domain before you learn from them: an unknown state or action, or a
+move that does not exist, is an error at its line and column; it counts episodes, steps and
+distinct state-action pairs, and warns about steps the model gives probability zero.
 """
 
 from __future__ import annotations
 
 import argparse
+import warnings
 
 from symlearn.cli.output import blame_file
 
@@ -25,7 +29,8 @@ def register(subparsers, common) -> None:
                                 description=__doc__.split("\n\n")[2].replace("\n", " ") if __doc__ else None)
     check.add_argument("folder", metavar="DIR", help="the domain folder (with domain.toml)")
     check.add_argument("--rules", help="an .lp file of integrity constraints to score against the domain")
-    check.add_argument("--demos", help="demonstrations (.jsonl/.npz): count the steps the rules forbid")
+    check.add_argument("--demos", help="demonstrations (.jsonl/.npz): check them against the domain, and count "
+                                        "the steps the --rules forbid")
     check.add_argument("--timeout", default="600", metavar="S",
                        help="seconds for loading, grounding and scoring ('inf': no limit; default 600)")
     check.add_argument("--max-memory", default=None, metavar="MB",
@@ -37,11 +42,8 @@ def register(subparsers, common) -> None:
 
 
 def _check(args: argparse.Namespace, out) -> None:
-    from symlearn.errors import DataError
     from symlearn.worker import memory_limit_mb, run_limited, seconds_limit
 
-    if args.demos and not args.rules:
-        raise DataError("--demos is scored against --rules: give the rule file too")
     # the folder's background and rules are the user's programs: a recursive rule grounds until
     # memory is gone, and clingo cannot be interrupted, so the work runs in a bounded worker
     doc = run_limited(_check_document, args.folder, args.rules, args.demos, args.allow_outside,
@@ -64,7 +66,12 @@ def _check_document(folder: str, rules: str | None, demos: str | None, allow_out
     doc = {"domain": domain.name, "description": domain.description, "states": domain.n_states,
            "actions": domain.n_actions, "pairs": len(domain.pair_ids),
            "forbidden_by_truth": None if domain.truth is None else int(domain.truth_forbidden.sum()),
-           "labeling": None if domain.labeling is None else list(domain.labeling.propositions)}
+           "labeling": None if domain.labeling is None else list(domain.labeling.propositions),
+           "bias_warnings": [w.as_dict() for w in domain.bias_warnings()],
+           "truth_warnings": [u.as_dict() for u in domain.undefined_predicates(domain.sources["truth"])]
+           if domain.truth is not None and "truth" in domain.sources else []}
+    if demos:
+        doc["demonstrations"] = _demonstrations_report(domain, demos)
     if rules:
         from symlearn.learners.constraints.constraint_metrics import constraint_metrics
 
@@ -72,7 +79,7 @@ def _check_document(folder: str, rules: str | None, demos: str | None, allow_out
         learned = domain.rule_mask(Path(rules))
         doc.update({"rules": list(hypothesis.rules), "forbidden": int(learned.sum()),
                     "fpr": None, "fnr": None, "accuracy": None, "missed_truth_rules": None,
-                    "warnings": _undefined_predicates(domain, rules)})
+                    "warnings": [u.as_dict() for u in domain.undefined_predicates(rules)]})
         if domain.truth is not None:
             scores = constraint_metrics(learned, domain.truth_forbidden, ~domain.unavailable)
             truth = domain.hypothesis(domain.truth)
@@ -82,7 +89,8 @@ def _check_document(folder: str, rules: str | None, demos: str | None, allow_out
         if demos:
             from symlearn.data import load
 
-            with blame_file(demos):
+            with warnings.catch_warnings(), blame_file(demos):
+                warnings.simplefilter("ignore", UserWarning)  # counted in "demonstrations" already
                 episodes = domain.episodes(load(demos))
             hits = [(i, t) for i, e in enumerate(episodes)
                     for t in np.flatnonzero(learned[e.states[: len(e.actions)], e.actions]).tolist()]
@@ -96,16 +104,31 @@ def _check_document(folder: str, rules: str | None, demos: str | None, allow_out
     return doc
 
 
-def _undefined_predicates(domain, rules: str) -> list[dict]:
-    """Body predicates of the rule file that the background, the states' facts and the actions
-    define nowhere (a misspelt predicate makes a rule that never fires)."""
-    from symlearn.logic.asp.predicates import defined_signatures, undefined_predicates
-    from symlearn.logic.asp.program import Program
+def _demonstrations_report(domain, demos: str) -> dict:
+    """The demonstrations read against the domain: an unknown state or action, or a move that does
+    not exist, is an error located in the file; steps the model gives probability zero are counted."""
+    import numpy as np
 
-    facts = sorted({fact for s, a in domain.pair_ids for fact in domain.facts(s, a)})
-    defined = defined_signatures([domain.background + domain.bias.background,
-                                  Program.from_text(" ".join(facts), source=f"<{domain.name} state facts>")])
-    return [u.as_dict() for u in undefined_predicates(Program.from_file(rules, expand=False), defined)]
+    from symlearn.data import load
+    from symlearn.learners.constraints.logic_constraint_inference import check_available
+
+    with warnings.catch_warnings(), blame_file(demos):
+        warnings.simplefilter("ignore", UserWarning)  # the impossible steps are counted below
+        episodes = domain.episodes(load(demos))
+        check_available(episodes, domain)
+    P = domain.mdp.transitions
+    impossible = [(i, t) for i, e in enumerate(episodes) for t in range(min(len(e.actions), len(e.states) - 1))
+                  if P[e.states[t], e.actions[t], e.states[t + 1]] == 0]
+    first = None
+    if impossible:
+        i, t = impossible[0]
+        e = episodes[i]
+        first = {"demonstration": i, "step": t, "pair": domain.describe_pair(int(e.states[t]), int(e.actions[t])),
+                 "next_state": domain.state_names[int(e.states[t + 1])]}
+    return {"episodes": len(episodes), "steps": int(sum(len(e.actions) for e in episodes)),
+            "pairs": int(np.unique(np.concatenate([e.states[: len(e.actions)] * domain.n_actions + e.actions
+                                                   for e in episodes])).size),
+            "impossible_steps": len(impossible), "first_impossible_step": first}
 
 
 def _render(doc: dict) -> str:
@@ -115,6 +138,17 @@ def _render(doc: dict) -> str:
         lines.append(f"truth rules forbid {doc['forbidden_by_truth']} pairs")
     if doc["labeling"] is not None:
         lines.append("labeling: " + ", ".join(doc["labeling"]))
+    for w in [*doc.get("bias_warnings", []), *doc.get("truth_warnings", [])]:
+        where = ":".join(str(w[k]) for k in ("file", "line", "column") if w[k] is not None)
+        lines.append(f"warning: {where}: {w['message']}" if where else f"warning: {w['message']}")
+    if "demonstrations" in doc:
+        d = doc["demonstrations"]
+        lines.append(f"demonstrations: {d['episodes']} episodes, {d['steps']} steps, {d['pairs']} distinct "
+                     "state-action pairs")
+        if d["impossible_steps"]:
+            f = d["first_impossible_step"]
+            lines.append(f"warning: {d['impossible_steps']} step(s) have probability zero under the model (first: "
+                         f"demonstration {f['demonstration']}, step {f['step']}: {f['pair']} -> {f['next_state']})")
     if "rules" in doc:
         lines.append(f"rules ({len(doc['rules'])}) forbid {doc['forbidden']} pairs")
         if doc["fpr"] is not None:

@@ -18,7 +18,9 @@
 ``--validation FRACTION`` holds out that share of the demonstrations (whole episodes) before
 learning and reports (``validation`` in the JSON) the share of held-out expert steps the learned
 constraint forbids -- a check that needs no ground truth; a warning (``warnings``) when it is
-not 0.
+not 0. ``warnings`` also holds what the data or the folder's files give reason to doubt: steps the
+model gives probability zero, noise counted under ``--noise``, and (``--domain``) bias
+declarations, truth rules or ``--known`` rules that name a predicate defined nowhere.
 
 With ``--domain`` the whole run (reading the folder, grounding, learning, writing ``-o``) happens
 in a worker process bounded by ``--timeout`` (default 600 s) and ``--max-memory`` (default
@@ -175,6 +177,9 @@ def _learn_in_worker(job: dict) -> tuple[list[str], dict]:
 def _learn(args: argparse.Namespace, out) -> None:
     from symlearn.errors import DataError, SymlearnError
 
+    if args.iterations is not None and args.iterations < 1:  # 0 would read as "the default" below
+        raise SymlearnError(f"--iterations must be at least 1, got {args.iterations}",
+                            hint="leave it out for the default (logic: at most 20, stopping on convergence)")
     world = _world(args)
     method = args.method or ("logic" if world.domain is not None else "mce-icrl")
     if method == "logic" and world.domain is None:
@@ -200,19 +205,50 @@ def _learn(args: argparse.Namespace, out) -> None:
             demos = world.bundled.expert_demonstrations(args.n_demos, seed, source="sumo")
         else:
             demos = world.expert(args.n_demos, seed)
+    reading_warnings: list[str] = []
+    if world.domain is not None:
+        import warnings
+
+        from symlearn.learners.constraints.logic_constraint_inference import check_available
+
+        # read against the domain once, before any are held out: a mistake is named by its
+        # place in the file (line, column), atoms are matched as ASP reads them, and what looks
+        # like noise (a step of probability zero) is one warning of the result
+        with warnings.catch_warnings(record=True) as caught, blame_file(args.demos):
+            warnings.simplefilter("always")
+            demos = world.domain.episodes(demos)
+            check_available(demos, world.domain)
+        reading_warnings = [f"{args.demos}: {m}" if args.demos else m for m in _user_warnings(caught)]
     known = None
     if args.known:
         known = world.domain.rule_mask(Path(args.known))
-    held = None
+        if not args.noise:
+            with blame_file(args.demos):
+                _check_known(demos, known, world.domain, args.known)
+    held, held_numbers = None, None
     if args.validation is not None:
-        from symlearn.learners.validation import holdout
+        from symlearn.learners.validation import holdout, holdout_indices
 
+        n_all = len(demos)
         demos, held = holdout(demos, args.validation, seed=seed)
-    with blame_file(args.demos):
+        held_numbers = holdout_indices(n_all, args.validation, seed=seed)[1]  # their places in the file
+    import warnings
+
+    with warnings.catch_warnings(record=True) as caught, blame_file(args.demos):
+        warnings.simplefilter("always")  # the learner's warnings (noise counted) belong in the result
         doc, learned, learner = _run(method, world, demos, args, known, out)
-    doc["warnings"] = []
+    doc["warnings"] = reading_warnings + list(dict.fromkeys(_user_warnings(caught)))
+    if args.domain:  # a misspelt bias, truth or --known file is silent to clingo: say where it is
+        doc["warnings"] += [w.located() for w in world.domain.bias_warnings()]
+        truth_file = world.domain.sources.get("truth")
+        if world.domain.truth is not None and truth_file:
+            doc["warnings"] += [f"{u.file}:{u.line}:{u.column}: truth: {u.message()}"
+                                for u in world.domain.undefined_predicates(truth_file)]
+    if known is not None:
+        doc["warnings"] += [f"{u.file}:{u.line}:{u.column}: --known: {u.message()}"
+                            for u in world.domain.undefined_predicates(args.known)]
     if held is not None:
-        doc["validation"] = _validation(world, learned, held, args.validation, len(demos))
+        doc["validation"] = _validation(world, learned, held, args.validation, len(demos), held_numbers)
         warning = doc["validation"].pop("warning")
         if warning:
             doc["warnings"].append(warning)
@@ -226,11 +262,62 @@ def _learn(args: argparse.Namespace, out) -> None:
     if method == "mce-icrl":
         doc["cost_map"] = _cost_map(world, learner, args)
     if args.output:
-        doc["files"] = _write(args.output, method, doc, world, learner)
+        if method == "logic" and learner.hypothesis_ is None:
+            raise _nothing_to_write(args.output, learner, doc["warnings"])
+        doc["files"] = _write(args.output, method, doc, world, learner, args)
     out.result(doc, _render)
 
 
-def _validation(world: _World, learned, held, fraction: float, n_train: int) -> dict:
+def _nothing_to_write(output: str, learner, warnings: list[str]):
+    """No rules for ``-o``: say why the loop found none, and what to change."""
+    from symlearn.errors import SymlearnError
+
+    bias = [w for w in warnings if "#mode" in w]
+    if bias:
+        hint = (f"{len(bias)} declaration(s) of the bias can give no literal, e.g. {bias[0]}; fix the bias "
+                "(symlearn domain check DIR lists them)")
+    elif learner.stop_reason_ == "no_candidates":
+        hint = ("no rule of the bias forbids an undemonstrated pair without forbidding a demonstrated one: widen "
+                "the bias (more #modeb literals, a larger #maxv)")
+    else:
+        hint = "give more demonstrations or more iterations"
+    return SymlearnError(f"no rules were induced ({learner.stop_text()}), so there is nothing to write to {output}",
+                         hint=hint)
+
+
+def _user_warnings(caught) -> list[str]:
+    """The messages of the recorded ``UserWarning`` s (symlearn's remarks about the data, for the
+    result); any other category (a library's deprecation, numpy's overflow) is shown as usual."""
+    import warnings
+
+    messages = []
+    for w in caught:
+        if issubclass(w.category, UserWarning):
+            messages.append(str(w.message))
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return messages
+
+
+def _check_known(episodes, known, domain, rules: str) -> None:
+    """A demonstrated step that the ``--known`` rules forbid is a contradiction unless the data
+    is declared noisy: name the first one (its place in the file, the pair by name)."""
+    import numpy as np
+
+    from symlearn.errors import DemonstrationError
+
+    hits = [(i, int(t)) for i, e in enumerate(episodes)
+            for t in np.flatnonzero(known[e.states[: len(e.actions)], e.actions])]
+    if hits:
+        i, t = hits[0]
+        pair = domain.describe_pair(int(episodes[i].states[t]), int(episodes[i].actions[t]))
+        raise DemonstrationError(f"demonstration {i}, step {t}: {pair} breaks the given constraints (--known "
+                                 f"{rules}; {len(hits)} demonstrated step(s) in all)", demonstration=i, key="actions", step=t,
+                                 hint="fix the demonstrations or the rules, or pass --noise to treat such steps "
+                                      "as noise")
+
+
+def _validation(world: _World, learned, held, fraction: float, n_train: int, numbers=None) -> dict:
     """The held-out expert steps the learned constraint forbids (see symlearn.learners.validation)."""
     from symlearn.learners.validation import forbidden_pairs_report
     from symlearn.mdp.episodes import tabular_episodes
@@ -240,7 +327,7 @@ def _validation(world: _World, learned, held, fraction: float, n_train: int) -> 
     actions = getattr(world.mdp, "action_names", None)
     describe = (world.domain.describe_pair if world.domain is not None else
                 (lambda s, a: f"{names[s]} / {actions[a]}") if names is not None and actions is not None else None)
-    report = forbidden_pairs_report(learned, episodes, fraction, n_train, describe)
+    report = forbidden_pairs_report(learned, episodes, fraction, n_train, describe, numbers)
     return {**report.as_dict(), "warning": report.warning()}
 
 
@@ -331,12 +418,20 @@ def _rationality(args: argparse.Namespace, world: _World) -> float:
     return value
 
 
-def _write(output: str, method: str, doc: dict, world: _World, learner) -> list[str]:
-    """The learner's own file (``save``: what Python gives for the same fit), and for MCE-ICRL the
-    cost map beside it."""
+def _write(output: str, method: str, doc: dict, world: _World, learner, args=None) -> list[str]:
+    """The learner's own file (``save``: what Python gives for the same fit; for rules learned on a
+    domain folder the header's re-check command names the folder, the file and the demonstrations),
+    and for MCE-ICRL the cost map beside it."""
     path = Path(output)
     if method == "logic":
-        learner.to_lp(path)  # save, refusing an empty rule set with a hint
+        recheck = None
+        if getattr(args, "domain", None):  # the header's re-check command, ready to paste
+            import shlex
+
+            recheck = f"symlearn domain check {shlex.quote(args.domain)} --rules {shlex.quote(output)}"
+            if args.demos:
+                recheck += f" --demos {shlex.quote(args.demos)}"
+        learner.to_lp(path, recheck=recheck)  # refusing an empty rule set with a hint
         return [str(path)]
     files = [str(learner.save(path))]
     if method == "mce-icrl":

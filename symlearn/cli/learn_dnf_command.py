@@ -96,12 +96,27 @@ def _demonstrations(args: argparse.Namespace, note=None):
     if not args.demos and args.n_demos < 1:
         raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
     demos = demonstrations(target, args.demos, args.n_demos, seed=seed, note=note)
+    if args.domain and demos.state_kind == "symbol":  # states by their names in states.jsonl
+        demos = _states_as_ids(demos, domain, args.demos)
     if features is None:  # names the file carries (a flattened Minari/D4RL observation, a bundled expert's)
         meta = demos.metadata if isinstance(demos.metadata, dict) else {}
         named = meta.get("feature_names", meta.get("features"))
         if isinstance(named, list) and named and all(isinstance(n, str) for n in named):
             features = list(parse_feature_names(named, flag="the demonstrations' feature names"))
     return demos, None if features is None else (features if args.domain else list(features))
+
+
+def _states_as_ids(demos, domain, path):
+    """Demonstrations whose states are a domain's state names, with the names replaced by ids
+    (what the domain's feature map is indexed by); an unknown name is located in the file."""
+    from symlearn.cli.output import blame_file
+    from symlearn.data import Demonstrations, Trajectory
+    from symlearn.mdp.episodes import state_sequences
+
+    with blame_file(path):
+        ids = state_sequences(demos, domain.n_states, domain.state_names)
+    return Demonstrations([Trajectory(states=s, actions=t.actions, rewards=t.rewards, labels=t.labels, info=t.info)
+                           for s, t in zip(ids, demos)], metadata=demos.metadata)
 
 
 def _dnf(args: argparse.Namespace, out) -> None:

@@ -61,14 +61,25 @@ def blame_file(path: Any) -> Iterator[None]:
     Learners and evaluators check arrays, not files; the command knows which file the arrays
     came from, so the user reads ``demos.npz: episode 3 has NaN`` instead of a bare message.
     """
-    from symlearn.errors import DataError
+    import copy
+
+    from symlearn.errors import DataError, DemonstrationError
 
     try:
         yield
     except DataError as exc:
         if path is None or exc.file:
             raise
-        raise type(exc)(exc.message, file=path, line=exc.line, column=exc.column, hint=exc.hint) from None
+        located = copy.copy(exc)  # same type and fields (DemonstrationError keeps its index)
+        located.file = str(path)
+        if isinstance(exc, DemonstrationError) and exc.line is None and str(path).lower().endswith(".jsonl"):
+            from symlearn.data.jsonl_locate import locate_step
+
+            # "demonstration 3, step 5" -> the file's line and the column of that value
+            found = locate_step(path, exc.demonstration, exc.key, exc.step)
+            if found is not None:
+                located.line, located.column = found
+        raise located from None
 
 
 def validation_line(validation: dict, held_out: str) -> str:

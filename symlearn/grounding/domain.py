@@ -226,19 +226,46 @@ class Domain:
         mask = np.zeros(self.unavailable.shape, dtype=bool)
         if not hypothesis.rules:
             return mask
-        text = "\n".join(hypothesis.rules)
-        if any(not r.lstrip().startswith(":-") for r in hypothesis.rules):
-            raise SymlearnError("only integrity constraints (':- body.') can be turned into forbidden pairs",
-                                hint="a rule with a head changes the answer sets rather than removing them")
-        tagged = cl.tag_program(Program.from_text(text, source="<rules>"), "E__", guard=[f"{ACTIVE}(E__)"],
-                                constraint_head="fires__")
+        _check_constraints_only(hypothesis)
+        # tagged with the rules' origins, so clingo's errors (an unsafe variable) name the rule
+        # file's line and column, not a line of the generated program
+        tagged = cl.tag_programs_located([(hypothesis.program(), "E__", (f"{ACTIVE}(E__)",))],
+                                         constraint_head="fires__")[0]
         facts = "\n".join(f"{x}." for x in self._worlds)
         facts += "\n" + "\n".join(f"{ACTIVE}({i})." for i in range(len(self.pair_ids)))
-        program = Program.from_text(facts, source="<answer sets>") + Program.from_text(tagged, source="<rules>")
+        program = Program.from_text(facts, source="<answer sets>") + tagged
         for atom in cl.ground_atoms(program, [("fires__", 1)]):
             s, a = self.pair_ids[atom.arguments[0].number]
             mask[s, a] = True
         return mask
+
+    @cached_property
+    def defined_signatures(self) -> frozenset[tuple[str, int]]:
+        """``(name, arity)`` of every predicate the background (and the bias file's background
+        part) defines, some state's facts hold or some action atom is: what a rule or a mode
+        declaration may use and still fire."""
+        from symlearn.logic.asp.predicates import defined_signatures
+        from symlearn.logic.asp.program import Program
+
+        facts = sorted({fact for s, a in self.pair_ids for fact in self.facts(s, a)})
+        return frozenset(defined_signatures([self.background + self.bias.background,
+                                             Program.from_text(" ".join(facts), source=f"<{self.name} state facts>")]))
+
+    def undefined_predicates(self, rules: str | os.PathLike[str]) -> list:
+        """The predicates a rule file's bodies use that :attr:`defined_signatures` lacks (each an
+        :class:`~symlearn.logic.asp.predicates.UndefinedPredicate`, located in the file): a
+        misspelt predicate makes a rule that never fires."""
+        from symlearn.logic.asp.predicates import undefined_predicates
+        from symlearn.logic.asp.program import Program
+
+        return undefined_predicates(Program.from_file(rules, expand=False), set(self.defined_signatures))
+
+    def bias_warnings(self) -> list:
+        """Mode declarations of the bias that can give no useful literal (a predicate defined
+        nowhere, a ``const(t)`` without ``#constant``): see :mod:`symlearn.grounding.bias_check`."""
+        from symlearn.grounding.bias_check import bias_warnings
+
+        return bias_warnings(self)
 
     @cached_property
     def truth_forbidden(self) -> np.ndarray | None:
@@ -251,10 +278,37 @@ class Domain:
 
     # --- demonstrations -----------------------------------------------------------------------
     def episodes(self, demonstrations: Any) -> list:
-        """Demonstrations as checked integer episodes (state ids; action ids or atoms)."""
-        from symlearn.mdp.episodes import tabular_episodes
+        """Demonstrations as checked integer episodes (state ids or names; action ids or atoms).
 
-        return tabular_episodes(demonstrations, self.mdp)
+        An action atom is matched as ASP reads it, spaces ignored (``stack(b, a)`` is the action
+        ``stack(b,a)``), as :meth:`~symlearn.grounding.facts.FactGrounding.action_index` does."""
+        from symlearn.mdp.episodes import TabularEpisode, tabular_episodes
+
+        items = demonstrations if isinstance(demonstrations, (list, tuple)) else list(demonstrations)
+        if not all(isinstance(item, TabularEpisode) for item in items):
+            items = [self._atoms_as_named(item) for item in items]
+        return tabular_episodes(items, self.mdp)
+
+    def _atoms_as_named(self, item: Any) -> Any:
+        """``item`` with every action atom that is no action name exactly, but the atom of one
+        up to spacing, replaced by that name (anything else is left for the checks to report)."""
+        from types import SimpleNamespace
+
+        states, actions = (item.states, item.actions) if hasattr(item, "states") else item
+        if actions is None or isinstance(actions, np.ndarray) or not any(isinstance(a, str) for a in actions):
+            return item
+        names = set(self.action_names)
+        spelled = {}
+        for a in actions:
+            if isinstance(a, str) and a not in names and a not in spelled:
+                try:
+                    spelled[a] = self.action_names[self.grounding.action_index(a)]
+                except SymlearnError:
+                    continue
+        if not spelled:
+            return item
+        return SimpleNamespace(states=states, actions=[spelled.get(a, a) for a in actions],
+                               info=getattr(item, "info", None))
 
     # --- files --------------------------------------------------------------------------------
     @classmethod
@@ -276,6 +330,22 @@ class Domain:
     def __repr__(self) -> str:
         return (f"Domain({self.name!r}: {self.n_states} states x {self.n_actions} actions, "
                 f"{len(self.pair_ids)} pairs{', truth' if self.truth else ''})")
+
+
+def _check_constraints_only(hypothesis) -> None:
+    """Only integrity constraints forbid pairs: name the first rule with a head (file, line, column)."""
+    from clingo.ast import ASTType
+
+    for index, statement in enumerate(hypothesis.asts):
+        head = statement.head
+        if head.ast_type == ASTType.Literal and head.atom.ast_type == ASTType.BooleanConstant:
+            continue
+        where = hypothesis.origins[index] if hypothesis.origins and len(hypothesis.origins) == len(hypothesis.rules) \
+            else (None, None, None)
+        raise DataError(f"rule {hypothesis.rules[index]!r} has a head: only integrity constraints (':- body.') can "
+                        "be turned into forbidden pairs", file=where[0], line=where[1], column=where[2],
+                        hint="a rule with a head changes the answer sets rather than removing them; "
+                             "write it as ':- body.'")
 
 
 def _tag_fact(fact: str, tag: int) -> str:

@@ -121,7 +121,21 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
                     sources=sources, feature_map=feature_map)
     if truth is not None:  # a syntax error in the truth file should surface now, located
         domain.hypothesis(Path(sources["truth"]))
+    if feature_map is not None:
+        _check_every_state_has_features(feature_map, grounding.n_states, sources["features"])
     return domain
+
+
+def _check_every_state_has_features(feature_map, n_states: int, source: str) -> None:
+    """The folder's feature map must give every state id its features (a table one row short
+    would otherwise fail only when a learner reaches that state)."""
+    for state in range(n_states):
+        try:
+            feature_map.features(state)
+        except DataError as exc:
+            raise DataError(f"state {state} of {n_states} has no features: {exc.message}", file=source,
+                            hint="give one row per state id 0..S-1 (\"table\") or every state id in "
+                                 "\"table_by_state\"") from None
 
 
 def _shown(name: str, limit: int = 80) -> str:

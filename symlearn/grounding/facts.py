@@ -59,7 +59,10 @@ def split_facts(text: str | Iterable[str], *, source: str = "<facts>", line: int
         try:
             statements = parse_rules(stripped, source=source)
         except ParseError as exc:
-            raise ParseError(exc.message, file=source, line=line, column=column, hint=exc.hint) from None
+            offset = len(piece) - len(piece.lstrip())  # the error's column within the piece
+            where = column + offset + (exc.column - 1 if exc.line == 1 and exc.column else 0)
+            raise ParseError(exc.message, file=source, line=line, column=where,
+                             hint=_fact_hint(stripped) or exc.hint) from None
         for statement in statements:
             text_form = str(statement)
             if not is_ground_fact(statement):
@@ -70,18 +73,19 @@ def split_facts(text: str | Iterable[str], *, source: str = "<facts>", line: int
 
 
 def split_fact_groups(groups: Sequence[str | Iterable[str]], *, source: str = "<facts>",
-                      lines: Mapping[int, int] | None = None) -> list[Facts]:
+                      lines: Mapping[int, int] | None = None, columns: Mapping[int, int] | None = None) -> list[Facts]:
     """:func:`split_facts` of many groups (one per state or pair) with a single clingo parse.
 
     Each group is put on a line of its own and the statements are sorted back by line, so a
     domain with thousands of contexts is checked in one call. When anything is wrong, the groups
     are read one by one to report the first mistake where it was written (``lines[i]`` is the
-    file line of group ``i``).
+    file line of group ``i``, ``columns[i]`` the column where its text starts there).
     """
     from symlearn.logic.asp.clingo_adapter import is_ground_fact, parse_rules
 
     def one_by_one() -> list[Facts]:
-        return [split_facts(g, source=source, line=(lines or {}).get(i, 1)) for i, g in enumerate(groups)]
+        return [split_facts(g, source=source, line=(lines or {}).get(i, 1), column=(columns or {}).get(i, 1))
+                for i, g in enumerate(groups)]
 
     texts = []
     for group in groups:
@@ -116,9 +120,11 @@ class FactGrounding:
     def __init__(self, state_facts: Mapping[int, str | Iterable[str]] | Sequence[str | Iterable[str]],
                  action_atoms: Mapping[int, str] | Sequence[str], *,
                  pair_facts: Mapping[tuple[int, int], str | Iterable[str]] | None = None,
-                 source: str = "<fact grounding>", lines: Mapping[int, int] | None = None) -> None:
+                 source: str = "<fact grounding>", lines: Mapping[int, int] | None = None,
+                 columns: Mapping[int, int] | None = None) -> None:
         # every fact is checked and normalised by clingo's parser, one call for all states
-        self._states = tuple(split_fact_groups(_dense(state_facts, "state", source), source=source, lines=lines))
+        self._states = tuple(split_fact_groups(_dense(state_facts, "state", source), source=source, lines=lines,
+                                               columns=columns))
         self._lines = dict(lines or {})
         actions = _dense(action_atoms, "action", source)
         self._actions = tuple(_atom(a, source=source, line=i + 1) if isinstance(a, str) else _bad_atom(a, source)
@@ -189,11 +195,19 @@ class FactGrounding:
     def from_jsonl(cls, states_path: str | os.PathLike[str], actions_path: str | os.PathLike[str]) -> FactGrounding:
         """Read ``states.jsonl`` (``{"id", "facts"}``) and ``actions.jsonl`` (``{"id", "atom"}``)."""
         names: dict[int, str] = {}
-        states = _read_table(Path(states_path), "facts", names)
-        actions = _read_table(Path(actions_path), "atom")
-        atoms = {i: _atom(text, source=str(actions_path), line=line) for i, (text, line) in actions.items()}
+        state_columns: dict[int, int] = {}
+        action_columns: dict[int, int] = {}
+        states = _read_table(Path(states_path), "facts", names, state_columns)
+        actions = _read_table(Path(actions_path), "atom", columns=action_columns)
+        atoms = {i: _atom(text, source=str(actions_path), line=line, column=action_columns.get(i, 1))
+                 for i, (text, line) in actions.items()}
+        _refuse_repeats(atoms, {i: line for i, (_, line) in actions.items()}, str(actions_path), "action atom",
+                        "every action needs its own atom")
+        if names:
+            _refuse_repeats(names, {i: line for i, (_, line) in states.items()}, str(states_path), "state name",
+                            "\"name\" is optional; states without one are named by their id")
         grounding = cls({i: text for i, (text, _) in states.items()}, atoms, source=str(states_path),
-                        lines={i: line for i, (_, line) in states.items()})
+                        lines={i: line for i, (_, line) in states.items()}, columns=state_columns)
         grounding.state_names = tuple(names.get(i, str(i)) for i in range(len(states))) if names else None
         if names and len(set(grounding.state_names)) != len(grounding.state_names):
             raise DataError("state names must be unique", file=str(states_path),
@@ -215,6 +229,43 @@ class FactGrounding:
         write_text(actions_path, "".join(json.dumps({"id": i, "atom": a}) + "\n" for i, a in enumerate(self._actions)))
 
 
+def _text_column(raw: str, key: str) -> int:
+    """The column where the string value of ``key`` starts on the JSON line ``raw`` (just after
+    its opening quote; escapes before the mistake shift it), 1 when it cannot be found."""
+    from symlearn.data.jsonl_locate import value_column
+
+    try:
+        found = value_column(raw, key)
+    except (ValueError, IndexError):
+        return 1
+    return found + 1 if found else 1
+
+
+def _fact_hint(text: str) -> str | None:
+    """What a clingo syntax error in a state's facts most likely means, in the user's terms."""
+    import re
+
+    if re.search(r"\d\.\d", text):
+        return ("ASP has no decimal numbers: write 21.5 as a scaled integer (temp(215)) or a string "
+                "(temp(\"21.5\")); numeric features belong in features.json")
+    capital = re.search(r"(?:^|[\s.,;(])([A-Z_][A-Za-z0-9_']*)\s*\(", text)
+    if capital:
+        return (f"{capital.group(1)} starts with a capital letter or '_', which makes it a variable in ASP: "
+                "predicate and constant names start with a lowercase letter")
+    return None
+
+
+def _refuse_repeats(values: Mapping[int, str], lines: Mapping[int, int], source: str, what: str, hint: str) -> None:
+    """A value (an action atom, a state name) given to two ids: name both, at the second's line."""
+    first: dict[str, int] = {}
+    for i in sorted(values):
+        value = values[i]
+        if value in first:
+            raise DataError(f"{what} {value!r} of id {i} is already that of id {first[value]}", file=source,
+                            line=lines.get(i), hint=hint)
+        first[value] = i
+
+
 def _bad_atom(value: Any, source: str) -> str:
     raise DataError(f"an action atom must be text, got {value!r}", file=source)
 
@@ -233,9 +284,11 @@ def _dense(table: Any, what: str, source: str) -> list[Any]:
     return list(table)
 
 
-def _read_table(path: Path, key: str, names: dict[int, str] | None = None) -> dict[int, tuple[str, int]]:
+def _read_table(path: Path, key: str, names: dict[int, str] | None = None,
+                columns: dict[int, int] | None = None) -> dict[int, tuple[str, int]]:
     """``{id: (value, line)}`` of a JSONL file with objects ``{"id": int, key: str}``; optional
-    ``"name"`` strings are collected into ``names`` when it is given."""
+    ``"name"`` strings are collected into ``names`` when it is given, and the column where each
+    value's text starts on its line into ``columns`` (so a syntax error in it is located)."""
     try:
         from symlearn.input_limits import read_input_text
 
@@ -270,11 +323,15 @@ def _read_table(path: Path, key: str, names: dict[int, str] | None = None) -> di
                 raise DataError("\"name\" must be a non-empty string", file=str(path), line=number)
             names[ident] = item["name"]
         table[ident] = (value, number)
+        if columns is not None:
+            columns[ident] = _text_column(text, key)
     if not table:
         raise DataError("the file lists nothing", file=str(path))
     missing = sorted(set(range(max(table) + 1)) - set(table))
     if missing:
-        raise DataError(f"ids must be 0..{max(table)} without gaps; id {missing[0]} is missing", file=str(path))
+        largest = max(table)  # the line to look at: usually a typo in the largest id
+        raise DataError(f"ids must be 0..{largest} without gaps; id {missing[0]} is missing", file=str(path),
+                        line=table[largest][1], hint=f"this line has id {largest}; ids count 0, 1, 2, ... in any order")
     return table
 
 

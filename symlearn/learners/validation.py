@@ -66,21 +66,35 @@ def holdout(demonstrations: Any, fraction: float, *, seed: int = 0):
     if isinstance(fraction, bool) or not isinstance(fraction, (int, float)) or not 0.0 < float(fraction) < 1.0:
         raise SymlearnError(f"the validation fraction must lie strictly between 0 and 1, got {fraction!r}",
                             hint="e.g. --validation 0.2 holds out a fifth of the demonstrations")
-    demos = demonstrations if isinstance(demonstrations, Demonstrations) else Demonstrations(list(demonstrations))
+    from symlearn.mdp.episodes import TabularEpisode
+
+    items = demonstrations if isinstance(demonstrations, Demonstrations) else list(demonstrations)
+    if isinstance(items, list) and not (items and all(isinstance(e, TabularEpisode) for e in items)):
+        items = Demonstrations(items)  # checked episodes stay a list (their split keeps them checked)
+    demos = items
     n = len(demos)
     if n < 2:
         raise DataError(f"validation needs at least 2 demonstrations to hold some out, got {n}")
+    train, held = holdout_indices(n, fraction, seed=seed)
+    if isinstance(demos, list):
+        return [demos[i] for i in train], [demos[i] for i in held]
+    return demos[train], demos[held]
+
+
+def holdout_indices(n: int, fraction: float, *, seed: int = 0) -> tuple[list[int], list[int]]:
+    """``(train, held_out)``: the sorted indices of :func:`holdout`'s split of ``n`` demonstrations."""
     n_held = min(n - 1, max(1, int(round(fraction * n))))
     order = np.random.default_rng(seed).permutation(n)
-    held, train = sorted(order[:n_held].tolist()), sorted(order[n_held:].tolist())
-    return demos[train], demos[held]
+    return sorted(order[n_held:].tolist()), sorted(order[:n_held].tolist())
 
 
 def forbidden_pairs_report(forbidden: np.ndarray, episodes: Sequence[tuple[np.ndarray, np.ndarray]],
                            fraction: float, n_train: int,
-                           describe: Callable[[int, int], str] | None = None) -> Validation:
+                           describe: Callable[[int, int], str] | None = None,
+                           numbers: Sequence[int] | None = None) -> Validation:
     """The held-out steps ``(s_t, a_t)`` of ``episodes`` (``(states, actions)`` id arrays) that the
-    ``(S, A)`` mask ``forbidden`` forbids."""
+    ``(S, A)`` mask ``forbidden`` forbids. ``numbers``: each episode's index among all the
+    demonstrations (as in their file), so the first forbidden step is named where it is."""
     steps = hits = 0
     first = None
     for i, (states, actions) in enumerate(episodes):
@@ -91,7 +105,8 @@ def forbidden_pairs_report(forbidden: np.ndarray, episodes: Sequence[tuple[np.nd
         if len(bad) and first is None:
             t = int(bad[0])
             what = describe(int(states[t]), int(actions[t])) if describe else f"state {states[t]}, action {actions[t]}"
-            first = f"held-out demonstration {i}, step {t}: {what}"
+            first = (f"held-out demonstration {i}, step {t}: {what}" if numbers is None else
+                     f"demonstration {numbers[i]} (held out), step {t}: {what}")
     return Validation(float(fraction), n_train, len(episodes), steps, hits, first)
 
 
@@ -111,4 +126,4 @@ def unsafe_states_report(predict: Callable[[np.ndarray], np.ndarray], held_state
     return Validation(float(fraction), n_train, len(held_states), steps, hits, first, unit="states")
 
 
-__all__ = ["Validation", "forbidden_pairs_report", "holdout", "unsafe_states_report"]
+__all__ = ["Validation", "forbidden_pairs_report", "holdout", "holdout_indices", "unsafe_states_report"]

@@ -16,7 +16,7 @@ from typing import Any, Literal
 
 import numpy as np
 
-from symlearn.errors import DataError, ModelError
+from symlearn.errors import DataError, DemonstrationError, ModelError
 from symlearn.mdp import TabularMDP
 
 
@@ -49,11 +49,13 @@ def tabular_episodes(demos: Iterable[Any], mdp: TabularMDP) -> list[TabularEpiso
     for i, item in enumerate(items):
         states, actions = (item.states, item.actions) if hasattr(item, "states") else item
         if actions is None:
-            raise DataError(f"demonstration {i} has no actions", hint="constraint inference needs state-action pairs")
-        s = _ids(states, f"demonstration {i}: states", mdp.n_states, "state", mdp.state_names)
-        a = _ids(actions, f"demonstration {i}: actions", mdp.n_actions, "action", mdp.action_names)
+            raise DemonstrationError(f"demonstration {i} has no actions", demonstration=i,
+                                     hint="constraint inference needs state-action pairs")
+        s = _ids(states, f"demonstration {i}: states", mdp.n_states, "state", mdp.state_names, (i, "states"))
+        a = _ids(actions, f"demonstration {i}: actions", mdp.n_actions, "action", mdp.action_names, (i, "actions"))
         if len(a) not in (len(s), len(s) - 1):
-            raise DataError(f"demonstration {i}: {len(a)} actions for {len(s)} states")
+            raise DemonstrationError(f"demonstration {i}: {len(a)} actions for {len(s)} states", demonstration=i,
+                                     key="actions")
         _check_goal_label(i, getattr(item, "info", None), s, mdp)
         episodes.append(TabularEpisode(s, a))
     if not episodes:
@@ -81,10 +83,11 @@ def state_sequences(demos: Iterable[Any], n_states: int, names: Sequence[str] = 
         try:
             array = np.asarray(states)
         except (TypeError, ValueError):
-            raise DataError(f"demonstration {i}: states must be state ids") from None
+            raise DemonstrationError(f"demonstration {i}: states must be state ids", demonstration=i,
+                                     key="states") from None
         if array.size == 0:
-            raise DataError(f"demonstration {i} is empty")
-        sequences.append(_ids(array, f"demonstration {i}: states", n_states, "state", names))
+            raise DemonstrationError(f"demonstration {i} is empty", demonstration=i, key="states")
+        sequences.append(_ids(array, f"demonstration {i}: states", n_states, "state", names, (i, "states")))
     if not sequences:
         raise DataError("no demonstrations were given")
     return sequences
@@ -106,31 +109,41 @@ def _check_goal_label(i: int, info: Any, states: np.ndarray, mdp: TabularMDP) ->
                         hint="a demonstration must end where its goal is; fix the label or cut the trajectory")
 
 
-def _ids(values: Any, where: str, size: int, what: str, names: Sequence[str]) -> np.ndarray:
+def _ids(values: Any, where: str, size: int, what: str, names: Sequence[str],
+         origin: tuple[int, str] | None = None) -> np.ndarray:
+    """``values`` as checked integer ids; ``origin`` (demonstration index, key) makes the errors
+    :class:`DemonstrationError` s that a command can locate in the file."""
+
+    def error(message: str, step: int | None = None, hint: str | None = None) -> DataError:
+        if origin is None:
+            return DataError(message, hint=hint)
+        return DemonstrationError(message, demonstration=origin[0], key=origin[1], step=step, hint=hint)
+
     array = np.asarray(values)
     if array.dtype.kind == "b" or array.dtype.kind == "O":
-        raise DataError(f"{where} must be integer {what} ids, got {array.dtype}")
+        raise error(f"{where} must be integer {what} ids, got {array.dtype}")
     if array.ndim != 1:
-        raise DataError(f"{where} must be one {what} id per step, got shape {array.shape}")
+        raise error(f"{where} must be one {what} id per step, got shape {array.shape}")
     if array.dtype.kind in "US":  # names: map through the model's names
         lookup = {n: k for k, n in enumerate(names)}
-        unknown = [v for v in array.tolist() if v not in lookup]
+        unknown = [t for t, v in enumerate(array.tolist()) if v not in lookup]
         if unknown:
             hint = (f"the model's {what}s are {', '.join(names[:8])}{'...' if len(names) > 8 else ''}" if names
                     else f"the model's {what}s have no names: give ids 0..{size - 1}")
-            raise DataError(f"{where}: unknown {what} {unknown[0]!r}", hint=hint)
+            raise error(f"{where}: unknown {what} {array.tolist()[unknown[0]]!r} (step {unknown[0]})", unknown[0], hint)
         return np.array([lookup[v] for v in array.tolist()], dtype=np.int64)
     if array.size and (array.dtype.kind not in "iu"):
         if array.dtype.kind == "f" and np.all(np.equal(np.mod(array, 1), 0)):
             array = array.astype(np.int64)
         else:
-            raise DataError(f"{where} must be integer {what} ids, got {array.dtype}")
+            raise error(f"{where} must be integer {what} ids, got {array.dtype}")
     array = array.astype(np.int64)
     bad = np.flatnonzero((array < 0) | (array >= size))
     if bad.size:
         step = int(bad[0])
-        raise DataError(f"{where}: step {step}: {what} {int(array[step])} is outside the environment (0..{size - 1})",
-                        hint=f"{bad.size} step(s) out of range; were the demonstrations recorded in another environment?")
+        raise error(f"{where}: step {step}: {what} {int(array[step])} is outside the environment (0..{size - 1})",
+                    step, hint=f"{bad.size} step(s) out of range; were the demonstrations recorded in another "
+                               "environment?")
     return array
 
 
@@ -157,9 +170,10 @@ def check_constraints(
         count += int(hits.size)
     if count and on_violation == "error":
         i, t, s, a = first
-        raise DataError(f"demonstration {i}, step {t}: state {s}, action {a} breaks the given constraints "
-                        f"({count} violating step(s) in all)",
-                        hint="fix the demonstrations or the constraint set; on_violation='warn' treats them as noise")
+        raise DemonstrationError(f"demonstration {i}, step {t}: state {s}, action {a} breaks the given constraints "
+                                 f"({count} violating step(s) in all)", demonstration=i, key="actions", step=t,
+                                 hint="fix the demonstrations or the constraint set; on_violation='warn' treats "
+                                      "them as noise")
     if count:
         warnings.warn(f"{count} demonstrated step(s) break the given constraints (treated as noise)", stacklevel=3)
     return count

@@ -47,7 +47,8 @@ def test_demonstrations_outside_the_environment(capsys, tmp_path):
     Demonstrations([Trajectory([13, 14, 4000])]).save(path)
     code, _, err = run(capsys, "learn", "spec", "--env", "office-1", "--demos", path)
     assert code == 2
-    assert f"symlearn: error: {path}: demonstration 0: states: step 2: state 4000 is outside" in err
+    # located: the trajectory's line and the column of the value 4000
+    assert f"symlearn: error: {path}:2:21: demonstration 0: states: step 2: state 4000 is outside" in err
 
 
 def test_unknown_proposition_in_a_labeling_file(capsys, tmp_path):

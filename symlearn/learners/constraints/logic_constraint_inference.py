@@ -38,7 +38,7 @@ from typing import Any
 
 import numpy as np
 
-from symlearn.errors import DataError, SymlearnError
+from symlearn.errors import DemonstrationError, SymlearnError
 from symlearn.grounding import Domain, as_domain
 from symlearn.learners.base import Learner
 from symlearn.learners.fit_arguments import renamed_arguments
@@ -259,7 +259,7 @@ class LogicConstraintInference(Learner):
         started = time.perf_counter()
         d = as_domain(world)
         episodes = d.episodes(demonstrations)
-        _check_available(episodes, d)
+        check_available(episodes, d)
         from symlearn.learners.constraints.bias_reach import bias_reach
         from symlearn.mdp.episodes import demonstrated_pairs
 
@@ -339,7 +339,7 @@ class LogicConstraintInference(Learner):
         return STOP_REASONS.get(self.stop_reason_, self.stop_reason_).format(patience=self.patience,
                                                                               iterations=self.iterations)
 
-    def _lp_text(self) -> str:
+    def _lp_text(self, recheck: str | None = None) -> str:
         if self.hypothesis_ is None:
             return ""
         header = (f"Rules learned by logic constraint inference on {self.domain_name_} "
@@ -347,16 +347,23 @@ class LogicConstraintInference(Learner):
                   f"Stopped: {self.stop_text()}.")
         if self.unexplained_:
             header += "\n" + "\n".join(unexplained_lines(self.unexplained_))
-        return self.hypothesis_.lp_text(header, recheck="symlearn domain check DOMAIN_DIR --rules THIS.lp "
-                                                        "[--demos DEMOS.jsonl] (or Domain.rule_mask in Python)")
+        return self.hypothesis_.lp_text(header, recheck=recheck or "symlearn domain check DOMAIN_DIR --rules THIS.lp "
+                                                                   "[--demos DEMOS.jsonl] (or Domain.rule_mask in "
+                                                                   "Python)")
 
-    def to_lp(self, path: Any) -> Any:
-        """Write the rules as an editable ``.lp`` file with a provenance header (see :meth:`save`)."""
+    def to_lp(self, path: Any, *, recheck: str | None = None) -> Any:
+        """Write the rules as an editable ``.lp`` file with a provenance header (see :meth:`save`);
+        ``recheck``: the command the header's last line recommends after an edit (the CLI names
+        the domain folder, this file and the demonstrations), instead of the placeholder one."""
         self.check_fitted()
         if self.hypothesis_ is None:
             raise SymlearnError("no rules were induced, so there is nothing to write",
                                 hint="give more demonstrations or more iterations")
-        return self.save(path)
+        if recheck is None:
+            return self.save(path)
+        from symlearn.atomic import write_text
+
+        return write_text(path, self._lp_text(recheck))
 
 
 def unexplained_lines(unexplained: list[Unexplained], shown: int = 20) -> list[str]:
@@ -374,7 +381,7 @@ def unexplained_lines(unexplained: list[Unexplained], shown: int = 20) -> list[s
     return lines
 
 
-def _check_available(episodes, d: Domain) -> None:
+def check_available(episodes, d: Domain) -> None:
     """A demonstrated move that does not exist is a wrong file, not noise: say where it is."""
     for i, e in enumerate(episodes):
         n = len(e.actions)
@@ -383,10 +390,11 @@ def _check_available(episodes, d: Domain) -> None:
             t = int(bad[0])
             s, a = int(e.states[t]), int(e.actions[t])
             where = "after the episode ended" if d.mdp.terminal[s] else "there"
-            raise DataError(f"demonstration {i}, step {t}: action {d.action_names[a]!r} is not available in "
-                            f"state {d.state_names[s]!r} ({where})",
-                            hint=f"{d.name}: were the demonstrations recorded in another environment?")
+            raise DemonstrationError(f"demonstration {i}, step {t}: action {d.action_names[a]!r} is not available "
+                                     f"in state {d.state_names[s]!r} ({where})", demonstration=i, key="actions",
+                                     step=t, hint=f"{d.name}: were the demonstrations recorded in another "
+                                                  "environment?")
 
 
-__all__ = ["STOP_REASONS", "Induction", "LogicConstraintInference", "LogicIteration", "RuleInduction", "Unexplained",
+__all__ = ["STOP_REASONS", "Induction", "check_available", "LogicConstraintInference", "LogicIteration", "RuleInduction", "Unexplained",
            "unexplained_lines"]

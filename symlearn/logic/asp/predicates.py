@@ -76,7 +76,7 @@ def undefined_predicates(rules: Program, defined: set[Signature]) -> list[Undefi
 MAX_SUGGESTIONS = 100
 
 
-class _Suggestions:
+class _Suggestions:  # also used by grounding.bias_check
     """The closest known predicate to a misspelt one, with the known names indexed once."""
 
     def __init__(self, known: set[Signature]) -> None:
@@ -101,4 +101,11 @@ class _Suggestions:
         return f"{close[0]}/{arity if arity in arities else arities[0]}"
 
 
-__all__ = ["UndefinedPredicate", "defined_signatures", "undefined_predicates"]
+def closest_signature(signature: Signature, known: set[Signature]) -> str | None:
+    """The defined ``name/arity`` a misspelt ``signature`` most likely means (same name, other
+    arity first; then a close name), or None. For many lookups against one ``known``, index it
+    once with :class:`_Suggestions` (as :func:`undefined_predicates` does)."""
+    return _Suggestions(known)(signature)
+
+
+__all__ = ["UndefinedPredicate", "closest_signature", "defined_signatures", "undefined_predicates"]

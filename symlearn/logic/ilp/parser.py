@@ -347,6 +347,14 @@ def _syntax_error(exc: UnexpectedInput, text: str, source: str) -> ParseError:
     if isinstance(exc, UnexpectedToken):
         expected = sorted(_TOKEN_NAMES.get(t, repr(t)) for t in exc.expected if not t.startswith("__"))
         got = exc.token.value if exc.token is not None else "end of file"
+        if str(got).startswith("#") and exc.pos_in_stream:
+            # the next declaration began before this one ended: name the unfinished one and
+            # point just after its last character, where the '.' belongs
+            line, column, end = _end_of_code_before(text, exc.pos_in_stream)
+            previous = _statement_at(text, end - 1)
+            return ParseError(f"the {previous} does not end with '.' (the next declaration, {got!r}, starts on line "
+                              f"{exc.line})", file=source, line=line, column=column,
+                              hint="end every declaration and statement with '.'")
         message = f"unexpected {got!r} in {statement}"
         if expected and len(expected) <= 6:
             message += f"; expected {' or '.join(expected)}"
@@ -356,6 +364,20 @@ def _syntax_error(exc: UnexpectedInput, text: str, source: str) -> ParseError:
         message = str(exc).splitlines()[0]
     return ParseError(message, file=source, line=line, column=column,
                       hint="declarations look like #modeb(1, p(var(t))). and every statement ends with '.'")
+
+
+def _end_of_code_before(text: str, pos: int) -> tuple[int, int, int]:
+    """(line, column, offset) just after the last character before ``pos`` that is neither blank
+    nor inside a ``%`` comment."""
+    lines = text[:pos].split("\n")
+    offset = pos - len(lines[-1])
+    for index in range(len(lines) - 1, -1, -1):
+        code = lines[index].split("%", 1)[0].rstrip()
+        if code:
+            return index + 1, len(code) + 1, offset + len(code)
+        if index:
+            offset -= len(lines[index - 1]) + 1
+    return 1, 1, 0
 
 
 def _statement_at(text: str, pos: int | None) -> str:
