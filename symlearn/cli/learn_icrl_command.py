@@ -101,11 +101,11 @@ def register_learn(commands, common) -> None:
                           "of them (held-out AUC; default 0.01, 0 = every candidate)")
     cmd.add_argument("--cost-sparsity", type=float, default=0.0,
                      help="mce-icrl: group-sparsity penalty on the cost network's inputs (default 0 = off)")
-    cmd.add_argument("--reset-actor", choices=("never", "every", "last", "auto"), default="never",
-                     help="which policy phases start from a fresh actor (critic kept): never (default), every, "
-                          "the last (the returned policy learns afresh on the final cost), or auto (mce-icrl: "
-                          "after two phases in a row that left the learned cost's excess over the expert's "
-                          "almost unchanged)")
+    cmd.add_argument("--reset-actor", choices=("never", "every", "last", "auto"), default="auto",
+                     help="which policy phases start from a fresh actor (critic kept): auto (default: after two "
+                          "phases in a row that left the learned cost's excess over the expert's almost "
+                          "unchanged), never, every, or the last (the returned policy learns afresh on the "
+                          "final cost)")
     cmd.add_argument("--lambda-lr", type=float,
                      help="the multipliers' step per iteration, mce-icrl, me-icrl and vme-icrl (default 0.02; 0.1 met "
                           "the blocked HalfCheetah target with mce-icrl)")

@@ -68,7 +68,7 @@ class NeuralGACL(Learner):
     def __init__(self, *, beta: float = 0.01, n_iterations: int = 10, nominal_steps: int = 30_000,
                  policy_steps: int = 20_480, features: str = "state", obs_dims: Sequence[int] | None = None,
                  hidden_sizes: Sequence[int] = (64, 64), learning_rate: float = 3e-3, disc_steps: int = 20,
-                 n_policy_episodes: int = 16, bound_penalty: float = 1.0, reset_actor: str = "never",
+                 n_policy_episodes: int = 16, bound_penalty: float = 1.0, reset_actor: str = "auto",
                  select_inputs: float = 0.01, ppo: dict[str, Any] | None = None,
                  random_state: int | None = 0) -> None:
         self.beta = beta

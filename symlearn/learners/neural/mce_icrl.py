@@ -37,7 +37,7 @@ exactly. Here every exact step has its sampled, neural counterpart:
    zero for every action the environment can tell apart, keeps the mean at the bound (-1.06,
    standard deviation 0.4 on the same run). ``bound_penalty=0`` turns it off.
 
-   ``reset_actor`` (``"never"``, ``"every"``, ``"last"``): which policy phases start from a
+   ``reset_actor`` (``"auto"``, the default, ``"never"``, ``"every"``, ``"last"``): which policy phases start from a
    freshly initialised actor (the critic, whose values carry over, and the observation statistics
    are kept). A policy continued from a nearly deterministic one does not leave a behaviour the
    cost now forbids when the way out needs many consecutive deviations from it (measured: the
@@ -170,7 +170,7 @@ class NeuralMCEICRL(Learner):
                  n_features: int = 4, hidden_sizes: Sequence[int] = (64, 64), pretrain: bool = True,
                  pretrain_epochs: int = 30, lambda_lr: float = 0.02, zeta_lr: float = 3e-3, zeta_decay: float = 0.9,
                  zeta_steps: int = 20, alpha: float = 0.0, discount: float = 0.99, n_policy_episodes: int = 16,
-                 bound_penalty: float = 1.0, lambda_init: float = 0.0, reset_actor: str = "never",
+                 bound_penalty: float = 1.0, lambda_init: float = 0.0, reset_actor: str = "auto",
                  select_inputs: float = 0.01, input_sparsity: float = 0.0, ppo: dict[str, Any] | None = None,
                  random_state: int | None = 0) -> None:
         self.beta = beta

@@ -109,7 +109,7 @@ class NeuralMEICRL(Learner):
                  policy_steps: int = 20_480, features: str = "state", obs_dims: Sequence[int] | None = None,
                  hidden_sizes: Sequence[int] = (64, 64), learning_rate: float = 3e-3, backward_epochs: int = 20,
                  regularizer: float = 0.1, target_kl: float = 10.0, n_policy_episodes: int = 16,
-                 bound_penalty: float = 1.0, reset_actor: str = "never", ppo: dict[str, Any] | None = None,
+                 bound_penalty: float = 1.0, reset_actor: str = "auto", ppo: dict[str, Any] | None = None,
                  lagrangian: dict[str, Any] | None = None, lambda_lr: float | None = 0.02, discount: float = 0.99,
                  select_inputs: float = 0.01, random_state: int | None = 0) -> None:
         self.beta = beta

@@ -74,7 +74,7 @@ class NeuralVMEICRL(NeuralMEICRL):
                  hidden_sizes: Sequence[int] = (64, 64), learning_rate: float = 3e-3, backward_epochs: int = 20,
                  kl_weight: float = 0.1, prior: Sequence[float] = (1.0, 0.1),
                  concentration: Sequence[float] = (1.0, 100.0), target_kl: float = 10.0,
-                 n_policy_episodes: int = 16, bound_penalty: float = 1.0, reset_actor: str = "never",
+                 n_policy_episodes: int = 16, bound_penalty: float = 1.0, reset_actor: str = "auto",
                  ppo: dict[str, Any] | None = None, lagrangian: dict[str, Any] | None = None,
                  lambda_lr: float | None = 0.02, discount: float = 0.99, select_inputs: float = 0.01,
                  random_state: int | None = 0) -> None:
