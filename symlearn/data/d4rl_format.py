@@ -171,12 +171,13 @@ def _from_table(path: Path, shapes: dict[str, tuple[int, ...]], read: Callable[[
             rows = shapes[name][0] if shapes[name] else 0
             raise DataError(f"{name!r} has {rows} rows, 'observations' has {n}", file=path,
                             hint="every column has one row per transition")
-        if name in ("rewards", "terminals", "timeouts") and name in shapes and len(shapes[name]) != 1:
+        if name in ("rewards", "terminals", "timeouts") and name in shapes and shapes[name] not in ((n,), (n, 1)):
             raise DataError(f"{name!r} has shape {shapes[name]}, expected ({n},)", file=path)
     if "next_observations" in shapes and shapes["next_observations"] != shapes["observations"]:
         raise DataError(f"'next_observations' has shape {shapes['next_observations']}, 'observations' has "
                         f"{shapes['observations']}", file=path)
     header = _read_header(path, shapes, read) if HEADER in shapes else None
+    read = _flat_per_row(read, ("rewards", "terminals", "timeouts"))
     ends = _flags(path, "terminals", read("terminals"))
     timeouts = _flags(path, "timeouts", read("timeouts")) if "timeouts" in shapes else np.zeros(n, dtype=bool)
     observations = read("observations")
@@ -214,6 +215,15 @@ def _from_table(path: Path, shapes: dict[str, tuple[int, ...]], read: Callable[[
         return Demonstrations(trajectories, metadata=metadata)
     except DataError as exc:
         raise DataError(exc.message, file=path, hint=exc.hint) from None
+
+
+def _flat_per_row(read: Callable[[str], np.ndarray], names: tuple[str, ...]) -> Callable[[str], np.ndarray]:
+    """``read``, with the one-number-per-row columns given as ``(N,)`` also where a tool stored
+    them as ``(N, 1)`` (checked above: no other shape gets here)."""
+    def flat(name: str) -> np.ndarray:
+        values = read(name)
+        return values.reshape(-1) if name in names and values.ndim == 2 else values
+    return flat
 
 
 def _flags(path: Path, name: str, values: np.ndarray) -> np.ndarray:

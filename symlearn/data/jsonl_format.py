@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from pathlib import Path
 from typing import Any
 
@@ -85,17 +86,46 @@ def read_jsonl(path: str | os.PathLike[str]) -> Demonstrations:
     if header is None:
         raise DataError("file is empty: expected a header line and at least one trajectory", file=path)
 
-    trajectories = []
+    trajectories, numbers = [], []
     for number, raw in enumerate(lines[start:], start=start + 1):
         if not raw.strip():
             continue
         trajectories.append(_read_trajectory(path, number, raw, header))
+        numbers.append(number)
     if not trajectories:
         raise DataError("no trajectories after the header line", file=path, line=start)
+    trajectories = _common_dtypes(trajectories, header)
     try:
         return Demonstrations(trajectories, metadata=header.get("metadata") or {})
     except DataError as exc:
-        raise DataError(exc.message, file=path, hint=exc.hint) from None
+        # "trajectory 3 has no actions but trajectory 0 ...": point at the line of trajectory 3
+        found = re.search(r"trajectory (\d+)", exc.message)
+        line = numbers[int(found.group(1))] if found and int(found.group(1)) < len(numbers) else None
+        raise DataError(exc.message, file=path, line=line, hint=exc.hint) from None
+
+
+def _common_dtypes(trajectories: list[Trajectory], header: dict[str, Any]) -> list[Trajectory]:
+    """Without a declared dtype, JSON numbers of a vector column read as int64 on a line that
+    happens to hold only whole numbers (``[[0, 1], [1, 2]]``) and as float64 on the next: give
+    every trajectory the column's common dtype, as one array of all of them would have."""
+    common: dict[str, np.dtype] = {}
+    for key, kind_key, dtype_key in (("states", "state_kind", "state_dtype"), ("actions", "action_kind", "action_dtype")):
+        if header.get(dtype_key) is not None or header.get(kind_key) not in ("vector", "image"):
+            continue
+        arrays = [getattr(t, key) for t in trajectories if getattr(t, key) is not None and len(getattr(t, key))]
+        dtypes = {a.dtype for a in arrays if isinstance(a, np.ndarray)}
+        if len(dtypes) > 1:
+            common[key] = np.result_type(*dtypes)
+    if not common:
+        return trajectories
+
+    def cast(t: Trajectory, key: str) -> Any:
+        values = getattr(t, key)
+        if key not in common or values is None or not len(values):
+            return values
+        return values.astype(common[key])
+
+    return [Trajectory(cast(t, "states"), cast(t, "actions"), t.rewards, t.labels, t.info) for t in trajectories]
 
 
 def _parse_line(path: Path, number: int, raw: str) -> Any:
@@ -202,7 +232,11 @@ def _read_trajectory(path: Path, number: int, raw: str, header: dict[str, Any]) 
         field = min(mentioned, key=exc.message.find) if mentioned else None
         raise fail(exc.message, field, exc.hint) from None
     if traj.state_kind != header["state_kind"]:
-        raise fail(f"states are {traj.state_kind} but the header says {header['state_kind']}", "states")
+        hint = None
+        if traj.state_kind == "discrete" and header["state_kind"] == "vector":
+            hint = ("a flat list of integers is read as discrete ids: declare state_kind discrete, or write each "
+                    "step as a list ([[1], [2]]) or declare a float state_dtype for one-number vector states")
+        raise fail(f"states are {traj.state_kind} but the header says {header['state_kind']}", "states", hint)
     if traj.n_actions and traj.action_kind != header.get("action_kind"):
         raise fail(f"actions are {traj.action_kind} but the header says {header.get('action_kind')}", "actions")
     return traj
@@ -221,9 +255,18 @@ def _column_from_json(values: Any, kind: str | None, dtype: str | None, key: str
         if kind == "discrete" and (array.ndim != 1 or array.dtype.kind not in "iu"):
             raise fail(f"'{key}' must be a flat list of integer ids for discrete {key}", key)
         if dtype is not None:
-            cast = array.astype(dtype)
-            if not np.array_equal(cast, array):
-                raise fail(f"'{key}' do not fit the header dtype {dtype}", key)
+            with np.errstate(over="ignore", invalid="ignore"):
+                cast = array.astype(dtype)
+            if np.dtype(dtype).kind == "f":
+                # a float column is read to its nearest value of the declared width (a float32 written
+                # as "0.1" is the float32 nearest 0.1); only a number beyond its range does not fit
+                fits = bool(np.isfinite(cast).all())
+            else:
+                fits = bool(np.array_equal(cast, array))
+            if not fits:
+                raise fail(f"'{key}' do not fit the header dtype {dtype}", key,
+                           hint="integers beyond the type's range, fractions for an integer type, or numbers "
+                                "beyond a float type's range; declare a wider dtype")
             array = cast
         return array
     return values

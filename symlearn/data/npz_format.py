@@ -242,7 +242,7 @@ def _read_meta(path: Path, text: str) -> dict:
     if not isinstance(version, int) or isinstance(version, bool) or version > FORMAT_VERSION or version < 1:
         raise DataError(f"format_version {version!r} is not readable by this symlearn (reads {FORMAT_VERSION})",
                         file=path, hint="upgrade symlearn")
-    if header.get("state_kind") not in KINDS:
+    if header.get("state_kind") is not None and header.get("state_kind") not in KINDS:
         raise DataError(f"__meta__: state_kind {header.get('state_kind')!r} is not one of {', '.join(KINDS)}",
                         file=path)
     if header.get("action_kind") is not None and header.get("action_kind") not in KINDS:
@@ -280,10 +280,16 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
             raise DataError(f"member {name!r} has {shape[0] if shape else 0} rows, expected {expected} ({what})",
                             file=path)
 
+    if "__meta__" not in archive.files:
+        raise DataError("archive lacks member '__meta__': not a symlearn demonstrations archive", file=path,
+                        hint="add __meta__ = json.dumps({\"symlearn\": \"demonstrations\", \"format_version\": 1, "
+                             "\"state_kind\": ...}) (docs/FORMATS.md); an archive of 'observations', 'actions', "
+                             "'terminals' is read as a D4RL table, one of 'states' and 'lengths' alone is a frame "
+                             "archive (learn pdfa)")
     meta = member("__meta__")
     if meta.dtype.kind != "U" or meta.ndim != 0:
         raise DataError("member '__meta__' must be one string", file=path)
-    header = _read_meta(path, str(meta))
+    header = _complete_header(path, _read_meta(path, str(meta)), headers)
 
     if "lengths" not in headers or len(headers["lengths"][1]) != 1 or headers["lengths"][0].kind not in "iu":
         raise DataError("member 'lengths' must be a 1-D integer array", file=path)
@@ -293,7 +299,8 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
     if len(lengths) == 0:
         raise DataError("member 'lengths' is empty: no trajectories", file=path)
     n, total = len(lengths), int(lengths.sum())
-    rows("info", n, "one per trajectory")
+    if "info" in headers:
+        rows("info", n, "one per trajectory")
     if header["state_kind"] == "features":
         for k in range(len(header.get("states_features") or [])):
             rows(f"states.{k}", total, "one per state")
@@ -310,8 +317,7 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
     states = _unpack_column(path, "states", header["state_kind"], lengths, archive, header, member)
     actions: list[Any] = [None] * n
     if header.get("has_actions"):
-        rows("action_lengths", n, "one per trajectory")
-        action_lengths = member("action_lengths")
+        action_lengths = _action_lengths(path, headers, header, lengths, rows, member)
         if action_lengths.shape != lengths.shape or action_lengths.dtype.kind not in "iu":
             raise DataError("members 'action_lengths' and 'lengths' disagree in size", file=path)
         if (action_lengths < 0).any() or (action_lengths > lengths).any():
@@ -340,7 +346,7 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
         blocks = _split(path, "labels", member("labels"), lengths)
         labels = [[frozenset(names[k] for k in np.flatnonzero(r)) for r in block] for block in blocks]
     infos = [load_json(str(s), source=f"{path} (member 'info', trajectory {i})")
-             for i, s in enumerate(member("info"))]
+             for i, s in enumerate(member("info"))] if "info" in headers else [{} for _ in range(n)]
     if len(infos) != n:
         raise DataError("member 'info' has the wrong number of entries", file=path)
     if depth(header.get("metadata") or {}) > MAX_JSON_DEPTH - 1:
@@ -356,6 +362,54 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
         return Demonstrations(trajectories, metadata=header.get("metadata") or {})
     except DataError as exc:
         raise DataError(exc.message, file=path, hint=exc.hint) from None
+
+
+def _column_members(prefix: str, headers: dict) -> list[str]:
+    return [name for name in headers if name == prefix or name.startswith(prefix + ".")]
+
+
+def _complete_header(path: Path, header: dict, headers: dict) -> dict:
+    """Fill in what a hand-written ``__meta__`` may leave out, from the members present: the
+    ``has_actions``/``has_rewards``/``has_labels`` flags (an ``actions`` member is not dropped
+    because no flag names it) and a kind that an array member shows (``symbol`` for text, else
+    whatever its values are). A flag that is ``false`` while its member is there is refused."""
+    header = dict(header)
+    present = {"has_actions": bool(_column_members("actions", headers)) or "action_lengths" in headers,
+               "has_rewards": "rewards" in headers, "has_labels": "labels" in headers}
+    members = {"has_actions": "actions", "has_rewards": "rewards", "has_labels": "labels"}
+    for flag, here in present.items():
+        if flag not in header:
+            header[flag] = here
+        elif header[flag] is False and here:
+            raise DataError(f"__meta__ says {flag} is false but the archive holds {members[flag]!r}", file=path,
+                            hint=f"set {flag} to true, or remove the member")
+    for prefix, key in (("states", "state_kind"), ("actions", "action_kind")):
+        if header.get(key) is None and prefix in headers:
+            header[key] = "symbol" if headers[prefix][0].kind == "U" else "vector"  # the values decide later
+    if header.get("state_kind") is None:
+        raise DataError("__meta__ has no state_kind and the archive no 'states' member", file=path,
+                        hint=f"state_kind is one of {', '.join(KINDS)}")
+    return header
+
+
+def _action_lengths(path: Path, headers: dict, header: dict, lengths: np.ndarray, rows, member) -> np.ndarray:
+    """``action_lengths``, or, where the archive has none, what the actions' row count allows:
+    one action per state, or one fewer per trajectory (the last state is final)."""
+    n = len(lengths)
+    if "action_lengths" in headers:
+        rows("action_lengths", n, "one per trajectory")
+        return member("action_lengths")
+    columns = _column_members("actions", headers)
+    shape = headers[columns[0]][1] if columns else ()
+    count = shape[0] if shape else 0
+    total = int(lengths.sum())
+    if count == total:
+        return lengths.copy()
+    if count == total - n:
+        return lengths - 1
+    raise DataError(f"member {columns[0] if columns else 'actions'!r} has {count} rows: neither one per state "
+                    f"({total}) nor one fewer per trajectory ({total - n})", file=path,
+                    hint="add an 'action_lengths' member: the number of actions of each trajectory")
 
 
 def _split(path: Path, name: str, values: np.ndarray, lengths: np.ndarray) -> list[np.ndarray]:

@@ -1,0 +1,156 @@
+"""Demonstration files written by other tools (plain numpy, json, h5py), as docs/FORMATS.md
+describes them, read back with nothing dropped, truncated or wrapped."""
+
+import json
+
+import numpy as np
+import pytest
+
+from symlearn.data import Trajectory, load
+from symlearn.errors import DataError
+from tests.support.cli_runner import run
+
+
+def header(**fields):
+    return json.dumps({"symlearn": "demonstrations", "format_version": 1, **fields})
+
+
+def test_jsonl_float32_column_written_as_short_decimals_reads_back_exactly(tmp_path):
+    # numpy prints float32 0.1 as "0.1": its nearest float32 is the value that was written
+    states = np.random.default_rng(0).normal(size=(4, 2)).astype(np.float32)
+    rows = [[float(str(x)) for x in row] for row in states]
+    path = tmp_path / "f32.jsonl"
+    path.write_text(header(state_kind="vector", state_dtype="float32") + "\n" + json.dumps({"states": rows}) + "\n")
+    got = load(path)[0].states
+    assert got.dtype == np.float32 and np.array_equal(got, states)
+
+
+@pytest.mark.parametrize("dtype, values", [("float32", [[1e39]]), ("float16", [[70000.0]]), ("int8", [300]),
+                                           ("int64", [[0.5]])])
+def test_jsonl_values_beyond_the_declared_dtype_are_refused(tmp_path, dtype, values):
+    kind = "vector" if isinstance(values[0], list) else "discrete"
+    path = tmp_path / "d.jsonl"
+    path.write_text(header(state_kind=kind, state_dtype=dtype) + "\n" + json.dumps({"states": values}) + "\n")
+    with pytest.raises(DataError, match=f"do not fit the header dtype {dtype}") as info:
+        load(path)
+    assert "d.jsonl:2:" in str(info.value)
+
+
+def test_jsonl_without_dtype_gives_whole_number_lines_the_common_dtype(tmp_path):
+    path = tmp_path / "d.jsonl"
+    path.write_text(header(state_kind="vector") + "\n" + json.dumps({"states": [[0, 1], [1, 2]]}) + "\n"
+                    + json.dumps({"states": [[0.5, 1], [1, 2]]}) + "\n")
+    demos = load(path)
+    assert [t.states.dtype for t in demos] == [np.float64, np.float64]
+    assert demos[0].states.tolist() == [[0.0, 1.0], [1.0, 2.0]]
+
+
+def test_jsonl_disagreeing_trajectories_name_the_line(tmp_path):
+    path = tmp_path / "d.jsonl"
+    path.write_text(header(state_kind="discrete", action_kind="discrete") + "\n\n"
+                    + json.dumps({"states": [0, 1], "actions": [1]}) + "\n"
+                    + json.dumps({"states": [0, 3], "actions": [2], "rewards": [1]}) + "\n")
+    with pytest.raises(DataError, match="trajectory 1 has rewards") as info:
+        load(path)
+    assert str(info.value).startswith(f"{path}:4:")
+
+
+def test_jsonl_flat_integers_under_a_vector_header_get_a_hint(tmp_path):
+    path = tmp_path / "d.jsonl"
+    path.write_text(header(state_kind="vector", state_dtype="int64") + "\n" + json.dumps({"states": [1, 2]}) + "\n")
+    with pytest.raises(DataError, match="header says vector") as info:
+        load(path)
+    assert "state_kind discrete" in info.value.hint
+
+
+def test_jsonl_crlf_bom_unicode_and_no_final_newline(tmp_path):
+    lines = [header(state_kind="features", action_kind="symbol", metadata={"source": "mon outil"}),
+             json.dumps({"states": [{"x": 0.5, "porte": True}, {"x": 1e300, "porte": False}],
+                         "actions": ["droite→"], "labels": [[], ["été"]], "info": {"ü": None}}, ensure_ascii=False)]
+    path = tmp_path / "d.jsonl"
+    path.write_bytes(("\ufeff" + "\r\n".join(lines)).encode("utf-8"))
+    (t,) = load(path)
+    assert t.states[1] == {"x": 1e300, "porte": False} and t.actions == ("droite→",)
+    assert t.labels[1] == {"été"} and t.info == {"ü": None}
+
+
+def test_uint64_ids_beyond_int64_are_refused_not_wrapped():
+    with pytest.raises(DataError, match="beyond int64"):
+        Trajectory(np.array([2**63 + 5, 3], dtype=np.uint64))
+    with pytest.raises(DataError, match="beyond int64"):
+        Trajectory([2**63])
+    assert Trajectory(np.array([2**63 - 1], dtype=np.uint64)).states.tolist() == [2**63 - 1]
+
+
+def npz(path, meta, **arrays):
+    np.savez(path, __meta__=json.dumps({"symlearn": "demonstrations", "format_version": 1, **meta}), **arrays)
+    return path
+
+
+def test_npz_without_flags_keeps_its_actions_and_rewards(tmp_path):
+    # the flags are a writer's detail: a hand-written __meta__ without them must not drop the columns
+    states = np.arange(20, dtype=np.float32).reshape(10, 2)
+    actions = np.linspace(0, 1, 8).reshape(8, 1)
+    path = npz(tmp_path / "d.npz", {"state_kind": "vector", "action_kind": "vector"}, lengths=np.array([4, 6]),
+               states=states, actions=actions, action_lengths=np.array([3, 5]), rewards=np.ones(8, np.float32))
+    demos = load(path)
+    assert demos.has_actions and demos.has_rewards
+    assert np.array_equal(demos[1].actions, actions[3:]) and demos[1].rewards.tolist() == [1.0] * 5
+    assert demos[0].info == {}  # no 'info' member: every trajectory's info is empty
+
+
+def test_npz_action_lengths_and_kinds_may_be_left_out(tmp_path):
+    path = npz(tmp_path / "d.npz", {}, lengths=np.array([3, 2]), states=np.arange(10.0).reshape(5, 2),
+               actions=np.array([0, 1, 0, 1, 1]), label_names=np.array(["a"]),
+               labels=np.array([[1], [0], [0], [1], [1]], dtype=np.uint8))
+    demos = load(path)
+    assert [t.n_actions for t in demos] == [3, 2] and demos.action_kind == "discrete"
+    assert demos[1].labels == (frozenset({"a"}), frozenset({"a"}))
+    path = npz(tmp_path / "e.npz", {}, lengths=np.array([3, 2]), states=np.array(list("abcde")),
+               actions=np.array(["x", "y", "z"]))
+    demos = load(path)
+    assert demos.state_kind == "symbol" and [t.actions for t in demos] == [("x", "y"), ("z",)]
+
+
+def test_npz_flag_false_with_its_member_or_actions_of_no_length_are_refused(tmp_path):
+    states = np.arange(10.0).reshape(5, 2)
+    path = npz(tmp_path / "d.npz", {"has_actions": False}, lengths=np.array([3, 2]), states=states,
+               actions=np.zeros(5))
+    with pytest.raises(DataError, match="has_actions is false but the archive holds 'actions'"):
+        load(path)
+    path = npz(tmp_path / "e.npz", {}, lengths=np.array([3, 2]), states=states, actions=np.zeros(4))
+    with pytest.raises(DataError, match="4 rows: neither one per state"):
+        load(path)
+
+
+def test_npz_without_meta_says_what_it_could_be(tmp_path):
+    path = tmp_path / "d.npz"
+    np.savez(path, lengths=np.array([2]), states=np.zeros((2, 2)))
+    with pytest.raises(DataError, match="lacks member '__meta__'") as info:
+        load(path)
+    assert "frame archive" in info.value.hint
+
+
+def test_d4rl_columns_stored_as_n_by_1(tmp_path):
+    h5py = pytest.importorskip("h5py")
+    terminals = np.zeros((6, 1), np.float32)
+    terminals[2] = 1
+    path = tmp_path / "t.hdf5"
+    with h5py.File(path, "w") as f:
+        f["observations"] = np.arange(12, dtype=np.float32).reshape(6, 2)
+        f["actions"] = np.zeros((6, 1), np.float32)
+        f["rewards"] = np.arange(6, dtype=np.float32)[:, None]
+        f["terminals"] = terminals
+        f["timeouts"] = np.eye(6, dtype=bool)[5][:, None]
+    demos = load(path)
+    assert [len(t) for t in demos] == [3, 3]
+    assert demos[1].rewards.tolist() == [3.0, 4.0, 5.0] and demos[0].info["terminated"] is True
+
+
+def test_cli_reads_a_hand_written_npz_with_its_actions(tmp_path, capsys):
+    path = npz(tmp_path / "d.npz", {"state_kind": "vector"}, lengths=np.array([3]),
+               states=np.zeros((3, 2)), actions=np.array([1, 0]))
+    code, out, err = run(capsys, "--json", "data", "info", path)
+    assert code == 0, err
+    summary = json.loads(out)["summary"]
+    assert summary["action_kind"] == "discrete" and summary["n_state_actions"] == 2
