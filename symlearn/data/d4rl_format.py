@@ -110,7 +110,10 @@ def to_table(demos: Demonstrations) -> dict[str, np.ndarray]:
 def write_d4rl(demos: Demonstrations, path: str | os.PathLike[str]) -> None:
     """Write ``demos`` as a D4RL table: HDF5 for ``.hdf5``/``.h5``, NPZ otherwise."""
     path = Path(path)
-    arrays = to_table(demos)
+    try:
+        arrays = to_table(demos)
+    except DataError as exc:  # name the file being written
+        raise DataError(exc.message, file=exc.file or path, hint=exc.hint) from None
     buffer = io.BytesIO()
     if path.suffix.lower() in (".hdf5", ".h5"):
         from symlearn.data.hdf5_reading import h5py_module

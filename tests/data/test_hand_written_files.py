@@ -154,3 +154,11 @@ def test_cli_reads_a_hand_written_npz_with_its_actions(tmp_path, capsys):
     assert code == 0, err
     summary = json.loads(out)["summary"]
     assert summary["action_kind"] == "discrete" and summary["n_state_actions"] == 2
+
+
+def test_convert_to_d4rl_refusal_names_the_target(tmp_path, capsys):
+    source = tmp_path / "d.jsonl"
+    source.write_text(header(state_kind="features", action_kind="symbol") + "\n"
+                      + json.dumps({"states": [{"x": 1}, {"x": 2}], "actions": ["go"]}) + "\n")
+    code, _, err = run(capsys, "data", "convert", source, tmp_path / "t.hdf5")
+    assert code == 2 and f"{tmp_path / 't.hdf5'}: D4RL files hold array observations" in err, err
