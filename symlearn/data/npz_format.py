@@ -149,8 +149,10 @@ def _read_npy_header(handle, name: str, path: Path) -> tuple[np.dtype, tuple[int
     else:
         raise DataError(f"member {name!r}: unsupported .npy version {version}", file=path)
     if dtype.hasobject or dtype.names is not None or dtype.shape or dtype.kind not in "biufU":
+        hint = ("store text as numpy str (np.array(names, dtype=str), or .astype(str) of bytes), not bytes"
+                if dtype.kind == "S" else None)
         raise DataError(f"member {name!r} has dtype {dtype.str!r}; symlearn archives hold only "
-                        "plain numbers, booleans and text", file=path)
+                        "plain numbers, booleans and text", file=path, hint=hint)
     return dtype, tuple(int(x) for x in shape)
 
 

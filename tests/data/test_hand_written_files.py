@@ -162,3 +162,12 @@ def test_convert_to_d4rl_refusal_names_the_target(tmp_path, capsys):
                       + json.dumps({"states": [{"x": 1}, {"x": 2}], "actions": ["go"]}) + "\n")
     code, _, err = run(capsys, "data", "convert", source, tmp_path / "t.hdf5")
     assert code == 2 and f"{tmp_path / 't.hdf5'}: D4RL files hold array observations" in err, err
+
+
+def test_npz_bytes_text_gets_the_way_out(tmp_path):
+    path = tmp_path / "d.npz"
+    np.savez(path, __meta__=np.array(json.dumps({"symlearn": "demonstrations", "format_version": 1}).encode()),
+             lengths=np.array([1]), states=np.zeros((1, 2)))
+    with pytest.raises(DataError, match="has dtype '\\|S") as info:
+        load(path)
+    assert "dtype=str" in info.value.hint
