@@ -167,7 +167,9 @@ def _read_header(path: Path, number: int, raw: str) -> dict[str, Any]:
                             file=path, line=number, column=_column_of(raw, f'"{key}"'))
     if header.get("state_kind") is None:
         raise DataError("header lacks state_kind", file=path, line=number)
-    if not isinstance(header.get("metadata", {}), dict):
+    if header.get("metadata") is None:
+        header["metadata"] = {}
+    if not isinstance(header["metadata"], dict):
         raise DataError("header metadata must be an object", file=path, line=number, column=_column_of(raw, '"metadata"'))
     if depth(header.get("metadata") or {}) > MAX_JSON_DEPTH - 1:
         raise DataError(f"header metadata is nested more than {MAX_JSON_DEPTH} levels deep", file=path,
@@ -212,6 +214,8 @@ def _read_trajectory(path: Path, number: int, raw: str, header: dict[str, Any]) 
         raise fail(f"unknown key {unknown[0]!r}", unknown[0], hint=f"known keys: {', '.join(_LINE_KEYS)}")
     if "states" not in obj:
         raise fail("trajectory has no 'states'")
+    # an optional key given as null (pandas, other tools' exporters) is an absent key
+    obj = {key: value for key, value in obj.items() if value is not None or key == "states"}
     if header.get("action_kind") is None and obj.get("actions"):
         raise fail("trajectory has actions but the header says action_kind is null", "actions")
 
@@ -250,6 +254,10 @@ def _column_from_json(values: Any, kind: str | None, dtype: str | None, key: str
             array = np.asarray(values)
         except ValueError:
             raise fail(f"'{key}' are ragged", key, hint="every step must have the same shape") from None
+        if array.dtype == object and any(isinstance(v, int) and not -2**63 <= v < 2**64
+                                         for v in np.ravel(array) if not isinstance(v, bool)):
+            raise fail(f"'{key}' hold an integer beyond 64 bits", key,
+                       hint="symlearn keeps integers as int64; write such numbers as floats or strings")
         if array.dtype == object or array.dtype.kind not in "biuf":
             raise fail(f"'{key}' must be numbers for {kind} {key}", key)
         if kind == "discrete" and (array.ndim != 1 or array.dtype.kind not in "iu"):

@@ -171,3 +171,20 @@ def test_npz_bytes_text_gets_the_way_out(tmp_path):
     with pytest.raises(DataError, match="has dtype '\\|S") as info:
         load(path)
     assert "dtype=str" in info.value.hint
+
+
+def test_jsonl_null_optional_keys_and_metadata_are_absent(tmp_path):
+    path = tmp_path / "d.jsonl"
+    path.write_text(json.dumps({"symlearn": "demonstrations", "format_version": 1, "state_kind": "vector",
+                                "action_kind": None, "state_dtype": None, "metadata": None}) + "\n"
+                    + json.dumps({"states": [[0.1], [0.2]], "actions": None, "rewards": None, "labels": None,
+                                  "info": None}) + "\n")
+    demos = load(path)
+    assert demos.metadata == {} and not demos.has_actions and not demos.has_rewards and demos[0].info == {}
+
+
+def test_jsonl_integers_beyond_64_bits_are_named(tmp_path):
+    path = tmp_path / "d.jsonl"
+    path.write_text(header(state_kind="discrete") + "\n" + '{"states": [123456789012345678901234567890, 1]}\n')
+    with pytest.raises(DataError, match="integer beyond 64 bits"):
+        load(path)
