@@ -304,8 +304,8 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
     if "info" in headers:
         rows("info", n, "one per trajectory")
     if header["state_kind"] == "features":
-        for k in range(len(header.get("states_features") or [])):
-            rows(f"states.{k}", total, "one per state")
+        for name in header["_states_members"]:
+            rows(name, total, "one per state")
     else:
         rows("states", total, "one per state")
     if header.get("has_labels"):
@@ -327,8 +327,8 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
                             "actions", file=path)
         n_actions = int(action_lengths.sum())
         if header.get("action_kind") == "features":
-            for k in range(len(header.get("actions_features") or [])):
-                rows(f"actions.{k}", n_actions, "one per action")
+            for name in header["_actions_members"]:
+                rows(name, n_actions, "one per action")
         elif header.get("action_kind") is not None:
             rows("actions", n_actions, "one per action")
         if header.get("action_kind") is None:
@@ -391,7 +391,35 @@ def _complete_header(path: Path, header: dict, headers: dict) -> dict:
     if header.get("state_kind") is None:
         raise DataError("__meta__ has no state_kind and the archive no 'states' member", file=path,
                         hint=f"state_kind is one of {', '.join(KINDS)}")
+    for prefix, key in (("states", "state_kind"), ("actions", "action_kind")):
+        if header.get(key) == "features":
+            header[f"_{prefix}_members"] = _feature_members(path, prefix, header, headers)
     return header
+
+
+def _feature_members(path: Path, prefix: str, header: dict, headers: dict) -> list[str]:
+    """The members holding the feature columns, in the order of ``<prefix>_features``: ``<prefix>.<k>``
+    by index (as symlearn writes them) or ``<prefix>.<name>`` by name; without ``<prefix>_features``
+    the names are those of ``<prefix>.<name>`` members (sorted)."""
+    names = header.get(f"{prefix}_features")
+    suffixes = [name[len(prefix) + 1:] for name in headers if name.startswith(prefix + ".")]
+    if names is None:
+        if not suffixes or all(suffix.isdigit() for suffix in suffixes):
+            raise DataError(f"__meta__ has no {prefix}_features: the names of the {prefix}.<k> feature columns",
+                            file=path, hint=f'add "{prefix}_features": [name, ...] (column k is {prefix}.k), or '
+                                            f"name the members {prefix}.<feature name>")
+        names = sorted(suffixes)
+        header[f"{prefix}_features"] = names
+    members = []
+    for k, name in enumerate(names):
+        for candidate in (f"{prefix}.{k}", f"{prefix}.{name}"):
+            if candidate in headers:
+                members.append(candidate)
+                break
+        else:
+            raise DataError(f"archive lacks member '{prefix}.{k}' (or '{prefix}.{name}') for feature {name!r}",
+                            file=path)
+    return members
 
 
 def _action_lengths(path: Path, headers: dict, header: dict, lengths: np.ndarray, rows, member) -> np.ndarray:
@@ -426,7 +454,7 @@ def _unpack_column(path, prefix, kind, lengths, archive, header, member) -> list
         names = header.get(f"{prefix}_features") or []
         encodings = header.get(f"{prefix}_feature_encodings") or ["array"] * len(names)
         decode = {"array": lambda v: v.item(), "json": lambda v: json.loads(str(v))}
-        columns = [_split(path, f"{prefix}.{k}", member(f"{prefix}.{k}"), lengths) for k in range(len(names))]
+        columns = [_split(path, name, member(name), lengths) for name in header[f"_{prefix}_members"]]
         return [
             [{name: decode[encodings[k]](columns[k][i][t]) for k, name in enumerate(names)}
              for t in range(int(lengths[i]))]

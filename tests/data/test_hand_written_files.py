@@ -188,3 +188,19 @@ def test_jsonl_integers_beyond_64_bits_are_named(tmp_path):
     path.write_text(header(state_kind="discrete") + "\n" + '{"states": [123456789012345678901234567890, 1]}\n')
     with pytest.raises(DataError, match="integer beyond 64 bits"):
         load(path)
+
+
+@pytest.mark.parametrize("meta", [{"states_features": ["x", "y"]}, {}])
+def test_npz_feature_columns_named_by_feature(tmp_path, meta):
+    # docs: `states.<k>` columns for feature dicts; members named after the feature, with or without
+    # states_features, were read as empty dicts (without) or refused (with)
+    path = npz(tmp_path / "d.npz", {"state_kind": "features", **meta}, lengths=np.array([2, 1]),
+               **{"states.x": np.array([0.1, 0.2, 0.3]), "states.y": np.array([1, 2, 3])})
+    demos = load(path)
+    assert demos[0].states == ({"x": 0.1, "y": 1}, {"x": 0.2, "y": 2}) and demos[1].states == ({"x": 0.3, "y": 3},)
+
+
+def test_npz_feature_columns_by_index_need_their_names(tmp_path):
+    path = npz(tmp_path / "d.npz", {"state_kind": "features"}, lengths=np.array([1]), **{"states.0": np.array([1.0])})
+    with pytest.raises(DataError, match="no states_features"):
+        load(path)
