@@ -360,6 +360,7 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
             trajectories.append(Trajectory(states[i], actions[i], rewards[i], labels[i], infos[i]))
         except DataError as exc:
             raise DataError(f"trajectory {i}: {exc.message}", file=path, hint=exc.hint) from None
+        _check_declared_kinds(path, i, trajectories[-1], header)
     try:
         return Demonstrations(trajectories, metadata=header.get("metadata") or {})
     except DataError as exc:
@@ -368,6 +369,22 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
 
 def _column_members(prefix: str, headers: dict) -> list[str]:
     return [name for name in headers if name == prefix or name.startswith(prefix + ".")]
+
+
+def _check_declared_kinds(path: Path, i: int, trajectory: Trajectory, header: dict) -> None:
+    """A kind ``__meta__`` declares must be the kind the values are (ids stored as floats would
+    otherwise become vector states without a word); kinds filled in from the members are not checked."""
+    for what, kind, key in (("states", trajectory.state_kind, "state_kind"),
+                            ("actions", trajectory.action_kind, "action_kind")):
+        declared = header.get(key)
+        if declared is None or key in header.get("_inferred", ()) or kind is None or kind == declared:
+            continue
+        hint = None
+        if declared == "discrete":
+            hint = f"store discrete {what} as integers ({what}.astype(np.int64))"
+        elif kind == "discrete" and declared == "vector":
+            hint = f"1-D integers are discrete ids: for one-number vectors store {what} as floats or with shape (N, 1)"
+        raise DataError(f"trajectory {i}: {what} are {kind} but __meta__ says {key} {declared}", file=path, hint=hint)
 
 
 def _complete_header(path: Path, header: dict, headers: dict) -> dict:
@@ -388,6 +405,7 @@ def _complete_header(path: Path, header: dict, headers: dict) -> dict:
     for prefix, key in (("states", "state_kind"), ("actions", "action_kind")):
         if header.get(key) is None and prefix in headers:
             header[key] = "symbol" if headers[prefix][0].kind == "U" else "vector"  # the values decide later
+            header["_inferred"] = (*header.get("_inferred", ()), key)
     if header.get("state_kind") is None:
         raise DataError("__meta__ has no state_kind and the archive no 'states' member", file=path,
                         hint=f"state_kind is one of {', '.join(KINDS)}")

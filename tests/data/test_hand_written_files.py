@@ -204,3 +204,10 @@ def test_npz_feature_columns_by_index_need_their_names(tmp_path):
     path = npz(tmp_path / "d.npz", {"state_kind": "features"}, lengths=np.array([1]), **{"states.0": np.array([1.0])})
     with pytest.raises(DataError, match="no states_features"):
         load(path)
+
+
+def test_npz_declared_discrete_ids_stored_as_floats_are_refused(tmp_path):
+    path = npz(tmp_path / "d.npz", {"state_kind": "discrete"}, lengths=np.array([3]), states=np.array([0.0, 1.0, 2.0]))
+    with pytest.raises(DataError, match="states are vector but __meta__ says state_kind discrete") as info:
+        load(path)
+    assert "astype(np.int64)" in info.value.hint
