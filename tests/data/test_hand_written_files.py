@@ -211,3 +211,16 @@ def test_npz_declared_discrete_ids_stored_as_floats_are_refused(tmp_path):
     with pytest.raises(DataError, match="states are vector but __meta__ says state_kind discrete") as info:
         load(path)
     assert "astype(np.int64)" in info.value.hint
+
+
+def test_learn_dnf_reads_feature_dicts_by_their_keys_not_by_position(tmp_path, capsys):
+    # before: --features x,y (or an --env's feature names) renamed the file's a, b by position
+    path = tmp_path / "d.jsonl"
+    states = [{"a": 0.1 * i, "b": 1.0} for i in range(8)]
+    path.write_text(header(state_kind="features") + "\n" + json.dumps({"states": states}) + "\n")
+    code, _, err = run(capsys, "learn", "dnf", "--demos", path, "--features", "x,y")
+    assert code == 2 and "the states name their features (a, b); the names given are x, y" in err, err
+    code, out, err = run(capsys, "--json", "learn", "dnf", "--demos", path, "--features", "b,a")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["features"] == ["b", "a"] and doc["leaves"][0]["b"] == [1, 1], doc["leaves"]

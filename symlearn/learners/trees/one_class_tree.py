@@ -522,7 +522,8 @@ def feature_matrix(demonstrations: Any, features: Any = None) -> tuple[np.ndarra
         demonstrations = Demonstrations(demonstrations)
 
     if isinstance(demonstrations, Demonstrations):
-        X, default_names = _states_matrix(demonstrations, feature_map)
+        named = None if feature_map is not None or features is None or isinstance(features, str) else tuple(features)
+        X, default_names = _states_matrix(demonstrations, feature_map, named)
     else:
         X = _numeric_array(demonstrations)
         default_names = None
@@ -554,8 +555,20 @@ def _numeric_array(data: Any) -> np.ndarray:
     return X
 
 
-def _states_matrix(demos: Any, feature_map: FeatureMap | None) -> tuple[np.ndarray, tuple[str, ...] | None]:
+def _states_matrix(demos: Any, feature_map: FeatureMap | None,
+                   named: tuple[str, ...] | None = None) -> tuple[np.ndarray, tuple[str, ...] | None]:
+    """The states as rows; feature-dict states read by key: those of ``feature_map``, else the
+    ``named`` features (which must be keys of the states: a dict's own names are never replaced
+    by position), else the states' own keys."""
     kind = demos.state_kind
+    if kind == "features" and named is not None and demos[0].states:
+        own = tuple(demos[0].states[0])
+        if set(named) != set(own):
+            raise DataError(f"the states name their features ({', '.join(own)}); the names given are "
+                            f"{', '.join(map(str, named))}",
+                            hint="feature-dict states are read by their own keys: leave out --features, or give "
+                                 "those keys; with --env, demonstrations of that environment name its features")
+        feature_map = FeatureMap(named)
     if feature_map is not None and feature_map != FeatureMap(feature_map.names):
         states = [s for t in demos for s in (t.states if kind != "vector" else list(t.states))]
         return feature_map.matrix(states), None
