@@ -224,3 +224,15 @@ def test_learn_dnf_reads_feature_dicts_by_their_keys_not_by_position(tmp_path, c
     assert code == 0, err
     doc = json.loads(out)
     assert doc["features"] == ["b", "a"] and doc["leaves"][0]["b"] == [1, 1], doc["leaves"]
+
+
+@pytest.mark.parametrize("states, args, message", [
+    ([{"a": 0.1, "b": 5.0}] * 6, ("--features", "x,y", "--subsets", "s=x"), "the states have no feature 'x'"),
+    ([{"a": 0.1, "c": "red"}] * 6, (), "feature 'c' is the text 'red'"),
+])
+def test_learn_pdfa_feature_dicts_refused_in_one_line(tmp_path, capsys, states, args, message):
+    # before: internal errors (KeyError 'x'; ValueError from float('red'))
+    path = tmp_path / "d.jsonl"
+    path.write_text(header(state_kind="features") + "\n" + json.dumps({"states": states}) + "\n")
+    code, _, err = run(capsys, "learn", "pdfa", "--demos", path, *args)
+    assert code == 2 and message in err and "internal error" not in err, err
