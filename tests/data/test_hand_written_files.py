@@ -236,3 +236,11 @@ def test_learn_pdfa_feature_dicts_refused_in_one_line(tmp_path, capsys, states, 
     path.write_text(header(state_kind="features") + "\n" + json.dumps({"states": states}) + "\n")
     code, _, err = run(capsys, "learn", "pdfa", "--demos", path, *args)
     assert code == 2 and message in err and "internal error" not in err, err
+
+
+def test_learn_dnf_repeated_metadata_feature_name_names_the_file(tmp_path, capsys):
+    path = tmp_path / "d.jsonl"
+    path.write_text(header(state_kind="vector", metadata={"feature_names": ["x", "x"]}) + "\n"
+                    + json.dumps({"states": [[0.1, 1.0], [0.2, 1.0]]}) + "\n")
+    code, _, err = run(capsys, "learn", "dnf", "--demos", path)
+    assert code == 2 and f"{path}: metadata \"feature_names\" names 'x' twice" in err, err
