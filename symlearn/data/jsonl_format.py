@@ -110,7 +110,8 @@ def _common_dtypes(trajectories: list[Trajectory], header: dict[str, Any]) -> li
     every trajectory the column's common dtype, as one array of all of them would have."""
     common: dict[str, np.dtype] = {}
     for key, kind_key, dtype_key in (("states", "state_kind", "state_dtype"), ("actions", "action_kind", "action_dtype")):
-        if header.get(dtype_key) is not None or header.get(kind_key) not in ("vector", "image"):
+        kind = header.get(kind_key) or next((getattr(t, kind_key) for t in trajectories if getattr(t, kind_key)), None)
+        if header.get(dtype_key) is not None or kind not in ("vector", "image"):
             continue
         arrays = [getattr(t, key) for t in trajectories if getattr(t, key) is not None and len(getattr(t, key))]
         dtypes = {a.dtype for a in arrays if isinstance(a, np.ndarray)}
@@ -165,8 +166,9 @@ def _read_header(path: Path, number: int, raw: str) -> dict[str, Any]:
         if kind is not None and kind not in KINDS:
             raise DataError(f"unknown {key} {kind!r} (known: {', '.join(KINDS)})",
                             file=path, line=number, column=_column_of(raw, f'"{key}"'))
-    if header.get("state_kind") is None:
-        raise DataError("header lacks state_kind", file=path, line=number)
+    # a kind left out is the kind the values are (as Trajectory reads them); every line must agree
+    header["_inferred"] = tuple(key for key in ("state_kind", "action_kind")
+                                if key not in header or key == "state_kind" and header[key] is None)
     if header.get("metadata") is None:
         header["metadata"] = {}
     if not isinstance(header["metadata"], dict):
@@ -216,7 +218,7 @@ def _read_trajectory(path: Path, number: int, raw: str, header: dict[str, Any]) 
         raise fail("trajectory has no 'states'")
     # an optional key given as null (pandas, other tools' exporters) is an absent key
     obj = {key: value for key, value in obj.items() if value is not None or key == "states"}
-    if header.get("action_kind") is None and obj.get("actions"):
+    if header.get("action_kind") is None and obj.get("actions") and "action_kind" not in header["_inferred"]:
         raise fail("trajectory has actions but the header says action_kind is null", "actions")
 
     fields: dict[str, Any] = {}
@@ -235,13 +237,13 @@ def _read_trajectory(path: Path, number: int, raw: str, header: dict[str, Any]) 
         mentioned = [k for k in _LINE_KEYS if k in exc.message]
         field = min(mentioned, key=exc.message.find) if mentioned else None
         raise fail(exc.message, field, exc.hint) from None
-    if traj.state_kind != header["state_kind"]:
+    if "state_kind" not in header["_inferred"] and traj.state_kind != header["state_kind"]:
         hint = None
         if traj.state_kind == "discrete" and header["state_kind"] == "vector":
             hint = ("a flat list of integers is read as discrete ids: declare state_kind discrete, or write each "
                     "step as a list ([[1], [2]]) or declare a float state_dtype for one-number vector states")
         raise fail(f"states are {traj.state_kind} but the header says {header['state_kind']}", "states", hint)
-    if traj.n_actions and traj.action_kind != header.get("action_kind"):
+    if traj.n_actions and "action_kind" not in header["_inferred"] and traj.action_kind != header.get("action_kind"):
         raise fail(f"actions are {traj.action_kind} but the header says {header.get('action_kind')}", "actions")
     return traj
 

@@ -244,3 +244,20 @@ def test_learn_dnf_repeated_metadata_feature_name_names_the_file(tmp_path, capsy
                     + json.dumps({"states": [[0.1, 1.0], [0.2, 1.0]]}) + "\n")
     code, _, err = run(capsys, "learn", "dnf", "--demos", path)
     assert code == 2 and f"{path}: metadata \"feature_names\" names 'x' twice" in err, err
+
+
+def test_jsonl_kinds_left_out_are_the_kinds_of_the_values(tmp_path):
+    path = tmp_path / "d.jsonl"
+    path.write_text(header() + "\n" + json.dumps({"states": [[0, 1], [1, 2]], "actions": [0]}) + "\n"
+                    + json.dumps({"states": [[0.5, 1], [1, 2]], "actions": [1]}) + "\n")
+    demos = load(path)
+    assert demos.state_kind == "vector" and demos.action_kind == "discrete"
+    assert demos[0].states.dtype == np.float64
+    path.write_text(header() + "\n" + json.dumps({"states": [0, 1]}) + "\n"
+                    + json.dumps({"states": [[0.5, 1], [1, 2]]}) + "\n")
+    with pytest.raises(DataError, match="trajectory 1 has vector states, trajectory 0 has discrete") as info:
+        load(path)
+    assert f"{path}:3:" in str(info.value)
+    path.write_text(header(state_kind="discrete", action_kind=None) + "\n" + json.dumps({"states": [0, 1], "actions": [1]}))
+    with pytest.raises(DataError, match="action_kind is null"):  # declared null: no actions
+        load(path)
