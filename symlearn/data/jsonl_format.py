@@ -77,7 +77,9 @@ def write_jsonl(demos: Demonstrations, path: str | os.PathLike[str]) -> None:
 def read_jsonl(path: str | os.PathLike[str]) -> Demonstrations:
     path = Path(path)
     text = read_input_text(path, what="demonstrations file")  # size cap; bad bytes at line:col
-    lines = text.splitlines()
+    # lines end at \n only (\r\n too): str.splitlines would also cut at U+2028, U+0085 and other
+    # characters JSON strings may hold raw (json.dumps(..., ensure_ascii=False) writes them so)
+    lines = [line[:-1] if line.endswith("\r") else line for line in text.split("\n")]
     header, start = None, 0
     for number, raw in enumerate(lines, start=1):
         if raw.strip():

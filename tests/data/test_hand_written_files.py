@@ -261,3 +261,14 @@ def test_jsonl_kinds_left_out_are_the_kinds_of_the_values(tmp_path):
     path.write_text(header(state_kind="discrete", action_kind=None) + "\n" + json.dumps({"states": [0, 1], "actions": [1]}))
     with pytest.raises(DataError, match="action_kind is null"):  # declared null: no actions
         load(path)
+
+
+def test_jsonl_strings_holding_unicode_line_separators_stay_on_their_line(tmp_path):
+    # json.dumps(..., ensure_ascii=False) writes U+2028, U+0085, U+001C raw; str.splitlines cut there
+    note = "a\u2028b\x85c\x1cd\u2029e"
+    path = tmp_path / "d.jsonl"
+    path.write_text(header(state_kind="discrete") + "\r\n"
+                    + json.dumps({"states": [0, 1], "info": {"note": note}}, ensure_ascii=False) + "\r\n",
+                    encoding="utf-8", newline="")
+    (t,) = load(path)
+    assert t.info == {"note": note}
