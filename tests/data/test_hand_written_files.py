@@ -272,3 +272,13 @@ def test_jsonl_strings_holding_unicode_line_separators_stay_on_their_line(tmp_pa
                     encoding="utf-8", newline="")
     (t,) = load(path)
     assert t.info == {"note": note}
+
+
+def test_labels_given_as_objects_of_truth_values_are_refused_not_read_by_their_keys(tmp_path):
+    # before: frozenset({"key": false, "door": true}) made both propositions true
+    path = tmp_path / "d.jsonl"
+    path.write_text(header(state_kind="discrete") + "\n"
+                    + json.dumps({"states": [0, 1], "labels": [{"key": False, "door": True}, []]}) + "\n")
+    with pytest.raises(DataError, match="labels at step 0 must be a list of the true propositions") as info:
+        load(path)
+    assert '["door"]' in info.value.hint and f"{path}:2:" in str(info.value)
