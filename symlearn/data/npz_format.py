@@ -345,7 +345,14 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
     labels: list[Any] = [None] * n
     if header.get("has_labels"):
         names = [str(x) for x in member("label_names")]
-        blocks = _split(path, "labels", member("labels"), lengths)
+        matrix = member("labels")
+        if matrix.dtype.kind != "b":
+            odd = np.argwhere((matrix != 0) & (matrix != 1))
+            if len(odd):
+                row, column = (int(v) for v in odd[0])
+                raise DataError(f"member 'labels' holds {matrix[row, column].item()!r} at row {row}, column {column} "
+                                f"({names[column]!r}); labels are booleans or 0/1", file=path)
+        blocks = _split(path, "labels", matrix, lengths)
         labels = [[frozenset(names[k] for k in np.flatnonzero(r)) for r in block] for block in blocks]
     infos = [load_json(str(s), source=f"{path} (member 'info', trajectory {i})")
              for i, s in enumerate(member("info"))] if "info" in headers else [{} for _ in range(n)]

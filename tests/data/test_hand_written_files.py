@@ -282,3 +282,11 @@ def test_labels_given_as_objects_of_truth_values_are_refused_not_read_by_their_k
     with pytest.raises(DataError, match="labels at step 0 must be a list of the true propositions") as info:
         load(path)
     assert '["door"]' in info.value.hint and f"{path}:2:" in str(info.value)
+
+
+def test_npz_labels_other_than_0_or_1_are_refused(tmp_path):
+    labels = np.array([[1, 0], [0.5, 1]])
+    path = npz(tmp_path / "d.npz", {"state_kind": "discrete"}, lengths=np.array([2]), states=np.array([0, 1]),
+               label_names=np.array(["a", "b"]), labels=labels)
+    with pytest.raises(DataError, match="holds 0.5 at row 1, column 0 \\('a'\\)"):
+        load(path)
