@@ -290,3 +290,17 @@ def test_npz_labels_other_than_0_or_1_are_refused(tmp_path):
                label_names=np.array(["a", "b"]), labels=labels)
     with pytest.raises(DataError, match="holds 0.5 at row 1, column 0 \\('a'\\)"):
         load(path)
+
+
+def test_minari_flags_other_than_0_or_1_are_refused(tmp_path):
+    h5py = pytest.importorskip("h5py")
+    (tmp_path / "ds" / "data").mkdir(parents=True)
+    with h5py.File(tmp_path / "ds" / "data" / "main_data.hdf5", "w") as f:
+        g = f.create_group("episode_0")
+        g["observations"] = np.zeros((3, 2))
+        g["actions"] = np.zeros((2, 1))
+        g["rewards"] = np.zeros(2)
+        g["terminations"] = np.array([0.0, 2.5])
+        g["truncations"] = np.zeros(2, bool)
+    with pytest.raises(DataError, match="'/episode_0/terminations' row 1 is 2.5"):
+        load(tmp_path / "ds")
