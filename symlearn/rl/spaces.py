@@ -80,7 +80,8 @@ def encode(values: Any, spec: dict[str, Any], what: str) -> np.ndarray:
             outside = sorted({int(i) for i in ids[(ids < 0) | (ids >= width)]})[:5]
             raise DataError(f"{what} ids outside Discrete({width}): {outside}")
         return one_hot(ids, width)
-    array = np.asarray(values, dtype=np.float32)
+    with np.errstate(over="ignore"):  # beyond float32's range: said below, not as a numpy warning
+        array = np.asarray(values, dtype=np.float32)
     shape = tuple(spec["shape"])
     if array.shape[array.ndim - len(shape):] != shape:
         raise DataError(f"{what} have shape {array.shape[1:] if array.ndim > len(shape) else array.shape}, "
@@ -88,7 +89,9 @@ def encode(values: Any, spec: dict[str, Any], what: str) -> np.ndarray:
     array = array.reshape(-1, width)
     if not np.isfinite(array).all():
         rows = np.flatnonzero(~np.isfinite(array).all(1))
-        raise DataError(f"{what} are not finite (NaN or inf) in {rows.size} row(s), the first at row {rows[0]}")
+        finite_before = raw.dtype.kind == "f" and bool(np.isfinite(raw.reshape(len(array), -1)[rows[0]]).all())
+        reason = "beyond float32's range (about 3.4e38)" if finite_before else "not finite (NaN or inf)"
+        raise DataError(f"{what} are {reason} in {rows.size} row(s), the first at row {rows[0]}")
     return array
 
 

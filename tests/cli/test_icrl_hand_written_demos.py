@@ -61,3 +61,16 @@ def test_text_actions_are_refused_in_one_line(capsys, tmp_path, monkeypatch):
                        "--steps", 600, "--iterations", 1)
     assert code == 2 and "demonstration actions must be numbers, got text (e.g. 'right')" in err, err
     assert "internal error" not in err
+
+
+def test_observations_beyond_float32_are_said_to_be_so():
+    import pytest
+
+    from symlearn.errors import DataError
+    from symlearn.rl.spaces import encode
+
+    spec = {"kind": "box", "shape": [2]}
+    with pytest.raises(DataError, match="beyond float32's range .* the first at row 1"):
+        encode(np.array([[0.0, 1.0], [1e300, 0.0]]), spec, "demonstration observations")
+    with pytest.raises(DataError, match="not finite \\(NaN or inf\\) in 1 row"):
+        encode(np.array([[0.0, np.nan]]), spec, "demonstration observations")
