@@ -845,13 +845,26 @@ class _Grower:
         return relabel[raw]
 
 
+def _std(X: np.ndarray) -> np.ndarray:
+    """Each column's standard deviation, computed on the column scaled to at most 1 so that
+    values near the float64 limit (1e300) do not overflow in the squares (it is never larger
+    than the largest value)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        std = X.std(axis=0)
+    if np.isfinite(std).all():
+        return std  # the plain computation wherever it does not overflow (results stay bit-identical)
+    scale = np.abs(X).max(axis=0)
+    scale = np.where(scale > 0, scale, 1.0)
+    return np.where(np.isfinite(std), std, (X / scale).std(axis=0) * scale)
+
+
 def bandwidths(X: np.ndarray, rule: str | float) -> np.ndarray:
     """Kernel bandwidth of every feature over all the data (0 for a constant feature)."""
     n = len(X)
     spread = X.max(axis=0) - X.min(axis=0)
     if not isinstance(rule, str):
         return float(rule) * spread
-    std = X.std(axis=0)
+    std = _std(X)
     if rule == "scott":
         return 1.06 * std * n ** -0.2
     q1, q3 = np.percentile(X, [25, 75], axis=0)
@@ -862,7 +875,7 @@ def bandwidths(X: np.ndarray, rule: str | float) -> np.ndarray:
 def _rule_bandwidth(Xa: np.ndarray, rule: str, counts: np.ndarray, width: np.ndarray) -> np.ndarray:
     """The bandwidth rule on a node's points (the IQR read off the node's histograms)."""
     m = len(Xa)
-    std = Xa.std(axis=0)
+    std = _std(Xa)
     if rule == "scott":
         return 1.06 * std * m ** -0.2
     cum = np.cumsum(counts, axis=1)
