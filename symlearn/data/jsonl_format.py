@@ -213,6 +213,9 @@ def _read_trajectory(path: Path, number: int, raw: str, header: dict[str, Any]) 
 
     if not isinstance(obj, dict):
         raise fail(f"a trajectory line must be a JSON object, got {type(obj).__name__}")
+    if obj.get("symlearn") == MAGIC:
+        raise fail("a second header line: only line 1 is a header (were two files joined?)", "symlearn",
+                   hint="keep the first header and remove this line; the trajectories must agree with it")
     unknown = sorted(set(obj) - set(_LINE_KEYS))
     if unknown:
         raise fail(f"unknown key {unknown[0]!r}", unknown[0], hint=f"known keys: {', '.join(_LINE_KEYS)}")

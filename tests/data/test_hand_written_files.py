@@ -304,3 +304,12 @@ def test_minari_flags_other_than_0_or_1_are_refused(tmp_path):
         g["truncations"] = np.zeros(2, bool)
     with pytest.raises(DataError, match="'/episode_0/terminations' row 1 is 2.5"):
         load(tmp_path / "ds")
+
+
+def test_jsonl_files_joined_name_the_second_header(tmp_path):
+    one = header(state_kind="discrete") + "\n" + json.dumps({"states": [0, 1]}) + "\n"
+    path = tmp_path / "d.jsonl"
+    path.write_text(one + one)
+    with pytest.raises(DataError, match="a second header line") as info:
+        load(path)
+    assert f"{path}:3:" in str(info.value)
