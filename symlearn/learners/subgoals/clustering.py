@@ -122,8 +122,8 @@ def _check_magnitude(runs: Sequence[np.ndarray], subset: str) -> None:
     """Refuse feature values whose distances would overflow to infinity (DBSCAN, eps, grid cells)."""
     largest = max((float(np.nanmax(np.abs(r))) for r in runs if r.size and not np.isnan(r).all()), default=0.0)
     if largest > MAX_MAGNITUDE:
-        raise DataError(f"feature subset {subset!r} holds values up to {largest:.3g}: distances between frames "
-                        f"overflow beyond {MAX_MAGNITUDE:.0e}", hint="rescale the features (e.g. to metres, or "
+        raise DataError(f"the frames hold values up to {largest:.3g} in feature subset {subset!r}: distances "
+                        f"between frames overflow beyond {MAX_MAGNITUDE:.0e}", hint="rescale the features (e.g. to metres, or "
                         "divided by their range), or leave such columns out of --subsets")
 
 

@@ -97,4 +97,4 @@ def test_values_whose_distances_overflow_are_refused_not_an_internal_error(tmp_p
     lines = [json.dumps(header)] + [json.dumps({"states": [[0.0, 1e300], [0.5, 1.0], [1.0, 2.0]]})] * 3
     path.write_text("\n".join(lines) + "\n")
     code, _, err = run(capsys, "learn", "pdfa", "--demos", path)
-    assert code == 2 and "holds values up to 1e+300" in err and "internal error" not in err, err
+    assert code == 2 and f"{path}: the frames hold values up to 1e+300" in err and "internal error" not in err, err
