@@ -28,7 +28,7 @@ def register(subparsers, common) -> None:
     validate.set_defaults(handler=_validate)
 
     convert = commands.add_parser("convert", parents=[common()],
-                                  help="convert between .jsonl, .npz, D4RL tables and Minari folders",
+                                  help="convert between .jsonl, .npz and D4RL tables (from Minari folders too)",
                                   description="Convert demonstrations to another format, chosen by the target's "
                                               "suffix: .jsonl, .npz (symlearn's archive), .hdf5/.h5 (a D4RL "
                                               "table). The source may also be a Minari dataset folder.")
