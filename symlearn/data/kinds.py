@@ -85,6 +85,9 @@ def _normalize_array(array: np.ndarray, what: str) -> tuple[Kind, np.ndarray]:
         return "symbol", tuple(str(v) for v in array)
     if array.dtype.kind not in "biuf":
         raise DataError(f"{what} must be numeric, got dtype {array.dtype}")
+    if array.ndim >= 2 and 0 in array.shape[1:]:
+        raise DataError(f"{what} hold no value per step (per-step shape {array.shape[1:]})",
+                        hint="every step needs at least one number")
     if array.dtype.kind == "u" and array.ndim == 1 and array.size and int(array.max()) > _INT64_MAX:
         # int64 is how ids and integer vectors are kept: a larger uint64 would wrap to a negative number
         step = int(np.argwhere(array > _INT64_MAX)[0][0])

@@ -313,3 +313,13 @@ def test_jsonl_files_joined_name_the_second_header(tmp_path):
     with pytest.raises(DataError, match="a second header line") as info:
         load(path)
     assert f"{path}:3:" in str(info.value)
+
+
+@pytest.mark.parametrize("states, message", [
+    (np.array(["a", "b", "c"]), "hold symbol states"),  # before: internal ValueError
+    (np.zeros((3, 0)), "hold no value per step"),  # before: internal ZeroDivisionError in learn pdfa
+])
+def test_learn_pdfa_states_it_cannot_cluster_are_one_line(tmp_path, capsys, states, message):
+    path = npz(tmp_path / "d.npz", {}, lengths=np.array([3]), states=states)
+    code, _, err = run(capsys, "learn", "pdfa", "--demos", path)
+    assert code == 2 and message in err and "internal error" not in err, err

@@ -53,6 +53,9 @@ def demonstration_frames(demonstrations: Any, features: Any = None) -> tuple[lis
     elif features is not None:
         names = tuple(str(n) for n in features)
     if isinstance(demonstrations, Demonstrations):
+        if demonstrations.state_kind in ("symbol", "image"):
+            raise DataError(f"the demonstrations hold {demonstrations.state_kind} states; sub-goals are clustered on "
+                            "numeric feature vectors", hint="give vector or feature-dict states (or a frame archive)")
         runs = []
         for trajectory in demonstrations:
             states = trajectory.states
