@@ -130,7 +130,7 @@ def write_d4rl(demos: Demonstrations, path: str | os.PathLike[str]) -> None:
 # --- reading ------------------------------------------------------------------------------------
 
 
-def read_d4rl_npz(path: str | os.PathLike[str]) -> Demonstrations:
+def read_d4rl_npz(path: str | os.PathLike[str], report: dict[str, Any] | None = None) -> Demonstrations:
     from symlearn.data.npz_format import member_headers, open_npz
 
     path = Path(path)
@@ -141,12 +141,12 @@ def read_d4rl_npz(path: str | os.PathLike[str]) -> Demonstrations:
         raise DataError("holds a single array, not a D4RL table", file=path)
     with archive:
         try:
-            return _from_table(path, shapes, lambda name: archive[name])
+            return _from_table(path, shapes, lambda name: archive[name], report)
         except (ValueError, EOFError, zipfile.BadZipFile, OSError, zlib.error, RuntimeError) as exc:  # truncated ...
             raise DataError(f"malformed archive: {exc}", file=path) from None
 
 
-def read_d4rl_hdf5(path: str | os.PathLike[str]) -> Demonstrations:
+def read_d4rl_hdf5(path: str | os.PathLike[str], report: dict[str, Any] | None = None) -> Demonstrations:
     from symlearn.data import hdf5_reading as h5
 
     path = Path(path)
@@ -158,10 +158,11 @@ def read_d4rl_hdf5(path: str | os.PathLike[str]) -> Demonstrations:
                 datasets[name] = dataset
         h5.declared_bytes(datasets.values(), path)
         shapes = {name: tuple(int(n) for n in ds.shape) for name, ds in datasets.items()}
-        return _from_table(path, shapes, lambda name: h5.read(path, datasets[name]))
+        return _from_table(path, shapes, lambda name: h5.read(path, datasets[name]), report)
 
 
-def _from_table(path: Path, shapes: dict[str, tuple[int, ...]], read: Callable[[str], np.ndarray]) -> Demonstrations:
+def _from_table(path: Path, shapes: dict[str, tuple[int, ...]], read: Callable[[str], np.ndarray],
+                report: dict[str, Any] | None = None) -> Demonstrations:
     for name in REQUIRED:
         if name not in shapes:
             raise DataError(f"has no {name!r}: not a D4RL table", file=path,
@@ -188,6 +189,9 @@ def _from_table(path: Path, shapes: dict[str, tuple[int, ...]], read: Callable[[
     rewards = read("rewards") if "rewards" in shapes else None
     following = read("next_observations") if "next_observations" in shapes else None
     stops = np.flatnonzero(ends | timeouts)
+    if report is not None and following is not None:
+        joined = np.flatnonzero(_discontinuities(observations, following) & ~(ends | timeouts))
+        report["joined_rows"] = [int(r) for r in joined[:1]] + [len(joined)] if len(joined) else []
     bounds = [(int(start), int(stop) + 1) for start, stop in zip(np.r_[0, stops[:-1] + 1], stops)]
     if not len(stops) or stops[-1] != n - 1:
         bounds.append((int(stops[-1]) + 1 if len(stops) else 0, n))
@@ -218,6 +222,21 @@ def _from_table(path: Path, shapes: dict[str, tuple[int, ...]], read: Callable[[
         return Demonstrations(trajectories, metadata=metadata)
     except DataError as exc:
         raise DataError(exc.message, file=path, hint=exc.hint) from None
+
+
+def _discontinuities(observations: np.ndarray, following: np.ndarray) -> np.ndarray:
+    """Rows whose next observation is not the following row's observation (relative tolerance
+    1e-5; the last row is never one). Inside an episode such a row means two episodes were joined
+    without a flag (D4RL's v0 tables have no ``timeouts``): ``data info`` says so; the episodes
+    are still cut where the flags say (docs/FORMATS.md)."""
+    n = len(observations)
+    found = np.zeros(n, dtype=bool)
+    if n > 1:
+        a = np.asarray(following[:-1], dtype=np.float64).reshape(n - 1, -1)
+        b = np.asarray(observations[1:], dtype=np.float64).reshape(n - 1, -1)
+        with np.errstate(invalid="ignore", over="ignore"):
+            found[:-1] = ~np.isclose(a, b, rtol=1e-5, atol=1e-8, equal_nan=True).all(axis=1)
+    return found
 
 
 def _flat_per_row(read: Callable[[str], np.ndarray], names: tuple[str, ...]) -> Callable[[str], np.ndarray]:

@@ -323,3 +323,21 @@ def test_learn_pdfa_states_it_cannot_cluster_are_one_line(tmp_path, capsys, stat
     path = npz(tmp_path / "d.npz", {}, lengths=np.array([3]), states=states)
     code, _, err = run(capsys, "learn", "pdfa", "--demos", path)
     assert code == 2 and message in err and "internal error" not in err, err
+
+
+def test_data_info_warns_where_a_d4rl_table_joins_episodes_without_a_flag(tmp_path, capsys):
+    # D4RL's v0 tables have no timeouts: a time-limited episode runs into the next one and only
+    # next_observations shows where; the episodes stay cut where the flags say (docs), with a warning
+    first, second = np.arange(8, dtype=np.float32).reshape(4, 2), 100 + np.arange(6, dtype=np.float32).reshape(3, 2)
+    path = tmp_path / "v0.npz"
+    np.savez(path, observations=np.concatenate([first[:3], second[:2]]),
+             next_observations=np.concatenate([first[1:], second[1:]]), actions=np.zeros((5, 1)),
+             terminals=np.array([False, False, False, False, True]))
+    code, out, err = run(capsys, "data", "info", path)
+    assert code == 0 and "in 1 row(s) inside an episode (first: row 2) the next observation" in err, err
+    assert "1 trajectories" in out
+    continuous = tmp_path / "ok.npz"
+    np.savez(continuous, observations=first[:3], next_observations=first[1:], actions=np.zeros((3, 1)),
+             terminals=np.array([False, False, True]))
+    code, _, err = run(capsys, "data", "validate", continuous)
+    assert code == 0 and "warning" not in err, err
