@@ -232,8 +232,8 @@ def _discontinuities(observations: np.ndarray, following: np.ndarray) -> np.ndar
     n = len(observations)
     found = np.zeros(n, dtype=bool)
     if n > 1:
-        a = np.asarray(following[:-1], dtype=np.float64).reshape(n - 1, -1)
-        b = np.asarray(observations[1:], dtype=np.float64).reshape(n - 1, -1)
+        a = np.asarray(following[:-1]).reshape(n - 1, -1)  # views: no float64 copy of a large table
+        b = np.asarray(observations[1:]).reshape(n - 1, -1)
         with np.errstate(invalid="ignore", over="ignore"):
             found[:-1] = ~np.isclose(a, b, rtol=1e-5, atol=1e-8, equal_nan=True).all(axis=1)
     return found
