@@ -28,7 +28,7 @@ def register(subparsers, common) -> None:
     validate.set_defaults(handler=_validate)
 
     convert = commands.add_parser("convert", parents=[common()],
-                                  help="convert between .jsonl, .npz, D4RL tables and Minari folders",
+                                  help="convert between .jsonl, .npz and D4RL tables (from Minari folders too)",
                                   description="Convert demonstrations to another format, chosen by the target's "
                                               "suffix: .jsonl, .npz (symlearn's archive), .hdf5/.h5 (a D4RL "
                                               "table). The source may also be a Minari dataset folder.")
@@ -58,19 +58,38 @@ def _render_summary(doc: dict) -> str:
     return "\n".join(lines)
 
 
-def _info(args: argparse.Namespace, out) -> None:
+def _load_noting(args: argparse.Namespace, out):
+    """The demonstrations; for a D4RL table with next_observations, a warning where a row's next
+    observation is not the next row's observation inside an episode (episodes joined without a
+    timeouts flag, as in D4RL's v0 tables)."""
     from symlearn.data import load
     from symlearn.data.files import detect
 
-    demos = load(args.file)
+    fmt = detect(args.file)
+    if fmt not in ("d4rl-npz", "d4rl-hdf5"):
+        return load(args.file)
+    from symlearn.data.d4rl_format import read_d4rl_hdf5, read_d4rl_npz
+
+    report: dict = {}
+    demos = (read_d4rl_npz if fmt == "d4rl-npz" else read_d4rl_hdf5)(args.file, report)
+    if report.get("joined_rows"):
+        first, count = report["joined_rows"]
+        out.note(f"warning: {args.file}: in {count} row(s) inside an episode (first: row {first}) the next "
+                 "observation is not the next row's observation: episodes may have been joined without a "
+                 "timeouts flag (they are cut only where terminals or timeouts say)")
+    return demos
+
+
+def _info(args: argparse.Namespace, out) -> None:
+    from symlearn.data.files import detect
+
+    demos = _load_noting(args, out)
     out.result({"file": args.file, "format": detect(args.file), "summary": demos.summary(),
                 "metadata": demos.metadata}, _render_summary)
 
 
 def _validate(args: argparse.Namespace, out) -> None:
-    from symlearn.data import load
-
-    demos = load(args.file)
+    demos = _load_noting(args, out)
     out.result({"file": args.file, "valid": True, "n_trajectories": len(demos)},
                f"{args.file}: valid ({len(demos)} trajectories)")
 

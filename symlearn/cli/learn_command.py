@@ -250,8 +250,8 @@ def _user_labeling(args, target, env):
     names = target.feature_names(env, override=args.features) if args.features else None
     if not args.labeling:
         return None
-    if names is None and args.labeling.lower().endswith(".json"):
-        names = target.feature_names(env)
+    if names is None and (args.labeling.lower().endswith(".json") or args.labeling.lstrip().startswith("{")):
+        names = target.feature_names(env)  # a file, or the {proposition: condition} object given as it is
     labeling = read_labeling(args.labeling, feature_names=names)
     features = target.features(env, override=args.features) if names is not None else None
     if features is not None and features.source == "info" and hasattr(labeling, "feature_map"):

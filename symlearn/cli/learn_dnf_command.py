@@ -102,7 +102,10 @@ def _demonstrations(args: argparse.Namespace, note=None):
         meta = demos.metadata if isinstance(demos.metadata, dict) else {}
         named = meta.get("feature_names", meta.get("features"))
         if isinstance(named, list) and named and all(isinstance(n, str) for n in named):
-            features = list(parse_feature_names(named, flag="the demonstrations' feature names"))
+            try:
+                features = list(parse_feature_names(named, flag='metadata "feature_names"'))
+            except DataError as exc:  # the file's own names: say which file
+                raise DataError(exc.message, file=args.demos, hint=exc.hint) from None
     return demos, None if features is None else (features if args.domain else list(features))
 
 

@@ -203,7 +203,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
     seed = getattr(args, "seed", 0) or 0
     demos = demonstrations(target, args.demos, args.n_demos, seed=seed, expert_steps=args.expert_steps,
                            expert_cache=args.expert_cache, note=out.note)
-    demos = _in_the_view(demos, env, args.demos)
+    demos = _in_the_view(demos, env, args.demos, names)
     has_cost = target.reports_cost(env)
 
     import torch
@@ -260,10 +260,12 @@ def _icrl(args: argparse.Namespace, out) -> None:
     out.result(doc, _render)
 
 
-def _in_the_view(demos: Any, env: Any, path: Any) -> Any:
+def _in_the_view(demos: Any, env: Any, path: Any, names: Any = None) -> Any:
     """Demonstrations that store a ``Dict``-observing environment's own observations (``record``
     keeps a dict of scalars as feature states), seen as the flat numeric view that the policy and
-    the cost read (:mod:`symlearn.recipes.spaces`)."""
+    the cost read (:mod:`symlearn.recipes.spaces`); feature-dict states of an environment with
+    an array observation, placed by the names of its entries (``names``:
+    ``observation_names``, else ``feature_names`` one per entry)."""
     from collections.abc import Mapping
 
     import numpy as np
@@ -272,16 +274,19 @@ def _in_the_view(demos: Any, env: Any, path: Any) -> Any:
     from symlearn.errors import DataError
     from symlearn.recipes.spaces import NumericObservations
 
-    if not isinstance(env, NumericObservations):
-        return demos
-    names = demos.metadata.get("feature_names")
+    if demos.state_kind == "symbol":
+        raise DataError("the demonstrations' states are symbols (text); neural ICRL reads numeric observations",
+                        file=path, hint="give the observations as numbers (vector states)")
+    columns = demos.metadata.get("feature_names")
     if isinstance(demos[0].states[0], Mapping):
+        if not isinstance(env, NumericObservations):
+            return _placed_by_name(demos, env, path, names)
         view = env.observation
-    elif names and demos.state_kind == "vector":
+    elif isinstance(env, NumericObservations) and columns and demos.state_kind == "vector":
         # named columns of a Dict observation (record, Minari): rebuilt as the observation, so a
         # Discrete part becomes the one-hot columns the policy reads
         def view(row: Any) -> Any:
-            return env.from_columns(dict(zip(names, np.asarray(row).tolist())))
+            return env.from_columns(dict(zip(columns, np.asarray(row).tolist())))
     else:
         return demos
     try:
@@ -293,6 +298,36 @@ def _in_the_view(demos: Any, env: Any, path: Any) -> Any:
         raise DataError(f"the demonstrations' states do not fit the observation space {env.env.observation_space}"
                         f" ({type(exc).__name__}: {exc})", file=path,
                         hint="were they recorded in this environment?") from None
+    return Demonstrations(items, metadata=demos.metadata)
+
+
+def _placed_by_name(demos: Any, env: Any, path: Any, names: Any) -> Any:
+    """Feature-dict states (``{"x": .., "y": ..}``, a JSONL file's named columns) as the vectors of an
+    array observation, each entry taken from the key that names it."""
+    import numpy as np
+
+    from symlearn.data import Demonstrations, Trajectory
+    from symlearn.errors import DataError
+
+    keys = sorted(demos[0].states[0])
+    space = env.observation_space
+    if names is None:
+        raise DataError(f"the demonstrations' states are named features ({', '.join(keys)}) but the environment's "
+                        f"observation {space} does not name its entries", file=path,
+                        hint="give vector states in the observation's order, or give the environment an "
+                             "observation_names (or feature_names) attribute")
+    missing = [n for n in names if n not in demos[0].states[0]]
+    if missing:
+        raise DataError(f"the demonstrations' states lack the observation entr{'y' if len(missing) == 1 else 'ies'} "
+                        f"{', '.join(map(repr, missing))} (their features: {', '.join(keys)}; the observation's: "
+                        f"{', '.join(map(str, names))})", file=path, hint="were they recorded in this environment?")
+    shape = getattr(space, "shape", None) or (len(names),)
+    try:
+        items = [Trajectory(np.asarray([[s[n] for n in names] for s in t.states], dtype=np.float64).reshape(
+            len(t.states), *shape), t.actions, t.rewards, t.labels, t.info) for t in demos]
+    except (TypeError, ValueError) as exc:
+        raise DataError(f"the demonstrations' features do not fit the observation {space} ({exc})", file=path,
+                        hint="the observation's entries must be numbers") from None
     return Demonstrations(items, metadata=demos.metadata)
 
 

@@ -121,7 +121,8 @@ def _pdfa(args: argparse.Namespace, out) -> None:
     try:
         learner.fit(demos, features)
     except DataError as exc:
-        if args.demos and not exc.file and "subset" not in exc.message:
+        # the file's fault, unless the message is about the --subsets text (the frames' values are the file's)
+        if args.demos and not exc.file and ("subset" not in exc.message or "frame" in exc.message):
             raise DataError(exc.message, file=args.demos, hint=exc.hint) from None
         raise
     pdfa, counts = learner.pdfa_, learner.counts_

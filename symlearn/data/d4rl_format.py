@@ -110,7 +110,10 @@ def to_table(demos: Demonstrations) -> dict[str, np.ndarray]:
 def write_d4rl(demos: Demonstrations, path: str | os.PathLike[str]) -> None:
     """Write ``demos`` as a D4RL table: HDF5 for ``.hdf5``/``.h5``, NPZ otherwise."""
     path = Path(path)
-    arrays = to_table(demos)
+    try:
+        arrays = to_table(demos)
+    except DataError as exc:  # name the file being written
+        raise DataError(exc.message, file=exc.file or path, hint=exc.hint) from None
     buffer = io.BytesIO()
     if path.suffix.lower() in (".hdf5", ".h5"):
         from symlearn.data.hdf5_reading import h5py_module
@@ -127,7 +130,7 @@ def write_d4rl(demos: Demonstrations, path: str | os.PathLike[str]) -> None:
 # --- reading ------------------------------------------------------------------------------------
 
 
-def read_d4rl_npz(path: str | os.PathLike[str]) -> Demonstrations:
+def read_d4rl_npz(path: str | os.PathLike[str], report: dict[str, Any] | None = None) -> Demonstrations:
     from symlearn.data.npz_format import member_headers, open_npz
 
     path = Path(path)
@@ -138,12 +141,12 @@ def read_d4rl_npz(path: str | os.PathLike[str]) -> Demonstrations:
         raise DataError("holds a single array, not a D4RL table", file=path)
     with archive:
         try:
-            return _from_table(path, shapes, lambda name: archive[name])
+            return _from_table(path, shapes, lambda name: archive[name], report)
         except (ValueError, EOFError, zipfile.BadZipFile, OSError, zlib.error, RuntimeError) as exc:  # truncated ...
             raise DataError(f"malformed archive: {exc}", file=path) from None
 
 
-def read_d4rl_hdf5(path: str | os.PathLike[str]) -> Demonstrations:
+def read_d4rl_hdf5(path: str | os.PathLike[str], report: dict[str, Any] | None = None) -> Demonstrations:
     from symlearn.data import hdf5_reading as h5
 
     path = Path(path)
@@ -155,10 +158,11 @@ def read_d4rl_hdf5(path: str | os.PathLike[str]) -> Demonstrations:
                 datasets[name] = dataset
         h5.declared_bytes(datasets.values(), path)
         shapes = {name: tuple(int(n) for n in ds.shape) for name, ds in datasets.items()}
-        return _from_table(path, shapes, lambda name: h5.read(path, datasets[name]))
+        return _from_table(path, shapes, lambda name: h5.read(path, datasets[name]), report)
 
 
-def _from_table(path: Path, shapes: dict[str, tuple[int, ...]], read: Callable[[str], np.ndarray]) -> Demonstrations:
+def _from_table(path: Path, shapes: dict[str, tuple[int, ...]], read: Callable[[str], np.ndarray],
+                report: dict[str, Any] | None = None) -> Demonstrations:
     for name in REQUIRED:
         if name not in shapes:
             raise DataError(f"has no {name!r}: not a D4RL table", file=path,
@@ -171,12 +175,13 @@ def _from_table(path: Path, shapes: dict[str, tuple[int, ...]], read: Callable[[
             rows = shapes[name][0] if shapes[name] else 0
             raise DataError(f"{name!r} has {rows} rows, 'observations' has {n}", file=path,
                             hint="every column has one row per transition")
-        if name in ("rewards", "terminals", "timeouts") and name in shapes and len(shapes[name]) != 1:
+        if name in ("rewards", "terminals", "timeouts") and name in shapes and shapes[name] not in ((n,), (n, 1)):
             raise DataError(f"{name!r} has shape {shapes[name]}, expected ({n},)", file=path)
     if "next_observations" in shapes and shapes["next_observations"] != shapes["observations"]:
         raise DataError(f"'next_observations' has shape {shapes['next_observations']}, 'observations' has "
                         f"{shapes['observations']}", file=path)
     header = _read_header(path, shapes, read) if HEADER in shapes else None
+    read = _flat_per_row(read, ("rewards", "terminals", "timeouts"))
     ends = _flags(path, "terminals", read("terminals"))
     timeouts = _flags(path, "timeouts", read("timeouts")) if "timeouts" in shapes else np.zeros(n, dtype=bool)
     observations = read("observations")
@@ -184,6 +189,9 @@ def _from_table(path: Path, shapes: dict[str, tuple[int, ...]], read: Callable[[
     rewards = read("rewards") if "rewards" in shapes else None
     following = read("next_observations") if "next_observations" in shapes else None
     stops = np.flatnonzero(ends | timeouts)
+    if report is not None and following is not None:
+        joined = np.flatnonzero(_discontinuities(observations, following) & ~(ends | timeouts))
+        report["joined_rows"] = [int(r) for r in joined[:1]] + [len(joined)] if len(joined) else []
     bounds = [(int(start), int(stop) + 1) for start, stop in zip(np.r_[0, stops[:-1] + 1], stops)]
     if not len(stops) or stops[-1] != n - 1:
         bounds.append((int(stops[-1]) + 1 if len(stops) else 0, n))
@@ -214,6 +222,30 @@ def _from_table(path: Path, shapes: dict[str, tuple[int, ...]], read: Callable[[
         return Demonstrations(trajectories, metadata=metadata)
     except DataError as exc:
         raise DataError(exc.message, file=path, hint=exc.hint) from None
+
+
+def _discontinuities(observations: np.ndarray, following: np.ndarray) -> np.ndarray:
+    """Rows whose next observation is not the following row's observation (relative tolerance
+    1e-5; the last row is never one). Inside an episode such a row means two episodes were joined
+    without a flag (D4RL's v0 tables have no ``timeouts``): ``data info`` says so; the episodes
+    are still cut where the flags say (docs/FORMATS.md)."""
+    n = len(observations)
+    found = np.zeros(n, dtype=bool)
+    if n > 1:
+        a = np.asarray(following[:-1]).reshape(n - 1, -1)  # views: no float64 copy of a large table
+        b = np.asarray(observations[1:]).reshape(n - 1, -1)
+        with np.errstate(invalid="ignore", over="ignore"):
+            found[:-1] = ~np.isclose(a, b, rtol=1e-5, atol=1e-8, equal_nan=True).all(axis=1)
+    return found
+
+
+def _flat_per_row(read: Callable[[str], np.ndarray], names: tuple[str, ...]) -> Callable[[str], np.ndarray]:
+    """``read``, with the one-number-per-row columns given as ``(N,)`` also where a tool stored
+    them as ``(N, 1)`` (checked above: no other shape gets here)."""
+    def flat(name: str) -> np.ndarray:
+        values = read(name)
+        return values.reshape(-1) if name in names and values.ndim == 2 else values
+    return flat
 
 
 def _flags(path: Path, name: str, values: np.ndarray) -> np.ndarray:

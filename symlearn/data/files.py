@@ -22,15 +22,13 @@ HDF5_SUFFIXES = (".hdf5", ".h5")
 SAVE_FORMATS = ("symlearn", "d4rl")
 
 
-def _format_of(path: Path) -> str:
+def _format_of(path: Path, *, writing: bool = False) -> str:
     suffix = path.suffix.lower()
     if suffix not in SUFFIXES:
-        raise DataError(
-            f"unknown demonstrations format {suffix or '(no suffix)'!r}",
-            file=path,
-            hint="use .jsonl for symbolic/discrete traces, .npz for numeric/image arrays, .hdf5 for a D4RL "
-                 "table, or a Minari dataset folder",
-        )
+        hint = ("use .jsonl for symbolic/discrete traces, .npz for numeric/image arrays, .hdf5 for a D4RL "
+                "table" + (" (Minari datasets are read, not written: minari's DataCollector writes them)"
+                           if writing else ", or a Minari dataset folder"))
+        raise DataError(f"unknown demonstrations format {suffix or '(no suffix)'!r}", file=path, hint=hint)
     return suffix
 
 
@@ -38,7 +36,7 @@ def save(demos: Demonstrations, path: str | os.PathLike[str], *, format: str | N
     """Write ``demos`` to ``path``; the old file survives any failure. ``format="d4rl"`` writes a
     D4RL table (the only choice for ``.hdf5``/``.h5``; for ``.npz`` instead of symlearn's archive)."""
     path = Path(path)
-    suffix = _format_of(path)
+    suffix = _format_of(path, writing=True)
     if format is not None and format not in SAVE_FORMATS:
         raise DataError(f"unknown format {format!r}", hint=f"use one of {', '.join(SAVE_FORMATS)}")
     if suffix in HDF5_SUFFIXES and format == "symlearn":

@@ -90,6 +90,11 @@ def load_frames(path: str | os.PathLike[str]) -> tuple[list[np.ndarray], tuple[s
             if raw.dtype.kind != "U" or raw.shape != (s_shape[1],):
                 raise DataError(f"'feature_names' must be {s_shape[1]} strings", file=source)
             names = tuple(str(n) for n in raw)
+            repeated = sorted({n for n in names if names.count(n) > 1})
+            if repeated or any(not n.strip() for n in names):
+                what = f"names {repeated[0]!r} twice" if repeated else "has an empty name"
+                raise DataError(f"'feature_names' {what}", file=source,
+                                hint="--subsets picks columns by name: give each column one name")
     if np.isinf(states).any():
         row = int(np.flatnonzero(np.isinf(states).any(axis=1))[0])
         demo = int(np.searchsorted(np.cumsum(lengths), row, side="right"))

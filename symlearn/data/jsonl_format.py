@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 from pathlib import Path
 from typing import Any
 
@@ -76,7 +77,9 @@ def write_jsonl(demos: Demonstrations, path: str | os.PathLike[str]) -> None:
 def read_jsonl(path: str | os.PathLike[str]) -> Demonstrations:
     path = Path(path)
     text = read_input_text(path, what="demonstrations file")  # size cap; bad bytes at line:col
-    lines = text.splitlines()
+    # lines end at \n only (\r\n too): str.splitlines would also cut at U+2028, U+0085 and other
+    # characters JSON strings may hold raw (json.dumps(..., ensure_ascii=False) writes them so)
+    lines = [line[:-1] if line.endswith("\r") else line for line in text.split("\n")]
     header, start = None, 0
     for number, raw in enumerate(lines, start=1):
         if raw.strip():
@@ -85,17 +88,47 @@ def read_jsonl(path: str | os.PathLike[str]) -> Demonstrations:
     if header is None:
         raise DataError("file is empty: expected a header line and at least one trajectory", file=path)
 
-    trajectories = []
+    trajectories, numbers = [], []
     for number, raw in enumerate(lines[start:], start=start + 1):
         if not raw.strip():
             continue
         trajectories.append(_read_trajectory(path, number, raw, header))
+        numbers.append(number)
     if not trajectories:
         raise DataError("no trajectories after the header line", file=path, line=start)
+    trajectories = _common_dtypes(trajectories, header)
     try:
         return Demonstrations(trajectories, metadata=header.get("metadata") or {})
     except DataError as exc:
-        raise DataError(exc.message, file=path, hint=exc.hint) from None
+        # "trajectory 3 has no actions but trajectory 0 ...": point at the line of trajectory 3
+        found = re.search(r"trajectory (\d+)", exc.message)
+        line = numbers[int(found.group(1))] if found and int(found.group(1)) < len(numbers) else None
+        raise DataError(exc.message, file=path, line=line, hint=exc.hint) from None
+
+
+def _common_dtypes(trajectories: list[Trajectory], header: dict[str, Any]) -> list[Trajectory]:
+    """Without a declared dtype, JSON numbers of a vector column read as int64 on a line that
+    happens to hold only whole numbers (``[[0, 1], [1, 2]]``) and as float64 on the next: give
+    every trajectory the column's common dtype, as one array of all of them would have."""
+    common: dict[str, np.dtype] = {}
+    for key, kind_key, dtype_key in (("states", "state_kind", "state_dtype"), ("actions", "action_kind", "action_dtype")):
+        kind = header.get(kind_key) or next((getattr(t, kind_key) for t in trajectories if getattr(t, kind_key)), None)
+        if header.get(dtype_key) is not None or kind not in ("vector", "image"):
+            continue
+        arrays = [getattr(t, key) for t in trajectories if getattr(t, key) is not None and len(getattr(t, key))]
+        dtypes = {a.dtype for a in arrays if isinstance(a, np.ndarray)}
+        if len(dtypes) > 1:
+            common[key] = np.result_type(*dtypes)
+    if not common:
+        return trajectories
+
+    def cast(t: Trajectory, key: str) -> Any:
+        values = getattr(t, key)
+        if key not in common or values is None or not len(values):
+            return values
+        return values.astype(common[key])
+
+    return [Trajectory(cast(t, "states"), cast(t, "actions"), t.rewards, t.labels, t.info) for t in trajectories]
 
 
 def _parse_line(path: Path, number: int, raw: str) -> Any:
@@ -135,9 +168,12 @@ def _read_header(path: Path, number: int, raw: str) -> dict[str, Any]:
         if kind is not None and kind not in KINDS:
             raise DataError(f"unknown {key} {kind!r} (known: {', '.join(KINDS)})",
                             file=path, line=number, column=_column_of(raw, f'"{key}"'))
-    if header.get("state_kind") is None:
-        raise DataError("header lacks state_kind", file=path, line=number)
-    if not isinstance(header.get("metadata", {}), dict):
+    # a kind left out is the kind the values are (as Trajectory reads them); every line must agree
+    header["_inferred"] = tuple(key for key in ("state_kind", "action_kind")
+                                if key not in header or key == "state_kind" and header[key] is None)
+    if header.get("metadata") is None:
+        header["metadata"] = {}
+    if not isinstance(header["metadata"], dict):
         raise DataError("header metadata must be an object", file=path, line=number, column=_column_of(raw, '"metadata"'))
     if depth(header.get("metadata") or {}) > MAX_JSON_DEPTH - 1:
         raise DataError(f"header metadata is nested more than {MAX_JSON_DEPTH} levels deep", file=path,
@@ -177,12 +213,17 @@ def _read_trajectory(path: Path, number: int, raw: str, header: dict[str, Any]) 
 
     if not isinstance(obj, dict):
         raise fail(f"a trajectory line must be a JSON object, got {type(obj).__name__}")
+    if obj.get("symlearn") == MAGIC:
+        raise fail("a second header line: only line 1 is a header (were two files joined?)", "symlearn",
+                   hint="keep the first header and remove this line; the trajectories must agree with it")
     unknown = sorted(set(obj) - set(_LINE_KEYS))
     if unknown:
         raise fail(f"unknown key {unknown[0]!r}", unknown[0], hint=f"known keys: {', '.join(_LINE_KEYS)}")
     if "states" not in obj:
         raise fail("trajectory has no 'states'")
-    if header.get("action_kind") is None and obj.get("actions"):
+    # an optional key given as null (pandas, other tools' exporters) is an absent key
+    obj = {key: value for key, value in obj.items() if value is not None or key == "states"}
+    if header.get("action_kind") is None and obj.get("actions") and "action_kind" not in header["_inferred"]:
         raise fail("trajectory has actions but the header says action_kind is null", "actions")
 
     fields: dict[str, Any] = {}
@@ -201,9 +242,13 @@ def _read_trajectory(path: Path, number: int, raw: str, header: dict[str, Any]) 
         mentioned = [k for k in _LINE_KEYS if k in exc.message]
         field = min(mentioned, key=exc.message.find) if mentioned else None
         raise fail(exc.message, field, exc.hint) from None
-    if traj.state_kind != header["state_kind"]:
-        raise fail(f"states are {traj.state_kind} but the header says {header['state_kind']}", "states")
-    if traj.n_actions and traj.action_kind != header.get("action_kind"):
+    if "state_kind" not in header["_inferred"] and traj.state_kind != header["state_kind"]:
+        hint = None
+        if traj.state_kind == "discrete" and header["state_kind"] == "vector":
+            hint = ("a flat list of integers is read as discrete ids: declare state_kind discrete, or write each "
+                    "step as a list ([[1], [2]]) or declare a float state_dtype for one-number vector states")
+        raise fail(f"states are {traj.state_kind} but the header says {header['state_kind']}", "states", hint)
+    if traj.n_actions and "action_kind" not in header["_inferred"] and traj.action_kind != header.get("action_kind"):
         raise fail(f"actions are {traj.action_kind} but the header says {header.get('action_kind')}", "actions")
     return traj
 
@@ -216,14 +261,27 @@ def _column_from_json(values: Any, kind: str | None, dtype: str | None, key: str
             array = np.asarray(values)
         except ValueError:
             raise fail(f"'{key}' are ragged", key, hint="every step must have the same shape") from None
+        if array.dtype == object and any(isinstance(v, int) and not -2**63 <= v < 2**64
+                                         for v in np.ravel(array) if not isinstance(v, bool)):
+            raise fail(f"'{key}' hold an integer beyond 64 bits", key,
+                       hint="symlearn keeps integers as int64; write such numbers as floats or strings")
         if array.dtype == object or array.dtype.kind not in "biuf":
             raise fail(f"'{key}' must be numbers for {kind} {key}", key)
         if kind == "discrete" and (array.ndim != 1 or array.dtype.kind not in "iu"):
             raise fail(f"'{key}' must be a flat list of integer ids for discrete {key}", key)
         if dtype is not None:
-            cast = array.astype(dtype)
-            if not np.array_equal(cast, array):
-                raise fail(f"'{key}' do not fit the header dtype {dtype}", key)
+            with np.errstate(over="ignore", invalid="ignore"):
+                cast = array.astype(dtype)
+            if np.dtype(dtype).kind == "f":
+                # a float column is read to its nearest value of the declared width (a float32 written
+                # as "0.1" is the float32 nearest 0.1); only a number beyond its range does not fit
+                fits = bool(np.isfinite(cast).all())
+            else:
+                fits = bool(np.array_equal(cast, array))
+            if not fits:
+                raise fail(f"'{key}' do not fit the header dtype {dtype}", key,
+                           hint="integers beyond the type's range, fractions for an integer type, or numbers "
+                                "beyond a float type's range; declare a wider dtype")
             array = cast
         return array
     return values

@@ -27,6 +27,7 @@ KINDS: tuple[Kind, ...] = ("discrete", "vector", "image", "features", "symbol")
 ARRAY_KINDS = frozenset({"discrete", "vector", "image"})
 
 _FEATURE_SCALARS = (bool, int, float, str)
+_INT64_MAX = int(np.iinfo(np.int64).max)
 
 
 def _is_int(value: Any) -> bool:
@@ -43,6 +44,10 @@ def normalize_column(values: Any, what: str) -> tuple[Kind, Any]:
     if not items:
         return "discrete", np.zeros(0, dtype=np.int64)
     if all(_is_int(v) for v in items):
+        odd = next((t for t, v in enumerate(items) if not -_INT64_MAX - 1 <= int(v) <= _INT64_MAX), None)
+        if odd is not None:
+            raise DataError(f"{what} hold {int(items[odd])} at step {odd}, beyond int64 "
+                            f"(the largest integer symlearn keeps is {_INT64_MAX})")
         return "discrete", np.asarray(items, dtype=np.int64)
     if all(isinstance(v, str) for v in items):
         for t, v in enumerate(items):
@@ -80,6 +85,14 @@ def _normalize_array(array: np.ndarray, what: str) -> tuple[Kind, np.ndarray]:
         return "symbol", tuple(str(v) for v in array)
     if array.dtype.kind not in "biuf":
         raise DataError(f"{what} must be numeric, got dtype {array.dtype}")
+    if array.ndim >= 2 and 0 in array.shape[1:]:
+        raise DataError(f"{what} hold no value per step (per-step shape {array.shape[1:]})",
+                        hint="every step needs at least one number")
+    if array.dtype.kind == "u" and array.ndim == 1 and array.size and int(array.max()) > _INT64_MAX:
+        # int64 is how ids and integer vectors are kept: a larger uint64 would wrap to a negative number
+        step = int(np.argwhere(array > _INT64_MAX)[0][0])
+        raise DataError(f"{what} hold {int(array[array > _INT64_MAX][0])} at step {step}, beyond int64 "
+                        f"(the largest integer symlearn keeps is {_INT64_MAX})")
     if array.dtype.kind in "iu" and array.ndim == 1:
         return "discrete", array.astype(np.int64)
     if array.dtype.kind == "b":

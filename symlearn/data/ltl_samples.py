@@ -15,7 +15,8 @@ one per step; all lists of a trace have the same length. In memory a trace is a 
 labels, each the frozenset of propositions true at that step (the convention of
 :func:`symlearn.logic.ltlf.semantics.holds`).
 
-Rejected, with the file and the JSON path of the offending value: a proposition that is not
+Rejected, with the file and the JSON path of the offending value: a ``trace_type`` other than
+``"finite"`` (infinite or lasso traces would be learned with the wrong semantics), a proposition that is not
 declared in ``atomic_propositions``, a value other than 0/1, ragged or empty traces, an empty
 positive or negative set, and a trace that is both positive and negative (no formula can
 separate such a sample).
@@ -127,6 +128,10 @@ def parse_sample(document: Any, *, source: str | None = None) -> LtlSample:
         if key not in document:
             raise DataError(f"$: missing key {key!r}", file=source,
                             hint="an LTL learning sample has atomic_propositions, positive_traces and negative_traces")
+    trace_type = document.get("trace_type", "finite")
+    if trace_type != "finite":
+        raise DataError(f"trace_type: {json.dumps(trace_type)[:40]} traces are not read (LTLf is about finite traces)",
+                        file=source, hint='a sample of finite traces says "trace_type": "finite" (or leaves it out)')
     props = document["atomic_propositions"]
     if not isinstance(props, list) or not all(isinstance(p, str) and p for p in props):
         raise DataError("atomic_propositions: expected a list of non-empty strings", file=source)

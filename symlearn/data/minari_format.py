@@ -194,8 +194,10 @@ def _read_episode(path: Path, plan: dict[str, Any]) -> tuple[Trajectory, list[st
         states, feature_names = flatten_leaves(leaves, f"'/{name}/observations'")
     actions = h5.read(path, columns["actions"])
     rewards = h5.read(path, columns["rewards"])
-    terminations = h5.read(path, columns["terminations"]).astype(bool)
-    truncations = h5.read(path, columns["truncations"]).astype(bool)
+    from symlearn.data.d4rl_format import _flags  # booleans or 0/1, anything else refused
+
+    terminations = _flags(path, f"/{name}/terminations", h5.read(path, columns["terminations"]))
+    truncations = _flags(path, f"/{name}/truncations", h5.read(path, columns["truncations"]))
     terminated = bool(n and terminations[-1])
     info: dict[str, Any] = {}
     if plan["seed"] is not None:

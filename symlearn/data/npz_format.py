@@ -35,6 +35,7 @@ from symlearn.atomic import write_bytes
 from symlearn.data.demonstrations import Demonstrations
 from symlearn.data.trajectory import Trajectory
 from symlearn.data.kinds import KINDS
+from symlearn.data.npz_header import action_lengths_of, check_declared_kinds, complete_header
 from symlearn.errors import DataError
 from symlearn.input_limits import MAX_JSON_DEPTH, check_size, depth, load_json
 
@@ -149,8 +150,10 @@ def _read_npy_header(handle, name: str, path: Path) -> tuple[np.dtype, tuple[int
     else:
         raise DataError(f"member {name!r}: unsupported .npy version {version}", file=path)
     if dtype.hasobject or dtype.names is not None or dtype.shape or dtype.kind not in "biufU":
+        hint = ("store text as numpy str (np.array(names, dtype=str), or .astype(str) of bytes), not bytes"
+                if dtype.kind == "S" else None)
         raise DataError(f"member {name!r} has dtype {dtype.str!r}; symlearn archives hold only "
-                        "plain numbers, booleans and text", file=path)
+                        "plain numbers, booleans and text", file=path, hint=hint)
     return dtype, tuple(int(x) for x in shape)
 
 
@@ -242,7 +245,7 @@ def _read_meta(path: Path, text: str) -> dict:
     if not isinstance(version, int) or isinstance(version, bool) or version > FORMAT_VERSION or version < 1:
         raise DataError(f"format_version {version!r} is not readable by this symlearn (reads {FORMAT_VERSION})",
                         file=path, hint="upgrade symlearn")
-    if header.get("state_kind") not in KINDS:
+    if header.get("state_kind") is not None and header.get("state_kind") not in KINDS:
         raise DataError(f"__meta__: state_kind {header.get('state_kind')!r} is not one of {', '.join(KINDS)}",
                         file=path)
     if header.get("action_kind") is not None and header.get("action_kind") not in KINDS:
@@ -280,10 +283,16 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
             raise DataError(f"member {name!r} has {shape[0] if shape else 0} rows, expected {expected} ({what})",
                             file=path)
 
+    if "__meta__" not in archive.files:
+        raise DataError("archive lacks member '__meta__': not a symlearn demonstrations archive", file=path,
+                        hint="add __meta__ = json.dumps({\"symlearn\": \"demonstrations\", \"format_version\": 1, "
+                             "\"state_kind\": ...}) (docs/FORMATS.md); an archive of 'observations', 'actions', "
+                             "'terminals' is read as a D4RL table, one of 'states' and 'lengths' alone is a frame "
+                             "archive (learn pdfa)")
     meta = member("__meta__")
     if meta.dtype.kind != "U" or meta.ndim != 0:
         raise DataError("member '__meta__' must be one string", file=path)
-    header = _read_meta(path, str(meta))
+    header = complete_header(path, _read_meta(path, str(meta)), headers)
 
     if "lengths" not in headers or len(headers["lengths"][1]) != 1 or headers["lengths"][0].kind not in "iu":
         raise DataError("member 'lengths' must be a 1-D integer array", file=path)
@@ -293,10 +302,11 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
     if len(lengths) == 0:
         raise DataError("member 'lengths' is empty: no trajectories", file=path)
     n, total = len(lengths), int(lengths.sum())
-    rows("info", n, "one per trajectory")
+    if "info" in headers:
+        rows("info", n, "one per trajectory")
     if header["state_kind"] == "features":
-        for k in range(len(header.get("states_features") or [])):
-            rows(f"states.{k}", total, "one per state")
+        for name in header["_states_members"]:
+            rows(name, total, "one per state")
     else:
         rows("states", total, "one per state")
     if header.get("has_labels"):
@@ -310,8 +320,7 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
     states = _unpack_column(path, "states", header["state_kind"], lengths, archive, header, member)
     actions: list[Any] = [None] * n
     if header.get("has_actions"):
-        rows("action_lengths", n, "one per trajectory")
-        action_lengths = member("action_lengths")
+        action_lengths = action_lengths_of(path, headers, lengths, rows, member)
         if action_lengths.shape != lengths.shape or action_lengths.dtype.kind not in "iu":
             raise DataError("members 'action_lengths' and 'lengths' disagree in size", file=path)
         if (action_lengths < 0).any() or (action_lengths > lengths).any():
@@ -319,8 +328,8 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
                             "actions", file=path)
         n_actions = int(action_lengths.sum())
         if header.get("action_kind") == "features":
-            for k in range(len(header.get("actions_features") or [])):
-                rows(f"actions.{k}", n_actions, "one per action")
+            for name in header["_actions_members"]:
+                rows(name, n_actions, "one per action")
         elif header.get("action_kind") is not None:
             rows("actions", n_actions, "one per action")
         if header.get("action_kind") is None:
@@ -337,10 +346,17 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
     labels: list[Any] = [None] * n
     if header.get("has_labels"):
         names = [str(x) for x in member("label_names")]
-        blocks = _split(path, "labels", member("labels"), lengths)
+        matrix = member("labels")
+        if matrix.dtype.kind != "b":
+            odd = np.argwhere((matrix != 0) & (matrix != 1))
+            if len(odd):
+                row, column = (int(v) for v in odd[0])
+                raise DataError(f"member 'labels' holds {matrix[row, column].item()!r} at row {row}, column {column} "
+                                f"({names[column]!r}); labels are booleans or 0/1", file=path)
+        blocks = _split(path, "labels", matrix, lengths)
         labels = [[frozenset(names[k] for k in np.flatnonzero(r)) for r in block] for block in blocks]
     infos = [load_json(str(s), source=f"{path} (member 'info', trajectory {i})")
-             for i, s in enumerate(member("info"))]
+             for i, s in enumerate(member("info"))] if "info" in headers else [{} for _ in range(n)]
     if len(infos) != n:
         raise DataError("member 'info' has the wrong number of entries", file=path)
     if depth(header.get("metadata") or {}) > MAX_JSON_DEPTH - 1:
@@ -352,6 +368,7 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
             trajectories.append(Trajectory(states[i], actions[i], rewards[i], labels[i], infos[i]))
         except DataError as exc:
             raise DataError(f"trajectory {i}: {exc.message}", file=path, hint=exc.hint) from None
+        check_declared_kinds(path, i, trajectories[-1], header)
     try:
         return Demonstrations(trajectories, metadata=header.get("metadata") or {})
     except DataError as exc:
@@ -370,7 +387,7 @@ def _unpack_column(path, prefix, kind, lengths, archive, header, member) -> list
         names = header.get(f"{prefix}_features") or []
         encodings = header.get(f"{prefix}_feature_encodings") or ["array"] * len(names)
         decode = {"array": lambda v: v.item(), "json": lambda v: json.loads(str(v))}
-        columns = [_split(path, f"{prefix}.{k}", member(f"{prefix}.{k}"), lengths) for k in range(len(names))]
+        columns = [_split(path, name, member(name), lengths) for name in header[f"_{prefix}_members"]]
         return [
             [{name: decode[encodings[k]](columns[k][i][t]) for k, name in enumerate(names)}
              for t in range(int(lengths[i]))]

@@ -98,6 +98,11 @@ class Trajectory:
                     f"labels at step {t} must be a collection of propositions, got the string {step!r}",
                     hint=f"write [{step!r}] for a single proposition",
                 )
+            if isinstance(step, Mapping):
+                true = sorted(str(k) for k, v in step.items() if v)
+                raise DataError(f"labels at step {t} must be a list of the true propositions, got an object",
+                                hint=f"write {json.dumps(true)} (an object's keys would all count as true, "
+                                     "whatever their values)")
             props = frozenset(step)
             for prop in props:
                 if not isinstance(prop, str) or not prop or prop != prop.strip() or "\x00" in prop:

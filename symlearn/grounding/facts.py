@@ -292,7 +292,8 @@ def _read_table(path: Path, key: str, names: dict[int, str] | None = None,
     try:
         from symlearn.input_limits import read_input_text
 
-        lines = read_input_text(path).splitlines()
+        # \n (or \r\n) only: splitlines would cut a JSON string holding U+2028 or U+0085
+        lines = [line.rstrip("\r") for line in read_input_text(path).split("\n")]
     except OSError as exc:
         raise DataError(f"cannot read {path}: {exc.strerror}", file=str(path)) from None
     table: dict[int, tuple[str, int]] = {}

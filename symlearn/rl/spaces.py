@@ -64,16 +64,24 @@ def encode(values: Any, spec: dict[str, Any], what: str) -> np.ndarray:
     """A batch of raw observations or actions -> float32 ``(B, width)`` (one-hot for Discrete).
     Wrong shapes, ids out of range and non-finite numbers are :class:`DataError`."""
     width = spec_width(spec)
+    raw = np.asarray(values)
+    if raw.size and raw.dtype.kind not in "biuf":
+        example = raw.reshape(-1)[0]
+        raise DataError(f"{what} must be numbers, got {'text' if raw.dtype.kind == 'U' else raw.dtype} "
+                        f"(e.g. {str(example)[:40]!r})",
+                        hint="give ids or vectors as numbers, in the order of the environment's space")
     if spec["kind"] == "discrete":
-        ids = np.asarray(values).reshape(-1)
+        ids = raw.reshape(-1)
         if ids.size and not np.issubdtype(ids.dtype, np.integer):
             if not np.all(np.isfinite(ids.astype(np.float64))) or np.any(ids != np.round(ids)):
                 raise DataError(f"{what} must be whole ids of a Discrete({width}) space")
         ids = ids.astype(np.int64) - spec.get("start", 0)
         if ids.size and (ids.min() < 0 or ids.max() >= width):
-            raise DataError(f"{what} ids outside Discrete({width}): {sorted(set(ids[(ids < 0) | (ids >= width)]))[:5]}")
+            outside = sorted({int(i) for i in ids[(ids < 0) | (ids >= width)]})[:5]
+            raise DataError(f"{what} ids outside Discrete({width}): {outside}")
         return one_hot(ids, width)
-    array = np.asarray(values, dtype=np.float32)
+    with np.errstate(over="ignore"):  # beyond float32's range: said below, not as a numpy warning
+        array = np.asarray(values, dtype=np.float32)
     shape = tuple(spec["shape"])
     if array.shape[array.ndim - len(shape):] != shape:
         raise DataError(f"{what} have shape {array.shape[1:] if array.ndim > len(shape) else array.shape}, "
@@ -81,7 +89,9 @@ def encode(values: Any, spec: dict[str, Any], what: str) -> np.ndarray:
     array = array.reshape(-1, width)
     if not np.isfinite(array).all():
         rows = np.flatnonzero(~np.isfinite(array).all(1))
-        raise DataError(f"{what} are not finite (NaN or inf) in {rows.size} row(s), the first at row {rows[0]}")
+        finite_before = raw.dtype.kind == "f" and bool(np.isfinite(raw.reshape(len(array), -1)[rows[0]]).all())
+        reason = "beyond float32's range (about 3.4e38)" if finite_before else "not finite (NaN or inf)"
+        raise DataError(f"{what} are {reason} in {rows.size} row(s), the first at row {rows[0]}")
     return array
 
 

@@ -35,3 +35,17 @@ def test_object_arrays_are_refused_before_loading(tmp_path):
     np.savez(path, states=np.array([[None]], dtype=object), lengths=np.array([1]))
     with pytest.raises(DataError, match="dtype"):
         load_frames(path)
+
+
+def test_repeated_or_empty_feature_names_are_refused(tmp_path):
+    import numpy as _np
+    import pytest as _pytest
+
+    from symlearn.data.frame_archive import load_frames
+    from symlearn.errors import DataError as _DataError
+
+    for names, message in ((["a", "a"], "names 'a' twice"), (["a", " "], "has an empty name")):
+        path = tmp_path / "f.npz"
+        _np.savez(path, states=_np.zeros((4, 2)), lengths=_np.array([2, 2]), feature_names=_np.array(names))
+        with _pytest.raises(_DataError, match=message):
+            load_frames(path)

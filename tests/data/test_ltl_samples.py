@@ -105,3 +105,16 @@ def test_benchmark_files_load():
         assert len(s.positive) == len(doc["positive_traces"]) and s.propositions == tuple(doc["atomic_propositions"])
         assert sample_to_document(s)["positive_traces"] == [{p: [int(v) for v in t[p]] for p in s.propositions}
                                                              for t in doc["positive_traces"]]
+
+
+def test_a_sample_of_infinite_traces_is_refused_not_learned_as_finite():
+    import pytest as _pytest
+
+    from symlearn.data.ltl_samples import parse_sample
+    from symlearn.errors import DataError as _DataError
+
+    document = {"atomic_propositions": ["a"], "positive_traces": [{"a": [1]}], "negative_traces": [{"a": [0]}],
+                "trace_type": "infinite"}
+    with _pytest.raises(_DataError, match='trace_type: "infinite" traces are not read'):
+        parse_sample(document)
+    assert parse_sample({**document, "trace_type": "finite"}).positive == ((frozenset({"a"}),),)

@@ -54,15 +54,29 @@ def as_frames(frames: Any, what: str = "frames") -> np.ndarray:
                         hint="give image demonstrations (the NPZ 'image' kind), not vectors")
     if array.shape[-1] not in (1, 3, 4) or min(array.shape[1:3]) < 4:
         raise DataError(f"{what} of shape {array.shape[1:]} do not look like images (H, W >= 4; 1, 3 or 4 channels)")
+    check_pixel_values(array, what)
     if np.issubdtype(array.dtype, np.integer):
         return array.astype(np.float32) / 255.0
-    array = array.astype(np.float32)
+    return array.astype(np.float32)
+
+
+def check_pixel_values(array: np.ndarray, what: str = "frames") -> None:
+    """Integer pixels are 0..255 (uint8 values: they are divided by 255), float pixels 0..1 and
+    finite; anything else would be scaled wrongly without a word."""
+    if array.size == 0 or array.dtype == bool:
+        return
+    if np.issubdtype(array.dtype, np.integer):
+        lo, hi = int(array.min()), int(array.max())
+        if lo < 0 or hi > 255:
+            raise DataError(f"integer {what} must lie in 0..255 (8-bit pixel values), got [{lo}, {hi}]",
+                            hint="give uint8 images (e.g. 16-bit values >> 8) or floats scaled to 0..1")
+        return
     if not np.all(np.isfinite(array)):
         raise DataError(f"{what} contain NaN or infinite pixels")
-    if array.min() < 0 or array.max() > 1:
-        raise DataError(f"float {what} must lie in [0, 1], got [{array.min():.3g}, {array.max():.3g}]",
+    lo, hi = float(array.min()), float(array.max())
+    if lo < 0 or hi > 1:
+        raise DataError(f"float {what} must lie in [0, 1], got [{lo:.3g}, {hi:.3g}]",
                         hint="give uint8 images or floats scaled to 0..1")
-    return array
 
 
 def pool_factor(shape: tuple[int, ...]) -> int:

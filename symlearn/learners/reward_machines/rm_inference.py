@@ -32,7 +32,7 @@ from symlearn.backends.goal_shaping import shape
 from symlearn.errors import DataError
 from symlearn.learners.base import Learner
 from symlearn.learners.fit_arguments import FIT_CALLER, renamed_arguments
-from symlearn.learners.reward_machines.features import as_frames, extract, make_extractor
+from symlearn.learners.reward_machines.features import as_frames, check_pixel_values, extract, make_extractor
 from symlearn.learners.reward_machines.labeling import PrototypeLabeling, check_exclusive
 from symlearn.learners.reward_machines.machine_building import infer_transitions, machine_from_edges
 from symlearn.learners.reward_machines.prototypes import find_clusters
@@ -80,7 +80,9 @@ def frames_of(demonstrations: Any) -> tuple[np.ndarray, list[int]]:
     frames = np.concatenate(runs)
     if len(frames) < 2:
         raise DataError(f"{len(frames)} frame: at least two frames are needed to find sub-goals")
-    as_frames(frames[:1], "demonstration frames")  # shape and value checks before any work
+    if np.issubdtype(frames.dtype, np.number):  # the value range of all of them (as_frames sees one)
+        check_pixel_values(frames, "demonstration frames")
+    as_frames(frames[:1], "demonstration frames")  # dtype and shape checks before any work
     return frames, lengths
 
 

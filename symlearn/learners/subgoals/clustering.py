@@ -114,6 +114,19 @@ def default_eps(runs: Sequence[np.ndarray]) -> float:
     return eps if eps > 0 else 1e-6
 
 
+#: beyond this, squared Euclidean distances between frames overflow float64 (about 1.8e308)
+MAX_MAGNITUDE = 1e150
+
+
+def _check_magnitude(runs: Sequence[np.ndarray], subset: str) -> None:
+    """Refuse feature values whose distances would overflow to infinity (DBSCAN, eps, grid cells)."""
+    largest = max((float(np.nanmax(np.abs(r))) for r in runs if r.size and not np.isnan(r).all()), default=0.0)
+    if largest > MAX_MAGNITUDE:
+        raise DataError(f"the frames hold values up to {largest:.3g} in feature subset {subset!r}: distances "
+                        f"between frames overflow beyond {MAX_MAGNITUDE:.0e}", hint="rescale the features (e.g. to metres, or "
+                        "divided by their range), or leave such columns out of --subsets")
+
+
 def default_min_samples(n_demonstrations: int) -> float:
     return float(max(3, math.ceil(1.5 * n_demonstrations)))
 
@@ -136,6 +149,7 @@ def find_subgoals(frames: Sequence[np.ndarray], subsets: Sequence[FeatureSubset]
     for subset in progress(subsets, total=len(subsets), desc="clustering"):
         started = time.perf_counter()
         runs = [f[:, subset.features] for f in frames]
+        _check_magnitude(runs, subset.name)
         subset_eps = float(eps) if eps is not None else default_eps(runs)
         subset_min = float(min_samples) if min_samples is not None else default_min_samples(len(frames))
         observed = [~np.isnan(r).any(axis=1) for r in runs]

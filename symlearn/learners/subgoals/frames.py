@@ -23,6 +23,21 @@ import numpy as np
 from symlearn.errors import DataError
 
 
+def _feature_rows(states: Sequence[dict], keys: tuple[str, ...], index: int) -> np.ndarray:
+    """Feature-dict states as rows of the ``keys`` columns (read by name, never by position)."""
+    missing = [k for k in keys if k not in states[0]]
+    if missing:
+        raise DataError(f"demonstration {index}: the states have no feature {missing[0]!r} (their features: "
+                        f"{', '.join(sorted(states[0]))})",
+                        hint="feature-dict states are read by their own keys: --features must name those keys")
+    for step, state in enumerate(states):
+        for k in keys:
+            if isinstance(state[k], str):
+                raise DataError(f"demonstration {index}, step {step}: feature {k!r} is the text {state[k]!r}",
+                                hint="sub-goals are clustered on numeric features")
+    return np.asarray([[s[k] for k in keys] for s in states], dtype=np.float64)
+
+
 def demonstration_frames(demonstrations: Any, features: Any = None) -> tuple[list[np.ndarray], tuple[str, ...]]:
     """``(frames, feature_names)``: one float64 ``(T_i, k)`` array per demonstration.
 
@@ -38,6 +53,9 @@ def demonstration_frames(demonstrations: Any, features: Any = None) -> tuple[lis
     elif features is not None:
         names = tuple(str(n) for n in features)
     if isinstance(demonstrations, Demonstrations):
+        if demonstrations.state_kind in ("symbol", "image"):
+            raise DataError(f"the demonstrations hold {demonstrations.state_kind} states; sub-goals are clustered on "
+                            "numeric feature vectors", hint="give vector or feature-dict states (or a frame archive)")
         runs = []
         for trajectory in demonstrations:
             states = trajectory.states
@@ -46,7 +64,7 @@ def demonstration_frames(demonstrations: Any, features: Any = None) -> tuple[lis
             elif len(states) and isinstance(states[0], dict):
                 keys = names or tuple(sorted(states[0]))
                 names = keys
-                runs.append(np.asarray([[s[k] for k in keys] for s in states], dtype=np.float64))
+                runs.append(_feature_rows(states, keys, len(runs)))
             else:
                 runs.append(np.asarray(states, dtype=np.float64))
     elif isinstance(demonstrations, np.ndarray) and demonstrations.ndim == 3:

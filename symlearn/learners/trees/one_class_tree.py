@@ -522,7 +522,8 @@ def feature_matrix(demonstrations: Any, features: Any = None) -> tuple[np.ndarra
         demonstrations = Demonstrations(demonstrations)
 
     if isinstance(demonstrations, Demonstrations):
-        X, default_names = _states_matrix(demonstrations, feature_map)
+        named = None if feature_map is not None or features is None or isinstance(features, str) else tuple(features)
+        X, default_names = _states_matrix(demonstrations, feature_map, named)
     else:
         X = _numeric_array(demonstrations)
         default_names = None
@@ -554,8 +555,20 @@ def _numeric_array(data: Any) -> np.ndarray:
     return X
 
 
-def _states_matrix(demos: Any, feature_map: FeatureMap | None) -> tuple[np.ndarray, tuple[str, ...] | None]:
+def _states_matrix(demos: Any, feature_map: FeatureMap | None,
+                   named: tuple[str, ...] | None = None) -> tuple[np.ndarray, tuple[str, ...] | None]:
+    """The states as rows; feature-dict states read by key: those of ``feature_map``, else the
+    ``named`` features (which must be keys of the states: a dict's own names are never replaced
+    by position), else the states' own keys."""
     kind = demos.state_kind
+    if kind == "features" and named is not None and demos[0].states:
+        own = tuple(demos[0].states[0])
+        if set(named) != set(own):
+            raise DataError(f"the states name their features ({', '.join(own)}); the names given are "
+                            f"{', '.join(map(str, named))}",
+                            hint="feature-dict states are read by their own keys: leave out --features, or give "
+                                 "those keys; with --env, demonstrations of that environment name its features")
+        feature_map = FeatureMap(named)
     if feature_map is not None and feature_map != FeatureMap(feature_map.names):
         states = [s for t in demos for s in (t.states if kind != "vector" else list(t.states))]
         return feature_map.matrix(states), None
@@ -832,13 +845,26 @@ class _Grower:
         return relabel[raw]
 
 
+def _std(X: np.ndarray) -> np.ndarray:
+    """Each column's standard deviation, computed on the column scaled to at most 1 so that
+    values near the float64 limit (1e300) do not overflow in the squares (it is never larger
+    than the largest value)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        std = X.std(axis=0)
+    if np.isfinite(std).all():
+        return std  # the plain computation wherever it does not overflow (results stay bit-identical)
+    scale = np.abs(X).max(axis=0)
+    scale = np.where(scale > 0, scale, 1.0)
+    return np.where(np.isfinite(std), std, (X / scale).std(axis=0) * scale)
+
+
 def bandwidths(X: np.ndarray, rule: str | float) -> np.ndarray:
     """Kernel bandwidth of every feature over all the data (0 for a constant feature)."""
     n = len(X)
     spread = X.max(axis=0) - X.min(axis=0)
     if not isinstance(rule, str):
         return float(rule) * spread
-    std = X.std(axis=0)
+    std = _std(X)
     if rule == "scott":
         return 1.06 * std * n ** -0.2
     q1, q3 = np.percentile(X, [25, 75], axis=0)
@@ -849,7 +875,7 @@ def bandwidths(X: np.ndarray, rule: str | float) -> np.ndarray:
 def _rule_bandwidth(Xa: np.ndarray, rule: str, counts: np.ndarray, width: np.ndarray) -> np.ndarray:
     """The bandwidth rule on a node's points (the IQR read off the node's histograms)."""
     m = len(Xa)
-    std = Xa.std(axis=0)
+    std = _std(Xa)
     if rule == "scott":
         return 1.06 * std * m ** -0.2
     cum = np.cumsum(counts, axis=1)

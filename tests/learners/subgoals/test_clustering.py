@@ -84,3 +84,17 @@ def test_bad_parameters_are_refused(place3, kw, message):
     task, runs = place3
     with pytest.raises(DataError, match=message):
         find_subgoals(runs, feature_subsets(None, task.feature_names()), **kw)
+
+
+def test_values_whose_distances_overflow_are_refused_not_an_internal_error(tmp_path, capsys):
+    # a column near 1e300 made the data-derived eps infinite and DBSCAN raise (an internal error)
+    import json
+
+    from tests.support.cli_runner import run
+
+    path = tmp_path / "d.jsonl"
+    header = {"symlearn": "demonstrations", "format_version": 1, "state_kind": "vector"}
+    lines = [json.dumps(header)] + [json.dumps({"states": [[0.0, 1e300], [0.5, 1.0], [1.0, 2.0]]})] * 3
+    path.write_text("\n".join(lines) + "\n")
+    code, _, err = run(capsys, "learn", "pdfa", "--demos", path)
+    assert code == 2 and f"{path}: the frames hold values up to 1e+300" in err and "internal error" not in err, err

@@ -369,3 +369,18 @@ def test_header_names_the_demonstrations_source():
                            "expert (3 points); ")
     untold = OneClassTreeConstraint(max_depth=2).fit(points, ["x", "y"]).artefact_text().splitlines()[0]
     assert " from 3 points; " in untold
+
+
+def test_values_near_the_float64_limit_do_not_overflow_the_bandwidth():
+    import warnings as _warnings
+
+    import numpy as _np
+
+    from symlearn.learners.trees.one_class_tree import bandwidths
+
+    X = _np.array([[0.5, 1.0], [1e300, 2.0], [0.7, 3.0]])
+    with _warnings.catch_warnings():
+        _warnings.simplefilter("error")
+        h = bandwidths(X, "scott")
+    assert _np.isfinite(h).all() and h[0] > 1e299
+    assert bandwidths(X[:, 1:], "scott").tolist() == (1.06 * X[:, 1:].std(axis=0) * 3 ** -0.2).tolist()
