@@ -82,20 +82,21 @@ class Alternation:
     def run(self, policy: Any, batch: EpisodeBatch, *, cost_step: Callable[[int, EpisodeBatch], Any],
             policy_step: Callable[[int, Any], Any],
             record: Callable[[Round], Any],
-            excess: Callable[[EpisodeBatch], float] | None = None,
+            price: Callable[[EpisodeBatch], tuple[float, float]] | None = None,
             resets: list[int] | None = None) -> tuple[Any, EpisodeBatch, list[Any]]:
         """Alternate from ``policy`` and its sample ``batch`` (module docstring):
         ``cost_step(iteration, batch)`` learns the cost and returns what the record needs of it,
         ``policy_step(iteration, policy)`` continues the policy and returns ``train_ppo``'s result,
         ``record(round)`` builds the history record (whose ``bar_numbers()`` the bar shows).
-        ``excess(sample)``: how much more the *current* learned cost charges the sample than the
-        expert (0 when it charges no more), which ``reset_actor="auto"`` reads (:class:`Stall`);
+        ``price(sample)``: what the *current* learned cost charges the sample and the expert
+        (mean discounted episode sums, both >= 0), which ``reset_actor="auto"`` reads (:class:`Stall`);
         the iterations whose phase started from a fresh actor are appended to ``resets``.
         Returns the last policy, its sample and the history."""
         n = int(self.n_iterations)
         history: list[Any] = []
-        stall = Stall() if self.reset_actor == "auto" and excess is not None else None
+        stall = Stall() if self.reset_actor == "auto" and price is not None else None
         previous: EpisodeBatch | None = None  # the sample before the last policy phase
+        nominal = batch                       # the nominal policy's: what "still forbidden" is measured by
         with ProgressBar(n, desc=self.label, unit="iter") as bar:
             for iteration in range(1, n + 1):
                 t0 = time.perf_counter()
@@ -105,7 +106,8 @@ class Alternation:
                 t0 = time.perf_counter()
                 fresh = resets_actor(self.reset_actor, iteration, n)
                 if stall is not None and previous is not None:
-                    fresh = stall.update(excess(previous), excess(batch))
+                    (before, expert), (after, _), (first, _) = price(previous), price(batch), price(nominal)
+                    fresh = stall.update(before - expert, after - expert, first - expert, after)
                 if fresh:
                     policy.reset_actor(self.generator)
                     if resets is not None:
@@ -126,26 +128,34 @@ class Alternation:
 
 class Stall:
     """``reset_actor="auto"``: a fresh actor once the policy has stopped moving away from what
-    the learned cost forbids. After each policy phase the *current* cost is applied to the samples
-    before and after it; a phase that removed less than :attr:`PROGRESS` of the excess cost over
-    the expert's is a stall, and :attr:`STALLS` stalls in a row reset the actor (and the count).
+    the learned cost forbids. After each policy phase the *current* cost prices the samples before
+    and after it, the nominal policy's and the expert's; the *excess* of a sample is what it costs
+    beyond the expert. A phase is a stall when the policy's excess after it is material (more than
+    :attr:`MATERIAL` of what the policy costs), it removed less than :attr:`PROGRESS` of the excess,
+    and the policy keeps more than :attr:`STILL_NOMINAL` of the nominal policy's excess. A policy
+    whose cost is the expert's up to a wobble is not stuck, nor one that has left the nominal
+    behaviour. :attr:`STALLS` stalls in a row reset the actor (and the count).
 
     Why: a policy continued from a nearly deterministic one may never leave a behaviour the cost
     now forbids when the way out needs many consecutive deviations (the nominal HalfCheetah kept
     running backward through the wall under any multiplier), while a fresh actor each phase needs
     phases long enough to learn from scratch (BlockedPoint's 21k-step phases then earn 15-52
-    instead of 59). Comparing the two samples under one cost keeps the test free of the cost's own
-    drift between iterations."""
+    instead of 59). Pricing all samples by one cost keeps the test free of the cost's own drift
+    between iterations."""
 
+    MATERIAL = 0.1
     PROGRESS = 0.1
+    STILL_NOMINAL = 0.5
     STALLS = 2
 
     def __init__(self) -> None:
         self.count = 0
 
-    def update(self, before: float, after: float) -> bool:
-        """Record one phase (excess cost of the samples before and after it); whether to reset."""
-        stalled = after > 0.0 and after > (1.0 - self.PROGRESS) * before
+    def update(self, before: float, after: float, nominal: float, cost: float) -> bool:
+        """Record one phase -- the excess of the samples before and after it and of the nominal
+        policy's, and what the sample after it costs, all under the current cost; whether to reset."""
+        stalled = (after > self.MATERIAL * cost and after > (1.0 - self.PROGRESS) * before
+                   and after > self.STILL_NOMINAL * nominal)
         self.count = self.count + 1 if stalled else 0
         if self.count >= self.STALLS:
             self.count = 0

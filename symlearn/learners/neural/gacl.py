@@ -161,12 +161,12 @@ class NeuralGACL(Learner):
                 weights = sample.discount_weights(1.0)[sample.mask]
                 return float(weights @ -np.log(np.maximum(1.0 - cost(*sample.pairs()), LOG_FLOOR)))
 
-            def excess(sample: Any) -> float:
-                return max(0.0, penalty_sum(sample) - penalty_sum(expert))
+            def price(sample: Any) -> tuple[float, float]:
+                return penalty_sum(sample), penalty_sum(expert)
 
             resets: list[int] = []
             policy, batch, history = loop.run(policy, batch, cost_step=cost_step, policy_step=policy_step,
-                                              record=record, excess=excess, resets=resets)
+                                              record=record, price=price, resets=resets)
             final = episode_metrics(batch)
         finally:
             torch.set_num_threads(previous_threads)

@@ -52,7 +52,8 @@ exactly. Here every exact step has its sampled, neural counterpart:
    afresh on the final cost -- the learned cost used as one would use it on a new agent.
    ``"auto"`` continues the policy until it stalls -- two phases in a row after which the current
    cost charges the new sample almost as much more than the expert (less than 10 % of that excess
-   removed) as the sample before the phase -- and then starts the next phase from a fresh actor
+   removed) as the sample before the phase, while it still keeps over half of the nominal policy's
+   excess -- and then starts the next phase from a fresh actor
    (:class:`~symlearn.learners.neural.alternation.Stall`; the iterations in
    ``result_.metrics["actor_resets"]``). Measured (docs/BENCHMARKS.md): on BlockedPoint it never
    fires (the continued policy turns away from the wall by itself); on the blocked HalfCheetah it
@@ -299,17 +300,18 @@ class NeuralMCEICRL(Learner):
                                      step.metrics.reward, step.metrics.violation_rate, zeta_lr, step.policy_seconds,
                                      step.cost_seconds, step.sampling_seconds)
 
-            def excess(sample: Any) -> float:
-                """``lambda . (F_pi - F_D)`` of ``sample`` under the current cost, at least 0."""
+            def price(sample: Any) -> tuple[float, float]:
+                """``lambda . F`` of ``sample`` and of the expert under the current cost."""
                 sample_t = cost.tensors(*sample.pairs())
                 sample_w = torch.from_numpy(sample.discount_weights(self.discount)[sample.mask]).float()
                 with torch.no_grad():
-                    gap = (sample_w @ phi(*sample_t) - expert_w @ phi(*expert_t)).double().numpy()
-                return max(0.0, float(np.dot(lambdas, gap)))
+                    policy_f = (sample_w @ phi(*sample_t)).double().numpy()
+                    expert_f = (expert_w @ phi(*expert_t)).double().numpy()
+                return float(np.dot(lambdas, policy_f)), float(np.dot(lambdas, expert_f))
 
             resets: list[int] = []
             policy, batch, history = loop.run(policy, batch, cost_step=cost_step, policy_step=policy_step,
-                                              record=record, excess=excess, resets=resets)
+                                              record=record, price=price, resets=resets)
             final = episode_metrics(batch)
         finally:
             torch.set_num_threads(previous_threads)

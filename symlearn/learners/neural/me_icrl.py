@@ -220,15 +220,14 @@ class NeuralMEICRL(Learner):
                                          *backward[:5], float(step.trained.multipliers[0]), step.policy_seconds,
                                          step.cost_seconds, *backward[5:])
 
-            def excess(sample: EpisodeBatch) -> float:
-                """The learned cost's discounted sum over ``sample`` beyond the expert's."""
+            def price(sample: EpisodeBatch) -> tuple[float, float]:
+                """The learned cost's discounted sums over ``sample`` and over the expert's episodes."""
                 with torch.no_grad():
-                    return max(0.0, discounted_cost(cost, sample, self.discount)
-                               - discounted_cost(cost, expert, self.discount))
+                    return discounted_cost(cost, sample, self.discount), discounted_cost(cost, expert, self.discount)
 
             resets: list[int] = []
             policy, batch, history = loop.run(policy, batch, cost_step=cost_step, policy_step=policy_step,
-                                              record=record, excess=excess, resets=resets)
+                                              record=record, price=price, resets=resets)
             final = episode_metrics(batch)
         finally:
             torch.set_num_threads(previous_threads)

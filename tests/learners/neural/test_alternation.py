@@ -104,11 +104,15 @@ def test_bar_shows_the_multiplier(monkeypatch, learner, multiplier):
 def test_stall_resets_after_two_phases_without_progress():
     from symlearn.learners.neural.alternation import Stall
 
-    stall = Stall()
-    assert [stall.update(b, a) for b, a in [(10, 9.5), (9.5, 9.4), (9.4, 9.3), (9.3, 5.0), (5.0, 4.9), (4.9, 4.8)]] \
-        == [False, True, False, False, False, True]
+    stall = Stall()  # excess before, after, nominal's excess, the policy's cost after the phase
+    phases = [(10, 9.5), (9.5, 9.4), (9.4, 9.3), (9.3, 6.0), (6.0, 5.9), (5.9, 5.8)]
+    assert [stall.update(b, a, 10.0, a + 1.0) for b, a in phases] == [False, True, False, False, False, True]
     stall = Stall()  # a policy that matches the expert (no excess) never stalls
-    assert not any(stall.update(0.0, 0.0) for _ in range(5))
+    assert not any(stall.update(0.0, 0.0, 10.0, 5.0) for _ in range(5))
+    stall = Stall()  # nor one that has left most of the nominal policy's excess behind, however it wobbles
+    assert not any(stall.update(0.3, 0.31, 10.0, 5.0) for _ in range(5))
+    stall = Stall()  # nor one whose excess is a sliver of what it costs (the cost no longer separates)
+    assert not any(stall.update(0.3, 0.31, 0.4, 159.0) for _ in range(5))
 
 
 def test_auto_reset_reads_the_excess_of_the_samples_before_and_after_each_phase(monkeypatch):
@@ -121,11 +125,11 @@ def test_auto_reset_reads_the_excess_of_the_samples_before_and_after_each_phase(
                        generator=torch.Generator())
     first = loop.sample(Policy("nominal", log))
     # the excess of a sample is set by the iteration it was drawn after: it never shrinks
-    excess = lambda batch: 10.0 - 0.01 * batch.rewards[0, 0]
+    price = lambda batch: (11.0 - 0.01 * batch.rewards[0, 0], 1.0)
     resets = []
     loop.run(Policy("nominal", log), first, cost_step=lambda i, b: None,
              policy_step=lambda i, p: Trained(Policy(f"p{i}", log)),
-             record=lambda step: Record(step.iteration, 0.0, 0.0, ""), excess=excess, resets=resets)
+             record=lambda step: Record(step.iteration, 0.0, 0.0, ""), price=price, resets=resets)
     # iteration 2 compares samples 0 and 1 (stall 1), iteration 3 samples 1 and 2 (stall 2: reset),
     # then the count starts again: 4 (stall 1), 5 (stall 2: reset)
     assert resets == [3, 5] and [e for e in log if e[0] == "reset"] == [("reset", "p2"), ("reset", "p4")]
