@@ -1,0 +1,34 @@
+"""Users' environments with the less common gymnasium spaces, as module sources a test drops into
+a folder of its own (reached as ``module:EnvId``, as a researcher's file would be)."""
+
+from __future__ import annotations
+
+#: Discrete observations numbered from 2 and Discrete actions from -1 (``start != 0`` on both):
+#: a walk on 2..9 whose ``info["cost"]`` is 1 on cell 5
+OFFSET_WALK = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class OffsetWalk(gym.Env):
+    def __init__(self, horizon=20):
+        self.horizon = horizon
+        self.observation_space = spaces.Discrete(8, start=2)
+        self.action_space = spaces.Discrete(3, start=-1)
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.cell, self.t = 2, 0
+        return self.cell, {}
+
+    def step(self, action):
+        if not self.action_space.contains(action):
+            raise ValueError(f"action {action!r} outside {self.action_space}")
+        self.cell = int(np.clip(self.cell + int(action), 2, 9))
+        self.t += 1
+        return self.cell, float(self.cell == 9), self.cell == 9, self.t >= self.horizon, {"cost": float(self.cell == 5)}
+
+
+gym.register("OffsetWalk-v0", entry_point=OffsetWalk)
+'''
