@@ -193,7 +193,9 @@ def _icrl(args: argparse.Namespace, out) -> None:
         usable = [e.name for e in entries(Kind.CONTINUOUS) if "mce-icrl" in e.methods]
         raise DataError(f"{target.display} is no environment for neural ICRL",
                         hint="use " + ", ".join(usable) + ", or your own environment (module:EnvId) with --demos")
-    target = target.as_numeric()  # a Dict observation (MiniGrid's) flattened to what the networks read
+    # a Dict observation (MiniGrid's) flattened to what the networks read; a MultiDiscrete or
+    # MultiBinary action space seen as one Discrete of its combinations (what our PPO acts in)
+    target = target.as_numeric(actions=True)
     env = target.make()
     names = target.observation_names(env)
     width = observation_width(env) or 1
@@ -258,19 +260,38 @@ def _icrl(args: argparse.Namespace, out) -> None:
 
 
 def _in_the_view(demos: Any, env: Any, path: Any) -> Any:
-    """Demonstrations that store a ``Dict``-observing environment's own observations (``record``
-    keeps a dict of scalars as feature states), seen as the flat numeric view that the policy and
-    the cost read (:mod:`symlearn.recipes.spaces`)."""
+    """Demonstrations recorded in the environment itself, seen as the policy and the cost see it:
+    a ``Dict``-observing environment's own observations (``record`` keeps a dict of scalars as
+    feature states) as the flat numeric view (:mod:`symlearn.recipes.spaces`), MultiDiscrete or
+    MultiBinary actions as the ids of their combinations (:mod:`symlearn.recipes.action_spaces`)."""
     from collections.abc import Mapping
 
     import numpy as np
 
     from symlearn.data import Demonstrations, Trajectory
     from symlearn.errors import DataError
+    from symlearn.recipes.action_spaces import find_joint_actions
     from symlearn.recipes.spaces import NumericObservations
 
-    if not isinstance(env, NumericObservations) or not isinstance(demos[0].states[0], Mapping):
+    def find_observations(env: Any) -> NumericObservations | None:
+        while env is not None and not isinstance(env, NumericObservations):
+            env = getattr(env, "env", None)
+        return env
+
+    joint = find_joint_actions(env)
+    if joint is not None:   # recorded actions of the environment's own space, as ids of the view
+        try:
+            demos = Demonstrations([Trajectory(t.states, None if t.actions is None else
+                                               np.array([joint.index_of(a) for a in t.actions], dtype=np.int64),
+                                               t.rewards, t.labels, t.info) for t in demos],
+                                   metadata=demos.metadata)
+        except DataError as exc:
+            raise DataError(f"the demonstrations' actions do not fit: {exc.message}", file=path,
+                            hint="were they recorded in this environment?") from None
+    observed = find_observations(env)
+    if observed is None or not isinstance(demos[0].states[0], Mapping):
         return demos
+    env = observed
     try:
         items = [Trajectory(np.stack([env.observation(s) for s in t.states]), t.actions, t.rewards, t.labels, t.info)
                  for t in demos]

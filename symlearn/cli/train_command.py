@@ -215,8 +215,9 @@ def _train(args: argparse.Namespace, out) -> None:
     from symlearn.cli.train_costs import refuse_without_cost, training_cost
     from symlearn.recipes.environments import resolve_env
 
-    # observed as one vector whatever the environment observes (MiniGrid's Dict with text, ...)
-    target = resolve_env(args.env, kwargs=args.env_kwargs).as_numeric()
+    # observed as one vector whatever the environment observes (MiniGrid's Dict with text, ...);
+    # our PPO and SB3's DQN act in a MultiDiscrete/MultiBinary space as one Discrete of its combinations
+    target = resolve_env(args.env, kwargs=args.env_kwargs).as_numeric(actions=args.algo in ("ppo", "ppo-lag", "sb3-dqn"))
     cost = None
     if args.cost:
         cost = training_cost(args.cost, target, features=args.features, per_rule=args.per_rule)

@@ -6,8 +6,9 @@ import json
 
 import gymnasium
 import numpy as np
+import pytest
 from cli_runner import run
-from space_envs import OFFSET_WALK
+from space_envs import OFFSET_WALK, SWITCH_BOARD
 
 from symlearn.data import record
 
@@ -46,3 +47,52 @@ def test_sampled_discrete_actions_are_the_spaces_ids(tmp_path, monkeypatch):
     batch = sample_episodes(policy, lambda: gymnasium.make("OffsetWalk-v0"), 3, seed=0)
     taken = batch.actions[batch.mask]
     assert set(np.unique(taken)) <= {-1, 0, 1} and taken.min() == -1
+
+
+def _switch_board(tmp_path, monkeypatch, kind):
+    (tmp_path / "switch_board.py").write_text(SWITCH_BOARD)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import switch_board  # noqa: F401  (registers SwitchBoard-v0)
+
+    env = gymnasium.make("SwitchBoard-v0", kind=kind)
+    record(env, "random", 3, seed=0).save("board.npz")
+    return json.dumps({"kind": kind})
+
+
+@pytest.mark.parametrize("kind", ["multi", "binary"])
+def test_our_ppo_acts_in_multidiscrete_and_multibinary_spaces(capsys, tmp_path, monkeypatch, kind):
+    """train (ppo, ppo-lag on a DNF, sb3-dqn) and learn icrl act in one Discrete of the combinations;
+    the demonstrations' recorded actions are read as its ids; a state cost trains sb3-ppo-lag as it is."""
+    kwargs = _switch_board(tmp_path, monkeypatch, kind)
+    env = ("--env", "switch_board:SwitchBoard-v0", "--env-kwargs", kwargs)
+    small = ("--steps", 512, "--n-steps", 64, "--eval-episodes", 1)
+    code, out, err = run(capsys, "--json", "--quiet", "train", *env, *small, "-o", "agent.safetensors")
+    assert code == 0, err
+    assert json.loads(out)["cost"] is not None
+    (tmp_path / "wall.dnf").write_text("x > 0.5\n")
+    code, out, err = run(capsys, "--json", "--quiet", "train", *env, "--cost", "wall.dnf", *small)
+    assert code == 0, err
+    code, out, err = run(capsys, "--json", "--quiet", "train", *env, "--algo", "sb3-dqn", "--steps", 256,
+                         "--eval-episodes", 1)
+    assert code == 0, err
+    code, out, err = run(capsys, "--json", "--quiet", "learn", "icrl", *env, "--demos", "board.npz",
+                         "--steps", 1024, "--iterations", 1, "-o", "cost.safetensors")
+    assert code == 0, err
+    code, out, err = run(capsys, "--json", "--quiet", "train", *env, "--algo", "sb3-ppo-lag",
+                         "--cost", "cost.safetensors", "--steps", 256, "--eval-episodes", 1)
+    assert code == 0, err
+
+
+def test_joint_actions_refuse_too_many_combinations_with_the_way_out():
+    from gymnasium import spaces
+
+    from symlearn.errors import DataError
+    from symlearn.recipes.action_spaces import JointDiscreteActions
+
+    class Wide(gymnasium.Env):
+        observation_space, action_space = spaces.Discrete(1), spaces.MultiBinary(20)
+
+    with pytest.raises(DataError, match="1048576 combinations") as info:
+        JointDiscreteActions(Wide())
+    assert "sb3-ppo" in info.value.hint

@@ -32,3 +32,39 @@ class OffsetWalk(gym.Env):
 
 gym.register("OffsetWalk-v0", entry_point=OffsetWalk)
 '''
+
+#: a point steered by a few choices at once: ``MultiDiscrete([3, 3])`` (``SwitchBoard-v0``) or
+#: ``MultiBinary(2)`` (``kind="binary"``); right of ``x = 0.5`` is forbidden (``info["cost"]``)
+SWITCH_BOARD = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class SwitchBoard(gym.Env):
+    feature_names = ("x", "y")
+
+    def __init__(self, kind="multi", horizon=20):
+        self.kind, self.horizon = kind, horizon
+        self.observation_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
+        self.action_space = spaces.MultiDiscrete([3, 3]) if kind == "multi" else spaces.MultiBinary(2)
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.p, self.t = self.np_random.uniform(-0.5, 0.0, 2), 0
+        return self.p.astype(np.float32), {}
+
+    def step(self, action):
+        action = np.asarray(action)
+        if not self.action_space.contains(action.astype(self.action_space.dtype)) or action.shape != (2,):
+            raise ValueError(f"action {action!r} outside {self.action_space}")
+        move = action - 1 if self.kind == "multi" else 2 * action - 1
+        before = self.p[0]
+        self.p = np.clip(self.p + 0.1 * move, -1.0, 1.0)
+        self.t += 1
+        return (self.p.astype(np.float32), float(self.p[0] - before), False, self.t >= self.horizon,
+                {"cost": float(self.p[0] > 0.5)})
+
+
+gym.register("SwitchBoard-v0", entry_point=SwitchBoard)
+'''
