@@ -314,9 +314,12 @@ class EnvTarget:
 
 
 def observation_width(env: Any) -> int | None:
-    """Entries of the flattened observation (``None`` for a space without a shape)."""
+    """Entries of the flattened observation (``None`` for a space without a shape, e.g.
+    ``Discrete``; 1 for a scalar ``Box``)."""
     space = getattr(env, "observation_space", None)
     shape = getattr(space, "shape", None)
+    if shape == () and type(space).__name__ == "Box":
+        return 1
     if not shape:
         return None
     width = 1

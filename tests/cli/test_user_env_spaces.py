@@ -8,7 +8,7 @@ import gymnasium
 import numpy as np
 import pytest
 from cli_runner import run
-from space_envs import OFFSET_WALK, SWITCH_BOARD
+from space_envs import OFFSET_WALK, ONE_GUESS, SWITCH_BOARD
 
 from symlearn.data import record
 
@@ -96,3 +96,41 @@ def test_joint_actions_refuse_too_many_combinations_with_the_way_out():
     with pytest.raises(DataError, match="1048576 combinations") as info:
         JointDiscreteActions(Wide())
     assert "sb3-ppo" in info.value.hint
+
+
+def _guess(tmp_path, monkeypatch):
+    (tmp_path / "one_guess.py").write_text(ONE_GUESS)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import one_guess  # noqa: F401  (registers OneGuess-v0)
+
+
+@pytest.mark.filterwarnings("ignore:.*Casting input x to numpy array")
+def test_a_scalar_observation_is_one_numbered_column(capsys, tmp_path, monkeypatch):
+    """A Box of shape () is one column, x0, to learn dnf and to train --cost alike."""
+    _guess(tmp_path, monkeypatch)
+    record(gymnasium.make("OneGuess-v0"), "random", 6, seed=0).save("guess.npz")
+    code, out, err = run(capsys, "--quiet", "learn", "dnf", "--env", "one_guess:OneGuess-v0", "--demos", "guess.npz",
+                         "-o", "guess.dnf")
+    assert code == 0, err
+    code, out, err = run(capsys, "--json", "--quiet", "train", "--env", "one_guess:OneGuess-v0", "--cost",
+                         "guess.dnf", "--steps", 256, "--n-steps", 32, "--eval-episodes", 1)
+    assert code == 0, err
+    assert json.loads(out)["cost_kind"] == "dnf"
+
+
+@pytest.mark.filterwarnings("ignore:.*Casting input x to numpy array")
+@pytest.mark.parametrize("env_id, algos", [("offset_walk:OffsetWalk-v0", ("sb3-ppo", "sb3-ppo-lag", "sb3-dqn")),
+                                           ("one_guess:OneGuess-v0", ("sb3-ppo", "sb3-sac-lag"))])
+def test_stable_baselines3_on_discrete_spaces_from_another_start_and_scalar_observations(
+        capsys, tmp_path, monkeypatch, env_id, algos):
+    """stable-baselines3 numbers Discrete spaces from 0 and flattens observations from their second
+    dimension; train shows it such spaces as it reads them, and evaluates in the environment's own."""
+    pytest.importorskip("stable_baselines3")
+    _walk(tmp_path, monkeypatch)
+    _guess(tmp_path, monkeypatch)
+    for algo in algos:
+        code, out, err = run(capsys, "--json", "--quiet", "train", "--env", env_id, "--algo", algo,
+                             "--steps", 128, "--n-steps", 32, "--eval-episodes", 1, "-o", f"{algo}.safetensors")
+        assert code == 0, (algo, err)
+        assert json.loads(out)["cost"] is not None

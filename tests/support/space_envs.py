@@ -68,3 +68,29 @@ class SwitchBoard(gym.Env):
 
 gym.register("SwitchBoard-v0", entry_point=SwitchBoard)
 '''
+
+#: a scalar observation (``Box`` of shape ``()``, reset returning a numpy scalar), one step per
+#: episode: guess the hidden number; a guess above 0.8 costs 1
+ONE_GUESS = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class OneGuess(gym.Env):
+    def __init__(self):
+        self.observation_space = spaces.Box(-1.0, 1.0, (), np.float32)
+        self.action_space = spaces.Box(-1.0, 1.0, (1,), np.float32)
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.x = np.float32(self.np_random.uniform(-1, 1))
+        return self.x, {}
+
+    def step(self, action):
+        guess = float(np.asarray(action).reshape(-1)[0])
+        return np.float32(0.0), -abs(self.x - guess), True, False, {"cost": float(guess > 0.8)}
+
+
+gym.register("OneGuess-v0", entry_point=OneGuess)
+'''
