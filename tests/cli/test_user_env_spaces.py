@@ -134,3 +134,10 @@ def test_stable_baselines3_on_discrete_spaces_from_another_start_and_scalar_obse
                              "--steps", 128, "--n-steps", 32, "--eval-episodes", 1, "-o", f"{algo}.safetensors")
         assert code == 0, (algo, err)
         assert json.loads(out)["cost"] is not None
+
+
+def test_learn_dnf_on_discrete_states_names_the_ways_out_of_the_cli(capsys, tmp_path, monkeypatch):
+    _walk(tmp_path, monkeypatch)
+    code, out, err = run(capsys, "learn", "dnf", "--env", "offset_walk:OffsetWalk-v0", "--demos", "walk.jsonl")
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "walk.jsonl" in err and "--domain" in err and "FeatureMap" not in err
