@@ -289,14 +289,41 @@ def _in_the_view(demos: Any, env: Any, path: Any) -> Any:
             raise DataError(f"the demonstrations' actions do not fit: {exc.message}", file=path,
                             hint="were they recorded in this environment?") from None
     observed = find_observations(env)
-    if observed is None or not isinstance(demos[0].states[0], Mapping):
+    if observed is None:
         return demos
+    if not isinstance(demos[0].states[0], Mapping):
+        return _vectors_in_the_view(demos, observed, path)
     env = observed
     try:
         items = [Trajectory(np.stack([env.observation(s) for s in t.states]), t.actions, t.rewards, t.labels, t.info)
                  for t in demos]
     except (KeyError, TypeError, ValueError, AssertionError) as exc:
         raise DataError(f"the demonstrations' states do not fit the observation space {env.env.observation_space}"
+                        f" ({type(exc).__name__}: {exc})", file=path,
+                        hint="were they recorded in this environment?") from None
+    return Demonstrations(items, metadata=demos.metadata)
+
+
+def _vectors_in_the_view(demos: Any, env: Any, path: Any) -> Any:
+    """Vector states ``record()`` stored for a Dict/Tuple observation (a Discrete part one integer
+    column) rebuilt and seen through the numeric view ``env`` (where it is one-hot); states that
+    already have the view's width are taken as they are."""
+    import numpy as np
+
+    from symlearn.data import Demonstrations, Trajectory
+    from symlearn.errors import DataError
+    from symlearn.recipes.environments import observation_width
+    from symlearn.recipes.spaces import from_record_columns, record_columns_width
+
+    space = env.env.observation_space
+    width = int(np.asarray(demos[0].states[0]).size)
+    if width == observation_width(env) or width != record_columns_width(space):
+        return demos
+    try:
+        items = [Trajectory(np.stack([env.observation(from_record_columns(space, s)) for s in t.states]),
+                            t.actions, t.rewards, t.labels, t.info) for t in demos]
+    except (KeyError, TypeError, ValueError, IndexError) as exc:
+        raise DataError(f"the demonstrations' states do not fit the observation space {space}"
                         f" ({type(exc).__name__}: {exc})", file=path,
                         hint="were they recorded in this environment?") from None
     return Demonstrations(items, metadata=demos.metadata)

@@ -94,3 +94,39 @@ class OneGuess(gym.Env):
 
 gym.register("OneGuess-v0", entry_point=OneGuess)
 '''
+
+#: a Dict observation with a Discrete part beside a vector (``record()`` stores the part as one
+#: integer column, the policy's numeric view one-hot): a point with a gear; right of 0.5 costs 1
+GEARED_POINT = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class GearedPoint(gym.Env):
+    def __init__(self, horizon=15):
+        self.horizon = horizon
+        self.observation_space = spaces.Dict({"pos": spaces.Box(-1.0, 1.0, (2,), np.float32),
+                                              "gear": spaces.Discrete(3)})
+        self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
+
+    def _observation(self):
+        return {"pos": self.p.astype(np.float32), "gear": self.gear}
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.p, self.gear, self.t = self.np_random.uniform(-0.9, -0.5, 2), 0, 0
+        return self._observation(), {}
+
+    def step(self, action):
+        action = np.clip(np.asarray(action, float), -1, 1)
+        self.gear = int(min(2, abs(action[0]) * 3))
+        before = self.p[0]
+        self.p = np.clip(self.p + 0.1 * action, -1.0, 1.0)
+        self.t += 1
+        return (self._observation(), float(self.p[0] - before), False, self.t >= self.horizon,
+                {"cost": float(self.p[0] > 0.5)})
+
+
+gym.register("GearedPoint-v0", entry_point=GearedPoint)
+'''
