@@ -215,6 +215,7 @@ def _spec_in_user_env(args, out, target, seed: int) -> None:
     for flag, value in (("--q-steps", args.q_steps), ("--ppo-steps", args.ppo_steps)):
         if value is not None and value < 1:
             raise DataError(f"{flag} must be at least 1, got {value}")
+    target = target.with_joint_actions()   # MultiDiscrete/MultiBinary: one Discrete of the combinations
     env = target.make()
     labeling = _user_labeling(args, target, env)
     demos = load(args.demos)
@@ -250,8 +251,8 @@ def _user_labeling(args, target, env):
     names = target.feature_names(env, override=args.features) if args.features else None
     if not args.labeling:
         return None
-    if names is None and args.labeling.lower().endswith(".json"):
-        names = target.feature_names(env)
+    if names is None and (args.labeling.lower().endswith(".json") or args.labeling.lstrip().startswith("{")):
+        names = target.feature_names(env)   # a labeling file, or its object given inline
     labeling = read_labeling(args.labeling, feature_names=names)
     features = target.features(env, override=args.features) if names is not None else None
     if features is not None and features.source == "info" and hasattr(labeling, "feature_map"):

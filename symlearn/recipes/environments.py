@@ -183,6 +183,14 @@ class EnvTarget:
 
         return replace(self, numeric=True, joint_actions=bool(actions))
 
+    def with_joint_actions(self) -> EnvTarget:
+        """The same environment, observations unchanged, a ``MultiDiscrete``/``MultiBinary`` action
+        space seen as one ``Discrete`` of its combinations (``learn spec``: its labeling reads the
+        environment's own observations, its policies act in Box or Discrete spaces)."""
+        from dataclasses import replace
+
+        return replace(self, joint_actions=True)
+
     def _build(self) -> Any:
         if self.entry is not None:
             if self.entry.env is None:

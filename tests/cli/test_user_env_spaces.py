@@ -177,3 +177,32 @@ def test_record_columns_rebuild_the_observation():
     rebuilt = from_record_columns(space, row)
     assert space.contains(rebuilt)
     assert np.allclose(spaces.flatten(space, rebuilt), spaces.flatten(space, value))
+
+
+def test_learn_spec_acts_in_a_discrete_space_from_another_start(capsys, tmp_path, monkeypatch):
+    """The tabular update's Q-table columns are 0..n-1; the environment takes start + column."""
+    _walk(tmp_path, monkeypatch)
+    (tmp_path / "walk_labels.py").write_text("def label(cell, info):\n    return ['end'] if cell == 9 else []\n")
+    code, out, err = run(capsys, "--json", "--quiet", "learn", "spec", "--env", "offset_walk:OffsetWalk-v0",
+                         "--demos", "walk.jsonl", "--labeling", "walk_labels.py:label", "--q-steps", 500,
+                         "--max-iterations", 1)
+    assert code == 0, err
+    assert json.loads(out)["policy_update"] == "tabular"
+
+
+def test_learn_spec_with_an_inline_feature_labeling_and_multidiscrete_actions(capsys, tmp_path, monkeypatch):
+    """An inline {proposition: condition} reads the environment's feature_names (as a labeling
+    file does); the policy acts in the combinations of a MultiDiscrete space, and demonstrations
+    replayed for a labeling that reads info map their recorded actions to those ids."""
+    kwargs = _switch_board(tmp_path, monkeypatch, "multi")
+    env = ("--env", "switch_board:SwitchBoard-v0", "--env-kwargs", kwargs)
+    common = ("--demos", "board.npz", "--ppo-steps", 256, "--max-iterations", 1)
+    code, out, err = run(capsys, "--json", "--quiet", "learn", "spec", *env, "--labeling", '{"right": "x > 0.1"}',
+                         *common)
+    assert code == 0, err
+    assert list(json.loads(out)["propositions"]) == ["right"]
+    (tmp_path / "board_labels.py").write_text("def label(observation, info):\n"
+                                              "    return ['wall'] if info.get('cost') else []\n")
+    code, out, err = run(capsys, "--json", "--quiet", "learn", "spec", *env, "--labeling", "board_labels.py:label",
+                         *common)
+    assert code == 0, err
