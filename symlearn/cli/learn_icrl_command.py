@@ -225,7 +225,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
                      **({} if args.lambda_lr is None else {"lambda_lr": args.lambda_lr}),
                      **({} if not args.cost_sparsity else {"input_sparsity": args.cost_sparsity}))
 
-    env_fn = target.env_fn
+    env_fn = _within_the_demonstrations_horizon(target, env, demos, out.note)
     log = TrainingLog(args.log, step_key="iteration") if args.log else None  # an unwritable path fails now
     with blame_file(args.demos):
         learner.fit(demos, env_fn)
@@ -302,6 +302,28 @@ def _in_the_view(demos: Any, env: Any, path: Any) -> Any:
                         f" ({type(exc).__name__}: {exc})", file=path,
                         hint="were they recorded in this environment?") from None
     return Demonstrations(items, metadata=demos.metadata)
+
+
+def _within_the_demonstrations_horizon(target: Any, env: Any, demos: Any, note: Any) -> Any:
+    """The environment factory; for a user's environment without a time limit (no gymnasium
+    ``TimeLimit``) whose demonstrations were all cut off rather than ended (``record()``'s
+    ``max_steps``: ``info["truncated"]``), episodes cut at the longest demonstration's length,
+    so the policy's sampled episodes are as long as the ones they are compared with (and do not
+    run to the sampler's cap of 10,000 steps)."""
+    if target.bundled or getattr(getattr(env, "spec", None), "max_episode_steps", None) is not None:
+        return target.env_fn
+    infos = [getattr(t, "info", None) or {} for t in demos]
+    if not all(i.get("truncated") is True and i.get("terminated") is False for i in infos):
+        return target.env_fn
+    horizon = max((len(t.actions) for t in demos if t.actions is not None), default=0)
+    if horizon < 1:
+        return target.env_fn
+    from gymnasium.wrappers import TimeLimit
+
+    note(f"note: {target.display} registers no time limit and every demonstration was cut off, none ended: its "
+         f"episodes are cut at {horizon} steps, the demonstrations' longest "
+         "(gymnasium.register(..., max_episode_steps=N) sets a limit)")
+    return lambda: TimeLimit(target.make(), max_episode_steps=horizon)
 
 
 def _vectors_in_the_view(demos: Any, env: Any, path: Any) -> Any:

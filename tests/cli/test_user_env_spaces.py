@@ -8,7 +8,7 @@ import gymnasium
 import numpy as np
 import pytest
 from cli_runner import run
-from space_envs import GEARED_POINT, OFFSET_WALK, ONE_GUESS, SWITCH_BOARD
+from space_envs import ENDLESS_LINE, GEARED_POINT, OFFSET_WALK, ONE_GUESS, SWITCH_BOARD
 
 from symlearn.data import record
 
@@ -206,3 +206,20 @@ def test_learn_spec_with_an_inline_feature_labeling_and_multidiscrete_actions(ca
     code, out, err = run(capsys, "--json", "--quiet", "learn", "spec", *env, "--labeling", "board_labels.py:label",
                          *common)
     assert code == 0, err
+
+
+def test_learn_icrl_cuts_an_endless_environment_at_the_demonstrations_length(capsys, tmp_path, monkeypatch):
+    """Without a time limit, sampled episodes would run to the sampler's cap (10,000 steps)
+    against demonstrations record() cut at 30: they are cut where the demonstrations were."""
+    (tmp_path / "endless_line.py").write_text(ENDLESS_LINE)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import endless_line  # noqa: F401  (registers EndlessLine-v0)
+
+    record(gymnasium.make("EndlessLine-v0"), lambda x: int(x[0] < 0.4), 3, seed=0, max_steps=30).save("line.npz")
+    code, out, err = run(capsys, "--json", "learn", "icrl", "--env", "endless_line:EndlessLine-v0",
+                         "--demos", "line.npz", "--steps", 512, "--iterations", 1)
+    assert code == 0, err
+    assert "cut at 30 steps" in err
+    doc = json.loads(out)
+    assert abs(doc["reward"]) <= 30 and abs(doc["history"][0]["reward"]) <= 30   # at most 1 per step, 30 steps

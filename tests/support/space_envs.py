@@ -130,3 +130,30 @@ class GearedPoint(gym.Env):
 
 gym.register("GearedPoint-v0", entry_point=GearedPoint)
 '''
+
+#: no time limit and never done: a point on a line, paid for going right; right of 0.5 costs 1
+ENDLESS_LINE = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class EndlessLine(gym.Env):
+    feature_names = ("x",)
+
+    def __init__(self):
+        self.observation_space = spaces.Box(-1.0, 1.0, (1,), np.float32)
+        self.action_space = spaces.Discrete(2)
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.x = 0.0
+        return np.array([self.x], np.float32), {}
+
+    def step(self, action):
+        self.x = float(np.clip(self.x + (0.05 if action else -0.05), -1.0, 1.0))
+        return np.array([self.x], np.float32), self.x, False, False, {"cost": float(self.x > 0.5)}
+
+
+gym.register("EndlessLine-v0", entry_point=EndlessLine)
+'''
