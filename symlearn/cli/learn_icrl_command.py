@@ -338,9 +338,17 @@ def _vectors_in_the_view(demos: Any, env: Any, path: Any) -> Any:
     from symlearn.recipes.spaces import from_record_columns, record_columns_width
 
     space = env.env.observation_space
-    width = int(np.asarray(demos[0].states[0]).size)
-    if width == observation_width(env) or width != record_columns_width(space):
+    shape = np.asarray(demos[0].states[0]).shape
+    width = int(np.prod(shape, dtype=np.int64))
+    if width == observation_width(env):
         return demos
+    if width != record_columns_width(space):
+        parts = (f"Dict of {', '.join(map(str, space.spaces))}" if hasattr(space.spaces, "keys")
+                 else f"Tuple of {len(space.spaces)} parts")
+        raise DataError(f"the demonstrations' states have shape {shape}; the policy and the cost read the "
+                        f"observation ({parts}) as {observation_width(env)} numbers", file=path,
+                        hint="record them in the view the policy reads: record(symlearn.recipes.spaces."
+                             "numeric_observations(env), policy, n)")
     try:
         items = [Trajectory(np.stack([env.observation(from_record_columns(space, s)) for s in t.states]),
                             t.actions, t.rewards, t.labels, t.info) for t in demos]

@@ -223,3 +223,24 @@ def test_learn_icrl_cuts_an_endless_environment_at_the_demonstrations_length(cap
     assert "cut at 30 steps" in err
     doc = json.loads(out)
     assert abs(doc["reward"]) <= 30 and abs(doc["history"][0]["reward"]) <= 30   # at most 1 per step, 30 steps
+
+
+def test_learn_icrl_on_part_of_a_dict_observation_says_how_to_record_the_view(capsys, tmp_path, monkeypatch):
+    (tmp_path / "geared_point.py").write_text(GEARED_POINT)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import geared_point  # noqa: F401
+
+    env = gymnasium.make("GearedPoint-v0")
+    record(env, "random", 2, seed=0, observation=lambda o: o["pos"]).save("part.npz")
+    code, out, err = run(capsys, "learn", "icrl", "--env", "geared_point:GearedPoint-v0", "--demos", "part.npz",
+                         "--steps", 256, "--iterations", 1)
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "part.npz" in err and "Dict of gear, pos" in err and "numeric_observations(env)" in err
+
+    from symlearn.recipes.spaces import numeric_observations
+
+    record(numeric_observations(env), "random", 2, seed=0).save("view.npz")
+    code, out, err = run(capsys, "--quiet", "learn", "icrl", "--env", "geared_point:GearedPoint-v0",
+                         "--demos", "view.npz", "--steps", 256, "--iterations", 1)
+    assert code == 0, err
