@@ -244,3 +244,20 @@ def test_learn_icrl_on_part_of_a_dict_observation_says_how_to_record_the_view(ca
     code, out, err = run(capsys, "--quiet", "learn", "icrl", "--env", "geared_point:GearedPoint-v0",
                          "--demos", "view.npz", "--steps", 256, "--iterations", 1)
     assert code == 0, err
+
+
+def test_a_formula_over_more_columns_than_the_unnamed_features_says_what_it_reads(capsys, tmp_path, monkeypatch):
+    """x0..x3 learned from a 4-entry observation, while the environment reports 2 unnamed
+    info["features"]: the error names both, not only "names no features"."""
+    _switch_board(tmp_path, monkeypatch, "multi")
+    (tmp_path / "plain_board.py").write_text(SWITCH_BOARD.replace('    feature_names = ("x", "y")\n', "").replace(
+        "SwitchBoard-v0", "PlainBoard-v0").replace("return self.p.astype(np.float32), {}",
+                                                   'return self.p.astype(np.float32), {"features": self.p.copy()}'
+                                                   ).replace('{"cost": float(self.p[0] > 0.5)}',
+                                                  '{"cost": float(self.p[0] > 0.5), "features": self.p.copy()}'))
+    import plain_board  # noqa: F401
+
+    (tmp_path / "wide.dnf").write_text("x3 > 0.5\n")
+    code, out, err = run(capsys, "train", "--env", "plain_board:PlainBoard-v0", "--cost", "wide.dnf", "--steps", 64)
+    assert code == 2 and len(err.strip().splitlines()) == 1
+    assert "formula reads x3" in err and 'info["features"] has 2 unnamed column(s), read as x0, x1' in err
