@@ -227,13 +227,17 @@ def _icrl(args: argparse.Namespace, out) -> None:
 
     env_fn = _within_the_demonstrations_horizon(target, env, demos, out.note)
     log = TrainingLog(args.log, step_key="iteration") if args.log else None  # an unwritable path fails now
-    with blame_file(args.demos):
-        learner.fit(demos, env_fn)
-    if log is not None:
-        for record in learner.history_:
-            log.write(record.as_dict())
-    evaluation = episode_metrics(sample_episodes(learner.policy_, env_fn, EVAL_EPISODES, seed=seed + 50_000,
-                                                 deterministic=True))
+    from symlearn.cli.env_errors import environment_file, raised_by_environment
+
+    # an exception from the user's environment code is theirs: one line naming its file and line
+    with raised_by_environment(None if target.bundled else environment_file(env), f"learning in {target.display}"):
+        with blame_file(args.demos):
+            learner.fit(demos, env_fn)
+        if log is not None:
+            for record in learner.history_:
+                log.write(record.as_dict())
+        evaluation = episode_metrics(sample_episodes(learner.policy_, env_fn, EVAL_EPISODES, seed=seed + 50_000,
+                                                     deterministic=True))
     expert_obs, _ = demonstration_batch(demos).pairs()
     unsafe = getattr(env.unwrapped, "is_unsafe", None)
     rec = None if unsafe is None else recovery(learner.cost_, unsafe, expert_obs.reshape(len(expert_obs), -1),

@@ -45,6 +45,7 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any) -> dict[str, Any
     from stable_baselines3.common.vec_env import DummyVecEnv
 
     from symlearn.backends.lagrangian import LagrangianReward, SharedMultipliers, StepCostWrapper
+    from symlearn.backends.finite_observations import FiniteObservations
     from symlearn.backends.sb3_spaces import sb3_spaces
     from symlearn.errors import SymlearnError
     from symlearn.rl.ppo import LagrangianConfig
@@ -67,7 +68,8 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any) -> dict[str, Any
             env = StepCostWrapper(cost.wrap(env) if cost.wrap else env, cost.step_cost)
         if multipliers is not None:
             env = LagrangianReward(env, multipliers, cost_key=cost_key)
-        return Monitor(sb3_spaces(env))   # outside the cost wrappers: the cost reads the environment's values
+        # outside the cost wrappers: the cost reads the environment's values; NaN observations refused
+        return Monitor(FiniteObservations(sb3_spaces(env)))
 
     venv = DummyVecEnv([make] * args.n_envs)
     venv.seed(seed)

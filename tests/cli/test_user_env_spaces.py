@@ -8,7 +8,7 @@ import gymnasium
 import numpy as np
 import pytest
 from cli_runner import run
-from space_envs import ENDLESS_LINE, GEARED_POINT, OFFSET_WALK, ONE_GUESS, SWITCH_BOARD
+from space_envs import ENDLESS_LINE, FAULTY, GEARED_POINT, OFFSET_WALK, ONE_GUESS, SWITCH_BOARD
 
 from symlearn.data import record
 
@@ -261,3 +261,21 @@ def test_a_formula_over_more_columns_than_the_unnamed_features_says_what_it_read
     code, out, err = run(capsys, "train", "--env", "plain_board:PlainBoard-v0", "--cost", "wide.dnf", "--steps", 64)
     assert code == 2 and len(err.strip().splitlines()) == 1
     assert "formula reads x3" in err and 'info["features"] has 2 unnamed column(s), read as x0, x1' in err
+
+
+@pytest.mark.parametrize("algo", ["ppo", "sb3-ppo"])
+def test_a_failing_or_blind_environment_is_one_line_not_an_internal_error(capsys, tmp_path, monkeypatch, algo):
+    """An exception in the user's step names their file and line; a NaN observation is refused
+    at its step (our PPO would train on it, stable-baselines3 fail inside torch)."""
+    if algo.startswith("sb3"):
+        pytest.importorskip("stable_baselines3")
+    (tmp_path / "faulty.py").write_text(FAULTY)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    small = ("--algo", algo, "--steps", 128, "--n-steps", 32, "--eval-episodes", 1)
+    code, out, err = run(capsys, "train", "--env", "faulty:FaultyMotor-v0", *small)
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "faulty.py:" in err and "RuntimeError: motor fault" in err
+    code, out, err = run(capsys, "train", "--env", "faulty:BlindSensor-v0", *small)
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "not finite" in err

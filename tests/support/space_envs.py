@@ -157,3 +157,38 @@ class EndlessLine(gym.Env):
 
 gym.register("EndlessLine-v0", entry_point=EndlessLine)
 '''
+
+#: environments that misbehave on their 5th step: ``FaultyMotor-v0`` raises, ``BlindSensor-v0``
+#: observes NaN
+FAULTY = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class FaultyMotor(gym.Env):
+    observation_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
+    action_space = spaces.Discrete(2)
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.t = 0
+        return np.zeros(2, np.float32), {}
+
+    def step(self, action):
+        self.t += 1
+        if self.t == 5:
+            raise RuntimeError("motor fault")
+        return np.zeros(2, np.float32), 0.0, False, self.t >= 10, {}
+
+
+class BlindSensor(FaultyMotor):
+    def step(self, action):
+        self.t += 1
+        seen = np.full(2, np.nan if self.t == 5 else 0.0, np.float32)
+        return seen, 0.0, False, self.t >= 10, {}
+
+
+gym.register("FaultyMotor-v0", entry_point=FaultyMotor, disable_env_checker=True)
+gym.register("BlindSensor-v0", entry_point=BlindSensor, disable_env_checker=True)
+'''
