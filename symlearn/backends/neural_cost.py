@@ -8,7 +8,9 @@ learners, so these adapters take any object that evaluates a batch the way it do
   cost reads states only);
 * ``cost.uses_actions``: whether it reads actions;
 * ``cost.action_spec``: the :mod:`symlearn.rl.spaces` description of the action space it was
-  learned for; a Box's ``low``/``high`` bound the actions it is shown.
+  learned for; a Box's ``low``/``high`` bound the actions it is shown;
+* ``cost.observation_spec`` (optional): the observation space's; a rollout's Discrete
+  observations (one-hot rows) and actions (indices) reach the cost as the space's ids.
 
 :class:`NeuralRolloutCost` is ``train_ppo(cost_fn=...)`` (a learned cost under PPO-Lagrangian),
 :class:`NeuralRolloutReward` ``train_ppo(reward_fn=...)`` (``r - C``, what the ICRL learners'
@@ -23,6 +25,10 @@ from typing import Any
 
 import numpy as np
 
+from symlearn.rl.spaces import rollout_values
+
+BOX = {"kind": "box"}  # a cost that names no observation space reads the rows as they are
+
 
 class NeuralRolloutCost:
     """``rollout -> [T, N]`` costs of a :class:`~symlearn.rl.ppo.Rollout` (its ``obs`` and
@@ -36,8 +42,11 @@ class NeuralRolloutCost:
     def __call__(self, rollout: Any) -> np.ndarray:
         cost = self.cost
         T, N = rollout.rewards.shape
-        obs = rollout.obs.reshape(T * N, -1)
-        actions = None if not cost.uses_actions else rollout.actions.reshape(T * N, *rollout.actions.shape[2:])
+        # the rollout holds the agent's encoding: a Discrete observation one-hot, a Discrete
+        # action as its index 0..n-1; the cost reads the environment's values (ids from `start`)
+        obs = rollout_values(rollout.obs.reshape(T * N, -1), getattr(cost, "observation_spec", BOX))
+        actions = None if not cost.uses_actions else rollout_values(
+            rollout.actions.reshape(T * N, *rollout.actions.shape[2:]), cost.action_spec)
         if actions is not None and "low" in cost.action_spec:  # PPO's are unclipped; the env saw them clipped
             low = [-np.inf if x is None else x for x in cost.action_spec["low"]]
             high = [np.inf if x is None else x for x in cost.action_spec["high"]]

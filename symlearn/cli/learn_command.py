@@ -215,6 +215,7 @@ def _spec_in_user_env(args, out, target, seed: int) -> None:
     for flag, value in (("--q-steps", args.q_steps), ("--ppo-steps", args.ppo_steps)):
         if value is not None and value < 1:
             raise DataError(f"{flag} must be at least 1, got {value}")
+    target = target.with_joint_actions()   # MultiDiscrete/MultiBinary: one Discrete of the combinations
     env = target.make()
     labeling = _user_labeling(args, target, env)
     demos = load(args.demos)

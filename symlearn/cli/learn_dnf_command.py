@@ -127,6 +127,13 @@ def _dnf(args: argparse.Namespace, out) -> None:
     from symlearn.learners.trees.one_class_tree import OneClassTreeConstraint
 
     demos, features = _demonstrations(args, out.note)
+    if demos.state_kind in ("discrete", "symbol") and not args.domain:
+        # the learner's hint names its Python arguments; from here the ways out are files and flags
+        raise DataError(f"cannot read features from {demos.state_kind} states: a DNF is learned over numeric "
+                        "features", file=args.demos,
+                        hint="record the states as numbers (record(env, policy, n, observation=lambda s: "
+                             "[row, col]) for a cell id), or give a domain folder whose feature map turns the "
+                             "ids into features (--domain DIR)")
     held = None
     if args.validation is not None:
         from symlearn.learners.validation import holdout

@@ -195,7 +195,9 @@ def _icrl(args: argparse.Namespace, out) -> None:
         usable = [e.name for e in entries(Kind.CONTINUOUS) if "mce-icrl" in e.methods]
         raise DataError(f"{target.display} is no environment for neural ICRL",
                         hint="use " + ", ".join(usable) + ", or your own environment (module:EnvId) with --demos")
-    target = target.as_numeric()  # a Dict observation (MiniGrid's) flattened to what the networks read
+    # a Dict observation (MiniGrid's) flattened to what the networks read; a MultiDiscrete or
+    # MultiBinary action space seen as one Discrete of its combinations (what our PPO acts in)
+    target = target.as_numeric(actions=True)
     env = target.make()
     names = target.observation_names(env)
     width = observation_width(env) or 1
@@ -225,15 +227,19 @@ def _icrl(args: argparse.Namespace, out) -> None:
                      **({} if args.lambda_lr is None else {"lambda_lr": args.lambda_lr}),
                      **({} if not args.cost_sparsity else {"input_sparsity": args.cost_sparsity}))
 
-    env_fn = target.env_fn
+    env_fn = _within_the_demonstrations_horizon(target, env, demos, out.note)
     log = TrainingLog(args.log, step_key="iteration") if args.log else None  # an unwritable path fails now
-    with blame_file(args.demos):
-        learner.fit(demos, env_fn)
-    if log is not None:
-        for record in learner.history_:
-            log.write(record.as_dict())
-    evaluation = episode_metrics(sample_episodes(learner.policy_, env_fn, EVAL_EPISODES, seed=seed + 50_000,
-                                                 deterministic=True))
+    from symlearn.cli.env_errors import environment_file, raised_by_environment
+
+    # an exception from the user's environment code is theirs: one line naming its file and line
+    with raised_by_environment(None if target.bundled else environment_file(env), f"learning in {target.display}"):
+        with blame_file(args.demos):
+            learner.fit(demos, env_fn)
+        if log is not None:
+            for record in learner.history_:
+                log.write(record.as_dict())
+        evaluation = episode_metrics(sample_episodes(learner.policy_, env_fn, EVAL_EPISODES, seed=seed + 50_000,
+                                                     deterministic=True))
     expert_obs, _ = demonstration_batch(demos).pairs()
     unsafe = getattr(env.unwrapped, "is_unsafe", None)
     rec = None if unsafe is None else recovery(learner.cost_, unsafe, expert_obs.reshape(len(expert_obs), -1),
@@ -261,10 +267,12 @@ def _icrl(args: argparse.Namespace, out) -> None:
 
 
 def _in_the_view(demos: Any, env: Any, path: Any, names: Any = None) -> Any:
-    """Demonstrations that store a ``Dict``-observing environment's own observations (``record``
-    keeps a dict of scalars as feature states), seen as the flat numeric view that the policy and
-    the cost read (:mod:`symlearn.recipes.spaces`); feature-dict states of an environment with
-    an array observation, placed by the names of its entries (``names``:
+    """Demonstrations recorded in the environment itself, seen as the policy and the cost see it:
+    a ``Dict``-observing environment's own observations (``record`` keeps a dict of scalars as
+    feature states, and a Dict of vectors as named columns) as the flat numeric view
+    (:mod:`symlearn.recipes.spaces`), MultiDiscrete or MultiBinary actions as the ids of their
+    combinations (:mod:`symlearn.recipes.action_spaces`); feature-dict states of an environment
+    with an array observation, placed by the names of its entries (``names``:
     ``observation_names``, else ``feature_names`` one per entry)."""
     from collections.abc import Mapping
 
@@ -272,30 +280,51 @@ def _in_the_view(demos: Any, env: Any, path: Any, names: Any = None) -> Any:
 
     from symlearn.data import Demonstrations, Trajectory
     from symlearn.errors import DataError
+    from symlearn.recipes.action_spaces import find_joint_actions
     from symlearn.recipes.spaces import NumericObservations
 
     if demos.state_kind == "symbol":
         raise DataError("the demonstrations' states are symbols (text); neural ICRL reads numeric observations",
                         file=path, hint="give the observations as numbers (vector states)")
-    columns = demos.metadata.get("feature_names")
-    if isinstance(demos[0].states[0], Mapping):
-        if not isinstance(env, NumericObservations):
+
+    def find_observations(env: Any) -> NumericObservations | None:
+        while env is not None and not isinstance(env, NumericObservations):
+            env = getattr(env, "env", None)
+        return env
+
+    joint = find_joint_actions(env)
+    if joint is not None:   # recorded actions of the environment's own space, as ids of the view
+        try:
+            demos = Demonstrations([Trajectory(t.states, None if t.actions is None else
+                                               np.array([joint.index_of(a) for a in t.actions], dtype=np.int64),
+                                               t.rewards, t.labels, t.info) for t in demos],
+                                   metadata=demos.metadata)
+        except DataError as exc:
+            raise DataError(f"the demonstrations' actions do not fit: {exc.message}", file=path,
+                            hint="were they recorded in this environment?") from None
+    observed = find_observations(env)
+    if observed is None:
+        if isinstance(demos[0].states[0], Mapping):
             return _placed_by_name(demos, env, path, names)
-        view = env.observation
-    elif isinstance(env, NumericObservations) and columns and demos.state_kind == "vector":
-        # named columns of a Dict observation (record, Minari): rebuilt as the observation, so a
-        # Discrete part becomes the one-hot columns the policy reads
-        def view(row: Any) -> Any:
-            return env.from_columns(dict(zip(columns, np.asarray(row).tolist())))
-    else:
         return demos
+    columns = demos.metadata.get("feature_names")
+    if not isinstance(demos[0].states[0], Mapping):
+        if not (columns and demos.state_kind == "vector"):
+            return _vectors_in_the_view(demos, observed, path)
+
+        # named columns of a Dict observation (record, Minari): rebuilt by name, so a Discrete
+        # part becomes the one-hot columns the policy reads
+        def view(row: Any) -> Any:
+            return observed.from_columns(dict(zip(columns, np.asarray(row).tolist())))
+    else:
+        view = observed.observation
     try:
         items = [Trajectory(np.stack([view(s) for s in t.states]), t.actions, t.rewards, t.labels, t.info)
                  for t in demos]
     except DataError as exc:
         raise DataError(exc.message, file=path, hint=exc.hint) from None
     except (KeyError, TypeError, ValueError, AssertionError) as exc:
-        raise DataError(f"the demonstrations' states do not fit the observation space {env.env.observation_space}"
+        raise DataError(f"the demonstrations' states do not fit the observation space {observed.env.observation_space}"
                         f" ({type(exc).__name__}: {exc})", file=path,
                         hint="were they recorded in this environment?") from None
     return Demonstrations(items, metadata=demos.metadata)
@@ -328,6 +357,61 @@ def _placed_by_name(demos: Any, env: Any, path: Any, names: Any) -> Any:
     except (TypeError, ValueError) as exc:
         raise DataError(f"the demonstrations' features do not fit the observation {space} ({exc})", file=path,
                         hint="the observation's entries must be numbers") from None
+    return Demonstrations(items, metadata=demos.metadata)
+
+
+def _within_the_demonstrations_horizon(target: Any, env: Any, demos: Any, note: Any) -> Any:
+    """The environment factory; for a user's environment without a time limit (no gymnasium
+    ``TimeLimit``) whose demonstrations were all cut off rather than ended (``record()``'s
+    ``max_steps``: ``info["truncated"]``), episodes cut at the longest demonstration's length,
+    so the policy's sampled episodes are as long as the ones they are compared with (and do not
+    run to the sampler's cap of 10,000 steps)."""
+    if target.bundled or getattr(getattr(env, "spec", None), "max_episode_steps", None) is not None:
+        return target.env_fn
+    infos = [getattr(t, "info", None) or {} for t in demos]
+    if not all(i.get("truncated") is True and i.get("terminated") is False for i in infos):
+        return target.env_fn
+    horizon = max((len(t.actions) for t in demos if t.actions is not None), default=0)
+    if horizon < 1:
+        return target.env_fn
+    from gymnasium.wrappers import TimeLimit
+
+    note(f"note: {target.display} registers no time limit and every demonstration was cut off, none ended: its "
+         f"episodes are cut at {horizon} steps, the demonstrations' longest "
+         "(gymnasium.register(..., max_episode_steps=N) sets a limit)")
+    return lambda: TimeLimit(target.make(), max_episode_steps=horizon)
+
+
+def _vectors_in_the_view(demos: Any, env: Any, path: Any) -> Any:
+    """Vector states ``record()`` stored for a Dict/Tuple observation (a Discrete part one integer
+    column) rebuilt and seen through the numeric view ``env`` (where it is one-hot); states that
+    already have the view's width are taken as they are."""
+    import numpy as np
+
+    from symlearn.data import Demonstrations, Trajectory
+    from symlearn.errors import DataError
+    from symlearn.recipes.environments import observation_width
+    from symlearn.recipes.spaces import from_record_columns, record_columns_width
+
+    space = env.env.observation_space
+    shape = np.asarray(demos[0].states[0]).shape
+    width = int(np.prod(shape, dtype=np.int64))
+    if width == observation_width(env):
+        return demos
+    if width != record_columns_width(space):
+        parts = (f"Dict of {', '.join(map(str, space.spaces))}" if hasattr(space.spaces, "keys")
+                 else f"Tuple of {len(space.spaces)} parts")
+        raise DataError(f"the demonstrations' states have shape {shape}; the policy and the cost read the "
+                        f"observation ({parts}) as {observation_width(env)} numbers", file=path,
+                        hint="record them in the view the policy reads: record(symlearn.recipes.spaces."
+                             "numeric_observations(env), policy, n)")
+    try:
+        items = [Trajectory(np.stack([env.observation(from_record_columns(space, s)) for s in t.states]),
+                            t.actions, t.rewards, t.labels, t.info) for t in demos]
+    except (KeyError, TypeError, ValueError, IndexError) as exc:
+        raise DataError(f"the demonstrations' states do not fit the observation space {space}"
+                        f" ({type(exc).__name__}: {exc})", file=path,
+                        hint="were they recorded in this environment?") from None
     return Demonstrations(items, metadata=demos.metadata)
 
 

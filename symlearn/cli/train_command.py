@@ -215,19 +215,28 @@ def _train(args: argparse.Namespace, out) -> None:
     from symlearn.cli.train_costs import refuse_without_cost, training_cost
     from symlearn.recipes.environments import resolve_env
 
-    # observed as one vector whatever the environment observes (MiniGrid's Dict with text, ...)
-    target = resolve_env(args.env, kwargs=args.env_kwargs).as_numeric()
+    # observed as one vector whatever the environment observes (MiniGrid's Dict with text, ...);
+    # our PPO and SB3's DQN act in a MultiDiscrete/MultiBinary space as one Discrete of its combinations
+    target = resolve_env(args.env, kwargs=args.env_kwargs).as_numeric(
+        actions=args.algo in ("ppo", "ppo-lag", "sb3-dqn"))
     cost = None
     if args.cost:
         cost = training_cost(args.cost, target, features=args.features, per_rule=args.per_rule)
     elif args.algo.endswith("-lag"):
         refuse_without_cost(target, args.algo)
-    if args.algo in SB3_ALGOS:
-        from symlearn.cli.train_sb3 import train_sb3
+    from symlearn.cli.env_errors import environment_file, raised_by_environment
 
-        doc = train_sb3(args, target, cost)
-    else:
-        doc = _train_ours(args, target, cost)
+    # an exception from the user's environment code while training is theirs, one located line
+    probe = target.make()
+    env_file = None if target.bundled else environment_file(probe)
+    probe.close()
+    with raised_by_environment(env_file, f"training on {target.display}"):
+        if args.algo in SB3_ALGOS:
+            from symlearn.cli.train_sb3 import train_sb3
+
+            doc = train_sb3(args, target, cost)
+        else:
+            doc = _train_ours(args, target, cost)
     if args.prune:
         pruned = _prune(args, cost.stats, doc["steps"])
         doc["files"].insert(0, pruned.pop("file"))

@@ -82,7 +82,13 @@ def _dnf(path: str, target: Any, features: str | None, per_rule: bool) -> Traini
     finally:
         env.close()
     if found is not None and not found.named and not set(dnf.features) <= set(found.names):
-        found = None  # numbered columns, but the formula names others
+        where = 'info["features"]' if found.source == "info" else "the observation"
+        raise DataError(f"{target.display} names no features and the formula reads {', '.join(sorted(dnf.features))}"
+                        f", but {where} has {len(found.names)} unnamed column(s), read as "
+                        f"{', '.join(found.names)}", file=str(path),
+                        hint="learn the formula from states with those columns (with --inputs to pick some), "
+                             "or name the columns (--features a,b,..., a feature_names attribute or an "
+                             "info['features'] dict)")
     if found is None:
         raise DataError(f"{target.display} names no features, so the formula's {', '.join(sorted(dnf.features))} "
                         "cannot be read there", file=str(path),

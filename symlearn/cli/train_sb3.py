@@ -11,6 +11,8 @@ PPO, ReLU for SAC and DQN as in stable-baselines3), ``--n-envs`` copies side by 
 (``DummyVecEnv``); PPO's rollout is ``--n-steps`` per copy and its other settings are our PPO's
 defaults (minibatch 128, 4 epochs, learning rate 2.5e-4 annealed to 0, entropy 0.01).
 
+Discrete spaces numbered from another ``start`` and a scalar ``Box`` observation are shown to
+stable-baselines3 as it reads them (:mod:`symlearn.backends.sb3_spaces`), outside the cost wrappers.
 Evaluation is greedy (``deterministic=True``) on a fresh environment without the cost wrappers:
 its ``info["cost"]`` is the ground truth reported. ``-o agent.safetensors`` writes the policy with
 :func:`symlearn.backends.sb3.save_policy` (safetensors + JSON; stable-baselines3's ``.zip`` is
@@ -43,6 +45,8 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any) -> dict[str, Any
     from stable_baselines3.common.vec_env import DummyVecEnv
 
     from symlearn.backends.lagrangian import LagrangianReward, SharedMultipliers, StepCostWrapper
+    from symlearn.backends.finite_observations import FiniteObservations
+    from symlearn.backends.sb3_spaces import sb3_spaces
     from symlearn.errors import SymlearnError
     from symlearn.rl.ppo import LagrangianConfig
 
@@ -64,7 +68,8 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any) -> dict[str, Any
             env = StepCostWrapper(cost.wrap(env) if cost.wrap else env, cost.step_cost)
         if multipliers is not None:
             env = LagrangianReward(env, multipliers, cost_key=cost_key)
-        return Monitor(env)
+        # outside the cost wrappers: the cost reads the environment's values; NaN observations refused
+        return Monitor(FiniteObservations(sb3_spaces(env)))
 
     venv = DummyVecEnv([make] * args.n_envs)
     venv.seed(seed)
@@ -110,9 +115,10 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any) -> dict[str, Any
 def _evaluate(model: Any, target: Any, n_episodes: int, seed: int) -> tuple[np.ndarray, np.ndarray, Any]:
     """Greedy episodes on a fresh environment, through the loop our PPO is evaluated with: returns,
     lengths, and the summed ``info["cost"]`` ``(E, k)`` -- or None when the environment reports none."""
+    from symlearn.backends.sb3_spaces import sb3_spaces
     from symlearn.rl.evaluation import run_episodes
 
-    env = target.make()
+    env = sb3_spaces(target.make())
     try:
         episodes = run_episodes(env, lambda observation: model.predict(observation, deterministic=True)[0],
                                 n_episodes, seed=seed)

@@ -142,6 +142,9 @@ class EnvTarget:
     kwargs: dict[str, Any] = field(default_factory=dict)
     #: build through :func:`~symlearn.recipes.spaces.numeric_observations` (see :meth:`as_numeric`)
     numeric: bool = False
+    #: with :attr:`numeric`, a MultiDiscrete/MultiBinary action space is also seen as one Discrete
+    #: of its combinations (:mod:`symlearn.recipes.action_spaces`), for symlearn's PPO
+    joint_actions: bool = False
 
     @property
     def display(self) -> str:
@@ -163,16 +166,30 @@ class EnvTarget:
         if self.numeric:
             from symlearn.recipes.spaces import numeric_observations
 
-            return numeric_observations(env)
+            env = numeric_observations(env)
+        if self.joint_actions:
+            from symlearn.recipes.action_spaces import joint_discrete_actions
+
+            env = joint_discrete_actions(env)
         return env
 
-    def as_numeric(self) -> EnvTarget:
+    def as_numeric(self, actions: bool = False) -> EnvTarget:
         """The same environment, observed as one ``Box`` (or ``Discrete``) that PPO and learned
         costs read, whatever it observes (MiniGrid's ``Dict`` with a text field, a goal-conditioned
-        ``Dict``); an environment that observes a ``Box`` or ``Discrete`` is unchanged."""
+        ``Dict``); an environment that observes a ``Box`` or ``Discrete`` is unchanged. With
+        ``actions``, a ``MultiDiscrete``/``MultiBinary`` action space is seen as one ``Discrete``
+        of its combinations (what symlearn's PPO acts in)."""
         from dataclasses import replace
 
-        return replace(self, numeric=True)
+        return replace(self, numeric=True, joint_actions=bool(actions))
+
+    def with_joint_actions(self) -> EnvTarget:
+        """The same environment, observations unchanged, a ``MultiDiscrete``/``MultiBinary`` action
+        space seen as one ``Discrete`` of its combinations (``learn spec``: its labeling reads the
+        environment's own observations, its policies act in Box or Discrete spaces)."""
+        from dataclasses import replace
+
+        return replace(self, joint_actions=True)
 
     def _build(self) -> Any:
         if self.entry is not None:
@@ -308,9 +325,12 @@ class EnvTarget:
 
 
 def observation_width(env: Any) -> int | None:
-    """Entries of the flattened observation (``None`` for a space without a shape)."""
+    """Entries of the flattened observation (``None`` for a space without a shape, e.g.
+    ``Discrete``; 1 for a scalar ``Box``)."""
     space = getattr(env, "observation_space", None)
     shape = getattr(space, "shape", None)
+    if shape == () and type(space).__name__ == "Box":
+        return 1
     if not shape:
         return None
     width = 1

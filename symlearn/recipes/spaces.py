@@ -149,6 +149,52 @@ def _view_names(space: spaces.Space, path: tuple[str, ...]) -> list[str]:
     return [name] if not space.shape else [f"{name}[{i}]" for i in range(size)]
 
 
+def _record_leaves(space: spaces.Space) -> list[tuple[tuple[Any, ...], spaces.Space, int]]:
+    """The leaves of a Dict/Tuple space in the order ``record()`` stores their columns
+    (:mod:`symlearn.data.flat_observations`: Dict keys sorted, Tuple entries by index), each with
+    its path and the number of columns it gives (1 for a scalar leaf, ``k`` for a vector)."""
+    if isinstance(space, spaces.Dict):
+        return [((key, *path), leaf, width)
+                for key in sorted(space.spaces) for path, leaf, width in _record_leaves(space.spaces[key])]
+    if isinstance(space, spaces.Tuple):
+        return [((i, *path), leaf, width)
+                for i, sub in enumerate(space.spaces) for path, leaf, width in _record_leaves(sub)]
+    return [((), space, int(np.prod(space.shape, dtype=np.int64)) if space.shape else 1)]
+
+
+def record_columns_width(space: spaces.Space) -> int:
+    """How many columns ``record()`` stores for one observation of a Dict/Tuple ``space``."""
+    return sum(width for _, _, width in _record_leaves(space))
+
+
+def from_record_columns(space: spaces.Space, row: Any) -> Any:
+    """A Dict/Tuple observation of ``space`` rebuilt from the flat row ``record()`` stored for it
+    (a Discrete leaf is one integer column there, where the numeric view one-hots it)."""
+    values = np.asarray(row, dtype=np.float64).reshape(-1)
+
+    def build(sub: spaces.Space, offset: int) -> tuple[Any, int]:
+        if isinstance(sub, spaces.Dict):
+            out = {}
+            for key in sorted(sub.spaces):
+                out[key], offset = build(sub.spaces[key], offset)
+            return out, offset
+        if isinstance(sub, spaces.Tuple):
+            items = []
+            for part in sub.spaces:
+                item, offset = build(part, offset)
+                items.append(item)
+            return tuple(items), offset
+        width = int(np.prod(sub.shape, dtype=np.int64)) if sub.shape else 1
+        chunk = values[offset:offset + width]
+        dtype = sub.dtype if sub.dtype is not None else np.float64
+        leaf = chunk.reshape(sub.shape).astype(dtype)   # a 0-d array for a scalar Box
+        if isinstance(sub, spaces.Discrete):
+            leaf = leaf.reshape(()).item()
+        return leaf, offset + width
+
+    return build(space, 0)[0]
+
+
 def numeric_observations(env: gym.Env) -> gym.Env:
     """``env`` itself when it observes a ``Box`` or ``Discrete``; else :class:`NumericObservations`."""
     if isinstance(env.observation_space, (spaces.Box, spaces.Discrete)):
@@ -156,4 +202,4 @@ def numeric_observations(env: gym.Env) -> gym.Env:
     return NumericObservations(env)
 
 
-__all__ = ["NumericObservations", "numeric_observations"]
+__all__ = ["NumericObservations", "from_record_columns", "numeric_observations", "record_columns_width"]

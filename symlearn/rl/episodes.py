@@ -30,7 +30,8 @@ from symlearn.errors import DataError
 @dataclass(frozen=True)
 class EpisodeBatch:
     """``E`` episodes padded to the longest, ``T`` steps: ``obs`` ``[E, T, ...]`` (the state each
-    step started in), ``actions`` ``[E, T, ...]``, ``rewards`` and ``costs`` ``[E, T]``
+    step started in), ``actions`` ``[E, T, ...]`` (a Discrete action as the space's id, as in
+    demonstrations), ``rewards`` and ``costs`` ``[E, T]``
     (``costs``: the environment's ``info["cost"]``, summed over constraints; 0 where unknown),
     ``mask`` ``[E, T]`` (True for steps that happened)."""
 
@@ -86,6 +87,10 @@ def sample_episodes(policy: Any, env_fn: Callable[[], Any], n_episodes: int, *, 
     rng = np.random.default_rng(seed)
     act = policy_actions(policy, deterministic)
     to_env = getattr(policy, "env_action", None) or (lambda a: a)
+    # a Discrete action is kept as the environment's id (``start`` added), as demonstrations hold it;
+    # a continuous one as learned from (before clipping)
+    start = int(policy.action_spec.get("start", 0)) if getattr(policy, "discrete", False) else 0
+    recorded = (lambda a: a + start) if start else (lambda a: a)
     current = np.stack([np.asarray(env.reset(seed=None if seed is None else seed + i)[0])
                         for i, env in enumerate(envs)])
     alive = np.ones(n_episodes, dtype=bool)
@@ -104,7 +109,7 @@ def sample_episodes(policy: Any, env_fn: Callable[[], Any], n_episodes: int, *, 
             following[i] = np.asarray(o)
             if term or trunc:
                 alive[i] = False
-        for key, value in (("obs", current), ("actions", actions), ("rewards", rewards), ("costs", costs),
+        for key, value in (("obs", current), ("actions", recorded(actions)), ("rewards", rewards), ("costs", costs),
                            ("mask", taken)):
             rows[key].append(value)
         current = following

@@ -115,6 +115,12 @@ def _n_actions(env: Any) -> int:
     return int(n)
 
 
+def _action_start(env: Any) -> int:
+    """Where a Discrete action space's ids begin (``Discrete(3, start=-1)``: -1); the Q-table's
+    columns are ``0..n-1``, the environment takes ``start + column``."""
+    return int(getattr(env.action_space, "start", 0) or 0)
+
+
 def product_q_learning(env: Any, labeler: Labeler, machine, *, n_steps: int = 50_000, horizon: int = 200,
                        discount: float = 0.99, learning_rate: float = 1.0, epsilon: float = 0.1,
                        optimistic: float = 1.0, state_key: StateKey | None = None,
@@ -128,7 +134,7 @@ def product_q_learning(env: Any, labeler: Labeler, machine, *, n_steps: int = 50
     if not 0 < discount <= 1 or not 0 < learning_rate <= 1 or not 0 <= epsilon <= 1:
         raise ModelError("need 0 < discount <= 1, 0 < learning_rate <= 1, 0 <= epsilon <= 1")
     key_of = state_key or _default_key
-    n_a = _n_actions(env)
+    n_a, start = _n_actions(env), _action_start(env)
     columns = MachineColumns(machine)
     n_u = columns.n_states
     rng = np.random.default_rng(seed)
@@ -156,7 +162,7 @@ def product_q_learning(env: Any, labeler: Labeler, machine, *, n_steps: int = 50
             else:
                 here = values[u]
                 a = int(rng.choice(np.flatnonzero(here >= here.max() - 1e-12)))
-            observation, _reward, terminated, truncated, info = env.step(a)
+            observation, _reward, terminated, truncated, info = env.step(a + start)
             steps += 1
             tables = columns(labeler(observation, info, f"training step {steps}"))
             next_u, reward, done = tables.next_u[:, 0], tables.reward[:, 0], tables.done[:, 0]
@@ -189,6 +195,7 @@ def rollout_words(env: Any, labeler: Labeler, n: int, *, policy: ProductQResult 
     rng = np.random.default_rng(seed)
     discrete = getattr(env.action_space, "n", None) is not None
     n_a = _n_actions(env) if policy is not None or discrete else 0
+    start = _action_start(env) if discrete else 0
     if not discrete:  # random continuous actions: the action space's own seeded sampler
         env.action_space.seed(int(rng.integers(1 << 31)))
     words, total, count = [], 0.0, 0
@@ -209,7 +216,7 @@ def rollout_words(env: Any, labeler: Labeler, n: int, *, policy: ProductQResult 
                 nz = probs[probs > 0]
                 total += float(-(nz * np.log(nz)).sum() / np.log(n_a)) if n_a > 1 else 0.0
             count += 1
-            observation, _reward, terminated, truncated, info = env.step(a)
+            observation, _reward, terminated, truncated, info = env.step(a + start if discrete else a)
             label = frozenset(labeler(observation, info, f"rollout {episode}, step {t + 1}"))
             word.append(label)
             ended = terminated or truncated

@@ -60,6 +60,24 @@ def one_hot(ids: np.ndarray, width: int) -> np.ndarray:
     return out
 
 
+def rollout_values(rows: np.ndarray, spec: dict[str, Any]) -> np.ndarray:
+    """Rows as a PPO rollout holds them -> the values the environment used, as :func:`encode`
+    takes them: a Discrete observation's one-hot row (``width`` entries, ``ActorCritic.features``)
+    or a Discrete action's index ``0..n-1`` becomes the space's id (``start`` added); a Box row
+    is returned as it is. ``rows`` is ``(B, width)`` for observations, ``(B,)`` for Discrete
+    actions.
+
+    >>> spec = {"kind": "discrete", "n": 3, "start": 2}
+    >>> rollout_values(np.array([[0, 1, 0], [0, 0, 1]], np.float32), spec).tolist(), rollout_values(np.array([0, 2]), spec).tolist()
+    ([3, 4], [2, 4])
+    """
+    if spec["kind"] != "discrete":
+        return rows
+    rows = np.asarray(rows)
+    ids = rows.reshape(len(rows), -1).argmax(axis=1) if rows.ndim == 2 else rows.astype(np.int64)
+    return ids.astype(np.int64) + int(spec.get("start", 0))
+
+
 def encode(values: Any, spec: dict[str, Any], what: str) -> np.ndarray:
     """A batch of raw observations or actions -> float32 ``(B, width)`` (one-hot for Discrete).
     Wrong shapes, ids out of range and non-finite numbers are :class:`DataError`."""
@@ -95,4 +113,4 @@ def encode(values: Any, spec: dict[str, Any], what: str) -> np.ndarray:
     return array
 
 
-__all__ = ["SPACE_KINDS", "encode", "one_hot", "space_spec", "spec_width"]
+__all__ = ["SPACE_KINDS", "encode", "one_hot", "rollout_values", "space_spec", "spec_width"]

@@ -148,7 +148,7 @@ class NeuralCost(nn.Module):
 
     def check_environment(self, env: Any, *, source: str | os.PathLike[str] | None = None) -> None:
         """Refuse an environment whose spaces differ from the ones this cost was learned in."""
-        observation, action = space_spec(env.observation_space), space_spec(env.action_space, bounds=True)
+        observation = space_spec(env.observation_space)  # the action space only matters to a cost reading actions
         where = {"file": None if source is None else str(source)}
         if observation != self.observation_spec:
             raise ModelError(f"this cost was learned for observations {_describe(self.observation_spec)}, "
@@ -158,7 +158,10 @@ class NeuralCost(nn.Module):
         if names is not None and self.observation_names is not None and list(names) != self.observation_names:
             raise ModelError(f"this cost reads observation entries {self.observation_names}, the environment's "
                              f"are {list(names)}", **where)
-        if self.uses_actions and _shape_of(action) != _shape_of(self.action_spec):
+        if not self.uses_actions:
+            return
+        action = space_spec(env.action_space, bounds=True)
+        if _shape_of(action) != _shape_of(self.action_spec):
             raise ModelError(f"this cost was learned for actions {_describe(self.action_spec)}, the environment's "
                              f"are {_describe(action)}", **where)
 

@@ -108,10 +108,14 @@ def _same_or_refuse(i: int, t: int, stored: Any, observation: Any, seed: Any) ->
                         f"at step {t} than the one stored", hint=_RECORD_HINT)
 
 
-def _fitting_action(i: int, t: int, stored: Any, space: Any, discrete: bool) -> Any:
+def _fitting_action(i: int, t: int, stored: Any, space: Any, discrete: bool, index_of: Any = None) -> Any:
     """A demonstration's action as the environment takes it; one of another shape (demonstrations
-    recorded in another environment) is refused, not handed to the environment."""
+    recorded in another environment) is refused, not handed to the environment. ``index_of``: an
+    environment that acts in the combinations of a MultiDiscrete space as one Discrete
+    (``recipes.action_spaces.JointDiscreteActions``) maps a recorded action to its id."""
     action = np.asarray(stored)
+    if discrete and index_of is not None and action.ndim == 1:
+        return index_of(action)
     shape = getattr(space, "shape", None)
     fits = (action.ndim == 0 and action.dtype.kind in "biuf") if discrete else \
         (shape is None or action.shape == tuple(shape))
@@ -257,7 +261,8 @@ class EnvWorld:
         word = [self.labeler(observation, info, f"demonstration {i}, step 0")]
         for t in range(len(states) - 1):
             _same_or_refuse(i, t, states[t], observation, seed)
-            action = _fitting_action(i, t, actions[t], self.env.action_space, discrete)
+            action = _fitting_action(i, t, actions[t], self.env.action_space, discrete,
+                                     getattr(self.env, "index_of", None))
             observation, _r, terminated, truncated, info = self.env.step(action)
             word.append(self.labeler(observation, info, f"demonstration {i}, step {t + 1}"))
             if (terminated or truncated) and t + 2 < len(states):

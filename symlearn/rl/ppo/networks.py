@@ -36,8 +36,10 @@ def _space_spec(space: Any, role: str) -> dict[str, Any]:
     must be 1-D when it is a Box."""
     kind = type(space).__name__
     if kind not in SPACE_KINDS:
-        raise SymlearnError(f"PPO supports Box and Discrete {role} spaces, got {kind}",
-                            hint="flatten dict/tuple spaces with a gymnasium wrapper (e.g. FlattenObservation)")
+        hint = ("flatten dict/tuple spaces with a gymnasium wrapper (e.g. FlattenObservation)" if role == "observation"
+                else "wrap the environment so that it acts in a Box or Discrete space (a gymnasium ActionWrapper); "
+                     "MultiDiscrete and MultiBinary: symlearn.recipes.action_spaces.JointDiscreteActions")
+        raise SymlearnError(f"PPO supports Box and Discrete {role} spaces, got {kind}", hint=hint)
     if role == "action" and kind == "Box" and len(space.shape) != 1:
         raise SymlearnError(f"PPO needs a 1-D Box action space, got shape {space.shape}")
     return space_spec(space, bounds=role == "action")

@@ -157,6 +157,10 @@ class _Rollouts:
                 for key in self.info_keys:
                     self._record(info_arrays, key, info, t, i, n_steps, n_envs)
                 reached[t, i] = agent.features(np.asarray(o)[None])[0]
+                if not np.isfinite(reached[t, i]).all():
+                    raise DataError(f"the observation is not finite (NaN or inf): {np.asarray(o).tolist()} "
+                                    f"(environment {i}, step {self.steps + t * n_envs + i})",
+                                    hint="an environment must observe finite numbers on every step")
                 next_obs[i] = reached[t, i]
                 if term or trunc:
                     dones[t, i] = 1.0

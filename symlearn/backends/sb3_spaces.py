@@ -1,0 +1,82 @@
+"""Spaces stable-baselines3 does not read as gymnasium defines them, made plain for it.
+
+stable-baselines3 (2.x) one-hot encodes a ``Discrete`` observation as ids ``0..n-1`` and acts in
+a ``Discrete`` space with ids ``0..n-1``: a space numbered from another ``start``
+(``Discrete(8, start=2)``) breaks the encoding or sends actions outside the space. Its
+``MlpPolicy`` flattens observations from their second dimension, so a scalar ``Box`` observation
+(shape ``()``) fails. :func:`sb3_spaces` wraps an environment with such spaces in
+:class:`SB3Spaces`: observation ids shifted to start at 0, action ids shifted back to the
+environment's own, a scalar observation as a vector of one entry; other environments are
+returned unchanged. ``train --algo sb3-*`` uses it outside the cost wrappers, so a learned cost
+reads the environment's own values; a policy saved from it loads on ``sb3_spaces(env)``.
+
+>>> import gymnasium as gym
+>>> from gymnasium import spaces
+>>> class Offset(gym.Env):
+...     observation_space, action_space = spaces.Discrete(4, start=2), spaces.Discrete(3, start=-1)
+...     def reset(self, seed=None, options=None): return 2, {}
+...     def step(self, action): return 5, 0.0, True, False, {"action": action}
+>>> env = sb3_spaces(Offset())
+>>> env.observation_space, env.action_space, env.reset()[0], env.step(0)[0], env.step(0)[-1]
+(Discrete(4), Discrete(3), 0, 3, {'action': -1})
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+def _offset(space: Any) -> int:
+    return int(space.start) if isinstance(space, spaces.Discrete) else 0
+
+
+def _scalar_box(space: Any) -> bool:
+    return isinstance(space, spaces.Box) and space.shape == ()
+
+
+class SB3Spaces(gym.Wrapper):
+    """``env`` with Discrete spaces numbered from 0 and a scalar Box observation as shape ``(1,)``."""
+
+    def __init__(self, env: gym.Env) -> None:
+        super().__init__(env)
+        observation, action = env.observation_space, env.action_space
+        self._obs_start, self._act_start = _offset(observation), _offset(action)
+        self._scalar = _scalar_box(observation)
+        if self._obs_start:
+            self.observation_space = spaces.Discrete(int(observation.n))
+        elif self._scalar:
+            self.observation_space = spaces.Box(np.reshape(observation.low, 1), np.reshape(observation.high, 1),
+                                                dtype=observation.dtype)
+        if self._act_start:
+            self.action_space = spaces.Discrete(int(action.n))
+
+    def _observation(self, observation: Any) -> Any:
+        if self._obs_start:
+            return int(observation) - self._obs_start
+        if self._scalar:
+            return np.asarray(observation, dtype=self.observation_space.dtype).reshape(1)
+        return observation
+
+    def reset(self, **kwargs: Any):
+        observation, info = self.env.reset(**kwargs)
+        return self._observation(observation), info
+
+    def step(self, action: Any):
+        if self._act_start:
+            action = int(action) + self._act_start
+        observation, reward, terminated, truncated, info = self.env.step(action)
+        return self._observation(observation), reward, terminated, truncated, info
+
+
+def sb3_spaces(env: gym.Env) -> gym.Env:
+    """:class:`SB3Spaces` over ``env`` where its spaces need it (module doc), else ``env``."""
+    if _offset(env.observation_space) or _offset(env.action_space) or _scalar_box(env.observation_space):
+        return SB3Spaces(env)
+    return env
+
+
+__all__ = ["SB3Spaces", "sb3_spaces"]
