@@ -67,16 +67,20 @@ def demonstrations(agent: str, task: str, n: int, seed: int):
 
 
 @lru_cache(maxsize=None)
-def learn_rules(agent: str, task: str, depth: int, n_demos: int, demo_seed: int):
-    """``(dnf, info)``: the one-class tree's unsafe-set formula from ``n_demos`` expert episodes."""
+def learn_rules(agent: str, task: str, depth: int, n_demos: int, demo_seed: int,
+                inputs: tuple[str, ...] | None = None):
+    """``(dnf, info)``: the one-class tree's unsafe-set formula from ``n_demos`` expert episodes
+    (``inputs``: the features its rules may test, ``OneClassTreeConstraint(inputs=...)``; all 20 when ``None``)."""
     from symlearn.envs.safenav.observation import FEATURE_NAMES
     from symlearn.learners.trees.one_class_tree import OneClassTreeConstraint
 
     demos = demonstrations(agent, task, n_demos, demo_seed)
     start = time.perf_counter()
-    tree = OneClassTreeConstraint(max_depth=depth, random_state=0).fit(demos, list(FEATURE_NAMES))
+    tree = OneClassTreeConstraint(max_depth=depth, random_state=0,
+                                  inputs=list(inputs) if inputs else None).fit(demos, list(FEATURE_NAMES))
     dnf = tree.dnf_
     info = {"source": task_key(agent, task), "depth": depth, "n_demos": n_demos, "demo_seed": demo_seed,
+            "inputs": list(inputs) if inputs else None,
             "points": int(sum(len(t.states) for t in demos)), "leaves": len(tree.safe_boxes_),
             "conjunctions": len(dnf.conjunctions), "atoms": int(sum(len(c.atoms) for c in dnf.conjunctions)),
             "fit_seconds": time.perf_counter() - start,
@@ -150,7 +154,7 @@ class Recorder:
 
 
 def make_tracked(env: Any, rules: FastRules | None, recorder: Recorder, stats: Any | None = None,
-                 batch: int = 4096):
+                 batch: int = 4096, features: list | None = None):
     import gymnasium as gym
 
     class Tracked(gym.Wrapper):
@@ -170,6 +174,8 @@ def make_tracked(env: Any, rules: FastRules | None, recorder: Recorder, stats: A
             true_cost = float(info["cost"])
             info = dict(info)
             info["env_cost"] = true_cost
+            if features is not None:
+                features.append(np.array(info["features"], dtype=np.float64))
             if rules is not None:
                 fires = rules.fires(np.asarray(info["features"], dtype=np.float64))
                 cost = 1.0 if fires.any() else 0.0
@@ -216,19 +222,35 @@ class Budget:
     n_epochs: int = 5
 
 
-def ppo_config(budget: Budget, seed: int, normalize: bool = False):
+SETTINGS = ("legacy", "defaults")
+
+
+def ppo_config(budget: Budget, seed: int, normalize: bool = False, settings: str = "legacy"):
     """``normalize``: standardised observations and PopArt-scaled critics (PPOConfig's
-    ``normalize_observations`` / ``normalize_values``)."""
+    ``normalize_observations`` / ``normalize_values``). ``settings="defaults"``: ``PPOConfig(seed=seed)``
+    as a user gets it (its ``None`` settings resolved by ``train_ppo``; the budget's rollout sizes
+    and ``normalize`` are not used)."""
     from symlearn.rl.ppo import PPOConfig
 
+    if settings == "defaults":
+        return PPOConfig(seed=seed, torch_threads=1)
+    if settings != "legacy":
+        raise ValueError(f"settings must be one of {SETTINGS}, got {settings!r}")
     return PPOConfig(n_envs=budget.n_envs, n_steps=budget.n_steps, batch_size=budget.batch_size,
                      n_epochs=budget.n_epochs, learning_rate=3e-4, seed=seed, torch_threads=1,
                      normalize_observations=normalize, normalize_values=normalize, log_std_init=0.0)
 
 
-def lagrangian_config(cost_limit: float, multiplier_lr: float, advantage_scale: str = "raw"):
+def lagrangian_config(cost_limit: float, multiplier_lr: float, advantage_scale: str = "raw",
+                      settings: str = "legacy"):
+    """``settings="defaults"``: ``LagrangianConfig(cost_limit=cost_limit)``, the library's defaults
+    (``multiplier_lr`` and ``advantage_scale`` are not used)."""
     from symlearn.rl.ppo import LagrangianConfig
 
+    if settings == "defaults":
+        return LagrangianConfig(cost_limit=cost_limit)
+    if settings != "legacy":
+        raise ValueError(f"settings must be one of {SETTINGS}, got {settings!r}")
     return LagrangianConfig(cost_limit=cost_limit, update="adam", lr=multiplier_lr, adam_beta2=0.999,
                             advantage_scale=advantage_scale,
                             cost_estimate="episodes")  # the recorded tables' rule
@@ -278,7 +300,8 @@ def run(spec: dict[str, Any]) -> dict[str, Any]:
         if spec.get("rules") is not None:
             dnf = parse(spec["rules"])
         else:
-            dnf, _ = learn_rules(*parse_key(spec["source"]), spec["depth"], spec["n_demos"], spec["demo_seed"])
+            dnf, _ = learn_rules(*parse_key(spec["source"]), spec["depth"], spec["n_demos"], spec["demo_seed"],
+                                 tuple(spec["inputs"]) if spec.get("inputs") else None)
         rules = FastRules(dnf, FEATURE_NAMES)
         check_on = spec.get("source") or spec["target"]
         rules.check(probe_points(*parse_key(check_on), spec["n_demos"], spec["demo_seed"], n_random=1500))
@@ -294,9 +317,9 @@ def run(spec: dict[str, Any]) -> dict[str, Any]:
     lagrangian = None
     if spec["algo"] == "ppo-lag":
         lagrangian = lagrangian_config(spec["cost_limit"], spec["multiplier_lr"],
-                                       spec.get("advantage_scale", "raw"))
-    result = train_ppo(env_fn, budget.steps, ppo_config(budget, spec["seed"], spec.get("normalize", False)),
-                       lagrangian=lagrangian)
+                                       spec.get("advantage_scale", "raw"), spec.get("settings", "legacy"))
+    config = ppo_config(budget, spec["seed"], spec.get("normalize", False), spec.get("settings", "legacy"))
+    result = train_ppo(env_fn, budget.steps, config, lagrangian=lagrangian)
     for w in wrappers:
         w.flush()
     train_seconds = time.perf_counter() - started
@@ -304,15 +327,22 @@ def run(spec: dict[str, Any]) -> dict[str, Any]:
     last = [e for e in recorder.episodes if e[0] > 0.9 * result.steps]  # the last 10 % of training
 
     evaluation = {}
+    eval_features: list[np.ndarray] = []
     for mode, deterministic in (("stochastic", False), ("greedy", True)):
         rec = Recorder()
-        env = make_tracked(SafeNavEnv(agent, task), rules, rec, None)
+        env = make_tracked(SafeNavEnv(agent, task), rules, rec, None,
+                           features=eval_features if mode == "stochastic" else None)
         evaluate(result.policy, env, budget.eval_episodes, seed=EVAL_SEED, deterministic=deterministic)
         evaluation[mode] = {"return": _stats(e[1] for e in rec.episodes),
                             "true_cost": _stats(e[2] for e in rec.episodes),
                             "dnf_cost": _stats(e[3] for e in rec.episodes) if rules is not None else None,
                             "episodes": len(rec.episodes)}
+    monitor = dnf
+    if monitor is None and spec.get("monitor_depth"):  # a baseline: the target's own learned formula, not trained on
+        monitor, _ = learn_rules(agent, task, spec["monitor_depth"], spec["n_demos"], spec["demo_seed"])
     out = dict(spec)
+    if monitor is not None and eval_features:
+        out["unsafe_breakdown"] = unsafe_breakdown(monitor, np.array(eval_features))
     out.update({
         "steps": int(result.steps), "train_seconds": train_seconds, "seconds": time.perf_counter() - started,
         "steps_per_second": result.steps / train_seconds,
@@ -323,11 +353,57 @@ def run(spec: dict[str, Any]) -> dict[str, Any]:
         "multiplier_curve": [h.multipliers[0] if h.multipliers else 0.0
                              for h in result.history[:: max(1, len(result.history) // budget.curve_bins)]],
         "machine": platform.node(),
+        "resolved_config": {"ppo": _config_dict(config.resolved(constrained=lagrangian is not None)),
+                            "lagrangian": _config_dict(lagrangian) if lagrangian is not None else None},
     })
     if stats is not None:
         out["rule_counts"] = {"evaluated": stats.evaluated.tolist(), "fired": stats.fired.tolist()}
         out["n_rules"] = len(dnf.conjunctions)
     return out
+
+
+FEATURE_GROUPS = {"a": "acceleration", "v": "velocity", "d": "lidar"}
+
+
+def unsafe_breakdown(dnf: Any, X: np.ndarray, top: int = 8) -> dict[str, Any]:
+    """Why ``dnf`` calls the states ``X`` (one row per step, the 20 SafeNav features) unsafe: the
+    share of steps it fires on; per feature group (acceleration ``a_*``, velocity ``v_*``, lidar
+    ``d_*``) the share of steps on which a one-atom conjunction of that group fires (the formula's
+    bounding box of the demonstrations: ``v_x > 1.0`` etc.); the share on which only conjunctions of
+    several atoms fire; per feature, the one-atom conjunctions' share; and the ``top`` conjunctions
+    by the share of steps they fire on."""
+    from symlearn.envs.safenav.observation import FEATURE_NAMES
+
+    fires = np.asarray(dnf.evaluate(np.asarray(X, dtype=np.float64), FEATURE_NAMES, per_conjunction=True), dtype=bool)
+    unsafe = fires.any(axis=1)
+    single = [i for i, c in enumerate(dnf.conjunctions) if len(c.atoms) == 1]
+    groups: dict[str, np.ndarray] = {}
+    per_feature: dict[str, float] = {}
+    for i in single:
+        feature = _feature(dnf, i)
+        group = FEATURE_GROUPS.get(feature.split("_")[0], "other")
+        groups[group] = groups.get(group, np.zeros(len(X), dtype=bool)) | fires[:, i]
+        per_feature[feature] = float(np.mean(fires[:, [j for j in single if _feature(dnf, j) == feature]].any(axis=1)))
+    any_single = fires[:, single].any(axis=1) if single else np.zeros(len(X), dtype=bool)
+    share = fires.mean(axis=0)
+    order = np.argsort(-share)[:top]
+    return {"steps": int(len(X)), "unsafe_share": float(unsafe.mean()),
+            "one_atom_share_by_group": {g: float(v.mean()) for g, v in sorted(groups.items())},
+            "only_multi_atom_share": float(np.mean(unsafe & ~any_single)),
+            "one_atom_share_by_feature": dict(sorted(per_feature.items(), key=lambda kv: -kv[1])),
+            "top_conjunctions": [{"rule": str(dnf.conjunctions[i]), "share": float(share[i])}
+                                 for i in order if share[i] > 0]}
+
+
+def _feature(dnf: Any, i: int) -> str:
+    return dnf.conjunctions[i].atoms[0].feature
+
+
+def _config_dict(config: Any) -> dict[str, Any]:
+    """A frozen config dataclass as JSON-able settings (tuples as lists)."""
+    from dataclasses import asdict
+
+    return {k: list(v) if isinstance(v, tuple) else v for k, v in asdict(config).items()}
 
 
 def prune_counts(dnf: Any, evaluated: list[int], fired: list[int], threshold: float):

@@ -22,6 +22,16 @@ unseen expert and random-policy states each formula calls unsafe).
     .venv/bin/python benchmarks/safenav_transfer.py                 # the full table (~65 min on 2 workers)
     .venv/bin/python benchmarks/safenav_transfer.py --quick         # smoke test (2 tasks, tiny budget, /tmp)
     .venv/bin/python benchmarks/safenav_transfer.py --report-only   # tables/plots from the runs logged so far
+    # issue 24's target at the library's defaults (PPOConfig() / LagrangianConfig(cost_limit)), 36 runs, ~23 min on 1 worker:
+    .venv/bin/python benchmarks/safenav_transfer.py --settings defaults --diagonal-only --steps 100000 --workers 1 \
+        --prune-tasks "" --jsonl benchmarks/results/safenav_defaults.runs.jsonl --json benchmarks/results/safenav_defaults.json \
+        --figure docs/figures/safenav_defaults_curves.png --rules-dir benchmarks/results/safenav_defaults_rules
+
+``--settings legacy`` (the default) keeps the pinned settings the recorded tables were measured with;
+``--settings defaults`` gives PPO and PPO-Lagrangian only the cost limit and the budget. ``--inputs
+lidar`` learns formulas over the hazard lidar only. Every baseline run also reports which rules of
+the target's own learned formula its evaluation steps break (``unsafe_breakdown``), and the report
+checks issue 24's SafeNav target (``issue24_diagonal_target`` in the JSON).
 
 Runs are appended to ``--jsonl`` (rewritten atomically after each run) and skipped when the
 script is started again, so a crash loses only the runs under way. Raw results:
@@ -33,6 +43,7 @@ from __future__ import annotations
 import argparse
 import io
 import json
+import math
 import platform
 import sys
 import time
@@ -47,7 +58,7 @@ sys.path.insert(0, str(REPO))
 sys.path.insert(0, str(REPO / "benchmarks"))
 
 from safenav_common import (  # noqa: E402
-    EVAL_SEED, NAMES, TASKS, FastRules, ResultLog, clean, expert_rows, learn_rules, parse_key, probe_points,
+    EVAL_SEED, NAMES, SETTINGS, TASKS, FastRules, ResultLog, clean, expert_rows, learn_rules, parse_key, probe_points,
     prune_counts, run_all, task_key,
 )
 
@@ -64,8 +75,30 @@ def label(key: str) -> str:
 # the run specifications
 
 
+INPUT_SETS = {"lidar": tuple(f"d_{k}" for k in range(16))}
+
+
+def formula_tag(args: argparse.Namespace) -> str:
+    """``d<depth>|n<demos>`` plus ``-in<name>`` when the formulas may test only ``--inputs``."""
+    return f"d{args.depth}|n{args.n_demos}" + (f"-in{args.inputs}" if args.inputs else "")
+
+
+def rule_inputs(args: argparse.Namespace) -> tuple[str, ...] | None:
+    if not args.inputs:
+        return None
+    return INPUT_SETS.get(args.inputs) or tuple(x for x in args.inputs.split(",") if x)
+
+
+def rule_file_name(args: argparse.Namespace, source: str) -> str:
+    return f"{source}.d{args.depth}" + (f"-in{args.inputs}" if args.inputs else "") + ".dnf"
+
+
 def run_suffix(args: argparse.Namespace) -> str:
-    """The end of every run id: the settings a logged run must share to be reused."""
+    """The end of every run id: the settings a logged run must share to be reused. With
+    ``--settings defaults`` the legacy knobs (multiplier lr, advantage scale, normalisation) do not
+    apply and the suffix is ``<steps>|L<limit>|defaults``."""
+    if args.settings == "defaults":
+        return f"{args.steps}|L{args.cost_limit:g}|defaults"
     lr = "" if args.multiplier_lr == 0.035 else f"|mlr{args.multiplier_lr:g}"
     scale = "" if args.advantage_scale == "raw" else f"|{args.advantage_scale}"
     norm = "|norm" if args.normalize else ""
@@ -76,7 +109,7 @@ def common(args: argparse.Namespace, seed: int) -> dict[str, Any]:
     return {"seed": seed, "budget": {"steps": args.steps, "eval_episodes": args.eval_episodes},
             "n_demos": args.n_demos, "demo_seed": args.demo_seed, "cost_limit": args.cost_limit,
             "multiplier_lr": args.multiplier_lr, "advantage_scale": args.advantage_scale,
-            "normalize": args.normalize}
+            "normalize": args.normalize, "settings": args.settings, "inputs": rule_inputs(args)}
 
 
 def table_specs(args: argparse.Namespace, keys: list[str]) -> list[dict[str, Any]]:
@@ -87,11 +120,14 @@ def table_specs(args: argparse.Namespace, keys: list[str]) -> list[dict[str, Any
         for target in keys:
             base = common(args, seed)
             if not args.no_baselines:
-                specs.append(dict(base, id=f"ppo|{target}|s{seed}|{suffix}", algo="ppo", target=target, cost="none"))
+                # monitor_depth: the target's own learned formula is evaluated (not trained on) on the
+                # evaluation states -- which of its rules the baselines' steps break (unsafe_breakdown)
+                specs.append(dict(base, id=f"ppo|{target}|s{seed}|{suffix}", algo="ppo", target=target, cost="none",
+                                  monitor_depth=args.depth))
                 specs.append(dict(base, id=f"lag-true|{target}|s{seed}|{suffix}", algo="ppo-lag", target=target,
-                                  cost="true"))
+                                  cost="true", monitor_depth=args.depth))
             for source in ([target] if args.diagonal_only else keys):
-                specs.append(dict(base, id=f"lag-dnf|{source}>{target}|d{args.depth}|n{args.n_demos}|s{seed}|{suffix}",
+                specs.append(dict(base, id=f"lag-dnf|{source}>{target}|{formula_tag(args)}|s{seed}|{suffix}",
                                   algo="ppo-lag", target=target, cost="dnf", source=source, depth=args.depth))
     return specs
 
@@ -103,9 +139,9 @@ def prune_specs(args: argparse.Namespace, log: ResultLog, keys: list[str]) -> tu
     for task in args.prune_tasks:
         if task not in keys:
             continue
-        dnf, _ = learn_rules(*parse_key(task), args.depth, args.n_demos, args.demo_seed)
+        dnf, _ = learn_rules(*parse_key(task), args.depth, args.n_demos, args.demo_seed, rule_inputs(args))
         for seed in range(args.seeds):
-            full_id = f"lag-dnf|{task}>{task}|d{args.depth}|n{args.n_demos}|s{seed}|{suffix}"
+            full_id = f"lag-dnf|{task}>{task}|{formula_tag(args)}|s{seed}|{suffix}"
             if not log.done(full_id):
                 continue
             counts = log.rows[full_id]["rule_counts"]
@@ -114,7 +150,7 @@ def prune_specs(args: argparse.Namespace, log: ResultLog, keys: list[str]) -> tu
                             "after": len(pruned.conjunctions), "threshold": args.prune_threshold,
                             "kept": [v.rule for v in verdicts if v.kept],
                             "kept_counts": [[v.fired, v.evaluated] for v in verdicts if v.kept]})
-            specs.append(dict(common(args, seed), id=f"lag-pruned|{task}|d{args.depth}|n{args.n_demos}|s{seed}|"
+            specs.append(dict(common(args, seed), id=f"lag-pruned|{task}|{formula_tag(args)}|s{seed}|"
                                                      f"t{args.prune_threshold:g}|{suffix}",
                               algo="ppo-lag", target=task, cost="dnf", source=task, depth=args.depth,
                               rules=str(pruned), pruned_from=full_id, rules_before=len(dnf.conjunctions),
@@ -190,7 +226,7 @@ def summarise(log: ResultLog, args: argparse.Namespace, keys: list[str]) -> dict
         for name in tables:
             tables[name][source] = {}
         for target in keys:
-            rs = pick(f"lag-dnf|{source}>{target}|d{args.depth}|n{args.n_demos}|")
+            rs = pick(f"lag-dnf|{source}>{target}|{formula_tag(args)}|")
             tables["reward"][source][target] = _ms(rs, (*metric, "return", "mean"))
             tables["cost"][source][target] = _ms(rs, (*metric, "true_cost", "mean"))
             tables["formula_cost"][source][target] = _ms(rs, (*metric, "dnf_cost", "mean"))
@@ -207,8 +243,8 @@ def summarise(log: ResultLog, args: argparse.Namespace, keys: list[str]) -> dict
                                        "greedy_cost": _ms(rs, ("eval", "greedy", "true_cost", "mean"))}
     pruning = []
     for task in args.prune_tasks:
-        rs_full = pick(f"lag-dnf|{task}>{task}|d{args.depth}|n{args.n_demos}|")
-        rs_pruned = [r for r in pick(f"lag-pruned|{task}|d{args.depth}|n{args.n_demos}|")
+        rs_full = pick(f"lag-dnf|{task}>{task}|{formula_tag(args)}|")
+        rs_pruned = [r for r in pick(f"lag-pruned|{task}|{formula_tag(args)}|")
                      if f"|t{args.prune_threshold:g}|" in r["id"]]
         if not rs_full:
             continue
@@ -303,6 +339,71 @@ def markdown(summary: dict[str, Any], experts: dict[str, Any], keys: list[str], 
     return "\n".join(lines)
 
 
+def diagonal_check(log: ResultLog, args: argparse.Namespace, keys: list[str], ratio: float = 0.7) -> dict[str, Any]:
+    """Issue 24's SafeNav target, per target and seed: the same-task learned-DNF agent's return and
+    true cost beside true-cost PPO-Lagrangian's and plain PPO's (stochastic evaluation), and per
+    target whether the seed means meet "return >= ``ratio`` x true-cost PPO-Lagrangian's at true
+    cost <= the limit"."""
+    suffix = "|" + run_suffix(args)
+    ids = {"dnf": "lag-dnf|{t}>{t}|%s|s{s}" % formula_tag(args), "true": "lag-true|{t}|s{s}",
+           "ppo": "ppo|{t}|s{s}"}
+    out: dict[str, Any] = {"ratio": ratio, "cost_limit": args.cost_limit, "targets": {}}
+    for t in keys:
+        seeds: dict[str, dict[str, Any]] = {}
+        for seed in range(args.seeds):
+            row = {}
+            for name, pattern in ids.items():
+                r = log.rows.get(pattern.format(t=t, s=seed) + suffix)
+                if r is None:
+                    continue
+                ev = r["eval"]["stochastic"]
+                row[name] = {"return": ev["return"]["mean"], "true_cost": ev["true_cost"]["mean"],
+                             "formula_cost": (ev["dnf_cost"] or {}).get("mean") if ev.get("dnf_cost")
+                             else (r.get("unsafe_breakdown") or {}).get("unsafe_share", math.nan) * 1000,
+                             "multiplier": (r.get("final_multipliers") or [None])[0]}
+            if row:
+                seeds[str(seed)] = row
+        complete = [v for v in seeds.values() if "dnf" in v and "true" in v]
+        entry: dict[str, Any] = {"seeds": seeds, "n": len(complete)}
+        if complete:
+            mean = lambda name, key: float(np.mean([v[name][key] for v in complete]))  # noqa: E731
+            entry["mean"] = {name: {key: mean(name, key) for key in ("return", "true_cost")}
+                             for name in ids if all(name in v for v in complete)}
+            d, tr = entry["mean"]["dnf"], entry["mean"]["true"]
+            entry["met"] = bool(d["true_cost"] <= args.cost_limit and d["return"] >= ratio * tr["return"])
+            entry["true_cost_lag_within_limit"] = bool(tr["true_cost"] <= args.cost_limit)
+            entry["seeds_met"] = int(sum(v["dnf"]["true_cost"] <= args.cost_limit
+                                         and v["dnf"]["return"] >= ratio * v["true"]["return"] for v in complete))
+        out["targets"][t] = entry
+    done = [e for e in out["targets"].values() if "met" in e]
+    out["met_on"] = int(sum(e["met"] for e in done))
+    out["of"] = len(done)
+    return out
+
+
+def diagonal_markdown(check: dict[str, Any]) -> str:
+    lines = [f"**issue 24's SafeNav target (learned-DNF return >= {check['ratio']:g} x true-cost PPO-Lagrangian's, "
+             f"true cost <= {check['cost_limit']:g}); stochastic evaluation, return / true cost per episode**\n",
+             "| task | seed | PPO-Lag, learned DNF (formula cost) | PPO-Lag, true cost | PPO (formula cost) |",
+             "|---|---:|---|---|---|"]
+    cell = lambda v: "–" if v is None else f"{v['return']:.2f} / {v['true_cost']:.1f}"  # noqa: E731
+    for t, e in check["targets"].items():
+        for seed, row in e["seeds"].items():
+            dnf, ppo = row.get("dnf"), row.get("ppo")
+            lines.append(f"| {label(t)} | {seed} | {cell(dnf)}" + (f" ({dnf['formula_cost']:.0f})" if dnf else "")
+                         + f" | {cell(row.get('true'))} | {cell(ppo)}"
+                         + (f" ({ppo['formula_cost']:.0f})" if ppo and ppo.get("formula_cost") is not None else "")
+                         + " |")
+        if "mean" in e:
+            m = e["mean"]
+            lines.append(f"| {label(t)} | mean | {cell(m['dnf'])} | {cell(m['true'])} | {cell(m.get('ppo'))} |")
+            lines.append(f"| {label(t)} | **target** | **{'met' if e['met'] else 'not met'}** "
+                         f"({e['seeds_met']} of {e['n']} seeds) | "
+                         f"{'within' if e['true_cost_lag_within_limit'] else 'above'} the limit | |")
+    lines.append(f"\nmet on {check['met_on']} of {check['of']} tasks (the target: >= 3 of 4)\n")
+    return "\n".join(lines)
+
+
 # --------------------------------------------------------------------------------------------------
 # the figure
 
@@ -317,8 +418,8 @@ def plot_curves(log: ResultLog, args: argparse.Namespace, keys: list[str], exper
     rows = [r for r in log.rows.values() if r["id"].endswith(suffix)]
     fig, axes = plt.subplots(2, len(keys), figsize=(4.2 * len(keys), 6.2), squeeze=False)
     series = [("PPO", "ppo|{t}|", "tab:gray"), ("PPO-Lag, true cost", "lag-true|{t}|", "tab:blue"),
-              ("PPO-Lag, learned DNF (same task)", "lag-dnf|{t}>{t}|d%d|n%d|" % (args.depth, args.n_demos), "tab:red"),
-              ("PPO-Lag, pruned DNF", "lag-pruned|{t}|d%d|n%d|" % (args.depth, args.n_demos), "tab:orange")]
+              ("PPO-Lag, learned DNF (same task)", "lag-dnf|{t}>{t}|%s|" % formula_tag(args), "tab:red"),
+              ("PPO-Lag, pruned DNF", "lag-pruned|{t}|%s|" % formula_tag(args), "tab:orange")]
     for j, t in enumerate(keys):
         for name, prefix, color in series:
             rs = [r for r in rows if r["id"].startswith(prefix.format(t=t))]
@@ -350,6 +451,7 @@ def plot_curves(log: ResultLog, args: argparse.Namespace, keys: list[str], exper
     fig.legend(handles, labels, loc="lower center", ncol=len(labels) if len(keys) > 2 else 3, fontsize=8,
                frameon=False)
     fig.suptitle(f"SafeNav training (mean ± sd over seeds; {args.steps // 1000}k steps, cost limit {args.cost_limit:g}, "
+                 f"{args.settings} settings, "
                  f"tree depth {args.depth})", fontsize=10)
     fig.tight_layout(rect=(0, 0.07 if len(keys) > 2 else 0.1, 1, 0.97))
     buffer = io.BytesIO()
@@ -374,6 +476,12 @@ def main() -> None:
                         help="PPO-Lagrangian advantage units (LagrangianConfig.advantage_scale; raw)")
     parser.add_argument("--normalize", action="store_true",
                         help="normalise observations and values (PPOConfig normalize_observations/values)")
+    parser.add_argument("--settings", choices=SETTINGS, default="legacy",
+                        help="legacy (default): the pinned settings the recorded tables were measured with "
+                             "(4x256 rollouts, 5 epochs, lr 3e-4, Adam multiplier --multiplier-lr, beta2 0.999, "
+                             "finished-episode cost estimate); defaults: PPOConfig() and "
+                             "LagrangianConfig(cost_limit=--cost-limit) as the library gives them "
+                             "(--multiplier-lr, --advantage-scale, --normalize are then not used)")
     parser.add_argument("--eval-episodes", type=int, default=10)
     parser.add_argument("--prune-tasks", default="point-goal,car-push", help="tasks for the pruning experiment")
     parser.add_argument("--prune-threshold", type=float, default=1e-3)
@@ -382,6 +490,11 @@ def main() -> None:
     parser.add_argument("--jsonl", default=str(REPO / "benchmarks/results/safenav_transfer.runs.jsonl"))
     parser.add_argument("--json", default=str(REPO / "benchmarks/results/safenav_transfer.json"))
     parser.add_argument("--figure", default=str(REPO / "docs/figures/safenav_training_curves.png"))
+    parser.add_argument("--inputs", default=None,
+                        help="the features the learned rules may test: 'lidar' (d_0..d_15: what the hazards are "
+                             "seen by) or a comma-separated list; default all 20 (run ids then carry -in<this>)")
+    parser.add_argument("--rules-dir", default=str(REPO / "benchmarks/results/safenav_rules"),
+                        help="where the learned formulas are written (<source>.d<depth>.dnf)")
     parser.add_argument("--markdown", default=None, help="also write the tables as markdown here")
     parser.add_argument("--diagonal-only", action="store_true",
                         help="only same-task formulas (plus the baselines): for budget or cost-limit variants")
@@ -402,7 +515,7 @@ def main() -> None:
     # the formulas (learned once in the parent; the forked workers inherit them)
     rules, rule_sets = {}, {}
     for source in keys:
-        dnf, info = learn_rules(*parse_key(source), args.depth, args.n_demos, args.demo_seed)
+        dnf, info = learn_rules(*parse_key(source), args.depth, args.n_demos, args.demo_seed, rule_inputs(args))
         probe = probe_points(*parse_key(source), args.n_demos, args.demo_seed, 1500)
         from symlearn.envs.safenav.observation import FEATURE_NAMES
 
@@ -413,9 +526,9 @@ def main() -> None:
               f"in {info['fit_seconds']:.2f} s; expert return {info['expert_return']:.2f}, cost {info['expert_cost']:.1f}",
               flush=True)
     if not args.quick:
-        folder = REPO / "benchmarks/results/safenav_rules"
+        folder = Path(args.rules_dir)
         for source, dnf in rule_sets.items():
-            dnf.save(folder / f"{source}.d{args.depth}.dnf",
+            dnf.save(folder / rule_file_name(args, source),
                      header=f"unsafe set of safenav-{source}: one-class tree, max_depth {args.depth}, "
                             f"{args.n_demos} scripted-expert episodes (seed {args.demo_seed}); "
                             f"written by benchmarks/safenav_transfer.py")
@@ -437,6 +550,8 @@ def main() -> None:
     summary = summarise(log, args, keys)
     order = orderings(summary, keys, strict)
     text = markdown(summary, experts, keys, order)
+    check = diagonal_check(log, args, keys)
+    text += "\n" + diagonal_markdown(check)
     print(text, flush=True)
     if args.markdown:
         write_text(args.markdown, text)
@@ -450,11 +565,16 @@ def main() -> None:
         "command": "python benchmarks/safenav_transfer.py " + " ".join(sys.argv[1:]),
         "machine": {"node": platform.node(), "python": platform.python_version(), "cpus": __import__("os").cpu_count()},
         "settings": {k: v for k, v in vars(args).items() if k not in ("jsonl", "json", "figure", "markdown")},
-        "ppo": {"n_envs": 4, "n_steps": 256, "batch_size": 256, "n_epochs": 5, "learning_rate": 3e-4,
-                "multiplier_update": "adam", "evaluation": f"{args.eval_episodes} episodes, seeds {EVAL_SEED}+i"},
-        "rules": rules, "rule_files": {s: f"benchmarks/results/safenav_rules/{s}.d{args.depth}.dnf" for s in keys},
+        "ppo": ({"n_envs": 4, "n_steps": 256, "batch_size": 256, "n_epochs": 5, "learning_rate": 3e-4,
+                 "multiplier_update": "adam"} if args.settings == "legacy" else
+                {"settings": "PPOConfig(seed=seed) / LagrangianConfig(cost_limit=--cost-limit): the library's "
+                             "defaults; each run's resolved configuration is in runs[i].resolved_config"})
+               | {"evaluation": f"{args.eval_episodes} episodes, seeds {EVAL_SEED}+i"},
+        "rules": rules, "rule_files": {s: str((Path(args.rules_dir) / rule_file_name(args, s)).resolve().relative_to(REPO))
+                       if Path(args.rules_dir).resolve().is_relative_to(REPO) else
+                       str(Path(args.rules_dir) / rule_file_name(args, s)) for s in keys},
         "expert": experts, "unsafe_share_of_common_sample": strict,
-        "summary": summary, "orderings": order, "pruning_records": prune_records,
+        "summary": summary, "orderings": order, "issue24_diagonal_target": check, "pruning_records": prune_records,
         "runs": runs, "report_seconds": time.perf_counter() - started,
         "total_run_seconds": float(sum(r["seconds"] for r in runs)),
     }
