@@ -98,6 +98,8 @@ def _demonstrations(args: argparse.Namespace, note=None):
     demos = demonstrations(target, args.demos, args.n_demos, seed=seed, note=note)
     if args.domain and demos.state_kind == "symbol":  # states by their names in states.jsonl
         demos = _states_as_ids(demos, domain, args.demos)
+    if target is not None and args.demos and demos.state_kind == "vector":
+        _check_width(target, demos, args.demos)
     if features is None:  # names the file carries (a flattened Minari/D4RL observation, a bundled expert's)
         meta = demos.metadata if isinstance(demos.metadata, dict) else {}
         named = meta.get("feature_names", meta.get("features"))
@@ -107,6 +109,25 @@ def _demonstrations(args: argparse.Namespace, note=None):
             except DataError as exc:  # the file's own names: say which file
                 raise DataError(exc.message, file=args.demos, hint=exc.hint) from None
     return demos, None if features is None else (features if args.domain else list(features))
+
+
+def _check_width(target, demos, path) -> None:
+    """Vector demonstrations whose width is not what ``--env`` reads (its features, else its
+    observation): refused, rather than learning over columns the environment does not have."""
+    import numpy as np
+
+    from symlearn.errors import DataError
+
+    found = target.features(numbered=True)
+    if found is None:
+        return
+    width = int(np.prod(np.asarray(demos[0].states[0]).shape))
+    if width != len(found.names):
+        what = 'info["features"]' if found.source == "info" else "observation"
+        raise DataError(f"the demonstrations' states have {width} columns, {target.display}'s {what} has "
+                        f"{len(found.names)}", file=path,
+                        hint="were they recorded in this environment? (without --env the file's columns are "
+                             "learned as they are)")
 
 
 def _states_as_ids(demos, domain, path):

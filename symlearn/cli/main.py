@@ -19,11 +19,13 @@ written are cleaned up). With ``--json`` an error also prints ``{"error": {...}}
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import json
 import signal
 import sys
 import threading
+import warnings
 import traceback
 from collections.abc import Sequence
 
@@ -215,6 +217,27 @@ def main(argv: Sequence[str] | None = None) -> int:
             signal.signal(signal.SIGTERM, previous)
 
 
+@contextlib.contextmanager
+def _one_line_warnings(debug: bool):
+    """Warnings no command turned into a note of its own (a library's, a learner's) printed as one
+    ``warning:`` line without the source path and line Python's default format shows; ``--debug``
+    keeps that format. The format, not the display, is replaced, so code that records warnings
+    (``warnings.catch_warnings(record=True)``) still gets them."""
+    if debug:
+        yield
+        return
+    previous = warnings.formatwarning
+
+    def one_line(message, category, filename, lineno, line=None):
+        return "warning: " + " ".join(str(message).split()) + "\n"
+
+    warnings.formatwarning = one_line
+    try:
+        yield
+    finally:
+        warnings.formatwarning = previous
+
+
 def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     if not getattr(args, "handler", None):
         if args.command:  # a command group such as 'symlearn data' without its sub-command
@@ -228,7 +251,8 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     out = Output(json_mode=getattr(args, "json", False), quiet=args.quiet)
     try:
         check_seed(getattr(args, "seed", 0))
-        with progress_bars(False if (args.quiet or out.json_mode and not sys.stderr.isatty()) else None):
+        with progress_bars(False if (args.quiet or out.json_mode and not sys.stderr.isatty()) else None), \
+                _one_line_warnings(args.debug):
             code = args.handler(args, out)
         return EXIT_OK if code is None else int(code)
     except SymlearnError as exc:

@@ -109,3 +109,15 @@ def test_demonstrations_recorded_in_another_environment_get_a_warning(capsys, tm
         for env in ("toy-navigation", "symlearn/toy-navigation-v0"):
             code, out, err = run(capsys, "learn", "dnf", "--env", env, "--demos", path, "--json")
             assert code == 0 and "warning" not in err, (path, env, err)
+
+
+def test_demonstrations_narrower_than_the_environment_are_refused(capsys, tmp_path):
+    """Three columns are not CartPole's four: one line naming the file, not a formula over
+    columns the environment does not have."""
+    rng = np.random.default_rng(0)
+    path = tmp_path / "pendulum.npz"
+    Demonstrations([Trajectory(states=rng.uniform(-1, 1, (20, 3))) for _ in range(2)],
+                   metadata={"env": "Pendulum-v1"}).save(path)
+    code, out, err = run(capsys, "learn", "dnf", "--env", "CartPole-v1", "--demos", path, "-o", tmp_path / "p.dnf")
+    assert code == 2 and "3 columns" in err and "observation has 4" in err and str(path) in err, err
+    assert not (tmp_path / "p.dnf").exists()

@@ -97,3 +97,24 @@ def test_one_grammar_no_abbreviations_and_did_you_mean(run_cli):
         assert len(result.stderr.strip().splitlines()) == 1 and "usage:" not in result.stderr
     result = run_cli("learn", "dnf", "--max-dep", "3", "--demos", "x")
     assert result.returncode == 2 and "unrecognized arguments: --max-dep" in result.stderr  # never taken as --max-depth
+
+
+def test_a_stray_warning_is_one_line_without_a_source_path(capsys, monkeypatch):
+    """A warning no command turned into a note prints as one 'warning:' line (no path:line of
+    symlearn's source); code recording warnings still records them."""
+    import sys
+    import warnings
+
+    from symlearn.cli.main import _one_line_warnings
+
+    # displayed as Python displays an unrecorded warning (pytest records them all otherwise)
+    monkeypatch.setattr(warnings, "showwarning", lambda message, category, filename, lineno, file=None, line=None:
+                        sys.stderr.write(warnings.formatwarning(message, category, filename, lineno, line)))
+    with _one_line_warnings(debug=False):
+        warnings.warn_explicit("the expert\n   looks odd", UserWarning, "/x/learner.py", 261)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            warnings.warn("recorded", UserWarning)
+    err = capsys.readouterr().err
+    assert err == "warning: the expert looks odd\n"
+    assert [str(w.message) for w in caught] == ["recorded"]
