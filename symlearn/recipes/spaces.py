@@ -149,50 +149,32 @@ def _view_names(space: spaces.Space, path: tuple[str, ...]) -> list[str]:
     return [name] if not space.shape else [f"{name}[{i}]" for i in range(size)]
 
 
-def _record_leaves(space: spaces.Space) -> list[tuple[tuple[Any, ...], spaces.Space, int]]:
-    """The leaves of a Dict/Tuple space in the order ``record()`` stores their columns
-    (:mod:`symlearn.data.flat_observations`: Dict keys sorted, Tuple entries by index), each with
-    its path and the number of columns it gives (1 for a scalar leaf, ``k`` for a vector)."""
+def _record_names(space: spaces.Space, path: tuple[str, ...] = ()) -> list[str]:
+    """The names of the columns ``record()`` stores for one observation of a Dict/Tuple ``space``,
+    in its order (:mod:`symlearn.data.flat_observations`: Dict keys sorted, Tuple entries by
+    index, a scalar leaf one column, a vector leaf ``name[i]``)."""
     if isinstance(space, spaces.Dict):
-        return [((key, *path), leaf, width)
-                for key in sorted(space.spaces) for path, leaf, width in _record_leaves(space.spaces[key])]
+        return [n for key in sorted(space.spaces) for n in _record_names(space.spaces[key], path + (key,))]
     if isinstance(space, spaces.Tuple):
-        return [((i, *path), leaf, width)
-                for i, sub in enumerate(space.spaces) for path, leaf, width in _record_leaves(sub)]
-    return [((), space, int(np.prod(space.shape, dtype=np.int64)) if space.shape else 1)]
+        return [n for i, sub in enumerate(space.spaces) for n in _record_names(sub, path + (f"_index_{i}",))]
+    name = leaf_name(path) if path else "observation"
+    shape = tuple(space.shape or ())
+    return [name] if not shape else [f"{name}[{i}]" for i in range(int(np.prod(shape)))]
 
 
 def record_columns_width(space: spaces.Space) -> int:
     """How many columns ``record()`` stores for one observation of a Dict/Tuple ``space``."""
-    return sum(width for _, _, width in _record_leaves(space))
+    return len(_record_names(space))
 
 
 def from_record_columns(space: spaces.Space, row: Any) -> Any:
     """A Dict/Tuple observation of ``space`` rebuilt from the flat row ``record()`` stored for it
-    (a Discrete leaf is one integer column there, where the numeric view one-hots it)."""
+    without names (a Discrete leaf is one integer column there, where the numeric view one-hots it)."""
     values = np.asarray(row, dtype=np.float64).reshape(-1)
-
-    def build(sub: spaces.Space, offset: int) -> tuple[Any, int]:
-        if isinstance(sub, spaces.Dict):
-            out = {}
-            for key in sorted(sub.spaces):
-                out[key], offset = build(sub.spaces[key], offset)
-            return out, offset
-        if isinstance(sub, spaces.Tuple):
-            items = []
-            for part in sub.spaces:
-                item, offset = build(part, offset)
-                items.append(item)
-            return tuple(items), offset
-        width = int(np.prod(sub.shape, dtype=np.int64)) if sub.shape else 1
-        chunk = values[offset:offset + width]
-        dtype = sub.dtype if sub.dtype is not None else np.float64
-        leaf = chunk.reshape(sub.shape).astype(dtype)   # a 0-d array for a scalar Box
-        if isinstance(sub, spaces.Discrete):
-            leaf = leaf.reshape(()).item()
-        return leaf, offset + width
-
-    return build(space, 0)[0]
+    names = _record_names(space)
+    if len(values) != len(names):
+        raise DataError(f"a row of {len(values)} numbers for an observation of {len(names)} columns")
+    return _rebuild(space, (), dict(zip(names, values.tolist())))
 
 
 def numeric_observations(env: gym.Env) -> gym.Env:
