@@ -50,8 +50,9 @@ JSON keys: ``reward``, ``violation_rate``, ``feasible_reward``, ``recovery_auc``
 else its ``feature_names`` where there is one per observation entry, else null),
 ``demonstrations`` (where they came from: their ``metadata["source"]``, the ``--demos`` file or
 the expert that was run; also in the cost file's provenance),
-``iterations``, ``seconds``, ``timings``
-(``nominal``, ``pretrain``, ``policy``, ``cost``), ``history`` (per iteration), ``files``.
+``iterations``, ``actor_resets`` (the iterations whose policy phase started from a fresh actor),
+``seconds``, ``timings`` (``nominal``, ``pretrain``, ``policy``, ``cost``), ``history`` (per
+iteration), ``files``.
 ``-o`` must end in ``.safetensors``; the configuration goes to the ``.json`` beside it.
 ``--log run.csv``: the same per-iteration history as a CSV table (one row per iteration, a column
 per number; :mod:`symlearn.rl.training_log`).
