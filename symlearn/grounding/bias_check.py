@@ -16,7 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from symlearn.logic.asp.predicates import MAX_SUGGESTIONS, _Suggestions
+from symlearn.logic.asp.predicates import MAX_SUGGESTIONS, Suggestions
 from symlearn.logic.ilp.modes import ModeAtom, ModeConditional, render_mode
 
 
@@ -52,7 +52,7 @@ def bias_warnings(domain) -> list[BiasWarning]:
     defined = domain.defined_signatures
     source = domain.sources.get("bias")
     out: list[BiasWarning] = []
-    closest = _Suggestions(defined)   # indexed once: a generated bias may name thousands of predicates
+    closest = Suggestions(defined)   # indexed once: a generated bias may name thousands of predicates
     suggested = 0
     for mode in sorted([*task.modeb, *task.modec], key=lambda m: (m.line or 0, m.column or 0)):
         declaration = f"#mode{mode.kind}({render_mode(mode.literal)})"

@@ -59,7 +59,7 @@ def undefined_predicates(rules: Program, defined: set[Signature]) -> list[Undefi
     uses = cl.PredicateUses(rules)  # positions only of the atoms reported
     known = set(defined) | {(name, arity) for name, arity, defines in uses.signatures if defines}
     out: dict[Signature, UndefinedPredicate] = {}
-    closest = _Suggestions(known)
+    closest = Suggestions(known)
     for index, (name, arity, defines) in enumerate(uses.signatures):
         signature = (name, arity)
         if defines or signature in known or signature in out:
@@ -76,7 +76,7 @@ def undefined_predicates(rules: Program, defined: set[Signature]) -> list[Undefi
 MAX_SUGGESTIONS = 100
 
 
-class _Suggestions:  # also used by grounding.bias_check
+class Suggestions:
     """The closest known predicate to a misspelt one, with the known names indexed once."""
 
     def __init__(self, known: set[Signature]) -> None:
@@ -101,11 +101,4 @@ class _Suggestions:  # also used by grounding.bias_check
         return f"{close[0]}/{arity if arity in arities else arities[0]}"
 
 
-def closest_signature(signature: Signature, known: set[Signature]) -> str | None:
-    """The defined ``name/arity`` a misspelt ``signature`` most likely means (same name, other
-    arity first; then a close name), or None. For many lookups against one ``known``, index it
-    once with :class:`_Suggestions` (as :func:`undefined_predicates` does)."""
-    return _Suggestions(known)(signature)
-
-
-__all__ = ["UndefinedPredicate", "closest_signature", "defined_signatures", "undefined_predicates"]
+__all__ = ["MAX_SUGGESTIONS", "Suggestions", "UndefinedPredicate", "defined_signatures", "undefined_predicates"]
