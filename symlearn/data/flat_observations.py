@@ -80,6 +80,13 @@ def flatten_leaves(leaves: Sequence[tuple[str, np.ndarray]], what: str) -> tuple
 # gives ``name[0]`` ... ``name[k-1]`` (also for k = 1, as a stored (T, 1) column is named).
 
 
+def has_parts(value: object) -> bool:
+    """Whether a live observation is a tree (a mapping, or a tuple/list holding arrays or
+    containers) rather than one value or a plain sequence of numbers."""
+    return isinstance(value, Mapping) or (
+        isinstance(value, (tuple, list)) and any(isinstance(v, (Mapping, tuple, list, np.ndarray)) for v in value))
+
+
 def _observation_leaves(value: object, path: tuple[str, ...], leaves: list[tuple[str, np.ndarray]],
                         skip_images: bool, what: str) -> None:
     if isinstance(value, Mapping):
@@ -89,7 +96,7 @@ def _observation_leaves(value: object, path: tuple[str, ...], leaves: list[tuple
         for key in ordered_keys(value.keys()):
             _observation_leaves(value[key], path + (key,), leaves, skip_images, what)
         return
-    if isinstance(value, (tuple, list)) and any(isinstance(v, (Mapping, tuple, list, np.ndarray)) for v in value):
+    if has_parts(value):
         for i, item in enumerate(value):
             _observation_leaves(item, path + (f"_index_{i}",), leaves, skip_images, what)
         return
@@ -137,7 +144,7 @@ def observation_features(value: object) -> dict[str, float]:
     if is_symbolic_mapping(value):
         return {str(key): float(np.asarray(v)) for key, v in value.items()  # type: ignore[union-attr]
                 if np.asarray(v).dtype.kind in "biuf"}
-    if isinstance(value, (tuple, list)) and not any(isinstance(v, (Mapping, tuple, list, np.ndarray)) for v in value):
+    if isinstance(value, (tuple, list)) and not has_parts(value):
         # a Tuple of numbers is stored as a plain vector, whose columns learn dnf calls x0, x1, ...
         return {f"x{i}": float(v) for i, v in enumerate(value) if np.asarray(v).dtype.kind in "biuf"}
     vector, names = observation_columns(value, skip_images=True)

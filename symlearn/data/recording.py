@@ -10,7 +10,7 @@ import inspect
 import numpy as np
 
 from symlearn.data.demonstrations import Demonstrations
-from symlearn.data.flat_observations import is_symbolic_mapping, observation_columns
+from symlearn.data.flat_observations import has_parts, is_symbolic_mapping, observation_columns
 from symlearn.data.trajectory import Trajectory
 from symlearn.errors import DataError, SymlearnError
 from symlearn.progress import progress
@@ -94,8 +94,7 @@ class _FlatStates:
         self.names: list[str] | None = None
 
     def __call__(self, observation: Any) -> Any:
-        nested = isinstance(observation, Mapping) or (
-            isinstance(observation, tuple) and any(isinstance(v, (Mapping, tuple, list, np.ndarray)) for v in observation))
+        nested = has_parts(observation) and not isinstance(observation, list)  # a list is stored as given
         if not nested or is_symbolic_mapping(observation):
             return observation
         try:
