@@ -98,7 +98,9 @@ def _demonstrations(args: argparse.Namespace, note=None):
     demos = demonstrations(target, args.demos, args.n_demos, seed=seed, note=note)
     if args.domain and demos.state_kind == "symbol":  # states by their names in states.jsonl
         demos = _states_as_ids(demos, domain, args.demos)
-    if target is not None and args.demos and demos.state_kind == "vector":
+    if target is not None and args.demos and demos.state_kind == "vector" and features is None:
+        # the environment names nothing, so nothing counts the columns later (named ones are
+        # counted against the file by the learner): its observation's width, one probe
         _check_width(target, demos, args.demos)
     if features is None:  # names the file carries (a flattened Minari/D4RL observation, a bundled expert's)
         meta = demos.metadata if isinstance(demos.metadata, dict) else {}
