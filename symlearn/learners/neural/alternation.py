@@ -82,14 +82,14 @@ class Alternation:
     def run(self, policy: Any, batch: EpisodeBatch, *, cost_step: Callable[[int, EpisodeBatch], Any],
             policy_step: Callable[[int, Any], Any],
             record: Callable[[Round], Any],
-            price: Callable[[EpisodeBatch], tuple[float, float]] | None = None,
+            price: Callable[[list[EpisodeBatch]], tuple[list[float], float]] | None = None,
             resets: list[int] | None = None) -> tuple[Any, EpisodeBatch, list[Any]]:
         """Alternate from ``policy`` and its sample ``batch`` (module docstring):
         ``cost_step(iteration, batch)`` learns the cost and returns what the record needs of it,
         ``policy_step(iteration, policy)`` continues the policy and returns ``train_ppo``'s result,
         ``record(round)`` builds the history record (whose ``bar_numbers()`` the bar shows).
-        ``price(sample)``: what the *current* learned cost charges the sample and the expert
-        (mean discounted episode sums, both >= 0), which ``reset_actor="auto"`` reads (:class:`Stall`);
+        ``price(samples)``: what the *current* learned cost charges each sample and the expert
+        (mean discounted episode sums, all >= 0), which ``reset_actor="auto"`` reads (:class:`Stall`);
         the iterations whose phase started from a fresh actor are appended to ``resets``.
         Returns the last policy, its sample and the history."""
         n = int(self.n_iterations)
@@ -106,7 +106,7 @@ class Alternation:
                 t0 = time.perf_counter()
                 fresh = resets_actor(self.reset_actor, iteration, n)
                 if stall is not None and previous is not None:
-                    (before, expert), (after, _), (first, _) = price(previous), price(batch), price(nominal)
+                    (before, after, first), expert = price([previous, batch, nominal])
                     fresh = stall.update(before - expert, after - expert, first - expert, after)
                 if fresh:
                     policy.reset_actor(self.generator)

@@ -161,8 +161,8 @@ class NeuralGACL(Learner):
                 weights = sample.discount_weights(1.0)[sample.mask]
                 return float(weights @ -np.log(np.maximum(1.0 - cost(*sample.pairs()), LOG_FLOOR)))
 
-            def price(sample: Any) -> tuple[float, float]:
-                return penalty_sum(sample), penalty_sum(expert)
+            def price(samples: list[Any]) -> tuple[list[float], float]:
+                return [penalty_sum(s) for s in samples], penalty_sum(expert)
 
             resets: list[int] = []
             policy, batch, history = loop.run(policy, batch, cost_step=cost_step, policy_step=policy_step,

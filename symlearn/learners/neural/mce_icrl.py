@@ -300,14 +300,15 @@ class NeuralMCEICRL(Learner):
                                      step.metrics.reward, step.metrics.violation_rate, zeta_lr, step.policy_seconds,
                                      step.cost_seconds, step.sampling_seconds)
 
-            def price(sample: Any) -> tuple[float, float]:
-                """``lambda . F`` of ``sample`` and of the expert under the current cost."""
-                sample_t = cost.tensors(*sample.pairs())
-                sample_w = torch.from_numpy(sample.discount_weights(self.discount)[sample.mask]).float()
+            def priced(inputs: Any, weights: torch.Tensor) -> float:
                 with torch.no_grad():
-                    policy_f = (sample_w @ phi(*sample_t)).double().numpy()
-                    expert_f = (expert_w @ phi(*expert_t)).double().numpy()
-                return float(np.dot(lambdas, policy_f)), float(np.dot(lambdas, expert_f))
+                    return float(np.dot(lambdas, (weights @ phi(*inputs)).double().numpy()))
+
+            def price(samples: list[Any]) -> tuple[list[float], float]:
+                """``lambda . F`` of each sample and of the expert under the current cost."""
+                return ([priced(cost.tensors(*s.pairs()),
+                                torch.from_numpy(s.discount_weights(self.discount)[s.mask]).float())
+                         for s in samples], priced(expert_t, expert_w))
 
             resets: list[int] = []
             policy, batch, history = loop.run(policy, batch, cost_step=cost_step, policy_step=policy_step,

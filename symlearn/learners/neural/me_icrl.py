@@ -220,10 +220,11 @@ class NeuralMEICRL(Learner):
                                          *backward[:5], float(step.trained.multipliers[0]), step.policy_seconds,
                                          step.cost_seconds, *backward[5:])
 
-            def price(sample: EpisodeBatch) -> tuple[float, float]:
-                """The learned cost's discounted sums over ``sample`` and over the expert's episodes."""
+            def price(samples: list[EpisodeBatch]) -> tuple[list[float], float]:
+                """The learned cost's discounted sums over each sample and over the expert's episodes."""
                 with torch.no_grad():
-                    return discounted_cost(cost, sample, self.discount), discounted_cost(cost, expert, self.discount)
+                    return ([discounted_cost(cost, s, self.discount) for s in samples],
+                            discounted_cost(cost, expert, self.discount))
 
             resets: list[int] = []
             policy, batch, history = loop.run(policy, batch, cost_step=cost_step, policy_step=policy_step,

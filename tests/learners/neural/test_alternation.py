@@ -125,7 +125,7 @@ def test_auto_reset_reads_the_excess_of_the_samples_before_and_after_each_phase(
                        generator=torch.Generator())
     first = loop.sample(Policy("nominal", log))
     # the excess of a sample is set by the iteration it was drawn after: it never shrinks
-    price = lambda batch: (11.0 - 0.01 * batch.rewards[0, 0], 1.0)
+    price = lambda batches: ([11.0 - 0.01 * b.rewards[0, 0] for b in batches], 1.0)
     resets = []
     loop.run(Policy("nominal", log), first, cost_step=lambda i, b: None,
              policy_step=lambda i, p: Trained(Policy(f"p{i}", log)),
