@@ -121,7 +121,7 @@ def _rebuild(space: spaces.Space, path: tuple[str, ...], columns: Mapping[str, A
         return tuple(_rebuild(sub, path + (f"_index_{i}",), columns) for i, sub in enumerate(space.spaces))
     name = leaf_name(path) if path else "observation"
     shape = tuple(space.shape or ())
-    wanted = [name] if not shape else [f"{name}[{i}]" for i in range(int(np.prod(shape)))]
+    wanted = _record_names(space, path)   # the leaf's own columns
     missing = [w for w in wanted if w not in columns]
     if missing:
         raise DataError(f"the demonstrations name no column {missing[0]!r} of the observation's part {name!r}",
