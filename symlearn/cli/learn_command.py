@@ -78,7 +78,8 @@ def register_learn(commands, common) -> None:
     spec.add_argument("--ppo-steps", type=int, default=None,
                       help="environment steps per PPO policy update in your own environment (default 50000)")
     spec.add_argument("--threshold", type=float, default=0.2, help="stop when the best information gain is below (0.2)")
-    spec.add_argument("--max-iterations", type=int, default=10, help="at most this many iterations (10)")
+    spec.add_argument("--max-iterations", type=int, default=25,
+                      help="at most this many iterations (25; the loop stops earlier once the best gain is below --threshold)")
     spec.add_argument("--horizon", type=int, default=None,
                       help="length of nominal rollouts (default: the environment's, 200 for a domain)")
     spec.add_argument("--no-prune", action="store_true", help="keep every learned conjunct")

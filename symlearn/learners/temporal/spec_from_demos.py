@@ -6,7 +6,9 @@ nominal trajectories, picks the instantiated template (``F p``, ``G p``, ``p T q
 negation) that best separates expert from nominal trajectories by information gain, conjoins it
 to the specification and retrains the nominal policy on the new specification (DFA -> reward
 machine -> CRM Q-learning). It stops when the best gain falls below ``threshold`` (that formula
-is not added) or after ``max_iterations``. Finally each conjunct is held out in turn: if a
+is not added) or after ``max_iterations`` (a cap: 25 by default where the thesis used 10 with its
+given propositions; with learned propositions, every cell a proposition, Office-4 takes 9-12
+iterations to converge, measurements in ``docs/BENCHMARKS.md``). Finally each conjunct is held out in turn: if a
 policy trained without it still satisfies it with probability at least ``prune_threshold``, it
 is implied by the rest and dropped.
 
@@ -127,7 +129,7 @@ class SpecLearner(Learner):
     artefact_suffix = ".ltl"
 
     def __init__(self, *, propositions: str | Sequence[str] = "given", labeling: Labeling | None = None,
-                 threshold: float = 0.2, max_iterations: int = 10, n_nominal: int | None = None,
+                 threshold: float = 0.2, max_iterations: int = 25, n_nominal: int | None = None,
                  min_expert_rate: float = 0.9, drop_reproduced: bool = True, policy_updates: bool = True,
                  prune: bool = True, prune_threshold: float = 0.9,
                  q_steps: int | None = None, n_envs: int = 128, discount: float = 0.99, epsilon: float = 0.1,
