@@ -92,9 +92,10 @@ def obeying_expert(domain: Domain, n: int, seed: int = 0):
     return Demonstrations(trajectories)
 
 
-def run(name, world, demos, reward) -> dict:
+def run(name, world, demos, reward, rationality=None) -> dict:
     t0 = time.perf_counter()
-    learner = LogicConstraintInference(iterations=20, horizon=30, reward=reward).fit(demos, world)
+    setting = {} if rationality is None else {"rationality": rationality}
+    learner = LogicConstraintInference(iterations=20, horizon=30, reward=reward, **setting).fit(demos, world)
     seconds = time.perf_counter() - t0
     masks = [world.rule_mask(list(h.rules)) if h.rules else np.zeros_like(world.unavailable)
              for h in learner.history_]
@@ -114,24 +115,62 @@ def run(name, world, demos, reward) -> dict:
             "rules": len(learner.rules_), "fpr": score["fpr"], "fnr": score["fnr"],
             "forbidden_per_iteration": [h.n_constraints for h in learner.history_],
             "unexplained": [u.pair for u in getattr(learner, "unexplained_", [])],
+            "rationality": "default" if rationality is None else rationality,
+            "rationality_used": getattr(learner, "rationality_", None),
             "seconds": round(seconds, 2)}
+
+
+def likelihoods(world, demos, reward, betas) -> dict:
+    """Mean log-probability per demonstrated step under the unconstrained nominal model, per beta
+    (what ``rationality="auto"`` maximises), and the same with the world's truth rules known."""
+    from symlearn.learners.constraints.ml_constraint_inference import MaxEntVisitation
+    from symlearn.learners.constraints.rationality_fit import demonstration_log_likelihood
+
+    episodes = world.episodes(demos)
+    planner = MaxEntVisitation(world.mdp, [], reward, 30, 1.0)
+    out = {}
+    for label, forbidden in (("unconstrained", world.unavailable),
+                             ("truth known", world.unavailable | world.truth_forbidden)):
+        out[label] = {str(b): round(demonstration_log_likelihood(world.mdp, episodes, planner._reward, b, 30,
+                                                                 ~forbidden), 4) for b in betas}
+    return out
 
 
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--json")
+    parser.add_argument("--rationality", default=None,
+                        help="comma-separated settings to run each world at (numbers or 'auto'); default: the "
+                             "learner's default only")
+    parser.add_argument("--likelihood", default=None,
+                        help="comma-separated betas: also print each world's demonstration log-likelihood at them")
+    parser.add_argument("--worlds", default=None, help="comma-separated world names (default: all)")
     args = parser.parse_args(argv)
-    rows = []
+    settings = [None] if args.rationality is None else [
+        v if v == "auto" else float(v) for v in args.rationality.split(",")]
+    rows, curves = [], {}
     with tempfile.TemporaryDirectory() as tmp:
         for name, world, demos, reward in _worlds(Path(tmp)):
-            row = run(name, world, demos(world), reward)
-            rows.append(row)
-            print(f"{name:18s} iterations {row['iterations']:2d} (rules final from {row['converged_at']:2d})  "
-                  f"stop {row['stop_reason']:15s} rules {row['rules']:2d}  FPR {row['fpr']:.3f}  "
-                  f"FNR {row['fnr']:.3f}  (reach: FPR {row['reach_fpr']:.3f} FNR {row['reach_fnr']:.3f})  "
-                  f"unexplained {len(row['unexplained']):3d}  {row['seconds']:.1f} s", flush=True)
+            if args.worlds and name not in args.worlds.split(","):
+                continue
+            demonstrations = demos(world)
+            if args.likelihood:
+                domain = getattr(world, "domain", world)
+                curves[name] = likelihoods(domain, demonstrations, reward, [float(b) for b in args.likelihood.split(",")])
+                print(f"{name:18s} log-likelihood per step: {curves[name]}", flush=True)
+            for setting in settings:
+                row = run(name, world, demonstrations, reward, setting)
+                rows.append(row)
+                print(f"{name:18s} rationality {row['rationality']} ({row['rationality_used']})  "
+                      f"iterations {row['iterations']:2d} (rules final from {row['converged_at']:2d})  "
+                      f"stop {row['stop_reason']:15s} rules {row['rules']:2d}  FPR {row['fpr']:.3f}  "
+                      f"FNR {row['fnr']:.3f}  (reach: FPR {row['reach_fpr']:.3f} FNR {row['reach_fnr']:.3f})  "
+                      f"unexplained {len(row['unexplained']):3d}  {row['seconds']:.1f} s", flush=True)
     if args.json:
-        Path(args.json).write_text(json.dumps({"python": platform.python_version(), "rows": rows}, indent=1) + "\n")
+        doc = {"python": platform.python_version(), "command": " ".join(sys.argv), "rows": rows}
+        if curves:
+            doc["log_likelihood"] = curves
+        Path(args.json).write_text(json.dumps(doc, indent=1) + "\n")
 
 
 if __name__ == "__main__":

@@ -59,7 +59,7 @@ class _World:
     domain: Any = None  # a symlearn.grounding.Domain where rules can be learned
     expert: Any = None  # (n, seed) -> Demonstrations, bundled worlds only
     bundled: Any = None  # the LogicMDP of a bundled logic domain (SUMO experts)
-    rationality: float = 1.0
+    rationality: float | str = "auto"  # a bundled setting's tuned value, else fitted (``"auto"``)
     features: str = "state"
     grid: Any = None  # a grid environment to draw the learned cost map on, where the world is one
 
@@ -93,9 +93,9 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--reward", choices=("given", "sparse"), default=None,
                      help="plan with the world's reward (default where it has one) or a sparse reward for "
                           "reaching where demonstrations end")
-    cmd.add_argument("--rationality", type=float, default=None,
-                     help="logic/ml: inverse temperature of the MaxEnt model (1; 3 for gridworld); raise it when "
-                          "a small step cost lets long wandering paths outweigh short ones")
+    cmd.add_argument("--rationality", default=None, metavar="BETA|auto",
+                     help="logic/ml: inverse temperature of the MaxEnt model (--domain: auto, fitted to the "
+                          "demonstrations by maximum likelihood; bundled worlds: their setting's, 1, 3 for gridworld)")
     cmd.add_argument("--known", help="an .lp file of rules known in advance (logic environments)")
     cmd.add_argument("--noise", action="store_true",
                      help="treat demonstrated steps that break --known rules as noise (warn) instead of an error")
@@ -374,6 +374,7 @@ def _run(method: str, world: _World, demos, args, known, out):
                      f"{step.n_constraints} forbidden pairs (inference {step.inference_seconds:.2f} s, "
                      f"induction {step.induction_seconds:.2f} s)")
         doc = {"rules": learner.rules_, "iterations": len(learner.history_), "seconds": learner.seconds_,
+               "rationality": learner.rationality_fit_.as_dict(),
                "stop_reason": learner.stop_reason_, "stop": learner.stop_text(),
                "unexplained": [u.as_dict() for u in learner.unexplained_],
                "history": [h.as_dict() for h in learner.history_]}
@@ -388,7 +389,8 @@ def _run(method: str, world: _World, demos, args, known, out):
                                         known_constraints=known,
                                         on_violation="warn" if args.noise else "error",
                                         rationality=_rationality(args, world)).fit(demos, target)
-        doc = {"rules": None, "iterations": len(learner.history_), "seconds": learner.seconds_}
+        doc = {"rules": None, "iterations": len(learner.history_), "seconds": learner.seconds_,
+               "rationality": learner.rationality_fit_.as_dict()}
         return doc, learner.constraints_ & ~learner.known_, learner
     from symlearn.learners.constraints.mce_icrl import MCEICRL
 
@@ -409,12 +411,21 @@ def _reward(args: argparse.Namespace, world: _World) -> str:
     return args.reward or ("given" if world.has_reward else "sparse")
 
 
-def _rationality(args: argparse.Namespace, world: _World) -> float:
+def _rationality(args: argparse.Namespace, world: _World) -> float | str:
+    import math
+
     from symlearn.errors import SymlearnError
 
-    value = world.rationality if args.rationality is None else args.rationality
-    if not value > 0:
-        raise SymlearnError(f"--rationality must be positive, got {args.rationality}")
+    if args.rationality is None:
+        return world.rationality
+    if str(args.rationality).strip().lower() == "auto":
+        return "auto"
+    try:
+        value = float(args.rationality)
+    except ValueError:
+        raise SymlearnError(f"--rationality must be a positive number or 'auto', got {args.rationality!r}") from None
+    if not (math.isfinite(value) and value > 0):
+        raise SymlearnError(f"--rationality must be a positive number or 'auto', got {args.rationality}")
     return value
 
 
@@ -478,6 +489,8 @@ def _render(doc: dict) -> str:
         lines += [f"  {r}" for r in doc["rules"]]
     if doc.get("stop"):
         lines.append(f"stopped: {doc['stop']}")
+    if (doc.get("rationality") or {}).get("source") == "fitted":
+        lines.append(f"rationality: {doc['rationality']['value']:g} (fitted to the demonstrations; --rationality sets it)")
     if doc.get("unexplained"):
         from symlearn.learners.constraints.logic_constraint_inference import Unexplained, unexplained_lines
 

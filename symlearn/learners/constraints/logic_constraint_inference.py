@@ -215,6 +215,11 @@ class LogicConstraintInference(Learner):
     are counted in a warning instead of an error, and the ILP step may then also leave a
     demonstrated pair uncovered at ``penalty``.
 
+    ``rationality`` is the MaxEnt model's inverse temperature; ``"auto"`` (the default) fits it to
+    the demonstrations by maximum likelihood before the loop (see
+    :mod:`~symlearn.learners.constraints.rationality_fit`; ``rationality_`` is the value used). It
+    only matters with a reward other than the sparse one, where it cancels.
+
     ``start`` is where the nominal visitation starts (see :class:`MLConstraintInference`): the
     default 0.1 keeps 90 % of the mass on the demonstrations' starts (the thesis' objective) and
     spreads 10 % over every state, so rules about regions the first rules make unreachable from
@@ -233,7 +238,7 @@ class LogicConstraintInference(Learner):
     artefact_suffix = ".lp"
 
     def __init__(self, *, iterations: int = 10, horizon: int = 30, reward: str | np.ndarray = "sparse",
-                 rationality: float = 1.0, min_visitation: float = 1e-3, ilp_timeout: float = 30.0,
+                 rationality: float | str = "auto", min_visitation: float = 1e-3, ilp_timeout: float = 30.0,
                  noise: bool = False, penalty: int = 10, known: np.ndarray | None = None,
                  start: str | float = 0.1, patience: int = 2) -> None:
         self.iterations = iterations
@@ -298,6 +303,7 @@ class LogicConstraintInference(Learner):
         self.demonstrated_ = inference.demonstrated_
         self.history_ = history
         self.stop_reason_ = self.stopped_because_ = inference.stop_reason_
+        self.rationality_, self.rationality_fit_ = inference.rationality_, inference.rationality_fit_
         self.unexplained_ = [Unexplained(p.iteration, p.state, p.action, d.describe_pair(p.state, p.action),
                                          p.visitation) for p in inference.passed_over_]
         self.seconds_ = time.perf_counter() - started
@@ -305,7 +311,7 @@ class LogicConstraintInference(Learner):
         self.pair_space_ = ~d.unavailable
         metrics: dict[str, Any] = {"rules": len(self.rules_), "constraints": int(self.rule_constraints_.sum()),
                                    "stopped_because": self.stop_reason_, "stop_reason": self.stop_reason_,
-                                   "unexplained": len(self.unexplained_)}
+                                   "unexplained": len(self.unexplained_), "rationality": self.rationality_}
         if self.truth_forbidden_ is not None:
             metrics.update({k: v for k, v in self.score().items() if k != "forbidden"})
         inference_seconds = sum(h.inference_seconds for h in history)
@@ -345,6 +351,10 @@ class LogicConstraintInference(Learner):
         header = (f"Rules learned by logic constraint inference on {self.domain_name_} "
                   f"({len(self.history_)} of at most {self.iterations} iterations, {self.seconds_:.1f} s).\n"
                   f"Stopped: {self.stop_text()}.")
+        fit = self.__dict__.get("rationality_fit_")
+        if fit is not None and fit.source == "fitted":
+            header += (f"\nMaxEnt rationality {self.rationality_:g}, fitted to the demonstrations (maximum "
+                       "likelihood; --rationality sets it).")
         if self.unexplained_:
             header += "\n" + "\n".join(unexplained_lines(self.unexplained_))
         return self.hypothesis_.lp_text(header, recheck=recheck or "symlearn domain check DOMAIN_DIR --rules THIS.lp "

@@ -33,6 +33,9 @@ The reward is the MDP's own (``reward="given"``), an explicit ``(S, A)``/``(S, A
 or ``"sparse"``: 1 for entering a state where a demonstration ended, 0 otherwise.
 ``rationality`` multiplies it (the inverse temperature of the MaxEnt model): with many actions
 and a small step cost, long wandering paths can outweigh short ones unless it is raised.
+``"auto"`` (the default) fits it to the demonstrations by maximum likelihood before the loop
+(:mod:`symlearn.learners.constraints.rationality_fit`); ``rationality_`` is the value used and
+``rationality_fit_`` how it was found. With the sparse reward it cancels and 1 is used.
 
 ``start`` says where the nominal visitation starts: from the demonstrations' start states
 (``"demonstrations"``, the maximum-likelihood objective, default), uniformly from every
@@ -177,7 +180,7 @@ class MLConstraintInference(Learner):
         known_constraints: np.ndarray | None = None,
         on_violation: Literal["error", "warn"] = "error",
         generalize: Generalizer | None = None,
-        rationality: float = 1.0,
+        rationality: float | Literal["auto"] = "auto",
         start: Literal["demonstrations", "uniform"] | float = "demonstrations",
         choosable: np.ndarray | None = None,
         stop_when: Callable[[], str | None] | None = None,
@@ -210,8 +213,9 @@ class MLConstraintInference(Learner):
         if forbidden.any():
             check_constraints(episodes, forbidden, self.on_violation)
             forbidden &= ~seen  # with on_violation="warn" the noisy pairs stay allowed
-        visitation = MaxEntVisitation(mdp, _goal_groups(mdp, episodes, share), self.reward, self.horizon,
-                                      self.rationality)
+        visitation = MaxEntVisitation(mdp, _goal_groups(mdp, episodes, share), self.reward, self.horizon, 1.0)
+        fitted = resolve_rationality(self.rationality, visitation, episodes, ~forbidden)
+        visitation.rationality = fitted.value
         forbidden = restrict(mdp, forbidden, protected=seen).forbidden
         history: list[InferenceStep] = []
         passed: list[PassedOver] = []
@@ -270,14 +274,32 @@ class MLConstraintInference(Learner):
         self.history_ = history
         self.stop_reason_ = self.stopped_because_ = stopped
         self.passed_over_ = passed
+        self.rationality_, self.rationality_fit_ = fitted.value, fitted
         self.seconds_ = time.perf_counter() - started
         from symlearn.learners.constraints.constraint_file import constraint_set_text, world_name
 
         learned = self.constraints_ & ~known
         self._set_result(learned, constraint_set_text(learned, mdp, method="ml", domain=world_name(world)),
-                         metrics={"constraints": int(learned.sum()), "stopped_because": stopped},
+                         metrics={"constraints": int(learned.sum()), "stopped_because": stopped,
+                                  "rationality": fitted.value},
                          timings={"total": self.seconds_}, history=history)
         return self
+
+
+def resolve_rationality(setting: Any, visitation: MaxEntVisitation, episodes, allowed: np.ndarray):
+    """The rationality a fit plans with: ``setting`` itself when it is a number (checked: positive and
+    finite), fitted to ``episodes`` by maximum likelihood for ``"auto"``."""
+    from symlearn.learners.constraints.rationality_fit import RationalityFit, fit_rationality
+
+    if isinstance(setting, str):
+        if setting != "auto":
+            raise SymlearnError(f"unknown rationality {setting!r}", hint="use 'auto' or a positive number")
+        return fit_rationality(visitation.mdp, episodes, visitation._reward, visitation.horizon, allowed,
+                               sparse=isinstance(visitation.reward, str) and visitation.reward == "sparse")
+    value = float(setting)
+    if not (np.isfinite(value) and value > 0):
+        raise SymlearnError(f"rationality must be a positive number or 'auto', got {setting!r}")
+    return RationalityFit(value, "given")
 
 
 def _goal_groups(mdp: TabularMDP, episodes, share: float) -> list[tuple[int, float, np.ndarray]]:
