@@ -8,4 +8,4 @@ demo:
 
 test:
 	@bash scripts/bootstrap.sh --with-tests
-	@.venv/bin/python -m pytest
+	@.venv/bin/python -m pytest -n auto --dist loadfile

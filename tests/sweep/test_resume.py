@@ -133,7 +133,9 @@ def test_leftovers_of_a_killed_embedded_ray_are_ended_and_nothing_else(tmp_path)
 
 def test_ctrl_c_loses_only_the_cells_in_flight(write_sweep, tmp_path):
     log = tmp_path / "executions.log"
-    path = write_sweep("logged", {"x": list(range(6))}, fixed={"log": str(log), "delay": 0.4}, seeds=1)
+    # 16 cells of 0.4 s on 2 workers: the driver cannot finish before the interrupt even when a
+    # loaded machine polls the results file late (with 6 cells it did once, and exited 0)
+    path = write_sweep("logged", {"x": list(range(16))}, fixed={"log": str(log), "delay": 0.4}, seeds=1)
     out = tmp_path / "out"
     command = [sys.executable, str(HERE / "cli_harness.py"), "sweep", "run", str(path), "--out", str(out),
                "--local", "--workers", "2", "--quiet"]
