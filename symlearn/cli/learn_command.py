@@ -246,15 +246,27 @@ def _spec_in_user_env(args, out, target, seed: int) -> None:
 
 def _user_labeling(args, target, env):
     """``--labeling`` read for a user's environment; a feature labeling's names from
-    ``--features`` or the environment (checked against the observation's width)."""
+    ``--features`` or the environment (checked against the observation's width), else, for a
+    ``Dict``/``Tuple`` observation, the names ``record`` gives its parts' numbers."""
     from symlearn.grounding.labeling_function import read_labeling
 
     names = target.feature_names(env, override=args.features) if args.features else None
     if not args.labeling:
         return None
+    by_part = False
     if names is None and (args.labeling.lower().endswith(".json") or args.labeling.lstrip().startswith("{")):
         names = target.feature_names(env)  # a file, or the {proposition: condition} object given as it is
+        if names is None:
+            names = _part_names(env)
+            by_part = names is not None
     labeling = read_labeling(args.labeling, feature_names=names)
+    if by_part and hasattr(labeling, "feature_map"):
+        from symlearn.data.flat_observations import observation_features
+        from symlearn.grounding.labeling_function import FunctionLabeling
+
+        inner = labeling  # conditions over the parts by name ("achieved_goal[0]" > 0.5), as record names them
+        return FunctionLabeling(lambda obs, _info: inner.label(observation_features(obs)), inner.propositions,
+                                meanings=inner.meanings, name=args.labeling)
     features = target.features(env, override=args.features) if names is not None else None
     if features is not None and features.source == "info" and hasattr(labeling, "feature_map"):
         from symlearn.grounding.labeling_function import FunctionLabeling
@@ -263,6 +275,19 @@ def _user_labeling(args, target, env):
         labeling = FunctionLabeling(lambda _obs, info: inner.label(info["features"]), inner.propositions,
                                     meanings=inner.meanings, name=args.labeling)
     return labeling
+
+
+def _part_names(env):
+    """The names of a ``Dict``/``Tuple`` observation's numbers (``achieved_goal[0]``, ``cell``), as
+    ``record`` names the columns it stores (``None`` for any other observation space)."""
+    from gymnasium import spaces
+
+    from symlearn.data.flat_observations import observation_features
+
+    if not isinstance(env.observation_space, (spaces.Dict, spaces.Tuple)):
+        return None
+    observation, _ = env.reset(seed=0)
+    return tuple(observation_features(observation)) or None
 
 
 def _check_output(output: str) -> None:

@@ -126,8 +126,9 @@ def penalised(cost: TrainingCost) -> Any:
 def refuse_without_cost(target: Any, algo: str) -> None:
     if not target.reports_cost():
         raise SymlearnError(f"--algo {algo} without --cost constrains the environment's info['cost'], and "
-                            f"{target.display} reports none",
-                            hint="give a learned cost with --cost RULES.dnf|COST.safetensors, or train --algo ppo")
+                            f"{target.display} reports none on its first step",
+                            hint="report info['cost'] on every step (0.0 where nothing is violated), give a "
+                                 "learned cost with --cost RULES.dnf|COST.safetensors, or train --algo ppo")
 
 
 __all__ = ["TrainingCost", "penalised", "refuse_without_cost", "training_cost"]

@@ -11,7 +11,9 @@ objects. A :class:`FeatureMap` is that translation, as a value:
 * ``FeatureMap(["x", "y"], table=...)`` holds the features of finitely many hashable states
   (an ``(S, k)`` array indexed by integer state ids, or a mapping state -> vector).
 
-``features(state)`` returns a float vector in ``names`` order; NaN and infinite values are a
+A name is any one-line text; in a condition, one that is not an identifier is double-quoted
+(``"pos[0]" > 0.5``, as DNF files write the names ``record`` gives a ``Dict`` observation's
+parts). ``features(state)`` returns a float vector in ``names`` order; NaN and infinite values are a
 :class:`~symlearn.errors.DataError` (a learner fed NaN would silently learn nonsense).
 
 >>> fm = FeatureMap(["x", "y"])
@@ -45,8 +47,10 @@ class FeatureMap(JsonFile):
         if not names:
             raise DataError("a feature map needs at least one feature name")
         for n in names:
-            if not isinstance(n, str) or not n.isidentifier():
-                raise DataError(f"feature name {n!r} must be an identifier (letters, digits, _)")
+            # any one-line name: conditions over it quote it as DNF files do ("achieved_goal[0]" > 0.5)
+            if not isinstance(n, str) or not n.strip() or "\n" in n or "\r" in n:
+                raise DataError(f"feature name {n!r} must be a non-empty name on one line",
+                                hint='a name that is not an identifier is quoted in conditions: "pos[0]" > 0.5')
         if len(set(names)) != len(names):
             raise DataError(f"feature names repeat: {', '.join(names)}")
         if function is not None and table is not None:

@@ -1,7 +1,8 @@
 """A gymnasium environment in product with a reward machine, for policy-gradient training.
 
 Continuous observations have no table to hold ``Q[o, u, a]``, so the product is made an
-environment of its own: the observation is the environment's (flattened to float32) followed by
+environment of its own: the observation is the environment's (flattened to float32; a ``Dict`` or
+``Tuple`` of numeric parts as ``gymnasium.spaces.flatten`` flattens it) followed by
 a one-hot code of the machine state ``u``, the reward is the machine's for the label of the new
 observation, and the episode ends when the environment's does or the machine ends (the task was
 completed or can no longer be). Any policy-gradient learner then trains on it (our
@@ -40,7 +41,11 @@ class ProductEnv(gym.Wrapper):
         self.machine = machine
         self.n_u = int(machine.n_states)
         self._read = MachineColumns(machine)
-        size = int(np.prod(env.observation_space.shape or (1,)))
+        space = env.observation_space
+        # a Dict/Tuple of numeric parts (a goal-conditioned robot's observation, achieved_goal,
+        # desired_goal) is flattened as gymnasium flattens it; the labeler still sees it whole
+        self._parts = space if isinstance(space, (gym.spaces.Dict, gym.spaces.Tuple)) else None
+        size = gym.spaces.flatdim(space) if self._parts is not None else int(np.prod(space.shape or (1,)))
         self.observation_space = gym.spaces.Box(-np.inf, np.inf, shape=(size + self.n_u,), dtype=np.float32)
         self.u = int(machine.initial)
         self.word: list[frozenset] = []
@@ -48,6 +53,8 @@ class ProductEnv(gym.Wrapper):
     def _observation(self, observation: Any) -> np.ndarray:
         code = np.zeros(self.n_u, dtype=np.float32)
         code[self.u] = 1.0
+        if self._parts is not None:
+            observation = gym.spaces.flatten(self._parts, observation)
         return np.concatenate([np.asarray(observation, dtype=np.float32).reshape(-1), code])
 
     def reset(self, **kwargs):

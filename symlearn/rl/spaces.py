@@ -64,15 +64,22 @@ def rollout_values(rows: np.ndarray, spec: dict[str, Any]) -> np.ndarray:
     """Rows as a PPO rollout holds them -> the values the environment used, as :func:`encode`
     takes them: a Discrete observation's one-hot row (``width`` entries, ``ActorCritic.features``)
     or a Discrete action's index ``0..n-1`` becomes the space's id (``start`` added); a Box row
-    is returned as it is. ``rows`` is ``(B, width)`` for observations, ``(B,)`` for Discrete
+    (flattened, as the networks read it) gets the space's shape back, so a ``(2, 3)`` observation
+    is ``(B, 2, 3)`` again. ``rows`` is ``(B, width)`` for observations, ``(B,)`` for Discrete
     actions.
 
     >>> spec = {"kind": "discrete", "n": 3, "start": 2}
     >>> rollout_values(np.array([[0, 1, 0], [0, 0, 1]], np.float32), spec).tolist(), rollout_values(np.array([0, 2]), spec).tolist()
     ([3, 4], [2, 4])
+    >>> rollout_values(np.zeros((4, 6)), {"kind": "box", "shape": [2, 3]}).shape
+    (4, 2, 3)
     """
     if spec["kind"] != "discrete":
-        return rows
+        shape = spec.get("shape")
+        rows = np.asarray(rows)
+        if shape is None or rows.ndim == 0 or rows.size != len(rows) * spec_width(spec):
+            return rows     # no shape known, or not one row per value: encode() names the mismatch
+        return rows.reshape(len(rows), *shape)
     rows = np.asarray(rows)
     ids = rows.reshape(len(rows), -1).argmax(axis=1) if rows.ndim == 2 else rows.astype(np.int64)
     return ids.astype(np.int64) + int(spec.get("start", 0))

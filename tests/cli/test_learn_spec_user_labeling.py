@@ -157,3 +157,21 @@ def test_feature_labeling_given_on_the_command_line(capsys, cart_demos):
     code, out, err = run(capsys, "learn", "spec", "--env", "CartPole-v1", "--demos", cart_demos,
                          "--labeling", '{"right": "x > 0.05",}', "--features", "x,v,a,w")
     assert "--labeling:1:" in _one_line_error(code, out, err)
+
+
+def test_learn_spec_with_ppo_in_a_dict_observation_and_a_labeling_over_its_named_parts(
+        capsys, tmp_path, monkeypatch):
+    """A goal-conditioned-style Dict of vectors: the PPO update sees it flattened, and a feature
+    labeling names its numbers as record and learn dnf do (``"pos[0]"``, quoted as in DNF files)."""
+    from dict_lift_env import rover_demonstrations
+
+    demos = rover_demonstrations(tmp_path, monkeypatch, 2)
+    env = ("--env", "vector_rover:VectorRover-v0", "--demos", demos, "--ppo-steps", 128, "--max-iterations", 1,
+           "--horizon", 10)
+    code, out, err = run(capsys, "--json", "--quiet", "learn", "spec", *env,
+                         "--labeling", '{"high": "\\"pos[1]\\" > 0.3"}')
+    assert code == 0, err
+    assert json.loads(out)["policy_update"] == "ppo"
+    code, out, err = run(capsys, "learn", "spec", *env, "--labeling", '{"high": "\\"pos[9]\\" > 0.3"}')
+    line = _one_line_error(code, out, err)
+    assert "unknown feature 'pos[9]'" in line and "pos[0], pos[1]" in line

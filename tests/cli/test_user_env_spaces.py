@@ -8,7 +8,7 @@ import gymnasium
 import numpy as np
 import pytest
 from cli_runner import run
-from space_envs import ENDLESS_LINE, FAULTY, GEARED_POINT, OFFSET_WALK, ONE_GUESS, SWITCH_BOARD
+from space_envs import ENDLESS_LINE, FAULTY, GEARED_POINT, MATRIX_POINT, OFFSET_WALK, ONE_GUESS, SWITCH_BOARD
 
 from symlearn.data import record
 
@@ -279,3 +279,28 @@ def test_a_failing_or_blind_environment_is_one_line_not_an_internal_error(capsys
     code, out, err = run(capsys, "train", "--env", "faulty:BlindSensor-v0", *small)
     assert code == 2 and len(err.strip().splitlines()) == 1, err
     assert "not finite" in err
+
+
+def test_a_matrix_observation_learns_dnf_and_icrl_costs_that_train(capsys, tmp_path, monkeypatch):
+    """A ``(2, 3)`` Box observation (stored as a multi-dimensional state) is its six entries,
+    x0..x5 in row-major order: learn dnf reads them as train --cost does, and a learned neural
+    cost gets the rollout's flattened rows back in the space's shape."""
+    (tmp_path / "matrix_point.py").write_text(MATRIX_POINT)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import matrix_point  # noqa: F401  (registers MatrixPoint-v0)
+
+    record(gymnasium.make("MatrixPoint-v0"), "random", 3, seed=0).save("matrix.npz")
+    env = ("--env", "matrix_point:MatrixPoint-v0")
+    code, out, err = run(capsys, "--json", "--quiet", "learn", "dnf", *env, "--demos", "matrix.npz",
+                         "-o", "matrix.dnf")
+    assert code == 0, err
+    assert json.loads(out)["features"] == [f"x{i}" for i in range(6)]
+    small = ("--steps", 256, "--n-steps", 32, "--eval-episodes", 1)
+    code, out, err = run(capsys, "--json", "--quiet", "train", *env, "--cost", "matrix.dnf", *small)
+    assert code == 0, err
+    code, out, err = run(capsys, "--json", "--quiet", "learn", "icrl", *env, "--demos", "matrix.npz",
+                         "--steps", 512, "--iterations", 1, "-o", "matrix.safetensors")
+    assert code == 0, err
+    code, out, err = run(capsys, "--json", "--quiet", "train", *env, "--cost", "matrix.safetensors", *small)
+    assert code == 0, err

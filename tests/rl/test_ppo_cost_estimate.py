@@ -19,8 +19,8 @@ from symlearn.rl.ppo import LagrangianConfig, PPOConfig, train_ppo  # noqa: E402
 class LongCostly(gym.Env):
     """Episodes of ``length`` steps, every step costs ``rate`` (reported as ``info["cost"]``)."""
 
-    def __init__(self, length: int = 1000, rate: float = 0.5, report: bool = True):
-        self.length, self.rate, self.report = length, rate, report
+    def __init__(self, length: int = 1000, rate: float = 0.5, report: bool = True, every: int = 1):
+        self.length, self.rate, self.report, self.every = length, rate, report, every
         self.observation_space = spaces.Box(-1.0, 1.0, (1,), dtype=np.float32)
         self.action_space = spaces.Discrete(2)
 
@@ -31,7 +31,8 @@ class LongCostly(gym.Env):
 
     def step(self, action):
         self.t += 1
-        info = {"cost": self.rate} if self.report else {}
+        # every > 1: info["cost"] only on every so many steps, absent (nothing paid) between them
+        info = {"cost": self.rate} if self.report and self.t % self.every == 0 else {}
         return np.zeros(1, dtype=np.float32), 0.0, False, self.t >= self.length, info
 
 
@@ -91,6 +92,20 @@ def test_true_cost_is_reported_beside_a_learned_cost_and_nan_without_one():
     assert all(h.true_cost == pytest.approx(16.0) for h in result.history)     # the environment's
     silent = train_ppo(lambda: LongCostly(length=64, report=False), 256, PPOConfig(seed=0, **SMALL))
     assert all(math.isnan(h.true_cost) for h in silent.history)
+
+
+def test_a_cost_reported_only_where_it_is_paid_counts_the_other_steps_as_zero():
+    """info["cost"] on every 4th step only: beside a learned cost the steps without it cost 0
+    (as they do when info["cost"] trains), not left out of the per-episode estimate."""
+    def learned(rollout):
+        return np.zeros(rollout.rewards.shape)
+
+    result = train_ppo(lambda: LongCostly(length=64, rate=1.0, every=4), 256, PPOConfig(seed=0, **SMALL),
+                       LagrangianConfig(cost_limit=0.0), cost_fn=learned)
+    assert all(h.true_cost == pytest.approx(16.0) for h in result.history)   # 64 steps / 4, not 64
+    trained = train_ppo(lambda: LongCostly(length=64, rate=1.0, every=4), 256, PPOConfig(seed=0, **SMALL),
+                        LagrangianConfig(cost_limit=0.0))
+    assert all(h.true_cost == pytest.approx(16.0) for h in trained.history)
 
 
 def test_library_defaults_are_the_cli_defaults():

@@ -192,3 +192,32 @@ class BlindSensor(FaultyMotor):
 gym.register("FaultyMotor-v0", entry_point=FaultyMotor, disable_env_checker=True)
 gym.register("BlindSensor-v0", entry_point=BlindSensor, disable_env_checker=True)
 '''
+
+#: a point observed as a ``(2, 3)`` Box (a matrix, not a picture): row 0 holds ``(x, y, 0)``, row 1
+#: ``(-x, -y, 0)``; right of ``x = 0.5`` is forbidden (``info["cost"]``)
+MATRIX_POINT = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class MatrixPoint(gym.Env):
+    observation_space = spaces.Box(-1.0, 1.0, (2, 3), np.float32)
+    action_space = spaces.Box(-0.1, 0.1, (2,), np.float32)
+
+    def _seen(self):
+        return np.array([[self.p[0], self.p[1], 0.0], [-self.p[0], -self.p[1], 0.0]], np.float32)
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.p, self.t = self.np_random.uniform(-0.9, -0.5, 2), 0
+        return self._seen(), {}
+
+    def step(self, action):
+        self.p = np.clip(self.p + np.clip(action, -0.1, 0.1), -1.0, 1.0)
+        self.t += 1
+        return self._seen(), float(action[0]), False, self.t >= 20, {"cost": float(self.p[0] > 0.5)}
+
+
+gym.register("MatrixPoint-v0", entry_point=MatrixPoint)
+'''

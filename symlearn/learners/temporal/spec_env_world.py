@@ -10,7 +10,8 @@ formula, and label words of that policy. With a successor table those come from
   (:func:`~symlearn.rl.product_q_learning.product_q_learning`) when actions are discrete and
   observations are discrete or integer arrays (MiniGrid, grid worlds, ``Discrete`` spaces), or
   when a ``state_key`` is given; PPO on :class:`~symlearn.rl.product_env.ProductEnv` otherwise
-  (float observations, continuous actions);
+  (float observations, continuous actions; a ``Dict``/``Tuple`` of numeric parts is flattened for
+  the policy, and the labeling sees it whole);
 * every observation is labelled by the user's labeling, called ``labeling(observation, info)``
   (see :mod:`symlearn.grounding.labeling_function`);
 * demonstrations contribute their stored labels; unlabelled ones are labelled from their stored
@@ -66,6 +67,14 @@ def _float_leaf(space: Any) -> bool:
         return any(_float_leaf(s) for s in inner)
     dtype = getattr(space, "dtype", None)
     return dtype is not None and np.dtype(dtype).kind == "f" and getattr(space, "n", None) is None
+
+
+def _flat_parts(space: Any) -> bool:
+    """Whether ``space`` is a ``Dict``/``Tuple`` gymnasium can flatten to one vector (numeric parts
+    only: no text), which :class:`~symlearn.rl.product_env.ProductEnv` hands PPO flattened."""
+    from gymnasium import spaces
+
+    return isinstance(space, (spaces.Dict, spaces.Tuple)) and bool(getattr(space, "is_np_flattenable", False))
 
 
 def policy_route(env: Any, state_key: Callable | None = None) -> str:
@@ -166,7 +175,7 @@ class EnvWorld:
         if self.route not in ("tabular", "ppo"):
             raise ModelError(f"policy must be 'auto', 'tabular' or 'ppo', got {policy!r}")
         space = getattr(self.env, "observation_space", None)
-        if self.route == "ppo" and not getattr(space, "shape", None):
+        if self.route == "ppo" and not getattr(space, "shape", None) and not _flat_parts(space):
             raise ModelError(f"a PPO policy update needs array observations (a Box), not {space}",
                              hint="wrap the environment (gymnasium.wrappers.FlattenObservation) or use the "
                                   "tabular update (--policy tabular)")

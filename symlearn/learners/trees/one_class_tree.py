@@ -557,7 +557,7 @@ def _numeric_array(data: Any) -> np.ndarray:
 
 def _states_matrix(demos: Any, feature_map: FeatureMap | None,
                    named: tuple[str, ...] | None = None) -> tuple[np.ndarray, tuple[str, ...] | None]:
-    """The states as rows; feature-dict states read by key: those of ``feature_map``, else the
+    """The states as rows (array states flattened); feature-dict states read by key: those of ``feature_map``, else the
     ``named`` features (which must be keys of the states: a dict's own names are never replaced
     by position), else the states' own keys."""
     kind = demos.state_kind
@@ -572,7 +572,9 @@ def _states_matrix(demos: Any, feature_map: FeatureMap | None,
     if feature_map is not None and feature_map != FeatureMap(feature_map.names):
         states = [s for t in demos for s in (t.states if kind != "vector" else list(t.states))]
         return feature_map.matrix(states), None
-    if kind == "vector":
+    if kind in ("vector", "image"):
+        # a multi-dimensional state (a (2, 3) Box observation) is its entries in row-major order,
+        # the columns x0, x1, ... that `train --cost` reads from the flattened observation too
         X = np.concatenate([np.asarray(t.states, dtype=np.float64).reshape(len(t.states), -1) for t in demos])
         return X, None
     if kind == "features":

@@ -114,6 +114,7 @@ class _Rollouts:
         self.recent_lengths: deque[int] = deque(maxlen=LENGTH_MEMORY)
         spec = getattr(envs[0], "spec", None)
         self.time_limit = getattr(spec, "max_episode_steps", None)  # gymnasium's TimeLimit, when known
+        self.reported_seen = False  # an info["cost"] only reported (cost_fn trains) has arrived
 
     def collect(self, n_steps: int, actor: NumpyActor, rng: np.random.Generator,
                 cost_fn: Callable[[Rollout], Any] | None = None) -> RolloutBatch:
@@ -136,6 +137,7 @@ class _Rollouts:
         read_costs = self.read_costs
         # with cost_fn, the environment's own info["cost"] (summed) is kept beside it, for reports only
         reported = None if read_costs else np.full((n_steps, n_envs), np.nan)
+        unreported = np.zeros((n_steps, n_envs), dtype=bool)  # steps whose info has no "cost"
         for t in range(n_steps):
             obs[t] = self.obs
             actions[t] = actor.sample(agent.normalize(self.obs), rng)
@@ -152,8 +154,11 @@ class _Rollouts:
                         if costs.shape[2] != cost.size:  # the first cost ever: widen the zero-width buffer
                             costs = np.zeros((n_steps, n_envs, cost.size))
                         costs[t, i] = cost
-                elif reported is not None and "cost" in info:
-                    reported[t, i] = _reported_cost(info["cost"])
+                elif reported is not None:
+                    if info.get("cost") is None:
+                        unreported[t, i] = True
+                    else:
+                        reported[t, i] = _reported_cost(info["cost"])
                 for key in self.info_keys:
                     self._record(info_arrays, key, info, t, i, n_steps, n_envs)
                 reached[t, i] = agent.features(np.asarray(o)[None])[0]
@@ -178,6 +183,13 @@ class _Rollouts:
             self.costs.accept(costs.shape[2])
         self._account(rewards, costs, ends, n_steps)
         self.steps += n_steps * n_envs
+        if reported is not None:
+            # an environment that reports info["cost"] only where it is paid (a step without one
+            # costs nothing, as CostReader reads the costs that train): once any step has reported
+            # one, the steps without it are 0, not left out of the cost per episode
+            self.reported_seen = self.reported_seen or bool((~unreported).any())
+            if self.reported_seen:
+                reported[unreported] = 0.0
         true_costs = reported if reported is not None else costs.sum(axis=2) if self.costs.seen \
             else np.full((n_steps, n_envs), np.nan)
         return RolloutBatch(obs=obs, actions=actions, rewards=rewards, dones=dones, costs=costs,
