@@ -34,7 +34,8 @@ from symlearn.errors import LimitExceededError
 from symlearn.logic.automata import transition_diagram as td
 from symlearn.logic.automata.dfa import DFA
 from symlearn.logic.automata.operations import complement
-from symlearn.logic.ltlf.ast import And, Binary, Const, Formula, Iff, Implies, Not, Or, Prop, Unary
+from symlearn.logic.ltlf.ast import (Always, And, Binary, Const, Eventually, Formula, Iff, Implies, Next, Not, Or,
+                                     Prop, Unary, WeakNext)
 
 __all__ = ["compose", "is_composite"]
 
@@ -46,6 +47,12 @@ Direct = Callable[..., DFA]  # direct(formula, max_states, max_nodes=None): prog
 #: our formula set, docs/BENCHMARKS.md)
 TRIAL_STATES = 256
 TRIAL_NODES = 100_000
+#: a composite part joined to its start conditions is progressed whole within this many BDD nodes
+#: (a fifth of the default translation limit) before it is composed instead: SYNTCOMP's Nim games
+#: finish whole within it (nim_pb_02_07: 235 states, under 1,000,000 nodes, 5 s; composed, over
+#: 60 s), its double counters do not (the 5-bit one ran to the 5,000,000-node limit, 14-57 s, before
+#: being composed)
+JOINED_NODES = 1_000_000
 
 _ACCEPT = {
     "and": lambda a, b: a and b,
@@ -79,6 +86,8 @@ class _Composer:
         self.max_states = max_states
         self.props: dict[int, frozenset[str]] = {}
         self.verdicts: dict[int, bool] = {}
+        self.spread: dict[int, Formula] = {}  # distributed forms, by the identity of the original
+        self.unjoined: dict[int, tuple[Formula, list[Formula]]] = {}  # a part joined to its start conditions
 
     def composite(self, formula: Formula) -> bool:
         found = self.verdicts.get(id(formula))
@@ -99,14 +108,20 @@ class _Composer:
     def dfa(self, formula: Formula, trial_first: bool = False) -> DFA:
         """The formula's DFA. A part (``trial_first`` false) that is not composite is progressed
         at once, without a trial it would mostly fail; the whole formula is tried first."""
-        if not trial_first and not self.composite(formula):
-            return self.direct(formula, self.max_states)
+        spread = self.distributed(formula)
+        # a leaf whose temporal chain distributes over a junction of dependent parts is composed
+        # like a skeleton when progression of it fails the trial (a Nim game's rules are not: its
+        # whole formula, rules and start together, progresses faster than their products)
+        distributable = spread is not formula and self.composite(spread)
+        if not trial_first and not self.composite(formula) and not distributable:
+            return self.progressed(formula)
         try:
             return self.direct(formula, min(self.max_states, TRIAL_STATES), TRIAL_NODES)
         except LimitExceededError:
-            if not self.composite(formula):  # (a refusal within the trial's bounds comes again, as fast)
-                return self.direct(formula, self.max_states)
+            if not self.composite(formula) and not distributable:  # (a refusal within the trial's bounds comes again, as fast)
+                return self.progressed(formula)
         # too large for progression of the whole: compose its parts
+        formula = spread if distributable else formula
         if isinstance(formula, Not):
             return complement(self.dfa(formula.arg))
         if isinstance(formula, Implies):
@@ -121,12 +136,57 @@ class _Composer:
         # parts sharing nothing with the others and composite in nothing: one progression
         loose = [parts[g[0]] for g in groups if len(g) == 1 and not self.composite(parts[g[0]])]
         dfas = []
-        if loose:
+        if len(loose) == 1:
+            dfas.append(self.progressed(loose[0]))
+        elif loose:
             dfas.append(self.direct(_rebuild(loose, And if mode == "and" else Or), self.max_states))
         for group in groups:
             if len(group) > 1 or self.composite(parts[group[0]]):
                 dfas.append(self.join([self.dfa(parts[i]) for i in group], mode))
         return self.join(dfas, mode)
+
+    def progressed(self, formula: Formula) -> DFA:
+        """Progression of a part that is not composite. A part that is a composite skeleton joined
+        to its start conditions (:meth:`attach_state_conditions`) falls back to composing the
+        skeleton and the conditions separately when progression of the whole runs out of nodes:
+        a Nim game's assumption -> rules progress with their start in 5 s, a double counter's
+        do not within :data:`JOINED_NODES` and compose."""
+        found = self.unjoined.get(id(formula))
+        if found is None:
+            return self.direct(formula, self.max_states)
+        try:
+            return self.direct(formula, self.max_states, JOINED_NODES)
+        except LimitExceededError:
+            part, conditions = found
+            return self.join([self.dfa(part), *(self.dfa(c) for c in conditions)], "and")
+
+    def distributed(self, formula: Formula) -> Formula:
+        """``formula`` with a chain of ``G``/``X``/``WX`` over a conjunction pushed into it, or of
+        ``F``/``X``/``WX`` over a disjunction: ``X[!] G (a & b)`` is ``X[!] G a & X[!] G b`` (each
+        of these operators distributes over that junction on finite traces too), so the
+        conjuncts of a large ``G (...)`` become parts of the skeleton -- a game's rules, e.g. the
+        40 carry and bit rules of SYNTCOMP's double counters, each a small DFA, instead of one
+        leaf whose obligations multiply in progression. Anything else is returned as it is."""
+        found = self.spread.get(id(formula))
+        if found is not None:
+            return found
+        chain, core = [], formula
+        while isinstance(core, (Always, Eventually, Next, WeakNext)):
+            chain.append(type(core))
+            core = core.arg
+        result = formula
+        if chain and isinstance(core, (And, Or)):
+            over = {Always, Next, WeakNext} if isinstance(core, And) else {Eventually, Next, WeakNext}
+            if all(kind in over for kind in chain):
+                parts = []
+                for part in _operands(core):
+                    for kind in reversed(chain):
+                        part = kind(part)
+                    parts.append(part)
+                result = _rebuild(parts, type(core))
+        self.spread[id(formula)] = result
+        self.spread[id(result)] = result
+        return result
 
     def attach_state_conditions(self, parts: list[Formula]) -> list[Formula]:
         """Conjuncts without a temporal operator (conditions on the first letter, such as a game's
@@ -145,10 +205,13 @@ class _Composer:
             mine = [c for c in conditions if self.propositions(c) & self.propositions(part)]
             if mine:
                 used.update(id(c) for c in mine)
-                part = _rebuild([part, *mine], And)
+                original, part = part, _rebuild([part, *mine], And)
                 # one progression: composed, the part would lose its start again (and a composite
-                # part, taken apart, would meet its conditions here once more)
+                # part, taken apart, would meet its conditions here once more); where that
+                # progression runs out of nodes, the part and its conditions are composed instead
                 self.verdicts[id(part)] = False
+                if self.composite(original) or self.distributed(original) is not original:
+                    self.unjoined[id(part)] = (original, mine)
             joined.append(part)
         return joined + [c for c in conditions if id(c) not in used]
 
