@@ -83,4 +83,6 @@ def test_environments_step_fast(cls):
         _, _, _, truncated, _ = env.step(action)
         if truncated:
             env.reset()
-    assert n / (time.perf_counter() - started) > 10_000  # ~100k steps/s unloaded
+    # ~100k steps/s unloaded; 4k catches a gross regression and survives a saturated CI machine
+    # (8k was measured there once, with the suite on both cores beside other jobs)
+    assert n / (time.perf_counter() - started) > 4_000

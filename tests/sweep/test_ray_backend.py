@@ -43,8 +43,10 @@ def test_ray_run_retries_a_killed_worker_records_errors_and_resumes(write_sweep,
 def test_ray_cancels_a_cell_past_its_time_limit(write_sweep, cli, tmp_path):
     markers = tmp_path / "markers"
     markers.mkdir()
+    # 5 s: the retry must start a Ray worker and import the experiment within it, which took more
+    # than 2 s on a saturated machine
     path = write_sweep("hangs_once", {"x": [1]}, fixed={"marker_dir": str(markers)}, seeds=1,
-                       extra="timeout = 2.0")
+                       extra="timeout = 5.0")
     out = tmp_path / "out"
     code, stdout, _ = cli("sweep", "run", path, "--out", out, "--json")
     assert code == 0 and json.loads(stdout)["seconds"] < 40
