@@ -36,7 +36,7 @@ from typing import Any
 
 from symlearn.errors import LimitExceededError, ParseError, SymlearnError
 
-__all__ = ["limit", "read_input_bytes", "read_input_text", "decode_utf8", "load_json", "MAX_JSON_DEPTH",
+__all__ = ["limit", "open_input", "read_input_bytes", "read_input_text", "decode_utf8", "load_json", "MAX_JSON_DEPTH",
            "check_size", "describe_bytes", "depth"]
 
 _DEFAULTS = {
@@ -101,10 +101,8 @@ def read_input_bytes(path: str | os.PathLike, *, variable: str = "SYMLEARN_MAX_I
     """The bytes of ``path``, at most the limit (reads a device or pipe only up to it)."""
     path = Path(path)
     bound = limit(variable)
-    with open(path, "rb") as handle:
+    with open_input(path) as handle:
         info = os.fstat(handle.fileno())
-        if stat.S_ISDIR(info.st_mode):
-            raise IsADirectoryError(21, "Is a directory", str(path))
         if stat.S_ISREG(info.st_mode):
             check_size(info.st_size, variable, what=f"{what} size", file=path)
             data = handle.read()
@@ -117,6 +115,25 @@ def read_input_bytes(path: str | os.PathLike, *, variable: str = "SYMLEARN_MAX_I
                                  file=path, hint=f"raise the limit with {variable}=<megabytes> (0: no limit) "
                                                  "if the file is trusted")
     return data
+
+
+def open_input(path: str | os.PathLike):
+    """``path`` opened for reading in binary, without blocking on a named pipe nobody writes to.
+
+    ``open()`` of a FIFO waits until a writer opens it, forever if none does; here it is opened
+    non-blocking (which returns at once), then reads block as usual: a pipe with a writer is read
+    to its end, one without reads as empty. A directory raises :class:`IsADirectoryError`."""
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    try:
+        info = os.fstat(fd)
+        if stat.S_ISDIR(info.st_mode):
+            raise IsADirectoryError(21, "Is a directory", str(path))
+        if not stat.S_ISREG(info.st_mode):
+            os.set_blocking(fd, True)
+        return os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise
 
 
 def _read_upto(handle, size: int, chunk: int = 1 << 20) -> bytes:

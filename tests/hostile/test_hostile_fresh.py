@@ -1,0 +1,105 @@
+"""A fresh hostile corpus (issue 26, held-out angles): special files in place of a user's file
+(named pipes, odd names), and the values no earlier round fed. Every case is generated here and
+run through the real command in a child process (tests/support/hostile.py): exit 0 or one line
+and exit 2, no traceback, bounded time and memory.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from pathlib import Path
+
+import pytest
+
+from hostile import assert_refused, assert_survived, check, run_command
+
+
+def _dfa(folder: Path) -> Path:
+    from symlearn.logic.ltlf import parse, to_dfa
+
+    path = folder / "spec.json"
+    path.write_text(to_dfa(parse("F a")).to_json())
+    return path
+
+
+# -- names with control characters: the error stays one line -------------------------------------
+@pytest.mark.parametrize("command, suffix, content", [
+    (["data", "validate", "{file}"], ".jsonl", b"\xff not utf-8\n"),
+    (["automaton", "show", "{file}"], ".json", b"[1, 2"),
+    (["ltl", "dfa", "--file", "{file}"], ".ltl", b"F (a &\x0b b\n"),  # a parse error with its excerpt
+    (["ltl", "dfa", "--file", "{missing}"], ".ltl", None),  # an OSError naming the path
+    (["dnf", "show", "{file}"], ".dnf", b"x >> 1\n"),
+])
+@pytest.mark.parametrize("odd", ["\n", "\r", "\x1b[2J", "\u2028", "\x85"])
+def test_control_characters_in_a_file_name_stay_on_one_line(tmp_path, command, suffix, content, odd):
+    name = f"a{odd}b{suffix}"
+    if content is not None:
+        (tmp_path / name).write_bytes(content)
+    args = [a.replace("{file}", name).replace("{missing}", "nope/" + name) for a in command]
+    result = run_command(args, cwd=tmp_path, timeout=30)
+    line = assert_refused(result)
+    assert repr(odd)[1:-1] in line, line  # the character is shown escaped, the name stays recognisable
+
+
+def test_printable_escapes_and_keeps_the_caret_under_its_character():
+    from symlearn.errors import ParseError, printable
+
+    assert printable("a\nb\x1b[31m\u2028\u202ec\td") == "a\\nb\\x1b[31m\\u2028\\u202ec\td"
+    error = ParseError("unexpected 'c' at column 5\n  a\x0bb c\n      ^", file="f\n.ltl", line=1, column=5)
+    lines = str(error).split("\n")
+    assert lines[0] == "f\\n.ltl:1:5: unexpected 'c' at column 5"
+    assert lines[1] == "  a\\x0bb c" and lines[2].index("^") == lines[1].index("c")
+
+
+# -- named pipes: a pipe nobody writes to must not block the read --------------------------------
+PIPE_READERS = [
+    ["data", "validate", "{file}.jsonl"],
+    ["data", "convert", "{file}.jsonl", "out.npz"],
+    ["automaton", "show", "{file}.json"],
+    ["automaton", "show", "{file}.dot"],
+    ["automaton", "show", "{file}.txt"],
+    ["automaton", "explain", "{dfa}", "--trace", "{file}.json"],
+    ["ltl", "dfa", "--file", "{file}.ltl"],
+    ["ltl", "dfa", "--tlsf", "{file}.tlsf"],
+    ["ltl", "eval", "F a", "--traces", "{file}.jsonl"],
+    ["ltl", "learn", "{file}.json"],
+    ["dnf", "show", "{file}.dnf"],
+    ["ilp", "learn", "{file}.las", "--timeout", "20"],
+    ["sweep", "run", "{file}.toml", "--out", "out", "--local"],
+]
+
+
+@pytest.mark.parametrize("command", PIPE_READERS, ids=lambda c: " ".join(c[:3]))
+def test_a_named_pipe_without_a_writer_does_not_block(tmp_path, command):
+    dfa = _dfa(tmp_path)
+    args = [a.replace("{file}", "pipe").replace("{dfa}", str(dfa)) for a in command]
+    os.mkfifo(tmp_path / next(a for a in args if a.startswith("pipe")))
+    result = run_command(args, cwd=tmp_path, timeout=20)
+    assert_survived(result, max_seconds=15)
+
+
+def test_a_named_pipe_with_a_writer_is_read(tmp_path):
+    pipe = tmp_path / "f.ltl"
+    os.mkfifo(pipe)
+
+    def write():
+        with open(pipe, "w") as handle:
+            handle.write("F a\n")
+
+    writer = threading.Thread(target=write, daemon=True)
+    writer.start()
+    result = run_command(["ltl", "dfa", "--file", pipe.name], cwd=tmp_path, timeout=30)
+    writer.join(5)
+    assert result.returncode == 0, result.describe()
+    assert "F a" in result.stdout
+
+
+def test_results_store_that_is_a_named_pipe_is_refused(tmp_path):
+    from symlearn.sweep.store import read_records
+
+    os.mkfifo(tmp_path / "results.jsonl")
+    from symlearn.errors import DataError
+
+    with pytest.raises(DataError, match="not a regular file"):
+        read_records(tmp_path)
