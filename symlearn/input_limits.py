@@ -278,8 +278,55 @@ def load_json(text: str, *, source: str | os.PathLike | None = None, line: int |
         raise error(f"key {key} appears twice in one object", file=file,
                          line=None if at_line is None else at_line + offset, column=at_column,
                          hint="keep one of them") from None
+    except ValueError as exc:  # Python refuses to convert an integer of more than 4300 digits
+        found = _LONG_INTEGER.search(text)
+        if found is None or "integer string conversion" not in str(exc):
+            raise  # a caller's parse_* hook refusing a value: its own error
+        at_line, at_column = _line_column(text, found.start())
+        raise error(f"integer of {len(found.group().lstrip('-')):,} digits is too large", file=file,
+                    line=at_line + offset, column=at_column) from None
     if max_depth is not None and isinstance(value, (dict, list)) and _deeper_than(text, max_depth):
         where = _too_deep_at(text, max_depth) or (None, None)
         raise error(f"JSON nested more than {max_depth} levels deep", file=file,
                     line=None if where[0] is None else where[0] + offset, column=where[1])
+    if _SURROGATE_ESCAPE.search(text) and _holds_lone_surrogate(value):
+        at_line, at_column = _line_column(text, _lone_surrogate_escape(text))
+        raise error("a \\u escape is half of a surrogate pair (not a character): the text cannot be printed "
+                    "or saved", file=file, line=at_line + offset, column=at_column,
+                    hint="write the character itself, or both halves of its pair (\\ud83d\\ude00)")
     return value
+
+
+#: an integer literal longer than Python converts (``sys.get_int_max_str_digits``, 4300)
+_LONG_INTEGER = re.compile(r"-?\d{4301,}")
+#: a ``\uD800``..``\uDFFF`` escape: paired (high then low) it is one character, alone it is none
+_SURROGATE_ESCAPE = re.compile(r"\\u[dD][89a-fA-F][0-9a-fA-F]{2}")
+_PAIRED = re.compile(r"\\u[dD][89abAB][0-9a-fA-F]{2}\\u[dD][c-fC-F][0-9a-fA-F]{2}")
+_LONE = re.compile("[\ud800-\udfff]")
+
+
+def _line_column(text: str, position: int) -> tuple[int, int]:
+    return text.count("\n", 0, position) + 1, position - (text.rfind("\n", 0, position) + 1) + 1
+
+
+def _holds_lone_surrogate(value: Any) -> bool:
+    """Whether a parsed value holds a string (key or value) with a lone surrogate; walked only
+    when the text has a surrogate escape at all."""
+    stack = [value]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, str):
+            if _LONE.search(item):
+                return True
+        elif isinstance(item, dict):
+            stack.extend(item.keys())
+            stack.extend(item.values())
+        elif isinstance(item, list):
+            stack.extend(item)
+    return False
+
+
+def _lone_surrogate_escape(text: str) -> int:
+    """Position of the first surrogate escape that is not half of a pair (0 if none is found)."""
+    paired = {i for found in _PAIRED.finditer(text) for i in (found.start(), found.start() + 6)}
+    return next((found.start() for found in _SURROGATE_ESCAPE.finditer(text) if found.start() not in paired), 0)

@@ -386,7 +386,7 @@ def _unpack_column(path, prefix, kind, lengths, archive, header, member) -> list
     if kind == "features":
         names = header.get(f"{prefix}_features") or []
         encodings = header.get(f"{prefix}_feature_encodings") or ["array"] * len(names)
-        decode = {"array": lambda v: v.item(), "json": lambda v: json.loads(str(v))}
+        decode = {"array": lambda v: v.item(), "json": lambda v: load_json(str(v), source=path, error=DataError)}
         columns = [_split(path, name, member(name), lengths) for name in header[f"_{prefix}_members"]]
         return [
             [{name: decode[encodings[k]](columns[k][i][t]) for k, name in enumerate(names)}

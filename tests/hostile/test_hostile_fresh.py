@@ -103,3 +103,58 @@ def test_results_store_that_is_a_named_pipe_is_refused(tmp_path):
 
     with pytest.raises(DataError, match="not a regular file"):
         read_records(tmp_path)
+
+
+# -- JSON values Python's decoder takes but nothing after it can use -----------------------------
+def _dfa_text(folder: Path) -> str:
+    return _dfa(folder).read_text()
+
+
+@pytest.mark.parametrize("command, name, make", [
+    (["automaton", "show", "{file}"], "a.json",
+     lambda d: _dfa_text(d).replace('"initial": 0', '"initial": ' + "9" * 5000)),
+    (["ltl", "learn", "{file}"], "s.json",
+     lambda d: '{"positive_traces": [{"a": [' + "9" * 5000 + ']}], "negative_traces": [{"a": [0]}]}'),
+    (["dnf", "show", "{file}"], "r.json",
+     lambda d: '{"symlearn": "dnf", "format_version": 1, "conjunctions": [[["x", ">", ' + "9" * 4400 + "]]]}"),
+])
+def test_json_integers_beyond_python_conversion_are_located(tmp_path, command, name, make):
+    (tmp_path / name).write_text(make(tmp_path))
+    check([a.replace("{file}", name) for a in command], cwd=tmp_path, timeout=30, names=name, location=True,
+          contains="digits is too large")
+
+
+@pytest.mark.parametrize("command, name, make", [
+    (["dnf", "show", "{file}"], "r.json",
+     lambda d: '{"symlearn": "dnf", "format_version": 1, "conjunctions": [[["\\udc00", ">", 0.5]]]}'),
+    (["automaton", "show", "{file}"], "a.json", lambda d: _dfa_text(d).replace('"a"', '"\\ud800"')),
+    (["ltl", "eval", "F a", "--traces", "{file}"], "t.jsonl", lambda d: '[["\\ud800"]]\n'),
+    (["data", "validate", "{file}"], "d.jsonl",
+     lambda d: '{"symlearn": "demonstrations", "format_version": 1, "state_kind": "symbol"}\n{"states": ["\\udfff"]}\n'),
+])
+def test_json_lone_surrogates_are_refused_with_their_place(tmp_path, command, name, make):
+    (tmp_path / name).write_text(make(tmp_path))
+    check([a.replace("{file}", name) for a in command], cwd=tmp_path, timeout=30, names=name, location=True,
+          contains="half of a surrogate pair")
+
+
+def test_load_json_surrogates_and_long_integers():
+    from symlearn.errors import ParseError
+    from symlearn.input_limits import load_json
+
+    assert load_json('{"a": "x\\ud83d\\ude00"}') == {"a": "x\U0001f600"}  # a pair is one character
+    assert load_json('"\\\\ud800"') == "\\ud800"  # an escaped backslash, no escape
+    with pytest.raises(ParseError, match=r"f:1:8: a \\u escape is half"):
+        load_json('{"a": "\\ud83d\\ud800"}', source="f")  # two highs: neither has its low half
+    with pytest.raises(ParseError, match="f:2:2: integer of 4,301 digits"):
+        load_json("[1,\n " + "1" * 4301 + "]", source="f")
+
+
+@pytest.mark.parametrize("name, text", [
+    ("a.dot", 'digraph MONA_DFA {\n init [shape = plaintext, label = ""];\n init -> 1;\n ' + "9" * 5000
+     + ' -> 1 [label="a"];\n}\n'),
+    ("a.txt", "0\n[1]\n(0," + "9" * 5000 + ",'a',ConstantRewardFunction(1))\n"),
+])
+def test_automaton_text_state_numbers_beyond_python_conversion(tmp_path, name, text):
+    (tmp_path / name).write_text(text)
+    check(["automaton", "show", name], cwd=tmp_path, timeout=30, names=name, location=True, contains="is too large")
