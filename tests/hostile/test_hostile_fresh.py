@@ -158,3 +158,74 @@ def test_load_json_surrogates_and_long_integers():
 def test_automaton_text_state_numbers_beyond_python_conversion(tmp_path, name, text):
     (tmp_path / name).write_text(text)
     check(["automaton", "show", name], cwd=tmp_path, timeout=30, names=name, location=True, contains="is too large")
+
+
+# -- characters clingo must never see --------------------------------------------------------------
+HANOI = Path(__file__).resolve().parents[2] / "background_kb" / "hanoi" / "tasks" / "hanoi.las"
+
+
+@pytest.mark.parametrize("command", [
+    ["ilp", "check", str(HANOI), "{file}", "--timeout", "30"],
+    ["ilp", "learn", str(HANOI), "--bk", "{file}", "--timeout", "30"],
+    ["domain", "check", "{domain}", "--rules", "{file}", "--timeout", "30"],
+])
+@pytest.mark.parametrize("text, words", [
+    ("invalid(D) :- move(D, P), D > \u22121.\n", ["U+2212", "write '-'"]),  # clingo's message cut the UTF-8 bytes: the worker aborted
+    (":- move(north), alarm.\x00\n:- wait.\n", "NUL character"),  # clingo read up to the NUL and dropped the rest
+])
+def test_program_characters_clingo_cannot_take_are_located(tmp_path, command, text, words):
+    import warehouse_domain
+
+    domain = warehouse_domain.write_warehouse(tmp_path / "wh")
+    (tmp_path / "rules.lp").write_text(text)
+    args = [a.replace("{file}", "rules.lp").replace("{domain}", str(domain)) for a in command]
+    check(args, cwd=tmp_path, timeout=60, names="rules.lp", location=True, contains=words)
+
+
+def test_program_non_ascii_in_strings_and_comments_is_fine():
+    from symlearn.logic.asp.clingo_adapter import check_characters, parse_term
+    from symlearn.logic.asp.program import Program
+    from symlearn.errors import ParseError
+
+    check_characters(Program.from_text('p("caf\u00e9"). % \u2212 in a comment\n%* \u00e9 *%\nq.'))
+    assert str(parse_term('p("\u2212")')) == 'p("\u2212")'
+    with pytest.raises(ParseError, match=r"not a ground term.*U\+2212"):
+        parse_term("p(\u22121)")
+
+
+def test_domain_atom_with_a_non_ascii_character_is_one_line(tmp_path):
+    import warehouse_domain
+
+    domain = warehouse_domain.write_warehouse(tmp_path / "wh")
+    actions = domain / "actions.jsonl"
+    actions.write_text(actions.read_text().replace("move(north)", "move(n\u00f6rth)"))
+    states = domain / "states.jsonl"
+    states.write_text(states.read_text().replace('"at(0,0)."', '"at(0,\u22120)."', 1))
+    result = run_command(["domain", "check", str(domain), "--timeout", "30"], cwd=tmp_path, timeout=60)
+    assert_refused(result, contains="U+")
+
+
+# -- NPZ headers whose shape numpy cannot build ----------------------------------------------------
+@pytest.mark.parametrize("shape", ["(5, 2, 0, 99999999999999999999)", "(0, 9223372036854775807, 4)", "(-5, 2)"])
+@pytest.mark.parametrize("bare", [False, True])
+def test_npz_shape_no_array_can_have_is_refused_from_the_header(tmp_path, shape, bare):
+    import io
+    import struct
+    import zipfile
+
+    import numpy as np
+
+    header = ("{'descr': '<f8', 'fortran_order': False, 'shape': %s, }" % shape).ljust(118) + "\n"
+    member = b"\x93NUMPY\x01\x00" + struct.pack("<H", len(header)) + header.encode() + b"\x00" * 80
+    if bare:
+        (tmp_path / "x.npy").write_bytes(member)
+        args = ["dnf", "eval", "rules.dnf", "--points", "x.npy"]
+        (tmp_path / "rules.dnf").write_text("x > 1\n")
+    else:
+        lengths = io.BytesIO()
+        np.save(lengths, np.array([5], dtype=np.int64))
+        with zipfile.ZipFile(tmp_path / "x.npz", "w") as archive:
+            archive.writestr("lengths.npy", lengths.getvalue())
+            archive.writestr("states.npy", member)
+        args = ["data", "info", "x.npz"]
+    check(args, cwd=tmp_path, timeout=30, contains="which no array can have")
