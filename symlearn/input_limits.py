@@ -16,6 +16,8 @@ Limits (each overridable by an environment variable, documented in ``docs/FORMAT
 * ``SYMLEARN_MAX_TRANSLATION_NODES`` (5000000): nodes of one LTLf -> DFA translation's own BDD,
   dropped when it is done (``F p1 & ... & F p18``, 262,144 states, peaks near 1.2 GB; at the
   limit a translation holds about 1.5 GB, under the 2 GB a refusal may take);
+* ``SYMLEARN_MAX_FORMULAS`` (10000): formulas one file may give ``ltl dfa --file`` (each is
+  translated; 10,000 one-proposition formulas take a few seconds, 500,000 took minutes);
 
 A value of ``0`` or ``none`` lifts a limit. :func:`limit` reads them at call time, so a test
 (or a long-running service) can change them between reads.
@@ -45,6 +47,7 @@ _DEFAULTS = {
     "SYMLEARN_MAX_STATES": 1_000_000,
     "SYMLEARN_MAX_BDD_NODES": 2_000_000,
     "SYMLEARN_MAX_TRANSLATION_NODES": 5_000_000,
+    "SYMLEARN_MAX_FORMULAS": 10_000,
 }
 _IN_MEGABYTES = {"SYMLEARN_MAX_INPUT_MB", "SYMLEARN_MAX_ARRAY_MB"}
 

@@ -229,3 +229,15 @@ def test_npz_shape_no_array_can_have_is_refused_from_the_header(tmp_path, shape,
             archive.writestr("states.npy", member)
         args = ["data", "info", "x.npz"]
     check(args, cwd=tmp_path, timeout=30, contains="which no array can have")
+
+
+# -- a formula file of many lines: bounded before any is translated ------------------------------
+def test_formula_file_of_many_lines_is_refused_before_translation(tmp_path):
+    (tmp_path / "many.ltl").write_text("a\n" * 500_000)  # translated one by one, this took minutes
+    result = check(["ltl", "dfa", "--file", "many.ltl"], cwd=tmp_path, timeout=30, names="many.ltl",
+                   location=True, contains=["500,000", "SYMLEARN_MAX_FORMULAS"])
+    assert result.seconds < 10
+    (tmp_path / "few.ltl").write_text("# comments do not count\n" * 20_000 + "F a\n" * 3)
+    result = run_command(["ltl", "dfa", "--file", "few.ltl"], cwd=tmp_path, timeout=30,
+                         env={"SYMLEARN_MAX_FORMULAS": "3"})
+    assert result.returncode == 0 and result.stdout.count("F a") == 3, result.describe()
