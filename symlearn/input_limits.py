@@ -38,7 +38,7 @@ from typing import Any
 
 from symlearn.errors import LimitExceededError, ParseError, SymlearnError
 
-__all__ = ["limit", "open_input", "read_input_bytes", "read_input_text", "decode_utf8", "load_json", "MAX_JSON_DEPTH",
+__all__ = ["limit", "load_toml", "open_input", "read_input_bytes", "read_input_text", "decode_utf8", "load_json", "MAX_JSON_DEPTH",
            "check_size", "describe_bytes", "depth"]
 
 _DEFAULTS = {
@@ -300,8 +300,26 @@ def load_json(text: str, *, source: str | os.PathLike | None = None, line: int |
     return value
 
 
+def load_toml(text: str, *, source: str | os.PathLike | None = None) -> dict:
+    """``tomllib.loads``, with an integer past Python's 4300-digit conversion refused at its
+    line:col (tomllib lets that ``ValueError`` out); its own errors are left to the caller."""
+    import tomllib
+
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError:
+        raise
+    except ValueError as exc:
+        found = _LONG_INTEGER.search(text)
+        if found is None or "integer string conversion" not in str(exc):
+            raise
+        at_line, at_column = _line_column(text, found.start())
+        raise ParseError(f"integer of {len(found.group().lstrip('-')):,} digits is too large",
+                         file=None if source is None else str(source), line=at_line, column=at_column) from None
+
+
 #: an integer literal longer than Python converts (``sys.get_int_max_str_digits``, 4300)
-_LONG_INTEGER = re.compile(r"-?\d{4301,}")
+_LONG_INTEGER = re.compile(r"-?[0-9_]{4301,}")
 #: a ``\uD800``..``\uDFFF`` escape: paired (high then low) it is one character, alone it is none
 _SURROGATE_ESCAPE = re.compile(r"\\u[dD][89a-fA-F][0-9a-fA-F]{2}")
 _PAIRED = re.compile(r"\\u[dD][89abAB][0-9a-fA-F]{2}\\u[dD][c-fC-F][0-9a-fA-F]{2}")

@@ -241,3 +241,20 @@ def test_formula_file_of_many_lines_is_refused_before_translation(tmp_path):
     result = run_command(["ltl", "dfa", "--file", "few.ltl"], cwd=tmp_path, timeout=30,
                          env={"SYMLEARN_MAX_FORMULAS": "3"})
     assert result.returncode == 0 and result.stdout.count("F a") == 3, result.describe()
+
+
+@pytest.mark.parametrize("reader", ["domain", "sweep"])
+def test_toml_integers_beyond_python_conversion_are_located(tmp_path, reader):
+    big = "9" * 5000
+    if reader == "domain":
+        import warehouse_domain
+
+        folder = warehouse_domain.write_warehouse(tmp_path / "wh")
+        (folder / "domain.toml").write_text((folder / "domain.toml").read_text() + f"\nextra = {big}\n")
+        args, name = ["domain", "check", str(folder), "--timeout", "30"], "domain.toml"
+    else:
+        (tmp_path / "cells.py").write_text("def cell(seed, n=1):\n    return {'value': seed}\n")
+        (tmp_path / "s.toml").write_text(f'[sweep]\nfunction = "cells.py:cell"\nseeds = 2\nbig = {big}\n'
+                                         'metrics = ["value"]\n[grid]\nn = [1, 2]\n')
+        args, name = ["sweep", "run", "s.toml", "--out", "out", "--local"], "s.toml"
+    check(args, cwd=tmp_path, timeout=60, names=name, location=True, contains="digits is too large")
