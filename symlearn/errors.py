@@ -7,8 +7,27 @@ is a bug in symlearn and exits 1. Location fields are optional because much inpu
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from os import PathLike
+
+#: characters that would break an error line apart or disguise it on a terminal: C0/C1 controls
+#: (tab excepted), the line and paragraph separators ``str.splitlines`` also breaks at, and the
+#: bidirectional overrides and isolates
+_UNPRINTABLE = re.compile("[\x00-\x08\x0a-\x1f\x7f-\x9f\u2028\u2029\u202a-\u202e\u2066-\u2069]")
+#: a formula parse error's excerpt: the offending line and a caret under the column, each indented
+_EXCERPT = re.compile(r"\n  ([^\n]*)\n  ( *)\^\Z")
+
+
+def printable(text: object) -> str:
+    """``text`` on one line: every character of :data:`_UNPRINTABLE` written as its escape
+    (``\\n``, ``\\x1b``, ``\\u2028``), so a file name or a quoted input with a newline in it
+    cannot split an error message into several lines."""
+    return _UNPRINTABLE.sub(_escape, str(text))
+
+
+def _escape(match: re.Match) -> str:
+    return repr(match.group())[1:-1] if match.group() not in "\u2028\u2029" else f"\\u{ord(match.group()):04x}"
 
 
 class SymlearnError(Exception):
@@ -41,9 +60,19 @@ class SymlearnError(Exception):
         return ":".join(str(p) for p in parts)
 
     def __str__(self) -> str:
-        text = f"{self.location}: {self.message}" if self.location else self.message
+        """One line (plus a formula excerpt and its caret where there is one): whatever the file
+        name, message and hint hold, unprintable characters are escaped (:func:`printable`)."""
+        message, excerpt = self.message, ""
+        found = _EXCERPT.search(message)
+        if found:  # escape the excerpt line by line and move the caret under the same character
+            line, column = found.group(1), len(found.group(2))
+            message = message[:found.start()]
+            excerpt = f"\n  {printable(line)}\n  {' ' * len(printable(line[:column]))}^"
+        location = printable(self.location)
+        text = f"{location}: {printable(message)}" if location else printable(message)
+        text += excerpt
         if self.hint:
-            text += f" (hint: {self.hint})"
+            text += f" (hint: {printable(self.hint)})"
         return text
 
     def __reduce__(self):  # keep the fields when copied or sent between processes

@@ -16,6 +16,8 @@ Limits (each overridable by an environment variable, documented in ``docs/FORMAT
 * ``SYMLEARN_MAX_TRANSLATION_NODES`` (5000000): nodes of one LTLf -> DFA translation's own BDD,
   dropped when it is done (``F p1 & ... & F p18``, 262,144 states, peaks near 1.2 GB; at the
   limit a translation holds about 1.5 GB, under the 2 GB a refusal may take);
+* ``SYMLEARN_MAX_FORMULAS`` (10000): formulas one file may give ``ltl dfa --file`` (each is
+  translated; 10,000 one-proposition formulas take a few seconds, 500,000 took minutes);
 
 A value of ``0`` or ``none`` lifts a limit. :func:`limit` reads them at call time, so a test
 (or a long-running service) can change them between reads.
@@ -36,7 +38,7 @@ from typing import Any
 
 from symlearn.errors import LimitExceededError, ParseError, SymlearnError
 
-__all__ = ["limit", "read_input_bytes", "read_input_text", "decode_utf8", "load_json", "MAX_JSON_DEPTH",
+__all__ = ["limit", "load_toml", "open_input", "read_input_bytes", "read_input_text", "decode_utf8", "load_json", "MAX_JSON_DEPTH",
            "check_size", "describe_bytes", "depth"]
 
 _DEFAULTS = {
@@ -45,6 +47,7 @@ _DEFAULTS = {
     "SYMLEARN_MAX_STATES": 1_000_000,
     "SYMLEARN_MAX_BDD_NODES": 2_000_000,
     "SYMLEARN_MAX_TRANSLATION_NODES": 5_000_000,
+    "SYMLEARN_MAX_FORMULAS": 10_000,
 }
 _IN_MEGABYTES = {"SYMLEARN_MAX_INPUT_MB", "SYMLEARN_MAX_ARRAY_MB"}
 
@@ -101,10 +104,8 @@ def read_input_bytes(path: str | os.PathLike, *, variable: str = "SYMLEARN_MAX_I
     """The bytes of ``path``, at most the limit (reads a device or pipe only up to it)."""
     path = Path(path)
     bound = limit(variable)
-    with open(path, "rb") as handle:
+    with open_input(path) as handle:
         info = os.fstat(handle.fileno())
-        if stat.S_ISDIR(info.st_mode):
-            raise IsADirectoryError(21, "Is a directory", str(path))
         if stat.S_ISREG(info.st_mode):
             check_size(info.st_size, variable, what=f"{what} size", file=path)
             data = handle.read()
@@ -117,6 +118,25 @@ def read_input_bytes(path: str | os.PathLike, *, variable: str = "SYMLEARN_MAX_I
                                  file=path, hint=f"raise the limit with {variable}=<megabytes> (0: no limit) "
                                                  "if the file is trusted")
     return data
+
+
+def open_input(path: str | os.PathLike):
+    """``path`` opened for reading in binary, without blocking on a named pipe nobody writes to.
+
+    ``open()`` of a FIFO waits until a writer opens it, forever if none does; here it is opened
+    non-blocking (which returns at once), then reads block as usual: a pipe with a writer is read
+    to its end, one without reads as empty. A directory raises :class:`IsADirectoryError`."""
+    fd = os.open(path, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_CLOEXEC", 0))
+    try:
+        info = os.fstat(fd)
+        if stat.S_ISDIR(info.st_mode):
+            raise IsADirectoryError(21, "Is a directory", str(path))
+        if not stat.S_ISREG(info.st_mode):
+            os.set_blocking(fd, True)
+        return os.fdopen(fd, "rb")
+    except BaseException:
+        os.close(fd)
+        raise
 
 
 def _read_upto(handle, size: int, chunk: int = 1 << 20) -> bytes:
@@ -261,8 +281,73 @@ def load_json(text: str, *, source: str | os.PathLike | None = None, line: int |
         raise error(f"key {key} appears twice in one object", file=file,
                          line=None if at_line is None else at_line + offset, column=at_column,
                          hint="keep one of them") from None
+    except ValueError as exc:  # Python refuses to convert an integer of more than 4300 digits
+        found = _LONG_INTEGER.search(text)
+        if found is None or "integer string conversion" not in str(exc):
+            raise  # a caller's parse_* hook refusing a value: its own error
+        at_line, at_column = _line_column(text, found.start())
+        raise error(f"integer of {len(found.group().lstrip('-')):,} digits is too large", file=file,
+                    line=at_line + offset, column=at_column) from None
     if max_depth is not None and isinstance(value, (dict, list)) and _deeper_than(text, max_depth):
         where = _too_deep_at(text, max_depth) or (None, None)
         raise error(f"JSON nested more than {max_depth} levels deep", file=file,
                     line=None if where[0] is None else where[0] + offset, column=where[1])
+    if _SURROGATE_ESCAPE.search(text) and _holds_lone_surrogate(value):
+        at_line, at_column = _line_column(text, _lone_surrogate_escape(text))
+        raise error("a \\u escape is half of a surrogate pair (not a character): the text cannot be printed "
+                    "or saved", file=file, line=at_line + offset, column=at_column,
+                    hint="write the character itself, or both halves of its pair (\\ud83d\\ude00)")
     return value
+
+
+def load_toml(text: str, *, source: str | os.PathLike | None = None) -> dict:
+    """``tomllib.loads``, with an integer past Python's 4300-digit conversion refused at its
+    line:col (tomllib lets that ``ValueError`` out); its own errors are left to the caller."""
+    import tomllib
+
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError:
+        raise
+    except ValueError as exc:
+        found = _LONG_INTEGER.search(text)
+        if found is None or "integer string conversion" not in str(exc):
+            raise
+        at_line, at_column = _line_column(text, found.start())
+        raise ParseError(f"integer of {len(found.group().lstrip('-')):,} digits is too large",
+                         file=None if source is None else str(source), line=at_line, column=at_column) from None
+
+
+#: an integer literal longer than Python converts (``sys.get_int_max_str_digits``, 4300)
+_LONG_INTEGER = re.compile(r"-?[0-9_]{4301,}")
+#: a ``\uD800``..``\uDFFF`` escape: paired (high then low) it is one character, alone it is none
+_SURROGATE_ESCAPE = re.compile(r"\\u[dD][89a-fA-F][0-9a-fA-F]{2}")
+_PAIRED = re.compile(r"\\u[dD][89abAB][0-9a-fA-F]{2}\\u[dD][c-fC-F][0-9a-fA-F]{2}")
+_LONE = re.compile("[\ud800-\udfff]")
+
+
+def _line_column(text: str, position: int) -> tuple[int, int]:
+    return text.count("\n", 0, position) + 1, position - (text.rfind("\n", 0, position) + 1) + 1
+
+
+def _holds_lone_surrogate(value: Any) -> bool:
+    """Whether a parsed value holds a string (key or value) with a lone surrogate; walked only
+    when the text has a surrogate escape at all."""
+    stack = [value]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, str):
+            if _LONE.search(item):
+                return True
+        elif isinstance(item, dict):
+            stack.extend(item.keys())
+            stack.extend(item.values())
+        elif isinstance(item, list):
+            stack.extend(item)
+    return False
+
+
+def _lone_surrogate_escape(text: str) -> int:
+    """Position of the first surrogate escape that is not half of a pair (0 if none is found)."""
+    paired = {i for found in _PAIRED.finditer(text) for i in (found.start(), found.start() + 6)}
+    return next((found.start() for found in _SURROGATE_ESCAPE.finditer(text) if found.start() not in paired), 0)

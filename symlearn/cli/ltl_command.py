@@ -166,13 +166,17 @@ def _dfa(args: argparse.Namespace, out) -> None:
     if args.file:
         if args.dot or args.svg or args.save:
             raise SymlearnError("--dot, --svg and --save write one automaton; they cannot be used with --file")
-        from symlearn.input_limits import read_input_text
+        from symlearn.input_limits import check_size, limit, read_input_text
 
         lines = read_input_text(args.file, what="formula file").split("\n")
+        numbers = [n for n, text in enumerate(lines, start=1) if text.strip() and not text.lstrip().startswith("#")]
+        bound = limit("SYMLEARN_MAX_FORMULAS")
+        if bound is not None and len(numbers) > bound:  # refused before any is translated
+            check_size(len(numbers), "SYMLEARN_MAX_FORMULAS", what="formulas in the file", file=args.file,
+                       line=numbers[bound])
         rows = []
-        for number, text in enumerate(lines, start=1):
-            if not text.strip() or text.lstrip().startswith("#"):
-                continue
+        for number in numbers:
+            text = lines[number - 1]
             formula = parse(text, args.dialect, source=args.file, line=number)
             start = time.perf_counter()
             try:

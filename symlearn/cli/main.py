@@ -30,7 +30,7 @@ import traceback
 from collections.abc import Sequence
 
 from symlearn.cli.output import Output
-from symlearn.errors import SymlearnError
+from symlearn.errors import SymlearnError, printable
 
 COMMAND_MODULES: tuple[str, ...] = (
     "symlearn.cli.learn_command",
@@ -106,7 +106,7 @@ class _Parser(argparse.ArgumentParser):
     def error(self, message: str):
         # the root parser reports flags its sub-commands did not know: name the sub-command
         parser = _innermost(self, _Parser.argv) if message.startswith("unrecognized arguments") else self
-        message = message + _did_you_mean(parser, message)
+        message = printable(message + _did_you_mean(parser, message))
         _Parser.last_error = f"{parser.prog}: {message}"
         self.exit(EXIT_USAGE, f"{parser.prog}: error: {message} (see {parser.prog} --help)\n")
 
@@ -266,8 +266,8 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
             return _internal(args, out, exc)
         if args.debug:
             traceback.print_exc()
-        where = f"{exc.filename}: " if exc.filename else ""
-        print(f"symlearn: error: {where}{exc.strerror or exc}", file=sys.stderr)
+        where = f"{printable(exc.filename)}: " if exc.filename else ""
+        print(f"symlearn: error: {where}{printable(exc.strerror or exc)}", file=sys.stderr)
         _json_error(out, exc)
         return EXIT_USAGE
     except KeyboardInterrupt:
@@ -286,7 +286,7 @@ def _internal(args: argparse.Namespace, out: Output, exc: BaseException) -> int:
     if args.debug:
         traceback.print_exc()
     else:
-        print(f"symlearn: internal error: {type(exc).__name__}: {exc} "
+        print(f"symlearn: internal error: {type(exc).__name__}: {printable(exc)} "
               "(rerun with --debug for the traceback and please report it)", file=sys.stderr)
     _json_error(out, exc, "internal")
     return EXIT_INTERNAL

@@ -154,7 +154,18 @@ def _read_npy_header(handle, name: str, path: Path) -> tuple[np.dtype, tuple[int
                 if dtype.kind == "S" else None)
         raise DataError(f"member {name!r} has dtype {dtype.str!r}; symlearn archives hold only "
                         "plain numbers, booleans and text", file=path, hint=hint)
-    return dtype, tuple(int(x) for x in shape)
+    shape = tuple(int(x) for x in shape)
+    extent = 1
+    for x in shape:  # the extents as numpy multiplies them (zeros skipped, so (0, 10**20) counts too)
+        extent *= max(x, 1)
+    if any(x < 0 for x in shape) or extent > np.iinfo(np.intp).max:
+        raise DataError(f"member {name!r} declares shape {_short_shape(shape)}, which no array can have", file=path)
+    return dtype, shape
+
+
+def _short_shape(shape: tuple[int, ...]) -> str:
+    text = str(shape)
+    return text if len(text) <= 80 else text[:77] + "..."
 
 
 def _declared_bytes(dtype: np.dtype, shape: tuple[int, ...]) -> int:
@@ -386,7 +397,7 @@ def _unpack_column(path, prefix, kind, lengths, archive, header, member) -> list
     if kind == "features":
         names = header.get(f"{prefix}_features") or []
         encodings = header.get(f"{prefix}_feature_encodings") or ["array"] * len(names)
-        decode = {"array": lambda v: v.item(), "json": lambda v: json.loads(str(v))}
+        decode = {"array": lambda v: v.item(), "json": lambda v: load_json(str(v), source=path, error=DataError)}
         columns = [_split(path, name, member(name), lengths) for name in header[f"_{prefix}_members"]]
         return [
             [{name: decode[encodings[k]](columns[k][i][t]) for k, name in enumerate(names)}

@@ -31,7 +31,7 @@ import numpy as np
 
 from symlearn.atomic import write_bytes, write_text
 from symlearn.errors import DataError, ModelError, ParseError
-from symlearn.input_limits import read_input_text
+from symlearn.input_limits import load_toml, read_input_text
 
 REQUIRED = ("name", "background", "bias", "model", "states", "actions")
 OPTIONAL = ("description", "truth", "labeling", "features")
@@ -52,7 +52,7 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
     if not toml_path.is_file():
         raise DataError("the domain folder has no domain.toml", file=str(folder))
     try:
-        config = tomllib.loads(read_input_text(toml_path))
+        config = load_toml(read_input_text(toml_path), source=toml_path)
     except RecursionError:
         raise ParseError("domain.toml is nested too deeply", file=str(toml_path)) from None
     except tomllib.TOMLDecodeError as exc:

@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import importlib.util
 import inspect
-import json
 import sys
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
@@ -188,7 +187,7 @@ def read_labeling(spec: str, *, feature_names: Sequence[str] | None = None):
     if ".py:" in spec or spec.endswith(".py"):
         return load_labeling_function(spec)
     from symlearn.grounding.labeling import load_labeling_text
-    from symlearn.input_limits import read_input_text
+    from symlearn.input_limits import load_json, read_input_text
 
     path = Path(spec)
     if spec.lstrip().startswith("{") and not path.exists():
@@ -202,11 +201,8 @@ def read_labeling(spec: str, *, feature_names: Sequence[str] | None = None):
             text = read_input_text(path, what="labeling file")
         except OSError as exc:
             raise DataError(f"cannot read the labeling: {exc.strerror}", file=spec) from None
-        try:
-            doc = json.loads(text)
-        except json.JSONDecodeError as exc:
-            raise DataError(f"the labeling is not JSON: {exc.msg}", file=spec, line=exc.lineno,
-                            column=exc.colno) from None
+        # syntax, nesting, duplicate keys, huge integers and lone surrogates refused with their place
+        doc = load_json(text, source=spec, error=DataError, syntax="the labeling is not JSON")
     if isinstance(doc, dict) and "symlearn" in doc:
         return load_labeling_text(text, source=spec)
     if not isinstance(doc, dict) or not doc or not all(isinstance(v, str) for v in doc.values()):

@@ -54,7 +54,7 @@ from pathlib import Path
 from typing import Any
 
 from symlearn.errors import DataError, ParseError
-from symlearn.input_limits import MAX_JSON_DEPTH, depth, read_input_text
+from symlearn.input_limits import MAX_JSON_DEPTH, depth, load_toml, read_input_text
 from symlearn.sweep.target_policy import command_refusal, function_refusal
 
 SECTIONS = {"sweep", "fixed", "grid", "cases", "report"}
@@ -222,7 +222,7 @@ def read_spec(path: str | Path, *, check_target: bool = True) -> SweepSpec:
     path = Path(path)
     text = read_input_text(path)
     try:
-        doc = tomllib.loads(text)
+        doc = load_toml(text, source=path)
     except tomllib.TOMLDecodeError as exc:
         line, column = _toml_position(str(exc), text)
         message = re.sub(r"\s*\(at (line \d+, column \d+|end of document)\)", "", str(exc))

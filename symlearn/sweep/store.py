@@ -35,7 +35,7 @@ from typing import Any
 
 from symlearn.atomic import write_text
 from symlearn.errors import DataError, LimitExceededError
-from symlearn.input_limits import decode_utf8, describe_bytes, limit, load_json, read_input_bytes
+from symlearn.input_limits import decode_utf8, describe_bytes, limit, load_json, open_input, read_input_bytes
 from symlearn.json_document import read_document
 
 MAGIC = "sweep"
@@ -67,7 +67,7 @@ def read_records(folder: str | Path) -> list[dict[str, Any]]:
         return []
     records = []
     bound = limit("SYMLEARN_MAX_INPUT_MB")
-    with open(path, "rb") as handle:
+    with open_input(path) as handle:  # a named pipe without a writer must not block the open
         if not stat.S_ISREG(os.fstat(handle.fileno()).st_mode):  # /dev/zero would be one endless line
             raise DataError("the results store is not a regular file", file=path)
         number = 0

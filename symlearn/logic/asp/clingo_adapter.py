@@ -170,6 +170,40 @@ class _Stop(Exception):
     """Raised inside a clingo callback to stop it; the real exception is kept aside."""
 
 
+#: comments and strings, where any character may stand, else one character clingo cannot take
+_CODE_CHARACTER = re.compile(r'%\*.*?\*%|%[^\n]*|"(?:[^"\\\n]|\\.)*"|[^\x01-\x7f]', re.S)
+_SPELLINGS = {"\u2212": "-", "\u2013": "-", "\u2264": "<=", "\u2265": ">=", "\u2260": "!=", "\u00ac": "not",
+              "\u2018": "'", "\u2019": "'", "\u201c": '"', "\u201d": '"', "\u00a0": "a plain space"}
+
+
+def check_characters(program: Program, text: str | None = None) -> None:
+    """Refuse, at its place in the user's file, a character clingo must never see: a NUL (clingo
+    reads text up to it and silently drops the rest) and, outside strings and comments, any
+    non-ASCII character (ASP names, numbers and operators are ASCII; clingo's error message
+    would cut the character's UTF-8 bytes apart, and decoding that message aborts the process).
+    A plain ``isascii`` test first: almost every program passes it at C speed."""
+    text = program.text if text is None else text
+    if text.isascii() and "\x00" not in text:
+        return
+    for found in _CODE_CHARACTER.finditer(text):
+        char = found.group()
+        if len(char) != 1 and "\x00" not in char:
+            continue
+        offset = found.start() + (char.find("\x00") if len(char) != 1 else 0)
+        char = text[offset]
+        line = text.count("\n", 0, offset) + 1
+        column = offset - (text.rfind("\n", 0, offset) + 1) + 1
+        source, src_line, src_col = program.locate(line, column)
+        if char == "\x00":
+            raise ParseError("a NUL character (byte 0) in the program: clingo would ignore everything after it",
+                             file=source, line=src_line, column=src_col, hint="remove the NUL byte")
+        spelling = _SPELLINGS.get(char)
+        hint = f"write {spelling!r}" if spelling and len(spelling) <= 3 else (
+            f"write {spelling}" if spelling else "non-ASCII text belongs in a quoted string or a % comment")
+        raise ParseError(f"unexpected character {char!r} (U+{ord(char):04X}): ASP names, numbers and operators "
+                         "are ASCII", file=source, line=src_line, column=src_col, hint=hint)
+
+
 def parse_statements(text: str, callback: Callable[[clingo.ast.AST], None], *,
                      program: Program | None = None, messages: _Messages | None = None) -> None:
     """``clingo.ast.parse_string`` that lets exceptions of ``callback`` through unchanged.
@@ -180,6 +214,7 @@ def parse_statements(text: str, callback: Callable[[clingo.ast.AST], None], *,
     :class:`ParseError` located through ``program`` (default: ``text`` itself)."""
     failure: list[BaseException] = []
     messages = _Messages() if messages is None else messages
+    check_characters(program if program is not None else Program.from_text(text), text)
 
     def guarded(statement: clingo.ast.AST) -> None:
         if failure:
@@ -250,6 +285,7 @@ def ground(program: Program, arguments: Sequence[str] = (), *,
            context: object | None = None) -> clingo.Control:
     """Add ``program`` to a new control object and ground it; clingo errors become ParseError."""
     check_no_scripts(program)
+    check_characters(program)
     ctl, messages = control_for(arguments)
     try:
         ctl.add("base", [], program.text)
@@ -371,6 +407,11 @@ def ground_atoms(program: Program, signatures: Iterable[tuple[str, int]] | None 
 
 def parse_term(text: str) -> Symbol:
     """A ground clingo term (``on(1,2)``); raises ParseError on bad syntax."""
+    if not text.isascii() or "\x00" in text:  # what clingo's own error message could not carry
+        try:
+            check_characters(Program.from_text(text))
+        except ParseError as exc:
+            raise ParseError(f"not a ground term: {text!r} ({exc.message})", hint=exc.hint) from None
     try:
         return clingo.parse_term(text, logger=lambda _c, _m: None)
     except RuntimeError as exc:

@@ -76,11 +76,12 @@ def parse_mona_dot(text: str, *, source: str | None = None, variables: Sequence[
             continue
         if match := _EDGE.match(line):
             label_column = match.start("label") + 1
-            edges.append((int(match["source"]), int(match["target"]), match["label"], number, label_column))
+            edges.append((_state(match["source"], source, number, line), _state(match["target"], source, number, line),
+                          match["label"], number, label_column))
         elif match := _INIT_EDGE.match(line):
             if initial is not None:
                 raise _error("a second 'init ->' edge: the automaton has one initial state", source, number, line)
-            initial = int(match["target"])
+            initial = _state(match["target"], source, number, line)
             initial_at = (number, line)
         elif match := _DEFAULTS.match(line):
             found = _SHAPE.search(match["attrs"])
@@ -88,7 +89,7 @@ def parse_mona_dot(text: str, *, source: str | None = None, variables: Sequence[
                 for state in re.findall(r"\w+", match["states"]):
                     if not state.isdigit():
                         raise _error(f"state {state!r} is not a number", source, number, line, state)
-                    shape.setdefault(int(state), found.group(1))
+                    shape.setdefault(_state(state, source, number, line), found.group(1))
         elif _INIT_NODE.match(line) or _ATTRIBUTE.match(line):
             continue
         else:
@@ -182,6 +183,14 @@ def _bit_guards(edges, variables, source) -> list[Guard]:
             guard = guard | Guard.cube(cube)
         guards.append(guard)
     return guards
+
+
+def _state(text: str, source, number: int, line: str) -> int:
+    """A state number of at most 18 digits (MONA numbers its states from 0; a longer one is no
+    state of a file we could read, and Python refuses to convert one of more than 4300 digits)."""
+    if len(text) > 18:
+        raise _error(f"state number {text[:20]}... ({len(text):,} digits) is too large", source, number, line, text)
+    return int(text)
 
 
 def _error(message: str, source, number: int, line: str, near: str | None = None) -> ParseError:

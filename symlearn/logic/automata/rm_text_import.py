@@ -79,6 +79,8 @@ class _Line:
         text, column = self.expect("number", what="a state number")
         if not re.fullmatch(r"[-+]?\d+", text):
             raise self.error(f"a state number must be an integer, found {text!r}", column)
+        if len(text.lstrip("+-")) > 18:
+            raise self.error(f"state number {text[:20]}... ({len(text):,} characters) is too large", column)
         return int(text)
 
     def end(self) -> None:

@@ -238,8 +238,9 @@ class _Reader:
                                  hint="basic TLSF has INPUTS, OUTPUTS, INITIALLY, PRESET, REQUIRE, ASSERT, "
                                       "ASSUMPTIONS, GUARANTEES")
         self.take()
+        known = set(declared)  # once: built per formula, n formulas over n signals cost n^2
         for section, formula, start in pending:
-            unknown = sorted(propositions(formula) - set(declared))
+            unknown = sorted(propositions(formula) - known)
             if unknown:
                 raise self.error(f"{section} names {unknown[0]!r}, which is declared neither in INPUTS nor in "
                                  "OUTPUTS", start)
