@@ -24,6 +24,13 @@ states) stays one progression, as do its refusals from a proven state bound
 progression, each group of dependent parts by products, and the groups' DFAs joined smallest
 first (the order Lydia uses). ``max_states`` bounds every product before minimisation, as it
 bounds the obligations of a progression.
+
+Two rewrites reach below the Boolean top. A leaf that is a chain of ``G``/``X``/``WX`` over a
+conjunction (or of ``F``/``X``/``WX`` over a disjunction) of dependent parts is distributed when
+progression of the leaf fails its trial: ``X[!] G (r1 & ... & r40)``, a double counter's rules,
+becomes forty small parts. And a part joined to its start conditions that is itself a composite
+skeleton is progressed whole only within :data:`JOINED_NODES`, then composed with its conditions
+apart; the measurements that chose both are in ``docs/BENCHMARKS.md`` (issue 27).
 """
 
 from __future__ import annotations
