@@ -11,7 +11,8 @@ table or feature labeling, also one given as a ``{proposition: condition}`` obje
 ``FILE.py:function``, which cannot be saved: the output says so in one line and in the JSON's
 ``labeling_not_written``) and the automaton (``spec.dot`` and, with Graphviz, ``spec.svg``).
 The propositions are printed with their meanings: the labeling's own, else a feature
-labeling's condition, else, for a Python function, its ``(FILE.py:function)``. ``-o`` must end in ``.ltl``: the other files are
+labeling's condition, else, for a Python function, its ``(FILE.py:function)``.
+``-o`` must end in ``.ltl``: the other files are
 named after it, so ``-o notes.txt`` would overwrite ``notes.dot``/``notes.svg`` (refused before
 learning). Demonstrations given with ``--demos`` must come from the environment: a file whose
 metadata names another task, or whose labels disagree with the environment's labeling, is refused.

@@ -14,7 +14,8 @@
   arguments of the environment's constructor (an unknown key is refused, naming its parameters).
 * ``--algo``: ``ppo`` (default without ``--cost``), ``ppo-lag`` (default with ``--cost``; without
   one it constrains the environment's own ``info["cost"]`` -- "PPO-Lagrangian on the true cost"
-  -- and is refused, after the first rollout, when none of its steps reported one), ``sb3-ppo``, ``sb3-sac``, ``sb3-dqn``,
+  -- and is refused, after the first rollout, when none of its steps reported one), ``sb3-ppo``,
+  ``sb3-sac``, ``sb3-dqn``,
   ``sb3-ppo-lag``, ``sb3-sac-lag`` (stable-baselines3, the ``sb3`` extra; handled by
   :mod:`symlearn.cli.train_sb3`), or ``dqrm``/``dqn`` on a rendered block task
   (:mod:`symlearn.cli.train_rm`).

@@ -557,4 +557,5 @@ def _gymnasium() -> Any:
     return gymnasium
 
 
-__all__ = ["CostWatch", "EnvTarget", "Features", "observation_width", "parse_env_kwargs", "parse_feature_names", "resolve_env"]
+__all__ = ["CostWatch", "EnvTarget", "Features", "observation_width", "parse_env_kwargs", "parse_feature_names",
+           "resolve_env"]
