@@ -110,7 +110,11 @@ class SharedMultipliers:
 
 
 class LagrangianReward(gym.Wrapper):
-    """The learner's reward is ``r - lambda . info[cost_key]``; ``info["env_reward"]`` keeps ``r``."""
+    """The learner's reward is ``r - lambda . info[cost_key]``; ``info["env_reward"]`` keeps ``r``.
+
+    A step without ``info[cost_key]`` costs 0: an environment may report its cost only on the
+    steps that pay it. Whether any step reports one is for the multiplier's updater to check
+    (:func:`symlearn.backends.sb3.lagrangian_callback` refuses a first rollout without any)."""
 
     def __init__(self, env: gym.Env, multipliers: SharedMultipliers, *, cost_key: str = "cost") -> None:
         super().__init__(env)
@@ -118,11 +122,13 @@ class LagrangianReward(gym.Wrapper):
 
     def step(self, action: Any):
         observation, reward, terminated, truncated, info = self.env.step(action)
-        if self.cost_key not in info:
-            raise DataError(f"the environment reports no info[{self.cost_key!r}] to constrain",
-                            hint="give a learned cost, or wrap the environment so every step reports info['cost']")
-        cost = np.asarray(info[self.cost_key], dtype=np.float64).reshape(-1)
         lambdas = self.multipliers.values
+        raw = info.get(self.cost_key)
+        if raw is None:  # not paid on this step: no penalty
+            info = dict(info)
+            info["env_reward"] = float(reward)
+            return observation, float(reward), terminated, truncated, info
+        cost = np.asarray(raw, dtype=np.float64).reshape(-1)
         if cost.size != lambdas.size:
             raise DataError(f"info[{self.cost_key!r}] has {cost.size} entries for {lambdas.size} multiplier(s)")
         info = dict(info)

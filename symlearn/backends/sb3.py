@@ -39,6 +39,7 @@ import numpy as np
 
 from symlearn.errors import SymlearnError
 from symlearn.optional import require
+from symlearn.rl.episode_stats import NoCostReported
 
 __all__ = ["ALGORITHMS", "check_action_space", "counterfactual_callback", "lagrangian_callback", "load_policy",
            "save_policy"]
@@ -185,13 +186,16 @@ def _lagrangian_class() -> type:
             self._lengths: list[int] = []
             self._length = np.zeros(n_envs, dtype=np.int64)
             self._since = 0
+            self._seen = False   # some step has reported info[cost_key]
 
         def _on_step(self) -> bool:
             for i, (info, done) in enumerate(zip(self.locals["infos"], self.locals["dones"], strict=True)):
-                if self.cost_key not in info:
-                    raise SymlearnError(f"the environment reports no info[{self.cost_key!r}]",
-                                        hint="wrap it with LagrangianReward over a cost the steps report")
-                cost = np.asarray(info[self.cost_key], dtype=np.float64).reshape(-1)
+                raw = info.get(self.cost_key)
+                if raw is None:   # a step without a cost costs 0 (one reported only where it is paid)
+                    cost = np.zeros(self._running.shape[1])
+                else:
+                    cost = np.asarray(raw, dtype=np.float64).reshape(-1)
+                    self._seen = True
                 self._running[i] += cost
                 self._window_cost += cost
                 self._length[i] += 1
@@ -202,6 +206,11 @@ def _lagrangian_class() -> type:
             self._window_steps += len(self.locals["infos"])
             self._since += len(self.locals["infos"])
             if self._since >= self.update_every:
+                if not self._seen:   # decided from the steps of the first rollout, not from the first step
+                    raise NoCostReported(f"the environment reported no info[{self.cost_key!r}] in the first "
+                                         f"{self._since} steps", steps=self._since,
+                                         hint="report it on the steps that pay it (a step without it costs 0), "
+                                              "or wrap the environment with LagrangianReward over a cost")
                 self._update()
             return True
 

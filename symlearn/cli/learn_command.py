@@ -6,8 +6,13 @@ write ``symlearn/cli/learn_constraints_command.py`` with such a function and add
 the tuple (``constraints`` lives in ``learn_constraints_command.py``).
 
 ``symlearn learn spec --env office-1 [--demos D.jsonl | --n-demos N] [--props given|learn] [-o spec.ltl]``
-writes the formula (``spec.ltl``), the labeling (``spec.labeling.json``) and the automaton
-(``spec.dot`` and, with Graphviz, ``spec.svg``). ``-o`` must end in ``.ltl``: the other files are
+writes the formula (``spec.ltl``), the labeling (``spec.labeling.json``; in a user's environment a
+table or feature labeling, also one given as a ``{proposition: condition}`` object, but not a
+``FILE.py:function``, which cannot be saved: the output says so in one line and in the JSON's
+``labeling_not_written``) and the automaton (``spec.dot`` and, with Graphviz, ``spec.svg``).
+The propositions are printed with their meanings: the labeling's own, else a feature
+labeling's condition, else, for a Python function, its ``(FILE.py:function)``.
+``-o`` must end in ``.ltl``: the other files are
 named after it, so ``-o notes.txt`` would overwrite ``notes.dot``/``notes.svg`` (refused before
 learning). Demonstrations given with ``--demos`` must come from the environment: a file whose
 metadata names another task, or whose labels disagree with the environment's labeling, is refused.
@@ -84,7 +89,8 @@ def register_learn(commands, common) -> None:
                       help="length of nominal rollouts (default: the environment's, 200 for a domain)")
     spec.add_argument("--no-prune", action="store_true", help="keep every learned conjunct")
     spec.add_argument("-o", "--output", metavar="SPEC.ltl",
-                      help="write the formula here; SPEC.labeling.json, SPEC.dot and SPEC.svg go next to it")
+                      help="write the formula here; SPEC.dot, SPEC.svg and the labeling as SPEC.labeling.json go "
+                           "next to it (not a FILE.py:function labeling, which cannot be saved)")
     spec.set_defaults(handler=_spec)
 
 
@@ -92,7 +98,7 @@ def _render(doc: dict) -> str:
     lines = [f"formula: {doc['formula']}"]
     if doc["propositions"]:
         lines.append("propositions:")
-        lines += [f"  {name}: {meaning}" for name, meaning in doc["propositions"].items()]
+        lines += [f"  {name}: {meaning}".rstrip() for name, meaning in doc["propositions"].items()]
     if doc["success_rate"] is not None:
         lines.append(f"success rate on the ground-truth task: {doc['success_rate']:.2f}")
     entropy = "n/a" if doc["entropy"] is None else f"{doc['entropy']:.3f}"
@@ -102,6 +108,8 @@ def _render(doc: dict) -> str:
         lines.append("pruned: " + ", ".join(doc["pruned"]))
     lines += [f"rejected: {r['formula']} ({r['why']})" for r in doc.get("rejected", [])]
     lines += [f"wrote {f}" for f in doc["files"]]
+    if doc.get("labeling_not_written"):
+        lines.append(doc["labeling_not_written"])
     return "\n".join(lines)
 
 
@@ -151,13 +159,11 @@ def _spec(args: argparse.Namespace, out) -> None:
         _check_demos_world(demos, args.demos, task, env)
     with blame_file(args.demos):
         learner.fit(demos, env)
-    files = _write_outputs(learner, args.output) if args.output else []
-    meanings = learner.labeling_.meanings
-    used = [p for p in learner.labeling_.propositions]
+    files, not_written = _write_outputs(learner, args.output) if args.output else ([], None)
     doc = {
         "env": task.name if task is not None else env.name,
         "formula": str(learner.formula_),
-        "propositions": {p: meanings.get(p, "") for p in used},
+        "propositions": _meanings(learner.labeling_),
         "success_rate": learner.success_rate(task.formula) if task is not None else None,
         "entropy": learner.entropy_,
         "iterations": learner.iterations_,
@@ -166,8 +172,28 @@ def _spec(args: argparse.Namespace, out) -> None:
         "rejected": learner.rejected_,
         "seconds": learner.seconds_,
         "files": files,
+        "labeling_not_written": not_written,
     }
     out.result(doc, _render)
+
+
+def _meanings(labeling, conditions=None, source: str | None = None) -> dict[str, str]:
+    """What each proposition means, as printed: the labeling's own meaning, else its condition
+    (a feature labeling, or ``conditions``: the one a wrapped labeling reads), else, for a
+    Python function, where it came from (``(labels.py:label)``) -- never an empty line."""
+    from symlearn.grounding.labeling_function import FunctionLabeling
+
+    given = labeling.meanings
+    out = {}
+    for p in labeling.propositions:
+        text = given.get(p, "")
+        for holder in (conditions, labeling):
+            if not text and hasattr(holder, "condition") and p in holder.propositions:
+                text = holder.condition(p).to_string(one_line=True)
+        if not text and isinstance(labeling, FunctionLabeling):
+            text = f"({source or labeling.name})"
+        out[p] = text
+    return out
 
 
 def _reporter(out):
@@ -218,19 +244,18 @@ def _spec_in_user_env(args, out, target, seed: int) -> None:
             raise DataError(f"{flag} must be at least 1, got {value}")
     target = target.with_joint_actions()   # MultiDiscrete/MultiBinary: one Discrete of the combinations
     env = target.make()
-    labeling = _user_labeling(args, target, env)
+    labeling, saved = _user_labeling(args, target, env)
     demos = load(args.demos)
     learner = SpecLearner(labeling=labeling, threshold=args.threshold, max_iterations=args.max_iterations,
                           prune=not args.no_prune, random_state=seed, horizon=args.horizon, q_steps=args.q_steps,
                           ppo_steps=args.ppo_steps, policy=args.policy, callback=_reporter(out))
     with blame_file(args.demos):
         learner.fit(demos, env)
-    files = _write_outputs(learner, args.output) if args.output else []
-    meanings = learner.labeling_.meanings
+    files, not_written = _write_outputs(learner, args.output, saved, args.labeling) if args.output else ([], None)
     doc = {
         "env": target.display,
         "formula": str(learner.formula_),
-        "propositions": {p: meanings.get(p, "") for p in learner.labeling_.propositions},
+        "propositions": _meanings(learner.labeling_, saved, args.labeling),
         "success_rate": None,
         "entropy": learner.entropy_,
         "iterations": learner.iterations_,
@@ -240,19 +265,23 @@ def _spec_in_user_env(args, out, target, seed: int) -> None:
         "policy_update": learner.world_.route,
         "seconds": learner.seconds_,
         "files": files,
+        "labeling_not_written": not_written,
     }
     out.result(doc, _render)
 
 
 def _user_labeling(args, target, env):
-    """``--labeling`` read for a user's environment; a feature labeling's names from
-    ``--features`` or the environment (checked against the observation's width), else, for a
-    ``Dict``/``Tuple`` observation, the names ``record`` gives its parts' numbers."""
+    """``--labeling`` read for a user's environment, and the labeling to save as SPEC.labeling.json
+    (None for a Python function); a feature labeling's names from ``--features`` or the
+    environment (checked against the observation's width), else, for a ``Dict``/``Tuple``
+    observation, the names ``record`` gives its parts' numbers. A feature labeling that reads
+    ``info["features"]`` or the parts is saved as the feature labeling it is: given again as
+    ``--labeling SPEC.labeling.json`` in the same environment, it reads the same columns."""
     from symlearn.grounding.labeling_function import read_labeling
 
     names = target.feature_names(env, override=args.features) if args.features else None
     if not args.labeling:
-        return None
+        return None, None
     by_part = False
     if names is None and (args.labeling.lower().endswith(".json") or args.labeling.lstrip().startswith("{")):
         names = target.feature_names(env)  # a file, or the {proposition: condition} object given as it is
@@ -266,15 +295,15 @@ def _user_labeling(args, target, env):
 
         inner = labeling  # conditions over the parts by name ("achieved_goal[0]" > 0.5), as record names them
         return FunctionLabeling(lambda obs, _info: inner.label(observation_features(obs)), inner.propositions,
-                                meanings=inner.meanings, name=args.labeling)
+                                meanings=inner.meanings, name=args.labeling), inner
     features = target.features(env, override=args.features) if names is not None else None
     if features is not None and features.source == "info" and hasattr(labeling, "feature_map"):
         from symlearn.grounding.labeling_function import FunctionLabeling
 
         inner = labeling  # the columns are info["features"], not the observation
-        labeling = FunctionLabeling(lambda _obs, info: inner.label(info["features"]), inner.propositions,
-                                    meanings=inner.meanings, name=args.labeling)
-    return labeling
+        return FunctionLabeling(lambda _obs, info: inner.label(info["features"]), inner.propositions,
+                                meanings=inner.meanings, name=args.labeling), inner
+    return labeling, (labeling if hasattr(labeling, "to_json") else None)   # a Python function is not saved
 
 
 def _part_names(env):
@@ -330,17 +359,26 @@ def _check_demos_world(demos, source: str, task, env) -> None:
                                 file=source, hint="these demonstrations come from another environment or labeling")
 
 
-def _write_outputs(learner, output: str) -> list[str]:
+def _write_outputs(learner, output: str, labeling=None, source: str | None = None) -> tuple[list[str], str | None]:
+    """The files written (formula, labeling, automaton) and, where no labeling file could be
+    written (a Python function), the one line that says why. ``labeling``: the labeling to save
+    (default: the learner's, where it can be saved)."""
     from symlearn.atomic import write_text
     from symlearn.rendering import dot_available, render_dot
 
     path = Path(output)
     stem = path.with_suffix("") if path.suffix else path
     files = [str(learner.save(path))]  # the formula, as SpecLearner.save writes it in Python
-    if hasattr(learner.labeling_, "save") and hasattr(learner.labeling_, "to_json"):  # a function is not saved
-        labeling_path = stem.with_name(stem.name + ".labeling.json")
-        learner.labeling_.save(labeling_path)
+    labeling = labeling if labeling is not None else learner.labeling_
+    labeling_path = stem.with_name(stem.name + ".labeling.json")
+    not_written = None
+    if hasattr(labeling, "save") and hasattr(labeling, "to_json"):
+        labeling.save(labeling_path)
         files.append(str(labeling_path))
+    else:   # a function cannot be saved, and a labeling file never names code to run
+        given = source or getattr(labeling, "name", "the labeling")
+        not_written = (f"no {labeling_path.name} written: the labeling is the Python function {given}, which "
+                       f"cannot be saved; give --labeling {given} again with {path.name}")
     dot = learner.dfa_.to_dot(title=str(learner.formula_))
     dot_path = stem.with_name(stem.name + ".dot")
     write_text(dot_path, dot)
@@ -349,4 +387,4 @@ def _write_outputs(learner, output: str) -> list[str]:
         svg_path = stem.with_name(stem.name + ".svg")
         render_dot(dot, svg_path)
         files.append(str(svg_path))
-    return files
+    return files, not_written

@@ -9,8 +9,9 @@
   ``point-circle``; see ``symlearn envs``), a gymnasium id, or ``module:EnvId`` (a user's
   environment: give ``--demos``), built with ``--env-kwargs`` (a JSON object of its
   constructor's keyword arguments, e.g. ``'{"wall": -4.0}'``; an unknown key is refused).
-  Where the environment reports no ``info["cost"]``, ``violation_rate`` and ``feasible_reward``
-  are null (n/a); where it has no ``is_unsafe``, the recovery figures are null.
+  Where no step of learning or evaluation reports ``info["cost"]``, ``violation_rate`` and
+  ``feasible_reward`` are null (n/a); once one does, a step without it costs 0 (a cost reported
+  only on the steps that pay it). Where it has no ``is_unsafe``, the recovery figures are null.
 * ``--demos``: expert demonstrations (``.npz``/``.jsonl``) whose states are the environment's
   observations and which carry actions; otherwise ``--n-demos`` episodes of the environment's
   scripted expert (BlockedPoint: full speed away from the wall), generated from ``--seed``, or,
@@ -185,7 +186,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
     from symlearn.cli.output import blame_file
     from symlearn.envs.registry import Kind, entries
     from symlearn.errors import DataError
-    from symlearn.recipes.environments import observation_width, resolve_env
+    from symlearn.recipes.environments import CostWatch, observation_width, resolve_env
     from symlearn.recipes.experts import demonstrations
 
     _check_arguments(args)
@@ -207,7 +208,10 @@ def _icrl(args: argparse.Namespace, out) -> None:
     demos = demonstrations(target, args.demos, args.n_demos, seed=seed, expert_steps=args.expert_steps,
                            expert_cache=args.expert_cache, note=out.note)
     demos = _in_the_view(demos, env, args.demos, names)
-    has_cost = target.reports_cost(env)
+    # whether the environment reports a cost is read from every step learning and evaluation take
+    # (one may report info["cost"] only on the steps that pay it), not from a first step
+    watch = CostWatch()
+    target = target.watched(watch)
 
     import torch
 
@@ -246,6 +250,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
     rec = None if unsafe is None else recovery(learner.cost_, unsafe, expert_obs.reshape(len(expert_obs), -1),
                                                seed=seed, margin="auto")
     result = learner.result_
+    has_cost = watch.seen   # once one step reported info["cost"], the steps without it cost 0
     doc = {"env": target.display, "method": args.method, "reward": evaluation.reward,
            # a user's environment without info["cost"] has no ground truth: n/a, never 0
            "violation_rate": evaluation.violation_rate if has_cost else None,

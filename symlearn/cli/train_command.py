@@ -14,7 +14,8 @@
   arguments of the environment's constructor (an unknown key is refused, naming its parameters).
 * ``--algo``: ``ppo`` (default without ``--cost``), ``ppo-lag`` (default with ``--cost``; without
   one it constrains the environment's own ``info["cost"]`` -- "PPO-Lagrangian on the true cost"
-  -- and is refused when the environment reports none), ``sb3-ppo``, ``sb3-sac``, ``sb3-dqn``,
+  -- and is refused, after the first rollout, when none of its steps reported one), ``sb3-ppo``,
+  ``sb3-sac``, ``sb3-dqn``,
   ``sb3-ppo-lag``, ``sb3-sac-lag`` (stable-baselines3, the ``sb3`` extra; handled by
   :mod:`symlearn.cli.train_sb3`), or ``dqrm``/``dqn`` on a rendered block task
   (:mod:`symlearn.cli.train_rm`).
@@ -63,7 +64,8 @@
 JSON keys: ``env``, ``algo``, ``cost_kind`` (``dnf``, ``neural`` or null), ``return`` and ``cost``
 (mean per episode of greedy evaluation episodes; ``cost`` is the environment's ground-truth
 ``info["cost"]``), ``violation_rate`` (ground-truth cost per evaluation step) -- both ``null``
-when the environment reports no ``info["cost"]`` --, ``multipliers`` (null without a
+when no step of training or evaluation reported ``info["cost"]``; once one did, a step without
+it costs 0 --, ``multipliers`` (null without a
 Lagrangian), ``pruned`` (the dropped rules, or null; with ``--prune`` also ``kept``), ``seconds``,
 ``steps``, ``files``.
 """
@@ -212,8 +214,9 @@ def _train(args: argparse.Namespace, out) -> None:
         raise SymlearnError("symlearn writes policies as .safetensors + .json, never stable-baselines3's "
                             "pickled .zip", hint="-o agent.safetensors")
 
-    from symlearn.cli.train_costs import refuse_without_cost, training_cost
-    from symlearn.recipes.environments import resolve_env
+    from symlearn.cli.train_costs import refused_without_cost, training_cost
+    from symlearn.recipes.environments import CostWatch, resolve_env
+    from symlearn.rl.episode_stats import NoCostReported
 
     # observed as one vector whatever the environment observes (MiniGrid's Dict with text, ...);
     # our PPO and SB3's DQN act in a MultiDiscrete/MultiBinary space as one Discrete of its combinations
@@ -222,21 +225,28 @@ def _train(args: argparse.Namespace, out) -> None:
     cost = None
     if args.cost:
         cost = training_cost(args.cost, target, features=args.features, per_rule=args.per_rule)
-    elif args.algo.endswith("-lag"):
-        refuse_without_cost(target, args.algo)
     from symlearn.cli.env_errors import environment_file, raised_by_environment
 
     # an exception from the user's environment code while training is theirs, one located line
     probe = target.make()
     env_file = None if target.bundled else environment_file(probe)
     probe.close()
-    with raised_by_environment(env_file, f"training on {target.display}"):
-        if args.algo in SB3_ALGOS:
-            from symlearn.cli.train_sb3 import train_sb3
+    # whether the environment reports a cost: from every step training and evaluation take (one
+    # may report info["cost"] only on the steps that pay it), not from a first step
+    watch = CostWatch()
+    target = target.watched(watch)
+    try:
+        with raised_by_environment(env_file, f"training on {target.display}"):
+            if args.algo in SB3_ALGOS:
+                from symlearn.cli.train_sb3 import train_sb3
 
-            doc = train_sb3(args, target, cost)
-        else:
-            doc = _train_ours(args, target, cost)
+                doc = train_sb3(args, target, cost, watch)
+            else:
+                doc = _train_ours(args, target, cost, watch)
+    except NoCostReported as exc:   # --algo *-lag without --cost: the first rollout reported no cost
+        if cost is not None:
+            raise
+        raise refused_without_cost(target, args.algo, exc.steps) from None
     if args.prune:
         pruned = _prune(args, cost.stats, doc["steps"])
         doc["files"].insert(0, pruned.pop("file"))
@@ -244,7 +254,7 @@ def _train(args: argparse.Namespace, out) -> None:
     out.result(doc, _render)
 
 
-def _train_ours(args: argparse.Namespace, target, cost) -> dict:
+def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
     from symlearn.cli.train_costs import penalised
     from symlearn.rl.ppo import LagrangianConfig, PPOConfig, evaluate, train_ppo
     from symlearn.rl.training_log import TrainingLog
@@ -275,7 +285,7 @@ def _train_ours(args: argparse.Namespace, target, cost) -> dict:
                            callback=_logged(log, cost) if (args.log or args.tensorboard) else None)
     episodes = evaluate(result.policy, target.make(), args.eval_episodes, seed=seed + 10_000)
     doc = evaluation_document(args, cost, episodes.returns, episodes.lengths,
-                              episodes.costs if episodes.costs.shape[1] else None)
+                              episodes.costs if episodes.costs.shape[1] else None, reported=watch.seen)
     doc.update({"multipliers": [float(m) for m in result.multipliers] if lagrangian else None,
                 "steps": int(result.steps), "seconds": float(result.seconds)})
     if args.output:
@@ -297,12 +307,16 @@ def _logged(log, cost):
     return write
 
 
-def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_costs) -> dict:
-    """The result keys both trainers share; ``true_costs`` ``(E, k)``, or None when the environment
-    reported no ``info["cost"]`` (then ``cost`` and ``violation_rate`` are null, never 0)."""
+def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_costs, *,
+                        reported: bool = False) -> dict:
+    """The result keys both trainers share; ``true_costs`` ``(E, k)``, or None when no evaluation
+    step reported ``info["cost"]``: then, where a training step did (``reported``), every
+    evaluated step cost 0, and where none did, ``cost`` and ``violation_rate`` are null, never 0."""
     import numpy as np
 
     per_episode = None
+    if true_costs is None and reported:   # costs reported only where paid, and evaluation paid none
+        true_costs = np.zeros((len(returns), 1))
     if true_costs is not None:   # summed over constraints
         per_episode = np.asarray(true_costs, dtype=np.float64).reshape(len(returns), -1).sum(axis=1)
     return {"env": args.env, "algo": args.algo, "cost_kind": None if cost is None else cost.kind,

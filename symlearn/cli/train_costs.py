@@ -123,12 +123,14 @@ def penalised(cost: TrainingCost) -> Any:
     return reward
 
 
-def refuse_without_cost(target: Any, algo: str) -> None:
-    if not target.reports_cost():
-        raise SymlearnError(f"--algo {algo} without --cost constrains the environment's info['cost'], and "
-                            f"{target.display} reports none on its first step",
-                            hint="report info['cost'] on every step (0.0 where nothing is violated), give a "
-                                 "learned cost with --cost RULES.dnf|COST.safetensors, or train --algo ppo")
+def refused_without_cost(target: Any, algo: str, steps: int) -> SymlearnError:
+    """The one-line refusal of ``--algo ALGO`` without ``--cost`` on an environment whose first
+    ``steps`` (its first rollout) reported no ``info["cost"]`` -- decided from the steps training
+    took, since an environment may report a cost only on the steps that pay it."""
+    return SymlearnError(f"--algo {algo} without --cost constrains the environment's info['cost'], and "
+                         f"{target.display} reports none in the first rollout ({steps} steps)",
+                         hint="report info['cost'] on the steps that pay it (a step without it costs 0), give a "
+                              "learned cost with --cost RULES.dnf|COST.safetensors, or train --algo ppo")
 
 
-__all__ = ["TrainingCost", "penalised", "refuse_without_cost", "training_cost"]
+__all__ = ["TrainingCost", "penalised", "refused_without_cost", "training_cost"]

@@ -28,7 +28,7 @@ from typing import Any
 import numpy as np
 
 
-def train_sb3(args: argparse.Namespace, target: Any, cost: Any) -> dict[str, Any]:
+def train_sb3(args: argparse.Namespace, target: Any, cost: Any, watch: Any = None) -> dict[str, Any]:
     from symlearn.backends.sb3 import algorithm_class, check_action_space, lagrangian_callback, save_policy
     from symlearn.cli.train_command import evaluation_document
 
@@ -102,7 +102,8 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any) -> dict[str, Any
     finally:
         torch.set_num_threads(threads)
         venv.close()
-    doc = evaluation_document(args, cost, returns, lengths, true_costs)
+    doc = evaluation_document(args, cost, returns, lengths, true_costs,
+                              reported=watch is not None and watch.seen)
     doc.update({"multipliers": [float(m) for m in multipliers.values] if lagrangian else None,
                 "steps": int(model.num_timesteps), "seconds": seconds})
     if args.output:

@@ -127,6 +127,36 @@ def _width(vector: Any) -> int | None:
 # --- the target --------------------------------------------------------------------------------
 
 
+class CostWatch:
+    """Whether any step of the environments it watches reported ``info["cost"]``.
+
+    An environment may put ``info["cost"]`` only on the steps that pay it (a hazard hit), so
+    whether it reports a ground-truth cost is read from every step it is seen to take -- training
+    and evaluation alike -- not from its first: :attr:`seen` turns true at the first step whose
+    ``info["cost"]`` is not None, and the steps without one then cost 0. ``EnvTarget.watched(watch)``
+    builds every environment with this watch inside its other wrappers."""
+
+    def __init__(self) -> None:
+        self.seen = False
+
+    def wrap(self, env: Any) -> Any:
+        import gymnasium
+
+        watch = self
+
+        class CostWatched(gymnasium.Wrapper):
+            """Tells the watch when a step reports ``info["cost"]``; changes nothing."""
+
+            def step(self, action: Any):
+                result = self.env.step(action)
+                if not watch.seen:
+                    info = result[-1]
+                    watch.seen = isinstance(info, Mapping) and info.get("cost") is not None
+                return result
+
+        return CostWatched(env)
+
+
 @dataclass
 class EnvTarget:
     """A resolved ``--env``: how to build it, and what symlearn knows about it.
@@ -145,6 +175,8 @@ class EnvTarget:
     #: with :attr:`numeric`, a MultiDiscrete/MultiBinary action space is also seen as one Discrete
     #: of its combinations (:mod:`symlearn.recipes.action_spaces`), for symlearn's PPO
     joint_actions: bool = False
+    #: every environment built is watched for ``info["cost"]`` (see :meth:`watched`)
+    watch: CostWatch | None = field(default=None, compare=False, repr=False)
 
     @property
     def display(self) -> str:
@@ -163,6 +195,8 @@ class EnvTarget:
         """A fresh environment (a bundled one built directly, others through ``gymnasium.make``;
         seen through the numeric view of its observations when :attr:`numeric` is set)."""
         env = self._build()
+        if self.watch is not None:  # innermost: the views' own attributes stay on the outside
+            env = self.watch.wrap(env)
         if self.numeric:
             from symlearn.recipes.spaces import numeric_observations
 
@@ -182,6 +216,13 @@ class EnvTarget:
         from dataclasses import replace
 
         return replace(self, numeric=True, joint_actions=bool(actions))
+
+    def watched(self, watch: CostWatch) -> EnvTarget:
+        """The same environment, every copy built watched by ``watch`` (:class:`CostWatch`): after
+        training and evaluating, ``watch.seen`` says whether any step reported ``info["cost"]``."""
+        from dataclasses import replace
+
+        return replace(self, watch=watch)
 
     def with_joint_actions(self) -> EnvTarget:
         """The same environment, observations unchanged, a ``MultiDiscrete``/``MultiBinary`` action
@@ -293,14 +334,22 @@ class EnvTarget:
             return None
         return found.names if found.source == "observation" or len(found.names) == observation_width(env) else None
 
-    def reports_cost(self, env: Any = None) -> bool:
-        """Whether the environment reports a ground-truth cost (``info["cost"]`` after a step;
-        the safety-gymnasium convention). Where it does not, costs are "n/a", never 0."""
+    def reports_cost(self, env: Any = None, max_steps: int = 1000) -> bool:
+        """Whether the environment reports a ground-truth cost (``info["cost"]``; the
+        safety-gymnasium convention) on any step of one episode of random actions (at most
+        ``max_steps``). A quick look only: an environment that reports a cost only on the steps
+        that pay it may not show one here -- the commands decide from the steps training and
+        evaluation take (:class:`CostWatch`). Where none is reported, costs are "n/a", never 0."""
         with self._probe(env) as env:
             env.reset(seed=0)
             env.action_space.seed(0)
-            info = env.step(env.action_space.sample())[-1]
-            return isinstance(info, Mapping) and "cost" in info
+            for _ in range(max_steps):
+                _, _, terminated, truncated, info = env.step(env.action_space.sample())
+                if isinstance(info, Mapping) and info.get("cost") is not None:
+                    return True
+                if terminated or truncated:
+                    return False
+            return False
 
     # experts -----------------------------------------------------------------------------------
 
@@ -508,4 +557,5 @@ def _gymnasium() -> Any:
     return gymnasium
 
 
-__all__ = ["EnvTarget", "Features", "observation_width", "parse_env_kwargs", "parse_feature_names", "resolve_env"]
+__all__ = ["CostWatch", "EnvTarget", "Features", "observation_width", "parse_env_kwargs", "parse_feature_names",
+           "resolve_env"]

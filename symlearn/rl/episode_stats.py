@@ -33,6 +33,15 @@ def plain(value: Any) -> Any:
     return value
 
 
+class NoCostReported(DataError):
+    """A Lagrangian constrains ``info["cost"]``, and none of the ``steps`` of its first rollout
+    reported one (a step without it costs 0 once another has reported one)."""
+
+    def __init__(self, message: str, *, steps: int, hint: str | None = None) -> None:
+        super().__init__(message, hint=hint)
+        self.steps = steps
+
+
 class CostReader:
     """Reads ``info["cost"]``: a number or a vector whose length, once seen, stays fixed."""
 
@@ -120,4 +129,4 @@ def episode_stats(episodes: Sequence[FinishedEpisode], n_costs: int) -> EpisodeS
                         np.array([e.end_step for e in episodes], dtype=np.int64))
 
 
-__all__ = ["CostReader", "EpisodeStats", "FinishedEpisode", "episode_costs", "episode_stats", "plain"]
+__all__ = ["CostReader", "NoCostReported", "EpisodeStats", "FinishedEpisode", "episode_costs", "episode_stats", "plain"]

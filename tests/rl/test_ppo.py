@@ -336,7 +336,7 @@ def test_bad_ppo_settings(kwargs, message):
     ([0.0, [1.0, 0.0]], None, "info\\['cost'\\] has 2 entries, earlier steps reported 1"),
     ([0.0, float("nan")], None, "info\\['cost'\\] is not finite"),
     ([[0.0, 1.0]], LagrangianConfig(cost_limit=[1.0, 1.0, 1.0]), "has 2 entries, the cost limits name 3"),
-    ([None], LagrangianConfig(cost_limit=1.0), "PPO-Lagrangian got no info\\['cost'\\] in a whole rollout"),
+    ([None], LagrangianConfig(cost_limit=1.0), "PPO-Lagrangian got no info\\['cost'\\] in its first rollout"),
     (["high"], None, "must be a number or a vector of numbers"),
 ])
 def test_bad_costs_are_refused(costs, lagrangian, message):

@@ -47,6 +47,40 @@ PLAIN_ROBOT = POINT_ROBOT.replace('    feature_names = ("px", "py")\n', "").repl
     'info = {"cost": float(self.position[0] > self.wall), "features": self.position.copy()}', "info = {}").replace(
     '{"features": self.position.copy()}', "{}").replace("PointRobot-v0", "PlainRobot-v0")
 
+#: a cost reported only on the steps that pay it: ``info["cost"] = 1.0`` on a step whose action
+#: differs from the one before (a gear change), no ``"cost"`` key on the other steps. The first step
+#: of an episode never has one, and a greedy policy (one action for the one observation) never
+#: changes gear, while a sampling one does: its training steps report costs, its evaluation none.
+GEAR_SWITCH = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class GearSwitch(gym.Env):
+    feature_names = ("x", "y")
+
+    def __init__(self, horizon=16):
+        self.horizon = horizon
+        self.observation_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
+        self.action_space = spaces.Discrete(2)
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.t, self.previous = 0, None
+        return np.zeros(2, dtype=np.float32), {}
+
+    def step(self, action):
+        action = int(action)
+        info = {"cost": 1.0} if self.previous is not None and action != self.previous else {}
+        self.previous = action
+        self.t += 1
+        return np.zeros(2, dtype=np.float32), float(action), False, self.t >= self.horizon, info
+
+
+gym.register("GearSwitch-v0", entry_point=GearSwitch)
+'''
+
 
 def write_module(folder: Path, name: str, source: str) -> Path:
     path = Path(folder) / f"{name}.py"

@@ -18,7 +18,7 @@ import torch
 
 from symlearn.errors import DataError, SymlearnError
 from symlearn.progress import ProgressBar
-from symlearn.rl.episode_stats import CostReader, episode_costs
+from symlearn.rl.episode_stats import CostReader, NoCostReported, episode_costs
 from symlearn.rl.ppo.config import LagrangianConfig, PPOConfig
 from symlearn.rl.ppo.multipliers import Multipliers
 from symlearn.rl.ppo.networks import ActorCritic, _space_spec
@@ -133,10 +133,11 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
                                truncated=tuple((t, i, agent.normalize(x)) for t, i, x in data.truncated))
             n_costs = costs.n or 0
             if lagrangian is not None:
-                if not costs.seen:
-                    raise DataError("PPO-Lagrangian got no info['cost'] in a whole rollout "
-                                    f"({batch} steps)", hint="wrap the environment so that every step reports "
-                                    "info['cost'] (0 when nothing is violated), e.g. with symlearn.backends.cost")
+                if not costs.seen:  # decided from the steps of the first rollout, not from the first step
+                    raise NoCostReported("PPO-Lagrangian got no info['cost'] in its first rollout "
+                                         f"({batch} steps)", steps=batch,
+                                         hint="report info['cost'] on the steps that pay it (a step without "
+                                              "it costs 0), or give a cost_fn, e.g. from symlearn.backends.cost")
                 if agent.n_costs == 0:  # a scalar limit: the first rollout told how many constraints there are
                     new_params = agent.add_cost_critics(n_costs, generator)
                     cost_optimizer = torch.optim.Adam(new_params, lr=lr, eps=1e-5, foreach=True)
