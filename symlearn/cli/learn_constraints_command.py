@@ -139,6 +139,8 @@ def _world(args: argparse.Namespace) -> _World:
 def _constraints(args: argparse.Namespace, out) -> None:
     if args.output and args.method:  # before the world is built: a mismatch costs nothing
         _check_output(args.output, args.method)
+    if args.rationality is not None:  # likewise, before a worker reads the folder
+        _rationality(args, None)
     if not args.domain:
         _learn(args, out)
         return
@@ -411,7 +413,7 @@ def _reward(args: argparse.Namespace, world: _World) -> str:
     return args.reward or ("given" if world.has_reward else "sparse")
 
 
-def _rationality(args: argparse.Namespace, world: _World) -> float | str:
+def _rationality(args: argparse.Namespace, world: _World | None) -> float | str:
     import math
 
     from symlearn.errors import SymlearnError
