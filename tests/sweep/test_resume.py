@@ -139,7 +139,10 @@ def test_ctrl_c_loses_only_the_cells_in_flight(write_sweep, tmp_path):
     out = tmp_path / "out"
     command = [sys.executable, str(HERE / "cli_harness.py"), "sweep", "run", str(path), "--out", str(out),
                "--local", "--workers", "2", "--quiet"]
-    driver = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    # SIGINT at its default in the driver: a pytest-xdist worker ignores it, and a child inherits
+    # an ignored SIGINT (Python then installs no KeyboardInterrupt handler and the run completes)
+    driver = subprocess.Popen(command, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True,
+                              preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         _wait_for(lambda: len(_lines(out / "results.jsonl")) >= 2)
         driver.send_signal(signal.SIGINT)
