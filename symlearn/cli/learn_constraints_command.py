@@ -414,9 +414,8 @@ def _reward(args: argparse.Namespace, world: _World) -> str:
 
 
 def _rationality(args: argparse.Namespace, world: _World | None) -> float | str:
-    import math
-
     from symlearn.errors import SymlearnError
+    from symlearn.learners.constraints.rationality_fit import check_rationality
 
     if args.rationality is None:
         return world.rationality
@@ -426,9 +425,7 @@ def _rationality(args: argparse.Namespace, world: _World | None) -> float | str:
         value = float(args.rationality)
     except ValueError:
         raise SymlearnError(f"--rationality must be a positive number or 'auto', got {args.rationality!r}") from None
-    if not (math.isfinite(value) and value > 0):
-        raise SymlearnError(f"--rationality must be a positive number or 'auto', got {args.rationality}")
-    return value
+    return check_rationality(value, "--rationality")
 
 
 def _write(output: str, method: str, doc: dict, world: _World, learner, args=None) -> list[str]:

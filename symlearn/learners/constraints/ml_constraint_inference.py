@@ -289,17 +289,14 @@ class MLConstraintInference(Learner):
 def resolve_rationality(setting: Any, visitation: MaxEntVisitation, episodes, allowed: np.ndarray):
     """The rationality a fit plans with: ``setting`` itself when it is a number (checked: positive and
     finite), fitted to ``episodes`` by maximum likelihood for ``"auto"``."""
-    from symlearn.learners.constraints.rationality_fit import RationalityFit, fit_rationality
+    from symlearn.learners.constraints.rationality_fit import RationalityFit, check_rationality, fit_rationality
 
     if isinstance(setting, str):
         if setting != "auto":
             raise SymlearnError(f"unknown rationality {setting!r}", hint="use 'auto' or a positive number")
         return fit_rationality(visitation.mdp, episodes, visitation._reward, visitation.horizon, allowed,
                                sparse=isinstance(visitation.reward, str) and visitation.reward == "sparse")
-    value = float(setting)
-    if not (np.isfinite(value) and value > 0):
-        raise SymlearnError(f"rationality must be a positive number or 'auto', got {setting!r}")
-    return RationalityFit(value, "given")
+    return RationalityFit(check_rationality(setting), "given")
 
 
 def _goal_groups(mdp: TabularMDP, episodes, share: float) -> list[tuple[int, float, np.ndarray]]:

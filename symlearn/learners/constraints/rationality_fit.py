@@ -49,6 +49,17 @@ class RationalityFit:
                 "at_one": self.at_one, "evaluations": self.evaluations}
 
 
+def check_rationality(value: float, name: str = "rationality") -> float:
+    """``value`` as a float, refused unless it is positive and finite (``name`` in the message: the
+    API's keyword or the CLI's flag)."""
+    from symlearn.errors import SymlearnError
+
+    value = float(value)
+    if not (math.isfinite(value) and value > 0):
+        raise SymlearnError(f"{name} must be a positive number or 'auto', got {value:g}")
+    return value
+
+
 def demonstration_log_likelihood(mdp: TabularMDP, episodes, reward_of, rationality: float, horizon: int,
                                  allowed: np.ndarray | None) -> float:
     """Mean log-probability per demonstrated step of the demonstrated actions under the
@@ -99,4 +110,4 @@ def fit_rationality(mdp: TabularMDP, episodes, reward_of, horizon: int, allowed:
     return RationalityFit(value, "fitted", -negative(math.log(value)), at_one, len(cache))
 
 
-__all__ = ["HIGH", "LOW", "RationalityFit", "demonstration_log_likelihood", "fit_rationality"]
+__all__ = ["HIGH", "LOW", "RationalityFit", "check_rationality", "demonstration_log_likelihood", "fit_rationality"]
