@@ -289,19 +289,21 @@ def _user_labeling(args, target, env):
             names = _part_names(env)
             by_part = names is not None
     labeling = read_labeling(args.labeling, feature_names=names)
+    columns = None  # where a feature labeling's columns come from, when not the observation itself
     if by_part and hasattr(labeling, "feature_map"):
         from symlearn.data.flat_observations import observation_features
+
+        # conditions over the parts by name ("achieved_goal[0]" > 0.5), as record names them
+        columns = lambda obs, _info: observation_features(obs)  # noqa: E731
+    elif names is not None and hasattr(labeling, "feature_map"):
+        features = target.features(env, override=args.features)
+        if features is not None and features.source == "info":  # the columns are info["features"]
+            columns = lambda _obs, info: info["features"]  # noqa: E731
+    if columns is not None:
         from symlearn.grounding.labeling_function import FunctionLabeling
 
-        inner = labeling  # conditions over the parts by name ("achieved_goal[0]" > 0.5), as record names them
-        return FunctionLabeling(lambda obs, _info: inner.label(observation_features(obs)), inner.propositions,
-                                meanings=inner.meanings, name=args.labeling), inner
-    features = target.features(env, override=args.features) if names is not None else None
-    if features is not None and features.source == "info" and hasattr(labeling, "feature_map"):
-        from symlearn.grounding.labeling_function import FunctionLabeling
-
-        inner = labeling  # the columns are info["features"], not the observation
-        return FunctionLabeling(lambda _obs, info: inner.label(info["features"]), inner.propositions,
+        inner = labeling
+        return FunctionLabeling(lambda obs, info: inner.label(columns(obs, info)), inner.propositions,
                                 meanings=inner.meanings, name=args.labeling), inner
     return labeling, (labeling if hasattr(labeling, "to_json") else None)   # a Python function is not saved
 
@@ -315,8 +317,8 @@ def _part_names(env):
 
     if not isinstance(env.observation_space, (spaces.Dict, spaces.Tuple)):
         return None
-    observation, _ = env.reset(seed=0)
-    return tuple(observation_features(observation)) or None
+    # the names follow the space's structure, so a sample names them without resetting the environment
+    return tuple(observation_features(env.observation_space.sample())) or None
 
 
 def _check_output(output: str) -> None:
