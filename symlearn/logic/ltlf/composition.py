@@ -115,11 +115,7 @@ class _Composer:
     def dfa(self, formula: Formula, trial_first: bool = False) -> DFA:
         """The formula's DFA. A part (``trial_first`` false) that is not composite is progressed
         at once, without a trial it would mostly fail; the whole formula is tried first."""
-        spread = self.distributed(formula)
-        # a leaf whose temporal chain distributes over a junction of dependent parts is composed
-        # like a skeleton when progression of it fails the trial (a Nim game's rules are not: its
-        # whole formula, rules and start together, progresses faster than their products)
-        distributable = spread is not formula and self.composite(spread)
+        distributable = self.distributable(formula)
         if not trial_first and not self.composite(formula) and not distributable:
             return self.progressed(formula)
         try:
@@ -128,7 +124,7 @@ class _Composer:
             if not self.composite(formula) and not distributable:  # (a refusal within the trial's bounds comes again, as fast)
                 return self.progressed(formula)
         # too large for progression of the whole: compose its parts
-        formula = spread if distributable else formula
+        formula = self.distributed(formula) if distributable else formula
         if isinstance(formula, Not):
             return complement(self.dfa(formula.arg))
         if isinstance(formula, Implies):
@@ -166,6 +162,13 @@ class _Composer:
         except LimitExceededError:
             part, conditions = found
             return self.join([self.dfa(part), *(self.dfa(c) for c in conditions)], "and")
+
+    def distributable(self, formula: Formula) -> bool:
+        """Whether ``formula`` is a leaf whose temporal chain distributes over a junction of
+        dependent parts: composed like a skeleton when progression of it fails the trial (a Nim
+        game's rules, with their start, progress faster whole than as products of their parts)."""
+        spread = self.distributed(formula)
+        return spread is not formula and self.composite(spread)
 
     def distributed(self, formula: Formula) -> Formula:
         """``formula`` with a chain of ``G``/``X``/``WX`` over a conjunction pushed into it, or of
@@ -217,7 +220,7 @@ class _Composer:
                 # part, taken apart, would meet its conditions here once more); where that
                 # progression runs out of nodes, the part and its conditions are composed instead
                 self.verdicts[id(part)] = False
-                if self.composite(original) or self.distributed(original) is not original:
+                if self.composite(original) or self.distributable(original):
                     self.unjoined[id(part)] = (original, mine)
             joined.append(part)
         return joined + [c for c in conditions if id(c) not in used]
