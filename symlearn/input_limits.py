@@ -282,12 +282,10 @@ def load_json(text: str, *, source: str | os.PathLike | None = None, line: int |
                          line=None if at_line is None else at_line + offset, column=at_column,
                          hint="keep one of them") from None
     except ValueError as exc:  # Python refuses to convert an integer of more than 4300 digits
-        found = _LONG_INTEGER.search(text)
-        if found is None or "integer string conversion" not in str(exc):
+        too_long = _long_integer(text, exc, error, file, offset)
+        if too_long is None:
             raise  # a caller's parse_* hook refusing a value: its own error
-        at_line, at_column = _line_column(text, found.start())
-        raise error(f"integer of {len(found.group().lstrip('-')):,} digits is too large", file=file,
-                    line=at_line + offset, column=at_column) from None
+        raise too_long from None
     if max_depth is not None and isinstance(value, (dict, list)) and _deeper_than(text, max_depth):
         where = _too_deep_at(text, max_depth) or (None, None)
         raise error(f"JSON nested more than {max_depth} levels deep", file=file,
@@ -310,12 +308,21 @@ def load_toml(text: str, *, source: str | os.PathLike | None = None) -> dict:
     except tomllib.TOMLDecodeError:
         raise
     except ValueError as exc:
-        found = _LONG_INTEGER.search(text)
-        if found is None or "integer string conversion" not in str(exc):
+        too_long = _long_integer(text, exc, ParseError, None if source is None else str(source))
+        if too_long is None:
             raise
-        at_line, at_column = _line_column(text, found.start())
-        raise ParseError(f"integer of {len(found.group().lstrip('-')):,} digits is too large",
-                         file=None if source is None else str(source), line=at_line, column=at_column) from None
+        raise too_long from None
+
+
+def _long_integer(text: str, exc: ValueError, error: type, file: str | None, offset: int = 0):
+    """The located refusal of an integer literal past Python's 4300-digit conversion, where that
+    is what ``exc`` (a parser's ``ValueError``) says, else None."""
+    found = _LONG_INTEGER.search(text)
+    if found is None or "integer string conversion" not in str(exc):
+        return None
+    at_line, at_column = _line_column(text, found.start())
+    return error(f"integer of {len(found.group().lstrip('-')):,} digits is too large", file=file,
+                 line=at_line + offset, column=at_column)
 
 
 #: an integer literal longer than Python converts (``sys.get_int_max_str_digits``, 4300)
