@@ -11,7 +11,8 @@ from symlearn.data import Demonstrations, Trajectory
 PROPS = st.sampled_from(["a", "b", "key", "door", "goal", "hole_1"])
 # NUL is refused by the data model (numpy strings cannot keep it), so never generate it.
 def text(**kwargs):
-    return st.text(alphabet=st.characters(exclude_characters="\x00"), **kwargs)
+    # no lone surrogates ("\ud800" is half a character, not text): the JSON readers refuse them
+    return st.text(alphabet=st.characters(exclude_characters="\x00", exclude_categories=("Cs",)), **kwargs)
 
 
 finite = st.floats(allow_nan=False, allow_infinity=False, width=64)
