@@ -2,7 +2,9 @@
 
 * ``__init__`` takes hyper-parameters as keyword arguments and stores them under the same names,
   nothing else (no data, no computation) -- so :meth:`get_params` / :meth:`set_params` /
-  ``repr`` work as in scikit-learn (:class:`Learner` extends ``sklearn.base.BaseEstimator``).
+  ``repr`` work as in scikit-learn, whose ``clone`` and searches accept a learner
+  (:class:`~symlearn.learners.parameters.Parametrised` implements that protocol without importing
+  scikit-learn, which costs a command ~2 s).
 * ``fit(demonstrations, world=None) -> self``, spelt so by every learner (a generic caller may
   pass either by keyword): ``demonstrations`` is what the method learns from (trajectories,
   labelled traces, frames, an ILP task, an LTL sample); ``world`` is what they are read against:
@@ -28,10 +30,9 @@ from dataclasses import asdict, dataclass, field, is_dataclass
 from pathlib import Path
 from typing import Any
 
-from sklearn.base import BaseEstimator
-
 from symlearn.atomic import write_text
 from symlearn.errors import SymlearnError
+from symlearn.learners.parameters import Parametrised
 
 
 class NotFittedError(SymlearnError):
@@ -71,7 +72,7 @@ def _jsonable(value: Any) -> bool:
         isinstance(value, (list, tuple)) and all(_jsonable(v) for v in value))
 
 
-class Learner(BaseEstimator):
+class Learner(Parametrised):
     """Base class of every learner (see the module docstring for the contract)."""
 
     #: suffix of the file :meth:`save` writes by default (documentation for users and the CLI)
