@@ -18,7 +18,8 @@ Nothing here enumerates (state, successor) pairs unless asked to:
   distance, which keeps breadth-first search exact);
 * minimisation (:func:`coarsest_blocks`) is Moore's refinement on *signatures*: a state's
   diagram with every leaf replaced by its block, hash-consed per round, so one round costs one
-  pass over the nodes and equal signatures are equal ids;
+  pass over the nodes and equal signatures are equal ids (on large diagrams the pass runs in numpy,
+  one proposition's nodes at a time: :func:`_moore_rounds_numpy`);
 * guarded edges are produced only by :func:`materialise`, with a size limit that says so.
 
 The canonical numbering of a symbolic DFA (:func:`canonical_numbering`) is breadth-first from
@@ -224,6 +225,14 @@ def live(diagram: TransitionDiagram, roots: Sequence[int], accepting: Iterable[i
 
 #: Moore rounds tried before minimisation switches to Hopcroft (see :func:`coarsest_blocks`)
 MOORE_ROUNDS = 24
+#: Moore rounds on diagrams with at least this many nodes, and this many per level (proposition),
+#: use numpy (:func:`_moore_rounds_numpy`): below, numpy's fixed cost per array operation (a dozen
+#: per level and round) outweighs the Python loop's cost per node (measured in docs/BENCHMARKS.md)
+VECTOR_MOORE_NODES = 2000
+VECTOR_MOORE_NODES_PER_LEVEL = 200
+#: while numpy is not imported, Moore rounds stay in Python until rounds x nodes reaches this (about
+#: the 0.1 s numpy's import costs): a small translation never pays the import for a few rounds
+NUMPY_IMPORT_WORK = 300_000
 
 
 def coarsest_blocks(diagram: TransitionDiagram, roots: Sequence[int], accepting: Sequence[bool]) -> list[int]:
@@ -314,17 +323,60 @@ def coarsest_blocks_moore(diagram: TransitionDiagram, roots: Sequence[int], acce
 
 def _moore_rounds(diagram: TransitionDiagram, roots: Sequence[int], accepting: Sequence[bool],
                   max_rounds: int | None) -> tuple[list[int], bool]:
-    """``(partition, whether it converged)`` after at most ``max_rounds`` Moore rounds."""
-    n = len(roots)
-    first = bool(accepting[0]) if n else False
-    block = [0 if bool(a) == first else 1 for a in accepting]  # block ids 0..n_blocks-1
-    n_blocks = len(set(block))
+    """``(partition, whether it converged)`` after at most ``max_rounds`` Moore rounds: numpy
+    rounds on large ordered diagrams (:func:`_moore_rounds_numpy`), the Python loop on the rest.
+    Both give the same blocks, numbered alike (by each block's first state), so a run can start
+    in one and finish in the other."""
+    block = _initial_blocks(accepting, len(roots))
+    if len(diagram) >= VECTOR_MOORE_NODES and len(roots) > 0:
+        # numpy's import (~0.1 s) is worth it only for enough rounds: while numpy is not loaded,
+        # Python rounds first, until they have cost about as much as the import would
+        first = 0 if _numpy_loaded() else -(-NUMPY_IMPORT_WORK // len(diagram))
+        if max_rounds is not None:
+            first = min(first, max_rounds)
+        block, converged, done = _moore_rounds_python(diagram, roots, block, first)
+        left = None if max_rounds is None else max_rounds - done
+        if converged or left == 0:
+            return block, converged
+        levels = _levels_worth_numpy(diagram, len(roots))
+        if levels is not None:
+            return _moore_rounds_numpy(roots, block, left, levels, len(diagram))
+        max_rounds = left
+    return _moore_rounds_python(diagram, roots, block, max_rounds)[:2]
+
+
+def _numpy_loaded() -> bool:
+    """Whether numpy is imported already (by anything), so using it costs no import."""
+    return "numpy" in sys.modules
+
+
+def _levels_worth_numpy(diagram: TransitionDiagram, n_states: int):
+    """The diagram's levels (:func:`_variable_levels`) when it is large enough, in nodes and in
+    nodes per level, for the numpy passes to beat the Python loops, else None."""
+    if len(diagram) < VECTOR_MOORE_NODES or n_states == 0:
+        return None
+    if len(diagram) < VECTOR_MOORE_NODES_PER_LEVEL * len(set(diagram.var)):  # one level a proposition
+        return None
+    return _variable_levels(diagram, n_states)
+
+
+def _initial_blocks(accepting: Sequence[bool], n_states: int) -> list[int]:
+    """Accepting / rejecting, the block of state 0 numbered 0."""
+    first = bool(accepting[0]) if n_states else False
+    return [0 if bool(a) == first else 1 for a in accepting]
+
+
+def _moore_rounds_python(diagram: TransitionDiagram, roots: Sequence[int], block: list[int],
+                         max_rounds: int | None) -> tuple[list[int], bool, int]:
+    """Moore's rounds from partition ``block`` as one Python loop over the nodes per round
+    (cheapest on small diagrams): ``(partition, converged, rounds done)``."""
+    n_blocks = len(set(block))  # block ids 0..n_blocks-1
     var, low, high = diagram.var, diagram.low, diagram.high
     n_nodes = len(var)
     rounds = 0
     while True:
         if max_rounds is not None and rounds >= max_rounds:
-            return block, False
+            return block, False, rounds
         rounds += 1
         # a node's signature: the node with every leaf replaced by its state's block, hash-consed
         # (ids >= 0; a leaf's signature is ~block); children first, so one loop per round
@@ -346,8 +398,102 @@ def _moore_rounds(diagram: TransitionDiagram, roots: Sequence[int], accepting: S
         new_block = [classes.setdefault((block[q], sig[r] if r >= 0 else ~block[~r]), len(classes))
                      for q, r in enumerate(roots)]
         if len(classes) == n_blocks:
-            return block, True
+            return block, True, rounds
         block, n_blocks = new_block, len(classes)
+
+
+def _variable_levels(diagram: TransitionDiagram, n_states: int):
+    """The nodes grouped by the proposition they test, last proposition first, as ``[(nodes,
+    low, high)]`` with every child shifted by ``n_states`` (leaf ``~s`` -> ``n_states - 1 - s``,
+    node ``u`` -> ``n_states + u``: one non-negative index into one table of signatures); None
+    if the diagram is not ordered.
+
+    Why levels by proposition (and not by height): in an ordered diagram a node's children test
+    later propositions, so a level depends only on the levels before it; and a signature node
+    testing proposition ``v`` can only be made at level ``v``, so hash-consing (low, high)
+    within a level gives equal functions equal ids -- what the Python loop's global table
+    does. Heights would not: relabelling leaves by blocks merges nodes, and one function could
+    then come out of two heights with two ids."""
+    import numpy as np  # here, not at the top: small translations never pay numpy's import
+
+    var = np.asarray(diagram.var, dtype=np.int64)
+    low = np.asarray(diagram.low, dtype=np.int64)
+    high = np.asarray(diagram.high, dtype=np.int64)
+    for child in (low, high):
+        inner = child >= 0
+        if not np.all(var[child[inner]] > var[inner]):
+            return None
+    # stable: a level's nodes stay in increasing id order; on 16-bit keys numpy sorts by radix
+    last = int(var.max())
+    key = last - var
+    order = np.argsort(key.astype(np.int16) if last < 2 ** 15 else key, kind="stable")
+    starts = np.flatnonzero(np.diff(var[order])) + 1
+    return [(nodes + n_states, low[nodes] + n_states, high[nodes] + n_states)
+            for nodes in np.split(order, starts)]
+
+
+def _moore_rounds_numpy(roots: Sequence[int], block: list[int], max_rounds: int | None,
+                        levels, n_nodes: int) -> tuple[list[int], bool]:
+    """Moore's rounds from partition ``block`` with numpy, one level (:func:`_variable_levels`)
+    at a time: a few array operations per level instead of a Python step per node. Signatures
+    live in one table, leaves first (``~block``, negative) then nodes (ids >= 0, distinct across
+    levels)."""
+    import numpy as np
+
+    n = len(roots)
+    block = np.asarray(block, dtype=np.int64)
+    n_blocks = len(np.unique(block))
+    roots_at = np.asarray(roots, dtype=np.int64) + n
+    table = np.empty(n + n_nodes, dtype=np.int64)
+    width = n + n_nodes  # signatures + n lie in [0, width)
+    rounds = 0
+    while True:
+        if max_rounds is not None and rounds >= max_rounds:
+            return block.tolist(), False
+        rounds += 1
+        _signature_pass(table, block, levels)
+        new_block, n_classes = _first_seen_classes(block * width + (table[roots_at] + n))
+        if n_classes == n_blocks:
+            return block.tolist(), True
+        block, n_blocks = new_block, n_classes
+
+
+def _signature_pass(table, block, levels, creators: list | None = None) -> None:
+    """Fill ``table`` (leaves, then nodes; see :func:`_variable_levels`) with every node's
+    signature under ``block``: its diagram with each leaf replaced by the state's block,
+    hash-consed level by level (a node whose children agree is its child). With ``creators``,
+    append per level the first (lowest) node that made each new id, in id order."""
+    import numpy as np
+
+    n = len(block)
+    width = len(table)  # signatures lie in [-n, len(table) - n): shifted by n, one factor of a key
+    table[:n] = ~block[::-1]  # leaf ~s sits at n - 1 - s
+    next_id = 0
+    for nodes, low, high in levels:
+        lo, hi = table[low], table[high]
+        split = lo != hi  # the others take their child's signature
+        if split.any():
+            key = (lo[split] + n) * width + (hi[split] + n)
+            if creators is None:
+                distinct, ids = np.unique(key, return_inverse=True)
+            else:
+                # a level's nodes are in increasing id order, so the first occurrence is the lowest node
+                distinct, first, ids = np.unique(key, return_index=True, return_inverse=True)
+                creators.append(nodes[split][first] - n)
+            lo[split] = ids.ravel() + next_id
+            next_id += len(distinct)
+        table[nodes] = lo
+
+
+def _first_seen_classes(key):
+    """Class ids of the keys numbered in the order of first occurrence (as the Python loop's
+    ``setdefault`` numbers them), and their count."""
+    import numpy as np
+
+    _, first, inverse = np.unique(key, return_index=True, return_inverse=True)
+    rank = np.empty(len(first), dtype=np.int64)
+    rank[np.argsort(first)] = np.arange(len(first))
+    return rank[inverse.ravel()], len(first)
 
 
 def quotient(diagram: TransitionDiagram, roots: Sequence[int], block: Sequence[int],
@@ -357,29 +503,93 @@ def quotient(diagram: TransitionDiagram, roots: Sequence[int], block: Sequence[i
     representative: dict[int, int] = {}
     for q, b in enumerate(block):
         representative.setdefault(b, q)
-    names = diagram.names
     if len(representative) == len(roots):  # nothing merged: the states are the blocks
         block = range(len(roots))
         representative = {q: q for q in block}
         staged, block_roots = diagram, list(roots)
     else:
-        # leaves replaced by blocks; merged states can make nodes equal, so hash-cons again
-        staged = TransitionDiagram(names)
-        var, low, high = diagram.var, diagram.low, diagram.high
-        new_id = [0] * len(var)
-        node = staged.node
-        for u in range(len(var)):
-            lo, hi = low[u], high[u]
-            new_id[u] = node(var[u], new_id[lo] if lo >= 0 else ~block[~lo], new_id[hi] if hi >= 0 else ~block[~hi])
-        block_roots = [0] * len(representative)
-        for b, q in representative.items():
-            r = roots[q]
-            block_roots[b] = new_id[r] if r >= 0 else ~block[~r]
+        # one pass: worth numpy's import only if it is loaded already (by the Moore rounds)
+        levels = _levels_worth_numpy(diagram, len(roots)) if _numpy_loaded() else None
+        if levels is not None:
+            staged, block_roots = _merged_diagram_numpy(diagram, roots, block, representative, levels)
+        else:
+            staged, block_roots = _merged_diagram_python(diagram, roots, block, representative)
     order, keep = _explore(staged, block_roots, block[initial])
     index = [0] * len(block_roots)
     for i, b in enumerate(order):
         index[b] = i
     # keep the nodes the reachable blocks use, children first as before; rename leaves
+    if len(staged) >= VECTOR_MOORE_NODES and _numpy_loaded():
+        result, position = _kept_nodes_numpy(staged, keep, index)
+    else:
+        result, position = _kept_nodes_python(staged, keep, index)
+    new_roots = []
+    for b in order:
+        r = block_roots[b]
+        new_roots.append(position[r] if r >= 0 else ~index[~r])
+    new_accepting = [accepting[representative[b]] for b in order]
+    return result, new_roots, new_accepting, 0, order
+
+
+def _merged_diagram_python(diagram: TransitionDiagram, roots: Sequence[int], block: Sequence[int],
+                           representative: dict[int, int]) -> tuple[TransitionDiagram, list[int]]:
+    """The diagram with leaves replaced by blocks, and one root per block: merged states can
+    make nodes equal, so hash-cons again (nodes numbered in the order they are first made)."""
+    staged = TransitionDiagram(diagram.names)
+    var, low, high = diagram.var, diagram.low, diagram.high
+    new_id = [0] * len(var)
+    node = staged.node
+    for u in range(len(var)):
+        lo, hi = low[u], high[u]
+        new_id[u] = node(var[u], new_id[lo] if lo >= 0 else ~block[~lo], new_id[hi] if hi >= 0 else ~block[~hi])
+    block_roots = [0] * len(representative)
+    for b, q in representative.items():
+        r = roots[q]
+        block_roots[b] = new_id[r] if r >= 0 else ~block[~r]
+    return staged, block_roots
+
+
+def _merged_diagram_numpy(diagram: TransitionDiagram, roots: Sequence[int], block: Sequence[int],
+                          representative: dict[int, int], levels) -> tuple[TransitionDiagram, list[int]]:
+    """:func:`_merged_diagram_python` by one signature pass: the merged diagram's nodes are the
+    signatures under ``block``. node() numbers a node when the lowest original node that makes
+    it comes by, so the signatures, ordered by that node, are numbered exactly as there (and
+    stay children-first: a node's children were made by lower nodes)."""
+    import numpy as np
+
+    n = len(roots)
+    table = np.empty(n + len(diagram), dtype=np.int64)
+    creators: list = []
+    _signature_pass(table, np.asarray(block, dtype=np.int64), levels, creators)
+    creator = np.concatenate(creators) if creators else np.zeros(0, dtype=np.int64)
+    made = np.argsort(creator)  # signature ids in the order node() would have made them
+    renumber = np.empty(len(made), dtype=np.int64)
+    renumber[made] = np.arange(len(made))
+
+    def merged(at):
+        """Merged ids of the table entries ``at`` (node signatures renumbered, leaves kept)."""
+        sig = table[at]
+        inner = sig >= 0
+        sig[inner] = renumber[sig[inner]]
+        return sig
+
+    maker = creator[made]
+    var = np.asarray(diagram.var, dtype=np.int64)
+    low = np.asarray(diagram.low, dtype=np.int64)
+    high = np.asarray(diagram.high, dtype=np.int64)
+    staged = TransitionDiagram.from_arrays(diagram.names, var[maker].tolist(), merged(low[maker] + n).tolist(),
+                                           merged(high[maker] + n).tolist())
+    blocks = sorted(representative)
+    at = np.asarray([roots[representative[b]] for b in blocks], dtype=np.int64) + n
+    block_roots = [0] * len(representative)
+    for b, r in zip(blocks, merged(at).tolist()):
+        block_roots[b] = r
+    return staged, block_roots
+
+
+def _kept_nodes_python(staged: TransitionDiagram, keep: bytearray, index: list[int]):
+    """The final diagram of the nodes marked in ``keep``, children first as before, leaves
+    renamed by ``index``; and every kept node's new position."""
     svar, slow, shigh = staged.var, staged.low, staged.high
     position = [0] * len(svar)
     nvar: list[int] = []
@@ -394,13 +604,26 @@ def quotient(diagram: TransitionDiagram, roots: Sequence[int], block: Sequence[i
             nhigh.append(position[hi] if hi >= 0 else ~index[~hi])
     # typed arrays: 4 bytes a field instead of a pointer and an int object (36 bytes): the
     # diagram of a minimal DFA is what lives on with it
-    result = TransitionDiagram.from_arrays(names, array("i", nvar), array("i", nlow), array("i", nhigh))
-    new_roots = []
-    for b in order:
-        r = block_roots[b]
-        new_roots.append(position[r] if r >= 0 else ~index[~r])
-    new_accepting = [accepting[representative[b]] for b in order]
-    return result, new_roots, new_accepting, 0, order
+    return TransitionDiagram.from_arrays(staged.names, array("i", nvar), array("i", nlow), array("i", nhigh)), position
+
+
+def _kept_nodes_numpy(staged: TransitionDiagram, keep: bytearray, index: list[int]):
+    """:func:`_kept_nodes_python` with numpy: the same typed arrays and positions (a kept node's
+    position is the number of kept nodes before it)."""
+    import numpy as np
+
+    kept = np.frombuffer(keep, dtype=np.uint8).astype(bool)
+    position = np.cumsum(kept) - 1
+    leaf_index = np.asarray(index, dtype=np.int64)
+
+    def renamed(children):
+        children = np.asarray(children, dtype=np.int64)[kept]
+        inner = children >= 0
+        return np.where(inner, position[np.where(inner, children, 0)], ~leaf_index[~np.minimum(children, -1)])
+
+    fields = [np.asarray(staged.var, dtype=np.int64)[kept], renamed(staged.low), renamed(staged.high)]
+    typed = [array("i", f.astype(np.intc).tobytes()) for f in fields]
+    return TransitionDiagram.from_arrays(staged.names, *typed), position.tolist()
 
 
 def canonical_form(diagram: TransitionDiagram, roots: Sequence[int]) -> tuple:

@@ -175,3 +175,151 @@ def test_counting_the_edges_of_a_wide_automaton_is_fast():
     assert wide.count_edges() == 3 ** 14
     assert wide.count_edges(1_000_000) is None
     assert time.perf_counter() - start < 2.0  # generous for noisy CI machines
+
+
+def _random_ordered_diagram(rng, n_states: int, n_vars: int, n_nodes: int):
+    """A reduced, ordered diagram of about ``n_nodes`` nodes over ``n_vars`` propositions (children
+    test later propositions or are leaves), roots mostly internal, random acceptance."""
+    diagram = td.TransitionDiagram([f"p{i}" for i in range(n_vars)])
+    by_var: list[list[int]] = [[] for _ in range(n_vars)]
+
+    def child(var: int) -> int:
+        later = rng.randrange(var + 1, n_vars + 1)
+        if later == n_vars or not by_var[later] or rng.random() < 0.2:
+            return ~rng.randrange(n_states)
+        return rng.choice(by_var[later])
+
+    for _ in range(n_nodes * 3):
+        if len(diagram) >= n_nodes:
+            break
+        var = rng.randrange(n_vars)
+        before = len(diagram)
+        u = diagram.node(var, child(var), child(var))
+        if len(diagram) > before:
+            by_var[var].append(u)
+    roots = [rng.randrange(len(diagram)) if len(diagram) and rng.random() < 0.9 else ~rng.randrange(n_states)
+             for _ in range(n_states)]
+    # few distinct leaf blocks make many equivalent states: the rounds have merging to do
+    accepting = [rng.random() < 0.3 for _ in range(n_states)]
+    return diagram, roots, accepting
+
+
+def _python_rounds(diagram, roots, accepting, max_rounds):
+    return td._moore_rounds_python(diagram, roots, td._initial_blocks(accepting, len(roots)), max_rounds)[:2]
+
+
+def _numpy_rounds(diagram, roots, accepting, max_rounds):
+    levels = td._variable_levels(diagram, len(roots))
+    assert levels is not None  # ordered
+    return td._moore_rounds_numpy(roots, td._initial_blocks(accepting, len(roots)), max_rounds, levels, len(diagram))
+
+
+def _as_partition(block):
+    classes: dict[int, set[int]] = {}
+    for q, b in enumerate(block):
+        classes.setdefault(b, set()).add(q)
+    return {frozenset(c) for c in classes.values()}
+
+
+@pytest.mark.parametrize("n_nodes, n_vars", [(30, 3), (300, 8), (2_500, 6), (6_000, 12)])
+def test_numpy_moore_rounds_give_the_python_rounds_partition(n_nodes, n_vars):
+    """The numpy rounds against the Python loop, below and above the size where _moore_rounds
+    switches (VECTOR_MOORE_NODES), converged and cut off after 0..3 rounds: the same classes,
+    even numbered alike, and the same converged flag."""
+    import random
+
+    rng = random.Random(n_nodes)
+    for _ in range(6 if n_nodes < 1_000 else 2):
+        diagram, roots, accepting = _random_ordered_diagram(rng, max(2, n_nodes // rng.choice((3, 10, 40))),
+                                                            n_vars, n_nodes)
+        for max_rounds in (None, 0, 1, 2, 3):
+            expected = _python_rounds(diagram, roots, accepting, max_rounds)
+            got = _numpy_rounds(diagram, roots, accepting, max_rounds)
+            assert _as_partition(got[0]) == _as_partition(expected[0])
+            assert got == expected
+
+
+def _chain(n: int):
+    """A counter-like chain: state i goes to i + 1 on p0 & p1, else back to 0; the last accepts."""
+    diagram = td.TransitionDiagram(["p0", "p1"])
+    roots = [diagram.node(0, ~0, diagram.node(1, ~0, ~min(i + 1, n - 1))) for i in range(n)]
+    return diagram, roots, [i == n - 1 for i in range(n)]
+
+
+def test_numpy_moore_rounds_on_a_chain_that_needs_one_round_per_state():
+    """Every state of a chain is its own class, found one round at a time, so max_rounds cuts
+    the rounds short (converged False) and coarsest_blocks' Hopcroft finish starts from the
+    numpy rounds' partition."""
+    short = _chain(300)  # to convergence: one round per state, quadratic in the Python loop
+    assert _numpy_rounds(*short, None) == _python_rounds(*short, None)
+    assert _numpy_rounds(*short, None)[1]
+    diagram, roots, accepting = _chain(3_000)  # above VECTOR_MOORE_NODES
+    for max_rounds in (1, 5, 24):
+        expected = _python_rounds(diagram, roots, accepting, max_rounds)
+        assert _numpy_rounds(diagram, roots, accepting, max_rounds) == expected and not expected[1]
+        assert len(set(expected[0])) == max_rounds + 2  # accepting, rejecting, one more a round
+    assert len(set(td.coarsest_blocks(diagram, roots, accepting))) == 3_000
+
+
+def test_moore_rounds_switch_to_numpy_only_on_large_ordered_diagrams(monkeypatch):
+    import random
+
+    import numpy  # noqa: F401  (loaded: _moore_rounds goes to numpy at once)
+
+    calls = []
+    real = td._moore_rounds_numpy
+    monkeypatch.setattr(td, "_moore_rounds_numpy", lambda *args: calls.append(args) or real(*args))
+    rng = random.Random(5)
+    small = _random_ordered_diagram(rng, 30, 4, 200)
+    large = _random_ordered_diagram(rng, 500, 6, 3_000)
+    assert td._moore_rounds(*small, None) == _python_rounds(*small, None) and not calls
+    assert td._moore_rounds(*large, None) == _python_rounds(*large, None) and len(calls) == 1
+    # not ordered (a child tests an earlier proposition): the levels do not exist, Python rounds
+    unordered = td.TransitionDiagram(["a", "b"])
+    inner = unordered.node(0, ~0, ~1)
+    unordered.node(1, inner, ~1)
+    assert td._variable_levels(unordered, 2) is None
+
+
+def test_moore_rounds_start_in_python_while_numpy_is_not_imported(monkeypatch):
+    """Without numpy loaded, the first rounds (up to NUMPY_IMPORT_WORK node visits) are Python
+    rounds and numpy takes over from the partition they reached: same result, same cut-off."""
+    monkeypatch.setattr(td, "_numpy_loaded", lambda: False)
+    chain = _chain(3_000)
+    monkeypatch.setattr(td, "NUMPY_IMPORT_WORK", 5 * len(chain[0]))  # 5 Python rounds, then numpy
+    calls = []
+    real = td._moore_rounds_numpy
+    monkeypatch.setattr(td, "_moore_rounds_numpy", lambda *args: calls.append(args[2]) or real(*args))
+    for max_rounds in (3, 5, 24):
+        assert td._moore_rounds(*chain, max_rounds) == _python_rounds(*chain, max_rounds)
+    assert calls == [19]  # 3 and 5 rounds end in Python; 24 = 5 in Python + 19 in numpy
+    import random
+
+    diagram, roots, accepting = _random_ordered_diagram(random.Random(8), 600, 8, 4_000)
+    monkeypatch.setattr(td, "NUMPY_IMPORT_WORK", 1)  # one Python round
+    assert td._moore_rounds(diagram, roots, accepting, None) == _python_rounds(diagram, roots, accepting, None)
+
+
+def test_numpy_quotient_builds_the_python_quotient(monkeypatch):
+    """quotient's numpy passes (merged diagram, kept nodes) give the same DFA, node for node and
+    in the same typed arrays, as its Python loops: for the coarsest partition, for nothing merged,
+    and for everything merged into one block (no node left)."""
+    import random
+
+    def fields(result):
+        diagram, roots, accepting, initial, order = result
+        return ([list(f) for f in (diagram.var, diagram.low, diagram.high)],
+                [type(f) for f in (diagram.var, diagram.low, diagram.high)], roots, accepting, initial, order)
+
+    import numpy  # noqa: F401  (loaded: quotient uses it)
+
+    rng = random.Random(11)
+    for n_nodes, n_vars in ((2_500, 6), (5_000, 10)):
+        diagram, roots, accepting = _random_ordered_diagram(rng, n_nodes // 10, n_vars, n_nodes)
+        assert td._levels_worth_numpy(diagram, len(roots)) is not None
+        partitions = [td.coarsest_blocks(diagram, roots, accepting), list(range(len(roots))), [0] * len(roots)]
+        for block in partitions:
+            with_numpy = fields(td.quotient(diagram, roots, block, accepting, 0))
+            with monkeypatch.context() as patched:
+                patched.setattr(td, "_numpy_loaded", lambda: False)
+                assert fields(td.quotient(diagram, roots, block, accepting, 0)) == with_numpy
