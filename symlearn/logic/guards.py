@@ -41,6 +41,7 @@ import sys
 import weakref
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from functools import lru_cache
+from math import isqrt
 from typing import AbstractSet
 
 from symlearn.errors import LimitExceededError, ParseError
@@ -87,6 +88,12 @@ _KEYWORDS = {"true", "false"}
 _SOP_LIMIT = 8  # beyond this many propositions, print BDD paths instead of a minimal cover
 _CUBE_BUDGET = 16  # beyond 8 propositions, a cover needing more cubes is printed factored
 _TEXT_LIMIT = 200_000  # characters; a guard whose printed form would be longer is refused
+# node visits one printing may spend on prime covers (about a second): each is tried only when
+# its bound (cubes x literals x nodes) fits in what is left, else that node prints factored. A
+# guard over n propositions asked a prime cover at every node of its factored form, n^3 visits
+# (100 propositions: 18 s, 200: minutes).
+_PRIME_WORK = 1_000_000
+_SOP_NODES = 256  # a diagram over at most 8 propositions has fewer nodes than this
 
 
 class GuardParseError(ParseError):
@@ -561,11 +568,15 @@ def _cover(u: int, budget: int | None = None) -> tuple[tuple[tuple[str, bool], .
 
 def _text(u: int) -> str:
     """``str`` of the guard at node ``u``: a (minimal) sum of products, or factored when that is big."""
-    cover = _cover(u, _CUBE_BUDGET)
+    support = _support(u)
+    if sum(len(_name_text(name)) for name in support) + 3 * (len(support) - 1) > _TEXT_LIMIT:
+        raise _too_long(u)  # every proposition is printed at least once: refused before any work
+    work = [_PRIME_WORK]
+    cover = _affordable_cover(u, work)
     if cover is not None:
         text = _format(cover)
     else:
-        text = _factored(u)[0]
+        text = _factored(u, {}, work)[0]
     if len(text) > _TEXT_LIMIT:
         raise _too_long(u)
     return text
@@ -603,16 +614,52 @@ def _piece(text: str, kind: int) -> tuple:
     return text, kind, tuple(operands)
 
 
-def _factored(u: int, memo: dict[int, tuple[str, int]] | None = None) -> tuple[str, int]:
+def _affordable_cover(u: int, work: list[int]) -> tuple | None:
+    """``_cover(u, _CUBE_BUDGET)`` when its prime-cover bound (cubes x literals x nodes) fits in
+    ``work[0]``, which it then spends; else None (print factored). A diagram of at most
+    :data:`_SOP_NODES` nodes is always affordable: over at most :data:`_SOP_LIMIT` propositions
+    it takes a truth table of at most 256 rows, over more its bound is checked. The node count
+    is walked only up to the limit, so a node of a long chain costs a bounded walk, not one
+    over the chain below it."""
+    size = _size_at_most(u, max(_SOP_NODES, isqrt(work[0] // _CUBE_BUDGET)))
+    if size is None:
+        return None
+    n = len(_support(u))
+    if n > _SOP_LIMIT:
+        cost = size * n * _CUBE_BUDGET
+        if cost > work[0]:
+            return None
+        work[0] -= cost
+    return _cover(u, _CUBE_BUDGET)
+
+
+def _size_at_most(u: int, limit: int) -> int | None:
+    """The number of nodes below ``u``, or None when it passes ``limit`` (the walk stops there)."""
+    seen, stack = set(), [u]
+    while stack:
+        w = stack.pop()
+        if w <= _TRUE or w in seen:
+            continue
+        seen.add(w)
+        if len(seen) > limit:
+            return None
+        stack.append(_low[w])
+        stack.append(_high[w])
+    return len(seen)
+
+
+def _factored(u: int, memo: dict[int, tuple[str, int]] | None = None, work: list[int] | None = None) -> tuple[str, int]:
     """A factored form of ``u`` read off the BDD (see the module docstring), with its top operator."""
     if memo is None:
         memo = {}
+    if work is None:
+        work = [_PRIME_WORK]
     found = memo.get(u)
     if found is not None:
         return found
     if u <= _TRUE:
         return _piece("true" if u == _TRUE else "false", _ATOM_TEXT)
-    cover = _cover(u, _CUBE_BUDGET)
+    cover = _affordable_cover(u, work)
     sop = None
     if cover is not None:
         text = _format(cover)
@@ -623,22 +670,22 @@ def _factored(u: int, memo: dict[int, tuple[str, int]] | None = None) -> tuple[s
         name, low, high = _var[u], _low[u], _high[u]
         pos, neg = _piece(_name_text(name), _ATOM_TEXT), _piece("!" + _name_text(name), _ATOM_TEXT)
         if low == _FALSE:
-            result = _join(_AND_TEXT, [pos, _factored(high, memo)])
+            result = _join(_AND_TEXT, [pos, _factored(high, memo, work)])
         elif high == _FALSE:
-            result = _join(_AND_TEXT, [neg, _factored(low, memo)])
+            result = _join(_AND_TEXT, [neg, _factored(low, memo, work)])
         elif high == _TRUE:
-            result = _join(_OR_TEXT, [pos, _factored(low, memo)])
+            result = _join(_OR_TEXT, [pos, _factored(low, memo, work)])
         elif low == _TRUE:
-            result = _join(_OR_TEXT, [neg, _factored(high, memo)])
+            result = _join(_OR_TEXT, [neg, _factored(high, memo, work)])
         elif _and(high, _not(low)) == _FALSE:  # high implies low: u = low & (!x | high')
             rest = _MANAGER.simplify(high, low)
-            result = _join(_AND_TEXT, [_factored(low, memo), _join(_OR_TEXT, [neg, _factored(rest, memo)])])
+            result = _join(_AND_TEXT, [_factored(low, memo, work), _join(_OR_TEXT, [neg, _factored(rest, memo, work)])])
         elif _and(low, _not(high)) == _FALSE:  # low implies high: u = low | (x & high')
             rest = _MANAGER.simplify(high, _not(low))
-            result = _join(_OR_TEXT, [_factored(low, memo), _join(_AND_TEXT, [pos, _factored(rest, memo)])])
+            result = _join(_OR_TEXT, [_factored(low, memo, work), _join(_AND_TEXT, [pos, _factored(rest, memo, work)])])
         else:
-            result = _join(_OR_TEXT, [_join(_AND_TEXT, [pos, _factored(high, memo)]),
-                                      _join(_AND_TEXT, [neg, _factored(low, memo)])])
+            result = _join(_OR_TEXT, [_join(_AND_TEXT, [pos, _factored(high, memo, work)]),
+                                      _join(_AND_TEXT, [neg, _factored(low, memo, work)])])
         if sop is not None and len(sop[0]) <= len(result[0]):
             result = sop
     if len(result[0]) > _TEXT_LIMIT:
@@ -647,6 +694,7 @@ def _factored(u: int, memo: dict[int, tuple[str, int]] | None = None) -> tuple[s
     return result
 
 
+@lru_cache(maxsize=65536)
 def _natural(name: str) -> tuple:
     """Sort key reading digit runs as numbers, so p2 prints before p10."""
     return tuple(int(part) if part.isdigit() else part for part in re.split(r"(\d+)", name))
@@ -654,21 +702,26 @@ def _natural(name: str) -> tuple:
 
 def _cube_inside(cube: Mapping[str, bool], u: int) -> bool:
     """Whether every label the cube allows satisfies ``u``: no path to false agrees with the
-    cube (a walk over ``u``'s nodes; nothing is built in the table)."""
+    cube (a walk over ``u``'s nodes; nothing is built in the table). The printer calls it once
+    per literal of every prime implicant it grows, so the loop keeps everything local."""
+    var, low, high, get = _var, _low, _high, cube.get
     stack, seen = [u], set()
+    pop, push, add = stack.pop, stack.append, seen.add
     while stack:
-        w = stack.pop()
+        w = pop()
         if w == _TRUE or w in seen:
             continue
         if w == _FALSE:
             return False
-        seen.add(w)
-        value = cube.get(_var[w])
+        add(w)
+        value = get(var[w])
         if value is None:
-            stack.append(_low[w])
-            stack.append(_high[w])
+            push(low[w])
+            push(high[w])
+        elif value:
+            push(high[w])
         else:
-            stack.append(_high[w] if value else _low[w])
+            push(low[w])
     return True
 
 

@@ -245,3 +245,28 @@ def test_guards_over_thousands_of_propositions_print():
     texts = [str(g) for q in dfa.states for g, _ in dfa.successors(q)]
     assert "!p0 | !p1 | !p2" in texts[0] and texts[0].endswith("!p9999")
     assert "p9999" in max(texts, key=len)
+
+
+def test_a_guard_over_many_propositions_prints_within_the_prime_cover_budget():
+    """(a0 & !b) | ... | (a199 & !b) asked a prime cover at every node of its factored form
+    (n^3 node visits: minutes); the printing now spends a bounded budget and stays exact."""
+    import time
+
+    names = [f"a{i}" for i in range(200)]
+    guard = Guard.any_of(Guard.var(n) & ~Guard.var("b") for n in names)
+    start = time.perf_counter()
+    text = str(guard)
+    assert time.perf_counter() - start < 20
+    assert Guard.parse(text) == guard
+
+
+def test_a_guard_whose_text_passes_the_limit_is_refused_before_printing():
+    import time
+
+    from symlearn.errors import LimitExceededError
+
+    guard = Guard.cube({f"a_proposition_with_a_long_name_{i:05d}": True for i in range(6_000)})  # > 200,000 characters
+    start = time.perf_counter()
+    with pytest.raises(LimitExceededError, match="longer than 200,000 characters"):
+        str(guard)
+    assert time.perf_counter() - start < 5

@@ -148,3 +148,23 @@ def test_a_double_counter_is_composed_rule_by_rule(always_compose):
     for _ in range(300):
         trace = [frozenset(p for p in names if rng.random() < 0.5) for _ in range(rng.randint(1, 6))]
         assert dfa.accepts(trace) == holds(f, trace)
+
+
+def test_the_propositions_of_a_long_conjunction_take_linear_memory():
+    """A left-deep c1 & ... & cn kept a proposition set per inner node: n(n+1)/2 names (100,000
+    TLSF assumptions filled 4 GB before the translation started)."""
+    import tracemalloc
+
+    from symlearn.logic.ltlf.ast import And, Prop
+
+    n = 20_000
+    formula = Prop("p0")
+    for i in range(1, n):
+        formula = And(formula, Prop(f"p{i}"))
+    composer = composition._Composer(None, 1000)
+    tracemalloc.start()
+    names = composer.propositions(formula)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    assert len(names) == n
+    assert peak < 40 * 2**20, f"{peak / 2**20:.0f} MiB for the propositions of {n} conjuncts"
