@@ -288,6 +288,11 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
                               episodes.costs if episodes.costs.shape[1] else None, reported=watch.seen)
     doc.update({"multipliers": [float(m) for m in result.multipliers] if lagrangian else None,
                 "steps": int(result.steps), "seconds": float(result.seconds)})
+    if lagrangian:
+        from symlearn.rl.ppo import limit_warnings
+
+        doc["warnings"] = limit_warnings(result.history, [args.cost_limit] * len(result.multipliers),
+                                         advantage_scale=lagrangian.advantage_scale)
     if args.output:
         result.save(args.output)
         doc["files"].append(str(args.output))
@@ -324,7 +329,7 @@ def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_c
             "cost": None if per_episode is None else float(np.mean(per_episode)),
             "violation_rate": None if per_episode is None else
             float(np.sum(per_episode) / max(int(np.sum(lengths)), 1)),
-            "pruned": None, "files": []}
+            "pruned": None, "files": [], "warnings": []}
 
 
 def _prune(args: argparse.Namespace, stats, steps: int) -> dict:
@@ -351,5 +356,6 @@ def _render(doc: dict) -> str:
     if doc["pruned"] is not None:
         lines.append(f"pruning kept {len(doc['kept'])} rule(s), dropped {len(doc['pruned'])}")
         lines += [f"  kept: {r}" for r in doc["kept"]]
+    lines += [f"warning: {w}" for w in doc.get("warnings") or ()]
     lines += [f"wrote {f}" for f in doc["files"]]
     return "\n".join(lines)

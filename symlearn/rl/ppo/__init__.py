@@ -15,7 +15,8 @@ are flattened, ``Discrete`` ones one-hot encoded (:mod:`symlearn.rl.spaces`).
 :mod:`~symlearn.rl.ppo.rollouts` (:class:`Rollout`, the rollout collector and its typed
 :class:`RolloutBatch`), :mod:`~symlearn.rl.ppo.update` (GAE, return scales, the clipped-surrogate
 epochs), :mod:`~symlearn.rl.ppo.training` (:func:`train_ppo`) and
-:mod:`~symlearn.rl.ppo.evaluation` (:func:`evaluate`). Every name is importable from
+:mod:`~symlearn.rl.ppo.evaluation` (:func:`evaluate`), :mod:`~symlearn.rl.ppo.limit_check`
+(:func:`limit_warnings`: a limit the run never got within while its multiplier rose). Every name is importable from
 ``symlearn.rl.ppo``; each module imports only those before it in this list, and two modules of
 ``rl`` that are not PPO's own: :mod:`symlearn.rl.episode_stats` (the cost reader and the accounting
 of finished episodes, :class:`EpisodeStats`, :class:`FinishedEpisode`) and
@@ -113,6 +114,7 @@ from symlearn.rl.ppo.config import (
     PPOConfig,
 )
 from symlearn.rl.ppo.evaluation import evaluate
+from symlearn.rl.ppo.limit_check import limit_warnings
 from symlearn.rl.ppo.multipliers import Multipliers
 from symlearn.rl.ppo.networks import MODEL_KIND, OBS_CLIP, OBS_EPSILON, ActorCritic, NumpyActor
 from symlearn.rl.ppo.records import PPOIteration, PPOResult
@@ -148,5 +150,6 @@ __all__ = [
     "Rollout",
     "RolloutBatch",
     "evaluate",
+    "limit_warnings",
     "train_ppo",
 ]

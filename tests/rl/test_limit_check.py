@@ -1,0 +1,47 @@
+"""A PPO-Lagrangian run whose cost limit stayed out of reach says so (rl/ppo/limit_check.py)."""
+
+import dataclasses
+import json
+
+from cli_runner import run
+
+from symlearn.rl.ppo import PPOIteration, limit_warnings
+
+BASE = PPOIteration(iteration=0, steps=0, episodes=1, mean_return=0.0, mean_length=100.0, mean_cost=(1.0,),
+                    multipliers=(0.0,), policy_loss=0.0, value_loss=0.0, cost_value_loss=(0.0,), entropy=0.0,
+                    approx_kl=0.0, clip_fraction=0.0, explained_variance=0.0, epochs=4.0, stopped_early=False,
+                    learning_rate=1e-3, steps_per_second=1.0, seconds=1.0)
+
+
+def history(multipliers, estimates):
+    return [dataclasses.replace(BASE, iteration=i, multipliers=(m,), cost_estimate=(c,))
+            for i, (m, c) in enumerate(zip(multipliers, estimates))]
+
+
+def test_a_rising_heavy_multiplier_above_the_limit_is_warned_about():
+    rising = history([2 + i for i in range(12)], [50.0] * 12)
+    [warning] = limit_warnings(rising, [25.0])
+    assert "stayed above --cost-limit 25 for the last 4 iterations" in warning and "rose from 10 to 13" in warning
+
+
+def test_runs_that_meet_the_limit_or_barely_pay_are_not():
+    met = history([2 + i for i in range(12)], [50.0] * 11 + [20.0])  # the last update saw it within the limit
+    light = history([3.5 + 0.01 * i for i in range(12)], [2.0] * 12)  # the README's toy: a creeping 3.5
+    falling = history([20 - i for i in range(12)], [50.0] * 12)  # the multiplier already comes down
+    short = history([10, 11], [50.0, 50.0])
+    assert limit_warnings(met, [25.0]) == limit_warnings(light, [0.0]) == []
+    assert limit_warnings(falling, [25.0]) == limit_warnings(short, [25.0]) == []
+    assert limit_warnings(history([10 + i for i in range(12)], [50.0] * 12), [25.0], advantage_scale="raw") == []
+
+
+def test_train_warns_when_the_cost_is_paid_on_every_step(capsys, tmp_path):
+    always, never = tmp_path / "always.dnf", tmp_path / "never.dnf"
+    always.write_text("x > -10\n")
+    never.write_text("x > 100\n")
+    code, out, err = run(capsys, "train", "--env", "toy-navigation", "--cost", always, "--steps", 6144,
+                         "--multiplier-lr", 1)
+    assert code == 0, err
+    assert "warning: the cost stayed above --cost-limit 0" in out and "out of reach for this cost" in out
+    code, out, err = run(capsys, "train", "--env", "toy-navigation", "--cost", never, "--steps", 6144,
+                         "--multiplier-lr", 1, "--json")
+    assert code == 0 and json.loads(out)["warnings"] == []
