@@ -91,3 +91,21 @@ def test_cli_dnf_validation(capsys, tmp_path):
     v = json.loads(out)["validation"]
     assert (v["n_train"], v["n_held_out"], v["unit"]) == (7, 3, "states") and v["steps"] == 120
     assert 0 <= v["forbidden"] <= v["steps"]
+
+
+def test_cli_dnf_validation_is_written_into_the_rule_files_header(capsys, tmp_path):
+    from symlearn.logic import dnf
+
+    rng = np.random.default_rng(1)
+    path, rules = tmp_path / "demos.npz", tmp_path / "rules.dnf"
+    Demonstrations([Trajectory(states=rng.uniform(0, 1, (40, 2))) for _ in range(10)]).save(path)
+    code, out, err = run(capsys, "learn", "dnf", "--demos", path, "--validation", 0.3, "-o", rules, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    text = rules.read_text()
+    header = [line for line in text.splitlines() if line.startswith("#")]
+    v = doc["validation"]
+    assert any(line.startswith(f"# validation: {v['forbidden']} of {v['steps']} held-out expert states unsafe")
+               for line in header)
+    assert str(dnf.load(rules)) == doc["formula"]  # the extra header lines are comments
+    assert all(line.startswith("#") for line in text.splitlines()[:len(header)])
