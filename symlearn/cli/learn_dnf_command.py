@@ -194,17 +194,19 @@ def _dnf(args: argparse.Namespace, out) -> None:
         if report.warning():
             doc["warnings"].append(report.warning())
     if args.output:
-        doc["files"] = [str(learner.save(args.output))]  # the file OneClassTreeConstraint.save writes in Python
         if held is not None and not str(args.output).endswith(".json"):
-            _header_with_validation(args.output, learner.artefact_text(), doc)
+            from symlearn.atomic import write_text
+
+            doc["files"] = [str(write_text(args.output, _with_validation(learner.artefact_text(), doc)))]
+        else:  # the file OneClassTreeConstraint.save writes in Python
+            doc["files"] = [str(learner.save(args.output))]
     out.result(doc, _render)
 
 
-def _header_with_validation(path, text: str, doc: dict) -> None:
-    """The rule file again, its ``#`` header followed by the validation line (and its warning):
+def _with_validation(text: str, doc: dict) -> str:
+    """The rule file's text with the validation line (and its warning) after its ``#`` header:
     how often the formula fires on held-out expert states is what a cost limit on it has to
     allow, so it stays with the file, not only on the terminal."""
-    from symlearn.atomic import write_text
     from symlearn.cli.output import validation_line
 
     lines = text.splitlines(keepends=True)
@@ -212,7 +214,7 @@ def _header_with_validation(path, text: str, doc: dict) -> None:
     extra = [validation_line(doc["validation"], "held-out expert states unsafe")]
     extra += [f"warning: {w}" for w in doc["warnings"] if w not in text]
     body = "".join(lines[:n]) + "".join(f"# {line}\n" for line in extra) + "".join(lines[n:])
-    write_text(path, body if body.endswith("\n") else body + "\n")
+    return body if body.endswith("\n") else body + "\n"
 
 
 def _render(doc: dict) -> str:

@@ -41,6 +41,7 @@ def limit_warnings(history: Sequence[PPOIteration], cost_limits: Sequence[float]
     if len(window) < MIN_WINDOW:
         return []
     warnings = []
+    reward_weight = 1 / (1 + sum(window[-1].multipliers))  # of the advantage A = (A_r - sum l_i A_ci) / (1 + sum l_i)
     for i, limit in enumerate(cost_limits):
         estimates = [h.cost_estimate[i] for h in window]
         first, last = window[0].multipliers[i], window[-1].multipliers[i]
@@ -49,7 +50,7 @@ def limit_warnings(history: Sequence[PPOIteration], cost_limits: Sequence[float]
             warnings.append(
                 f"{name} stayed above --cost-limit {limit:g} for the last {len(window)} iterations "
                 f"(last estimate {estimates[-1]:.3g} per episode) while the multiplier rose from {first:.3g} "
-                f"to {last:.3g} (the reward {1 / (1 + last):.0%} of the objective): the limit may be out of reach "
+                f"to {last:.3g} (the reward {reward_weight:.0%} of the objective): the limit may be out of reach "
                 "for this cost, and the agent trades its reward away for it; a learned formula that also flags the expert (see `learn dnf --validation`) "
                 "needs a limit of at least what the expert pays, else raise --steps")
     return warnings
