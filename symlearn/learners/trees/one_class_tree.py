@@ -64,8 +64,8 @@ path from the root to a node (the tightest bound per feature), the formula is th
 
 **Readable sides** (``readable=True``, the default): after growing, every box side is rounded to
 the fewest significant digits that keep every demonstration point on its side, and a gap between
-neighbouring children narrower than the feature's bandwidth (a "sliver" of unsafe space across
-the expert's own path) is closed (:mod:`~symlearn.learners.trees.readable_bounds`); the file's
+neighbouring children narrower than the feature's bandwidth, or crossed by a demonstrated step
+(a "sliver" of unsafe space across the expert's own path), is closed (:mod:`~symlearn.learners.trees.readable_bounds`); the file's
 ``#`` header says how many. The rounded values are the stored ones, so everything below holds
 for them.
 
@@ -309,7 +309,8 @@ class OneClassTreeConstraint(Learner):
     many standard deviations on each feature), ``grid_size`` (bins of the density grid,
     16 to 4096), ``readable`` (default True: every box side is rounded to the fewest significant
     digits that keep every demonstration point on the same side of it, and gaps between
-    neighbouring children narrower than the feature's bandwidth are closed -- see
+    neighbouring children narrower than the feature's bandwidth or crossed by a demonstrated
+    step are closed -- see
     :mod:`~symlearn.learners.trees.readable_bounds`; False keeps the data's values and every gap),
     ``warn_unsafe_share`` (default 0.5: a ``UserWarning``, also in ``warnings_``, when the formula
     marks more than this share of the data's bounding box unsafe; None: never), ``inputs`` (names
@@ -336,7 +337,8 @@ class OneClassTreeConstraint(Learner):
     ``feature_names_`` (the features the rules test: ``inputs`` when given), ``input_columns_``
     (their positions among all the features, or None),
     ``bounds_`` (the data's per-feature minimum and maximum, a :class:`Box`), ``n_samples_``,
-    ``history_`` (one :class:`SplitRecord` per split), ``unsafe_share_``, ``slivers_closed_``,
+    ``history_`` (one :class:`SplitRecord` per split), ``unsafe_share_``, ``slivers_closed_``
+    (of them ``slivers_crossed_``: closed because a demonstrated step crossed them),
     ``notes_`` and ``warnings_`` (the ``#`` header lines of the text after the first, which says
     how the set was made and from what: the demonstrations' ``metadata["source"]`` where they
     carry one, and the number of points), ``result_`` (text: the header and ``str(dnf_)``).
@@ -404,11 +406,13 @@ class OneClassTreeConstraint(Learner):
         t_features = time.perf_counter()
         grower = _Grower(X, self)
         tree = OneClassTree(grower.grow(), names)
-        slivers = 0
+        closed = {"narrow": 0, "crossed": 0}
+        steps = demonstrated_steps(demonstrations, len(X))
         if self.readable:
             from symlearn.learners.trees.readable_bounds import readable_tree
 
-            tree, slivers = readable_tree(tree, X, grower.h)
+            tree, closed = readable_tree(tree, X, grower.h, steps=steps)
+        slivers = closed["narrow"] + closed["crossed"]
         root = tree.root
         t_tree = time.perf_counter()
         dnf = tree_dnf(tree)
@@ -427,20 +431,22 @@ class OneClassTreeConstraint(Learner):
         safe_share = _volume_fraction(self.safe_boxes_, root.box)
         self.unsafe_share_ = max(0.0, 1.0 - safe_share)
         self.slivers_closed_ = slivers
-        self.notes_ = _notes(self, slivers)
+        self.slivers_crossed_ = closed["crossed"]
+        self.notes_ = _notes(self, closed, steps is not None)
         self.warnings_ = []
         if self.warn_unsafe_share is not None and self.unsafe_share_ > float(self.warn_unsafe_share):
             self.warnings_.append(
                 f"the formula marks {self.unsafe_share_:.0%} of the demonstrations' bounding box unsafe: every "
                 "state the expert never visited counts as unsafe; if the allowed space is larger, give "
                 "demonstrations that cover it")
+        self.warnings_.extend(episode_setting_warnings(X, names, steps, dnf))
         for message in self.warnings_:
             warnings.warn(message, UserWarning, stacklevel=FIT_CALLER)
         metrics = {"n_samples": len(X), "n_features": len(names), "n_nodes": tree.n_nodes,
                    "n_leaves": tree.n_leaves, "depth": tree.depth, "n_conjunctions": len(dnf),
                    "n_atoms": sum(len(c) for c in dnf),
                    "safe_volume_fraction": safe_share, "unsafe_share": self.unsafe_share_,
-                   "slivers_closed": slivers}
+                   "slivers_closed": slivers, "slivers_crossed": closed["crossed"]}
         timings = {"features": t_features - started, "tree": t_tree - t_features, "dnf": t_dnf - t_tree,
                    "total": max(time.perf_counter() - started, 1e-9)}
         made = (f"unsafe set learned by a one-class tree (max depth {self.max_depth}) from "
@@ -962,16 +968,71 @@ def _data_description(demonstrations: Any, n_points: int) -> str:
     return f"{source} ({points})" if source else points
 
 
-def _notes(learner: OneClassTreeConstraint, slivers: int) -> list[str]:
-    """The file-header lines that say how the formula was made readable."""
+def _notes(learner: OneClassTreeConstraint, closed: dict[str, int], trajectories: bool) -> list[str]:
+    """The file-header lines that say how the formula was made readable (``closed``: the gaps
+    closed by cause; ``trajectories``: whether the points came as demonstrations, whose steps
+    can cross a gap)."""
     if not learner.readable:
         return ["thresholds are the data's values (readable=False)"]
     notes = ["thresholds: the fewest significant digits that keep every demonstration point on the same side "
              "of every rule"]
-    notes.append(f"{slivers} gap(s) between neighbouring safe boxes narrower than the data's resolution (the "
-                 "kernel bandwidth) were closed (made safe)" if slivers else
-                 "no gap between neighbouring safe boxes was narrower than the data's resolution")
+    narrow, crossed = closed["narrow"], closed["crossed"]
+    narrow_text = "narrower than the data's resolution (the kernel bandwidth)"
+    crossed_text = "crossed by a demonstrated step"
+    if narrow and crossed:
+        notes.append(f"{narrow + crossed} gap(s) between neighbouring safe boxes were closed (made safe): "
+                     f"{narrow} {narrow_text}, {crossed} {crossed_text}")
+    elif narrow or crossed:
+        notes.append(f"{narrow + crossed} gap(s) between neighbouring safe boxes "
+                     f"{narrow_text if narrow else crossed_text} were closed (made safe)")
+    else:
+        notes.append("no gap between neighbouring safe boxes was narrower than the data's resolution"
+                     + (" or crossed by a demonstrated step" if trajectories else ""))
     return notes
+
+
+def episode_setting_warnings(X: np.ndarray, names: Sequence[str], steps: np.ndarray | None, dnf: DNF) -> list[str]:
+    """One warning per feature that is constant within every demonstration but differs between
+    them -- a setting of the episode (the weather, a goal's place), not something the expert
+    chose -- when rules other than the data's bounds test it: they say which settings the
+    demonstrations happened to have, and rarely a constraint."""
+    if steps is None or not len(steps):
+        return []
+    moved = np.abs(X[steps[:, 1]] - X[steps[:, 0]]).max(axis=0)
+    settings = [d for d in range(X.shape[1]) if moved[d] == 0 and np.ptp(X[:, d]) > 0]
+    out = []
+    for d in settings:
+        n_rules = sum(1 for c in dnf if len(c.atoms) > 1 and any(a.feature == names[d] for a in c.atoms))
+        if n_rules:
+            others = [n for i, n in enumerate(names) if i != d and i not in settings]
+            hint = f"; leave it out with --inputs {','.join(others)} (inputs= in Python)" if others else ""
+            out.append(f"feature {names[d]} is constant within every demonstration and differs between them "
+                       f"(a setting of the episode, not a choice of the expert): the {n_rules} rule(s) testing "
+                       f"it say which settings the demonstrations had{hint}")
+    return out
+
+
+def demonstrated_steps(demonstrations: Any, n_rows: int) -> np.ndarray | None:
+    """``[M, 2]`` indices of consecutive rows of the feature matrix that are consecutive states of
+    one demonstration (the matrix holds the demonstrations' states in order), or None when the
+    points did not come as demonstrations."""
+    from symlearn.data import Demonstrations, Trajectory
+
+    if isinstance(demonstrations, Trajectory):
+        trajectories = [demonstrations]
+    elif isinstance(demonstrations, Demonstrations) or (
+            isinstance(demonstrations, (list, tuple)) and demonstrations
+            and all(isinstance(t, Trajectory) for t in demonstrations)):
+        trajectories = list(demonstrations)
+    else:
+        return None
+    lengths = np.array([len(t.states) for t in trajectories], dtype=np.int64)
+    if int(lengths.sum()) != n_rows:
+        return None
+    first = np.arange(n_rows - 1, dtype=np.int64)
+    ends = np.cumsum(lengths) - 1  # the last row of each demonstration starts no step
+    first = first[~np.isin(first, ends)]
+    return np.column_stack([first, first + 1])
 
 
 def _volume_fraction(boxes: Sequence[Box], bounds: Box) -> float:

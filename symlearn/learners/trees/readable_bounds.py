@@ -14,11 +14,18 @@ data's resolution, a "sliver" rule ``x > 0.8463 & x < 0.8471`` across the expert
   point thus keeps its side of every atom and its leaf; siblings stay disjoint (their sides
   stay on either side of the midpoint between them). The rounded value is the one stored in the
   boxes, so the formula, the boxes and ``predict`` agree, and the text reads back exactly.
-* **Slivers.** A gap between neighbouring children narrower than the feature's resolution (its
-  bandwidth) is closed: both children meet at one cut ``c`` (the shortest number between the
-  two), the left child's side becomes the largest float below ``c`` and the formula writes it
-  ``x < c`` -- exact for floats, and no gap rule is written. This changes the learned set by
-  the closed gaps only (made safe), which :func:`readable_tree` counts for the file header.
+* **Slivers.** A gap between neighbouring children is closed when it is narrower than the
+  feature's resolution (its bandwidth), or when a demonstrated step crosses it: two consecutive
+  states of one demonstration, both inside the parent's box, on either side of the gap. The
+  straight segment between them lies in the parent's box (a box is convex) and passes through
+  the gap, so the expert moved through it -- a gap its sampling rate skipped, not a region it
+  avoided. (A bandwidth can be far finer than the data's spacing where most points crowd in one
+  mode: a thermostat holding its set point gives a bandwidth of 0.06 degrees and gaps of 0.1-0.4
+  degrees on the way there.) Both children then meet at one cut ``c`` (the shortest number
+  between the two), the left child's side becomes the largest float below ``c`` and the formula
+  writes it ``x < c`` -- exact for floats, and no gap rule is written. This changes the learned
+  set by the closed gaps only (made safe), which :func:`readable_tree` counts for the file
+  header, by cause.
 """
 
 from __future__ import annotations
@@ -90,19 +97,35 @@ class _Sides:
         return self.cache[key]
 
 
-def readable_tree(tree, X: np.ndarray, resolution: np.ndarray, *, tolerance_share: float = 0.1):
-    """``(tree, slivers)``: ``tree`` with rounded sides and closed slivers (module docstring), and
-    the number of gaps closed. ``resolution``: per feature, the width below which a gap between
-    siblings is a sliver (the bandwidth); a side moves by at most ``tolerance_share`` of it."""
+def crossed(X: np.ndarray, steps: np.ndarray | None, members: np.ndarray, j: int, upper: float,
+            lower: float) -> bool:
+    """Whether a demonstrated step (a row ``(a, b)`` of ``steps``: consecutive states of one
+    demonstration, indices into ``X``) with both states among ``members`` (a boolean mask: the
+    points of the parent node) goes from ``x_j <= upper`` to ``x_j >= lower`` or back."""
+    if steps is None or not len(steps):
+        return False
+    inside = members[steps[:, 0]] & members[steps[:, 1]]
+    a, b = X[steps[:, 0], j], X[steps[:, 1], j]
+    return bool(np.any(inside & (np.minimum(a, b) <= upper) & (np.maximum(a, b) >= lower)))
+
+
+def readable_tree(tree, X: np.ndarray, resolution: np.ndarray, *, tolerance_share: float = 0.1,
+                  steps: np.ndarray | None = None):
+    """``(tree, closed)``: ``tree`` with rounded sides and closed slivers (module docstring), and
+    the number of gaps closed by cause: ``{"narrow": n, "crossed": m}`` (a gap both narrow and
+    crossed counts as narrow). ``resolution``: per feature, the width below which a gap between
+    siblings is a sliver (the bandwidth); a side moves by at most ``tolerance_share`` of it.
+    ``steps``: ``[M, 2]`` row indices of ``X``, the demonstrated steps (None: the rows are not
+    trajectories, only narrow gaps are closed)."""
     from symlearn.learners.trees.one_class_tree import Box, OneClassTree, TreeNode
 
     sides = _Sides(X, tolerance_share * np.asarray(resolution, dtype=np.float64))
-    closed = [0]
+    closed = {"narrow": 0, "crossed": 0}
 
     def side(d: int, v: float, role: str, override: dict) -> float:
         return override[(d, role, v)] if (d, role, v) in override else sides.round(d, v, role)
 
-    def rebuild(node, override: dict):
+    def rebuild(node, override: dict, members: np.ndarray):
         k = len(node.box.lower)
         box = Box(tuple(side(d, node.box.lower[d], "lower", override) for d in range(k)),
                   tuple(side(d, node.box.upper[d], "upper", override) for d in range(k)))
@@ -112,12 +135,16 @@ def readable_tree(tree, X: np.ndarray, resolution: np.ndarray, *, tolerance_shar
         scoped = [dict(override) for _ in node.children]
         for n in range(len(node.children) - 1):
             upper, lower = node.children[n].box.upper[j], node.children[n + 1].box.lower[j]
-            if lower - upper < resolution[j]:  # a sliver: the two children meet at one cut
+            cause = "narrow" if lower - upper < resolution[j] else \
+                "crossed" if crossed(X, steps, members, j, upper, lower) else None
+            if cause:  # a sliver: the two children meet at one cut
                 cut = fewest_digits((upper + lower) / 2, upper, lower, low_open=True, high_open=False)
                 scoped[n][(j, "upper", upper)] = float(np.nextafter(cut, -math.inf))
                 scoped[n + 1][(j, "lower", lower)] = cut
-                closed[0] += 1
-        children = tuple(rebuild(c, o) for c, o in zip(node.children, scoped))
+                closed[cause] += 1
+        # the children split the node's points by their interval on j (the unrounded sides)
+        parts = [members & (X[:, j] >= c.box.lower[j]) & (X[:, j] <= c.box.upper[j]) for c in node.children]
+        children = tuple(rebuild(c, o, m) for c, o, m in zip(node.children, scoped, parts))
         return TreeNode(box, node.n_samples, node.depth, j, children, node.gain)
 
-    return OneClassTree(rebuild(tree.root, {}), tree.feature_names), closed[0]
+    return OneClassTree(rebuild(tree.root, {}, np.ones(len(X), dtype=bool)), tree.feature_names), closed

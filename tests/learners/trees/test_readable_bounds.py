@@ -124,3 +124,62 @@ def test_cli_reports_warnings_and_notes(capsys, tmp_path):
     assert str(parse(text)) == doc["formula"]
     code, out, err = run(capsys, "learn", "dnf", "--demos", path)
     assert code == 0 and "warning: the formula marks" in out
+
+
+def heating_runs(seed: int = 0, episodes: int = 20, outside: bool = False) -> Demonstrations:
+    """A room heated from 15-20 degrees towards 26 at up to 1.5 degrees a step, then held there:
+    most points crowd at the set point (a fine bandwidth), the way up is sparse, and every gap on
+    it is crossed by a step. ``outside``: a second feature, the outside temperature, drawn once
+    per episode (constant within it)."""
+    rng = np.random.default_rng(seed)
+    runs = []
+    for _ in range(episodes):
+        temp, out = rng.uniform(15, 20), rng.uniform(0, 10)
+        states = [[temp, out] if outside else [temp]]
+        for _ in range(60):
+            temp += 1.5 * float(np.clip((26.0 - temp) / 1.5, -1, 1)) - 0.05 * (temp - out) + rng.normal(0, 0.1)
+            states.append([temp, out] if outside else [temp])
+        runs.append(Trajectory(states=states, actions=[0] * 60))
+    return Demonstrations(runs)
+
+
+def inner_gaps(dnf) -> list:
+    """The conjunctions ``x > a & x < b`` on one feature: gaps between neighbouring boxes."""
+    return [c for c in dnf if len(c.atoms) == 2 and {a.op for a in c.atoms} == {">", "<"}
+            and c.atoms[0].feature == c.atoms[1].feature]
+
+
+def test_a_gap_that_a_demonstrated_step_crosses_is_closed():
+    demos = heating_runs()
+    points = np.concatenate([np.asarray(t.states) for t in demos])
+    as_points, as_demos = quiet_fit(points), quiet_fit(demos)
+    # on the points alone the gaps on the way up are wider than the bandwidth and stay
+    assert inner_gaps(as_points.dnf_) and as_points.slivers_crossed_ == 0
+    assert any(abs(g.atoms[1].value - g.atoms[0].value) > 0.05 for g in inner_gaps(as_points.dnf_))
+    # the demonstrations' steps cross them: closed, counted and said in the header
+    assert not inner_gaps(as_demos.dnf_) and as_demos.slivers_crossed_ >= len(inner_gaps(as_points.dnf_))
+    assert len(as_demos.dnf_) == len(as_points.dnf_) - as_demos.slivers_crossed_  # one rule less per gap
+    assert "crossed by a demonstrated step were closed (made safe)" in as_demos.artefact_text()
+    midpoint = [[(g.atoms[0].value + g.atoms[1].value) / 2] for g in inner_gaps(as_points.dnf_)]
+    assert as_points.predict(midpoint).all() and not as_demos.predict(midpoint).any()
+    assert not as_demos.predict(points).any() and parse(str(as_demos.dnf_)) == as_demos.dnf_
+    check_formula(as_demos, np.linspace(10, 30, 4001)[:, None])
+
+
+def test_a_gap_between_demonstrations_that_no_step_crosses_stays():
+    rng = np.random.default_rng(0)
+    runs = [Trajectory(states=list(rng.uniform(lo, lo + 1, (200, 1))), actions=[0] * 199) for lo in (0.0, 2.0)]
+    learner = quiet_fit(Demonstrations(runs))
+    assert learner.slivers_crossed_ == 0 and learner.predict([[1.5]]).all()
+    assert "or crossed by a demonstrated step" in learner.artefact_text()  # "no gap was ... or crossed"
+
+
+def test_a_feature_constant_within_every_demonstration_is_named_in_a_warning():
+    demos = heating_runs(outside=True)
+    with pytest.warns(UserWarning, match="feature x1 is constant within every demonstration"):
+        learner = OneClassTreeConstraint().fit(demos)
+    message = next(w for w in learner.warnings_ if "x1 is constant" in w)
+    assert "--inputs x0" in message and "# warning: feature x1" in learner.artefact_text()
+    points = np.concatenate([np.asarray(t.states) for t in demos])
+    assert not any("constant within" in w for w in quiet_fit(points).warnings_)  # no episodes: no claim
+    assert not any("constant within" in w for w in quiet_fit(demos, inputs=["x0"]).warnings_)
