@@ -73,8 +73,12 @@ def register_learn(commands, common) -> None:
                     "inference), maximum-likelihood constraint sets, or MCE-ICRL cost maps.")
     where = cmd.add_mutually_exclusive_group(required=True)
     where.add_argument("--env", metavar="ENV",
-                       help=f"a bundled environment: {', '.join(CONSTRAINT_ENVS)} (see `symlearn envs`); your own "
-                            "world is a domain folder (--domain)")
+                       help=f"a bundled environment: {', '.join(CONSTRAINT_ENVS)} (see `symlearn envs`), or a "
+                            "discrete gymnasium environment that exposes its model (a gymnasium id such as "
+                            "CliffWalking-v1, or module:EnvId; env.unwrapped.P or to_tabular(); methods ml and "
+                            "mce-icrl, with --demos); a world with ASP facts is a domain folder (--domain)")
+    cmd.add_argument("--env-kwargs", metavar="JSON",
+                     help="keyword arguments of your own --env (a JSON object)")
     where.add_argument("--domain", metavar="DIR", help="your own domain folder (domain.toml; see docs/FORMATS.md)")
     cmd.add_argument("--allow-outside", action="store_true", help="let the domain folder name files outside itself (paths, symlinks, #include); only for a trusted folder")
     add_domain_limits(cmd, "reading, grounding and learning")
@@ -123,20 +127,83 @@ def _world(args: argparse.Namespace) -> _World:
                       domain=d, features="state_action")
     from symlearn.envs.constraint_envs import constraint_setting
 
-    from symlearn.errors import UnknownNameError
+    from symlearn.errors import DataError, UnknownNameError
 
+    env_kwargs = getattr(args, "env_kwargs", None)
     try:
-        setting = constraint_setting(args.env, args.stochasticity)
-    except UnknownNameError as exc:  # a gymnasium environment has no state-action model to learn rules in
-        raise UnknownNameError(exc.message, hint=(exc.hint or "") + "; your own world: --domain DIR with --demos "
-                               "(a folder with domain.toml, docs/FORMATS.md)") from None
+        setting = constraint_setting(args.env, args.stochasticity) if not env_kwargs else None
+    except UnknownNameError as exc:
+        gym_world = _gymnasium_world(args.env, env_kwargs)  # a user's discrete world, or None
+        if gym_world is not None:
+            return gym_world
+        raise UnknownNameError(exc.message, hint=(exc.hint or "") + "; a discrete gymnasium environment with its "
+                               "model (env.unwrapped.P or to_tabular()): a gymnasium id or module:EnvId; a world "
+                               "with ASP facts: --domain DIR with --demos (a folder with domain.toml, "
+                               "docs/FORMATS.md)") from None
+    if setting is None:
+        gym_world = _gymnasium_world(args.env, env_kwargs)
+        if gym_world is None:
+            raise DataError(f"{args.env} is a bundled environment; --env-kwargs is for your own environment")
+        return gym_world
     lm = setting.logic
     return _World(setting.name, setting.mdp, setting.space, setting.truth, setting.reward == "given",
                   domain=lm.domain if lm is not None else None, expert=setting.expert, bundled=lm,
                   rationality=setting.rationality, grid=setting.grid)
 
 
+def _gymnasium_world(name: str, env_kwargs: Any) -> _World | None:
+    """A discrete gymnasium environment (an id, or ``module:EnvId``) as a world to learn in, read
+    through its model (:meth:`~symlearn.mdp.TabularMDP.from_gymnasium`); None when ``name`` names
+    no such environment (not a gymnasium id, not ``module:EnvId``). Ground truth, where the
+    environment knows it: a ``constraint_mask()`` method returning the forbidden ``(S, A)`` pairs."""
+    import numpy as np
+
+    from symlearn.errors import DataError, ModelError, UnknownNameError
+    from symlearn.mdp import TabularMDP
+    from symlearn.recipes.environments import resolve_env
+
+    if ":" not in name:
+        try:
+            import gymnasium
+
+            import symlearn.envs  # noqa: F401 -- registers the symlearn/ ids
+        except ImportError:
+            return None
+        if name.strip() not in gymnasium.registry:
+            return None
+    try:
+        target = resolve_env(name, env_kwargs)
+    except UnknownNameError:
+        return None
+    env = target.make()
+    try:
+        try:
+            mdp = TabularMDP.from_gymnasium(env)
+        except ModelError as exc:
+            raise DataError(f"{target.display}: {exc.message}; learn constraints needs a discrete world with its "
+                            "model", hint="env.unwrapped.P[s][a] = [(p, s', r, terminated), ...] (gymnasium's "
+                            "toy-text convention) or a to_tabular() method; for continuous states: symlearn learn "
+                            "dnf or learn icrl") from None
+        truth = None
+        mask = getattr(env.unwrapped, "constraint_mask", None)
+        if callable(mask):
+            truth = np.asarray(mask(), dtype=bool)
+            if truth.shape != (mdp.n_states, mdp.n_actions):
+                raise DataError(f"{target.display}.constraint_mask() has shape {truth.shape}, the model "
+                                f"({mdp.n_states}, {mdp.n_actions})")
+    finally:
+        env.close()
+    space = np.ones((mdp.n_states, mdp.n_actions), dtype=bool)
+    space[mdp.terminal] = False
+    return _World(target.display, mdp, space, None if truth is None else truth & space,
+                  bool(np.any(mdp.rewards != 0)))
+
+
 def _constraints(args: argparse.Namespace, out) -> None:
+    if args.domain and getattr(args, "env_kwargs", None):
+        from symlearn.errors import DataError
+
+        raise DataError("--env-kwargs goes with --env, not --domain")
     if args.output and args.method:  # before the world is built: a mismatch costs nothing
         _check_output(args.output, args.method)
     if args.rationality is not None:  # likewise, before a worker reads the folder
@@ -360,7 +427,9 @@ def _cost_map(world: _World, learner, args) -> dict:
     if world.grid is not None:
         from symlearn.demo.gridworld_pipeline import cost_map_text
 
-        doc["grid"] = cost_map_text(world.grid, per_state, learner.threshold)
+        per_cell = learner.constraint_map_.shape == (world.mdp.n_states,)
+        doc["grid"] = cost_map_text(world.grid, per_state, learner.threshold,
+                                    learner.headed_for_ if per_cell else None)
     return doc
 
 
@@ -461,7 +530,8 @@ def _write_cost_map(stem: Path, cost_map: dict, world: _World, learner) -> list[
     header = (f"# MCE-ICRL learned cost per state in {world.name} (max over actions); "
               f"threshold {cost_map['threshold']}\n")
     if "grid" in cost_map:
-        text = header + "# * = above the threshold, ! = truly forbidden, S start, G goal\n" + cost_map["grid"]
+        text = header + ("# * = above the threshold (forbidden), ~ = above it but the expert heads there (not "
+                         "forbidden), ! = truly forbidden, S start, G goal\n") + cost_map["grid"]
     else:
         rows = sorted(cost_map["cost"].items(), key=lambda kv: -kv[1])
         text = header + "".join(f"{value:10.4f}  {name}\n" for name, value in rows) if rows else \
@@ -502,7 +572,8 @@ def _render(doc: dict) -> str:
     if doc.get("cost_map"):
         cost_map = doc["cost_map"]
         if "grid" in cost_map:
-            lines.append(f"learned cost per cell (* above the threshold {cost_map['threshold']}, ! truly forbidden):")
+            lines.append(f"learned cost per cell (* above the threshold {cost_map['threshold']}: forbidden; ~ above it, "
+                         "but the expert heads there; ! truly forbidden):")
             lines += ["  " + row for row in cost_map["grid"].rstrip("\n").split("\n")]
         else:
             costly = sorted(cost_map["cost"].items(), key=lambda kv: -kv[1])

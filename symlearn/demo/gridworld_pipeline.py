@@ -21,9 +21,11 @@ from symlearn.rendering import dot_available, render_dot
 STOCHASTICITY = 0.3
 
 
-def cost_map_text(env, cost: np.ndarray, threshold: float) -> str:
+def cost_map_text(env, cost: np.ndarray, threshold: float, headed_for: np.ndarray | None = None) -> str:
     """One line per row: the learned cost of each cell, ``*`` after cells above ``threshold``
-    and ``!`` after truly forbidden cells (S start, G goal)."""
+    and ``!`` after truly forbidden cells (S start, G goal). ``headed_for``: cells the expert
+    heads for (an MCE-ICRL learner's ``headed_for_``), marked ``~`` instead of ``*`` when above
+    the threshold -- costly, but not forbidden."""
     height, width = env.shape
     lines = []
     for r in range(height):
@@ -31,7 +33,8 @@ def cost_map_text(env, cost: np.ndarray, threshold: float) -> str:
         for c in range(width):
             s = r * width + c
             tag = "S" if s == env.start_state else "G" if s == env.goal_state else " "
-            mark = ("*" if cost[s] > threshold else " ") + ("!" if env.forbidden_states[s] else " ")
+            above = " " if cost[s] <= threshold else "~" if headed_for is not None and headed_for[s] else "*"
+            mark = above + ("!" if env.forbidden_states[s] else " ")
             cells.append(f"{tag}{cost[s]:6.2f}{mark}")
         lines.append(" ".join(cells))
     return "\n".join(lines) + "\n"

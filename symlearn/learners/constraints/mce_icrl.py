@@ -12,7 +12,16 @@ solved by alternating
    demonstrations.
 
 Features whose expected count under the policy exceeds the expert's gain cost; the learned
-constraint map is the set of features whose multiplier ends above ``threshold``.
+constraint map is the set of features whose multiplier ends above ``threshold``, less what the
+expert does on purpose. A multiplier only says that the entropy-regularised policy would visit a
+feature more often than the demonstrations did -- on a user's world with a small step reward the
+policy wanders, and every cell of the expert's own route gets a cost. So the binary reading
+(``constraint_map_``, ``forbidden_``) leaves out the states the expert *heads for*: a start state
+of a demonstration, and the most likely successor of a demonstrated move made from a state it
+heads for (a fixpoint over the demonstrations), and with pair features the moves it makes from
+them. A slip -- a successor other than the most likely one -- does not count, so a forbidden cell
+the dynamics carried the expert into stays forbidden, and so does a move it made from there. The
+multipliers, the cost and the policy are unchanged by this reading.
 
 :class:`MEICRL` is the same loop with *non-causal* (trajectory) entropy: the policy comes from
 the trajectory-level MaxEnt model ``P(tau) ~ prod P(s'|s,a) exp(return / beta)``, whose backup
@@ -93,7 +102,9 @@ class MCEICRL(Learner):
     count), ``max_sweeps`` (soft value iteration sweeps per round; the solve is warm-started).
 
     Results: ``lambda_`` (k,), ``cost_`` (S, A), ``policy_`` (S, A), ``constraint_map_``
-    (``lambda_ > threshold``; per state for state features), ``multipliers_`` (positive multipliers by state name, state features only),
+    (``lambda_ > threshold``, less the states the expert heads for with state features and the
+    moves it makes from them with state-action features -- see the module docstring; per state
+    for state features), ``headed_for_`` (S,) bool, ``multipliers_`` (positive multipliers by state name, state features only),
     ``expert_features_``,
     ``policy_features_``, ``history_`` (one :class:`DualStep` per iteration), ``converged_``,
     ``n_iter_``, ``seconds_``.
@@ -202,7 +213,13 @@ class MCEICRL(Learner):
         self.policy_ = policy
         self.expert_features_ = expert
         self.policy_features_ = policy_features
+        self.headed_for_, deliberate = deliberate_moves(mdp, episodes)
+        self.deliberate_ = deliberate
         self.constraint_map_ = lam > self.threshold
+        if self.constraint_map_.shape == (mdp.n_states,) and self._state_features():
+            self.constraint_map_ &= ~self.headed_for_
+        elif isinstance(self.features, str) and self.features == "state_action":
+            self.constraint_map_ &= ~deliberate.reshape(-1)
         self.history_ = history
         self.converged_ = converged
         self.n_iter_ = len(history)
@@ -224,13 +241,41 @@ class MCEICRL(Learner):
         """The constraint set the multipliers imply, as forbidden (S, A) pairs: with state
         features every move whose most likely successor is a constrained state; with
         state-action (or custom) features every pair whose cost exceeds the threshold."""
-        if self.constraint_map_.shape == (mdp.n_states,) and (not isinstance(self.features, str) or
-                                                               self.features == "state"):
+        if self.constraint_map_.shape == (mdp.n_states,) and self._state_features():
             forbidden = self.constraint_map_[np.argmax(mdp.transitions, axis=2)]
         else:
-            forbidden = self.cost_ > self.threshold
+            forbidden = (self.cost_ > self.threshold) & ~self.deliberate_
         forbidden = forbidden & ~mdp.terminal[:, None]
         return forbidden if known is None else forbidden & ~known
+
+    def _state_features(self) -> bool:
+        """Whether the features are read per state (the string ``"state"`` or a custom array of
+        one column per state)."""
+        return not isinstance(self.features, str) or self.features == "state"
+
+
+def deliberate_moves(mdp: TabularMDP, episodes) -> tuple[np.ndarray, np.ndarray]:
+    """``(headed_for, moves)``: the states the expert heads for -- the demonstrations' start states
+    and, to a fixpoint, the most likely successor of every demonstrated move made from such a
+    state -- as an (S,) mask, and those moves as an (S, A) mask (see the module docstring)."""
+    target = np.argmax(mdp.transitions, axis=2)  # the intended successor of every move
+    steps = [(np.asarray(e.states[: len(e.actions)]), np.asarray(e.actions)) for e in episodes]
+    headed = np.zeros(mdp.n_states, dtype=bool)
+    for states, _ in steps:
+        if len(states):
+            headed[states[0]] = True
+    while True:
+        before = int(headed.sum())
+        for states, actions in steps:
+            on_purpose = headed[states]
+            headed[target[states[on_purpose], actions[on_purpose]]] = True
+        if int(headed.sum()) == before:
+            break
+    moves = np.zeros((mdp.n_states, mdp.n_actions), dtype=bool)
+    for states, actions in steps:
+        on_purpose = headed[states]
+        moves[states[on_purpose], actions[on_purpose]] = True
+    return headed, moves
 
 
 class MEICRL(MCEICRL):

@@ -90,6 +90,32 @@ def violation_rate(env, policy, seed=123):
     return float(rollouts.fraction_in(env.forbidden_states).mean())
 
 
+def test_mce_icrl_forbids_no_state_the_expert_heads_for_but_keeps_the_cells_it_slipped_into():
+    """With slips (p = 0.3) the expert's own route gets multipliers above the threshold too (the
+    entropy-regularised policy visits it more often than the demonstrations); the binary reading
+    leaves out the states it heads for, and only those: the block keeps every cell the raw
+    multipliers mark, although the expert was carried into some of it."""
+    from symlearn.learners.constraints.mce_icrl import deliberate_moves
+    from symlearn.mdp.episodes import tabular_episodes
+
+    env = StochasticGridworld(0.3)
+    demos = expert_demos(env, 30, 0)
+    learner = MCEICRL(n_iterations=150).fit(demos, env.to_tabular())
+    raw = learner.lambda_ > learner.threshold
+    episodes = tabular_episodes(demos, env.to_tabular())
+    visited = np.zeros(env.n_states, dtype=bool)
+    for e in episodes:
+        visited[e.states] = True
+    assert visited[env.forbidden_states].any()  # the dynamics carried the expert into the block
+    headed, moves = deliberate_moves(env.to_tabular(), episodes)
+    assert np.array_equal(headed, learner.headed_for_) and not headed[env.forbidden_states].any()
+    assert (raw & headed).any()  # route cells with a multiplier above the threshold...
+    assert not (learner.constraint_map_ & headed).any()  # ...are not read as forbidden
+    assert np.array_equal(learner.constraint_map_[env.forbidden_states], raw[env.forbidden_states])
+    assert not (learner.forbidden_ & moves).any()  # no move the expert made on purpose is forbidden
+    assert np.array_equal(learner.constraint_map_, raw & ~headed)
+
+
 def test_mce_icrl_learns_the_block_without_noise():
     env = StochasticGridworld(0.0)
     learner = MCEICRL(n_iterations=150).fit(expert_demos(env, 20, 0), env.to_tabular())
