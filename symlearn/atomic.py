@@ -7,6 +7,10 @@ Permissions: a new file gets ``0666`` minus the process umask (what ``open`` wou
 replacing an existing file keeps that file's mode, so converting a ``0644`` file onto itself
 leaves it ``0644`` (``tempfile.mkstemp`` alone would make every output ``0600``).
 
+Text: UTF-8, with a lone surrogate -- what Python makes of a file name that is not UTF-8, say a
+demonstrations file the header of a rule file names -- written as its escape (``\udcff``), so
+such a name never makes a write fail; JSON that carries one reads back to the same string.
+
 Interruption: the temporary file is removed on any exception, ``KeyboardInterrupt`` included;
 the CLI turns SIGTERM into an exception too (``symlearn.cli.main``), so a terminated write
 leaves neither a partial target nor a ``.tmp`` file behind.
@@ -36,7 +40,9 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
     fd, tmp_name = tempfile.mkstemp(prefix=f".{_shortened(target.name)}.", suffix=".tmp", dir=target.parent)
     try:
         os.fchmod(fd, _mode_for(target))
-        with os.fdopen(fd, mode, encoding=None if "b" in mode else encoding) as handle:
+        text = "b" not in mode
+        with os.fdopen(fd, mode, encoding=encoding if text else None,
+                       errors="backslashreplace" if text else None) as handle:
             yield handle
             handle.flush()
             os.fsync(handle.fileno())
