@@ -136,7 +136,8 @@ def _world(args: argparse.Namespace) -> _World:
         gym_world = _gymnasium_world(args.env, env_kwargs)  # a user's discrete world, or None
         if gym_world is not None:
             return gym_world
-        raise UnknownNameError(exc.message, hint=(exc.hint or "") + "; a discrete gymnasium environment with its "
+        raise UnknownNameError(exc.message, hint=_close_gym_id(args.env, exc.hint) + (exc.hint or "") +
+                               "; a discrete gymnasium environment with its "
                                "model (env.unwrapped.P or to_tabular()): a gymnasium id or module:EnvId; a world "
                                "with ASP facts: --domain DIR with --demos (a folder with domain.toml, "
                                "docs/FORMATS.md)") from None
@@ -149,6 +150,22 @@ def _world(args: argparse.Namespace) -> _World:
     return _World(setting.name, setting.mdp, setting.space, setting.truth, setting.reward == "given",
                   domain=lm.domain if lm is not None else None, expert=setting.expert, bundled=lm,
                   rationality=setting.rationality, grid=setting.grid)
+
+
+def _close_gym_id(name: str, hint: str | None) -> str:
+    """``"did you mean 'ID'? "`` for the gymnasium id closest to ``name``, where the bundled names
+    offered none (``hint``: the hint that lists them)."""
+    if hint and "did you mean" in hint:
+        return ""
+    from difflib import get_close_matches
+
+    try:
+        import gymnasium
+    except ImportError:  # pragma: no cover - a core dependency
+        return ""
+    ids = [i for i in gymnasium.registry if not i.startswith("symlearn/")]
+    close = get_close_matches(name.strip(), ids, n=1)
+    return f"did you mean {close[0]!r}? " if close else ""
 
 
 def _gymnasium_world(name: str, env_kwargs: Any) -> _World | None:
