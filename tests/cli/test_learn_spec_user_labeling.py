@@ -88,11 +88,23 @@ def test_feature_name_mistakes(capsys, cart_demos, feature_labels, features, exp
     assert expected in _one_line_error(code, out, err)
 
 
-def test_feature_labeling_without_names(capsys, cart_demos, feature_labels):
+def test_feature_labeling_without_names_reads_x0_x1(capsys, cart_demos, feature_labels, tmp_path):
+    """Nothing names CartPole's entries: they are x0 .. x3, as `learn dnf` and `train --cost` call
+    them; a condition over another name is refused with the names there are."""
     code, out, err = run(capsys, "learn", "spec", "--env", "CartPole-v1", "--demos", cart_demos,
                          "--labeling", feature_labels)
     line = _one_line_error(code, out, err)
-    assert "needs the observation's feature names" in line and "--features" in line
+    assert "uses unknown feature 'x'" in line and "x0, x1, x2, x3" in line
+    from symlearn.grounding.labeling_function import read_labeling
+
+    with pytest.raises(Exception, match="needs the observation's feature names"):
+        read_labeling('{"right": "x0 > 0.05"}')  # in Python, without names, it still says so
+    code, out, err = run(capsys, "learn", "spec", "--env", "CartPole-v1", "--demos", cart_demos,
+                         "--labeling", '{"right": "x0 > 0.05"}', "--max-iterations", "1", "--json",
+                         "-o", tmp_path / "cart.ltl")
+    assert code == 0, err
+    labeling = json.loads((tmp_path / "cart.labeling.json").read_text())
+    assert "x0" in json.dumps(labeling)
 
 
 def test_feature_labeling_unknown_feature(capsys, cart_demos, tmp_path):
