@@ -465,6 +465,7 @@ def _run(method: str, world: _World, demos, args, known, out):
                "rationality": learner.rationality_fit_.as_dict(),
                "stop_reason": learner.stop_reason_, "stop": learner.stop_text(),
                "unexplained": [u.as_dict() for u in learner.unexplained_],
+               "rule_support": [r.as_dict() for r in learner.rule_support_],
                "history": [h.as_dict() for h in learner.history_]}
         return doc, learner.rule_constraints_, learner
     target = world.domain if world.domain is not None else world.mdp

@@ -33,6 +33,7 @@ ended), so only demonstrations, background knowledge and bias are needed.
 from __future__ import annotations
 
 import time
+import warnings
 from dataclasses import dataclass
 from typing import Any
 
@@ -41,7 +42,7 @@ import numpy as np
 from symlearn.errors import DemonstrationError, SymlearnError
 from symlearn.grounding import Domain, as_domain
 from symlearn.learners.base import Learner
-from symlearn.learners.fit_arguments import renamed_arguments
+from symlearn.learners.fit_arguments import FIT_CALLER, renamed_arguments
 from symlearn.learners.constraints.constraint_metrics import constraint_metrics
 from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
 from symlearn.progress import progress
@@ -232,7 +233,11 @@ class LogicConstraintInference(Learner):
     (the pairs chosen by inference alone), ``history_`` (:class:`LogicIteration` list),
     ``seconds_``, ``final_induction_seconds_`` (the induction after the loop's last closure, 0 when
     that closure added nothing), ``stop_reason_`` (``stopped_because_`` is the same),
-    ``unexplained_``, ``result_``.
+    ``unexplained_``, ``rule_support_`` (:class:`~symlearn.learners.constraints.rule_support.RuleSupport`
+    per rule: how much likelier the demonstrations are with it, the planner's rationality refitted
+    with and without it; where the planner has a rationality, a weakly supported rule -- one the
+    demonstrations never needed, like ``:- wait.`` when every step costs -- is a warning and a line
+    of the rule file's header), ``result_``.
     """
 
     artefact_suffix = ".lp"
@@ -309,9 +314,18 @@ class LogicConstraintInference(Learner):
         self.seconds_ = time.perf_counter() - started
         self.truth_forbidden_ = d.truth_forbidden
         self.pair_space_ = ~d.unavailable
+        from symlearn.learners.constraints.rule_support import rule_support
+
+        # how much the demonstrations need each rule, the planner's rationality refitted with and
+        # without it (module rule_support): what a wandering nominal planner made look avoided
+        self.rule_support_ = rule_support(d, episodes, self.rules_, self.reward, self.horizon, inference.known_)
+        for support in self._weak_rules():
+            warnings.warn(support.text(), UserWarning, stacklevel=FIT_CALLER)
+        self.seconds_ = time.perf_counter() - started
         metrics: dict[str, Any] = {"rules": len(self.rules_), "constraints": int(self.rule_constraints_.sum()),
                                    "stopped_because": self.stop_reason_, "stop_reason": self.stop_reason_,
-                                   "unexplained": len(self.unexplained_), "rationality": self.rationality_}
+                                   "unexplained": len(self.unexplained_), "rationality": self.rationality_,
+                                   "weak_rules": len(self._weak_rules())}
         if self.truth_forbidden_ is not None:
             metrics.update({k: v for k, v in self.score().items() if k != "forbidden"})
         inference_seconds = sum(h.inference_seconds for h in history)
@@ -338,6 +352,17 @@ class LogicConstraintInference(Learner):
         learned = {"rules": self.rule_constraints_, "constraints": self.constraints_}[of]
         return constraint_metrics(learned, truth, self.pair_space_)
 
+    def _weak_rules(self) -> list:
+        """The weakly supported rules that are reported (warning, file header): only where the
+        planner has a rationality (fitted or given) -- the case of a temperature that made absences look
+        avoided. With the sparse reward (nothing to fit) a rule the demonstrations do not need is
+        typically one of dead ends the goal-directed planner never enters (leaving the road), found
+        by the closure and the bias' generalisation: its gain is still in ``rule_support_``."""
+        fit = self.__dict__.get("rationality_fit_")
+        if fit is None or fit.source == "flat":
+            return []
+        return [r for r in self.__dict__.get("rule_support_", []) if r.weak]
+
     def stop_text(self) -> str:
         """``stop_reason_`` in words."""
         if "stop_reason_" not in self.__dict__:
@@ -355,6 +380,11 @@ class LogicConstraintInference(Learner):
         if fit is not None and fit.source == "fitted":
             header += (f"\nMaxEnt rationality {self.rationality_:g}, fitted to the demonstrations (maximum "
                        "likelihood; --rationality sets it).")
+        weak = self._weak_rules()
+        if weak:
+            header += "\nWeakly supported (the demonstrations are about as likely without the rule, the planner's " \
+                      "rationality refitted; see symlearn.learners.constraints.rule_support):"
+            header += "".join(f"\n  {r.rule}  ({r.gain:.2f} nats)" for r in weak)
         if self.unexplained_:
             header += "\n" + "\n".join(unexplained_lines(self.unexplained_))
         return self.hypothesis_.lp_text(header, recheck=recheck or "symlearn domain check DOMAIN_DIR --rules THIS.lp "

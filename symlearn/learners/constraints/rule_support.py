@@ -1,0 +1,103 @@
+"""How much the demonstrations need each learned rule: its profile-likelihood gain.
+
+Maximum-likelihood constraint inference forbids what a nominal MaxEnt planner would do and the
+demonstrations never show. How random that planner is (its rationality) decides how much an
+absence counts: the rationality is fitted to the demonstrations *before* any rule is known, and
+the expert's detours around forbidden pairs then look like randomness, so the fit is low, the
+planner wanders, and pairs the expert merely never needed (waiting, where every step costs) look
+as avoided as the pairs it had to avoid. The guide's floor shows it: the rug rule and ``:- wait.``.
+
+This module asks of each rule, once the learning is done, whether the demonstrations need it:
+the log-likelihood of the demonstrated actions with every learned rule, minus the same without
+this one, *each at its own maximum-likelihood rationality* (a profile likelihood; fitted as in
+:mod:`~symlearn.learners.constraints.rationality_fit`). A rule the expert had to obey is needed
+at any temperature: without the rug rule, a deliberate planner drives over the rug and the
+expert's detour is improbable (on the guide's floor: 108 nats, the rationality fitted at 24 with
+it and 1.3 without). A rule about what the expert never needed costs nothing to drop once the
+planner is allowed to be as deliberate as the expert (``:- wait.``: 0.00 nats, 24 with it, 50
+without -- the likelihood is flat up there, so the two values say little).
+
+A gain below :data:`WEAK_SUPPORT` nats (the demonstrations are less than ``e^3 ~ 20`` times
+likelier with the rule) is reported as weak: in a warning and in the rule file's header. Weak is
+not wrong -- a rule can hold and still never have mattered to these demonstrations (an expert
+that never had a reason to break it); what the data cannot tell, the user has to. The rules are
+not changed. With the sparse reward there is no temperature to fit (it cancels), and the gain is
+the plain likelihood ratio.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+#: nats below which a rule's support is reported as weak (a likelihood ratio of about 20)
+WEAK_SUPPORT = 3.0
+
+
+@dataclass(frozen=True)
+class RuleSupport:
+    """One rule's profile-likelihood gain (see the module docstring)."""
+
+    rule: str
+    gain: float  # nats, over all demonstrated steps
+    rationality_with: float  # fitted with every learned rule
+    rationality_without: float  # fitted with the others only
+
+    @property
+    def weak(self) -> bool:
+        return self.gain < WEAK_SUPPORT
+
+    def as_dict(self) -> dict[str, Any]:
+        return {"rule": self.rule, "gain": self.gain, "rationality_with": self.rationality_with,
+                "rationality_without": self.rationality_without, "weak": self.weak}
+
+    def text(self) -> str:
+        """The warning for a weak rule (one line)."""
+        temperature = (f" (planner rationality {self.rationality_with:g} with it, {self.rationality_without:g} "
+                       "without, each fitted)" if self.rationality_with != self.rationality_without else "")
+        return (f"rule {self.rule} is weakly supported: the demonstrations are {self.gain:.2f} nats likelier with "
+                f"it than without{temperature}, below {WEAK_SUPPORT:g}: they do not show that it matters -- keep it "
+                "if you know it holds, delete it otherwise")
+
+
+def rule_support(domain: Any, episodes, rules: list[str], reward: Any, horizon: int,
+                 known: np.ndarray | None = None) -> list[RuleSupport]:
+    """:class:`RuleSupport` of each of ``rules`` (ASP integrity constraints) in ``domain`` (a
+    :class:`~symlearn.grounding.Domain`) on ``episodes`` (its tabular episodes); ``reward`` and
+    ``horizon`` as the learner planned with; ``known``: pairs forbidden in advance."""
+    from symlearn.learners.constraints.ml_constraint_inference import MaxEntVisitation
+    from symlearn.learners.constraints.rationality_fit import demonstration_log_likelihood, fit_rationality
+
+    if not rules:
+        return []
+    mdp = domain.mdp
+    planner = MaxEntVisitation(mdp, [], reward, horizon, 1.0)
+    sparse = isinstance(reward, str) and reward == "sparse"
+    base = domain.unavailable.copy()
+    if known is not None:
+        base |= known
+    masks = [domain.rule_mask([rule]) for rule in rules]  # integrity constraints forbid independently
+    steps = sum(len(e.actions) for e in episodes)
+
+    def profile(leave_out: int | None) -> tuple[float, float]:
+        forbidden = base.copy()
+        for i, mask in enumerate(masks):
+            if i != leave_out:
+                forbidden |= mask
+        fit = fit_rationality(mdp, episodes, planner._reward, horizon, ~forbidden, sparse=sparse)
+        mean = fit.mean_log_likelihood
+        if mean is None:  # flat: nothing was fitted, the likelihood at the value used
+            mean = demonstration_log_likelihood(mdp, episodes, planner._reward, fit.value, horizon, ~forbidden)
+        return fit.value, mean * steps
+
+    with_all, total = profile(None)
+    out = []
+    for i, rule in enumerate(rules):
+        without, partial = profile(i)
+        out.append(RuleSupport(rule, round(max(total - partial, 0.0), 4), with_all, without))
+    return out
+
+
+__all__ = ["RuleSupport", "WEAK_SUPPORT", "rule_support"]

@@ -1,0 +1,57 @@
+"""Rule support (learners/constraints/rule_support.py): how much likelier the demonstrations are
+with each learned rule, the planner's rationality refitted with and without it."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+import warnings
+from pathlib import Path
+
+import pytest
+
+from symlearn.data import load
+from symlearn.grounding import Domain
+from symlearn.learners.constraints.logic_constraint_inference import LogicConstraintInference
+from symlearn.learners.constraints.rule_support import WEAK_SUPPORT, rule_support
+
+GUIDE = Path(__file__).resolve().parents[3] / "docs" / "guide"
+
+
+@pytest.fixture(scope="module")
+def floor(tmp_path_factory):
+    """The guide's floor: a rug the careful driver goes round, every step (waiting too) costing 1."""
+    folder = tmp_path_factory.mktemp("floor")
+    subprocess.run([sys.executable, str(GUIDE / "make_domain.py"), "--episodes", "20"], cwd=folder, check=True,
+                   capture_output=True, timeout=120)
+    return Domain.from_folder(folder / "floor_domain"), load(folder / "floor_demos.jsonl")
+
+
+def test_the_rug_is_needed_and_waiting_is_not(floor):
+    domain, demos = floor
+    support = {s.rule: s for s in rule_support(domain, domain.episodes(demos), [":- wait.", ":- move(D), rug_ahead(D)."],
+                                               "given", 30)}
+    rug, wait = support[":- move(D), rug_ahead(D)."], support[":- wait."]
+    assert rug.gain > 50 and not rug.weak  # without it even a deliberate planner crosses the rug
+    assert wait.gain < WEAK_SUPPORT and wait.weak  # a deliberate planner never waits either
+    assert rug.rationality_without < rug.rationality_with  # the detour looks random without the rug rule
+
+
+def test_the_learner_warns_about_the_rule_it_did_not_need(floor):
+    domain, demos = floor
+    with pytest.warns(UserWarning, match=r"rule :- wait\. is weakly supported"):
+        learner = LogicConstraintInference(iterations=20, reward="given").fit(demos, domain)
+    assert ":- wait." in learner.rules_ and [r.rule for r in learner.rule_support_ if r.weak] == [":- wait."]
+    assert learner.result_.metrics["weak_rules"] == 1
+    text = learner.artefact_text()
+    assert "% Weakly supported" in text and "%   :- wait.  (0.00 nats)" in text
+    with warnings.catch_warnings():  # with the sparse reward nothing is fitted: measured, not reported
+        warnings.simplefilter("error")
+        sparse = LogicConstraintInference(iterations=20, reward="sparse").fit(demos, domain)
+    assert sparse.rule_support_ and sparse.result_.metrics["weak_rules"] == 0
+    assert "Weakly supported" not in sparse.artefact_text()
+
+
+def test_no_rules_no_support(floor):
+    domain, demos = floor
+    assert rule_support(domain, domain.episodes(demos), [], "given", 30) == []
