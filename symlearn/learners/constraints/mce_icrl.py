@@ -95,7 +95,11 @@ class MCEICRL(Learner):
     ``discount``, ``horizon`` (steps counted in feature expectations; demonstrations are cut
     there too), ``learning_rate`` (eta), ``n_iterations``, ``budget`` (alpha: the slack of the
     feature-matching constraint; 0 = hard constraints), ``tol`` (stop once no policy feature
-    count exceeds the expert's by more than ``tol + budget``), ``threshold`` (a multiplier
+    count exceeds the expert's by more than ``tol + budget``), ``patience`` and ``min_improvement``
+    (stop as stalled once the largest excess has not fallen by ``min_improvement``, a share, in the
+    last ``patience`` iterations: with hard feature matching and noisy demonstrations the
+    constraints are often not exactly feasible, and the excess settles above ``tol`` while the
+    multipliers keep growing; ``patience=None`` runs to ``n_iterations``), ``threshold`` (a multiplier
     above it marks a constrained feature), ``known_constraints`` (a forbidden (S, A) mask that
     is known in advance: removed from the policy; demonstrations breaking it raise a
     :class:`~symlearn.errors.DataError`, or with ``on_violation="warn"`` a warning with the
@@ -107,7 +111,7 @@ class MCEICRL(Learner):
     for state features), ``headed_for_`` (S,) bool, ``multipliers_`` (positive multipliers by state name, state features only),
     ``expert_features_``,
     ``policy_features_``, ``history_`` (one :class:`DualStep` per iteration), ``converged_``,
-    ``n_iter_``, ``seconds_``.
+    ``stop_reason_`` (``"converged"``, ``"stalled"`` or ``"max_iterations"``), ``n_iter_``, ``seconds_``.
     """
 
     entropy: Entropy = "causal"
@@ -130,6 +134,8 @@ class MCEICRL(Learner):
         known_constraints: np.ndarray | None = None,
         on_violation: Literal["error", "warn"] = "error",
         max_sweeps: int = 50,
+        patience: int | None = 100,
+        min_improvement: float = 0.02,
     ) -> None:
         self.reward = reward
         self.features = features
@@ -144,6 +150,8 @@ class MCEICRL(Learner):
         self.known_constraints = known_constraints
         self.on_violation = on_violation
         self.max_sweeps = max_sweeps
+        self.patience = patience
+        self.min_improvement = min_improvement
 
     def _phi(self, mdp: TabularMDP) -> np.ndarray:
         if isinstance(self.features, str):
@@ -162,6 +170,8 @@ class MCEICRL(Learner):
     def fit(self, demonstrations: Iterable[Any], world: Any = None) -> MCEICRL:
         if self.learning_rate <= 0 or self.n_iterations < 1 or self.horizon < 1:
             raise SymlearnError("learning_rate must be positive, n_iterations and horizon at least 1")
+        if self.patience is not None and (self.patience < 1 or not 0 <= self.min_improvement < 1):
+            raise SymlearnError("patience must be at least 1 (or None) and min_improvement in [0, 1)")
         started = time.perf_counter()
         mdp, known = tabular_model(world)
         episodes = tabular_episodes(demonstrations, mdp)
@@ -187,6 +197,8 @@ class MCEICRL(Learner):
         values = None
         history: list[DualStep] = []
         converged = False
+        stop = "max_iterations"
+        excesses: list[float] = []
         policy_features = np.zeros_like(expert)
         policy = None
         for iteration in range(1, self.n_iterations + 1):
@@ -206,7 +218,12 @@ class MCEICRL(Learner):
             else:
                 lam = np.maximum(0.0, lam - self.learning_rate * gap)
             history.append(DualStep(iteration, excess, int((lam > self.threshold).sum()), time.perf_counter() - t0))
+            excesses.append(excess)
             if converged:
+                stop = "converged"
+                break
+            if self._stalled(excesses):
+                stop = "stalled"
                 break
         self.lambda_ = lam
         self.cost_ = (flat_phi @ lam).reshape(mdp.n_states, mdp.n_actions)
@@ -222,6 +239,7 @@ class MCEICRL(Learner):
             self.constraint_map_ &= ~deliberate.reshape(-1)
         self.history_ = history
         self.converged_ = converged
+        self.stop_reason_ = stop
         self.n_iter_ = len(history)
         self.seconds_ = time.perf_counter() - started
         self.forbidden_ = self._forbidden_pairs(mdp, known)
@@ -233,7 +251,8 @@ class MCEICRL(Learner):
                              if lam.shape[0] == mdp.n_states else None)
         self._set_result(self.forbidden_, constraint_set_text(self.forbidden_, mdp, method="mce-icrl",
                                                               domain=world_name(world), multipliers=self.multipliers_),
-                         metrics={"constraints": int(self.forbidden_.sum()), "converged": converged},
+                         metrics={"constraints": int(self.forbidden_.sum()), "converged": converged,
+                                  "stop_reason": stop},
                          timings={"total": self.seconds_}, history=history)
         return self
 
@@ -247,6 +266,15 @@ class MCEICRL(Learner):
             forbidden = (self.cost_ > self.threshold) & ~self.deliberate_
         forbidden = forbidden & ~mdp.terminal[:, None]
         return forbidden if known is None else forbidden & ~known
+
+    def _stalled(self, excesses: list[float]) -> bool:
+        """Whether the best excess of the last ``patience`` iterations is no more than
+        ``min_improvement`` (a share) below the best one before them."""
+        k = self.patience
+        if k is None or len(excesses) < 2 * k:
+            return False
+        before, recent = min(excesses[:-k]), min(excesses[-k:])
+        return recent > (1.0 - self.min_improvement) * before
 
     def _state_features(self) -> bool:
         """Whether the features are read per state (the string ``"state"`` or a custom array of

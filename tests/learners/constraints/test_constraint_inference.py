@@ -116,6 +116,22 @@ def test_mce_icrl_forbids_no_state_the_expert_heads_for_but_keeps_the_cells_it_s
     assert np.array_equal(learner.constraint_map_, raw & ~headed)
 
 
+def test_mce_icrl_stops_when_the_excess_stalls():
+    """With slips the demonstrations' feature counts are not exactly reachable: the excess settles
+    and the multipliers only grow; the loop stops there (stop_reason_ "stalled") instead of at the cap."""
+    env = StochasticGridworld(0.3)
+    demos = expert_demos(env, 30, 0)
+    stalled = MCEICRL().fit(demos, env.to_tabular())
+    capped = MCEICRL(patience=None).fit(demos, env.to_tabular())
+    assert stalled.stop_reason_ == "stalled" and stalled.n_iter_ < capped.n_iter_ == 300
+    assert capped.stop_reason_ == "max_iterations" and not stalled.converged_
+    assert min(h.excess for h in stalled.history_) <= 1.1 * min(h.excess for h in capped.history_)
+    assert stalled.constraint_map_[env.forbidden_states].mean() >= 0.9  # the block is still found
+    assert MCEICRL(n_iterations=1000, tol=10.0).fit(demos, env.to_tabular()).stop_reason_ == "converged"
+    with pytest.raises(SymlearnError, match="patience"):
+        MCEICRL(patience=0).fit(demos, env.to_tabular())
+
+
 def test_mce_icrl_learns_the_block_without_noise():
     env = StochasticGridworld(0.0)
     learner = MCEICRL(n_iterations=150).fit(expert_demos(env, 20, 0), env.to_tabular())
