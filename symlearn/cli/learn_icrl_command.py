@@ -2,7 +2,7 @@
 
 ``symlearn learn icrl --env NAME [--method mce-icrl|me-icrl|vme-icrl|gacl] [--demos D.npz | --n-demos N] [--steps N]
 [--iterations I] [--beta B] [--cost-inputs x,y|all] [--select-inputs TOL] [--cost-sparsity S]
-[--reset-actor never|every|last|auto] [--lambda-lr L] [--env-kwargs JSON] [--expert-steps N]
+[--cost-memory all|current] [--reset-actor never|every|last|auto] [--lambda-lr L] [--env-kwargs JSON] [--expert-steps N]
 [--expert-cache DIR] [-o cost.safetensors] [--log run.csv] [--json]``
 
 * ``--env``: a bundled environment with ``mce-icrl`` among its methods (``blocked-point``,
@@ -103,6 +103,10 @@ def register_learn(commands, common) -> None:
                           "of them (held-out AUC; default 0.01, 0 = every candidate)")
     cmd.add_argument("--cost-sparsity", type=float, default=0.0,
                      help="mce-icrl: group-sparsity penalty on the cost network's inputs (default 0 = off)")
+    cmd.add_argument("--cost-memory", choices=("all", "current"), default=None,
+                     help="mce-icrl: which policies' samples the cost network learns from: every iteration's "
+                          "since the first policy phase (all, default: what the cost learned early is kept) or the "
+                          "current policy's only (current: the thesis' Algorithm 2.1)")
     cmd.add_argument("--reset-actor", choices=("never", "every", "last", "auto"), default="auto",
                      help="which policy phases start from a fresh actor (critic kept): auto (default: after two "
                           "phases in a row that left the learned cost's excess over the expert's almost "
@@ -226,11 +230,14 @@ def _icrl(args: argparse.Namespace, out) -> None:
     nominal = max(args.steps // 8, 1)
     method = {"mce-icrl": NeuralMCEICRL, "me-icrl": NeuralMEICRL, "vme-icrl": NeuralVMEICRL,
               "gacl": NeuralGACL}[args.method]
+    if args.cost_memory is not None and args.method != "mce-icrl":
+        raise DataError(f"--cost-memory is a setting of --method mce-icrl, not {args.method}")
     learner = method(beta=args.beta, n_iterations=args.iterations, nominal_steps=nominal,
                      policy_steps=max((args.steps - nominal) // args.iterations, 1), obs_dims=obs_dims,
                      random_state=seed, reset_actor=args.reset_actor, select_inputs=args.select_inputs,
                      **({} if args.lambda_lr is None else {"lambda_lr": args.lambda_lr}),
-                     **({} if not args.cost_sparsity else {"input_sparsity": args.cost_sparsity}))
+                     **({} if not args.cost_sparsity else {"input_sparsity": args.cost_sparsity}),
+                     **({} if args.cost_memory is None else {"cost_memory": args.cost_memory}))
 
     env_fn = _within_the_demonstrations_horizon(target, env, demos, out.note)
     log = TrainingLog(args.log, step_key="iteration") if args.log else None  # an unwritable path fails now

@@ -215,3 +215,19 @@ def test_demonstrations_recorded_in_another_environment_get_a_warning(capsys, tm
     assert code == 0, err
     warning = [line for line in err.splitlines() if line.startswith("warning:")]
     assert len(warning) == 1 and "HereRobot-v0" in warning[0] and "there_lab:ThereRobot-v0" in warning[0], err
+
+
+def test_a_wall_nobody_tuned_on_is_recovered_at_the_defaults(capsys):
+    """Issue 25's BlockedPoint target at a wall position nobody tuned on (-2; seed 0, where the
+    current-sample cost update ended with the cost higher on the allowed side: AUC 0.0): recovery
+    AUC >= 0.9 and violation <= 0.05 with no flag but the wall (about 15 s)."""
+    code, stdout, err = run(capsys, "learn", "icrl", "--env", "blocked-point", "--env-kwargs", '{"wall": -2}',
+                            "--json", "-q")
+    assert code == 0, err
+    doc = json.loads(stdout)
+    assert doc["recovery_auc"] >= 0.9 and doc["violation_rate"] <= 0.05
+
+
+def test_cost_memory_belongs_to_mce_icrl(capsys):
+    _refused(capsys, "--env", "blocked-point", "--method", "me-icrl", "--cost-memory", "current",
+             match="--cost-memory is a setting of --method mce-icrl, not me-icrl")

@@ -80,6 +80,40 @@ def test_dual_step_raises_lambda_and_the_features_where_only_the_policy_goes():
     assert (swapped[trained] == 0).all()
 
 
+def test_remembered_policies_keep_the_cost_where_the_current_one_no_longer_goes():
+    """cost_memory="all": the zeta steps separate the expert from every policy seen. An early
+    policy went left (x < 0), the current one goes right beyond the expert (x > 5): with the
+    current sample alone the cost turns to the right; with both remembered it stays on the left."""
+    expert_x = torch.linspace(0, 5, 100)[:, None]
+    left, right = torch.linspace(-5, -0.5, 100)[:, None], torch.linspace(5.5, 8, 100)[:, None]
+    w = torch.full((100,), 1.0)
+    costs = {}
+    for mode in ("current", "all"):
+        gen = torch.Generator().manual_seed(0)
+        phi = FeatureNetwork([0], 0, 2, (16,), gen)
+        phi.fit_standardisation(torch.cat([expert_x, left, right]).numpy(), None)
+        optimizer = torch.optim.Adam(phi.parameters(), lr=1e-2)
+        lambdas = np.zeros(2)
+        for _ in range(3):  # the early policy: left
+            lambdas, _, _ = dual_step(phi, optimizer, lambdas, ((expert_x, None), w), ((left, None), w),
+                                      lambda_lr=0.05, alpha=0.0, zeta_lr=1e-2, zeta_steps=20)
+        memory = [((left, None), w), ((right, None), w)]
+        for _ in range(15):  # the current policy: right
+            lambdas, _, _ = dual_step(phi, optimizer, lambdas, ((expert_x, None), w), ((right, None), w),
+                                      lambda_lr=0.05, alpha=0.0, zeta_lr=1e-2, zeta_steps=20,
+                                      remembered=memory if mode == "all" else None)
+        with torch.no_grad():
+            costs[mode] = {k: float((phi(x).double().numpy() @ lambdas).mean())
+                           for k, x in (("left", left), ("expert", expert_x))}
+    assert costs["all"]["left"] > costs["all"]["expert"]  # remembered: the left stays costlier
+    assert costs["all"]["left"] - costs["all"]["expert"] > costs["current"]["left"] - costs["current"]["expert"]
+
+
+def test_cost_memory_is_checked():
+    with pytest.raises(SymlearnError, match="cost_memory"):
+        NeuralMCEICRL(cost_memory="some").fit(expert_demonstrations(2, seed=0), BlockedPoint)
+
+
 # --- the learned cost --------------------------------------------------------------------------------
 
 def _cost(env=None, dims=(0, 1), action_dim=0):
