@@ -323,7 +323,12 @@ def _learn(args: argparse.Namespace, out) -> None:
     with warnings.catch_warnings(record=True) as caught, blame_file(args.demos):
         warnings.simplefilter("always")  # the learner's warnings (noise counted) belong in the result
         doc, learned, learner = _run(method, world, demos, args, known, out)
-    doc["warnings"] = reading_warnings + list(dict.fromkeys(_user_warnings(caught)))
+    from symlearn.learners.constraints.rule_support import WeakRuleWarning
+
+    # a rule the demonstrations do not need is a remark about the evidence: a note, not a warning
+    doc["notes"] = list(dict.fromkeys(str(w.message) for w in caught if issubclass(w.category, WeakRuleWarning)))
+    doc["warnings"] = reading_warnings + list(dict.fromkeys(
+        _user_warnings([w for w in caught if not issubclass(w.category, WeakRuleWarning)])))
     if args.domain:  # a misspelt bias, truth or --known file is silent to clingo: say where it is
         doc["warnings"] += [w.located() for w in world.domain.bias_warnings()]
         truth_file = world.domain.sources.get("truth")
@@ -615,6 +620,7 @@ def _render(doc: dict) -> str:
         from symlearn.cli.output import validation_line
 
         lines.append(validation_line(doc["validation"], "held-out expert steps forbidden"))
+    lines += [f"note: {n}" for n in doc.get("notes", [])]
     lines += [f"warning: {w}" for w in doc.get("warnings", [])]
     lines += [f"wrote {f}" for f in doc.get("files", [])]
     return "\n".join(lines)

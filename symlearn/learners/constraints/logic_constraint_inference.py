@@ -236,8 +236,9 @@ class LogicConstraintInference(Learner):
     ``unexplained_``, ``rule_support_`` (:class:`~symlearn.learners.constraints.rule_support.RuleSupport`
     per rule: how much likelier the demonstrations are with it, the planner's rationality refitted
     with and without it; where the planner has a rationality, a weakly supported rule -- one the
-    demonstrations never needed, like ``:- wait.`` when every step costs -- is a warning and a line
-    of the rule file's header), ``result_``.
+    demonstrations never needed, like ``:- wait.`` when every step costs -- is a
+    :class:`~symlearn.learners.constraints.rule_support.WeakRuleWarning`, a note in the CLI, and a
+    line of the rule file's header), ``result_``.
     """
 
     artefact_suffix = ".lp"
@@ -314,13 +315,13 @@ class LogicConstraintInference(Learner):
         self.seconds_ = time.perf_counter() - started
         self.truth_forbidden_ = d.truth_forbidden
         self.pair_space_ = ~d.unavailable
-        from symlearn.learners.constraints.rule_support import rule_support
+        from symlearn.learners.constraints.rule_support import WeakRuleWarning, rule_support
 
         # how much the demonstrations need each rule, the planner's rationality refitted with and
         # without it (module rule_support): what a wandering nominal planner made look avoided
         self.rule_support_ = rule_support(d, episodes, self.rules_, self.reward, self.horizon, inference.known_)
         for support in self._weak_rules():
-            warnings.warn(support.text(), UserWarning, stacklevel=FIT_CALLER)
+            warnings.warn(support.text(), WeakRuleWarning, stacklevel=FIT_CALLER)
         self.seconds_ = time.perf_counter() - started
         metrics: dict[str, Any] = {"rules": len(self.rules_), "constraints": int(self.rule_constraints_.sum()),
                                    "stopped_because": self.stop_reason_, "stop_reason": self.stop_reason_,

@@ -18,7 +18,8 @@ planner is allowed to be as deliberate as the expert (``:- wait.``: 0.00 nats, 2
 without -- the likelihood is flat up there, so the two values say little).
 
 A gain below :data:`WEAK_SUPPORT` nats (the demonstrations are less than ``e^3 ~ 20`` times
-likelier with the rule) is reported as weak: in a warning and in the rule file's header. Weak is
+likelier with the rule) is reported as weak: a :class:`WeakRuleWarning` (a ``note:`` line of the
+CLI, JSON ``notes``) and a line of the rule file's header. Weak is
 not wrong -- a rule can hold and still never have mattered to these demonstrations (an expert
 that never had a reason to break it); what the data cannot tell, the user has to. The rules are
 not changed. With the sparse reward there is no temperature to fit (it cancels), and the gain is
@@ -34,6 +35,11 @@ import numpy as np
 
 #: nats below which a rule's support is reported as weak (a likelihood ratio of about 20)
 WEAK_SUPPORT = 3.0
+
+
+class WeakRuleWarning(UserWarning):
+    """A learned rule the demonstrations do not need (issued by the logic learner's fit): a remark
+    about the evidence, not about a mistake -- the CLI prints it as a note, not a warning."""
 
 
 @dataclass(frozen=True)
@@ -100,4 +106,4 @@ def rule_support(domain: Any, episodes, rules: list[str], reward: Any, horizon: 
     return out
 
 
-__all__ = ["RuleSupport", "WEAK_SUPPORT", "rule_support"]
+__all__ = ["RuleSupport", "WEAK_SUPPORT", "WeakRuleWarning", "rule_support"]

@@ -39,7 +39,9 @@ def test_the_rug_is_needed_and_waiting_is_not(floor):
 
 def test_the_learner_warns_about_the_rule_it_did_not_need(floor):
     domain, demos = floor
-    with pytest.warns(UserWarning, match=r"rule :- wait\. is weakly supported"):
+    from symlearn.learners.constraints.rule_support import WeakRuleWarning
+
+    with pytest.warns(WeakRuleWarning, match=r"rule :- wait\. is weakly supported"):
         learner = LogicConstraintInference(iterations=20, reward="given").fit(demos, domain)
     assert ":- wait." in learner.rules_ and [r.rule for r in learner.rule_support_ if r.weak] == [":- wait."]
     assert learner.result_.metrics["weak_rules"] == 1
@@ -55,3 +57,23 @@ def test_the_learner_warns_about_the_rule_it_did_not_need(floor):
 def test_no_rules_no_support(floor):
     domain, demos = floor
     assert rule_support(domain, domain.episodes(demos), [], "given", 30) == []
+
+
+def test_the_cli_prints_it_as_a_note_not_a_warning(capsys, floor, tmp_path):
+    import json
+    import subprocess as sp
+
+    from cli_runner import run
+
+    folder = tmp_path / "f"
+    sp.run([sys.executable, str(GUIDE / "make_domain.py"), "--episodes", "20"], cwd=tmp_path, check=True,
+           capture_output=True, timeout=120)
+    code, out, err = run(capsys, "learn", "constraints", "--domain", tmp_path / "floor_domain", "--demos",
+                         tmp_path / "floor_demos.jsonl", "--json", "-q")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["warnings"] == [] and len(doc["notes"]) == 1 and "rule :- wait. is weakly supported" in doc["notes"][0]
+    assert [r["rule"] for r in doc["rule_support"] if r["weak"]] == [":- wait."]
+    code, out, err = run(capsys, "learn", "constraints", "--domain", tmp_path / "floor_domain", "--demos",
+                         tmp_path / "floor_demos.jsonl")
+    assert "note: rule :- wait. is weakly supported" in out and "warning:" not in out
