@@ -118,8 +118,12 @@ def _pdfa(args: argparse.Namespace, out) -> None:
     demos, features, subsets, task = _demonstrations(args, out.note)
     learner = SubgoalPDFALearner(subsets=subsets, eps=args.eps, min_samples=args.min_samples, method=args.method,
                                  probabilities=args.probabilities)
+    import warnings
+
     try:
-        learner.fit(demos, features)
+        with warnings.catch_warnings():  # the learner's warnings go into the result (text and JSON)
+            warnings.simplefilter("ignore", UserWarning)
+            learner.fit(demos, features)
     except DataError as exc:
         # the file's fault, unless the message is about the --subsets text (the frames' values are the file's)
         if args.demos and not exc.file and ("subset" not in exc.message or "frame" in exc.message):
@@ -146,7 +150,8 @@ def _pdfa(args: argparse.Namespace, out) -> None:
            "plan": list(plan.subgoals), "plan_probability": plan.probability,
            "demonstrations": learner.result_.metrics["demonstrations"], "probabilities": args.probabilities,
            "clusters": [r.as_dict() for r in learner.history_],
-           "seconds": learner.result_.timings["total"], "timings": dict(learner.result_.timings)}
+           "seconds": learner.result_.timings["total"], "timings": dict(learner.result_.timings),
+           "warnings": list(learner.warnings_)}
     if task is not None:
         doc["truth"] = _score(learner, task)
     files = []
@@ -199,5 +204,6 @@ def _render(doc: dict) -> str:
     lines.append(f"plan: {' -> '.join(doc['plan']) or '(stop at once)'} (p = {doc['plan_probability']:.3g})")
     if "truth" in doc:
         lines.append("truth: " + ", ".join(f"{k} {v}" for k, v in doc["truth"].items()))
+    lines += [f"warning: {w}" for w in doc.get("warnings", [])]
     lines += [f"wrote {f}" for f in doc.get("files", [])]
     return "\n".join(lines)

@@ -27,13 +27,14 @@ from __future__ import annotations
 
 import json
 import time
+import warnings
 from collections import Counter
 from typing import Any
 
 from symlearn.backends.subgoal_plan import greedy_plan
 from symlearn.errors import DataError
 from symlearn.learners.base import Learner
-from symlearn.learners.fit_arguments import renamed_arguments
+from symlearn.learners.fit_arguments import FIT_CALLER, renamed_arguments
 from symlearn.learners.subgoals.clustering import METHODS, find_subgoals
 from symlearn.learners.subgoals.frames import demonstration_frames
 from symlearn.learners.subgoals.ordering_automaton import PROBABILITIES, count_orderings, ordering_pdfa
@@ -77,6 +78,9 @@ class SubgoalPDFALearner(Learner):
         started = time.perf_counter()
         frames, names = demonstration_frames(demonstrations, world)
         subsets = feature_subsets(self.subsets, names)
+        self.warnings_ = setting_warnings(frames, names, subsets)
+        for message in self.warnings_:
+            warnings.warn(message, UserWarning, stacklevel=FIT_CALLER)
         t_read = time.perf_counter()
         subgoals, records = find_subgoals(frames, subsets, eps=self.eps, min_samples=self.min_samples,
                                           method=self.method, cell_fraction=self.cell_fraction, feature_names=names)
@@ -106,6 +110,26 @@ class SubgoalPDFALearner(Learner):
         self._set_result(pdfa, plan_document_text(pdfa, subgoals, words, self.plan_), metrics=metrics,
                          timings=timings, history=records)
         return self
+
+
+def setting_warnings(frames, names, subsets) -> list[str]:
+    """One warning per subset that clusters on a feature constant within every demonstration but
+    different between them (:mod:`symlearn.learners.episode_settings`): its sub-goals then also
+    tell the demonstrations' settings apart."""
+    from symlearn.learners.episode_settings import episode_settings
+
+    settings = set(episode_settings(frames))
+    out = []
+    for subset in subsets:
+        hit = [names[c] for c in subset.features if c in settings]
+        if hit:
+            kept = [str(c) for c in subset.features if c not in settings]
+            hint = f"; leave {'it' if len(hit) == 1 else 'them'} out (--subsets '{subset.name}={','.join(kept)}')" \
+                if kept else ""
+            out.append(f"feature(s) {', '.join(hit)} of subset {subset.name} are constant within every demonstration "
+                       f"and differ between them (a setting of the episode, not a choice of the expert): its sub-goals "
+                       f"also sort the demonstrations by that setting{hint}")
+    return out
 
 
 def plan_document(pdfa, subgoals, words, plan) -> dict[str, Any]:

@@ -996,10 +996,13 @@ def episode_setting_warnings(X: np.ndarray, names: Sequence[str], steps: np.ndar
     them -- a setting of the episode (the weather, a goal's place), not something the expert
     chose -- when rules other than the data's bounds test it: they say which settings the
     demonstrations happened to have, and rarely a constraint."""
+    from symlearn.learners.episode_settings import episode_settings
+
     if steps is None or not len(steps):
         return []
-    moved = np.abs(X[steps[:, 1]] - X[steps[:, 0]]).max(axis=0)
-    settings = [d for d in range(X.shape[1]) if moved[d] == 0 and np.ptp(X[:, d]) > 0]
+    # the demonstrations' rows, cut where a demonstration ends (no step joins a row to the next)
+    cuts = np.setdiff1d(np.arange(1, len(X)), steps[:, 1])
+    settings = episode_settings(np.split(X, cuts))
     out = []
     for d in settings:
         n_rules = sum(1 for c in dnf if len(c.atoms) > 1 and any(a.feature == names[d] for a in c.atoms))
