@@ -17,7 +17,8 @@
 JSON keys: ``subgoals`` (name -> centre, radius, subset, features), ``states`` (name, accepting,
 termination), ``edges`` (source, target, sub-goal, probability, count), ``words`` (each distinct
 word and its count), ``plan`` (sub-goal names), ``plan_probability``, ``clusters`` (per subset),
-``seconds``, ``timings``. ``-o plan.json`` writes the PDFA's automaton JSON with ``subgoals``,
+``seconds``, ``timings``, ``warnings`` (a subset that clusters on a feature constant within every
+demonstration -- an episode's setting --, with the ``--subsets`` that leave it out). ``-o plan.json`` writes the PDFA's automaton JSON with ``subgoals``,
 ``plan`` and ``words`` added (``symlearn automaton show plan.json`` draws it); ``--dot`` writes
 the drawing with sub-goal names and probabilities (and, with Graphviz, an ``.svg`` beside it).
 """
