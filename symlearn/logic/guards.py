@@ -664,8 +664,15 @@ def _factored(u: int, memo: dict[int, tuple[str, int]] | None = None, work: list
     if cover is not None:
         text = _format(cover)
         sop = _piece(text, _OR_TEXT if len(cover) > 1 else _AND_TEXT if " & " in text else _ATOM_TEXT)
+    run = None if cover is not None else _run(u)
     if cover is not None and len(cover) <= 1:  # a cube prints best as itself
         result = sop
+    elif run is not None:
+        op, literals, rest, shared = run
+        tail = [] if rest is None else [_factored(rest, memo, work)]
+        result = _join(op, [_piece(text, _ATOM_TEXT) for text in literals] + tail)
+        if shared is not None:  # the run shares one child: shared & (x0 | x1 ...) or shared | (!x0 & ...)
+            result = _join(_AND_TEXT if op == _OR_TEXT else _OR_TEXT, [_factored(shared, memo, work), result])
     else:
         name, low, high = _var[u], _low[u], _high[u]
         pos, neg = _piece(_name_text(name), _ATOM_TEXT), _piece("!" + _name_text(name), _ATOM_TEXT)
@@ -692,6 +699,58 @@ def _factored(u: int, memo: dict[int, tuple[str, int]] | None = None, work: list
         raise _too_long(u)
     memo[u] = result
     return result
+
+
+#: a run of at least this many nodes of one shape prints in one piece (:func:`_run`)
+_RUN_MIN = 8
+
+
+def _run(u: int) -> tuple[int, list[str], int | None, int | None] | None:
+    """``(op, literals, rest, shared)`` when ``u`` heads a run of at least :data:`_RUN_MIN`
+    nodes of one shape, so that the run prints as one conjunction or disjunction instead of one
+    nesting per node -- the factored text of a long chain rebuilt at every level is quadratic in
+    its length (a TLSF file with thousands of assumptions gives guards over thousands of inputs):
+
+    * every node has a FALSE child: ``l0 & l1 & ... & rest`` (``op`` AND; the literal is the
+      variable on the side that is not FALSE);
+    * every node has a TRUE child: ``l0 | l1 | ... | rest`` (``op`` OR);
+    * every node has the same node ``H`` as its high child, the low child continues, and the run
+      ends in FALSE or TRUE: ``H & (x0 | x1 | ...)``, or ``H | (!x0 & !x1 & ...)``; likewise with
+      ``H`` as every low child (``H & (!x0 | ...)``, ``H | (x0 & ...)``) -- ``shared`` is ``H``.
+
+    ``rest`` is the node the run ends in (None when it ends in the run's neutral terminal). None
+    when ``u`` heads no such run."""
+    def terminal_run(w: int) -> tuple[int, list[str], int | None] | None:
+        first = _low[w] == _FALSE or _high[w] == _FALSE
+        op = _AND_TEXT if first else _OR_TEXT
+        absorbing, neutral = (_FALSE, _TRUE) if op == _AND_TEXT else (_TRUE, _FALSE)
+        literals = []
+        while w > _TRUE and (_low[w] == absorbing or _high[w] == absorbing):
+            name = _name_text(_var[w])
+            # AND: the literal is the side that is not FALSE; OR: the side that is TRUE
+            positive = (_low[w] == absorbing) if op == _AND_TEXT else (_high[w] == absorbing)
+            literals.append(name if positive else "!" + name)
+            w = _high[w] if _low[w] == absorbing else _low[w]
+        if len(literals) < _RUN_MIN:
+            return None
+        return op, literals, (None if w == neutral else w)
+
+    if _low[u] in (_FALSE, _TRUE) or _high[u] in (_FALSE, _TRUE):
+        found = terminal_run(u)
+        return None if found is None else (*found, None)
+    for side in ("high", "low"):
+        shared = _high[u] if side == "high" else _low[u]
+        w, names = u, []
+        while w > _TRUE and (_high[w] if side == "high" else _low[w]) == shared:
+            names.append(_name_text(_var[w]))
+            w = _low[w] if side == "high" else _high[w]
+        if len(names) >= _RUN_MIN and w in (_FALSE, _TRUE):
+            # ite(x, H, next): ends in FALSE -> H & (x0 | ...); in TRUE -> H | (!x0 & ...)
+            positive = side == "high"
+            if w == _FALSE:
+                return _OR_TEXT, [n if positive else "!" + n for n in names], None, shared
+            return _AND_TEXT, ["!" + n if positive else n for n in names], None, shared
+    return None
 
 
 @lru_cache(maxsize=65536)

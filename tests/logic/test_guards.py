@@ -270,3 +270,30 @@ def test_a_guard_whose_text_passes_the_limit_is_refused_before_printing():
     with pytest.raises(LimitExceededError, match="longer than 200,000 characters"):
         str(guard)
     assert time.perf_counter() - start < 5
+
+
+def test_a_long_chain_prints_as_one_junction_in_linear_time():
+    """A guard over thousands of propositions (a TLSF file's inputs) is a chain of BDD nodes; it
+    prints as one conjunction or disjunction (guards._run), where one nesting per node made the
+    text quadratic to build."""
+    import time
+
+    n = 900  # the Boolean operations recurse once per level: below Python's default depth
+    names = [f"a{i:03d}" for i in range(n)]
+    disjunction, conjunction = Guard.var(names[-1]), ~Guard.var(names[-1])
+    for name in reversed(names[:-1]):  # built from the bottom: each step adds the node on top
+        disjunction, conjunction = Guard.var(name) | disjunction, ~Guard.var(name) & conjunction
+    started = time.perf_counter()
+    texts = {"shared": str(disjunction & ~Guard.var("zz")), "cube": str(conjunction & Guard.var("zz")),
+             "or": str(disjunction | Guard.var("zz"))}
+    assert time.perf_counter() - started < 5.0
+    assert texts["shared"].startswith("!zz & (a000 | a001 | a002 |") and texts["shared"].endswith("| a899)")
+    assert texts["cube"].startswith("zz & !a000 & !a001") or texts["cube"].startswith("!a000 & !a001")
+    assert texts["or"].count("|") == n
+    small = Guard.var("a") | Guard.var("b")  # short guards print as before
+    assert str(small) == "a | b"
+    chain = Guard.var("x9")
+    for i in range(8, -1, -1):
+        chain = Guard.var(f"x{i}") | chain
+    for guard in (chain & ~Guard.var("y"), ~chain | Guard.var("y"), chain & Guard.var("y") | ~Guard.var("z")):
+        assert Guard.parse(str(guard)) == guard
