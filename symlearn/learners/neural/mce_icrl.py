@@ -73,7 +73,7 @@ exactly. Here every exact step has its sampled, neural counterpart:
    gap between the expert's feature sums and the mean of every policy's since the first policy
    phase (the nominal policy's only while there is no other): the cost must keep telling the
    expert from every policy the loop has produced, violators included (14 of 14 runs at AUC 1.0,
-   violation 0; its unsafe set reaches further into the allowed side -- IoU 0.34-0.65 against
+   violation 0; its unsafe set reaches further into the allowed side -- IoU 0.24-0.65 against
    0.13-0.97 --, since early policies also lingered near the wall). The ``lambda`` step is the
    current policy's either way (eq. 2.12).
 
