@@ -540,13 +540,33 @@ def _unknown(name: str, gymnasium: Any, kind: Kind | None, what: str | None) -> 
     ids = [i for i in gymnasium.registry if not i.startswith("symlearn/")]
     close = get_close_matches(name.lower(), bundled, n=1) or get_close_matches(name, ids, n=1)
     hint = f"did you mean {close[0]!r}? " if close else ""
-    if not close and "-" in name and name[:1].isupper() and "/" not in name:
+    if not close and "-" in name and "/" not in name and ":" not in name:
         package = name.split("-")[0].lower()
-        hint += f"an id a package registers on import is named package:ID (e.g. {package}:{name}); "
+        found = _installed_package(package)
+        if found is not None:  # highway-v0 is registered by importing highway_env
+            hint += f"did you mean {found}:{name}? (its package registers it on import); "
+        else:
+            hint += f"an id a package registers on import is named package:ID (e.g. {package}:{name}); "
     if kind is not None:
         hint += f"bundled: {', '.join(bundled)}; or "
     hint += "a bundled name (symlearn envs), a gymnasium id, or module:EnvId"
     return UnknownNameError(f"unknown {what or 'environment'} {name!r}", hint=hint)
+
+
+def _installed_package(stem: str) -> str | None:
+    """The installed module a gymnasium id's stem most likely names (``highway`` ->
+    ``highway_env``), found without importing it; None when none is."""
+    from importlib.util import find_spec
+
+    for candidate in (stem, f"{stem}_env", f"gym_{stem}", f"{stem}_gym", f"{stem}_gymnasium"):
+        if not candidate.isidentifier():
+            continue
+        try:
+            if find_spec(candidate) is not None:
+                return candidate
+        except (ImportError, ValueError):  # a broken package is not a suggestion
+            continue
+    return None
 
 
 def _gymnasium() -> Any:

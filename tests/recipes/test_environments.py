@@ -78,6 +78,16 @@ def test_hints_say_what_was_meant(user_folder):
     with pytest.raises(UnknownNameError) as info:
         resolve_env("CartPol-v1")
     assert "did you mean 'CartPole-v1'?" in info.value.hint
+    # an id its package registers on import, named without the package: the installed one is named
+    from importlib.util import find_spec
+
+    if find_spec("highway_env") is not None:  # the highway extra (installed by the test bootstrap)
+        with pytest.raises(UnknownNameError) as info:
+            resolve_env("highway-v0")
+        assert "did you mean highway_env:highway-v0?" in info.value.hint
+    with pytest.raises(UnknownNameError) as info:
+        resolve_env("Nowhere-v0")
+    assert "named package:ID (e.g. nowhere:Nowhere-v0)" in info.value.hint
 
 
 @pytest.mark.parametrize("name, hint", [
