@@ -68,7 +68,7 @@ def test_every_bad_name_is_one_clear_error(user_folder, name, kwargs, message):
     assert message in str(info.value)
 
 
-def test_hints_say_what_was_meant(user_folder):
+def test_hints_say_what_was_meant(user_folder, tmp_path, monkeypatch):
     with pytest.raises(UnknownNameError) as info:
         resolve_env("my_point_robot:PointRobot-v1")
     assert "did you mean my_point_robot:PointRobot-v0?" in info.value.hint
@@ -78,13 +78,15 @@ def test_hints_say_what_was_meant(user_folder):
     with pytest.raises(UnknownNameError) as info:
         resolve_env("CartPol-v1")
     assert "did you mean 'CartPole-v1'?" in info.value.hint
-    # an id its package registers on import, named without the package: the installed one is named
-    from importlib.util import find_spec
-
-    if find_spec("highway_env") is not None:  # the highway extra (installed by the test bootstrap)
-        with pytest.raises(UnknownNameError) as info:
-            resolve_env("highway-v0")
-        assert "did you mean highway_env:highway-v0?" in info.value.hint
+    # an id its package registers on import, named without the package (highway-v0, which
+    # highway_env registers): the installed package is named. A package of this test's own, so
+    # that no other test can have imported it (and registered the id) first
+    (tmp_path / "zorkworld_env").mkdir()
+    (tmp_path / "zorkworld_env" / "__init__.py").write_text("")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    with pytest.raises(UnknownNameError) as info:
+        resolve_env("zorkworld-v0")
+    assert "did you mean zorkworld_env:zorkworld-v0?" in info.value.hint
     with pytest.raises(UnknownNameError) as info:
         resolve_env("Nowhere-v0")
     assert "named package:ID (e.g. nowhere:Nowhere-v0)" in info.value.hint
