@@ -319,7 +319,8 @@ class LogicConstraintInference(Learner):
 
         # how much the demonstrations need each rule, the planner's rationality refitted with and
         # without it (module rule_support): what a wandering nominal planner made look avoided
-        self.rule_support_ = rule_support(d, episodes, self.rules_, self.reward, self.horizon, inference.known_)
+        self.rule_support_ = rule_support(d, episodes, self.rules_, self.reward, self.horizon, inference.known_,
+                                          rationality=inference.rationality_)
         for support in self._weak_rules():
             warnings.warn(support.text(), WeakRuleWarning, stacklevel=FIT_CALLER)
         self.seconds_ = time.perf_counter() - started
