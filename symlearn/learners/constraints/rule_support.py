@@ -12,10 +12,10 @@ the log-likelihood of the demonstrated actions with every learned rule, minus th
 this one, *each at its own maximum-likelihood rationality* (a profile likelihood; fitted as in
 :mod:`~symlearn.learners.constraints.rationality_fit`). A rule the expert had to obey is needed
 at any temperature: without the rug rule, a deliberate planner drives over the rug and the
-expert's detour is improbable (on the guide's floor: 108 nats, the rationality fitted at 24 with
-it and 1.3 without). A rule about what the expert never needed costs nothing to drop once the
-planner is allowed to be as deliberate as the expert (``:- wait.``: 0.00 nats, 24 with it, 50
-without -- the likelihood is flat up there, so the two values say little).
+expert's detour is improbable (on the guide's floor: 108 nats with a full search, the rationality
+fitted at 24 with it and 1.3 without; 119 with the learner's three-value shortcut below). A rule
+about what the expert never needed costs nothing to drop once the planner is allowed to be as
+deliberate as the expert (``:- wait.``: 0.00 nats at rationality 24 either way).
 
 A gain below :data:`WEAK_SUPPORT` nats (the demonstrations are less than ``e^3 ~ 20`` times
 likelier with the rule) is reported as weak: a :class:`WeakRuleWarning` (a ``note:`` line of the
@@ -62,7 +62,8 @@ class RuleSupport:
     def text(self) -> str:
         """The warning for a weak rule (one line)."""
         temperature = (f" (planner rationality {self.rationality_with:g} with it, {self.rationality_without:g} "
-                       "without, each fitted)" if self.rationality_with != self.rationality_without else "")
+                       "without)" if self.rationality_with != self.rationality_without else
+                       f" (planner rationality {self.rationality_with:g})")
         return (f"rule {self.rule} is weakly supported: the demonstrations are {self.gain:.2f} nats likelier with "
                 f"it than without{temperature}, below {WEAK_SUPPORT:g}: they do not show that it matters -- keep it "
                 "if you know it holds, delete it otherwise")
