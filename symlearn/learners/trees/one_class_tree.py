@@ -407,7 +407,8 @@ class OneClassTreeConstraint(Learner):
         grower = _Grower(X, self)
         tree = OneClassTree(grower.grow(), names)
         closed = {"narrow": 0, "crossed": 0}
-        steps = demonstrated_steps(demonstrations, len(X))
+        lengths = demonstration_lengths(demonstrations, len(X))
+        steps = demonstrated_steps(lengths)
         if self.readable:
             from symlearn.learners.trees.readable_bounds import readable_tree
 
@@ -439,7 +440,7 @@ class OneClassTreeConstraint(Learner):
                 f"the formula marks {self.unsafe_share_:.0%} of the demonstrations' bounding box unsafe: every "
                 "state the expert never visited counts as unsafe; if the allowed space is larger, give "
                 "demonstrations that cover it")
-        self.warnings_.extend(episode_setting_warnings(X, names, steps, dnf))
+        self.warnings_.extend(episode_setting_warnings(X, names, lengths, dnf))
         for message in self.warnings_:
             warnings.warn(message, UserWarning, stacklevel=FIT_CALLER)
         metrics = {"n_samples": len(X), "n_features": len(names), "n_nodes": tree.n_nodes,
@@ -516,17 +517,25 @@ def _input_columns(inputs: Sequence[str] | None, names: Sequence[str]) -> list[i
         raise SymlearnError(f"inputs names a feature twice: {', '.join(chosen)}")
     return [list(names).index(name) for name in chosen]
 
-def feature_matrix(demonstrations: Any, features: Any = None) -> tuple[np.ndarray, tuple[str, ...]]:
-    """``([N, k] float array, names)`` of the demonstrated states (see the module docstring)."""
+def _as_demonstrations(demonstrations: Any) -> Any:
+    """A :class:`~symlearn.data.Trajectory` or a list of them as ``Demonstrations``; anything else
+    (``Demonstrations`` themselves, an array of points) as it is."""
     from symlearn.data import Demonstrations, Trajectory
 
-    feature_map = features if isinstance(features, FeatureMap) else None
     if isinstance(demonstrations, Trajectory):
-        demonstrations = Demonstrations([demonstrations])
-    elif isinstance(demonstrations, (list, tuple)) and demonstrations and \
+        return Demonstrations([demonstrations])
+    if isinstance(demonstrations, (list, tuple)) and demonstrations and \
             all(isinstance(t, Trajectory) for t in demonstrations):
-        demonstrations = Demonstrations(demonstrations)
+        return Demonstrations(demonstrations)
+    return demonstrations
 
+
+def feature_matrix(demonstrations: Any, features: Any = None) -> tuple[np.ndarray, tuple[str, ...]]:
+    """``([N, k] float array, names)`` of the demonstrated states (see the module docstring)."""
+    from symlearn.data import Demonstrations
+
+    feature_map = features if isinstance(features, FeatureMap) else None
+    demonstrations = _as_demonstrations(demonstrations)
     if isinstance(demonstrations, Demonstrations):
         named = None if feature_map is not None or features is None or isinstance(features, str) else tuple(features)
         X, default_names = _states_matrix(demonstrations, feature_map, named)
@@ -991,18 +1000,17 @@ def _notes(learner: OneClassTreeConstraint, closed: dict[str, int], trajectories
     return notes
 
 
-def episode_setting_warnings(X: np.ndarray, names: Sequence[str], steps: np.ndarray | None, dnf: DNF) -> list[str]:
+def episode_setting_warnings(X: np.ndarray, names: Sequence[str], lengths: np.ndarray | None, dnf: DNF) -> list[str]:
     """One warning per feature that is constant within every demonstration but differs between
     them -- a setting of the episode (the weather, a goal's place), not something the expert
     chose -- when rules other than the data's bounds test it: they say which settings the
-    demonstrations happened to have, and rarely a constraint."""
+    demonstrations happened to have, and rarely a constraint. ``lengths``: the rows of ``X`` per
+    demonstration (:func:`demonstration_lengths`; None: the points are no demonstrations)."""
     from symlearn.learners.episode_settings import episode_settings
 
-    if steps is None or not len(steps):
+    if lengths is None:
         return []
-    # the demonstrations' rows, cut where a demonstration ends (no step joins a row to the next)
-    cuts = np.setdiff1d(np.arange(1, len(X)), steps[:, 1])
-    settings = episode_settings(np.split(X, cuts))
+    settings = episode_settings(np.split(X, np.cumsum(lengths)[:-1]))
     out = []
     for d in settings:
         n_rules = sum(1 for c in dnf if len(c.atoms) > 1 and any(a.feature == names[d] for a in c.atoms))
@@ -1015,26 +1023,25 @@ def episode_setting_warnings(X: np.ndarray, names: Sequence[str], steps: np.ndar
     return out
 
 
-def demonstrated_steps(demonstrations: Any, n_rows: int) -> np.ndarray | None:
-    """``[M, 2]`` indices of consecutive rows of the feature matrix that are consecutive states of
-    one demonstration (the matrix holds the demonstrations' states in order), or None when the
-    points did not come as demonstrations."""
-    from symlearn.data import Demonstrations, Trajectory
+def demonstration_lengths(demonstrations: Any, n_rows: int) -> np.ndarray | None:
+    """The number of rows of the feature matrix (which holds the demonstrations' states in order)
+    each demonstration gave, or None when the points did not come as demonstrations."""
+    from symlearn.data import Demonstrations
 
-    if isinstance(demonstrations, Trajectory):
-        trajectories = [demonstrations]
-    elif isinstance(demonstrations, Demonstrations) or (
-            isinstance(demonstrations, (list, tuple)) and demonstrations
-            and all(isinstance(t, Trajectory) for t in demonstrations)):
-        trajectories = list(demonstrations)
-    else:
+    demonstrations = _as_demonstrations(demonstrations)
+    if not isinstance(demonstrations, Demonstrations):
         return None
-    lengths = np.array([len(t.states) for t in trajectories], dtype=np.int64)
-    if int(lengths.sum()) != n_rows:
+    lengths = np.array([len(t.states) for t in demonstrations], dtype=np.int64)
+    return lengths if int(lengths.sum()) == n_rows else None
+
+
+def demonstrated_steps(lengths: np.ndarray | None) -> np.ndarray | None:
+    """``[M, 2]`` indices of consecutive rows that are consecutive states of one demonstration,
+    from :func:`demonstration_lengths` (None stays None)."""
+    if lengths is None:
         return None
-    first = np.arange(n_rows - 1, dtype=np.int64)
-    ends = np.cumsum(lengths) - 1  # the last row of each demonstration starts no step
-    first = first[~np.isin(first, ends)]
+    first = np.arange(int(lengths.sum()) - 1, dtype=np.int64)
+    first = first[~np.isin(first, np.cumsum(lengths) - 1)]  # a demonstration's last row starts no step
     return np.column_stack([first, first + 1])
 
 
