@@ -289,7 +289,8 @@ def _user_labeling(args, target, env):
             names = _part_names(env)
             by_part = names is not None
         if names is None:  # nothing names them: x0, x1, ... as `learn dnf` and `train --cost` call them
-            names = _default_names(env)
+            numbered = target.features(env, numbered=True)
+            names = None if numbered is None else numbered.names
     labeling = read_labeling(args.labeling, feature_names=names)
     columns = None  # where a feature labeling's columns come from, when not the observation itself
     if by_part and hasattr(labeling, "feature_map"):
@@ -298,7 +299,7 @@ def _user_labeling(args, target, env):
         # conditions over the parts by name ("achieved_goal[0]" > 0.5), as record names them
         columns = lambda obs, _info: observation_features(obs)  # noqa: E731
     elif names is not None and hasattr(labeling, "feature_map"):
-        features = target.features(env, override=args.features)
+        features = target.features(env, override=args.features, numbered=True)
         if features is not None and features.source == "info":  # the columns are info["features"]
             columns = lambda _obs, info: info["features"]  # noqa: E731
     if columns is not None:
@@ -308,19 +309,6 @@ def _user_labeling(args, target, env):
         return FunctionLabeling(lambda obs, info: inner.label(columns(obs, info)), inner.propositions,
                                 meanings=inner.meanings, name=args.labeling), inner
     return labeling, (labeling if hasattr(labeling, "to_json") else None)   # a Python function is not saved
-
-
-def _default_names(env):
-    """``x0 .. x{k-1}`` for the entries of a ``Box`` observation that nothing names (row-major for a
-    multi-dimensional one), the names `learn dnf` and `train --cost` give its columns; None otherwise."""
-    from gymnasium import spaces
-
-    from symlearn.recipes.environments import observation_width
-
-    if not isinstance(env.observation_space, spaces.Box):
-        return None
-    width = observation_width(env)
-    return tuple(f"x{i}" for i in range(width)) if width else None
 
 
 def _part_names(env):
