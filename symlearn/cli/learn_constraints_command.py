@@ -125,47 +125,31 @@ def _world(args: argparse.Namespace) -> _World:
         d = Domain.from_folder(args.domain, allow_outside=args.allow_outside)
         return _World(d.name, d.mdp, ~d.unavailable, d.truth_forbidden, bool(np.any(d.mdp.rewards != 0)),
                       domain=d, features="state_action")
-    from symlearn.envs.constraint_envs import constraint_setting
+    from symlearn.envs.constraint_envs import CONSTRAINT_ENVS, constraint_setting
 
     from symlearn.errors import DataError, UnknownNameError
 
     env_kwargs = getattr(args, "env_kwargs", None)
+    if env_kwargs and args.env.strip().lower() in CONSTRAINT_ENVS:  # before the bundled world is built
+        raise DataError(f"{args.env} is a bundled environment; --env-kwargs is for your own environment")
     try:
-        setting = constraint_setting(args.env, args.stochasticity) if not env_kwargs else None
+        setting = constraint_setting(args.env, args.stochasticity)
     except UnknownNameError as exc:
         gym_world = _gymnasium_world(args.env, env_kwargs)  # a user's discrete world, or None
         if gym_world is not None:
             return gym_world
-        raise UnknownNameError(exc.message, hint=_close_gym_id(args.env, exc.hint) + (exc.hint or "") +
+        from symlearn.recipes.environments import gymnasium_id_hint
+
+        close = "" if exc.hint and "did you mean" in exc.hint else gymnasium_id_hint(args.env)
+        raise UnknownNameError(exc.message, hint=close + (exc.hint or "") +
                                "; a discrete gymnasium environment with its "
                                "model (env.unwrapped.P or to_tabular()): a gymnasium id or module:EnvId; a world "
                                "with ASP facts: --domain DIR with --demos (a folder with domain.toml, "
                                "docs/FORMATS.md)") from None
-    if setting is None:
-        gym_world = _gymnasium_world(args.env, env_kwargs)
-        if gym_world is None:
-            raise DataError(f"{args.env} is a bundled environment; --env-kwargs is for your own environment")
-        return gym_world
     lm = setting.logic
     return _World(setting.name, setting.mdp, setting.space, setting.truth, setting.reward == "given",
                   domain=lm.domain if lm is not None else None, expert=setting.expert, bundled=lm,
                   rationality=setting.rationality, grid=setting.grid)
-
-
-def _close_gym_id(name: str, hint: str | None) -> str:
-    """``"did you mean 'ID'? "`` for the gymnasium id closest to ``name``, where the bundled names
-    offered none (``hint``: the hint that lists them)."""
-    if hint and "did you mean" in hint:
-        return ""
-    from difflib import get_close_matches
-
-    try:
-        import gymnasium
-    except ImportError:  # pragma: no cover - a core dependency
-        return ""
-    ids = [i for i in gymnasium.registry if not i.startswith("symlearn/")]
-    close = get_close_matches(name.strip(), ids, n=1)
-    return f"did you mean {close[0]!r}? " if close else ""
 
 
 def _gymnasium_world(name: str, env_kwargs: Any) -> _World | None:

@@ -537,20 +537,33 @@ def _innermost_frame(exc: BaseException) -> dict[str, Any]:
 
 def _unknown(name: str, gymnasium: Any, kind: Kind | None, what: str | None) -> UnknownNameError:
     bundled = [e.name for e in ENTRIES if kind is None or kind in e.kinds]
-    ids = [i for i in gymnasium.registry if not i.startswith("symlearn/")]
-    close = get_close_matches(name.lower(), bundled, n=1) or get_close_matches(name, ids, n=1)
-    hint = f"did you mean {close[0]!r}? " if close else ""
-    if not close and "-" in name and "/" not in name and ":" not in name:
-        package = name.split("-")[0].lower()
-        found = _installed_package(package)
-        if found is not None:  # highway-v0 is registered by importing highway_env
-            hint += f"did you mean {found}:{name}? (its package registers it on import); "
-        else:
-            hint += f"an id a package registers on import is named package:ID (e.g. {package}:{name}); "
+    close = get_close_matches(name.lower(), bundled, n=1)
+    hint = f"did you mean {close[0]!r}? " if close else gymnasium_id_hint(name)
     if kind is not None:
         hint += f"bundled: {', '.join(bundled)}; or "
     hint += "a bundled name (symlearn envs), a gymnasium id, or module:EnvId"
     return UnknownNameError(f"unknown {what or 'environment'} {name!r}", hint=hint)
+
+
+def gymnasium_id_hint(name: str) -> str:
+    """What an unknown environment name probably meant among gymnasium ids (the start of a hint,
+    ending in a space; ``""`` when nothing): the closest registered id, else, for a name shaped
+    like an id, the ``package:ID`` that registers it on import (``highway_env:highway-v0`` where
+    that package is installed)."""
+    from difflib import get_close_matches
+
+    gymnasium = _gymnasium()
+    ids = [i for i in gymnasium.registry if not i.startswith("symlearn/")]
+    close = get_close_matches(name.strip(), ids, n=1)
+    if close:
+        return f"did you mean {close[0]!r}? "
+    if "-" not in name or "/" in name or ":" in name:
+        return ""
+    package = name.split("-")[0].lower()
+    found = _installed_package(package)
+    if found is not None:  # highway-v0 is registered by importing highway_env
+        return f"did you mean {found}:{name}? (its package registers it on import); "
+    return f"an id a package registers on import is named package:ID (e.g. {package}:{name}); "
 
 
 def _installed_package(stem: str) -> str | None:
@@ -577,5 +590,5 @@ def _gymnasium() -> Any:
     return gymnasium
 
 
-__all__ = ["CostWatch", "EnvTarget", "Features", "observation_width", "parse_env_kwargs", "parse_feature_names",
-           "resolve_env"]
+__all__ = ["CostWatch", "EnvTarget", "Features", "gymnasium_id_hint", "observation_width", "parse_env_kwargs",
+           "parse_feature_names", "resolve_env"]

@@ -127,6 +127,8 @@ def test_a_gymnasium_id_with_a_model_learns_where_the_expert_never_went(capsys, 
     (["--env", "NoSuchWorld-v3", "--demos", "x.jsonl"], "a discrete gymnasium environment with its model"),
     (["--env", "CliffWalkin-v1", "--demos", "x.jsonl"], "did you mean 'CliffWalking-v1'?"),
     (["--env", "hanio", "--demos", "x.jsonl"], "did you mean 'hanoi'?"),
+    (["--env", "NoSuchWorld-v3", "--env-kwargs", '{"a": 1}', "--demos", "x.jsonl"],
+     "unknown environment 'NoSuchWorld-v3'"),  # not "a bundled environment": it is none
     (["--env", "FrozenLake-v1", "--env-kwargs", '{"is_slipery": false}', "--demos", "x.jsonl"], "did you mean 'is_slippery'"),
     (["--env", "CliffWalking-v1", "--method", "logic", "--demos", "x.jsonl"], "has no ASP facts"),
     (["--env", "CliffWalking-v1"], "has no bundled expert: give your demonstrations with --demos"),
