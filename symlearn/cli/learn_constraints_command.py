@@ -468,8 +468,7 @@ def _run(method: str, world: _World, demos, args, known, out):
                                         on_violation="warn" if args.noise else "error",
                                         rationality=_rationality(args, world)).fit(demos, target)
         doc = {"rules": None, "iterations": len(learner.history_), "seconds": learner.seconds_,
-               "stop_reason": learner.stop_reason_,
-               "stop": _ML_STOPS.get(learner.stop_reason_, learner.stop_reason_),
+               "stop_reason": learner.stop_reason_, "stop": learner.stop_text(),
                "rationality": learner.rationality_fit_.as_dict()}
         return doc, learner.constraints_ & ~learner.known_, learner
     from symlearn.learners.constraints.mce_icrl import MCEICRL
@@ -479,20 +478,9 @@ def _run(method: str, world: _World, demos, args, known, out):
                       known_constraints=known, on_violation="warn" if args.noise else "error").fit(demos, target)
     learned = learner.forbidden_ & world.space
     doc = {"rules": None, "iterations": learner.n_iter_, "seconds": learner.seconds_,
-           "stop_reason": learner.stop_reason_,
-           "stop": _MCE_STOPS[learner.stop_reason_].format(share=learner.min_improvement, k=learner.patience),
+           "stop_reason": learner.stop_reason_, "stop": learner.stop_text(),
            "multipliers": learner.multipliers_ or {}}
     return doc, learned, learner
-
-
-#: why MCE-ICRL's dual loop ended, in words
-_MCE_STOPS = {"converged": "converged: no feature count of the policy exceeds the expert's by more than the tolerance",
-              "stalled": "stalled: the largest excess of a policy feature count over the expert's fell by less than "
-                         "{share:.0%} in the last {k} iterations (the demonstrations' counts are not exactly reachable)",
-              "max_iterations": "the iteration cap (--iterations) was reached"}
-_ML_STOPS = {"min_visitation": "no undemonstrated pair is likely any more (visitation below min_visitation)",
-             "no_candidates": "no undemonstrated pair is left to forbid",
-             "max_iterations": "the iteration cap (--iterations) was reached"}
 
 
 def _reward(args: argparse.Namespace, world: _World) -> str:

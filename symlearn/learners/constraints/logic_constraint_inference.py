@@ -44,6 +44,7 @@ from symlearn.grounding import Domain, as_domain
 from symlearn.learners.base import Learner
 from symlearn.learners.fit_arguments import FIT_CALLER, renamed_arguments
 from symlearn.learners.constraints.constraint_metrics import constraint_metrics
+from symlearn.learners.constraints.ml_constraint_inference import STOP_REASONS as ML_STOP_REASONS
 from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
 from symlearn.progress import progress
 from symlearn.rl.tabular import restrict
@@ -92,7 +93,7 @@ class Unexplained:
 #: why the loop ended, in words (``stop_reason_`` -> text for the CLI and the rule file)
 STOP_REASONS = {
     "converged": "converged: the rules forbade no new pair in the last {patience} iterations",
-    "min_visitation": "no undemonstrated pair is likely any more (visitation below min_visitation)",
+    "min_visitation": ML_STOP_REASONS["min_visitation"],
     "no_candidates": "no undemonstrated pair the bias can forbid is left",
     "max_iterations": "the iteration budget ({iterations}) ran out before convergence",
 }

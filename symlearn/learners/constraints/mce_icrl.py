@@ -267,6 +267,16 @@ class MCEICRL(Learner):
         forbidden = forbidden & ~mdp.terminal[:, None]
         return forbidden if known is None else forbidden & ~known
 
+    def stop_text(self) -> str:
+        """``stop_reason_`` in words."""
+        self.check_fitted()
+        return {"converged": "converged: no feature count of the policy exceeds the expert's by more than the "
+                             "tolerance",
+                "stalled": f"stalled: the largest excess of a policy feature count over the expert's fell by less "
+                           f"than {self.min_improvement:.0%} in the last {self.patience} iterations (the "
+                           "demonstrations' counts are not exactly reachable)",
+                "max_iterations": f"the iteration cap ({self.n_iterations}) was reached"}[self.stop_reason_]
+
     def _stalled(self, excesses: list[float]) -> bool:
         """Whether the best excess of the last ``patience`` iterations is no more than
         ``min_improvement`` (a share) below the best one before them."""

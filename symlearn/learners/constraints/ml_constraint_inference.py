@@ -75,6 +75,14 @@ from symlearn.rl.tabular import check_mask, restrict
 Generalizer = Callable[[np.ndarray, np.ndarray], np.ndarray]
 
 
+#: why the loop ended, in words (``stop_reason_`` -> text, :meth:`MLConstraintInference.stop_text`)
+STOP_REASONS = {
+    "min_visitation": "no undemonstrated pair is likely any more (visitation below min_visitation)",
+    "no_candidates": "no undemonstrated pair is left to forbid",
+    "max_iterations": "the iteration cap ({iterations}) was reached",
+}
+
+
 @dataclass(frozen=True)
 class InferenceStep:
     iteration: int
@@ -284,6 +292,12 @@ class MLConstraintInference(Learner):
                                   "rationality": fitted.value},
                          timings={"total": self.seconds_}, history=history)
         return self
+
+
+    def stop_text(self) -> str:
+        """``stop_reason_`` in words (a reason ``stop_when`` gave as it is)."""
+        self.check_fitted()
+        return STOP_REASONS.get(self.stop_reason_, self.stop_reason_).format(iterations=self.max_iterations)
 
 
 def resolve_rationality(setting: Any, visitation: MaxEntVisitation, episodes, allowed: np.ndarray):
