@@ -112,20 +112,17 @@ def rule_support(domain: Any, episodes, rules: list[str], reward: Any, horizon: 
         return fit.value, fit.mean_log_likelihood * steps
 
     with_all, total = profile(None)
-    flat = sparse or rationality is None  # nothing to fit, or no hint: the full search
-    candidates = sorted({round(v, 4) for v in (with_all, float(rationality or 1.0),
-                                               (with_all * float(rationality or 1.0)) ** 0.5)})
-
-    def cheap(leave_out: int) -> tuple[float, float]:
-        allowed = allowed_without(leave_out)
-        values = {beta: at(beta, allowed) for beta in candidates}
-        best = max(values, key=values.get)
-        return best, values[best]
-
-    if not flat:
-        profile_without = cheap
-    else:
+    if sparse or rationality is None:  # nothing to fit, or no hint: a full search per rule
         profile_without = profile
+    else:
+        candidates = sorted({round(v, 4) for v in (with_all, rationality, (with_all * rationality) ** 0.5)})
+
+        def profile_without(leave_out: int) -> tuple[float, float]:
+            allowed = allowed_without(leave_out)
+            values = {beta: at(beta, allowed) for beta in candidates}
+            best = max(values, key=values.get)
+            return best, values[best]
+
     out = []
     for i, rule in enumerate(rules):
         without, partial = profile_without(i)

@@ -289,7 +289,7 @@ class NeuralMCEICRL(Learner):
             # first concentrate on where the policy goes and the expert does not.
             lambdas = np.full(int(self.n_features), float(self.lambda_init))
             expert_features = np.zeros_like(lambdas)
-            memory: list = []  # every iteration's policy samples, the nominal policy's first
+            memory: list = []  # cost_memory="all": every iteration's policy samples, the nominal policy's first
 
             def cost_step(iteration: int, batch: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
                 """The dual step on the current policy's samples; sets the cost's multipliers."""
@@ -297,7 +297,8 @@ class NeuralMCEICRL(Learner):
                 policy_t = cost.tensors(*batch.pairs())
                 policy_w = torch.from_numpy(batch.discount_weights(self.discount)[batch.mask]).float()
                 zeta_lr = self.zeta_lr * self.zeta_decay ** (iteration - 1)
-                memory.append((policy_t, policy_w))  # the first is the nominal policy's sample
+                if self.cost_memory == "all":  # the first is the nominal policy's sample
+                    memory.append((policy_t, policy_w))
                 lambdas, expert_features, policy_features = dual_step(
                     phi, optimizer, lambdas, (expert_t, expert_w), (policy_t, policy_w), lambda_lr=self.lambda_lr,
                     alpha=self.alpha, zeta_lr=zeta_lr, zeta_steps=int(self.zeta_steps),
