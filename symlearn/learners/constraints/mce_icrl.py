@@ -297,23 +297,22 @@ def deliberate_moves(mdp: TabularMDP, episodes) -> tuple[np.ndarray, np.ndarray]
     and, to a fixpoint, the most likely successor of every demonstrated move made from such a
     state -- as an (S,) mask, and those moves as an (S, A) mask (see the module docstring)."""
     target = np.argmax(mdp.transitions, axis=2)  # the intended successor of every move
-    steps = [(np.asarray(e.states[: len(e.actions)]), np.asarray(e.actions)) for e in episodes]
+    demonstrated = np.zeros((mdp.n_states, mdp.n_actions), dtype=bool)
     headed = np.zeros(mdp.n_states, dtype=bool)
-    for states, _ in steps:
+    for e in episodes:
+        states, actions = np.asarray(e.states[: len(e.actions)]), np.asarray(e.actions)
+        demonstrated[states, actions] = True
         if len(states):
-            headed[states[0]] = True
-    while True:
-        before = int(headed.sum())
-        for states, actions in steps:
-            on_purpose = headed[states]
-            headed[target[states[on_purpose], actions[on_purpose]]] = True
-        if int(headed.sum()) == before:
-            break
-    moves = np.zeros((mdp.n_states, mdp.n_actions), dtype=bool)
-    for states, actions in steps:
-        on_purpose = headed[states]
-        moves[states[on_purpose], actions[on_purpose]] = True
-    return headed, moves
+            headed[int(states[0])] = True
+    # the fixpoint as a search over the demonstrated moves' intended successors: each state once
+    stack = list(np.flatnonzero(headed))
+    while stack:
+        s = stack.pop()
+        for nxt in target[s, demonstrated[s]]:
+            if not headed[nxt]:
+                headed[nxt] = True
+                stack.append(int(nxt))
+    return headed, demonstrated & headed[:, None]
 
 
 class MEICRL(MCEICRL):
