@@ -21,7 +21,9 @@ JSON keys: ``formula`` (the text), ``conjunctions`` (one string each), ``leaves`
 ``{feature: [low, high]}``), ``features``, ``seconds``, ``unsafe_share`` (of the data's bounding
 box), ``slivers_closed``, ``notes`` (how the thresholds were rounded and gaps closed) and
 ``warnings`` (e.g. more than half of the bounding box unsafe; in the text output too),
-``validation`` with ``--validation FRACTION`` (held-out expert states the formula calls unsafe);
+``validation`` with ``--validation FRACTION`` (held-out expert states the formula calls unsafe;
+where that is more than 5 %, ``shallower`` holds the same check for every smaller ``--max-depth``
+and the warning names the one to try: :mod:`symlearn.learners.trees.depth_advice`);
 ``-o`` writes the editable ``.dnf`` file
 (``symlearn dnf eval|show`` read it; ``symlearn train --cost`` uses it as a cost).
 """
@@ -183,7 +185,10 @@ def _dnf(args: argparse.Namespace, out) -> None:
     doc = {"formula": str(dnf), "conjunctions": [str(c) for c in dnf.conjunctions], "leaves": leaves,
            "features": names, "samples": learner.n_samples_, "seconds": learner.result_.timings["total"],
            "unsafe_share": learner.unsafe_share_, "slivers_closed": learner.slivers_closed_,
-           "notes": learner.notes_, "warnings": list(learner.warnings_)}
+           "notes": list(learner.notes_), "warnings": list(learner.warnings_)}
+    if held is None and learner.warn_unsafe_share is not None and learner.unsafe_share_ > learner.warn_unsafe_share:
+        doc["notes"].append("--validation 0.2 holds out a fifth of the demonstrations and counts the held-out "
+                            "expert states the formula calls unsafe (with the --max-depth that calls fewer)")
     if held is not None:
         from symlearn.learners.trees.one_class_tree import feature_matrix
         from symlearn.learners.validation import unsafe_states_report
@@ -192,7 +197,8 @@ def _dnf(args: argparse.Namespace, out) -> None:
         report = unsafe_states_report(learner.predict, states, names, args.validation, len(demos))
         doc["validation"] = report.as_dict()
         if report.warning():
-            doc["warnings"].append(report.warning())
+            doc["warnings"].append(report.warning() + _depth_advice(args, inputs, demos, features, states,
+                                                                    report.share, doc["validation"]))
     if args.output:
         if held is not None and not str(args.output).endswith(".json"):
             from symlearn.atomic import write_text
@@ -201,6 +207,22 @@ def _dnf(args: argparse.Namespace, out) -> None:
         else:  # the file OneClassTreeConstraint.save writes in Python
             doc["files"] = [str(learner.save(args.output))]
     out.result(doc, _render)
+
+
+def _depth_advice(args, inputs, train, features, held_states, share: float, validation: dict) -> str:
+    """``"; " + advice`` when a shallower tree forbids less of the held-out expert states (the
+    refits go into ``validation["shallower"]``), else ``""``."""
+    from symlearn.learners.trees.depth_advice import ACCEPTABLE_SHARE, advice_text, advised, shallower_options
+    from symlearn.learners.trees.one_class_tree import OneClassTreeConstraint
+
+    if share <= ACCEPTABLE_SHARE or args.max_depth <= 1:
+        return ""
+    options = shallower_options(
+        lambda depth: OneClassTreeConstraint(max_depth=depth, min_samples_leaf=args.min_samples_leaf, inputs=inputs),
+        train, features, held_states, args.max_depth)
+    validation["shallower"] = [o.as_dict() for o in options]
+    best = advised(options, share)
+    return "" if best is None else "; " + advice_text(best)
 
 
 def _with_validation(text: str, doc: dict) -> str:

@@ -121,3 +121,36 @@ def test_demonstrations_narrower_than_the_environment_are_refused(capsys, tmp_pa
     code, out, err = run(capsys, "learn", "dnf", "--env", "CartPole-v1", "--demos", path, "-o", tmp_path / "p.dnf")
     assert code == 2 and "3 columns" in err and "observation has 4" in err and str(path) in err, err
     assert not (tmp_path / "p.dnf").exists()
+
+
+def test_validation_names_a_shallower_depth_when_the_tree_does_not_generalise(capsys, tmp_path):
+    """Six features of random walks: depth 5 boxes are tight in every direction at once and call
+    many held-out expert states unsafe; the warning names the shallower depth measured to call
+    fewer of the same states unsafe, and the note without --validation points to it."""
+    rng = np.random.default_rng(3)
+    walks = [np.cumsum(rng.normal(0, 0.1, (60, 6)), axis=0) + rng.uniform(-1, 1, 6) for _ in range(20)]
+    path = tmp_path / "walks.npz"
+    Demonstrations([Trajectory(states=w.astype(np.float32)) for w in walks]).save(path)
+    code, out, err = run(capsys, "learn", "dnf", "--demos", path, "--validation", 0.25, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    shallower = doc["validation"]["shallower"]
+    assert [o["max_depth"] for o in shallower] == [4, 3, 2, 1]
+    advice = [w for w in doc["warnings"] if "--max-depth" in w]
+    assert len(advice) == 1, doc["warnings"]
+    depth = int(advice[0].split("--max-depth ")[1].split()[0])
+    chosen = next(o for o in shallower if o["max_depth"] == depth)
+    assert chosen["held_out_share"] <= doc["validation"]["share"] / 2 or chosen["held_out_share"] <= 0.05
+    code, out, err = run(capsys, "learn", "dnf", "--demos", path)
+    assert code == 0 and "note: --validation 0.2" in out, out
+
+
+def test_no_depth_advice_where_the_formula_already_generalises():
+    from symlearn.learners.trees.depth_advice import DepthOption, advised
+
+    options = [DepthOption(4, 0.01, 0.6, 9), DepthOption(3, 0.0, 0.5, 5), DepthOption(2, 0.0, 0.4, 3)]
+    assert advised(options, 0.03) is None          # within the acceptable share already
+    assert advised(options, 0.4).max_depth == 4    # the deepest one within it
+    worse = [DepthOption(4, 0.35, 0.9, 9), DepthOption(3, 0.3, 0.8, 5)]
+    assert advised(worse, 0.4) is None             # nothing halves it
+    assert advised(worse, 0.7).max_depth == 3
