@@ -54,8 +54,9 @@ CONFIGS = {
     "sb3": dict(n_envs=1, n_steps=2048, batch_size=64, n_epochs=10, learning_rate=3e-4, anneal_lr=False,
                 ent_coef=0.0),
 }
+# raw observations and values, log std 0: the peers' own settings (PPOConfig's defaults normalise)
 SHARED = dict(gamma=0.99, gae_lambda=0.95, clip_range=0.2, vf_coef=0.5, max_grad_norm=0.5, hidden_sizes=(64, 64),
-              activation="tanh")
+              activation="tanh", normalize_observations=False, normalize_values=False, log_std_init=0.0)
 EVAL_EPISODES, EVAL_SEED, LAST_EPISODES = 20, 10_000, 20
 
 

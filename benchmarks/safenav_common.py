@@ -353,7 +353,7 @@ def run(spec: dict[str, Any]) -> dict[str, Any]:
         "multiplier_curve": [h.multipliers[0] if h.multipliers else 0.0
                              for h in result.history[:: max(1, len(result.history) // budget.curve_bins)]],
         "machine": platform.node(),
-        "resolved_config": {"ppo": _config_dict(config.resolved(constrained=lagrangian is not None)),
+        "resolved_config": {"ppo": _config_dict(config.resolved()),
                             "lagrangian": _config_dict(lagrangian) if lagrangian is not None else None},
     })
     if stats is not None:

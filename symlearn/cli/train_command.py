@@ -114,9 +114,9 @@ def register(subparsers, common) -> None:
                      help="Lagrangian: multiplier update rule (ppo-lag: adam, steps of about --multiplier-lr "
                           "whatever the size of the violation; sb3-*-lag: gradient)")
     cmd.add_argument("--learning-rate", type=float, default=None,
-                     help="our PPO's Adam step (default: 1e-3 with ppo-lag, 2.5e-4 with ppo)")
+                     help="our PPO's Adam step (default 1e-3, with --cost or without; CleanRL's was 2.5e-4)")
     cmd.add_argument("--log-std-init", type=float, default=None,
-                     help="our PPO's initial log standard deviation of Box actions (default: -1 with ppo-lag, 0 with ppo)")
+                     help="our PPO's initial log standard deviation of Box actions (default -1)")
     cmd.add_argument("--advantage-scale", choices=("raw", "returns"), default=None,
                      help="ppo-lag: mix advantages in their own units (raw) or in standard deviations of "
                           "their returns (returns, the default: the multiplier's range no longer depends on the units)")
@@ -125,10 +125,9 @@ def register(subparsers, common) -> None:
                           "mean episode length (rollout, the default) or only from episodes that ended in it (episodes)")
     cmd.add_argument("--normalize-observations", action=argparse.BooleanOptionalAction, default=None,
                      help="standardise the policy's inputs by running mean/std (saved with the model; "
-                          "default: on with ppo-lag, off with ppo)")
+                          "default: on)")
     cmd.add_argument("--normalize-values", action=argparse.BooleanOptionalAction, default=None,
-                     help="critics learn returns divided by their running std (PopArt-style; default: on with "
-                          "ppo-lag, off with ppo)")
+                     help="critics learn returns divided by their running std (PopArt-style; default: on)")
     cmd.add_argument("--n-envs", type=float, default=4, help="environment copies stepped side by side (4)")
     cmd.add_argument("--n-steps", type=float, default=128, help="steps per copy per iteration (128)")
     cmd.add_argument("--prune", action="store_true", help="prune rules the agent never ran into (needs --cost)")

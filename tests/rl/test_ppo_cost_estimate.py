@@ -13,7 +13,7 @@ from gymnasium import spaces
 pytest.importorskip("torch")
 
 from symlearn.errors import SymlearnError  # noqa: E402
-from symlearn.rl.ppo import LagrangianConfig, PPOConfig, train_ppo  # noqa: E402
+from symlearn.rl.ppo import CLEANRL_PLAIN, LagrangianConfig, PPOConfig, train_ppo  # noqa: E402
 
 
 class LongCostly(gym.Env):
@@ -117,17 +117,18 @@ def test_library_defaults_are_the_cli_defaults():
     # None: train passes nothing, so LagrangianConfig's own defaults apply
     assert (args.multiplier_update, args.multiplier_lr, args.cost_estimate) == (None, None, lag.cost_estimate)
     config = PPOConfig()
-    assert (config.resolved(True).learning_rate, config.resolved(True).log_std_init) == (1e-3, -1.0)
-    assert (config.resolved(False).learning_rate, config.resolved(False).log_std_init) == (2.5e-4, 0.0)
-    assert PPOConfig(learning_rate=3e-4).resolved(True).learning_rate == 3e-4
-    assert config.resolved(constrained=True).normalize_observations is True
-    assert config.resolved(constrained=True).normalize_values is True
-    assert config.resolved(constrained=False).normalize_observations is False
-    assert PPOConfig(normalize_values=False).resolved(constrained=True).normalize_values is False
+    # one configuration, with a Lagrangian or without (plain PPO had CleanRL's until measured)
+    assert (config.resolved().learning_rate, config.resolved().log_std_init) == (1e-3, -1.0)
+    assert config.resolved().normalize_observations is True and config.resolved().normalize_values is True
+    assert PPOConfig(learning_rate=3e-4).resolved().learning_rate == 3e-4
+    assert PPOConfig(normalize_values=False).resolved().normalize_values is False
+    old = PPOConfig(**CLEANRL_PLAIN).resolved()
+    assert (old.learning_rate, old.log_std_init, old.normalize_observations, old.normalize_values) == (
+        2.5e-4, 0.0, False, False)
     constrained = train_ppo(lambda: LongCostly(length=64), 128, PPOConfig(seed=0, **SMALL), lag)
     plain = train_ppo(lambda: LongCostly(length=64), 128, PPOConfig(seed=0, **SMALL))
     assert constrained.config.normalize_observations and constrained.policy.obs_normalization
-    assert not plain.config.normalize_observations and not plain.policy.obs_normalization
+    assert plain.config.normalize_observations and plain.policy.obs_normalization
 
 
 @pytest.mark.parametrize("kwargs, message", [
@@ -148,7 +149,7 @@ def test_bad_normalisation_setting_is_refused():
 
 
 def test_a_continued_policy_keeps_its_observation_normalisation_under_a_lagrangian():
-    nominal = train_ppo(lambda: LongCostly(length=64), 128, PPOConfig(seed=0, **SMALL))
+    nominal = train_ppo(lambda: LongCostly(length=64), 128, PPOConfig(seed=0, **SMALL, normalize_observations=False))
     assert not nominal.policy.obs_normalization
     continued = train_ppo(lambda: LongCostly(length=64), 128, PPOConfig(seed=0, **SMALL),
                           LagrangianConfig(cost_limit=0.0), policy=nominal.policy)

@@ -134,6 +134,10 @@ from symlearn.rl.episode_metrics import episode_metrics
 #: larger step than PPOConfig's defaults: the phases are short, and each continues the last)
 PPO_DEFAULTS: dict[str, Any] = {"n_envs": 4, "n_steps": 256, "batch_size": 256, "n_epochs": 4,
                                 "learning_rate": 1e-3, "anneal_lr": False, "normalize_values": True}
+#: and, in the phases without a Lagrangian (every phase of MCE-ICRL and GACL, ME-/VME-ICRL's
+#: nominal one), what PPOConfig resolved plain PPO to when the learners were measured: raw
+#: observations, initial log standard deviation 0 (the recorded ICRL results stand on them)
+PLAIN_PHASE_DEFAULTS: dict[str, Any] = {"normalize_observations": False, "log_std_init": 0.0}
 
 
 @dataclass(frozen=True)
@@ -367,13 +371,16 @@ class NeuralMCEICRL(Learner):
 # --- helpers -------------------------------------------------------------------------------------
 
 
-def policy_ppo_config(ppo: dict[str, Any] | None, beta: float, seed: int | None) -> Any:
+def policy_ppo_config(ppo: dict[str, Any] | None, beta: float, seed: int | None, *,
+                      constrained: bool = False) -> Any:
     """The :class:`~symlearn.rl.ppo.PPOConfig` of a policy phase (all four neural learners):
-    :data:`PPO_DEFAULTS` under the learner's ``ppo`` overrides, ``ent_coef = beta``, ``seed``;
-    a field PPOConfig lacks is a :class:`SymlearnError` naming it."""
+    :data:`PPO_DEFAULTS` (and :data:`PLAIN_PHASE_DEFAULTS` unless the phase has a Lagrangian,
+    ``constrained``) under the learner's ``ppo`` overrides, ``ent_coef = beta``, ``seed``; a field
+    PPOConfig lacks is a :class:`SymlearnError` naming it."""
     from symlearn.rl.ppo import PPOConfig
 
-    settings = {**PPO_DEFAULTS, **(ppo or {}), "ent_coef": float(beta), "seed": seed}
+    plain = {} if constrained else PLAIN_PHASE_DEFAULTS
+    settings = {**PPO_DEFAULTS, **plain, **(ppo or {}), "ent_coef": float(beta), "seed": seed}
     try:
         return PPOConfig(**settings)
     except TypeError as exc:
@@ -463,4 +470,4 @@ def jsonable_params(params: dict[str, Any]) -> dict[str, Any]:
 
 
 __all__ = ["ICRLIteration", "NeuralMCEICRL", "PPO_DEFAULTS", "action_bound_penalty", "dual_step", "environment_factory",
-           "jsonable_params", "penalised", "policy_ppo_config"]
+           "jsonable_params", "penalised", "policy_ppo_config", "PLAIN_PHASE_DEFAULTS"]

@@ -163,8 +163,8 @@ class NeuralMEICRL(Learner):
         obs_dims, generator = setup.obs_dims, setup.generator
         seed = self.random_state
 
-        def ppo_config(offset: int) -> Any:
-            return policy_ppo_config(self.ppo, self.beta, seed_offset(seed, offset))
+        def ppo_config(offset: int, constrained: bool = False) -> Any:
+            return policy_ppo_config(self.ppo, self.beta, seed_offset(seed, offset), constrained=constrained)
 
         previous_threads = torch.get_num_threads()
         torch.set_num_threads(1)
@@ -209,7 +209,7 @@ class NeuralMEICRL(Learner):
                 """PPO-Lagrangian on the cost ``1 - zeta``, continuing ``policy`` from ``multiplier``."""
                 nonlocal multiplier
                 lagrangian = LagrangianConfig(**forward_lagrangian(self.lagrangian, multiplier, self.lambda_lr is None))
-                trained = train_ppo(env_fn, int(self.policy_steps), ppo_config(iteration), lagrangian,
+                trained = train_ppo(env_fn, int(self.policy_steps), ppo_config(iteration, constrained=True), lagrangian,
                                     cost_fn=cost.cost_fn(), reward_fn=penalised(None, penalty), policy=policy)
                 multiplier = float(trained.multipliers[0])
                 return trained

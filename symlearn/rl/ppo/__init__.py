@@ -67,8 +67,8 @@ objective and constraint moves only the value of the multiplier at the saddle po
 ``PPOIteration.return_scales`` records the scales, so ``lambda_i * scale_r / scale_ci`` is the
 price in raw units.
 
-**Normalisation** (both on by default with a Lagrangian, off for plain PPO; ``PPOConfig``'s
-``None`` decides it when training starts). ``normalize_observations``: the networks see the features
+**Normalisation** (both on by default, with a Lagrangian or without; ``PPOConfig``'s ``None``
+decides it when training starts, ``CLEANRL_PLAIN`` turns it off with CleanRL's step sizes). ``normalize_observations``: the networks see the features
 standardised by their running mean and variance (every rollout joins the statistics before it is
 learned from; clipped to +-10; saved with the weights, applied by ``act``/``encode``). Without it,
 inputs that all lie on one side of zero (positions in ``[0, 1]^2``) meet a first layer whose zero
@@ -107,9 +107,11 @@ from symlearn.rl.episode_stats import EpisodeStats, FinishedEpisode
 from symlearn.rl.ppo.config import (
     ACTIVATIONS,
     ADVANTAGE_SCALES,
+    CLEANRL_PLAIN,
     COST_ESTIMATES,
     ENTROPY_MODES,
     LEGACY_LAGRANGIAN,
+    RESOLVED_DEFAULTS,
     LagrangianConfig,
     PPOConfig,
 )
@@ -129,6 +131,7 @@ from symlearn.rl.ppo.update import _gae, _rescale_critics  # noqa: E402, F401  i
 __all__ = [
     "ACTIVATIONS",
     "ADVANTAGE_SCALES",
+    "CLEANRL_PLAIN",
     "COST_ESTIMATES",
     "ENTROPY_MODES",
     "LEGACY_LAGRANGIAN",
@@ -136,6 +139,7 @@ __all__ = [
     "MODEL_KIND",
     "OBS_CLIP",
     "OBS_EPSILON",
+    "RESOLVED_DEFAULTS",
     "RETURN_SCALE_FLOOR",
     "RETURN_SCALE_MEMORY",
     "ActorCritic",

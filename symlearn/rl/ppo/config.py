@@ -20,6 +20,13 @@ COST_ESTIMATES = ("rollout", "episodes")  # LagrangianConfig.cost_estimate
 # normalize_observations=False, normalize_values=False): what the recorded benchmark tables used
 LEGACY_LAGRANGIAN = {"update": "adam", "lr": 0.035, "advantage_scale": "raw", "cost_estimate": "episodes",
                      "adam_beta2": 0.999}
+# what PPOConfig's None settings resolve to (PPOConfig.resolved), with a Lagrangian or without
+RESOLVED_DEFAULTS = {"normalize_observations": True, "normalize_values": True, "learning_rate": 1e-3,
+                     "log_std_init": -1.0}
+# plain PPO's settings before they became RESOLVED_DEFAULTS (CleanRL's): pass them to reproduce a
+# plain-PPO row recorded before (docs/BENCHMARKS.md, "One default configuration for plain PPO")
+CLEANRL_PLAIN = {"normalize_observations": False, "normalize_values": False, "learning_rate": 2.5e-4,
+                 "log_std_init": 0.0}
 
 
 @dataclass(frozen=True)
@@ -30,7 +37,7 @@ class PPOConfig:
     n_steps: int = 128  # steps per environment per iteration (rollout = n_envs * n_steps)
     batch_size: int = 128  # minibatch size (the last minibatch of an epoch may be smaller)
     n_epochs: int = 4  # passes over the rollout per iteration
-    # None (default): 1e-3 with a Lagrangian, 2.5e-4 (CleanRL's) for plain PPO (resolved())
+    # None (default): 1e-3 (resolved(); CLEANRL_PLAIN has CleanRL's 2.5e-4)
     learning_rate: float | None = None
     anneal_lr: bool = True  # linearly to 0 over training
     gamma: float = 0.99
@@ -47,8 +54,8 @@ class PPOConfig:
     target_kl: float | None = None  # stop the epochs once a minibatch's approx. KL exceeds 1.5 x this
     hidden_sizes: tuple[int, ...] = (64, 64)
     activation: str = "tanh"  # "tanh" | "relu"
-    log_std_init: float | None = None  # Box actions; None: -1 with a Lagrangian, 0 for plain PPO (resolved())
-    # None (default): on with a Lagrangian, off for plain PPO (measured; LagrangianConfig's docstring)
+    log_std_init: float | None = None  # Box actions; None: -1 (resolved())
+    # None (default): on (resolved(); measured, docs/BENCHMARKS.md)
     normalize_observations: bool | None = None  # standardise inputs by running mean/std (saved with the model)
     normalize_values: bool | None = None  # critics learn returns / their running std (outputs kept, PopArt-style)
     seed: int | None = 0
@@ -89,16 +96,18 @@ class PPOConfig:
             if getattr(self, name) not in (None, True, False):
                 raise SymlearnError(f"PPOConfig.{name} must be True, False or None, got {getattr(self, name)!r}")
 
-    def resolved(self, constrained: bool) -> PPOConfig:
-        """This configuration with its ``None`` settings decided. With a Lagrangian (``constrained``):
-        normalised observations and values, learning rate 1e-3, initial log standard deviation -1;
-        without one: no normalisation, 2.5e-4 and 0 (CleanRL's). Why the two differ: under a cost,
-        an agent that keeps the initial noise (std 1 on a [-1, 1] action box) cannot follow a safe
-        route narrower than its own jitter, and at 2.5e-4 the log standard deviation moves by at most
-        ~0.004 an iteration -- in 50k steps the noise barely shrinks, and the safe agent freezes
-        where it started (measured: docs/BENCHMARKS.md, "PPO-Lagrangian defaults of `train`")."""
-        choices = {"normalize_observations": constrained, "normalize_values": constrained,
-                   "learning_rate": 1e-3 if constrained else 2.5e-4, "log_std_init": -1.0 if constrained else 0.0}
+    def resolved(self) -> PPOConfig:
+        """This configuration with its ``None`` settings decided, with a Lagrangian or without:
+        normalised observations and values, learning rate 1e-3, initial log standard deviation -1
+        (:data:`RESOLVED_DEFAULTS`). Under a cost, an agent that keeps the initial noise (std 1 on a
+        [-1, 1] action box) cannot follow a safe route narrower than its own jitter, and at 2.5e-4
+        the log standard deviation moves by at most ~0.004 an iteration -- in 50k steps the noise
+        barely shrinks, and the safe agent freezes where it started (docs/BENCHMARKS.md,
+        "PPO-Lagrangian defaults of `train`"). Plain PPO had CleanRL's settings
+        (:data:`CLEANRL_PLAIN`) until the same four earned more on 11 of 15 tasks at 50k steps, as
+        much on 3 and less on 2 (docs/BENCHMARKS.md, "One default configuration for plain PPO"):
+        they are one configuration now, and ``CLEANRL_PLAIN`` gives back the old one."""
+        choices = RESOLVED_DEFAULTS
         return replace(self, **{name: value for name, value in choices.items() if getattr(self, name) is None})
 
 

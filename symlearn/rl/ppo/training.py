@@ -54,7 +54,7 @@ def train_ppo(
     if isinstance(policy, ActorCritic) and config.normalize_observations is None:
         # a continued policy keeps its own inputs (a nominal PPO phase, then a Lagrangian one)
         config = replace(config, normalize_observations=policy.obs_normalization)
-    config = config.resolved(constrained=lagrangian is not None)
+    config = config.resolved()
     if not isinstance(total_steps, (int, np.integer)) or total_steps < 1:
         raise SymlearnError(f"total_steps must be a positive integer, got {total_steps!r}")
     for name, fn in (("reward_fn", reward_fn), ("cost_fn", cost_fn)):
