@@ -1,7 +1,9 @@
-"""Three environments written as a user would, for ``benchmarks/plain_ppo_defaults.py`` (nobody tuned
-symlearn on them): a 1-D lander with discrete thrust, a Dict-observation robot that must go round a
+"""Three environments written as a user would, for ``benchmarks/plain_ppo_defaults.py`` and
+``benchmarks/dnf_depth_cost.py`` (nobody tuned symlearn on them): a 1-D lander with discrete thrust, a Dict-observation robot that must go round a
 forbidden disk, and a 3-D point with velocities whose speed limit is a violation. Each reports
-``info["cost"]``; none names its features."""
+``info["cost"]``; none names its features. ``lander_expert``, ``sorter_expert`` and ``arm_expert`` are
+scripted demonstrators of the kind a user has: controllers with 5 % random thrusts or a little
+noise, not perfect (a few landings are hard)."""
 import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
@@ -87,6 +89,39 @@ class Arm3(gym.Env):
         dist = np.linalg.norm(self.x)
         cost = float(np.linalg.norm(self.v) > 0.5)
         return np.concatenate([self.x, self.v]), -dist, False, self.t >= self.horizon, {"cost": cost}
+
+
+# scripted demonstrators (benchmarks/dnf_depth_cost.py records their demonstrations)
+def lander_expert(seed=0):
+    rng = np.random.default_rng(seed)
+    def act(obs):
+        h, v = float(obs[0]), float(obs[1])
+        target = -max(0.4, 0.35 * h)
+        a = 2 if v < target - 0.1 else (1 if v < target + 0.1 else 0)
+        return int(a) if rng.random() > 0.05 else int(rng.integers(3))
+    return act
+
+
+def sorter_expert(seed=0):
+    rng = np.random.default_rng(seed)
+    def act(obs):
+        p = np.asarray(obs["pos"], float)
+        goal = np.array([0.8, 0.8])
+        # go around the disk: first right along the bottom, then up
+        way = np.array([0.8, -0.8]) if p[0] < 0.6 and p[1] < 0.0 else goal
+        d = way - p
+        step = np.clip(d, -0.1, 0.1) + rng.normal(0, 0.01, 2)
+        return step.astype(np.float32)
+    return act
+
+
+def arm_expert(seed=0):
+    rng = np.random.default_rng(seed)
+    def act(obs):
+        x, v = obs[:3], obs[3:]
+        a = -2.0 * x - 3.0 * v
+        return np.clip(a + rng.normal(0, 0.1, 3), -1, 1).astype(np.float32)
+    return act
 
 
 gym.register("Lander-v0", entry_point=Lander)

@@ -164,24 +164,44 @@ class FormulaCost:
     :class:`DnfCostWrapper` computes for one step and :class:`DnfRolloutCost` for a whole rollout.
 
     Calling it returns ``(costs, totals)``: ``costs`` is ``[N]`` (``violation_cost`` where the
-    formula holds), or ``[N, m]`` with ``per_rule`` (one column per conjunction, formula order);
+    formula holds, times ``1 + depth_weight x`` the point's depth in the unsafe set where
+    ``depth_weight > 0``: :mod:`~symlearn.backends.dnf_depth`), or ``[N, m]`` with ``per_rule``
+    (one column per conjunction, formula order);
     ``totals`` is ``[N]``, the sum over rules. With ``track``, :attr:`stats` counts every point
     in ascending complexity; the rules are evaluated pre-sorted by size (:attr:`RuleStats.ordered_dnf`),
     so a point's first firing rule is the kernels' ``first`` without an ``[N, m]`` matrix.
     """
 
     def __init__(self, dnf: Any, features: Any, *, violation_cost: float = 1.0, per_rule: bool = False,
-                 track: bool = True, stats: RuleStats | None = None) -> None:
+                 track: bool = True, stats: RuleStats | None = None, depth_weight: float = 0.0) -> None:
         if stats is not None and stats.dnf != dnf:
             raise SymlearnError("the shared rule statistics belong to another formula")
+        if isinstance(depth_weight, bool) or not isinstance(depth_weight, (int, float)) or \
+                not 0.0 <= float(depth_weight) < math.inf:
+            raise SymlearnError(f"depth_weight must be a finite number >= 0, got {depth_weight!r}")
         self.dnf = dnf
         self.violation_cost, self.per_rule, self.track = float(violation_cost), per_rule, track
         self.stats = stats if stats is not None else RuleStats(dnf, features)
         self.feature_names = self.stats.feature_names
         self._evaluate = dnf.evaluator(self.feature_names)   # names resolved once, not every call
         self._evaluate_ordered = self.stats.ordered_dnf.evaluator(self.feature_names)
+        self.depth_weight = float(depth_weight)
+        self._depth = None
+        if self.depth_weight:
+            from symlearn.backends.dnf_depth import ViolationDepth
+
+            self._depth = ViolationDepth(dnf, self.feature_names)
 
     def __call__(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        costs, totals = self._binary(X)
+        if self._depth is None:
+            return costs, totals
+        # 1 + weight x depth on the unsafe points (dnf_depth's module doc); safe points stay 0
+        factor = 1.0 + self.depth_weight * self._depth(np.asarray(X, dtype=np.float64))
+        costs = costs * (factor[:, None] if costs.ndim == 2 else factor)
+        return costs, (costs.sum(axis=1) if costs.ndim == 2 else costs)
+
+    def _binary(self, X: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         X = np.asarray(X, dtype=np.float64)
         if X.shape[1] != len(self.feature_names):
             raise DataError(f"expected {len(self.feature_names)} features ({', '.join(self.feature_names)}), "
@@ -209,7 +229,8 @@ class FormulaCost:
 
 class DnfCostWrapper(gym.Wrapper):
     """``DnfCostWrapper(env, dnf, features, source="info", violation_cost=1.0, per_rule=False,
-    penalty=0.0, track=True)`` (see the module docstring).
+    penalty=0.0, track=True, depth_weight=0.0)`` (see the module docstring; ``depth_weight``:
+    :class:`FormulaCost`).
 
     ``source``: ``"info"`` (``info["features"]``), ``"observation"``, or a callable
     ``(observation, info) -> vector``. ``penalty`` subtracts ``penalty * cost`` (summed over
@@ -220,12 +241,12 @@ class DnfCostWrapper(gym.Wrapper):
 
     def __init__(self, env: gym.Env, dnf: Any, features: Any, *, source: str | Callable = "info",
                  violation_cost: float = 1.0, per_rule: bool = False, penalty: float = 0.0,
-                 track: bool = True, stats: RuleStats | None = None) -> None:
+                 track: bool = True, stats: RuleStats | None = None, depth_weight: float = 0.0) -> None:
         super().__init__(env)
         if not (source in ("info", "observation") or callable(source)):
             raise SymlearnError(f"unknown feature source {source!r}", hint="use 'info', 'observation' or a callable")
         self.cost = FormulaCost(dnf, features, violation_cost=violation_cost, per_rule=per_rule, track=track,
-                                stats=stats)
+                                stats=stats, depth_weight=depth_weight)
         self.dnf, self.source, self.penalty = dnf, source, float(penalty)
         self.stats, self.feature_names = self.cost.stats, self.cost.feature_names
 
@@ -268,11 +289,12 @@ class DnfRolloutCost:
     """
 
     def __init__(self, dnf: Any, features: Any, *, source: str = "info", violation_cost: float = 1.0,
-                 per_rule: bool = False, track: bool = True, stats: RuleStats | None = None) -> None:
+                 per_rule: bool = False, track: bool = True, stats: RuleStats | None = None,
+                 depth_weight: float = 0.0) -> None:
         if source not in ("info", "observation"):
             raise SymlearnError(f"unknown feature source {source!r}", hint="use 'info' or 'observation'")
         self.cost = FormulaCost(dnf, features, violation_cost=violation_cost, per_rule=per_rule, track=track,
-                                stats=stats)
+                                stats=stats, depth_weight=depth_weight)
         self.dnf, self.source = dnf, source
         self.stats, self.feature_names = self.cost.stats, self.cost.feature_names
         # what train_ppo records from every step's info for us

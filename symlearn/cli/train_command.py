@@ -1,7 +1,7 @@
 """``symlearn train``: train an agent in any environment, optionally with a learned cost.
 
 ``symlearn train --env ENV [--env-kwargs JSON] [--algo ALGO] [--cost rules.dnf|cost.safetensors
-[--features a,b] [--per-rule]] [--cost-limit C] [--multiplier-update gradient|adam|pid]
+[--features a,b] [--per-rule] [--depth-weight W]] [--cost-limit C] [--multiplier-update gradient|adam|pid]
 [--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns]
 [--cost-estimate rollout|episodes] [--normalize-observations]
 [--normalize-values] [--n-envs N] [--n-steps T] [--prune [--prune-threshold T]] [--steps N]
@@ -23,7 +23,9 @@
   (``info["features"]`` when the environment reports them, else the observation); the feature
   names come from ``--features a,b``, the environment's ``feature_names`` attribute, or the keys
   of a dict ``info["features"]`` -- an environment with none of them is refused. ``--per-rule``:
-  one cost (and, with a Lagrangian, one multiplier) per rule. ``--cost cost.safetensors``: a cost
+  one cost (and, with a Lagrangian, one multiplier) per rule. ``--depth-weight W`` (default 0):
+  ``1 + W x`` the state's depth in the unsafe set instead of 1 (:mod:`symlearn.backends.dnf_depth`),
+  so an agent that cut across a narrow learned corridor learns the way out. ``--cost cost.safetensors``: a cost
   learned by ``symlearn learn icrl`` (refused when it was learned for other observation/action
   spaces). The learned cost is the constrained signal of ``ppo-lag`` / ``sb3-*-lag`` or, with
   ``ppo`` / ``sb3-*``, subtracted from the reward (the thesis' transfer experiment). It drives
@@ -31,7 +33,7 @@
 * ``--multiplier-update``/``--multiplier-lr`` (``adam``, 0.1; with ``sb3-*-lag`` ``gradient``, 0.05:
   Adam 0.1 left SB3's PPO running through BlockedPoint's wall on 3 seeds of 3, the gradient rule on
   1), ``--learning-rate`` and
-  ``--log-std-init`` (with ``ppo-lag`` 1e-3 and -1; with ``ppo`` 2.5e-4 and 0): the library's
+  ``--log-std-init`` (1e-3 and -1, with a cost or without): the library's
   defaults, chosen on four tasks x 3 seeds (docs/BENCHMARKS.md, "PPO-Lagrangian defaults of
   `train`"): the earlier ``gradient``/0.05 with 2.5e-4 and 0 was safe everywhere but froze the
   toy's and a user's rover's agents at their start.
@@ -40,16 +42,17 @@
   and on: measured on BlockedPoint, a user's hazard robot and the toy (docs/BENCHMARKS.md,
   "PPO-Lagrangian defaults of `train`"), the old defaults (``raw``, off) gave safe agents that
   earned almost nothing (BlockedPoint 5.7 vs 59.4 with these; the expert earns 57). Plain ``ppo``
-  keeps them off (no clear gain measured: CartPole 350 off vs 211 on, one seed). These are also the
-  library's ``PPOConfig``/``LagrangianConfig`` defaults. Our PPO's only (refused with ``sb3-*``).
+  has the same normalisation, learning rate and initial noise since they earned more on 11 of 15
+  tasks than CleanRL's settings (docs/BENCHMARKS.md, "One default configuration for plain PPO").
+  These are also the library's ``PPOConfig``/``LagrangianConfig`` defaults. Our PPO's only (refused with ``sb3-*``).
 * ``--cost-estimate rollout|episodes``: ``ppo-lag``'s multipliers are updated every iteration from
   the rollout's cost per step times the mean episode length (``rollout``, the default), or, as
   before, only in iterations in which an episode ended, from those episodes (``episodes``).
 * ``--prune``: after training, rules whose fired/evaluated ratio (conjunctions evaluated in
   ascending number of atoms) stayed below ``--prune-threshold`` (thesis: 0.001) are dropped; the
   pruned formula is written beside the cost file as ``NAME.pruned.dnf`` with a report.
-* Numeric flags are checked before anything runs: ``--steps`` 1 .. 10^9, ``--cost-limit`` finite
-  and >= 0, ``--n-envs`` 1 .. 256, ``--n-envs`` x ``--n-steps`` (the rollout held in memory) at
+* Numeric flags are checked before anything runs: ``--steps`` 1 .. 10^9, ``--cost-limit`` and
+  ``--depth-weight`` finite and >= 0, ``--n-envs`` 1 .. 256, ``--n-envs`` x ``--n-steps`` (the rollout held in memory) at
   most 262,144 steps.
 * ``--log run.csv`` / ``--tensorboard DIR`` (our PPO): one row per iteration -- steps, mean return
   of the episodes that ended, their cost per constraint (``mean_cost_i``; ``learned_cost_i`` with
@@ -106,6 +109,9 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--features", metavar="A,B,...",
                      help="the names of the observation's entries, for a DNF cost (default: the environment's)")
     cmd.add_argument("--per-rule", action="store_true", help="one cost (and multiplier) per rule of --cost")
+    cmd.add_argument("--depth-weight", type=float, default=0.0, metavar="W",
+                     help="a DNF cost of 1 + W x how deep inside the unsafe set the state lies (in spans of the "
+                          "formula's thresholds), so the cost points the way out; 0 (default): 1 per unsafe step")
     cmd.add_argument("--cost-limit", type=float, default=0.0,
                      help="Lagrangian: allowed expected cost per episode (default 0)")
     cmd.add_argument("--multiplier-lr", type=float, default=None,
@@ -198,6 +204,10 @@ def _train(args: argparse.Namespace, out) -> None:
     neural = bool(args.cost) and str(args.cost).endswith(".safetensors")
     if neural and (args.per_rule or args.prune):
         raise SymlearnError("--per-rule and --prune apply to DNF rules, not to a learned neural cost")
+    if not math.isfinite(args.depth_weight) or args.depth_weight < 0:
+        raise SymlearnError(f"--depth-weight must be a finite number >= 0, got {args.depth_weight:g}")
+    if args.depth_weight and (not args.cost or neural):
+        raise SymlearnError("--depth-weight shapes a DNF cost: give --cost RULES.dnf")
     if args.features and (not args.cost or neural):
         raise SymlearnError("--features names the observation's entries for a DNF cost: give --cost RULES.dnf")
     if args.algo in SB3_ALGOS:
@@ -223,7 +233,8 @@ def _train(args: argparse.Namespace, out) -> None:
         actions=args.algo in ("ppo", "ppo-lag", "sb3-dqn"))
     cost = None
     if args.cost:
-        cost = training_cost(args.cost, target, features=args.features, per_rule=args.per_rule)
+        cost = training_cost(args.cost, target, features=args.features, per_rule=args.per_rule,
+                             depth_weight=args.depth_weight)
     from symlearn.cli.env_errors import environment_file, raised_by_environment
 
     # an exception from the user's environment code while training is theirs, one located line
@@ -292,6 +303,11 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
 
         doc["warnings"] = limit_warnings(result.history, [args.cost_limit] * len(result.multipliers),
                                          advantage_scale=lagrangian.advantage_scale)
+        if doc["warnings"] and cost is not None and cost.kind == "dnf" and not args.depth_weight:
+            # an agent that cut across a narrow safe set pays 1 on every step of the short cut
+            # whichever way it turns; a depth-shaped cost tells it the way out (backends/dnf_depth)
+            doc["warnings"] = [w + "; or shape the formula's cost by how deep the agent is in the unsafe set "
+                                   "(--depth-weight 3)" for w in doc["warnings"]]
     if args.output:
         result.save(args.output)
         doc["files"].append(str(args.output))

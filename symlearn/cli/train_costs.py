@@ -50,11 +50,14 @@ class _DictFeatures:
         return FeatureVectorWrapper(env, self.names)
 
 
-def training_cost(path: str, target: Any, *, features: str | None = None, per_rule: bool = False) -> TrainingCost:
-    """The cost in ``path`` (``.dnf`` text or ``.safetensors``) checked against ``target``'s environment."""
+def training_cost(path: str, target: Any, *, features: str | None = None, per_rule: bool = False,
+                  depth_weight: float = 0.0) -> TrainingCost:
+    """The cost in ``path`` (``.dnf`` text or ``.safetensors``) checked against ``target``'s
+    environment; ``depth_weight`` shapes a DNF cost by the depth of the violation
+    (:mod:`symlearn.backends.dnf_depth`)."""
     if str(path).endswith(".safetensors"):
         return _neural(path, target)
-    return _dnf(path, target, features, per_rule)
+    return _dnf(path, target, features, per_rule, depth_weight)
 
 
 def _neural(path: str, target: Any) -> TrainingCost:
@@ -69,7 +72,7 @@ def _neural(path: str, target: Any) -> TrainingCost:
     return TrainingCost("neural", cost.cost_fn(), cost.step_cost(), 1)
 
 
-def _dnf(path: str, target: Any, features: str | None, per_rule: bool) -> TrainingCost:
+def _dnf(path: str, target: Any, features: str | None, per_rule: bool, depth_weight: float) -> TrainingCost:
     from symlearn.backends.dnf_cost import DnfRolloutCost, FormulaCost, RuleStats
     from symlearn.logic.dnf import load
 
@@ -102,8 +105,8 @@ def _dnf(path: str, target: Any, features: str | None, per_rule: bool) -> Traini
     wrap = _DictFeatures(names) if source == "info" and isinstance(info.get("features"), dict) else None
     # evaluated once per rollout over all its steps (the same costs and rule counts as the
     # per-step form, a fraction of its overhead)
-    rollout = DnfRolloutCost(dnf, names, source=source, per_rule=per_rule, stats=stats)
-    formula = FormulaCost(dnf, names, per_rule=per_rule, stats=stats)
+    rollout = DnfRolloutCost(dnf, names, source=source, per_rule=per_rule, stats=stats, depth_weight=depth_weight)
+    formula = FormulaCost(dnf, names, per_rule=per_rule, stats=stats, depth_weight=depth_weight)
 
     def step_cost(observation: Any, action: Any, next_observation: Any, info: dict[str, Any]) -> np.ndarray:
         raw = info["features"] if source == "info" else next_observation

@@ -104,6 +104,9 @@ def _one_line(code, err, *needles):
     (("--env-kwargs", '{"gravity": 1}'), "unknown --env-kwargs key 'gravity'"),
     (("--env-kwargs", "[1]"), "must be a JSON object"),
     (("--algo", "sb3-ppo", "--normalize-values"), "--normalize-values is an option of our PPO"),
+    (("--depth-weight", 3), "--depth-weight shapes a DNF cost"),
+    (("--depth-weight", -1), "--depth-weight must be a finite number >= 0"),
+    (("--depth-weight", "inf"), "--depth-weight must be a finite number >= 0"),
 ])
 def test_bad_numbers_and_choices_are_one_line(capsys, flags, needle):
     _one_line(*run(capsys, "train", "--env", "CartPole-v1", *flags)[::2], needle)
@@ -320,3 +323,28 @@ def test_a_module_outside_the_repository_from_the_current_directory(run_cli, tmp
     assert result.returncode == 0, result.stderr
     doc = json.loads(result.stdout)
     assert (doc["algo"], doc["cost_kind"]) == ("ppo-lag", "dnf") and doc["cost"] is not None
+
+
+def test_a_depth_weighted_dnf_cost_charges_deep_violations_more(capsys, tmp_path):
+    """--depth-weight: the learned cost of the log is 1 + W x depth per unsafe step (more than the
+    binary count of the same run), the ground truth stays info["cost"], SB3 agents read it too."""
+    rules = tmp_path / "toy.dnf"
+    rules.write_text(UNSAFE_DNF + "\n")
+    rows = {}
+    for weight in (0, 3):
+        log = tmp_path / f"w{weight}.csv"
+        code, out, err = run(capsys, "train", "--env", "toy-navigation", "--cost", rules, "--depth-weight", weight,
+                             "--steps", 1024, "--n-steps", 256, "--eval-episodes", 1, "--log", log, "--json")
+        assert code == 0, err
+        assert json.loads(out)["cost_kind"] == "dnf"
+        import csv
+
+        rows[weight] = list(csv.DictReader(log.open()))
+    # same seed, same first rollout (256 steps a copy: every 200-step episode ends in it): the
+    # shaped cost is the binary one plus the depth term
+    first0, first3 = float(rows[0][0]["learned_cost_0"]), float(rows[3][0]["learned_cost_0"])
+    assert first0 > 0 and first3 > first0
+    assert rows[0][0]["true_cost"] == rows[3][0]["true_cost"]
+    code, out, err = run(capsys, "train", "--env", "toy-navigation", "--cost", rules, "--depth-weight", 3,
+                         "--algo", "sb3-ppo-lag", "--steps", 256, "--n-steps", 64, "--eval-episodes", 1, "--json")
+    assert code == 0, err
