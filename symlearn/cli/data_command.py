@@ -1,4 +1,5 @@
-"""``symlearn data``: inspect, validate and convert demonstration files.
+"""``symlearn data``: inspect, validate and convert demonstration files, and record them
+(``record``: :mod:`symlearn.cli.data_record`).
 
 Every subcommand reads what :func:`symlearn.data.load` reads: symlearn's ``.jsonl``/``.npz``,
 D4RL tables (``.hdf5``/``.h5``/``.npz``) and Minari dataset folders; ``convert`` writes by the
@@ -11,9 +12,10 @@ import argparse
 
 
 def register(subparsers, common) -> None:
-    group = subparsers.add_parser("data", help="inspect, validate and convert demonstration files",
+    group = subparsers.add_parser("data", help="inspect, validate, convert and record demonstration files",
                                   description="Inspect, validate and convert demonstration files: symlearn's .jsonl and "
-                                              ".npz, D4RL tables (.hdf5, .npz) and Minari dataset folders.")
+                                              ".npz, D4RL tables (.hdf5, .npz) and Minari dataset folders; record "
+                                              "them from a policy `train` saved.")
     group.set_defaults(group_parser=group)
     commands = group.add_subparsers(dest="data_command", metavar="SUBCOMMAND")
 
@@ -38,6 +40,10 @@ def register(subparsers, common) -> None:
                          help="the target's layout: d4rl writes a D4RL table also to .npz (default: symlearn's "
                               "format for .jsonl/.npz, D4RL for .hdf5)")
     convert.set_defaults(handler=_convert)
+
+    from symlearn.cli.data_record import register as register_record
+
+    register_record(commands, common)
 
 
 def _render_summary(doc: dict) -> str:

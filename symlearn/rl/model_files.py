@@ -68,6 +68,19 @@ def save_torch_module(
 
 def read_model_config(path: str | os.PathLike[str], *, kind: str | None = None) -> dict[str, Any]:
     """The ``config`` of the JSON file beside ``path``, checked for format, version and ``kind``."""
+    return _read_document(path, kind)["config"]
+
+
+def read_model_kind(path: str | os.PathLike[str]) -> str:
+    """The ``kind`` the JSON file beside ``path`` declares (format and version checked), for a
+    reader that takes several kinds of model."""
+    kind = _read_document(path, None).get("kind")
+    if not isinstance(kind, str):
+        raise ModelError("the model configuration names no 'kind'", file=model_paths(path)[1])
+    return kind
+
+
+def _read_document(path: str | os.PathLike[str], kind: str | None) -> dict[str, Any]:
     _, config_path = model_paths(path)
     try:  # a user may bring this file: size-capped, nesting and duplicate keys refused
         text = read_input_text(config_path, what="model configuration")
@@ -84,7 +97,7 @@ def read_model_config(path: str | os.PathLike[str], *, kind: str | None = None) 
         raise ModelError(f"the file holds a {document.get('kind')!r} model, not a {kind!r} one", file=config_path)
     if not isinstance(document.get("config"), dict):
         raise ModelError("'config' must be a JSON object", file=config_path)
-    return document["config"]
+    return document
 
 
 def load_torch_module(

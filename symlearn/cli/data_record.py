@@ -1,0 +1,163 @@
+"""``symlearn data record``: demonstrations from a policy that ``symlearn train`` saved.
+
+``symlearn data record --env ENV [--env-kwargs JSON] --policy agent.safetensors [--episodes 20]
+[--stochastic] [--max-steps N] [--seed S] -o demos.npz|demos.jsonl``
+
+The step between training an expert (``train --algo ppo-lag`` on the environment's own
+``info["cost"]``, or any ``train -o``) and learning from it (``learn dnf|icrl|pdfa --demos``), from
+the command line: :func:`symlearn.data.record` runs the policy in the environment and the file is
+written atomically. The policy may be our PPO's (``--algo ppo|ppo-lag``) or a stable-baselines3
+one (``--algo sb3-*``), both the safetensors + JSON pairs ``train -o`` writes; it acts on the
+numeric view of the observations it was trained on, while the file keeps the environment's own
+observations (a ``Dict`` flattened and named as ``record()`` does) and its own actions (a
+``MultiDiscrete`` action, not the index of its combination). Greedy (the mean or most likely
+action) unless ``--stochastic``. A policy trained for other spaces is refused in one line.
+
+JSON keys: ``env``, ``policy``, ``episodes``, ``steps``, ``return`` (mean per episode), ``cost``
+(mean ``info["cost"]`` per episode, null where no step reported one), ``files``.
+"""
+
+from __future__ import annotations
+
+import argparse
+from typing import Any
+
+MAX_EPISODES = 100_000
+MAX_EPISODE_STEPS = 10_000_000
+
+
+def register(commands, common) -> None:
+    cmd = commands.add_parser("record", parents=[common()], help="record demonstrations of a policy `train` saved",
+                              description="Run a policy saved by `symlearn train -o` (our PPO's or a "
+                                          "stable-baselines3 one) in an environment and write its episodes as "
+                                          "demonstrations (.npz or .jsonl).")
+    cmd.add_argument("--env", required=True, help="a bundled name, a gymnasium id or module:EnvId")
+    cmd.add_argument("--env-kwargs", metavar="JSON", help="keyword arguments of the environment, a JSON object")
+    cmd.add_argument("--policy", required=True, metavar="AGENT.safetensors", help="what `symlearn train -o` wrote")
+    cmd.add_argument("--episodes", type=float, default=20, help="episodes to record (20)")
+    cmd.add_argument("--stochastic", action="store_true",
+                     help="sample the policy's actions (default: its mean or most likely action)")
+    cmd.add_argument("--max-steps", type=float, default=None, help="cap on an episode's length (default: the "
+                                                                    "environment's own time limit)")
+    cmd.add_argument("-o", "--output", required=True, metavar="DEMOS.npz", help="the file to write (.npz or .jsonl)")
+    cmd.set_defaults(handler=run)
+
+
+def _whole(flag: str, value: Any, top: int) -> int:
+    from symlearn.errors import SymlearnError
+
+    if not float(value).is_integer() or not 1 <= value <= top:
+        raise SymlearnError(f"{flag} must be a whole number between 1 and {top:,}, got {value:g}")
+    return int(value)
+
+
+class _EpisodeCost:
+    """Sums ``info["cost"]`` per episode while recording (None while no step reported one)."""
+
+    def __init__(self) -> None:
+        self.totals: list[float] = []
+        self.seen = False
+
+    def wrap(self, env: Any) -> Any:
+        import gymnasium as gym
+
+        watch = self
+
+        class Summed(gym.Wrapper):
+            def reset(self, **kwargs: Any) -> Any:
+                watch.totals.append(0.0)
+                return self.env.reset(**kwargs)
+
+            def step(self, action: Any) -> Any:
+                result = self.env.step(action)
+                if "cost" in result[4]:
+                    watch.seen = True
+                    watch.totals[-1] += float(result[4]["cost"])
+                return result
+
+        return Summed(env)
+
+
+def _policy(path: str, env: Any, stochastic: bool, seed: int):
+    """``observation -> the environment's own action`` for the policy in ``path``, acting through
+    the views ``train`` trained it on."""
+    import numpy as np
+
+    from symlearn.errors import ModelError
+    from symlearn.recipes.action_spaces import joint_discrete_actions
+    from symlearn.recipes.spaces import numeric_observations
+    from symlearn.rl.model_files import read_model_kind
+    from symlearn.rl.ppo import MODEL_KIND, ActorCritic, _space_spec
+
+    numeric = numeric_observations(env)
+    joint = joint_discrete_actions(numeric)
+    observe = numeric.observation if numeric is not env else (lambda o: o)
+    kind = read_model_kind(path)
+    if kind == MODEL_KIND:
+        agent = ActorCritic.load(path)
+        try:
+            wanted = (_space_spec(joint.observation_space, "observation"), _space_spec(joint.action_space, "action"))
+        except Exception as exc:  # a space our PPO cannot act in: this policy was not trained here
+            raise ModelError(f"the policy cannot act in this environment ({exc})", file=path) from None
+        if (agent.observation_spec, agent.action_spec) != wanted:
+            raise ModelError(f"the policy was trained for observations {agent.observation_spec} and actions "
+                             f"{agent.action_spec}; this environment has {wanted[0]} and {wanted[1]}", file=path)
+        to_env = joint.action if joint is not numeric else (lambda a: a)
+        rng = np.random.default_rng(seed)
+        return lambda o: to_env(agent.act(observe(o), deterministic=not stochastic, rng=rng))
+    from symlearn.backends.sb3 import POLICY_KIND, load_policy
+
+    if kind != POLICY_KIND:
+        raise ModelError(f"the file holds a {kind!r} model, not a policy `symlearn train -o` writes", file=path)
+    try:  # trained on the numeric view; sb3-dqn also on the joint actions
+        model, view = load_policy(path, numeric), numeric
+    except ModelError:
+        if joint is numeric:
+            raise
+        model, view = load_policy(path, joint), joint
+    to_env = view.action if view is not numeric else (lambda a: a)
+
+    def act(o: Any) -> Any:
+        action, _ = model.predict(observe(o), deterministic=not stochastic)
+        return to_env(action.item() if getattr(action, "shape", None) == () else action)
+
+    return act
+
+
+def run(args: argparse.Namespace, out) -> None:
+    import numpy as np
+
+    from symlearn.cli.env_errors import environment_file, raised_by_environment
+    from symlearn.data import record
+    from symlearn.errors import SymlearnError
+    from symlearn.recipes.environments import resolve_env
+
+    episodes = _whole("--episodes", args.episodes, MAX_EPISODES)
+    max_steps = None if args.max_steps is None else _whole("--max-steps", args.max_steps, MAX_EPISODE_STEPS)
+    if not str(args.output).endswith((".npz", ".jsonl")):
+        raise SymlearnError(f"cannot tell the format of {args.output}: write a .npz or .jsonl file",
+                            hint="-o demos.npz (numeric states) or -o demos.jsonl")
+    seed = getattr(args, "seed", 0) or 0
+    target = resolve_env(args.env, kwargs=args.env_kwargs)
+    costs = _EpisodeCost()
+    env = costs.wrap(target.make())
+    policy = _policy(args.policy, env, args.stochastic, seed)
+    with raised_by_environment(None if target.bundled else environment_file(env), f"recording in {target.display}"):
+        demos = record(env, policy, episodes, seed=seed, max_steps=max_steps,
+                       metadata={"policy": str(args.policy), "stochastic": bool(args.stochastic)})
+    env.close()
+    demos.save(args.output)
+    returns = [float(np.sum(t.rewards)) if t.rewards is not None else 0.0 for t in demos]
+    doc = {"env": args.env, "policy": str(args.policy), "episodes": len(demos),
+           "steps": int(sum(len(t.actions) for t in demos)), "return": float(np.mean(returns)),
+           "cost": float(np.mean(costs.totals[:len(demos)])) if costs.seen else None, "files": [str(args.output)]}
+    out.result(doc, _render)
+
+
+def _render(doc: dict) -> str:
+    cost = "n/a" if doc["cost"] is None else f"{doc['cost']:.3g}"
+    return (f"{doc['env']}: {doc['episodes']} episodes, {doc['steps']} steps of {doc['policy']}; "
+            f"return {doc['return']:.4g}, true cost {cost} per episode\nwrote {doc['files'][0]}")
+
+
+__all__ = ["register", "run"]

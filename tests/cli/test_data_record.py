@@ -1,0 +1,83 @@
+"""``symlearn data record``: demonstrations from a policy ``train -o`` saved, in the environment's own
+observations and actions, read back by the learners."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from cli_runner import run
+from dict_lift_env import VECTOR_ROVER
+from space_envs import SWITCH_BOARD
+
+from symlearn.data import load
+
+
+def _module(tmp_path, monkeypatch, name, source):
+    (tmp_path / f"{name}.py").write_text(source)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+
+
+def test_a_trained_expert_records_demonstrations_the_learners_read(capsys, tmp_path, monkeypatch):
+    """Train on the environment's own cost, record the expert, learn a formula from the file."""
+    _module(tmp_path, monkeypatch, "vector_rover", VECTOR_ROVER)
+    code, out, err = run(capsys, "train", "--env", "vector_rover:VectorRover-v0", "--algo", "ppo-lag",
+                         "--steps", 4096, "--eval-episodes", 1, "-o", "expert.safetensors", "--json")
+    assert code == 0, err
+    code, out, err = run(capsys, "data", "record", "--env", "vector_rover:VectorRover-v0", "--policy",
+                         "expert.safetensors", "--episodes", 5, "-o", "demos.npz", "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["episodes"] == 5 and doc["cost"] is not None and doc["files"] == ["demos.npz"]
+    demos = load(tmp_path / "demos.npz")
+    # the environment's own Dict observation, flattened and named as record() does (moving stays one column)
+    assert len(demos) == 5 and demos.metadata["policy"] == "expert.safetensors"
+    names = demos.metadata["feature_names"]
+    assert sorted(names) == ["moving", "pos[0]", "pos[1]", "vel[0]", "vel[1]"]
+    assert doc["steps"] == sum(len(t.actions) for t in demos)
+    assert doc["return"] == pytest.approx(np.mean([np.sum(t.rewards) for t in demos]))
+    # greedy by default: the same seed records the same file again
+    code, _, err = run(capsys, "data", "record", "--env", "vector_rover:VectorRover-v0", "--policy",
+                       "expert.safetensors", "--episodes", 5, "-o", "again.npz")
+    assert code == 0, err
+    assert load(tmp_path / "again.npz") == demos
+    code, out, err = run(capsys, "learn", "dnf", "--env", "vector_rover:VectorRover-v0", "--demos", "demos.npz",
+                         "--json")
+    assert code == 0, err
+    assert json.loads(out)["features"] == names
+
+
+def test_joint_actions_are_recorded_as_the_environments_own(capsys, tmp_path, monkeypatch):
+    _module(tmp_path, monkeypatch, "switch_board", SWITCH_BOARD)
+    code, _, err = run(capsys, "train", "--env", "switch_board:SwitchBoard-v0", "--steps", 1024,
+                       "--eval-episodes", 1, "-o", "agent.safetensors")
+    assert code == 0, err
+    code, _, err = run(capsys, "data", "record", "--env", "switch_board:SwitchBoard-v0", "--policy",
+                       "agent.safetensors", "--episodes", 2, "--stochastic", "-o", "demos.npz")
+    assert code == 0, err
+    actions = np.concatenate([np.asarray(t.actions) for t in load(tmp_path / "demos.npz")])
+    assert actions.shape[1:] == (2,) and set(np.unique(actions)) <= {0, 1, 2}   # MultiDiscrete([3, 3])
+
+
+def test_a_policy_from_elsewhere_and_bad_flags_are_one_line(capsys, tmp_path, monkeypatch):
+    _module(tmp_path, monkeypatch, "switch_board", SWITCH_BOARD)
+    code, _, err = run(capsys, "train", "--env", "CartPole-v1", "--steps", 512, "--eval-episodes", 1,
+                       "-o", "cartpole.safetensors")
+    assert code == 0, err
+    cases = [
+        (("--env", "switch_board:SwitchBoard-v0", "--policy", "cartpole.safetensors"), "was trained for observations"),
+        (("--env", "CartPole-v1", "--policy", "missing.safetensors"), "missing"),
+        (("--env", "CartPole-v1", "--policy", "cartpole.safetensors", "--episodes", 0), "--episodes must be"),
+        (("--env", "CartPole-v1", "--policy", "cartpole.safetensors", "--max-steps", 2.5), "--max-steps must be"),
+        (("--env", "CartPole-v1", "--policy", "cartpole.safetensors", "-o", "demos.csv"), "cannot tell the format"),
+        (("--env", "CartPle-v1", "--policy", "cartpole.safetensors"), "CartPole-v1"),
+    ]
+    for flags, needle in cases:
+        if "-o" not in flags:
+            flags = (*flags, "-o", "demos.npz")
+        code, _, err = run(capsys, "data", "record", *flags)
+        lines = err.strip().splitlines()
+        assert code == 2 and len(lines) == 1 and needle in lines[0] and "Traceback" not in err, (flags, err)
+    assert not (tmp_path / "demos.npz").exists()
