@@ -96,7 +96,7 @@ def register_learn(commands, common) -> None:
                      help="PPO steps in all: 1/8 nominal, the rest over the iterations (240000)")
     cmd.add_argument("--iterations", type=int, default=10, help="ICRL iterations (10)")
     cmd.add_argument("--beta", type=float, default=0.01, help="entropy coefficient, > 0 (0.01)")
-    cmd.add_argument("--cost-inputs", help="candidate observation entries of the cost: names (x,y), indices or 'all' "
+    cmd.add_argument("--cost-inputs", help="candidate observation entries of the cost: names (x,y; x0,x1 where nothing names them), indices or 'all' "
                                             "(default: the environment's declared constraint features, else all)")
     cmd.add_argument("--select-inputs", type=float, default=0.01, metavar="TOL",
                      help="keep the fewest candidate inputs that tell expert from nominal states within TOL of all "
@@ -172,9 +172,12 @@ def _cost_inputs(text: str | None, names: Any, width: int) -> list[int] | None:
             index = int(item)
         elif names is not None and item in names:
             index = list(names).index(item)
+        elif names is None and len(item) > 1 and item[0] == "x" and item[1:].isdigit():
+            index = int(item[1:])   # unnamed entries are x0, x1, ... as learn dnf names them
         else:
             raise DataError(f"--cost-inputs: unknown observation entry {item!r}",
-                            hint="observation entries: " + (", ".join(names) if names else f"0..{width - 1}"))
+                            hint="observation entries: " + (", ".join(names) if names
+                                                            else f"x0..x{width - 1} (or 0..{width - 1})"))
         if not 0 <= index < width:
             raise DataError(f"--cost-inputs: index {index} outside the observation's {width} entries")
         dims.append(index)
@@ -431,10 +434,12 @@ def _vectors_in_the_view(demos: Any, env: Any, path: Any) -> Any:
 def _named_inputs(inputs: dict, names: Any) -> dict:
     """The learner's report of the cost's inputs, its entries named by what the CLI knows of the
     observation (``EnvTarget.observation_names``: ``observation_names``, else ``feature_names``
-    one per observation entry) where the cost itself carries no names; indices only when nothing
-    names them."""
-    if inputs.get("names") is not None or names is None:
+    one per observation entry) where the cost itself carries no names; ``x0, x1, ...`` when nothing
+    names them (what ``learn dnf`` and ``learn spec`` call them, and ``--cost-inputs`` reads)."""
+    if inputs.get("names") is not None:
         return inputs
+    if names is None:
+        return {**inputs, "names": [f"x{int(i)}" for i in inputs["entries"]]}
     names = list(names)
     if any(not 0 <= int(i) < len(names) for i in inputs["entries"]):
         return inputs

@@ -231,3 +231,22 @@ def test_a_wall_nobody_tuned_on_is_recovered_at_the_defaults(capsys):
 def test_cost_memory_belongs_to_mce_icrl(capsys):
     _refused(capsys, "--env", "blocked-point", "--method", "me-icrl", "--cost-memory", "current",
              match="--cost-memory is a setting of --method mce-icrl, not me-icrl")
+
+
+def test_unnamed_observation_entries_are_x0_x1_as_learn_dnf_names_them(capsys, tmp_path, monkeypatch):
+    """The tests' rover names nothing: --cost-inputs reads x0, x1 and the report names them so."""
+    import gymnasium as gym
+    import rover_env
+
+    from symlearn.data import record
+
+    monkeypatch.chdir(tmp_path)
+    record(gym.make("Rover-v0"), rover_env.expert, 2, seed=0).save("rover.npz")
+    code, stdout, err = run(capsys, "learn", "icrl", "--env", "rover_env:Rover-v0", "--demos", "rover.npz",
+                            "--steps", 1024, "--iterations", 1, "--cost-inputs", "x0,x1", "--json")
+    assert code == 0, err
+    inputs = json.loads(stdout)["cost_inputs"]
+    assert inputs["entries"] == [0, 1] and inputs["names"] == ["x0", "x1"]
+    code, _, err = run(capsys, "learn", "icrl", "--env", "rover_env:Rover-v0", "--demos", "rover.npz",
+                       "--cost-inputs", "speed")
+    assert code == 2 and "x0..x3" in err
