@@ -96,8 +96,9 @@ def register_learn(commands, common) -> None:
                      help="PPO steps in all: 1/8 nominal, the rest over the iterations (240000)")
     cmd.add_argument("--iterations", type=int, default=10, help="ICRL iterations (10)")
     cmd.add_argument("--beta", type=float, default=0.01, help="entropy coefficient, > 0 (0.01)")
-    cmd.add_argument("--cost-inputs", help="candidate observation entries of the cost: names (x,y; x0,x1 where nothing names them), indices or 'all' "
-                                            "(default: the environment's declared constraint features, else all)")
+    cmd.add_argument("--cost-inputs", help="candidate observation entries of the cost: names (x,y; x0,x1 where "
+                                            "nothing names them), indices or 'all' (default: the environment's "
+                                            "declared constraint features, else all)")
     cmd.add_argument("--select-inputs", type=float, default=0.01, metavar="TOL",
                      help="keep the fewest candidate inputs that tell expert from nominal states within TOL of all "
                           "of them (held-out AUC; default 0.01, 0 = every candidate)")
