@@ -29,6 +29,7 @@ True
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable, Hashable, Iterable
 
 from symlearn.errors import LimitExceededError
@@ -36,6 +37,9 @@ from symlearn.errors import LimitExceededError
 __all__ = ["BDD", "FALSE", "TRUE"]
 
 FALSE, TRUE = 0, 1
+#: the deepest recursion an operation may be given (a level a frame: formulas and guards over up
+#: to about a million propositions; Python 3.11 keeps these frames off the C stack)
+MAX_RECURSION = 1 << 20
 
 
 class BDD:
@@ -47,7 +51,7 @@ class BDD:
     """
 
     __slots__ = ("level", "low", "high", "_unique", "_and", "_or", "_not", "_support", "_free", "max_nodes",
-                 "limit_hint")
+                 "limit_hint", "_room")
 
     def __init__(self, max_nodes: int | None = None, limit_hint: str | None = None) -> None:
         #: building a node beyond this many raises LimitExceededError (None: no limit); about
@@ -63,6 +67,7 @@ class BDD:
         self._not: dict[int, int] = {}
         self._support: dict[int, frozenset] = {FALSE: frozenset(), TRUE: frozenset()}
         self._free: list[int] = []  # ids of collected nodes, reused before the lists grow
+        self._room = 0  # the recursion limit the deepest operation so far needed (0: Python's own sufficed)
 
     def __len__(self) -> int:
         """Live nodes, terminals included."""
@@ -94,11 +99,49 @@ class BDD:
         return self.node(var, FALSE, TRUE)
 
     # -- Boolean operations -----------------------------------------------------------------------
+    # The operations recurse once per variable level along a path. The entry points catch a
+    # RecursionError (free in Python 3.11 until raised) and repeat the call with room for a few
+    # frames per level this manager holds (_deep): a chain over more variables than Python's
+    # default limit of 1,000 then works as any other diagram. Caches only ever hold finished
+    # results, so the first attempt leaves nothing half-done.
     def apply_and(self, u: int, v: int) -> int:
-        return self._apply(u, v, FALSE, self._and)
+        if self._room:
+            return self._deep(self._apply, u, v, FALSE, self._and)
+        try:
+            return self._apply(u, v, FALSE, self._and)
+        except RecursionError:
+            return self._deep(self._apply, u, v, FALSE, self._and)
 
     def apply_or(self, u: int, v: int) -> int:
-        return self._apply(u, v, TRUE, self._or)
+        if self._room:
+            return self._deep(self._apply, u, v, TRUE, self._or)
+        try:
+            return self._apply(u, v, TRUE, self._or)
+        except RecursionError:
+            return self._deep(self._apply, u, v, TRUE, self._or)
+
+    def _deep(self, call: Callable, *args) -> int:
+        """``call(*args)`` with a recursion limit doubled until it fits (the depth is at most the
+        number of variable levels, which the manager does not count: that would cost every new
+        node a lookup); Python's own limit is given back afterwards. The room found is kept, so
+        later operations on a deep diagram start with it instead of failing first (an unwound
+        RecursionError costs some 20 ms)."""
+        depth = sys.getrecursionlimit()
+        room = max(self._room, 2 * depth)
+        try:
+            while True:
+                sys.setrecursionlimit(room)
+                try:
+                    found = call(*args)
+                    self._room = room
+                    return found
+                except RecursionError:
+                    if room >= MAX_RECURSION:
+                        raise LimitExceededError(f"a BDD operation recursed deeper than {MAX_RECURSION:,} levels",
+                                                 hint="use fewer propositions in one formula or guard") from None
+                    room = min(2 * room, MAX_RECURSION)
+        finally:
+            sys.setrecursionlimit(depth)
 
     def _apply(self, u: int, v: int, absorbing: int, cache: dict[tuple[int, int], int]) -> int:
         """``u & v`` (absorbing FALSE) or ``u | v`` (absorbing TRUE) by Shannon expansion."""
@@ -125,11 +168,19 @@ class BDD:
         return found
 
     def negate(self, u: int) -> int:
+        if self._room:
+            return self._deep(self._negate, u)
+        try:
+            return self._negate(u)
+        except RecursionError:
+            return self._deep(self._negate, u)
+
+    def _negate(self, u: int) -> int:
         if u <= TRUE:
             return 1 - u
         found = self._not.get(u)
         if found is None:
-            found = self.node(self.level[u], self.negate(self.low[u]), self.negate(self.high[u]))
+            found = self.node(self.level[u], self._negate(self.low[u]), self._negate(self.high[u]))
             self._not[u] = found
             self._not[found] = u
         return found
@@ -161,7 +212,10 @@ class BDD:
                 found = memo[w] = self.node(name, walk(self.low[w]), walk(self.high[w]))
             return found
 
-        return walk(u)
+        try:
+            return walk(u)
+        except RecursionError:
+            return self._deep(walk, u)
 
     def simplify(self, u: int, care: int) -> int:
         """A function equal to ``u`` wherever ``care`` holds, usually with fewer nodes (Coudert and
@@ -195,7 +249,10 @@ class BDD:
             memo[key] = found
             return found
 
-        return walk(u, care)
+        try:
+            return walk(u, care)
+        except RecursionError:
+            return self._deep(walk, u, care)
 
     # -- queries -----------------------------------------------------------------------------------
     def evaluate(self, u: int, value: Callable[[Hashable], bool]) -> bool:

@@ -100,6 +100,36 @@ class GuardParseError(ParseError):
     """Guard text that does not follow ``grammars/guard.lark``."""
 
 
+def _deep(operation):
+    """``operation`` (a Guard method with a recursion of its own over the diagram: renaming,
+    counting, labels, cubes), given room to recurse once per proposition level when it needs it;
+    the BDD's own operations do the same for themselves (:meth:`BDD.apply_and`). A guard over more
+    propositions than Python's recursion limit (a chain of 1,000 names) would otherwise end in a
+    RecursionError. Python 3.11 keeps such Python-to-Python recursion off the C stack, so the call
+    is repeated with a limit of a few frames per variable the shared manager holds; the first
+    attempt leaves nothing half-done (memo entries are written for finished results only)."""
+    import functools
+
+    @functools.wraps(operation)
+    def run(*args, **kwargs):
+        try:
+            return operation(*args, **kwargs)
+        except RecursionError:
+            pass
+        depth = sys.getrecursionlimit()
+        levels = len({v for v in _var if v is not None})
+        sys.setrecursionlimit(max(depth, 4 * levels + 1000))
+        try:
+            return operation(*args, **kwargs)
+        except RecursionError:
+            raise LimitExceededError(f"a guard operation over {levels:,} propositions recursed too deep",
+                                     hint="use fewer propositions in one guard") from None
+        finally:
+            sys.setrecursionlimit(depth)
+
+    return run
+
+
 def _wrap(node: int) -> Guard:
     """The Guard of ``node`` (the existing object when one is alive)."""
     ref = _guards.get(node)
@@ -287,6 +317,7 @@ class Guard:
             node = _or(_MANAGER.restrict(node, name, False), _MANAGER.restrict(node, name, True))
         return _wrap(node)
 
+    @_deep
     def rename(self, mapping: Mapping[str, str]) -> Guard:
         """Substitute proposition names (the result is re-ordered canonically)."""
         _maybe_collect()
@@ -324,6 +355,7 @@ class Guard:
     def is_false(self) -> bool:
         return self._node == _FALSE
 
+    @_deep
     def satisfying_label(self) -> frozenset[str] | None:
         """A label satisfying the guard with as few true propositions as possible.
 
@@ -357,6 +389,7 @@ class Guard:
         _label_cache[self._node] = result
         return result
 
+    @_deep
     def closest_label(self, label: AbstractSet[str]) -> frozenset[str] | None:
         """A satisfying label that differs from ``label`` in as few propositions as possible.
 
@@ -385,6 +418,7 @@ class Guard:
                 u = _high[u]
         return frozenset(result)
 
+    @_deep
     def count(self, alphabet: Iterable[str]) -> int:
         """How many labels over ``alphabet`` (a superset of the support) satisfy the guard."""
         names = sorted(set(alphabet))
@@ -407,6 +441,7 @@ class Guard:
 
         return models(self._node) * 2 ** _level(self._node)
 
+    @_deep
     def sample_label(self, alphabet: Iterable[str], rng) -> frozenset[str] | None:
         """A label over ``alphabet`` drawn uniformly among those satisfying the guard."""
         names = sorted(set(alphabet))
@@ -425,6 +460,7 @@ class Guard:
                 g = lo
         return frozenset(label)
 
+    @_deep
     def cubes(self) -> list[dict[str, bool]]:
         """A sum of products equal to the guard (minimal for small supports); ``[]`` is false.
         It may have exponentially many cubes (``str(g)`` then prints a factored form)."""
@@ -907,15 +943,42 @@ def _build(tree) -> Guard:
     def operands(node) -> list:
         return [c for c in node.children if not isinstance(c, Token) or c.type in ("NAME", "QUOTED")]
 
+    def same_kind_leaves(node) -> list:
+        """The operands of the maximal run of ``node``'s operator below it (``a & b & c`` parses
+        as ``(a & b) & c``)."""
+        leaves, todo = [], [node]
+        while todo:
+            for kid in reversed(operands(todo.pop())):
+                if not isinstance(kid, Token) and kid.data == node.data:
+                    todo.append(kid)
+                else:
+                    leaves.append(kid)
+        return leaves
+
     values: dict[int, Guard] = {}
-    stack = [(tree, False)]
+    stack: list = [(tree, None)]
     while stack:
         node, expanded = stack.pop()
         kind = node.data
+        if kind in ("and_", "or_"):
+            if expanded is None:
+                leaves = same_kind_leaves(node)
+                stack.append((node, leaves))
+                stack.extend((leaf, None) for leaf in leaves)
+                continue
+            # combined pairwise, not left to right: a chain of n names built in order appends
+            # at the bottom of the diagram every time (n^2 node visits); balanced, n log n
+            parts = [values.pop(id(leaf)) for leaf in expanded]
+            while len(parts) > 1:
+                pairs = [(parts[i] & parts[i + 1]) if kind == "and_" else (parts[i] | parts[i + 1])
+                         for i in range(0, len(parts) - 1, 2)]
+                parts = pairs + parts[len(pairs) * 2:]
+            values[id(node)] = parts[0]
+            continue
         kids = operands(node)
-        if kind in ("not_", "and_", "or_") and not expanded:
+        if kind == "not_" and expanded is None:
             stack.append((node, True))
-            stack.extend((kid, False) for kid in kids)
+            stack.extend((kid, None) for kid in kids)
             continue
         if kind == "true":
             value = _GUARD_TRUE
@@ -927,10 +990,6 @@ def _build(tree) -> Guard:
             value = Guard.var(re.sub(r"\\(.)", r"\1", str(kids[0])[1:-1]))
         elif kind == "not_":
             value = ~values.pop(id(kids[0]))
-        elif kind == "and_":
-            value = values.pop(id(kids[0])) & values.pop(id(kids[1]))
-        elif kind == "or_":
-            value = values.pop(id(kids[0])) | values.pop(id(kids[1]))
         else:  # pragma: no cover - the grammar has no other constructs
             raise GuardParseError(f"unknown guard construct {kind!r}")
         values[id(node)] = value

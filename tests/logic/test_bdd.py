@@ -69,3 +69,26 @@ def test_collect_keeps_roots_and_reuses_freed_ids():
     m.apply_and(m.negate(m.var(0)), m.var(1))
     assert len(m.level) == size  # new nodes took freed ids
     assert m.ite(TRUE, x, y) == x and m.ite(FALSE, x, y) == y
+
+
+def test_operations_on_a_chain_deeper_than_the_recursion_limit():
+    import sys
+
+    import pytest
+
+    from symlearn.errors import LimitExceededError
+
+    m, f = BDD(), 1
+    depth = sys.getrecursionlimit()
+    for i in range(1500):   # conjoined in order: every step recurses down the whole chain
+        f = m.apply_and(f, m.var(i))
+    g = m.negate(f)
+    assert sys.getrecursionlimit() == depth
+    assert m.apply_or(f, g) == 1 and m.apply_and(f, g) == 0
+    assert m.restrict(f, 1499, False) == 0 and m.restrict(f, 0, True) != f
+    assert m.simplify(f, m.var(0)) != 0 and len(m.support(f)) == 1500
+    small = BDD(max_nodes=500)   # the node bound still stops an exploding diagram, deep or not
+    with pytest.raises(LimitExceededError, match="more than 500 nodes"):
+        h = 0
+        for i in range(40):   # (a_i & b_i) | ... with every a before every b: exponential
+            h = small.apply_or(h, small.apply_and(small.var(i), small.var(40 + i)))

@@ -159,8 +159,12 @@ def test_deep_nesting_and_size_limit():
     assert Guard.parse("!" * 3001 + "a") == ~a
     assert Guard.parse("(" * 3000 + "a" + ")" * 3000) == a
     assert len(Guard.parse(" | ".join(f"p{i}" for i in range(200))).propositions) == 200
-    with pytest.raises(LimitExceededError, match="too large"):
-        Guard.parse(" & ".join(f"p{i}" for i in range(3000)))
+    # a chain over more propositions than Python's default recursion limit builds (the BDD's
+    # operations make room for one frame per level: symlearn.logic.bdd) and prints back
+    chain = Guard.parse(" & ".join(f"p{i}" for i in range(3000)))
+    assert len(chain.propositions) == 3000 and chain.evaluate({f"p{i}" for i in range(3000)})
+    assert not chain.evaluate({f"p{i}" for i in range(2999)}) and Guard.parse(str(chain)) == chain
+    assert (~chain).evaluate(set()) and chain.implies(Guard.var("p2999"))
 
 
 def test_large_support_prints_prime_implicants_in_natural_order():
@@ -297,3 +301,21 @@ def test_a_long_chain_prints_as_one_junction_in_linear_time():
         chain = Guard.var(f"x{i}") | chain
     for guard in (chain & ~Guard.var("y"), ~chain | Guard.var("y"), chain & Guard.var("y") | ~Guard.var("z")):
         assert Guard.parse(str(guard)) == guard
+
+
+def test_chains_deeper_than_the_recursion_limit_build_with_the_operators():
+    """``g & Guard.var(n)`` in name order appends at the bottom of the diagram each time: past
+    1,000 names the recursion is deeper than Python's default limit, which the operations make
+    room for (and give back)."""
+    import sys
+
+    names = [f"q{i:04d}" for i in range(1100)]
+    depth = sys.getrecursionlimit()
+    chain, either = Guard.true(), Guard.false()
+    for name in names:
+        chain, either = chain & Guard.var(name), either | Guard.var(name)
+    assert sys.getrecursionlimit() == depth
+    assert len(chain.propositions) == 1100 and chain.implies(either) and not either.implies(chain)
+    assert (~chain).evaluate(set(names[:-1])) and chain.restrict(names[-1], True).evaluate(set(names))
+    assert chain.satisfying_label() == frozenset(names) and chain.count(names) == 1
+    assert chain.rename({n: n.upper() for n in names}).propositions == frozenset(n.upper() for n in names)
