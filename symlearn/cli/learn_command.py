@@ -58,7 +58,7 @@ def register_learn(commands, common) -> None:
     where.add_argument("--env", help="a bundled task (office-1, craft-2), a gymnasium id, or module:EnvId "
                                      "(your own environment: give --demos and --labeling)")
     where.add_argument("--domain", metavar="DIR",
-                       help="your own domain folder (domain.toml with a labeling; deterministic moves)")
+                       help="your own domain folder (domain.toml with a labeling; stochastic moves are sampled)")
     spec.add_argument("--allow-outside", action="store_true", help="let the domain folder name files outside itself (paths, symlinks, #include); only for a trusted folder")
     add_domain_limits(spec)
     source = spec.add_mutually_exclusive_group()

@@ -121,7 +121,7 @@ def test_cli_bad_domain_input_is_one_line(warehouse, capsys, tmp_path):
 
 
 def test_spec_learning_on_a_user_domain(tmp_path, capsys):
-    folder = wh.write_warehouse(tmp_path / "det", alarm_prob=0.0)  # spec learning needs deterministic moves
+    folder = wh.write_warehouse(tmp_path / "det", alarm_prob=0.0)  # deterministic: the exact successor table
     demos = wh.expert_demonstrations(30, seed=0, alarm_prob=0.0)
     demos.save(tmp_path / "demos.jsonl")
     domain = Domain.from_folder(folder)
@@ -138,6 +138,29 @@ def test_spec_learning_on_a_user_domain(tmp_path, capsys):
     assert learned.labeling_.propositions  # grown propositions "agent in state ..."
 
 
+def test_spec_learning_on_a_stochastic_domain_that_starts_in_several_states(tmp_path, capsys):
+    """The warehouse's alarm comes and goes at random (the constraint learners' setting): the
+    nominal policies' episodes sample the moves and the start states instead of refusing them."""
+    import numpy as np
+
+    folder = wh.write_warehouse(tmp_path / "stochastic", alarm_prob=0.2)
+    model = dict(np.load(folder / "model.npz"))
+    starts = np.flatnonzero(model["initial"])
+    neighbour = int(np.flatnonzero(model["transitions"][starts[0]].max(axis=0))[-1])
+    model["initial"][:] = 0
+    model["initial"][[starts[0], neighbour]] = 0.5   # two start states
+    np.savez(folder / "model.npz", **model)
+    demos = wh.expert_demonstrations(30, seed=0, alarm_prob=0.2)
+    demos.save(tmp_path / "demos.jsonl")
+    domain = Domain.from_folder(folder)
+    learner = SpecLearner(random_state=0).fit(demos, domain)
+    assert learner.model_.dynamics is not None
+    assert "delivered" in str(learner.formula_) and learner.success_rate("F delivered") >= 0.9
+    code, out, err = run(capsys, "learn", "spec", "--domain", folder, "--demos", tmp_path / "demos.jsonl", "--json")
+    assert code == 0, err
+    assert json.loads(out)["formula"] == str(learner.formula_)
+
+
 def test_spec_learning_reads_demonstrations_that_name_their_states(tmp_path, capsys):
     """states.jsonl's names are usable in demonstrations instead of ids (docs/FORMATS.md), for
     `learn spec --domain` as for `learn constraints --domain`."""
@@ -150,14 +173,6 @@ def test_spec_learning_reads_demonstrations_that_name_their_states(tmp_path, cap
     code, out, err = run(capsys, "learn", "spec", "--domain", folder, "--demos", tmp_path / "named.jsonl", "--json")
     assert code == 0, err
     assert "delivered" in json.loads(out)["formula"]
-
-
-def test_spec_learning_refuses_stochastic_domains(warehouse):
-    _, folder = warehouse
-    from symlearn.errors import ModelError
-
-    with pytest.raises(ModelError, match="deterministic"):
-        SpecLearner().fit(wh.expert_demonstrations(2, seed=0), Domain.from_folder(folder))
 
 
 def test_dnf_learning_through_a_domain_feature_map(tmp_path, capsys):

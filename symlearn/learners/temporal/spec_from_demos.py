@@ -100,8 +100,8 @@ class _SpecFit:
 class SpecLearner(Learner):
     """Learn ``formula_`` (and, without given propositions, ``labeling_``) from demonstrations.
 
-    ``fit(demonstrations, world)``: ``world`` is a :class:`~symlearn.grounding.Domain` with
-    deterministic moves, or a labelled tabular environment (see
+    ``fit(demonstrations, world)``: ``world`` is a :class:`~symlearn.grounding.Domain` (its
+    stochastic moves and start states are sampled), or a labelled tabular environment (see
     :mod:`symlearn.learners.temporal.task_model`).
 
     Parameters: ``propositions`` is ``"given"`` (use ``labeling`` or the environment's),
@@ -351,10 +351,10 @@ class SpecLearner(Learner):
             return run.world.random_traces(n, seed=int(run.rng.integers(1 << 31)))
         model = run.model
         n_a = model.successors.shape[1]
-        s = np.full(n, model.start)
+        s = model.starts(n, run.rng)
         path = [s]
         for _ in range(model.horizon):
-            s = model.successors[s, run.rng.integers(0, n_a, n)]
+            s = model.step(s, run.rng.integers(0, n_a, n), run.rng)
             path.append(s)
         return list(np.stack(path, axis=1))
 
@@ -377,7 +377,7 @@ class SpecLearner(Learner):
         labels = [labeling.label(s) for s in range(model.n_states)]
         return crm_q_learning(model.successors, labels, machine, model.start, n_steps=steps, n_envs=self.n_envs,
                               horizon=model.horizon, discount=self.discount, epsilon=self.epsilon,
-                              seed=self._seed(seed))
+                              seed=self._seed(seed), dynamics=model.dynamics)
 
     def _satisfaction(self, run: _SpecFit, formula: Formula, labeling: Labeling,
                       traces: Sequence[np.ndarray]) -> float:

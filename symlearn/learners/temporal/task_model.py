@@ -1,11 +1,12 @@
 """What specification learning needs to know about a world, and how it is read from one.
 
-:class:`TaskModel` is the declared interface: a deterministic successor table, a labeling of
-states, a start state, an episode horizon and a way to say what a state is. It is read from
+:class:`TaskModel` is the declared interface: a successor table (or dynamics to sample), a
+labeling of states, a start state, an episode horizon and a way to say what a state is. It is read from
 
-* a :class:`~symlearn.grounding.Domain` whose transitions are deterministic (each ``P[s, a]``
-  puts all mass on one successor) and whose start is one state; its ``labeling`` gives the
-  propositions (only needed with given propositions);
+* a :class:`~symlearn.grounding.Domain`: a successor table where its transitions are
+  deterministic (each ``P[s, a]`` puts all mass on one successor) and its start is one state,
+  else its transition probabilities and start distribution as ``dynamics``, which episodes
+  sample; its ``labeling`` gives the propositions (only needed with given propositions);
 * a *labelled tabular environment*: anything with ``observation_space.n``, ``action_space.n``,
   ``next_state(s, a) -> s'``, ``labeling`` and ``reset(seed=) -> (s, info)`` (the office and craft
   worlds; ``max_steps`` and ``cell_of`` are used when present).
@@ -35,16 +36,25 @@ from symlearn.errors import ModelError
 
 @dataclass(frozen=True)
 class TaskModel:
-    successors: np.ndarray  # (S, A) int: the next state of each move
+    successors: np.ndarray  # (S, A) int: the next state of each move (with dynamics: the most likely)
     labeling: Any  # the world's own labeling (None if it has none)
-    start: int
+    start: int  # (with dynamics: the most likely start state)
     horizon: int
     describe: Callable[[int], str]  # "agent in cell (3, 4)" -- meaning of a learned proposition
     state_names: tuple[str, ...] = ()  # a domain's state names, which demonstrations may use for ids
+    # a domain whose moves are stochastic or that starts in several states: sampled from these
+    # (symlearn.rl.crm_q_learning.Dynamics); None: the successor table and the one start are exact
+    dynamics: Any = None
 
     @property
     def n_states(self) -> int:
         return int(self.successors.shape[0])
+
+    def step(self, s: np.ndarray, a: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+        return self.successors[s, a] if self.dynamics is None else self.dynamics.step(s, a, rng)
+
+    def starts(self, n: int, rng: np.random.Generator) -> np.ndarray:
+        return np.full(n, self.start) if self.dynamics is None else self.dynamics.starts(n, rng)
 
 
 def task_model(world: Any, *, horizon: int | None = None) -> TaskModel:
@@ -70,18 +80,17 @@ def task_model(world: Any, *, horizon: int | None = None) -> TaskModel:
 
 def _from_domain(domain: Any, horizon: int | None) -> TaskModel:
     P = np.asarray(domain.mdp.transitions)
-    if not np.all(np.isclose(P.max(axis=2), 1.0)):
-        s, a = map(int, np.argwhere(~np.isclose(P.max(axis=2), 1.0))[0])
-        raise ModelError(f"specification learning needs deterministic moves; in {domain.name} the move "
-                         f"({domain.state_names[s]}, {domain.action_names[a]}) has several successors",
-                         hint="our nominal policies are trained on a successor table")
     initial = np.asarray(domain.mdp.initial)
-    if np.count_nonzero(initial) != 1:
-        raise ModelError(f"specification learning starts every episode in one state; {domain.name} starts in "
-                         f"{np.count_nonzero(initial)} states", hint="give model.npz a one-hot initial array")
+    dynamics = None
+    if not np.all(np.isclose(P.max(axis=2), 1.0)) or np.count_nonzero(initial) != 1:
+        # stochastic moves or several start states: episodes sample them (the thesis' worlds are
+        # deterministic grids; a domain folder's model.npz need not be)
+        from symlearn.rl.crm_q_learning import Dynamics
+
+        dynamics = Dynamics.of(P, initial)
     names = domain.state_names
     return TaskModel(P.argmax(axis=2).astype(np.int64), domain.labeling, int(initial.argmax()),
-                     int(horizon or 200), lambda s: f"agent in state {names[s]}", tuple(names or ()))
+                     int(horizon or 200), lambda s: f"agent in state {names[s]}", tuple(names or ()), dynamics)
 
 
 __all__ = ["TaskModel", "task_model"]
