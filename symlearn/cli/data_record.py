@@ -43,14 +43,6 @@ def register(commands, common) -> None:
     cmd.set_defaults(handler=run)
 
 
-def _whole(flag: str, value: Any, top: int) -> int:
-    from symlearn.errors import SymlearnError
-
-    if not float(value).is_integer() or not 1 <= value <= top:
-        raise SymlearnError(f"{flag} must be a whole number between 1 and {top:,}, got {value:g}")
-    return int(value)
-
-
 class _EpisodeCost:
     """Sums ``info["cost"]`` per episode while recording (None while no step reported one)."""
 
@@ -128,12 +120,13 @@ def run(args: argparse.Namespace, out) -> None:
     import numpy as np
 
     from symlearn.cli.env_errors import environment_file, raised_by_environment
+    from symlearn.cli.flag_values import whole
     from symlearn.data import record
     from symlearn.errors import SymlearnError
     from symlearn.recipes.environments import resolve_env
 
-    episodes = _whole("--episodes", args.episodes, MAX_EPISODES)
-    max_steps = None if args.max_steps is None else _whole("--max-steps", args.max_steps, MAX_EPISODE_STEPS)
+    episodes = whole("--episodes", args.episodes, 1, MAX_EPISODES)
+    max_steps = None if args.max_steps is None else whole("--max-steps", args.max_steps, 1, MAX_EPISODE_STEPS)
     if not str(args.output).endswith((".npz", ".jsonl")):
         raise SymlearnError(f"cannot tell the format of {args.output}: write a .npz or .jsonl file",
                             hint="-o demos.npz (numeric states) or -o demos.jsonl")

@@ -152,26 +152,15 @@ def register(subparsers, common) -> None:
     cmd.set_defaults(handler=_train)
 
 
-def _whole(flag: str, value: float, low: int, high: int) -> int:
-    """A whole number in ``[low, high]`` given as ``flag`` (argparse read it as a float, so that
-    ``1e20`` gets this message and not a usage error)."""
-    from symlearn.errors import SymlearnError
-
-    if not math.isfinite(value) or value != int(value):
-        raise SymlearnError(f"{flag} must be a whole number, got {value:g}")
-    if not low <= value <= high:
-        raise SymlearnError(f"{flag} must be between {low:,} and {high:,}, got {value:g}")
-    return int(value)
-
-
 def check_numbers(args: argparse.Namespace, default_steps: int) -> None:
     """Every numeric flag in range (in place: the counts become ints), before anything is built."""
+    from symlearn.cli.flag_values import whole
     from symlearn.errors import SymlearnError
 
-    args.steps = _whole("--steps", default_steps if args.steps is None else args.steps, 1, MAX_STEPS)
-    args.n_envs = _whole("--n-envs", args.n_envs, 1, MAX_ENVS)
-    args.n_steps = _whole("--n-steps", args.n_steps, 1, MAX_ROLLOUT)
-    args.eval_episodes = _whole("--eval-episodes", args.eval_episodes, 1, 100_000)
+    args.steps = whole("--steps", default_steps if args.steps is None else args.steps, 1, MAX_STEPS)
+    args.n_envs = whole("--n-envs", args.n_envs, 1, MAX_ENVS)
+    args.n_steps = whole("--n-steps", args.n_steps, 1, MAX_ROLLOUT)
+    args.eval_episodes = whole("--eval-episodes", args.eval_episodes, 1, 100_000)
     if args.n_envs * args.n_steps > MAX_ROLLOUT:
         raise SymlearnError(f"--n-envs {args.n_envs} x --n-steps {args.n_steps} = {args.n_envs * args.n_steps:,} "
                             f"steps per rollout, more than the {MAX_ROLLOUT:,} held in memory at once",
