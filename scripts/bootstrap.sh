@@ -53,10 +53,17 @@ fi
 extras="peers"
 (( with_tests )) && extras="peers,test,sumo,sb3,highway,sweep,mujoco"
 stamp=".venv/.symlearn-installed"
+# An editable install compiles nothing ahead, and machines that set PYTHONDONTWRITEBYTECODE never
+# keep what the interpreter compiles, so every command would compile the modules it imports again
+# (measured: `symlearn ltl parse` 0.11 s -> 0.04 s wall with them compiled). compileall writes the
+# bytecode files regardless of that variable and only recompiles sources newer than their file, so
+# it runs on every call: after a `git pull` the changed modules are compiled once more.
+compile_package() { .venv/bin/python -m compileall -q -j 0 symlearn >/dev/null || say "could not compile symlearn's bytecode (it still runs, each command compiling what it imports)"; }
 want="$(sha256sum pyproject.toml | cut -d' ' -f1) $extras"
 have="$(cat "$stamp" 2>/dev/null || true)"
 # A test install also satisfies a plain one.
 if [[ "$have" == "$want" ]] || { (( ! with_tests )) && [[ "$have" == "$(sha256sum pyproject.toml | cut -d' ' -f1) peers,test,sumo,sb3,highway,sweep,mujoco" ]]; }; then
+    compile_package
     exit 0
 fi
 say "installing symlearn[$extras] into .venv (first run takes a few minutes)"
@@ -74,5 +81,6 @@ pip_install --upgrade pip
 # torch first and pinned, so no other requirement can pull a CUDA build.
 pip_install "torch==2.13.0"
 pip_install -e ".[$extras]"
+compile_package
 echo "$want" > "$stamp"
 say "ready"

@@ -54,6 +54,22 @@ def test_restrict_and_support(e):
     assert m.support(u) == depends
 
 
+@settings(deadline=None)
+@given(exprs, exprs, exprs)
+def test_ite_is_the_one_pass_form_of_and_or_not(e, f, g):
+    # ite walks the three diagrams at once (the translation's substitution step): it must build
+    # the very node that (e & f) | (!e & g) hash-conses to, whatever the terminal shortcuts took
+    m = BDD()
+    u, v, w = build(m, e), build(m, f), build(m, g)
+    expected = m.apply_or(m.apply_and(u, v), m.apply_and(m.negate(u), w))
+    assert m.ite(u, v, w) == expected
+    for a, b, c in ((u, u, w), (u, v, u), (u, TRUE, FALSE), (u, FALSE, TRUE), (u, v, v), (u, TRUE, w), (u, v, FALSE)):
+        assert m.ite(a, b, c) == m.apply_or(m.apply_and(a, b), m.apply_and(m.negate(a), c))
+    m.collect([u, v, w, expected])  # the ite cache is emptied with the others (freed ids are reused)
+    m.apply_and(m.negate(m.var("p")), m.var("r"))  # new nodes, possibly on freed ids
+    assert m.ite(u, v, w) == expected
+
+
 def test_collect_keeps_roots_and_reuses_freed_ids():
     m = BDD()
     x, y, z = m.var(0), m.var(1), m.var(2)
@@ -87,6 +103,7 @@ def test_operations_on_a_chain_deeper_than_the_recursion_limit():
     assert m.apply_or(f, g) == 1 and m.apply_and(f, g) == 0
     assert m.restrict(f, 1499, False) == 0 and m.restrict(f, 0, True) != f
     assert m.simplify(f, m.var(0)) != 0 and len(m.support(f)) == 1500
+    assert m.ite(f, g, f) == 0 and m.ite(g, m.var(0), f) == m.apply_or(m.apply_and(g, m.var(0)), f)  # deep
     small = BDD(max_nodes=500)   # the node bound still stops an exploding diagram, deep or not
     with pytest.raises(LimitExceededError, match="more than 500 nodes"):
         h = 0
