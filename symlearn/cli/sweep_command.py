@@ -45,6 +45,10 @@ def register(subparsers, common) -> None:
     run.add_argument("--force", action="store_true",
                      help="write into a folder of another sweep file (its finished cells that this file also "
                           "has are kept) or a non-empty folder")
+    run.add_argument("--allow-package", action="append", default=[], metavar="NAME",
+                     help="let the sweep file name functions of this installed package (repeatable); without "
+                          "it, a sweep runs functions from its own files and from modules outside the Python "
+                          "installation only")
     run.set_defaults(handler=_run)
 
     report = commands.add_parser(
@@ -88,7 +92,7 @@ def _run(args: argparse.Namespace, out) -> int | None:
     from symlearn.sweep.runner import run_sweep
     from symlearn.sweep.spec import read_spec
 
-    spec = read_spec(args.file)
+    spec = read_spec(args.file, allow_packages=args.allow_package)
     folder = args.out or default_out(args.file)
     summary = run_sweep(spec, folder, backend="local" if args.local else "ray", workers=args.workers,
                         retries=args.retries, force=args.force, address=args.address).as_dict()

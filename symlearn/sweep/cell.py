@@ -50,6 +50,10 @@ def load_function(reference: str, base: str):
                 del sys.modules[module_name]
                 raise
     else:
+        # the current folder last on the path, as the cell workers have it (runner.py): a module
+        # beside the command's folder loads when the file is checked as it will in the cells
+        if os.getcwd() not in sys.path:
+            sys.path.append(os.getcwd())
         module = importlib.import_module(where)
     function = getattr(module, name)
     if not callable(function):

@@ -49,6 +49,7 @@ import itertools
 import json
 import re
 import tomllib
+from collections.abc import Iterable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -216,9 +217,11 @@ def cell_id(target: str, params: dict[str, Any], seed: int, metrics: list[str] |
 
 # -- reading ----------------------------------------------------------------------------------------
 
-def read_spec(path: str | Path, *, check_target: bool = True) -> SweepSpec:
+def read_spec(path: str | Path, *, check_target: bool = True, allow_packages: Iterable[str] = ()) -> SweepSpec:
     """Parse and check the sweep file at ``path``. ``check_target``: import the function and check
-    the parameters against its signature (off when only the recorded spec is re-read)."""
+    the parameters against its signature (off when only the recorded spec is re-read);
+    ``allow_packages``: installed packages whose functions the user lets the file name
+    (symlearn/sweep/target_policy.py)."""
     path = Path(path)
     text = read_input_text(path)
     try:
@@ -254,7 +257,8 @@ def read_spec(path: str | Path, *, check_target: bool = True) -> SweepSpec:
     if command is not None and (not isinstance(command, list) or not command
                                 or not all(isinstance(w, str) for w in command)):
         raise where.error("command must be a non-empty list of strings", "sweep", "command")
-    refusal = function_refusal(function, path.parent) if function is not None else command_refusal(command)
+    refusal = (function_refusal(function, path.parent, allow_packages) if function is not None
+               else command_refusal(command))
     if refusal:  # before anything is imported or run (symlearn/sweep/target_policy.py)
         raise where.error(f"refused: {refusal}", "sweep", "function" if function is not None else "command",
                           hint="see 'Sweep files' in docs/FORMATS.md for what a sweep may run")

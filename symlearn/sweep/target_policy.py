@@ -8,16 +8,24 @@ file received from someone else write files or run a shell. The rule (``docs/FOR
 * ``file.py:function``: a Python file named by its path (relative to the sweep file's folder,
   or absolute), which must not lie inside the Python installation (the standard library and
   the installed packages: those are reached as modules, below);
-* ``package.module:function``: a module of an installed package that is neither the standard
-  library nor one of the libraries symlearn builds on (numpy, torch, ...), nor symlearn itself;
+* ``package.module:function``: a module of the user's own, found outside the Python installation
+  (the current folder, ``PYTHONPATH``, an editable install); never the standard library, one of
+  the libraries symlearn builds on (numpy, torch, ...) or symlearn itself. A package installed
+  into the environment is refused too unless the *user* allows it by name (``sweep run
+  --allow-package NAME``): any installed library may hold a function that evaluates its
+  argument (``sympy:simplify`` runs a string given as ``expr``), so a list of the dangerous ones
+  can never be complete, and the permission cannot come from the file being checked;
 * ``command = [...]``: the first word must be ``symlearn`` (run as this environment's
   ``python -m symlearn``).
 """
 
 from __future__ import annotations
 
+import importlib.util
+import os
 import sys
 import sysconfig
+from collections.abc import Iterable
 from pathlib import Path
 
 __all__ = ["LIBRARIES", "function_refusal", "command_refusal"]
@@ -38,8 +46,38 @@ def _installation() -> list[Path]:
     return [Path(f).resolve() for f in folders]
 
 
-def function_refusal(reference: str, base: Path) -> str | None:
-    """Why ``reference`` (``module:function`` or ``file.py:function``) may not be run, or None."""
+def _installed_at(top: str) -> Path | None:
+    """The folder of the installation that holds the top-level module ``top``, or None when it is
+    found elsewhere or not at all (found as the cell workers will: ``sys.path`` plus the current
+    folder; nothing is imported)."""
+    extra = os.getcwd() not in sys.path
+    if extra:
+        sys.path.append(os.getcwd())
+    try:
+        spec = importlib.util.find_spec(top)
+    except (ImportError, ValueError):
+        return None
+    finally:
+        if extra:
+            sys.path.remove(os.getcwd())
+    if spec is None:
+        return None
+    places = [spec.origin] if spec.origin not in (None, "built-in", "frozen") else []
+    places += list(spec.submodule_search_locations or ())
+    found = []
+    for place in places:
+        try:
+            where = Path(place).resolve()
+        except (OSError, RuntimeError):
+            continue
+        found += [folder for folder in _installation() if where.is_relative_to(folder)]
+    return max(found, key=lambda f: len(f.parts), default=None)  # the innermost: site-packages, not lib/
+
+
+def function_refusal(reference: str, base: Path, allowed: Iterable[str] = ()) -> str | None:
+    """Why ``reference`` (``module:function`` or ``file.py:function``) may not be run, or None;
+    ``allowed``: installed packages the user allows by name (never the standard library or the
+    libraries in :data:`LIBRARIES`)."""
     where, _, _ = reference.rpartition(":")
     if where.endswith(".py"):
         path = (base / where).resolve()
@@ -53,6 +91,12 @@ def function_refusal(reference: str, base: Path) -> str | None:
         return f"{where!r} is part of Python's standard library; a sweep runs only an experiment's own functions"
     if top in LIBRARIES:
         return f"{where!r} belongs to {top}, a library symlearn builds on; a sweep runs only an experiment's own functions"
+    if top in set(allowed):
+        return None
+    folder = _installed_at(top)
+    if folder is not None:
+        return (f"{where!r} belongs to {top}, a package installed in {folder}; a sweep runs its own files and "
+                f"modules, or an installed package only when you allow it: sweep run --allow-package {top}")
     return None
 
 

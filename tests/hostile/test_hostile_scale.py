@@ -194,6 +194,10 @@ def _sweep(folder: Path, head: str, rest: str = "") -> Path:
     ('function = "numpy:savez"', "library symlearn builds on"),
     ('function = "symlearn.atomic:write_text"', "library symlearn builds on"),
     (f'function = "{Path(io.__file__).resolve()}:open"', "inside the Python installation"),
+    # an installed library not on any list: sympy:simplify evaluates its `expr` string (found by a
+    # held-out pass; the policy is now an allow-list of the user's own code)
+    ('function = "sympy:simplify"\n[fixed]\nexpr = "__import__(\'os\').system(\'touch pwned\')"',
+     "a package installed in"),
     ('command = ["sh", "-c", "touch pwned"]', "must start with 'symlearn'"),
     ('command = ["/bin/rm", "x"]', "must start with 'symlearn'"),
 ])
@@ -208,6 +212,20 @@ def test_sweep_of_its_own_file_still_runs(tmp_path):
     path = _sweep(tmp_path, 'function = "cells.py:cell"\nseeds = 2')
     result = run_command(["sweep", "run", path.name, "--out", "out", "--local"], cwd=tmp_path, timeout=60)
     assert result.returncode == 0, result.describe()
+
+
+def test_sweep_of_its_own_module_or_an_allowed_package_runs(tmp_path):
+    # a module of the user's own in the current folder (not installed) runs as before
+    path = _sweep(tmp_path, 'function = "cells:cell"\nseeds = 2')
+    result = run_command(["sweep", "run", path.name, "--out", "out", "--local"], cwd=tmp_path, timeout=60)
+    assert result.returncode == 0, result.describe()
+    # an installed package passes the policy when the user names it on the command line (sympy is
+    # torch's dependency, so always installed; its simplify then fails the signature check)
+    path = _sweep(tmp_path, 'function = "sympy:simplify"\nseeds = 1')
+    result = run_command(["sweep", "run", path.name, "--out", "out2", "--local", "--allow-package", "sympy"],
+                         cwd=tmp_path, timeout=60)
+    assert result.returncode == 2 and "a package installed in" not in result.stderr, result.describe()
+    assert "simplify() needs parameter expr" in result.stderr and not (tmp_path / "out2").exists()
 
 
 @pytest.mark.parametrize("rest, words", [
@@ -411,10 +429,20 @@ def _escape(folder: Path, secret: Path, how: str) -> None:
         first = json.loads(lines[0])
         first["atom"] = f'#include "{secret}".'
         (folder / "actions.jsonl").write_text("\n".join([json.dumps(first), *lines[1:]]) + "\n")
+    elif how in ("include_facts_no_dot", "include_atom_no_dot"):
+        # without its final '.': the reader appends one to a state's facts, so clingo read the
+        # file anyway and echoed its first rule in the error (found by a held-out pass)
+        import json
+
+        name, key = ("states.jsonl", "facts") if how == "include_facts_no_dot" else ("actions.jsonl", "atom")
+        lines = (folder / name).read_text().splitlines()
+        first = json.loads(lines[0])
+        first[key] = f'#include "{secret}"'
+        (folder / name).write_text("\n".join([json.dumps(first), *lines[1:]]) + "\n")
 
 
 ESCAPES = ["absolute", "dotdot", "symlink", "include_background", "include_linked", "include_bias",
-           "include_facts", "include_atom"]
+           "include_facts", "include_atom", "include_facts_no_dot", "include_atom_no_dot"]
 
 
 @pytest.mark.parametrize("how", ESCAPES)

@@ -175,12 +175,18 @@ _INCLUDE = re.compile(r'%\*.*?\*%|%[^\n]*|"(?:[^"\\\n]|\\.)*"'
                       r'|#include\s*(?:"((?:[^"\\\n]|\\.)*)"|<([^>\n]*)>)\s*\.', re.S)
 
 
+#: any ``#include`` outside comments and strings, whatever follows it: where no directive is
+#: allowed, one without its final ``.`` must be refused too -- a state's facts get a ``.``
+#: appended before clingo reads them, which completes ``#include "f"`` into a directive
+_INCLUDE_TOKEN = re.compile(r'%\*.*?\*%|%[^\n]*|"(?:[^"\\\n]|\\.)*"|#include\b', re.S)
+
+
 def find_include(text: str) -> tuple[int, int] | None:
-    """(line, column) of the first ``#include`` directive of ``text`` (comments and strings
-    skipped), or None."""
+    """(line, column) of the first ``#include`` of ``text`` (comments and strings skipped),
+    complete directive or not, or None."""
     if "#include" not in text:
         return None
-    for match in _INCLUDE.finditer(text):
+    for match in _INCLUDE_TOKEN.finditer(text):
         if match.group(0).startswith("#include"):
             return _position(text, match.start(), Part(text, "<text>"))
     return None

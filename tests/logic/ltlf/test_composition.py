@@ -41,6 +41,12 @@ def test_composition_gives_the_dfa_progression_gives(f):
     "!(F a & G(a -> b)) | (b W c)",
     "(a -> X b) & (b -> X c) & (c -> X a) & F(a & b)",
     "((G a) & (F b)) | ((G b) & (F a)) | (a & !b)",
+    # a part whose DFA has one state (no word, every word) meets the other part without a product
+    "(F a & G !a) <-> (a U b)",
+    "(F a | G !a) & (a U b) & X c",
+    "(F a & G !a) | (b W a)",
+    "(F a | G !a) <-> (b U a)",
+    "((F a & G !a) | (F c | G !c)) & (G(a -> X b) | F c)",
 ])
 def test_composed_skeletons(text, always_compose):
     f = parse(text)
