@@ -863,12 +863,15 @@ def from_guarded(names: Sequence[str], rows: Sequence[Sequence[tuple]]) -> tuple
 
 
 def product(left: tuple[TransitionDiagram, Sequence[int], int], right: tuple[TransitionDiagram, Sequence[int], int],
-            *, max_states: int | None = None) -> tuple[TransitionDiagram, list[int], list[tuple[int, int]]]:
+            *, max_states: int | None = None,
+            max_nodes: int | None = None) -> tuple[TransitionDiagram, list[int], list[tuple[int, int]]]:
     """Synchronous product of two complete symbolic DFAs ``(diagram, roots, initial)``.
 
     Returns the product's diagram (over the union of the propositions), one root per reachable
     pair and the pairs, numbered in discovery order. Pairs of nodes are combined once for the
     whole product (memoised apply), so the work is the size of the result's diagram.
+    ``max_nodes`` bounds the pairs of nodes combined (what the memory holds: ~250 bytes each),
+    so a product whose diagram explodes below ``max_states`` stops before memory runs out.
     """
     d1, roots1, start1 = left
     d2, roots2, start2 = right
@@ -907,6 +910,9 @@ def product(left: tuple[TransitionDiagram, Sequence[int], int], right: tuple[Tra
             u0, u1 = (l1[u], h1[u]) if a == top else (u, u)
             w0, w1 = (l2[v], h2[v]) if b == top else (v, v)
             found = result.node(top, apply(u0, w0), apply(u1, w1))
+            if max_nodes is not None and len(memo) >= max_nodes:
+                raise LimitExceededError(f"the product automaton's diagram needs more than {max_nodes:,} nodes",
+                                         hint="minimise the operands first or split the formula")
         memo[key] = found
         return found
 

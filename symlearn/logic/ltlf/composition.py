@@ -84,7 +84,12 @@ def compose(formula: Formula, direct: Direct, max_states: int) -> DFA:
     The bounded trial comes first, before the skeleton is read: nearly every formula a learner
     translates finishes there, and reading the skeleton (its parts' propositions) cost ~25 us of
     their ~0.5 ms. A formula that is not composite and fails the trial is progressed unbounded."""
-    return _Composer(direct, max_states).dfa(formula, trial_first=True)
+    result = _Composer(direct, max_states).dfa(formula, trial_first=True)
+    if result.is_symbolic():  # products stay symbolic (_product): listed edges where they are few
+        accepting = result.accepting
+        result = td.finish(result._diagram, result._roots, [q in accepting for q in range(result.n_states)],
+                           result.initial, result.alphabet)
+    return result
 
 
 class _Composer:
@@ -315,16 +320,31 @@ def _product(left: DFA, right: DFA, accept, max_states: int) -> DFA:
     for one, other in ((left, right), (right, left)):
         if one.n_states == 1:  # every word or none: the other part, its complement or this constant
             return _with_constant(one, other, accept)
+    from symlearn.input_limits import limit
+
     d1, r1 = left.transition_diagram()
     d2, r2 = right.transition_diagram()
+    # the product's diagram is bounded like progression's obligations (the same limit): parts that
+    # share one proposition (F(z & p1) & ... & F(z & pn)) stay under max_states per product while
+    # the diagrams of their pairs grow past the memory (2,000 parts: a MemoryError at 3.6 GB)
+    nodes = limit("SYMLEARN_MAX_TRANSLATION_NODES")
     try:
-        diagram, roots, pairs = td.product((d1, r1, left.initial), (d2, r2, right.initial), max_states=max_states)
-    except LimitExceededError:
+        diagram, roots, pairs = td.product((d1, r1, left.initial), (d2, r2, right.initial), max_states=max_states,
+                                           max_nodes=nodes)
+    except LimitExceededError as exc:
+        if "nodes" in str(exc):
+            raise LimitExceededError(f"the automaton of this formula needs more than {nodes:,} decision-diagram "
+                                     "nodes while its parts are joined",
+                                     hint="split the formula or raise SYMLEARN_MAX_TRANSLATION_NODES (0: no "
+                                          "limit)") from None
         raise LimitExceededError(f"the automaton of this formula needs more than {max_states} states",
                                  hint="raise max_states (CLI: --max-states) or split the formula") from None
     a1, a2 = left.accepting, right.accepting
     accepting = [accept(p in a1, q in a2) for p, q in pairs]
-    return td.minimal(diagram, roots, accepting, 0, left.alphabet | right.alphabet)
+    # kept symbolic: listing a product's edges as guards costs memory the next product does not
+    # use (250 intermediate 256-state products of F(z & p1) & ... & F(z & p2000) held 2 GB of
+    # guards); compose() lists the final automaton's edges where they are few
+    return td.minimal(diagram, roots, accepting, 0, left.alphabet | right.alphabet, explicit_edges=0)
 
 
 def _with_constant(one: DFA, other: DFA, accept) -> DFA:
