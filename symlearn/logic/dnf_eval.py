@@ -368,6 +368,10 @@ def _bits(flags: np.ndarray, W: int) -> np.ndarray:
     return np.ascontiguousarray(np.packbits(padded, axis=-1, bitorder="little").view("<u8"))
 
 
+#: the largest mask tables compile_plan builds (bytes); beyond, a formula is evaluated by box tests
+MASK_BYTES = 64 << 20
+
+
 def compile_plan(formula: Any, *, mode: str | None = None) -> Plan:
     """Compile ``formula`` (a :class:`~symlearn.logic.dnf.DNF`); ``mode`` forces ``"masks"`` or
     ``"boxes"`` (tests use it), else the cheaper one by an estimate of the work per point."""
@@ -381,6 +385,11 @@ def compile_plan(formula: Any, *, mode: str | None = None) -> Plan:
     never = np.array([b is None for b in boxes], dtype=bool)
     always = np.array([b is not None and not b for b in boxes], dtype=bool)
 
+    # the mask tables hold a bit per (threshold cell, conjunction) and feature: quadratic in the
+    # formula (100,000 conjunctions over one feature's 100,000 thresholds: 2.5 GB packed, 20 GB
+    # while built). Past MASK_BYTES only the box tests are compiled, which are linear
+    mask_bytes = sum(2 * len(thresholds[f]) + 1 for f in features) * W * 8
+    build_masks = mask_bytes <= MASK_BYTES or mode == "masks"
     grid = np.zeros((S, 3))
     offsets = np.zeros((S + 1, 3), dtype=np.intp)
     tables, padded, mask_rows = [], [], []
@@ -391,14 +400,15 @@ def compile_plan(formula: Any, *, mode: str | None = None) -> Plan:
         tables.append(first)
         padded.append(np.concatenate([t, [np.nan]]))     # compares false with everything, +inf too
         cells = np.arange(2 * len(t) + 1)
-        allowed = np.ones((len(cells), m), dtype=bool)
-        for j, box in enumerate(boxes):
-            if box is None:
-                allowed[:, j] = False
-            elif s in box:
-                lo, hi = box[s]
-                allowed[:, j] = (cells >= lo) & (cells <= hi)
-        mask_rows.append(_bits(allowed, W))
+        if build_masks:
+            allowed = np.ones((len(cells), m), dtype=bool)
+            for j, box in enumerate(boxes):
+                if box is None:
+                    allowed[:, j] = False
+                elif s in box:
+                    lo, hi = box[s]
+                    allowed[:, j] = (cells >= lo) & (cells <= hi)
+            mask_rows.append(_bits(allowed, W))
         offsets[s + 1] = offsets[s] + (len(first), len(t) + 1, len(cells))
     largest_code = max((2 * len(v) for v in thresholds.values()), default=0)
     code_dtype = np.dtype(np.uint8 if largest_code < 1 << 8 else np.uint16 if largest_code < 1 << 16 else np.uint32)
@@ -423,7 +433,7 @@ def compile_plan(formula: Any, *, mode: str | None = None) -> Plan:
         # test ~0.012 on 1-byte codes, ~0.017 on wider ones (SIMD over the points)
         mask_cost = S * (0.9 if W <= 2 else 1.2 + 0.12 * W)
         box_cost = len(test_step) * (0.012 if code_dtype.itemsize == 1 else 0.017)
-        use_masks = mask_cost <= box_cost
+        use_masks = build_masks and mask_cost <= box_cost
     else:
         if mode not in ("masks", "boxes"):
             raise ValueError(f"mode must be 'masks' or 'boxes', not {mode!r}")
@@ -434,7 +444,7 @@ def compile_plan(formula: Any, *, mode: str | None = None) -> Plan:
         features=tuple(features), m=m, use_masks=use_masks, grid=_frozen(grid), offsets=_frozen(offsets),
         first=_frozen(np.concatenate(tables) if tables else np.zeros(0, np.int32)),
         thresholds=_frozen(np.concatenate(padded) if padded else np.zeros(0)),
-        masks=_frozen(np.concatenate(mask_rows) if mask_rows else empty_rows),
+        masks=_frozen(np.concatenate(mask_rows) if mask_rows and build_masks else empty_rows),
         done=_frozen(_bits(done, W)), init=_frozen(_bits(~never, W)),
         test_start=_frozen(np.array(test_start, dtype=np.intp)), test_step=_frozen(np.array(test_step, dtype=np.intp)),
         lo=_frozen(np.array(lo, dtype=code_dtype)), hi=_frozen(np.array(hi, dtype=code_dtype)),

@@ -15,6 +15,7 @@ Only the records of the cells of the sweep file in ``sweep.json`` count: a folde
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -82,7 +83,7 @@ def load_results(folder: str | Path) -> SweepResults:
         group.seeds.append(cell.seed)
         for name, value in (record.get("metrics") or {}).items():
             if value is not None:  # null: the cell has no such value (unsolved, not finite)
-                group.values.setdefault(name, []).append(value)
+                group.values.setdefault(name, []).append(_as_number(value))
     names = spec.parameter_names()
     varying = [n for n in names if len({json.dumps(g.params.get(n), sort_keys=True) for g in groups.values()}) > 1]
     scalars, curves = [], []
@@ -117,6 +118,20 @@ def axes(results: SweepResults) -> tuple[str | None, str | None]:
     if group is None:
         group = next((n for n in results.varying if n != x), None)
     return x, group
+
+
+def _as_number(value: Any) -> Any:
+    """A JSON integer beyond a float's range as the infinity it rounds to (as JSON's ``1e400``
+    reads): the statistics are floats, and a 1001-digit metric stopped the report with an
+    OverflowError. Anything else unchanged (lists, strings are sorted out by kind later)."""
+    if isinstance(value, int) and not isinstance(value, bool):
+        try:
+            float(value)
+        except OverflowError:
+            return math.inf if value > 0 else -math.inf
+    elif isinstance(value, list):
+        return [_as_number(v) for v in value]
+    return value
 
 
 def _format(value: float | None, digits: int = 3) -> str:

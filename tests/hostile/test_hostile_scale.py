@@ -279,6 +279,21 @@ def test_results_store_lines_are_capped(tmp_path):
           names="results.jsonl", contains="longer than the limit of 1 MB")
 
 
+def test_a_metric_beyond_a_float_is_reported_as_infinite(tmp_path):
+    # a 1001-digit integer in results.jsonl stopped `sweep report` with an OverflowError (held-out pass)
+    import json
+
+    path = _sweep(tmp_path, 'function = "cells.py:cell"\nseeds = 2')
+    assert run_command(["sweep", "run", path.name, "--out", "out", "--local"], cwd=tmp_path, timeout=60).returncode == 0
+    store = tmp_path / "out" / "results.jsonl"
+    records = [json.loads(line) for line in store.read_text().splitlines()]
+    records[0]["metrics"]["value"] = 10 ** 1000
+    store.write_text("".join(json.dumps(r) + "\n" for r in records))
+    result = run_command(["sweep", "report", "out", "--no-plots"], cwd=tmp_path, timeout=60)
+    assert result.returncode == 0 and "Traceback" not in result.stderr, result.describe()
+    assert "inf" in (tmp_path / "out" / "report" / "report.md").read_text()
+
+
 # -- the command line: seeds and paths ----------------------------------------------------------
 @pytest.mark.parametrize("seed", ["-1", str(10**40), str(2**32)])
 @pytest.mark.parametrize("place", ["before", "after"])

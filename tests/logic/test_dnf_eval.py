@@ -179,3 +179,21 @@ def test_row_blocks_in_threads_give_the_serial_results(monkeypatch, threads):
     X[9_999, names.index(used)] = np.nan        # and an earlier one: the first in row order is named
     with pytest.raises(DataError, match=f"{used} is NaN in point 9999"):
         ev(X)
+
+
+def test_formulas_past_the_mask_budget_compile_box_tests_only(monkeypatch):
+    # the mask tables are quadratic (threshold cells x conjunctions): a 100,000-line rule file
+    # asked for 18.6 GiB; past MASK_BYTES only the linear box tests are built, same results
+    from symlearn.logic import dnf_eval
+
+    rng = np.random.default_rng(7)
+    names = ["a", "b", "c"]
+    formula = random_formula(rng, names, 300)
+    X = np.round(rng.normal(size=(500, 3)), 2)
+    want = plain(formula, X, names)
+    monkeypatch.setattr(dnf_eval, "MASK_BYTES", 1024)
+    plan = compile_plan(formula)
+    assert not plan.use_masks and plan.masks.size == 0
+    Xp, cols = points(plan, X, names)
+    assert np.array_equal(plan.run(Xp, cols, True, chunk=64), want)
+    assert np.array_equal(formula.evaluate(X, names), want.any(axis=1))
