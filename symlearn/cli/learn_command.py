@@ -32,6 +32,7 @@ from pathlib import Path
 
 from symlearn.cli.bounded_domain import add_domain_limits, load_domain
 from symlearn.cli.output import blame_file
+from symlearn.cli.flag_values import demo_count
 
 # Modules defining register_learn(commands, common); this module registers "spec" itself.
 LEARN_SUBCOMMANDS: tuple[str, ...] = ("symlearn.cli.learn_constraints_command", "symlearn.cli.learn_dnf_command",
@@ -64,7 +65,7 @@ def register_learn(commands, common) -> None:
     source = spec.add_mutually_exclusive_group()
     source.add_argument("--demos", help="expert demonstrations (.jsonl or .npz): state ids for a bundled task; "
                                         "in your own environment, labelled while recorded (or replayable)")
-    source.add_argument("--n-demos", type=int, default=None,
+    source.add_argument("--n-demos", type=demo_count, default=None,
                         help="generate N optimal expert demonstrations of a bundled task (default 50)")
     spec.add_argument("--env-kwargs", metavar="JSON", help="keyword arguments for the environment, a JSON object")
     spec.add_argument("--props", choices=("given", "learn"), default="given",

@@ -43,6 +43,7 @@ from typing import Any
 
 from symlearn.cli.bounded_domain import add_domain_limits, run_on_domain
 from symlearn.cli.output import blame_file
+from symlearn.cli.flag_values import demo_count
 
 METHODS = ("logic", "ml", "mce-icrl")
 
@@ -84,7 +85,7 @@ def register_learn(commands, common) -> None:
     add_domain_limits(cmd, "reading, grounding and learning")
     source = cmd.add_mutually_exclusive_group()
     source.add_argument("--demos", help="demonstrations (.jsonl or .npz) with the environment's state/action ids or names")
-    source.add_argument("--n-demos", type=int, default=50, help="generate N demonstrations of the bundled expert (50)")
+    source.add_argument("--n-demos", type=demo_count, default=50, help="generate N demonstrations of the bundled expert (50)")
     cmd.add_argument("--expert", choices=("native", "sumo"), default="native",
                      help="who drives the generated junction demonstrations: our traffic model (native, default) "
                           "or SUMO's car-following and junction logic (sumo extra)")

@@ -34,6 +34,7 @@ import argparse
 import warnings
 
 from symlearn.cli.bounded_domain import add_domain_limits, load_domain
+from symlearn.cli.flag_values import demo_count
 
 
 def register_learn(commands, common) -> None:
@@ -46,7 +47,7 @@ def register_learn(commands, common) -> None:
                                    "see `symlearn envs`), a gymnasium id or module:EnvId (then --demos too): "
                                    "names the features")
     cmd.add_argument("--env-kwargs", metavar="JSON", help="keyword arguments of the environment (a JSON object)")
-    cmd.add_argument("--n-demos", type=int, default=20, help="expert episodes to record with --env (20)")
+    cmd.add_argument("--n-demos", type=demo_count, default=20, help="expert episodes to record with --env (20)")
     cmd.add_argument("--features", help="comma-separated names of the state vector's columns")
     cmd.add_argument("--domain", metavar="DIR", help="a domain folder whose feature map turns state ids into features")
     cmd.add_argument("--inputs", metavar="A,B,...",

@@ -64,6 +64,8 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
+from symlearn.cli.flag_values import demo_count
+
 METHODS = ("mce-icrl", "me-icrl", "vme-icrl", "gacl")
 EVAL_EPISODES = 20
 
@@ -85,7 +87,7 @@ def register_learn(commands, common) -> None:
                           "(Liu et al.'s variational baseline) or gacl (GAIL-style discriminator)")
     source = cmd.add_mutually_exclusive_group()
     source.add_argument("--demos", help="expert demonstrations (.npz or .jsonl) with observations and actions")
-    source.add_argument("--n-demos", type=int, default=20,
+    source.add_argument("--n-demos", type=demo_count, default=20,
                         help="episodes of the expert to record (20): the scripted one, else PPO-Lagrangian")
     cmd.add_argument("--expert-steps", type=int, default=1_000_000,
                      help="PPO-Lagrangian steps of the expert where there is no scripted one (1000000)")

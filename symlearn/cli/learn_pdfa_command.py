@@ -28,6 +28,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from symlearn.cli.flag_values import demo_count
+
 
 def register_learn(commands, common) -> None:
     cmd = commands.add_parser(
@@ -41,7 +43,7 @@ def register_learn(commands, common) -> None:
                                    "blocks-stack-R (R rounds of three blocks); or your environment (a gymnasium id "
                                    "or module:EnvId) with --demos, which names the features")
     cmd.add_argument("--env-kwargs", metavar="JSON", help="keyword arguments of --env (a JSON object)")
-    cmd.add_argument("--n-demos", type=int, default=100, help="demonstrations to record with --env (100)")
+    cmd.add_argument("--n-demos", type=demo_count, default=100, help="demonstrations to record with --env (100)")
     cmd.add_argument("--subsets", help="candidate feature subsets, e.g. 'red=0,1,2;blue=3,4,5' (default: all "
                                        "features as one subset; with --env: each block's xyz)")
     cmd.add_argument("--features", help="comma-separated names of the state vector's columns")
