@@ -56,6 +56,11 @@ FEATURE_NAMES = ("x", "y")
 OBSERVATION_NAMES = ("x", "y", "vx", "vy")
 
 
+#: the largest arena half-width of the point environments: observations are float32, which holds
+#: positions this large to ~0.06 (an arena of 1e308 overflowed the observation space's bounds)
+MAX_ARENA = 1e6
+
+
 def point_spaces(arena: float, max_speed: float) -> tuple[spaces.Box, spaces.Box]:
     """The observation ``(x, y, vx, vy)`` and action spaces of the point environments (BlockedPoint
     and PointCircle share them, so a cost learned in one loads in the other)."""
@@ -84,7 +89,8 @@ class BlockedPoint(gym.Env):
                    f"arena - {START_OFFSETS[1]}"),
                   ("max_speed", 0 < max_speed <= 1, "in (0, 1]"), ("away_gain", 0 < away_gain <= 1, "in (0, 1]"),
                   ("damping", 0 <= damping < 1, "in [0, 1)"), ("max_steps", int(max_steps) >= 1, ">= 1"),
-                  ("arena", math.isfinite(arena) and arena > START_OFFSETS[1], f"finite and > {START_OFFSETS[1]}")]
+                  ("arena", math.isfinite(arena) and START_OFFSETS[1] < arena <= MAX_ARENA,
+                   f"in ({START_OFFSETS[1]}, {MAX_ARENA:g}]")]
         for name, ok, need in checks:
             if not ok:
                 raise DataError(f"BlockedPoint: {name} must be {need}, got {locals()[name]!r}")

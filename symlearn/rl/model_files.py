@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import json
 import os
+import warnings
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
@@ -147,10 +148,14 @@ def _build(build: Callable[[dict[str, Any]], M], config: dict[str, Any], weights
     """``build(config)`` (on ``device``); a configuration that cannot build a module (a negative
     or fractional layer size, a wrong type) is a :class:`ModelError` naming the file."""
     try:
-        if device is None:
-            return build(config)
-        with torch.device(device):
-            return build(config)
+        # torch warns about layers of size 0 ("Initializing zero-element tensors is a no-op"); such
+        # a configuration is refused below by the comparison with the file's tensors, in one line
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)
+            if device is None:
+                return build(config)
+            with torch.device(device):
+                return build(config)
     except ModelError as exc:  # torch's messages can carry its C++ stack: keep their first line
         raise ModelError(_first_line(exc.message), file=exc.file or str(weights.with_suffix(".json")),
                          hint=exc.hint) from None

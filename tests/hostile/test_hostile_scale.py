@@ -663,3 +663,19 @@ def test_train_sizes_from_flags_are_bounded_before_allocation(tmp_path, flag, va
     result = check(["train", "--env", "CartPole-v1", flag, value], cwd=tmp_path, timeout=30, memory_mb=1024,
                    contains=words)
     assert result.seconds < 10 and result.max_rss_mb < 200
+
+
+# -- one line, not a library's warning before it (a held-out pass, 2026-12-04) ----------------------
+def test_an_all_nan_frame_archive_is_one_line(tmp_path):
+    frames = np.full((6, 4), np.nan)
+    np.savez(tmp_path / "allnan.npz", states=frames, lengths=np.array([3, 3]))
+    result = check(["learn", "pdfa", "--demos", "allnan.npz"], cwd=tmp_path, timeout=60, names="allnan.npz",
+                   contains="unobserved")
+    assert "warning" not in result.stderr.lower()
+
+
+@pytest.mark.parametrize("env", ["blocked-point", "point-circle"])
+def test_an_arena_beyond_float32_is_refused(tmp_path, env):
+    result = check(["train", "--env", env, "--steps", "256", "--n-steps", "128", "--env-kwargs", '{"arena": 1e308}'],
+                   cwd=tmp_path, timeout=60, contains="arena must be in")
+    assert "warning" not in result.stderr.lower()
