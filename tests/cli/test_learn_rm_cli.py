@@ -70,6 +70,8 @@ def test_env_and_overrides_sparse_machine(capsys, tmp_path):
     (("--env", "blockworld-stack2", "--gamma", "1.5"), "--gamma must be in (0, 1)"),
     (("--env", "blockworld-stack2", "--min-samples", "0"), "--min-samples must be at least 1"),
     (("--env", "blockworld-stack2", "--dot", "m.dot"), "--dot needs -o"),
+    # refused before learning: the machine was written, then a companion name was too long
+    (("--env", "blockworld-stack2", "-o", "m" * 240 + ".json"), "is too long a name"),
 ])
 def test_bad_arguments_are_one_line(capsys, arguments, message):
     code, out, err = run(capsys, "learn", "rm", *arguments)
