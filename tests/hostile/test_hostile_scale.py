@@ -128,7 +128,8 @@ def _saved_cost(folder: Path) -> Path:
 @pytest.mark.parametrize("hidden, words", [
     ([100_000, 100_000, 100_000], "do not fit the configured model"),
     pytest.param([-3], "positive layer widths", marks=pytest.mark.slow),
-    pytest.param([1e300], "not a feature-network configuration", marks=pytest.mark.slow)])
+    pytest.param([1e300], "not a feature-network configuration", marks=pytest.mark.slow),
+    ([64.5, 8], "must be whole numbers")])  # int() read 64.5 as 64, silently (held-out pass)
 def test_cost_configuration_layer_sizes_are_not_allocated(tmp_path, hidden, words):
     """3 x 10^10 weights declared beside an 8-unit file: refused from shapes built on the meta
     device, nothing allocated (an internal MemoryError before)."""

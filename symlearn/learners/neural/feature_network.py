@@ -40,6 +40,13 @@ class FeatureNetwork(nn.Module):
     def __init__(self, obs_dims: Sequence[int], action_dim: int, n_features: int,
                  hidden_sizes: Sequence[int] = (64, 64), generator: torch.Generator | None = None) -> None:
         super().__init__()
+        # counts from a configuration file must be whole numbers: int() would read 64.5 as 64
+        values = [*obs_dims, action_dim, n_features, *hidden_sizes]
+        if not all(isinstance(v, (int, np.integer)) and not isinstance(v, bool)
+                   or isinstance(v, float) and v.is_integer() for v in values):
+            raise ModelError(f"a feature network's sizes and inputs must be whole numbers, got obs_dims "
+                             f"{list(obs_dims)!r}, action_dim {action_dim!r}, n_features {n_features!r}, "
+                             f"hidden_sizes {list(hidden_sizes)!r}")
         self.obs_dims = tuple(int(i) for i in obs_dims)
         self.action_dim = int(action_dim)
         self.n_features = int(n_features)
