@@ -164,6 +164,8 @@ def _dfa(args: argparse.Namespace, out) -> None:
     # construction, not the first import of our code (20-30 ms without bytecode files, measured)
     import symlearn.logic.ltlf.composition  # noqa: F401
 
+    if args.max_states is not None and args.max_states < 1:
+        raise SymlearnError(f"--max-states must be at least 1, got {args.max_states}")
     max_states = args.max_states or DEFAULT_MAX_STATES
     if sum(x is not None for x in (args.formula, args.file, args.tlsf)) != 1:
         raise SymlearnError("give one of a FORMULA, --file FORMULAS.txt or --tlsf SPEC.tlsf",

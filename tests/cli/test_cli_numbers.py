@@ -21,3 +21,16 @@ def test_n_demos_out_of_range_is_one_usage_line(capsys, command, env, value, wor
     assert code == 2 and out == ""
     lines = err.strip().splitlines()
     assert len(lines) == 1 and "--n-demos" in lines[0] and words in lines[0], err
+
+
+@pytest.mark.parametrize("value", ["0", "-1"])
+def test_ltl_dfa_max_states_below_one_is_refused(capsys, value):
+    code, out, err = run(capsys, "ltl", "dfa", "F a", "--max-states", value)
+    assert code == 2 and err.strip() == f"symlearn: error: --max-states must be at least 1, got {value}"
+
+
+def test_saving_onto_a_directory_names_the_directory(capsys, tmp_path):
+    # the atomic writer's temporary sibling was named in the message instead of the user's path
+    (tmp_path / "outd").mkdir()
+    code, out, err = run(capsys, "ltl", "dfa", "F a", "--save", str(tmp_path / "outd"))
+    assert code == 2 and "outd: Is a directory" in err and ".tmp" not in err and len(err.strip().splitlines()) == 1
