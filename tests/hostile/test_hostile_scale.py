@@ -680,3 +680,18 @@ def test_an_arena_beyond_float32_is_refused(tmp_path, env):
     result = check(["train", "--env", env, "--steps", "256", "--n-steps", "128", "--env-kwargs", '{"arena": 1e308}'],
                    cwd=tmp_path, timeout=60, contains="arena must be in")
     assert "warning" not in result.stderr.lower()
+
+
+def test_a_huge_state_id_is_a_gap_not_a_memory_limit(tmp_path):
+    # the first missing id came from set(range(largest + 1)): an id of 10^18 ran the worker out of
+    # memory, reported as "memory limit reached while grounding" (held-out pass)
+    import json
+
+    folder, _ = _warehouse(tmp_path)
+    lines = (folder / "states.jsonl").read_text().splitlines()
+    last = json.loads(lines[-1])
+    last["id"] = 10 ** 18
+    (folder / "states.jsonl").write_text("\n".join([*lines[:-1], json.dumps(last)]) + "\n")
+    result = check(["domain", "check", folder], cwd=tmp_path, timeout=60, names="states.jsonl",
+                   contains=["ids must be 0..1000000000000000000 without gaps", "is missing"])
+    assert result.seconds < 20 and result.max_rss_mb < 400
