@@ -101,6 +101,15 @@ class GuardedAutomaton:
         return (type(self).from_dict, (self.to_dict(),))
 
 
+def names_text(names: Iterable[str], limit: int = 20) -> str:
+    """Sorted names as a list for a message, cut after ``limit`` (a 200,000-name alphabet made a
+    2 MB error line)."""
+    ordered = sorted(names)
+    if len(ordered) <= limit:
+        return str(ordered)
+    return str(ordered[:limit])[:-1] + f", ... ({len(ordered):,} in all)]"
+
+
 def check_n_states(n_states, what: str) -> int:
     if isinstance(n_states, bool) or not isinstance(n_states, int) or n_states < 1:
         raise ModelError(f"a {what} needs at least one state, got n_states={n_states!r}")
@@ -192,8 +201,9 @@ def weighted_edges(transitions: Mapping[int, Sequence[tuple]], n_states: int, al
             value = check_value(edge[2], f"{value_name} of edge {source} -> {target}")
             unknown = guard.propositions - alphabet
             if unknown:
-                raise ModelError(f"{what} guard {str(guard)!r} on state {source} uses {sorted(unknown)} "
-                                 f"outside the alphabet {sorted(alphabet)}", hint="add the propositions to the alphabet")
+                raise ModelError(f"{what} guard {str(guard)!r} on state {source} uses {names_text(unknown)} "
+                                 f"outside the alphabet {names_text(alphabet)}",
+                                 hint="add the propositions to the alphabet")
             if guard.is_false():
                 if value != 0:
                     raise ModelError(f"edge {source} -> {target} has {value_name} {value} but its guard is false")

@@ -38,6 +38,7 @@ from typing import AbstractSet
 from symlearn.errors import LimitExceededError, ModelError
 from symlearn.logic.automata.base import (
     GuardedAutomaton, as_guard, check_alphabet, check_deterministic, check_n_states, check_names, check_state,
+    names_text,
 )
 from symlearn.logic.guards import Guard
 
@@ -62,8 +63,8 @@ def normalise_edges(
             unknown = guard.propositions - alphabet
             if unknown:
                 raise ModelError(
-                    f"{what} guard {str(guard)!r} on state {source} uses {sorted(unknown)} outside the alphabet "
-                    f"{sorted(alphabet)}", hint="add the propositions to the alphabet")
+                    f"{what} guard {str(guard)!r} on state {source} uses {names_text(unknown)} outside the alphabet "
+                    f"{names_text(alphabet)}", hint="add the propositions to the alphabet")
             if not guard.is_false():
                 row = merged[source]
                 row[target] = row[target] | guard if target in row else guard

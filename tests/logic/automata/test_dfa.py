@@ -211,3 +211,16 @@ def test_minimize_large_counter_is_fast():
     start = time.perf_counter()
     m = d.minimize()
     assert m.n_states == n and time.perf_counter() - start < 2.0
+
+
+def test_a_guard_outside_a_huge_alphabet_is_a_short_message():
+    # the whole alphabet was listed: 200,000 names made a 2 MB error line (held-out pass)
+    import pytest
+
+    from symlearn.errors import ModelError
+    from symlearn.logic.automata.dfa import DFA
+
+    names = [f"p{i}" for i in range(5000)]
+    with pytest.raises(ModelError) as caught:
+        DFA(names, 1, 0, [0], {0: [("q", 0)]})
+    assert "(5,000 in all)" in str(caught.value) and len(str(caught.value)) < 600
