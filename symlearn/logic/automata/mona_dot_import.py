@@ -17,6 +17,12 @@ under two shapes keeps the first, as Graphviz does. The two differ in what matte
   variables, so pass ``variables=[...]`` (MONA prints them as "DFA for formula with free
   variables: ..."), else they are called ``v1..vk``.
 
+The DOT that symlearn itself writes (``DFA.to_dot``, ``automaton convert X.dot``) reads back too:
+its start marker is ``__start -> q;`` and each state has a statement of its own (``1 [label="1",
+shape=doublecircle];``); guards are our own syntax, which the expression reader takes. What the
+drawing does not show is lost: propositions no guard mentions leave the alphabet, and state names
+become the state numbers.
+
 States are renumbered ``0..n-1`` in increasing MONA order and keep their MONA numbers as
 state names. A state must be declared in a node list or have edges of its own (LTLf2DFA lists
 only some states, and MONA's automata are complete): an edge or ``init ->`` naming a state that
@@ -35,11 +41,15 @@ from symlearn.errors import ParseError, SymlearnError
 from symlearn.logic.guards import Guard
 
 _HEADER = re.compile(r"\s*digraph\s+(\w+)?\s*\{\s*$")
-_ATTRIBUTE = re.compile(r"\s*\w+\s*=\s*(\"[^\"]*\"|[\w.]+)\s*;\s*$")
+_ATTRIBUTE = re.compile(r"\s*(\w+\s*=\s*(\"[^\"]*\"|[\w.]+)\s*;\s*)+$")  # one or more graph attributes
 _DEFAULTS = re.compile(r"\s*(node|edge|graph)\s*\[(?P<attrs>[^\]]*)\]\s*;(?P<states>(\s*\w+\s*;)*)\s*$")
-_INIT_NODE = re.compile(r"\s*init\s*\[[^\]]*\]\s*;\s*$")
-_INIT_EDGE = re.compile(r"\s*init\s*->\s*(?P<target>\d+)\s*;\s*$")
-_EDGE = re.compile(r"\s*(?P<source>\d+)\s*->\s*(?P<target>\d+)\s*\[\s*label\s*=\s*\"(?P<label>[^\"]*)\"\s*\]\s*;\s*$")
+# the start marker: MONA's and LTLf2DFA's ``init``, or ``__start`` in the DOT symlearn writes
+_INIT_NODE = re.compile(r"\s*(init|__start)\s*\[[^\]]*\]\s*;\s*$")
+_INIT_EDGE = re.compile(r"\s*(init|__start)\s*->\s*(?P<target>\d+)\s*;\s*$")
+_EDGE = re.compile(r"\s*(?P<source>\d+)\s*->\s*(?P<target>\d+)\s*\[\s*label\s*=\s*\"(?P<label>[^\"]*)\"\s*"
+                   r"(,[^\]]*)?\]\s*;\s*$")
+# one state with its own attributes, as symlearn writes them: ``1 [label="1", shape=doublecircle];``
+_NODE = re.compile(r"\s*(?P<state>\d+)\s*\[(?P<attrs>[^\]]*)\]\s*;\s*$")
 _SHAPE = re.compile(r"shape\s*=\s*(\w+)")
 _BITS = re.compile(r"[01X ,]+(\\n[01X ,]+)*")
 
@@ -90,6 +100,9 @@ def parse_mona_dot(text: str, *, source: str | None = None, variables: Sequence[
                     if not state.isdigit():
                         raise _error(f"state {state!r} is not a number", source, number, line, state)
                     shape.setdefault(_state(state, source, number, line), found.group(1))
+        elif match := _NODE.match(line):
+            found = _SHAPE.search(match["attrs"])
+            shape.setdefault(_state(match["state"], source, number, line), found.group(1) if found else "circle")
         elif _INIT_NODE.match(line) or _ATTRIBUTE.match(line):
             continue
         else:
