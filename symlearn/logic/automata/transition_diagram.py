@@ -883,13 +883,17 @@ def product(left: tuple[TransitionDiagram, Sequence[int], int], right: tuple[Tra
     start = (start1, start2)
     index = {start: 0}
     pairs = [start]
-    memo: dict[tuple[int, int], int] = {}
+    memo: dict[int, int] = {}
     v1, l1, h1 = d1.var, d1.low, d1.high
     v2, l2, h2 = d2.var, d2.low, d2.high
     big = len(names)
+    # one int per pair of nodes instead of a tuple (leaves ~s are negative: shifted by the states):
+    # the memo is what a large product's memory is made of, ~80 bytes less an entry
+    shift1, shift2 = len(roots1), len(roots2)
+    stride = len(d2) + shift2 + 1
 
     def apply(u: int, v: int) -> int:
-        key = (u, v)
+        key = (u + shift1) * stride + v + shift2
         found = memo.get(key)
         if found is not None:
             return found
