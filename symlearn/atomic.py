@@ -34,7 +34,7 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
     if mode not in ("w", "wb"):
         raise ValueError("atomic_open only writes ('w' or 'wb')")
     target = Path(path)
-    if len(os.fsencode(target.name)) > _NAME_MAX:  # refused for the name the user gave, not the sibling's
+    if len(os.fsencode(target.name)) > NAME_MAX:  # refused for the name the user gave, not the sibling's
         raise OSError(errno.ENAMETOOLONG, os.strerror(errno.ENAMETOOLONG), str(target))
     if target.is_dir():  # os.replace would fail naming the temporary sibling, not the user's path
         raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), str(target))
@@ -58,12 +58,12 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
 
 
 #: bytes in one path component on Linux and macOS file systems
-_NAME_MAX = 255
+NAME_MAX = 255
 
 
 def _shortened(name: str) -> str:
     """``name`` cut so ``.NAME.XXXXXXXX.tmp`` still fits in one path component."""
-    room = _NAME_MAX - len(". .12345678.tmp")
+    room = NAME_MAX - len(". .12345678.tmp")
     encoded = os.fsencode(name)
     return name if len(encoded) <= room else os.fsdecode(encoded[:room])
 

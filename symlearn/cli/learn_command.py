@@ -142,8 +142,6 @@ def _spec(args: argparse.Namespace, out) -> None:
     elif task is None:
         raise DataError("a domain has no bundled expert: give your demonstrations with --demos FILE")
     else:
-        if args.n_demos < 1:
-            raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
         demos = expert_demonstrations(task, args.n_demos, seed=seed)
     labeling = load_labeling(args.labeling) if args.labeling else None
     if labeling is not None and args.props == "learn":

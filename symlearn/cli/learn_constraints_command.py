@@ -268,8 +268,6 @@ def _learn(args: argparse.Namespace, out) -> None:
     elif world.expert is None:
         raise DataError(f"{world.name} has no bundled expert: give your demonstrations with --demos FILE")
     else:
-        if args.n_demos < 1:
-            raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
         if args.expert == "sumo":
             if world.bundled is None:
                 raise DataError("--expert sumo drives the junctions only")

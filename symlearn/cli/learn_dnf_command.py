@@ -96,8 +96,6 @@ def _demonstrations(args: argparse.Namespace, note=None):
                             hint="give --features a,b,... (one name per observation column)")
     elif args.features:
         features = list(parse_feature_names(args.features))
-    if not args.demos and args.n_demos < 1:
-        raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
     demos = demonstrations(target, args.demos, args.n_demos, seed=seed, note=note)
     if args.domain and demos.state_kind == "symbol":  # states by their names in states.jsonl
         demos = _states_as_ids(demos, domain, args.demos)

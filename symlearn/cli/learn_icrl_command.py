@@ -143,8 +143,6 @@ def _check_arguments(args: argparse.Namespace) -> None:
                         hint="beta weighs the policy's entropy; MCE-ICRL needs some (e.g. 0.01)")
     if args.iterations < 1:
         raise DataError(f"--iterations must be at least 1, got {args.iterations}")
-    if args.n_demos < 1:
-        raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
     if args.lambda_lr is not None and (args.method == "gacl" or not (math.isfinite(args.lambda_lr)
                                                                       and args.lambda_lr > 0)):
         raise DataError(f"--lambda-lr must be a number > 0 and is for --method mce-icrl, me-icrl or vme-icrl, got "

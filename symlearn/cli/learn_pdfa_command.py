@@ -65,8 +65,6 @@ def _check_outputs(args: argparse.Namespace) -> None:
         raise DataError(f"-o {args.output}: the plan is written as JSON; the name must end in .json")
     if args.dot and Path(args.dot).suffix != ".dot":
         raise DataError(f"--dot {args.dot}: the name must end in .dot (the .svg goes beside it)")
-    if args.n_demos < 1:
-        raise DataError(f"--n-demos must be at least 1, got {args.n_demos}")
 
 
 def _demonstrations(args: argparse.Namespace, note=None):

@@ -49,11 +49,10 @@ def register_learn(commands, common) -> None:
     cmd.set_defaults(handler=_rm)
 
 
-#: the longest file name most file systems take (ext4, xfs, btrfs, tmpfs: 255 bytes)
-_NAME_MAX = 255
-
-
 def _check_arguments(args: argparse.Namespace) -> None:
+    import os
+
+    from symlearn.atomic import NAME_MAX
     from symlearn.errors import DataError
 
     if args.output and Path(args.output).suffix.lower() != ".json":
@@ -64,9 +63,9 @@ def _check_arguments(args: argparse.Namespace) -> None:
         # file system refuses does not leave the machine written and its companions missing
         stem = Path(args.output).with_suffix("").name
         longest = f"{stem}.labeling.features.safetensors"
-        if len(longest.encode("utf-8", "surrogateescape")) > _NAME_MAX:
+        if len(os.fsencode(longest)) > NAME_MAX:
             raise DataError(f"-o {args.output[:60]!r}... is too long a name: the files written beside it "
-                            f"(e.g. NAME.labeling.features.safetensors) would have more than {_NAME_MAX} bytes",
+                            f"(e.g. NAME.labeling.features.safetensors) would have more than {NAME_MAX} bytes",
                             hint="choose a shorter file name")
     if args.dot and Path(args.dot).suffix.lower() != ".dot":
         raise DataError(f"--dot must name a .dot file, got {args.dot!r}")

@@ -328,11 +328,11 @@ def _read_table(path: Path, key: str, names: dict[int, str] | None = None,
             columns[ident] = _text_column(text, key)
     if not table:
         raise DataError("the file lists nothing", file=str(path))
-    if max(table) != len(table) - 1:  # ids are distinct and >= 0: a gap exactly when the largest is too large
+    largest = max(table)  # the line to look at on a gap: usually a typo in the largest id
+    if largest != len(table) - 1:  # ids are distinct and >= 0: a gap exactly when the largest is too large
         # the first missing id from the sorted ids, not from range(largest + 1): an id of 10^18
         # made that a set of 10^18 numbers (reported as the worker's memory limit)
         missing = next(i for i, ident in enumerate(sorted(table)) if ident != i)
-        largest = max(table)  # the line to look at: usually a typo in the largest id
         shown = str(largest) if largest < 10**20 else f"{str(largest)[:6]}... ({len(str(largest))} digits)"
         raise DataError(f"ids must be 0..{shown} without gaps; id {missing} is missing", file=str(path),
                         line=table[largest][1], hint=f"this line has id {shown}; ids count 0, 1, 2, ... in any order")

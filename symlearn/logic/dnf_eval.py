@@ -444,7 +444,7 @@ def compile_plan(formula: Any, *, mode: str | None = None) -> Plan:
         features=tuple(features), m=m, use_masks=use_masks, grid=_frozen(grid), offsets=_frozen(offsets),
         first=_frozen(np.concatenate(tables) if tables else np.zeros(0, np.int32)),
         thresholds=_frozen(np.concatenate(padded) if padded else np.zeros(0)),
-        masks=_frozen(np.concatenate(mask_rows) if mask_rows and build_masks else empty_rows),
+        masks=_frozen(np.concatenate(mask_rows) if mask_rows else empty_rows),
         done=_frozen(_bits(done, W)), init=_frozen(_bits(~never, W)),
         test_start=_frozen(np.array(test_start, dtype=np.intp)), test_step=_frozen(np.array(test_step, dtype=np.intp)),
         lo=_frozen(np.array(lo, dtype=code_dtype)), hi=_frozen(np.array(hi, dtype=code_dtype)),

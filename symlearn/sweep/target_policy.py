@@ -64,14 +64,20 @@ def _installed_at(top: str) -> Path | None:
         return None
     places = [spec.origin] if spec.origin not in (None, "built-in", "frozen") else []
     places += list(spec.submodule_search_locations or ())
-    found = []
     for place in places:
         try:
-            where = Path(place).resolve()
+            folder = _installation_folder(Path(place).resolve())
         except (OSError, RuntimeError):
             continue
-        found += [folder for folder in _installation() if where.is_relative_to(folder)]
-    return max(found, key=lambda f: len(f.parts), default=None)  # the innermost: site-packages, not lib/
+        if folder is not None:
+            return folder
+    return None
+
+
+def _installation_folder(path: Path) -> Path | None:
+    """The innermost folder of the Python installation holding the resolved ``path`` (site-packages
+    rather than the lib folder around it), or None."""
+    return max((f for f in _installation() if path.is_relative_to(f)), key=lambda f: len(f.parts), default=None)
 
 
 def function_refusal(reference: str, base: Path, allowed: Iterable[str] = ()) -> str | None:
@@ -80,11 +86,10 @@ def function_refusal(reference: str, base: Path, allowed: Iterable[str] = ()) ->
     libraries in :data:`LIBRARIES`)."""
     where, _, _ = reference.rpartition(":")
     if where.endswith(".py"):
-        path = (base / where).resolve()
-        for folder in _installation():
-            if path.is_relative_to(folder):
-                return (f"{where} lies inside the Python installation ({folder}); a sweep runs functions from "
-                        "its own files or from a named package")
+        folder = _installation_folder((base / where).resolve())
+        if folder is not None:
+            return (f"{where} lies inside the Python installation ({folder}); a sweep runs functions from "
+                    "its own files or from a named package")
         return None
     top = where.split(".", 1)[0]
     if top in sys.stdlib_module_names or top in sys.builtin_module_names:

@@ -86,9 +86,10 @@ def compose(formula: Formula, direct: Direct, max_states: int) -> DFA:
     their ~0.5 ms. A formula that is not composite and fails the trial is progressed unbounded."""
     result = _Composer(direct, max_states).dfa(formula, trial_first=True)
     if result.is_symbolic():  # products stay symbolic (_product): listed edges where they are few
+        diagram, roots = result.transition_diagram()
         accepting = result.accepting
-        result = td.finish(result._diagram, result._roots, [q in accepting for q in range(result.n_states)],
-                           result.initial, result.alphabet)
+        result = td.finish(diagram, roots, [q in accepting for q in range(result.n_states)], result.initial,
+                           result.alphabet)
     return result
 
 
