@@ -21,8 +21,12 @@ start plus the imports the function needs, about 0.2 s (``docs/BENCHMARKS.md``).
 >>> run_limited(sum, [1, 2, 3], seconds=10, memory_mb=512)
 6
 
-Memory limits count address space (``RLIMIT_AS``), so a limit of N MB leaves somewhat less than
-N MB of data; on systems without ``resource`` (Windows) only the time limit applies.
+Memory limits count address space (``RLIMIT_AS``) *beyond the worker's start*: the child loads
+numpy and clingo first (their libraries map ~100 MB, more on a machine with many cores), reads
+the address space it then holds, and allows N MB on top of that, so that a limit means memory
+for the work on every machine (with a bare N MB of address space, 200 MB could not check a
+three-state domain). A limit of N MB leaves somewhat less than N MB of data; on systems without
+``resource`` (Windows) only the time limit applies.
 """
 
 from __future__ import annotations
@@ -45,9 +49,9 @@ MEMORY_VARIABLE = "SYMLEARN_MAX_MEMORY_MB"
 #: and measuring what the worker costs: ``benchmarks/ilp_worker_overhead.py``)
 IN_PROCESS_VARIABLE = "SYMLEARN_WORKER"
 DEFAULT_MEMORY_MB = 1024
-#: the smallest memory limit accepted: below it the worker cannot even load numpy and clingo
-#: (their libraries map ~100 MB of address space), so every run would fail the same way
-MIN_MEMORY_MB = 128
+#: the smallest memory limit accepted (on top of the worker's libraries, see above): below it
+#: the checks of a small domain folder (a few states) run out, so every run would fail the same way
+MIN_MEMORY_MB = 192
 #: Timeouts above this many seconds (about 31 years) mean "no limit": clingo converts a timeout
 #: to a clock deadline, and ``1e308`` overflows it into "already passed".
 NO_LIMIT_ABOVE = 1e9
@@ -127,6 +131,7 @@ def _limit_resources(memory_bytes: int | None, cpu_seconds: float | None) -> Non
         # and prints to stderr when it cannot; the worker grounds and solves, one thread is plenty
         for variable in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS"):
             os.environ.setdefault(variable, "1")
+        memory_bytes += _baseline_bytes()
         _soft, hard = resource.getrlimit(resource.RLIMIT_AS)
         bound = memory_bytes if hard == resource.RLIM_INFINITY else min(memory_bytes, hard)
         resource.setrlimit(resource.RLIMIT_AS, (bound, hard))
@@ -140,6 +145,25 @@ def _limit_resources(memory_bytes: int | None, cpu_seconds: float | None) -> Non
         resource.setrlimit(resource.RLIMIT_CORE, (0, resource.getrlimit(resource.RLIMIT_CORE)[1]))
     except (ValueError, OSError):
         pass
+
+
+def _baseline_bytes() -> int:
+    """The address space of this worker once the libraries every worker's task uses are loaded
+    (numpy and clingo: loaded here, before the limit, which the tasks would do anyway); 0 where
+    ``/proc`` does not tell, and the limit is then the bare address space as before."""
+    for module in ("numpy", "clingo"):
+        try:
+            __import__(module)
+        except ImportError:
+            pass
+    try:
+        with open("/proc/self/status", encoding="ascii", errors="replace") as handle:
+            for line in handle:
+                if line.startswith("VmSize:"):
+                    return int(line.split()[1]) * 1024
+    except (OSError, ValueError, IndexError):
+        pass
+    return 0
 
 
 def _one_malloc_arena() -> None:

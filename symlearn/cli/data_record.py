@@ -22,7 +22,8 @@ from __future__ import annotations
 import argparse
 from typing import Any
 
-MAX_EPISODES = 100_000
+from symlearn.cli.flag_values import MAX_DEMOS as MAX_EPISODES  # one bound for every recorded-episode count
+
 MAX_EPISODE_STEPS = 10_000_000
 
 

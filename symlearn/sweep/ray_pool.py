@@ -85,7 +85,8 @@ class RayPool:
                 from symlearn.atomic import write_text
 
                 write_text(self._node_file, json.dumps({"node_id": ray.get_runtime_context().get_node_id(),
-                                                        "driver": os.getpid()}) + "\n")
+                                                        "driver": os.getpid(),
+                                                        "driver_start": _start_time(os.getpid())}) + "\n")
         if log_folder is not None:
             # Ray's driver prints the raylet's notices ("a worker died ...") on sys.stdout from a
             # thread of its own, even with log_to_driver=False; stdout is the command's (one
@@ -164,9 +165,10 @@ def end_leftovers(log_folder: str | os.PathLike) -> list[int]:
         with open(path, encoding="utf-8") as handle:
             recorded = json.load(handle)
         node, driver = str(recorded["node_id"]), int(recorded["driver"])
-    except (OSError, ValueError, KeyError, TypeError):
+        started = recorded.get("driver_start")
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
         return []
-    if _alive(driver) and driver != os.getpid():
+    if _alive(driver, started) and driver != os.getpid():
         return []  # that run is still going (the store's lock refuses it anyway)
     marker = f"RAY_NODE_ID={node}".encode()
     ended = []
@@ -185,14 +187,32 @@ def end_leftovers(log_folder: str | os.PathLike) -> list[int]:
     return ended
 
 
-def _alive(pid: int) -> bool:
+def _alive(pid: int, started: Any = None) -> bool:
+    """Whether the process ``pid`` still runs; with ``started`` (its start time as recorded), also
+    that it is the same process: pids are reused (32,768 of them by default), and a busy machine
+    hands a dead driver's pid to a new process within minutes."""
     try:
         os.kill(pid, 0)
     except ProcessLookupError:
         return False
-    except PermissionError:
+    except (PermissionError, OverflowError, ValueError):
         return True
-    return True
+    if started is None:
+        return True
+    now = _start_time(pid)
+    return now is None or now == started
+
+
+def _start_time(pid: int) -> int | None:
+    """The process's start time in clock ticks since boot (field 22 of ``/proc/PID/stat``), or
+    None where /proc does not say."""
+    try:
+        with open(f"/proc/{pid}/stat", encoding="utf-8", errors="replace") as handle:
+            text = handle.read()
+        # the command name (field 2) is in parentheses and may itself hold spaces or ')'
+        return int(text[text.rindex(")") + 2:].split()[19])
+    except (OSError, ValueError, IndexError):
+        return None
 
 
 def _first_line(exc: BaseException) -> str:

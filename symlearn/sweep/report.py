@@ -63,6 +63,11 @@ def load_results(folder: str | Path) -> SweepResults:
     except (KeyError, TypeError, AttributeError) as exc:
         raise DataError(f"the recorded sweep is incomplete ({exc})", file=Path(folder) / "sweep.json") from None
     cells = spec.cells()
+    recorded = meta.get("cells")  # what the runner wrote: a hand edit that contradicts it is named
+    if recorded is not None and (type(recorded) is not int or recorded != len(cells)):
+        shown = json.dumps(recorded)
+        raise DataError(f"the recorded sweep says \"cells\": {shown if len(shown) <= 40 else shown[:37] + '...'}, "
+                        f"its grid has {len(cells)}", file=Path(folder) / "sweep.json")
     wanted = {c.id: c for c in cells}
     latest_ok: dict[str, dict] = {}
     last_failure: dict[str, dict] = {}

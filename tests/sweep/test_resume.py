@@ -109,21 +109,30 @@ def test_appended_records_survive_as_strict_json(tmp_path):
 def test_leftovers_of_a_killed_embedded_ray_are_ended_and_nothing_else(tmp_path):
     """Ray's agents outlive a SIGKILLed driver; the next run ends the processes that carry the
     recorded node id in their environment, and leaves every other process alone."""
-    from symlearn.sweep.ray_pool import NODE_FILE, end_leftovers
+    from symlearn.sweep.ray_pool import NODE_FILE, _start_time, end_leftovers
 
-    gone = subprocess.Popen([sys.executable, "-c", "pass"])
-    gone.wait()  # the "driver": dead
+    gone = subprocess.Popen(["sleep", "60"])
+    gone_start = _start_time(gone.pid)
+    gone.kill()
+    gone.wait()  # the "driver": dead (its pid may be another process's by now: the start time tells)
     leftover = subprocess.Popen(["sleep", "60"], env={**os.environ, "RAY_NODE_ID": "feedbeef"})
     bystander = subprocess.Popen(["sleep", "60"], env={**os.environ, "RAY_NODE_ID": "other"})
     try:
-        (tmp_path / NODE_FILE).write_text(json.dumps({"node_id": "feedbeef", "driver": gone.pid}))
+        (tmp_path / NODE_FILE).write_text(json.dumps({"node_id": "feedbeef", "driver": gone.pid,
+                                                      "driver_start": gone_start}))
         assert end_leftovers(tmp_path) == [leftover.pid]
         assert leftover.wait(timeout=10) == -signal.SIGKILL
         assert bystander.poll() is None
         assert not (tmp_path / NODE_FILE).exists()
         # a record of a driver that is still running is left alone
-        (tmp_path / NODE_FILE).write_text(json.dumps({"node_id": "other", "driver": bystander.pid}))
+        (tmp_path / NODE_FILE).write_text(json.dumps({"node_id": "other", "driver": bystander.pid,
+                                                      "driver_start": _start_time(bystander.pid)}))
         assert end_leftovers(tmp_path) == [] and bystander.poll() is None
+        # a driver's pid now held by another process (pids are reused) counts as ended
+        (tmp_path / NODE_FILE).write_text(json.dumps({"node_id": "nobody", "driver": bystander.pid,
+                                                      "driver_start": _start_time(bystander.pid) - 1}))
+        assert end_leftovers(tmp_path) == [] and not (tmp_path / NODE_FILE).exists()
+        assert bystander.poll() is None
     finally:
         for process in (leftover, bystander):
             if process.poll() is None:

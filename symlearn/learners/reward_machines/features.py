@@ -165,6 +165,12 @@ class PCAFeatures:
         pool = config.get("pool")
         if isinstance(pool, bool) or not isinstance(pool, int) or pool < 1:
             raise ModelError(f"a PCA features configuration needs a positive integer 'pool', got {pool!r}")
+        # the configuration states the shapes it was saved with: one that contradicts the arrays
+        # is a hand-edited or mixed-up file, refused rather than read by the arrays alone
+        for key, size in (("n_components", components.shape[0]), ("inputs", mean.shape[0])):
+            if key in config and (type(config[key]) is not int or config[key] != size):
+                raise ModelError(f"the PCA features configuration says {key} = {_short(config[key])}, "
+                                 f"its arrays hold {size}")
         features = cls(n_components=int(components.shape[0]), pool=pool)
         features.pool_ = pool
         features.mean_, features.components_ = mean.astype(np.float32), components.astype(np.float32)
@@ -261,3 +267,8 @@ def clear_cache() -> None:
 
 __all__ = ["CallableFeatures", "PCAFeatures", "as_frames", "clear_cache", "dataset_key", "extract",
            "lighting_normalised", "make_extractor"]
+
+
+def _short(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."

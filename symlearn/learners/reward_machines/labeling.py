@@ -159,7 +159,10 @@ class PrototypeLabeling(LabelingBase):
                 arrays = load_arrays(read_input_bytes(file, variable="SYMLEARN_MAX_ARRAY_MB", what="features file"))
             except (SafetensorError, OSError) as exc:
                 raise DataError(f"cannot read the features file {file.name}: {exc}", file=path) from None
-            features = PCAFeatures.from_arrays(features_doc, arrays)
+            try:
+                features = PCAFeatures.from_arrays(features_doc, arrays)
+            except ModelError as exc:
+                raise ModelError(exc.message, file=path, hint=exc.hint) from None
         elif kind == "autoencoder":
             from symlearn.learners.reward_machines.autoencoder import AutoencoderFeatures
 

@@ -41,7 +41,7 @@ from typing import AbstractSet
 from symlearn.errors import LimitExceededError
 from symlearn.logic.automata.partition_refinement import split_blocks
 
-__all__ = ["TransitionDiagram", "EXPLICIT_EDGES", "MAX_MATERIALISED_EDGES", "materialise", "count_edges",
+__all__ = ["TransitionDiagram", "ProductNodesExceeded", "EXPLICIT_EDGES", "MAX_MATERIALISED_EDGES", "materialise", "count_edges",
            "coarsest_blocks", "canonical_numbering", "finish", "from_guarded", "product", "reachable",
            "shortest_word", "live", "minimal", "quotient", "canonical_form"]
 
@@ -50,6 +50,11 @@ __all__ = ["TransitionDiagram", "EXPLICIT_EDGES", "MAX_MATERIALISED_EDGES", "mat
 EXPLICIT_EDGES = 10_000
 #: producing more guarded edges than this from a symbolic DFA raises LimitExceededError
 MAX_MATERIALISED_EDGES = 1_000_000
+
+
+class ProductNodesExceeded(LimitExceededError):
+    """A product's diagram would need more nodes than its ``max_nodes`` (its states may be few):
+    a kind of its own, so that a caller names the right limit without reading the message."""
 
 
 class TransitionDiagram:
@@ -915,7 +920,7 @@ def product(left: tuple[TransitionDiagram, Sequence[int], int], right: tuple[Tra
             w0, w1 = (l2[v], h2[v]) if b == top else (v, v)
             found = result.node(top, apply(u0, w0), apply(u1, w1))
             if max_nodes is not None and len(memo) >= max_nodes:
-                raise LimitExceededError(f"the product automaton's diagram needs more than {max_nodes:,} nodes",
+                raise ProductNodesExceeded(f"the product automaton's diagram needs more than {max_nodes:,} nodes",
                                          hint="minimise the operands first or split the formula")
         memo[key] = found
         return found

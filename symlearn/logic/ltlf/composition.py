@@ -332,12 +332,12 @@ def _product(left: DFA, right: DFA, accept, max_states: int) -> DFA:
     try:
         diagram, roots, pairs = td.product((d1, r1, left.initial), (d2, r2, right.initial), max_states=max_states,
                                            max_nodes=nodes)
-    except LimitExceededError as exc:
-        if "nodes" in str(exc):
-            raise LimitExceededError(f"the automaton of this formula needs more than {nodes:,} decision-diagram "
-                                     "nodes while its parts are joined",
-                                     hint="split the formula or raise SYMLEARN_MAX_TRANSLATION_NODES (0: no "
-                                          "limit)") from None
+    except td.ProductNodesExceeded:
+        raise LimitExceededError(f"the automaton of this formula needs more than {nodes:,} decision-diagram "
+                                 "nodes while its parts are joined",
+                                 hint="split the formula or raise SYMLEARN_MAX_TRANSLATION_NODES (0: no "
+                                      "limit)") from None
+    except LimitExceededError:
         raise LimitExceededError(f"the automaton of this formula needs more than {max_states} states",
                                  hint="raise max_states (CLI: --max-states) or split the formula") from None
     a1, a2 = left.accepting, right.accepting

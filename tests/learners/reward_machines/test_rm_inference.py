@@ -72,6 +72,19 @@ def test_learned_labeling_is_exclusive_and_saves(tmp_path):
     again = PrototypeLabeling.load(tmp_path / "lab.json")
     assert np.array_equal(again.label_matrix(frames), matrix) and again.kappa == learner.kappa_
     assert learner.label_words(demos.front) == [tuple(w) for w in learner.label_words_]
+    # a configuration that contradicts its arrays (hand-edited, or another file's) is refused
+    import json
+
+    from symlearn.errors import ModelError
+
+    document = json.loads((tmp_path / "lab.json").read_text())
+    for key, value in (("n_components", 10**12), ("n_components", document["features"]["n_components"] + 1),
+                       ("inputs", "7"), ("n_components", True)):
+        edited = dict(document, features={**document["features"], key: value})
+        (tmp_path / "lab.json").write_text(json.dumps(edited))
+        with pytest.raises(ModelError, match=f"says {key} = .*its arrays hold") as caught:
+            PrototypeLabeling.load(tmp_path / "lab.json")
+        assert str(caught.value.file).endswith("lab.json")
 
 
 def test_a_machine_run_on_the_labels_reaches_the_goal_with_reward_one():
