@@ -9,7 +9,10 @@ on the machine hits both alike) and compares per-formula best times:
 * ``to DFA``: the same, up to a :class:`~symlearn.logic.automata.DFA` (trees where ``translate``
   returned a separate table class call its ``to_dfa()``);
 * ``guard ops``: 3000 random guards of 5 operations over 6 propositions, then evaluated;
-* ``DFA ops``: products, minimisation and equivalence of 12 translated Dwyer patterns, pairwise.
+* ``DFA ops``: products, minimisation and equivalence of 12 translated Dwyer patterns, pairwise;
+* ``tlsf`` (with ``--tlsf-list FILE``, one basic TLSF path per line, e.g. files of SYNTCOMP's
+  ``tlsf-fin``): ``translate`` on each file's formula, best of 3, and its state count, which must
+  agree between the trees.
 
 Make the "before" tree from a commit without touching the working copy, e.g.::
 
@@ -40,7 +43,7 @@ def best(fn, repeat: int) -> float:
     return result
 
 
-def measure(tree: Path) -> dict:
+def measure(tree: Path, tlsf: list[str]) -> dict:
     """The workload in ``tree`` (run in a child process whose sys.path starts with it)."""
     sys.path.insert(0, str(tree))
     import symlearn
@@ -89,6 +92,12 @@ def measure(tree: Path) -> dict:
 
     out["guard_ops_s"] = best(guard_work, 7)
     out["dfa_ops_s"] = best(dfa_work, 7)
+    if tlsf:
+        from symlearn.logic.ltlf.tlsf import load_tlsf
+
+        specs = [load_tlsf(path).formula for path in tlsf]
+        out["tlsf_s"] = [best(lambda f=f: translate(f, max_states=500_000), 3) for f in specs]
+        out["tlsf_states"] = [translate(f, max_states=500_000).n_states for f in specs]
     return out
 
 
@@ -112,6 +121,15 @@ def summarise(before: list[dict], after: list[dict]) -> list[str]:
     for key, label in (("guard_ops_s", "guard ops"), ("dfa_ops_s", "DFA ops")):
         x, y = min(r[key] for r in before), min(r[key] for r in after)
         lines.append(f"{label:9s}: {x * 1000:.1f} -> {y * 1000:.1f} ms, ratio after/before {y / x:.3f}")
+    if "tlsf_s" in before[0]:
+        if before[0]["tlsf_states"] != after[0]["tlsf_states"]:
+            lines.append("tlsf     : STATE COUNTS DIFFER " + str([(i, x, y) for i, (x, y) in enumerate(
+                zip(before[0]["tlsf_states"], after[0]["tlsf_states"])) if x != y]))
+        a, b = per_formula(before, "tlsf_s"), per_formula(after, "tlsf_s")
+        lines.append(f"tlsf     : {len(a)} files, total {sum(a) * 1000:.1f} -> {sum(b) * 1000:.1f} ms, ratio "
+                     f"{sum(b) / sum(a):.3f}; per-file median ratio {statistics.median(y / x for x, y in zip(a, b)):.3f}")
+        for path, x, y in zip(before[0]["tlsf"], a, b):
+            lines.append(f"   {path[-58:]:58s} {x * 1000:9.1f} -> {y * 1000:9.1f} ms  ({y / x:.2f})")
     return lines
 
 
@@ -121,17 +139,20 @@ def main() -> None:
     parser.add_argument("after", type=Path, nargs="?", help="source tree after the change")
     parser.add_argument("--rounds", type=int, default=5)
     parser.add_argument("--json", type=Path, help="also write every measurement to this JSON file")
+    parser.add_argument("--tlsf-list", type=Path, help="also time these basic TLSF files (one path per line)")
     parser.add_argument("--measure", type=Path, help=argparse.SUPPRESS)  # child process: one tree
     args = parser.parse_args()
+    tlsf = [line.strip() for line in args.tlsf_list.read_text().splitlines() if line.strip()] if args.tlsf_list else []
     if args.measure:
-        print(json.dumps(measure(args.measure)))
+        print(json.dumps({**measure(args.measure, tlsf), "tlsf": tlsf}))
         return
     if args.before is None or args.after is None:
         parser.error("give the two source trees")
     runs: dict[str, list[dict]] = {"before": [], "after": []}
     for _ in range(args.rounds):
         for side, tree in (("before", args.before), ("after", args.after)):
-            done = subprocess.run([sys.executable, str(HERE), "--measure", str(tree.resolve())],
+            extra = ["--tlsf-list", str(args.tlsf_list)] if args.tlsf_list else []
+            done = subprocess.run([sys.executable, str(HERE), "--measure", str(tree.resolve()), *extra],
                                   capture_output=True, text=True, check=True)
             runs[side].append(json.loads(done.stdout))
     print(f"# {' '.join(sys.argv)}")

@@ -61,6 +61,9 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--tlsf-list", type=Path, help="file with one basic TLSF path per line")
     parser.add_argument("--budgets", default="100000,50000,25000,10000", help="TRIAL_NODES values to compare")
+    parser.add_argument("--knob", choices=("TRIAL_NODES", "TRIAL_FIRST_NODES"), default="TRIAL_NODES",
+                        help="which bound of the trial --budgets sets (TRIAL_FIRST_NODES: the first state's "
+                             "share; a value >= TRIAL_NODES turns it off)")
     parser.add_argument("--rounds", type=int, default=2)
     parser.add_argument("--repeat", type=int, default=3)
     parser.add_argument("--json", type=Path)
@@ -69,11 +72,11 @@ def main() -> None:
     loads = workloads(args.tlsf_list)
     times = {b: {name: [float("inf")] * len(items) for name, items in loads.items()} for b in budgets}
     states: dict[str, list[int]] = {}
-    original = composition.TRIAL_NODES
+    original = getattr(composition, args.knob)
     try:
         for _ in range(args.rounds):
             for b in budgets:
-                composition.TRIAL_NODES = b
+                setattr(composition, args.knob, b)
                 for name, items in loads.items():
                     for i, (_, formula) in enumerate(items):
                         seconds, n = timed(formula, args.repeat)
@@ -83,7 +86,7 @@ def main() -> None:
                             raise SystemExit(f"state counts differ across budgets on {items[i][0]!r}")
                         found[i] = n
     finally:
-        composition.TRIAL_NODES = original
+        setattr(composition, args.knob, original)
     reference = budgets[0]
     print(f"# {' '.join(sys.argv)}")
     for name, items in loads.items():
@@ -95,7 +98,7 @@ def main() -> None:
             print(f"  {b:>8,}: {1000 * total:9.1f} ms  median ratio {statistics.median(ratios):.3f}  "
                   f"worst {ratios[worst]:.2f} ({items[worst][0][-60:]})")
     if args.json:
-        doc = {"command": " ".join(sys.argv), "budgets": budgets,
+        doc = {"command": " ".join(sys.argv), "knob": args.knob, "budgets": budgets,
                "formulas": {name: [label for label, _ in items] for name, items in loads.items()},
                "states": states, "seconds": {str(b): times[b] for b in budgets}}
         args.json.write_text(json.dumps(doc, indent=1) + "\n")

@@ -31,6 +31,13 @@ progression of the leaf fails its trial: ``X[!] G (r1 & ... & r40)``, a double c
 becomes forty small parts. And a part joined to its start conditions that is itself a composite
 skeleton is progressed whole only within :data:`JOINED_NODES`, then composed with its conditions
 apart; the measurements that chose both are in ``docs/BENCHMARKS.md`` (issue 27).
+
+An assumption joins its guarantee's products. ``A -> G`` is ``!A | G``, which is also
+``!A | (A & G)``; when ``G`` is composed from parts, ``A``'s DFA is one more member of the
+products of every group of parts it shares a proposition with, so they only follow what the
+assumption allows. A specification's guarantees, built alone, can grow past what the assumption
+lets happen: SYNTCOMP's Syft ``145`` built a 260-state guarantee that the assumption's complement
+then made universal (53 ms of its 137); with the assumption in its products, 27 ms in all.
 """
 
 from __future__ import annotations
@@ -46,7 +53,7 @@ from symlearn.logic.ltlf.ast import (Always, And, Binary, Const, Eventually, For
 
 __all__ = ["compose", "is_composite"]
 
-Direct = Callable[..., DFA]  # direct(formula, max_states, max_nodes=None): progression
+Direct = Callable[..., DFA]  # direct(formula, max_states, max_nodes=None, first_nodes=None): progression
 
 #: a composite formula is first given to progression within these bounds: small formulas (the
 #: LTLf learning benchmark's, Dwyer's patterns) finish there, 1.5-5x faster than through products
@@ -57,6 +64,11 @@ Direct = Callable[..., DFA]  # direct(formula, max_states, max_nodes=None): prog
 #: ~10 ms, not the ~100 ms of the former 100,000 (benchmarks/ltlf_trial_budget.py)
 TRIAL_STATES = 256
 TRIAL_NODES = 12_000
+#: ... and of those nodes, the first state (with the steps of the formula's temporal nodes it is
+#: built from) may take at most this many: the largest first state of a successful trial on our
+#: formula set and the tlsf-fin sample takes 2,755 (a single counter's), while most failures run
+#: out of the whole budget before their first state is done, so they now stop at a third of it
+TRIAL_FIRST_NODES = 4_000
 #: a composite part joined to its start conditions is progressed whole within this many BDD nodes
 #: (a fifth of the default translation limit) before it is composed instead: SYNTCOMP's Nim games
 #: finish whole within it (nim_pb_02_07: 235 states, under 1,000,000 nodes, 5 s; composed, over
@@ -121,14 +133,17 @@ class _Composer:
             self.verdicts[id(formula)] = found
         return found
 
-    def dfa(self, formula: Formula, trial_first: bool = False) -> DFA:
+    def dfa(self, formula: Formula, trial_first: bool = False, under: DFA | None = None) -> DFA:
         """The formula's DFA. A part (``trial_first`` false) that is not composite is progressed
-        at once, without a trial it would mostly fail; the whole formula is tried first."""
+        at once, without a trial it would mostly fail; the whole formula is tried first.
+
+        With ``under`` (the DFA of an assumption ``A`` of ``A -> formula``) the result may be
+        the DFA of ``under & formula`` instead: both give the same ``!A | ...``."""
         distributable = self.distributable(formula)
         if not trial_first and not self.composite(formula) and not distributable:
             return self.progressed(formula)
         try:
-            return self.direct(formula, min(self.max_states, TRIAL_STATES), TRIAL_NODES)
+            return self.direct(formula, min(self.max_states, TRIAL_STATES), TRIAL_NODES, TRIAL_FIRST_NODES)
         except LimitExceededError:
             if not self.composite(formula) and not distributable:  # (a refusal within the trial's bounds comes again, as fast)
                 return self.progressed(formula)
@@ -137,7 +152,8 @@ class _Composer:
         if isinstance(formula, Not):
             return complement(self.dfa(formula.arg))
         if isinstance(formula, Implies):
-            return self.join([complement(self.dfa(formula.left)), self.dfa(formula.right)], "or")
+            assumption = self.dfa(formula.left)
+            return self.join([complement(assumption), self.dfa(formula.right, under=assumption)], "or")
         if isinstance(formula, Iff):
             return self.join([self.dfa(formula.left), self.dfa(formula.right)], "iff")
         mode = "and" if isinstance(formula, And) else "or"
@@ -154,7 +170,11 @@ class _Composer:
             dfas.append(self.direct(_rebuild(loose, And if mode == "and" else Or), self.max_states))
         for group in groups:
             if len(group) > 1 or self.composite(parts[group[0]]):
-                dfas.append(self.join([self.dfa(parts[i]) for i in group], mode))
+                members = [self.dfa(parts[i]) for i in group]
+                if under is not None and mode == "and" and under.alphabet & frozenset().union(
+                        *(m.alphabet for m in members)):
+                    members.append(under)
+                dfas.append(self.join(members, mode))
         return self.join(dfas, mode)
 
     def progressed(self, formula: Formula) -> DFA:

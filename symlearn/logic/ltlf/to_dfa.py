@@ -222,7 +222,7 @@ class _Translation:
         return arg if self.nodes[arg][0] == _TT else self._mk((_WX, arg))
 
     # -- symbolic automaton --------------------------------------------------------------------
-    def explore(self, max_states: int, max_nodes: int | None = None) -> tuple | DFA:
+    def explore(self, max_states: int, max_nodes: int | None = None, first_nodes: int | None = None) -> tuple | DFA:
         """``(diagram, roots, accepting, initial, propositions)`` of the reachable obligations, or
         the minimal DFA itself when it has at most EXPLICIT_EDGES edges before minimisation)."""
         # a manager of its own, dropped after the translation: obligation nodes outnumber the edge
@@ -255,6 +255,8 @@ class _Translation:
                 self.level_of[nid] = level
                 self.end_value[level] = key[0] in _TRUE_AT_END
         self.ne_level = n_props + len(self.level_of)
+        if first_nodes is not None:  # the steps and the first state within a bound of their own
+            bdd.max_nodes = first_nodes if nodes is None else min(nodes, first_nodes)
         self.end_value[self.ne_level] = False
         self.ne = bdd.var(self.ne_level)
         self.now_memo: dict[int, int] = {}
@@ -299,6 +301,7 @@ class _Translation:
 
         for state in states:  # grows while we iterate: breadth-first exploration
             top = self._compose_state(state)
+            bdd.max_nodes = nodes
             roots.append(top)
             if edges is not None:
                 if self._successors_fit(top, EXPLICIT_EDGES - n_edges):
@@ -690,9 +693,11 @@ def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFA:
             gc.enable()
 
 
-def _progression(formula: Formula, max_states: int, max_nodes: int | None = None) -> DFA:
+def _progression(formula: Formula, max_states: int, max_nodes: int | None = None,
+                 first_nodes: int | None = None) -> DFA:
     """The minimal DFA of ``formula`` by progression of the whole formula (steps 1-6 above);
-    ``max_nodes`` bounds the obligation manager below its configured limit."""
+    ``max_nodes`` bounds the obligation manager below its configured limit, ``first_nodes``
+    the part of it spent before the first state is built (a trial's early exit)."""
     from symlearn.logic.automata.dfa import DFA
     from symlearn.logic.automata.transition_diagram import minimal
 
@@ -701,7 +706,7 @@ def _progression(formula: Formula, max_states: int, max_nodes: int | None = None
     # per elementary sub-formula), so a conjunction of 10,000 conjuncts is not "too deep"
     levels = len(translation.props) + sum(key[0] in _ELEMENTARY for key in translation.nodes) + 1
     sys.setrecursionlimit(max(sys.getrecursionlimit(), 3 * levels + 1000))
-    explored = translation.explore(max_states, max_nodes)
+    explored = translation.explore(max_states, max_nodes, first_nodes)
     # the obligation manager and its caches go before minimisation, whose peak memory then
     # does not add to the exploration's
     del translation

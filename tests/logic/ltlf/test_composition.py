@@ -47,6 +47,11 @@ def test_composition_gives_the_dfa_progression_gives(f):
     "(F a & G !a) | (b W a)",
     "(F a | G !a) <-> (b U a)",
     "((F a & G !a) | (F c | G !c)) & (G(a -> X b) | F c)",
+    # an assumption joins the products of the guarantee's parts it shares propositions with
+    "(G F a & G(a -> X b)) -> (G(b -> X c) & F(c & a) & G(c -> !b))",
+    "(G a) -> (G(b -> X c) & F(c & b) & G(a -> X a) & F(a & X !a))",
+    "(F a & G(b -> X !a)) -> ((G(a -> X b) & (b U c)) | G(c -> X d))",
+    "((a U b) -> (G(a -> X b) & F(b & c))) & ((G F c) -> (G(c -> X d) & F(d & !c)))",
 ])
 def test_composed_skeletons(text, always_compose):
     f = parse(text)
