@@ -889,9 +889,13 @@ def product(left: tuple[TransitionDiagram, Sequence[int], int], right: tuple[Tra
     index = {start: 0}
     pairs = [start]
     memo: dict[int, int] = {}
-    v1, l1, h1 = d1.var, d1.low, d1.high
-    v2, l2, h2 = d2.var, d2.low, d2.high
-    big = len(names)
+    # each node's variable as the product's index, looked up once per node here instead of twice
+    # per visit; and the result's node table filled inline (a method call per node was a tenth of
+    # a large product's time: countersDouble_pb_05's products 2.14 -> 1.87 s)
+    t1 = [map1[x] for x in d1.var]
+    t2 = [map2[x] for x in d2.var]
+    l1, h1, l2, h2 = d1.low, d1.high, d2.low, d2.high
+    rvar, rlow, rhigh, unique = result.var, result.low, result.high, result._unique
     # one int per pair of nodes instead of a tuple (leaves ~s are negative: shifted by the states):
     # the memo is what a large product's memory is made of, ~80 bytes less an entry
     shift1, shift2 = len(roots1), len(roots2)
@@ -902,26 +906,47 @@ def product(left: tuple[TransitionDiagram, Sequence[int], int], right: tuple[Tra
         found = memo.get(key)
         if found is not None:
             return found
-        if u < 0 and v < 0:
-            pair = (~u, ~v)
-            j = index.get(pair)
-            if j is None:
-                if max_states is not None and len(pairs) >= max_states:
-                    raise LimitExceededError(f"the product automaton exceeds {max_states} states",
-                                             hint="raise max_states or minimise the operands first")
-                j = index[pair] = len(pairs)
-                pairs.append(pair)
-            found = ~j
+        if u < 0:
+            if v < 0:
+                pair = (~u, ~v)
+                j = index.get(pair)
+                if j is None:
+                    if max_states is not None and len(pairs) >= max_states:
+                        raise LimitExceededError(f"the product automaton exceeds {max_states} states",
+                                                 hint="raise max_states or minimise the operands first")
+                    j = index[pair] = len(pairs)
+                    pairs.append(pair)
+                memo[key] = ~j
+                return ~j
+            top = t2[v]
+            low, high = apply(u, l2[v]), apply(u, h2[v])
+        elif v < 0:
+            top = t1[u]
+            low, high = apply(l1[u], v), apply(h1[u], v)
         else:
-            a = map1[v1[u]] if u >= 0 else big
-            b = map2[v2[v]] if v >= 0 else big
-            top = min(a, b)
-            u0, u1 = (l1[u], h1[u]) if a == top else (u, u)
-            w0, w1 = (l2[v], h2[v]) if b == top else (v, v)
-            found = result.node(top, apply(u0, w0), apply(u1, w1))
-            if max_nodes is not None and len(memo) >= max_nodes:
-                raise ProductNodesExceeded(f"the product automaton's diagram needs more than {max_nodes:,} nodes",
-                                         hint="minimise the operands first or split the formula")
+            a, b = t1[u], t2[v]
+            if a == b:
+                top = a
+                low, high = apply(l1[u], l2[v]), apply(h1[u], h2[v])
+            elif a < b:
+                top = a
+                low, high = apply(l1[u], v), apply(h1[u], v)
+            else:
+                top = b
+                low, high = apply(u, l2[v]), apply(u, h2[v])
+        if low == high:
+            found = low
+        else:
+            node = (top, low, high)
+            found = unique.get(node)
+            if found is None:
+                found = unique[node] = len(rvar)
+                rvar.append(top)
+                rlow.append(low)
+                rhigh.append(high)
+        if max_nodes is not None and len(memo) >= max_nodes:
+            raise ProductNodesExceeded(f"the product automaton's diagram needs more than {max_nodes:,} nodes",
+                                       hint="minimise the operands first or split the formula")
         memo[key] = found
         return found
 

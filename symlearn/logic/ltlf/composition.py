@@ -30,7 +30,8 @@ conjunction (or of ``F``/``X``/``WX`` over a disjunction) of dependent parts is 
 progression of the leaf fails its trial: ``X[!] G (r1 & ... & r40)``, a double counter's rules,
 becomes forty small parts. And a part joined to its start conditions that is itself a composite
 skeleton is progressed whole only within :data:`JOINED_NODES`, then composed with its conditions
-apart; the measurements that chose both are in ``docs/BENCHMARKS.md`` (issue 27).
+apart, their DFAs joining the enclosing conjunction's products one by one; the measurements that
+chose both are in ``docs/BENCHMARKS.md`` (issue 27).
 
 An assumption joins its guarantee's products. ``A -> G`` is ``!A | G``, which is also
 ``!A | (A & G)``; when ``G`` is composed from parts, ``A``'s DFA is one more member of the
@@ -75,6 +76,10 @@ TRIAL_FIRST_NODES = 4_000
 #: 60 s), its double counters do not (the 5-bit one ran to the 5,000,000-node limit, 14-57 s, before
 #: being composed)
 JOINED_NODES = 1_000_000
+#: ... of which its first state may take this many: the Nim games that finish whole need up to
+#: 120,483 for it (nim_pb_02_07; 48,911 for nim_pb_03_03), while the double counters run out of
+#: the whole million before their first state is done (1.6 s lost on countersDouble_pb_05)
+JOINED_FIRST_NODES = 300_000
 
 _ACCEPT = {
     "and": lambda a, b: a and b,
@@ -170,7 +175,9 @@ class _Composer:
             dfas.append(self.direct(_rebuild(loose, And if mode == "and" else Or), self.max_states))
         for group in groups:
             if len(group) > 1 or self.composite(parts[group[0]]):
-                members = [self.dfa(parts[i]) for i in group]
+                members = []
+                for i in group:
+                    members += self.conjuncts(parts[i]) if mode == "and" else [self.dfa(parts[i])]
                 if under is not None and mode == "and" and under.alphabet & frozenset().union(
                         *(m.alphabet for m in members)):
                     members.append(under)
@@ -186,11 +193,25 @@ class _Composer:
         found = self.unjoined.get(id(formula))
         if found is None:
             return self.direct(formula, self.max_states)
+        return self.join(self.unjoined_conjuncts(formula, *found), "and")
+
+    def conjuncts(self, formula: Formula) -> list[DFA]:
+        """DFAs whose product is ``formula``'s: a part joined to its start conditions that falls
+        back to composition gives its skeleton's and its conditions' DFAs apart, so that the
+        conjunction it is in multiplies them with its other parts smallest first. Joined
+        first, each tiny condition met the skeleton's large DFA in a product of its own:
+        countersDouble_pb_05 multiplied its 4,038-state part by a 3-state condition (0.6 s),
+        then the result by the product of the other small parts."""
+        found = self.unjoined.get(id(formula))
+        if found is None or self.distributable(formula):
+            return [self.dfa(formula)]
+        return self.unjoined_conjuncts(formula, *found)
+
+    def unjoined_conjuncts(self, formula: Formula, part: Formula, conditions: list[Formula]) -> list[DFA]:
         try:
-            return self.direct(formula, self.max_states, JOINED_NODES)
+            return [self.direct(formula, self.max_states, JOINED_NODES, JOINED_FIRST_NODES)]
         except LimitExceededError:
-            part, conditions = found
-            return self.join([self.dfa(part), *(self.dfa(c) for c in conditions)], "and")
+            return [self.dfa(part), *(self.dfa(c) for c in conditions)]
 
     def distributable(self, formula: Formula) -> bool:
         """Whether ``formula`` is a leaf whose temporal chain distributes over a junction of

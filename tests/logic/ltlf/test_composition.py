@@ -161,6 +161,33 @@ def test_a_double_counter_is_composed_rule_by_rule(always_compose):
         assert dfa.accepts(trace) == holds(f, trace)
 
 
+def test_start_conditions_that_fall_back_join_the_conjunction_they_are_in(always_compose, monkeypatch):
+    """A part joined to its start conditions whose progression runs out (here: no nodes at all)
+    is composed, and its skeleton's and conditions' DFAs join the surrounding conjunction's
+    products one by one: the same minimal DFA as progression of the whole formula."""
+    from symlearn.logic.ltlf.tlsf import parse_tlsf
+
+    import re
+
+    monkeypatch.setattr(composition, "JOINED_NODES", 1)
+    monkeypatch.setattr(composition, "JOINED_FIRST_NODES", 1)
+    text = _double_counter(2)
+    names = sorted(set(re.findall(r"[a-z]+[0-9]*", text)) - {"G", "F", "X"})
+    f = parse_tlsf(f"INFO {{ TITLE: \"c\" DESCRIPTION: \"c\" SEMANTICS: Finite,Moore TARGET: Moore }}\n"
+                   f"MAIN {{ INPUTS {{ {'; '.join(names)}; }} GUARANTEES {{ {text}; }} }}").formula
+    spread = []
+    original = composition._Composer.unjoined_conjuncts
+
+    def spy(self, *args):
+        out = original(self, *args)
+        spread.append(len(out))
+        return out
+
+    monkeypatch.setattr(composition._Composer, "unjoined_conjuncts", spy)
+    assert translate(f) == to_dfa._progression(f, 20_000)
+    assert spread and max(spread) > 1  # the fallback was taken, and gave its DFAs apart
+
+
 def test_the_propositions_of_a_long_conjunction_take_linear_memory():
     """A left-deep c1 & ... & cn kept a proposition set per inner node: n(n+1)/2 names (100,000
     TLSF assumptions filled 4 GB before the translation started)."""
