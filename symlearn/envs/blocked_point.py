@@ -59,6 +59,9 @@ OBSERVATION_NAMES = ("x", "y", "vx", "vy")
 #: the largest arena half-width of the point environments: observations are float32, which holds
 #: positions this large to ~0.06 (an arena of 1e308 overflowed the observation space's bounds)
 MAX_ARENA = 1e6
+#: the longest episode the bundled environments accept (max_steps): 9e18 was accepted, and an
+#: episode that never ends ran a recording to its own step cap, 33 s, instead of a refusal
+MAX_EPISODE_STEPS = 1_000_000
 
 
 def point_spaces(arena: float, max_speed: float) -> tuple[spaces.Box, spaces.Box]:
@@ -88,7 +91,8 @@ class BlockedPoint(gym.Env):
         checks = [("wall", math.isfinite(wall) and abs(wall) < arena - START_OFFSETS[1], f"finite, |wall| < "
                    f"arena - {START_OFFSETS[1]}"),
                   ("max_speed", 0 < max_speed <= 1, "in (0, 1]"), ("away_gain", 0 < away_gain <= 1, "in (0, 1]"),
-                  ("damping", 0 <= damping < 1, "in [0, 1)"), ("max_steps", int(max_steps) >= 1, ">= 1"),
+                  ("damping", 0 <= damping < 1, "in [0, 1)"), ("max_steps", 1 <= max_steps <= MAX_EPISODE_STEPS and max_steps == int(max_steps),
+                   f"a whole number in [1, {MAX_EPISODE_STEPS:,}]"),
                   ("arena", math.isfinite(arena) and START_OFFSETS[1] < arena <= MAX_ARENA,
                    f"in ({START_OFFSETS[1]}, {MAX_ARENA:g}]")]
         for name, ok, need in checks:

@@ -687,6 +687,14 @@ def test_an_arena_beyond_float32_is_refused(tmp_path, env):
     assert "warning" not in result.stderr.lower()
 
 
+@pytest.mark.parametrize("env", ["blocked-point", "point-circle", "gridworld"])
+def test_an_episode_length_past_the_cap_is_refused(tmp_path, env):
+    # 9e18 was accepted, and a recording ran an endless episode to its own step cap (33 s)
+    result = check(["train", "--env", env, "--steps", "256", "--n-steps", "128", "--env-kwargs", '{"max_steps": 9e18}'],
+                   cwd=tmp_path, timeout=60, contains=["max_steps must be a whole number in [1, 1,000,000]"])
+    assert result.seconds < 30
+
+
 def test_a_huge_state_id_is_a_gap_not_a_memory_limit(tmp_path):
     # the first missing id came from set(range(largest + 1)): an id of 10^18 ran the worker out of
     # memory, reported as "memory limit reached while grounding" (held-out pass)
