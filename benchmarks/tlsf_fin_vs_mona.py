@@ -17,6 +17,13 @@ address-space cap:
 * **MONA**: ``mona -q -u -w PROGRAM`` on the MONA program LTLf2DFA writes for the same formula (the
   program is written before the clock starts, so only MONA's own DFA construction is timed).
 
+* **Lydia** (optional, ``--lydia PATH``): the ``lydia`` binary built from its public repository
+  (``whitemech/lydia``; it needs CUDD, MONA and Syft+ from the same organisation, see its README;
+  set ``LD_LIBRARY_PATH`` to their libraries), run as ``lydia -l ltlf -f FILE -s`` on the same
+  formula printed in Lydia's syntax (``X[!]`` strong next, ``X`` weak next; the file on one line
+  without a newline, which its parser needs). Recorded: the whole process's wall time and
+  Lydia's own "DFA construction" time, and its state count (complete DFA, like ours).
+
 State counts are compared where both finish (MONA's automaton has one extra start state, see
 :mod:`symlearn.logic.ltlf.mona`). Parameterised files (full TLSF, with a ``GLOBAL`` section) are
 refused by symlearn's basic-TLSF reader and reported as "full TLSF" for both. The sample takes the
@@ -126,6 +133,89 @@ def run_mona(path: Path, timeout: float) -> dict:
     return {"status": "ok", "seconds": seconds, "states": max(int(count.group(1)) - 1, 1)}
 
 
+def lydia_text(formula) -> str:
+    """``formula`` in Lydia's LTLf syntax (fully parenthesised; no recursion: TLSF trees are deep)."""
+    from symlearn.logic.ltlf.ast import (Always, And, Const, Eventually, Iff, Implies, Next, Not, Or, Prop,
+                                         Release, Then, Until, WeakNext, WeakUntil)
+
+    unary = {Not: "!", Next: "X[!]", WeakNext: "X", Eventually: "F", Always: "G"}
+    binary = {And: "&", Or: "|", Implies: "->", Iff: "<->", Until: "U", Release: "R"}
+    out: list[str] = []
+    stack: list = [formula]
+    while stack:
+        node = stack.pop()
+        if isinstance(node, str):
+            out.append(node)
+        elif isinstance(node, Const):
+            out.append("true" if node.value else "false")
+        elif isinstance(node, Prop):
+            out.append(node.name if re.fullmatch(r"[a-z_][a-z0-9_]*", node.name) else f'"{node.name}"')
+        elif type(node) in unary:
+            stack += [")", node.arg, f"{unary[type(node)]}("]
+        elif isinstance(node, WeakUntil):  # a W b = b R (a | b)
+            stack.append(Release(node.right, Or(node.left, node.right)))
+        elif isinstance(node, Then):  # a T b = F(a & X[!] F b)
+            stack.append(Eventually(And(node.left, Next(Eventually(node.right)))))
+        elif type(node) in binary:
+            stack += [")", node.right, f" {binary[type(node)]} ", node.left, "("]
+        else:
+            raise TypeError(f"no Lydia syntax for {type(node).__name__}")
+    return "".join(out)
+
+
+def run_lydia(path: Path, timeout: float, binary: str) -> dict:
+    from symlearn.errors import SymlearnError
+    from symlearn.logic.ltlf.tlsf import load_tlsf
+
+    try:
+        formula = load_tlsf(path).formula
+    except SymlearnError as exc:
+        return {"status": "full TLSF" if "full) TLSF" in exc.message else "error", "message": exc.message[:300]}
+    fd, name = tempfile.mkstemp(suffix=".ltlf")
+    with os.fdopen(fd, "w") as handle:
+        handle.write(lydia_text(formula))  # no newline: Lydia's parser stops at one
+    try:
+        start = time.perf_counter()
+        try:
+            done = subprocess.run([binary, "-l", "ltlf", "-f", name, "-s"], capture_output=True, text=True,
+                                  timeout=timeout, preexec_fn=_limit_memory)
+        except subprocess.TimeoutExpired:
+            return {"status": "timeout", "seconds": timeout}
+        seconds = time.perf_counter() - start
+    finally:
+        os.unlink(name)
+    count = re.search(r"Number of states (\d+)", done.stdout)
+    built = re.search(r"Time elapsed for DFA construction: ([0-9.]+) ?ms", done.stdout)
+    if done.returncode != 0 or count is None:
+        text = (done.stderr or done.stdout)[-300:]
+        status = "memory" if done.returncode < 0 or "alloc" in text.lower() or "memory" in text.lower() else "error"
+        return {"status": status, "seconds": seconds, "message": text}
+    return {"status": "ok", "seconds": seconds, "states": int(count.group(1)),
+            "construction_s": float(built.group(1)) / 1000 if built else None}
+
+
+def _lydia_columns(mine: list[dict]) -> dict:
+    """The Lydia columns of a family: solved, disagreements with symlearn, and on the family's
+    largest DFA that both build, symlearn's translation time over Lydia's construction time."""
+    if not any("lydia" in r for r in mine):
+        return {}
+    both = [r for r in mine if r["symlearn"]["status"] == "ok" and r.get("lydia", {}).get("status") == "ok"]
+    largest = max(both, key=lambda r: (r["symlearn"]["states"], r["symlearn"]["seconds"]), default=None)
+    ratio = None
+    if largest is not None and largest["lydia"].get("construction_s") and largest["symlearn"].get("translate_s"):
+        ratio = largest["symlearn"]["translate_s"] / max(largest["lydia"]["construction_s"], 1e-9)
+    paired = [(r["symlearn"]["translate_s"], r["lydia"]["construction_s"]) for r in both
+              if r["symlearn"].get("translate_s") is not None and r["lydia"].get("construction_s")]
+    return {"lydia_solved": sum(r.get("lydia", {}).get("status") == "ok" for r in mine),
+            "median_ratio_translate_over_lydia_construction":
+                statistics.median(t / max(c, 1e-9) for t, c in paired) if paired else None,
+            "lydia_state_disagreements": sum(r["symlearn"]["states"] != r["lydia"]["states"] for r in both),
+            "lydia_median_s": statistics.median([r["lydia"]["seconds"] for r in both]) if both else None,
+            "largest_both_file": largest["file"] if largest else None,
+            "largest_both_states": largest["symlearn"]["states"] if largest else None,
+            "largest_translate_over_lydia_construction": ratio}
+
+
 def summarise(rows: list[dict]) -> dict[str, dict]:
     table: dict[str, dict] = {}
     for family in sorted({r["family"] for r in rows}):
@@ -149,6 +239,7 @@ def summarise(rows: list[dict]) -> dict[str, dict]:
             "median_ratio_translate_over_mona": statistics.median(
                 [t / max(r["mona"]["seconds"], 1e-9) for t, r in zip(translated, both)]) if translated else None,
             "largest_dfa": max((r["symlearn"]["states"] for r in both), default=None),
+            **_lydia_columns(mine),
         }
     return table
 
@@ -159,20 +250,29 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--per-family", type=int, default=5)
     parser.add_argument("--timeout", type=float, default=60.0)
     parser.add_argument("--json", type=Path, help="write the raw rows and the per-family table here")
+    parser.add_argument("--lydia", metavar="PATH", help="also run this lydia binary on every formula")
+    parser.add_argument("--families", help="only these families (comma-separated, as printed)")
     args = parser.parse_args(argv)
     chosen = sample(args.root, args.per_family)
+    if args.families:
+        wanted = set(args.families.split(","))
+        chosen = {family: files for family, files in chosen.items() if family in wanted}
     rows = []
     for family, files in chosen.items():
         for path in files:
             row = {"family": family, "file": str(path.relative_to(args.root)),
                    "symlearn": run_symlearn(path, args.timeout), "mona": run_mona(path, args.timeout)}
+            if args.lydia:
+                row["lydia"] = run_lydia(path, args.timeout, args.lydia)
             rows.append(row)
             if args.json:  # written after every formula: a killed run keeps what it measured
                 _write(args, rows)
             print(f"{family:32s} {path.name:40s} symlearn {row['symlearn']['status']:9s} "
                   f"{row['symlearn'].get('seconds', 0):7.2f}s {row['symlearn'].get('states', '-')!s:>7}   "
                   f"mona {row['mona']['status']:9s} {row['mona'].get('seconds', 0):7.2f}s "
-                  f"{row['mona'].get('states', '-')!s:>7}", flush=True)
+                  f"{row['mona'].get('states', '-')!s:>7}"
+                  + (f"   lydia {row['lydia']['status']:9s} {row['lydia'].get('seconds', 0):7.2f}s "
+                     f"{row['lydia'].get('states', '-')!s:>7}" if "lydia" in row else ""), flush=True)
     print(json.dumps(summarise(rows), indent=1))
     if args.json:
         _write(args, rows)
