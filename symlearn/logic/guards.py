@@ -73,6 +73,7 @@ _guards: dict[int, weakref.ref] = {}
 _text_cache: dict[int, str] = {}
 _label_cache: dict[int, frozenset[str]] = {}
 _key_cache: dict[int, tuple] = {}
+_label_key_cache: dict[int, tuple] = {}
 _cost_cache: dict[int, float] = {_FALSE: float("inf"), _TRUE: 0}  # see Guard.satisfying_label
 
 # Collect when the node lists pass this length, then when they pass twice the nodes left live
@@ -164,6 +165,7 @@ def collect() -> int:
     _text_cache.clear()
     _label_cache.clear()
     _key_cache.clear()
+    _label_key_cache.clear()
     _cost_cache.clear()
     _cost_cache.update({_FALSE: float("inf"), _TRUE: 0})  # freed ids are reused for other functions
     _cover.cache_clear()
@@ -531,9 +533,22 @@ class Guard:
         """A canonical order key (equal for equal guards; distinct for disjoint ones), cheap to compute."""
         key = _key_cache.get(self._node)
         if key is None:
-            label = self.satisfying_label()
-            key = (0, ()) if label is None else (1, len(label), tuple(sorted(label)), len(self.propositions))
+            key = self.label_key
+            if key[0]:
+                key = key + (len(self.propositions),)
             _key_cache[self._node] = key
+        return key
+
+    @property
+    def label_key(self) -> tuple:
+        """:attr:`sort_key` without its last element (the support's size): it orders *pairwise
+        disjoint* guards (a DFA state's edges) exactly as ``sort_key`` does, since disjoint guards
+        have distinct satisfying labels, and it needs no walk for the support (listing the edges
+        of a 66-state DFA spent half its time there, Random/Syft 055)."""
+        key = _label_key_cache.get(self._node)
+        if key is None:
+            label = self.satisfying_label()
+            key = _label_key_cache[self._node] = (0, ()) if label is None else (1, len(label), tuple(sorted(label)))
         return key
 
 

@@ -319,3 +319,29 @@ def test_chains_deeper_than_the_recursion_limit_build_with_the_operators():
     assert (~chain).evaluate(set(names[:-1])) and chain.restrict(names[-1], True).evaluate(set(names))
     assert chain.satisfying_label() == frozenset(names) and chain.count(names) == 1
     assert chain.rename({n: n.upper() for n in names}).propositions == frozenset(n.upper() for n in names)
+
+
+def test_label_key_orders_disjoint_guards_as_sort_key_does():
+    """A DFA state's edges are pairwise disjoint; label_key (no support walk) must give them the
+    order sort_key gives, so automata are numbered the same either way."""
+    import itertools
+    import random
+
+    from symlearn.logic.guards import Guard
+
+    rng = random.Random(11)
+    names = [f"p{i}" for i in range(5)]
+    for _ in range(200):
+        # a random partition of the labels over the names: each cell one guard (a DFA row)
+        cells: dict[int, Guard] = {}
+        for values in itertools.product((False, True), repeat=len(names)):
+            minterm = Guard.true()
+            for name, value in zip(names, values):
+                minterm = minterm & (Guard.var(name) if value else ~Guard.var(name))
+            cell = rng.randrange(4)
+            cells[cell] = cells[cell] | minterm if cell in cells else minterm
+        row = list(cells.values())
+        rng.shuffle(row)
+        assert sorted(row, key=lambda g: g.label_key) == sorted(row, key=lambda g: g.sort_key)
+        for g in row:
+            assert g.sort_key[:len(g.label_key)] == g.label_key

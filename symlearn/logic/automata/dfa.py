@@ -109,7 +109,8 @@ class DFA(GuardedAutomaton):
         dfa = object.__new__(cls)
         dfa._init_fields(alphabet=frozenset(alphabet), n_states=n_states, initial=initial,
                          accepting=frozenset(accepting),
-                         _explicit=tuple(tuple(sorted(row, key=lambda e: e[0].sort_key)) for row in edges),
+                         # a DFA state's guards are disjoint: label_key orders them as sort_key does
+                         _explicit=tuple(tuple(sorted(row, key=lambda e: e[0].label_key)) for row in edges),
                          state_names=None if state_names is None else tuple(state_names),
                          _diagram=None, _roots=None)
         return dfa
@@ -132,7 +133,7 @@ class DFA(GuardedAutomaton):
 
             rows = materialise(self._diagram, self._roots)
             object.__setattr__(self, "_explicit",
-                               tuple(tuple(sorted(row, key=lambda e: e[0].sort_key)) for row in rows))
+                               tuple(tuple(sorted(row, key=lambda e: e[0].label_key)) for row in rows))
         return self._explicit
 
     def is_symbolic(self) -> bool:

@@ -985,7 +985,8 @@ def finish(diagram: TransitionDiagram, roots: Sequence[int], accepting: Sequence
     from symlearn.logic.automata.dfa import DFA
 
     if count_edges(diagram, roots, explicit_edges) is not None:
-        table = [sorted(row, key=lambda e: e[0].sort_key) for row in materialise(diagram, roots, None)]
+        # a DFA's edges of one state are disjoint: label_key orders them as sort_key does
+        table = [sorted(row, key=lambda e: e[0].label_key) for row in materialise(diagram, roots, None)]
         index = {initial: 0}
         order = [initial]
         for q in order:  # breadth-first, edges in guard order

@@ -648,7 +648,8 @@ class _Translation:
         # the shared guard table (one conversion for the whole automaton)
         names = sorted(self.props, key=self.props.get)
         guards = iter(from_bdd(bdd, [g for row in rows for _, g in row], names))
-        table = [sorted(((next(guards), b) for b, _ in row), key=lambda e: e[0].sort_key) for row in rows]
+        # (a state's edges are disjoint: label_key orders them as sort_key does, without supports)
+        table = [sorted(((next(guards), b) for b, _ in row), key=lambda e: e[0].label_key) for row in rows]
         # renumber as DFA.minimize does (breadth-first, edges in guard order), so equal languages
         # give equal DFAs whichever way they were built
         index = {0: 0}
