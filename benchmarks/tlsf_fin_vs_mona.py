@@ -19,7 +19,7 @@ address-space cap:
 
 * **Lydia** (optional, ``--lydia PATH``): the ``lydia`` binary built from its public repository
   (``whitemech/lydia``; it needs CUDD, MONA and Syft+ from the same organisation, see its README;
-  set ``LD_LIBRARY_PATH`` to their libraries), run as ``lydia -l ltlf -f FILE -s`` on the same
+  set ``LD_LIBRARY_PATH`` to their libraries), run as ``lydia -l ltlf -s -f FILE`` on the same
   formula printed in Lydia's syntax (``X[!]`` strong next, ``X`` weak next; the file on one line
   without a newline, which its parser needs). Recorded: the whole process's wall time and
   Lydia's own "DFA construction" time, and its state count (complete DFA, like ours).
@@ -93,37 +93,58 @@ def run_symlearn(path: Path, timeout: float) -> dict:
     return {"status": status, "seconds": seconds, "message": message[:300]}
 
 
-def run_mona(path: Path, timeout: float) -> dict:
+def _formula(path: Path):
+    """The file's formula, or the row of a peer that cannot run on it (full TLSF, bad file)."""
     from symlearn.errors import SymlearnError
-    from symlearn.logic.ltlf.mona import _program
     from symlearn.logic.ltlf.tlsf import load_tlsf
 
     try:
-        formula = load_tlsf(path).formula
+        return load_tlsf(path).formula, None
     except SymlearnError as exc:
-        return {"status": "full TLSF" if "full) TLSF" in exc.message else "error", "message": exc.message[:300]}
+        return None, {"status": "full TLSF" if "full) TLSF" in exc.message else "error",
+                      "message": exc.message[:300]}
+
+
+def _run_peer(command: list[str], text: str, suffix: str, timeout: float):
+    """``command`` plus a file holding ``text`` (written before the clock starts), under the
+    timeout and the memory cap: ``(completed process, seconds)``; ``(None, timeout)`` past it."""
+    fd, name = tempfile.mkstemp(suffix=suffix)
+    with os.fdopen(fd, "w") as handle:
+        handle.write(text)
+    try:
+        start = time.perf_counter()
+        try:
+            done = subprocess.run([*command, name], capture_output=True, text=True, timeout=timeout,
+                                  preexec_fn=_limit_memory)
+        except subprocess.TimeoutExpired:
+            return None, timeout
+        return done, time.perf_counter() - start
+    finally:
+        os.unlink(name)
+
+
+def _failed(done, seconds: float) -> dict:
+    # MONA and Lydia stop with an allocation failure under the 4 GB cap: counted as memory
+    text = (done.stderr or done.stdout)[-300:]
+    status = "memory" if done.returncode < 0 or "alloc" in text.lower() or "memory" in text.lower() else "error"
+    return {"status": status, "seconds": seconds, "message": text}
+
+
+def run_mona(path: Path, timeout: float) -> dict:
+    from symlearn.logic.ltlf.mona import _program
+
+    formula, refused = _formula(path)
+    if refused:
+        return refused
     try:  # LTLf2DFA writes MONA's program; its lark parser recurses once per nesting level
         program, names = _program(formula, printed=False)
     except RecursionError:
         return {"status": "error", "message": "LTLf2DFA could not write the MONA program (recursion depth)"}
-    fd, name = tempfile.mkstemp(suffix=".mona")
-    with os.fdopen(fd, "w") as handle:
-        handle.write(program)
-    try:
-        start = time.perf_counter()
-        try:
-            done = subprocess.run(["mona", "-q", "-u", "-w", name], capture_output=True, text=True, timeout=timeout,
-                                  preexec_fn=_limit_memory)
-        except subprocess.TimeoutExpired:
-            return {"status": "timeout", "seconds": timeout}
-        seconds = time.perf_counter() - start
-    finally:
-        os.unlink(name)
+    done, seconds = _run_peer(["mona", "-q", "-u", "-w"], program, ".mona", timeout)
+    if done is None:
+        return {"status": "timeout", "seconds": timeout}
     if done.returncode != 0 or "Automaton has" not in done.stdout:
-        # MONA stops with a BDD-table allocation failure under the 4 GB cap: counted as memory
-        text = (done.stderr or done.stdout)[-300:]
-        status = "memory" if done.returncode < 0 or "alloc" in text.lower() or "memory" in text.lower() else "error"
-        return {"status": status, "seconds": seconds, "message": text}
+        return _failed(done, seconds)
     # only the state count is compared: read from MONA's own line, not by building its edges'
     # guards in this process (thousands of files' guards would fill the shared BDD table)
     count = re.search(r"Automaton has (\d+) states?", done.stdout)
@@ -164,32 +185,17 @@ def lydia_text(formula) -> str:
 
 
 def run_lydia(path: Path, timeout: float, binary: str) -> dict:
-    from symlearn.errors import SymlearnError
-    from symlearn.logic.ltlf.tlsf import load_tlsf
-
-    try:
-        formula = load_tlsf(path).formula
-    except SymlearnError as exc:
-        return {"status": "full TLSF" if "full) TLSF" in exc.message else "error", "message": exc.message[:300]}
-    fd, name = tempfile.mkstemp(suffix=".ltlf")
-    with os.fdopen(fd, "w") as handle:
-        handle.write(lydia_text(formula))  # no newline: Lydia's parser stops at one
-    try:
-        start = time.perf_counter()
-        try:
-            done = subprocess.run([binary, "-l", "ltlf", "-f", name, "-s"], capture_output=True, text=True,
-                                  timeout=timeout, preexec_fn=_limit_memory)
-        except subprocess.TimeoutExpired:
-            return {"status": "timeout", "seconds": timeout}
-        seconds = time.perf_counter() - start
-    finally:
-        os.unlink(name)
+    formula, refused = _formula(path)
+    if refused:
+        return refused
+    # one line without a newline: Lydia's parser stops at one
+    done, seconds = _run_peer([binary, "-l", "ltlf", "-s", "-f"], lydia_text(formula), ".ltlf", timeout)
+    if done is None:
+        return {"status": "timeout", "seconds": timeout}
     count = re.search(r"Number of states (\d+)", done.stdout)
     built = re.search(r"Time elapsed for DFA construction: ([0-9.]+) ?ms", done.stdout)
     if done.returncode != 0 or count is None:
-        text = (done.stderr or done.stdout)[-300:]
-        status = "memory" if done.returncode < 0 or "alloc" in text.lower() or "memory" in text.lower() else "error"
-        return {"status": status, "seconds": seconds, "message": text}
+        return _failed(done, seconds)
     return {"status": "ok", "seconds": seconds, "states": int(count.group(1)),
             "construction_s": float(built.group(1)) / 1000 if built else None}
 
