@@ -43,6 +43,7 @@ wall with a little Gaussian noise; it never crosses the wall (it never moves tow
 from __future__ import annotations
 
 import math
+import numbers
 from typing import Any
 
 import gymnasium as gym
@@ -62,6 +63,14 @@ MAX_ARENA = 1e6
 #: the longest episode the bundled environments accept (max_steps): 9e18 was accepted, and an
 #: episode that never ends ran a recording to its own step cap, 33 s, instead of a refusal
 MAX_EPISODE_STEPS = 1_000_000
+#: what an episode length must be, as the environments' refusals say it
+EPISODE_STEPS_RULE = f"a whole number in [1, {MAX_EPISODE_STEPS:,}]"
+
+
+def episode_steps_ok(value: object) -> bool:
+    """Whether ``value`` is a ``max_steps`` the bundled environments accept: a whole number in
+    ``[1, MAX_EPISODE_STEPS]`` (an int, a float such as ``1e3`` from JSON, or a numpy number)."""
+    return isinstance(value, numbers.Real) and 1 <= value <= MAX_EPISODE_STEPS and value == int(value)
 
 
 def point_spaces(arena: float, max_speed: float) -> tuple[spaces.Box, spaces.Box]:
@@ -91,8 +100,8 @@ class BlockedPoint(gym.Env):
         checks = [("wall", math.isfinite(wall) and abs(wall) < arena - START_OFFSETS[1], f"finite, |wall| < "
                    f"arena - {START_OFFSETS[1]}"),
                   ("max_speed", 0 < max_speed <= 1, "in (0, 1]"), ("away_gain", 0 < away_gain <= 1, "in (0, 1]"),
-                  ("damping", 0 <= damping < 1, "in [0, 1)"), ("max_steps", 1 <= max_steps <= MAX_EPISODE_STEPS and max_steps == int(max_steps),
-                   f"a whole number in [1, {MAX_EPISODE_STEPS:,}]"),
+                  ("damping", 0 <= damping < 1, "in [0, 1)"),
+                  ("max_steps", episode_steps_ok(max_steps), EPISODE_STEPS_RULE),
                   ("arena", math.isfinite(arena) and START_OFFSETS[1] < arena <= MAX_ARENA,
                    f"in ({START_OFFSETS[1]}, {MAX_ARENA:g}]")]
         for name, ok, need in checks:

@@ -79,11 +79,10 @@ class StochasticGridworld(gym.Env):
             raise SymlearnError(f"the grid needs at least two cells, got shape {shape}")
         self.shape = (int(height), int(width))
         self.stochasticity = float(stochasticity)
-        from symlearn.envs.blocked_point import MAX_EPISODE_STEPS
+        from symlearn.envs.blocked_point import EPISODE_STEPS_RULE, episode_steps_ok
 
-        if not (isinstance(max_steps, (int, float)) and 1 <= max_steps <= MAX_EPISODE_STEPS
-                and max_steps == int(max_steps)):
-            raise SymlearnError(f"max_steps must be a whole number in [1, {MAX_EPISODE_STEPS:,}], got {max_steps!r}")
+        if not episode_steps_ok(max_steps):
+            raise SymlearnError(f"max_steps must be {EPISODE_STEPS_RULE}, got {max_steps!r}")
         self.max_steps = int(max_steps)
         self.step_reward = float(step_reward)
         self.goal_reward = float(goal_reward)

@@ -37,8 +37,8 @@ import gymnasium as gym
 import numpy as np
 
 # BlockedPoint's observation layout, names and wall test: a cost learned there reads the same here
-from symlearn.envs.blocked_point import (FEATURE_NAMES, MAX_ARENA, MAX_EPISODE_STEPS, OBSERVATION_NAMES, beyond_wall,
-                                         point_spaces)
+from symlearn.envs.blocked_point import (EPISODE_STEPS_RULE, FEATURE_NAMES, MAX_ARENA, OBSERVATION_NAMES, beyond_wall,
+                                         episode_steps_ok, point_spaces)
 from symlearn.errors import DataError
 
 START_JITTER = 0.1
@@ -55,8 +55,7 @@ class PointCircle(gym.Env):
                   ("wall", math.isfinite(wall) and START_JITTER < abs(wall) < arena, f"finite, {START_JITTER} < "
                    "|wall| < arena"),
                   ("max_speed", math.isfinite(max_speed) and max_speed > 0, "> 0"),
-                  ("max_steps", 1 <= max_steps <= MAX_EPISODE_STEPS and max_steps == int(max_steps),
-                   f"a whole number in [1, {MAX_EPISODE_STEPS:,}]"),
+                  ("max_steps", episode_steps_ok(max_steps), EPISODE_STEPS_RULE),
                   ("arena", math.isfinite(arena) and 1 < arena <= MAX_ARENA, f"in (1, {MAX_ARENA:g}]")]
         for name, ok, need in checks:
             if not ok:
