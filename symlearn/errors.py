@@ -26,6 +26,12 @@ def printable(text: object) -> str:
     return _UNPRINTABLE.sub(_escape, str(text))
 
 
+def clipped(text: str, width: int = 40) -> str:
+    """``text`` cut to ``width`` characters, ``...`` marking the cut: a value quoted from a file
+    (a hand-edited field, a huge number) keeps its error message short."""
+    return text if len(text) <= width else text[:width - 3] + "..."
+
+
 def _escape(match: re.Match) -> str:
     return repr(match.group())[1:-1] if match.group() not in "\u2028\u2029" else f"\\u{ord(match.group()):04x}"
 

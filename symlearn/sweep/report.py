@@ -21,7 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from symlearn.atomic import write_text
-from symlearn.errors import DataError
+from symlearn.errors import DataError, clipped
 from symlearn.sweep.spec import SweepSpec
 from symlearn.sweep.statistics import summarize, summarize_curves
 from symlearn.sweep.store import read_meta, read_records
@@ -65,8 +65,7 @@ def load_results(folder: str | Path) -> SweepResults:
     cells = spec.cells()
     recorded = meta.get("cells")  # what the runner wrote: a hand edit that contradicts it is named
     if recorded is not None and (type(recorded) is not int or recorded != len(cells)):
-        shown = json.dumps(recorded)
-        raise DataError(f"the recorded sweep says \"cells\": {shown if len(shown) <= 40 else shown[:37] + '...'}, "
+        raise DataError(f"the recorded sweep says \"cells\": {clipped(json.dumps(recorded))}, "
                         f"its grid has {len(cells)}", file=Path(folder) / "sweep.json")
     wanted = {c.id: c for c in cells}
     latest_ok: dict[str, dict] = {}

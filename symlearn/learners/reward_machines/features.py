@@ -35,7 +35,7 @@ from typing import Any
 
 import numpy as np
 
-from symlearn.errors import DataError, ModelError
+from symlearn.errors import DataError, ModelError, clipped
 
 MAX_COMPONENTS = 20  # enough for a handful of sub-goals; noise spreads over the rest
 EXPLAINED = 0.9  # components kept by default: the fewest explaining this share of the variance
@@ -169,7 +169,7 @@ class PCAFeatures:
         # is a hand-edited or mixed-up file, refused rather than read by the arrays alone
         for key, size in (("n_components", components.shape[0]), ("inputs", mean.shape[0])):
             if key in config and (type(config[key]) is not int or config[key] != size):
-                raise ModelError(f"the PCA features configuration says {key} = {_short(config[key])}, "
+                raise ModelError(f"the PCA features configuration says {key} = {clipped(repr(config[key]))}, "
                                  f"its arrays hold {size}")
         features = cls(n_components=int(components.shape[0]), pool=pool)
         features.pool_ = pool
@@ -267,8 +267,3 @@ def clear_cache() -> None:
 
 __all__ = ["CallableFeatures", "PCAFeatures", "as_frames", "clear_cache", "dataset_key", "extract",
            "lighting_normalised", "make_extractor"]
-
-
-def _short(value: Any) -> str:
-    text = repr(value)
-    return text if len(text) <= 40 else text[:37] + "..."
