@@ -42,7 +42,7 @@ from symlearn.optional import require
 from symlearn.rl.episode_stats import NoCostReported
 
 __all__ = ["ALGORITHMS", "check_action_space", "counterfactual_callback", "lagrangian_callback", "load_policy",
-           "save_policy"]
+           "monitor_callback", "save_policy"]
 
 
 def counterfactual_callback(verbose: int = 0) -> Any:
@@ -226,6 +226,122 @@ def _lagrangian_class() -> type:
             self._ended, self._window_cost, self._window_steps, self._since = [], 0.0 * self._window_cost, 0, 0
 
     return LagrangianCallback
+
+
+def monitor_callback(total_steps: int, *, log: Any = None, multipliers: Any = None, learned_cost: bool = False,
+                     window: int | None = None, desc: str | None = None) -> Any:
+    """A ``BaseCallback`` that shows a stable-baselines3 run as our PPO's is shown: a progress bar
+    with the latest return and cost on a terminal, and, with ``log`` (a
+    :class:`~symlearn.rl.training_log.TrainingLog`), one row per window of ``window`` environment
+    steps (default: one rollout of an on-policy learner, 1000 steps of an off-policy one).
+
+    A row has the columns our PPO's ``--log`` has, measured over the episodes that *ended* in the
+    window (empty when none did): ``steps``, ``episodes``, ``mean_return`` (the environment's own
+    reward, ``info["env_reward"]`` where a Lagrangian wrapper changed what the learner sees),
+    ``mean_length``, ``learned_cost_i`` (with ``learned_cost``), ``true_cost`` (the environment's
+    ``info["cost"]`` per episode; empty until a step has reported one), ``multipliers_i``,
+    ``steps_per_second`` and ``seconds``.
+    """
+    require("sb3", "monitoring a stable-baselines3 run")
+    return _monitor_class()(total_steps, log, multipliers, learned_cost, window, desc)
+
+
+@cache
+def _monitor_class() -> type:
+    import time
+
+    from stable_baselines3.common.callbacks import BaseCallback
+
+    from symlearn.progress import ProgressBar
+
+    class MonitorCallback(BaseCallback):
+        """Progress bar and per-window log rows of a stable-baselines3 run (:func:`monitor_callback`)."""
+
+        def __init__(self, total_steps: int, log: Any, multipliers: Any, learned_cost: bool,
+                     window: int | None, desc: str | None) -> None:
+            super().__init__(0)
+            self.total_steps, self.log, self.multipliers = int(total_steps), log, multipliers
+            self.learned_cost, self.window, self.desc = learned_cost, window, desc
+            self.rows: list[dict[str, Any]] = []
+
+        def _on_training_start(self) -> None:
+            n_envs = self.training_env.num_envs
+            if self.window is None:
+                on_policy = getattr(self.model, "replay_buffer", None) is None
+                self.window = int(self.model.n_steps) * n_envs if on_policy else 1000
+            # per copy: the running episode's return, true cost, learned cost and length
+            self._return, self._true = np.zeros(n_envs), np.zeros(n_envs)
+            self._learned: np.ndarray | None = None
+            self._length = np.zeros(n_envs, dtype=np.int64)
+            self._ended: list[tuple[float, float, np.ndarray | None, int]] = []
+            self._true_seen = False
+            self._since, self._started = 0, time.perf_counter()
+            self._window_started = self._started
+            self._bar = ProgressBar(self.total_steps, desc=self.desc, unit="step")
+
+        def _on_step(self) -> bool:
+            rewards = np.asarray(self.locals["rewards"], dtype=np.float64).reshape(-1)
+            for i, (info, done) in enumerate(zip(self.locals["infos"], self.locals["dones"], strict=True)):
+                self._return[i] += float(info.get("env_reward", rewards[i]))
+                if info.get("cost") is not None:
+                    self._true[i] += float(np.sum(info["cost"]))
+                    self._true_seen = True
+                if self.learned_cost and info.get("learned_cost") is not None:
+                    cost = np.asarray(info["learned_cost"], dtype=np.float64).reshape(-1)
+                    if self._learned is None:
+                        self._learned = np.zeros((len(rewards), cost.size))
+                    self._learned[i] += cost
+                self._length[i] += 1
+                if done:
+                    learned = None if self._learned is None else self._learned[i].copy()
+                    self._ended.append((self._return[i], self._true[i], learned, int(self._length[i])))
+                    self._return[i] = self._true[i] = 0.0
+                    self._length[i] = 0
+                    if self._learned is not None:
+                        self._learned[i] = 0.0
+            self._since += len(rewards)
+            if self._since >= self.window:
+                self._row()
+            return True
+
+        def _on_training_end(self) -> None:
+            if self._since:
+                self._row()
+            self._bar.close()
+
+        def _row(self) -> None:
+            now = time.perf_counter()
+            ended = self._ended
+
+            def mean(values: list) -> float:
+                return float(np.mean(values)) if len(values) else float("nan")
+
+            row: dict[str, Any] = {"steps": int(self.num_timesteps), "episodes": len(ended),
+                                   "mean_return": mean([e[0] for e in ended]),
+                                   "mean_length": mean([e[3] for e in ended])}
+            if self.learned_cost:
+                learned = [e[2] for e in ended if e[2] is not None]
+                row["learned_cost"] = (tuple(np.mean(learned, axis=0).tolist()) if learned
+                                       else (float("nan"),) * (1 if self._learned is None else self._learned.shape[1]))
+            row["true_cost"] = mean([e[1] for e in ended]) if self._true_seen else float("nan")
+            if self.multipliers is not None:
+                row["multipliers"] = tuple(float(m) for m in self.multipliers.values)
+            row["steps_per_second"] = self._since / max(now - self._window_started, 1e-9)
+            row["seconds"] = now - self._started
+            self.rows.append(row)
+            if self.log is not None:
+                self.log.write(row)
+            shown = {"return": row["mean_return"]}
+            if self.learned_cost:
+                shown["cost"] = float(np.sum(row["learned_cost"]))
+            elif self._true_seen:
+                shown["cost"] = row["true_cost"]
+            if self.multipliers is not None:
+                shown["lambda"] = float(np.max(self.multipliers.values))
+            self._bar.update(self._since, **shown)
+            self._ended, self._since, self._window_started = [], 0, now
+
+    return MonitorCallback
 
 
 def _space(space: Any) -> dict[str, Any]:

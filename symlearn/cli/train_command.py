@@ -54,13 +54,15 @@
 * Numeric flags are checked before anything runs: ``--steps`` 1 .. 10^9, ``--cost-limit`` and
   ``--depth-weight`` finite and >= 0, ``--n-envs`` 1 .. 256, ``--n-envs`` x ``--n-steps`` (the rollout held in memory) at
   most 262,144 steps.
-* ``--log run.csv`` / ``--tensorboard DIR`` (our PPO): one row per iteration -- steps, mean return
+* ``--log run.csv`` / ``--tensorboard DIR``: one row per iteration -- steps, mean return
   of the episodes that ended, their cost per constraint (``mean_cost_i``; ``learned_cost_i`` with
   ``--cost``, since the learned cost is what training sees), ``true_cost`` (the environment's
   ``info["cost"]`` per episode, estimated from the whole rollout; empty when it reports none), the
   estimate the multipliers were updated from (``cost_estimate_i``), the multipliers, losses, KL,
   steps/s -- written as training goes (:mod:`symlearn.rl.training_log`).
-  On a terminal the progress bar shows the latest return, cost and largest multiplier.
+  On a terminal the progress bar shows the latest return, cost and largest multiplier. With
+  ``sb3-*`` the same columns where they exist, one row per rollout (PPO) or per 1,000 steps
+  (SAC, DQN), over the episodes that ended in it (:func:`symlearn.backends.sb3.monitor_callback`).
 * ``-o agent.safetensors``: the policy as safetensors + JSON (our PPO's, or a stable-baselines3
   policy through :func:`symlearn.backends.sb3.save_policy`; a ``.zip`` is refused).
 
@@ -145,10 +147,10 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--eval-episodes", type=float, default=10, help="greedy evaluation episodes (10)")
     cmd.add_argument("-o", "--output", help="write the policy here (.safetensors + .json)")
     cmd.add_argument("--log", metavar="FILE.csv",
-                     help="ppo/ppo-lag: one CSV row per iteration (return, true and learned cost, multipliers, ...), "
+                     help="one CSV row per iteration (return, true and learned cost, multipliers, ...), "
                           "written as training goes")
     cmd.add_argument("--tensorboard", metavar="DIR",
-                     help="ppo/ppo-lag: the same numbers as TensorBoard scalars (needs the tensorboard package)")
+                     help="the same numbers as TensorBoard scalars (needs the tensorboard package)")
     cmd.set_defaults(handler=_train)
 
 
@@ -205,7 +207,6 @@ def _train(args: argparse.Namespace, out) -> None:
                                          ("--advantage-scale", args.advantage_scale),
                                          ("--learning-rate", args.learning_rate),
                                          ("--log-std-init", args.log_std_init)) if given is not None]
-        ours += [flag for flag, given in (("--log", args.log), ("--tensorboard", args.tensorboard)) if given]
         if ours:
             raise SymlearnError(f"{ours[0]} is an option of our PPO (--algo ppo|ppo-lag), not of --algo {args.algo}")
     if args.output and str(args.output).endswith(".zip"):

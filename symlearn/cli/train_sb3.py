@@ -16,7 +16,9 @@ stable-baselines3 as it reads them (:mod:`symlearn.backends.sb3_spaces`), outsid
 Evaluation is greedy (``deterministic=True``) on a fresh environment without the cost wrappers:
 its ``info["cost"]`` is the ground truth reported. ``-o agent.safetensors`` writes the policy with
 :func:`symlearn.backends.sb3.save_policy` (safetensors + JSON; stable-baselines3's ``.zip`` is
-never written or read).
+never written or read). A progress bar shows the latest return and cost on a terminal; ``--log
+run.csv`` / ``--tensorboard DIR`` write one row per rollout (on-policy) or per 1,000 steps
+(off-policy) with the columns of our PPO's log (:func:`symlearn.backends.sb3.monitor_callback`).
 """
 
 from __future__ import annotations
@@ -29,7 +31,8 @@ import numpy as np
 
 
 def train_sb3(args: argparse.Namespace, target: Any, cost: Any, watch: Any = None) -> dict[str, Any]:
-    from symlearn.backends.sb3 import algorithm_class, check_action_space, lagrangian_callback, save_policy
+    from symlearn.backends.sb3 import (algorithm_class, check_action_space, lagrangian_callback, monitor_callback,
+                                       save_policy)
     from symlearn.cli.train_command import evaluation_document
 
     algo = args.algo.removeprefix("sb3-").removesuffix("-lag")
@@ -94,10 +97,17 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any, watch: Any = Non
         except (ValueError, NotImplementedError, AssertionError, KeyError) as exc:  # SB3's checks of the spaces
             raise SymlearnError(f"stable-baselines3 {algorithm.__name__} cannot train on {target.display}: "
                                 f"{type(exc).__name__}: {exc}") from None
-        callback = lagrangian_callback(multipliers, cost_key=cost_key) if lagrangian else None
-        started = time.perf_counter()
-        model.learn(args.steps, callback=callback)
-        seconds = time.perf_counter() - started
+        from symlearn.rl.training_log import TrainingLog
+
+        with TrainingLog(args.log, args.tensorboard) as log:
+            callbacks = [lagrangian_callback(multipliers, cost_key=cost_key)] if lagrangian else []
+            # after the multiplier's update, so a row shows the multipliers the next window trains with
+            callbacks.append(monitor_callback(args.steps, log=log if (args.log or args.tensorboard) else None,
+                                              multipliers=multipliers if lagrangian else None,
+                                              learned_cost=cost is not None, desc=f"{args.algo} on {target.display}"))
+            started = time.perf_counter()
+            model.learn(args.steps, callback=callbacks)
+            seconds = time.perf_counter() - started
         returns, lengths, true_costs = _evaluate(model, target, args.eval_episodes, seed + 10_000)
     finally:
         torch.set_num_threads(threads)

@@ -1,5 +1,6 @@
 """``symlearn train``: PPO / PPO-Lagrangian from the command line, a DNF cost, pruning, model files."""
 
+import importlib.util
 import json
 
 import numpy as np
@@ -160,10 +161,40 @@ def test_log_csv_has_a_row_per_iteration_with_true_and_learned_cost(capsys, tmp_
     # 200-step episodes end in the fourth 2 x 64-step rollout: "episodes" updated nothing before it
     assert [r["cost_estimate_0"] == "" for r in rows] == [True, True, True, False]
     assert all(float(r["true_cost"]) >= 0 for r in rows)  # the toy reports its own cost beside the learned one
-    code, _, err = run(capsys, "train", "--env", "toy-navigation", "--algo", "sb3-ppo", "--log", log)
-    assert code == 2 and "--log is an option of our PPO" in err
     code, _, err = run(capsys, "train", "--env", "toy-navigation", "--log", tmp_path)
     assert code == 2 and "is a directory" in err and "Traceback" not in err
+
+
+@pytest.mark.skipif(not importlib.util.find_spec("stable_baselines3"), reason="needs the sb3 extra")
+def test_sb3_runs_log_the_columns_of_our_ppo(capsys, tmp_path):
+    """--log with a stable-baselines3 learner: one row per rollout (PPO) or per 1,000 steps (SAC),
+    the environment's own reward (not r - lambda c), the learned and the true cost per episode that
+    ended, and the multiplier the Lagrangian callback moved."""
+    import csv
+
+    rules = tmp_path / "toy.dnf"
+    rules.write_text(UNSAFE_DNF)
+    log = tmp_path / "ppo.csv"
+    code, out, err = run(capsys, "train", "--env", "toy-navigation", "--algo", "sb3-ppo-lag", "--cost", rules,
+                         "--steps", 1024, "--n-envs", 2, "--n-steps", 128, "--eval-episodes", 1, "--log", log,
+                         "--json")
+    assert code == 0, err
+    rows = list(csv.DictReader(log.open()))
+    assert [int(r["steps"]) for r in rows] == [256, 512, 768, 1024]
+    assert {"mean_return", "mean_length", "learned_cost_0", "true_cost", "multipliers_0"} <= set(rows[0])
+    ended = [r for r in rows if r["episodes"] != "0"]
+    assert ended and all(r["mean_length"] == "200.0" for r in ended)   # the toy's episodes run 200 steps
+    # the return is the toy's own (its rewards lie in [-1, 1] per step plus the goal), not r - lambda c
+    assert all(float(r["mean_return"]) > -201 for r in ended)
+    assert float(rows[-1]["multipliers_0"]) == pytest.approx(json.loads(out)["multipliers"][0])
+    # the toy reports its ground truth beside the learned formula: both are counted, never negative
+    assert all(float(r["learned_cost_0"]) >= 0 and float(r["true_cost"]) >= 0 for r in ended)
+    log = tmp_path / "sac.csv"
+    code, out, err = run(capsys, "train", "--env", ROBOT, "--algo", "sb3-sac", "--steps", 2000, "--n-envs", 1,
+                         "--eval-episodes", 1, "--log", log)
+    assert code == 0, err
+    rows = list(csv.DictReader(log.open()))
+    assert [int(r["steps"]) for r in rows] == [1000, 2000] and "multipliers_0" not in rows[0]
 
 
 def _saved_cost(tmp_path, env_name: str):
@@ -185,8 +216,6 @@ def _saved_cost(tmp_path, env_name: str):
 
 
 def test_a_learned_neural_cost_trains_a_fresh_agent(capsys, tmp_path):
-    import importlib.util
-
     path = _saved_cost(tmp_path, "blocked-point")
     sb3 = ("sb3-ppo-lag",) if importlib.util.find_spec("stable_baselines3") else ()
     for algo in ("ppo-lag", "ppo", *sb3):
