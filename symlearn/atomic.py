@@ -9,7 +9,9 @@ leaves it ``0644`` (``tempfile.mkstemp`` alone would make every output ``0600``)
 
 Text: UTF-8, with a lone surrogate -- what Python makes of a file name that is not UTF-8, say a
 demonstrations file the header of a rule file names -- written as its escape (``\udcff``), so
-such a name never makes a write fail; JSON that carries one reads back to the same string.
+such a name never makes a write fail. JSON readers refuse a lone surrogate (it is not a
+character), so a demonstrations file that would carry one in its data is refused before anything
+is written (``symlearn.data.files.save``).
 
 Interruption: the temporary file is removed on any exception, ``KeyboardInterrupt`` included;
 the CLI turns SIGTERM into an exception too (``symlearn.cli.main``), so a terminated write

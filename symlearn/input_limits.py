@@ -354,6 +354,29 @@ def _holds_lone_surrogate(value: Any) -> bool:
     return False
 
 
+def lone_surrogate_at(value: Any, where: str = "") -> str | None:
+    """Where in ``value`` (dicts, lists, tuples, numpy string arrays) a string holds a lone
+    surrogate -- ``'metadata["note"]'``, ``'[3]'`` -- or None. Writers ask before they write:
+    the readers refuse such text (not a character; it cannot be printed or saved), so a file
+    written with one could not be read back."""
+    stack: list[tuple[str, Any]] = [(where, value)]
+    while stack:
+        at, item = stack.pop()
+        if isinstance(item, str):
+            if _LONE.search(item):
+                return at or "a string"
+        elif isinstance(item, dict):
+            for key, inner in item.items():
+                if isinstance(key, str) and _LONE.search(key):
+                    return f"{at} key {ascii(key)}".strip()
+                stack.append((f"{at}[{ascii(key) if isinstance(key, str) else key}]", inner))
+        elif isinstance(item, (list, tuple)):
+            stack.extend((f"{at}[{i}]", inner) for i, inner in enumerate(item))
+        elif getattr(getattr(item, "dtype", None), "kind", None) in ("U", "O"):
+            stack.extend((f"{at}[{i}]", inner) for i, inner in enumerate(item.tolist()))
+    return None
+
+
 def _lone_surrogate_escape(text: str) -> int:
     """Position of the first surrogate escape that is not half of a pair (0 if none is found)."""
     paired = {i for found in _PAIRED.finditer(text) for i in (found.start(), found.start() + 6)}

@@ -43,6 +43,7 @@ def save(demos: Demonstrations, path: str | os.PathLike[str], *, format: str | N
         raise DataError("symlearn writes HDF5 only as a D4RL table", file=path, hint="use .npz or .jsonl")
     if suffix == ".jsonl" and format == "d4rl":
         raise DataError("a D4RL table is an .npz or .hdf5 file", file=path)
+    _refuse_unreadable_text(demos, path)
     if suffix in HDF5_SUFFIXES or format == "d4rl":
         from symlearn.data.d4rl_format import write_d4rl
 
@@ -55,6 +56,30 @@ def save(demos: Demonstrations, path: str | os.PathLike[str], *, format: str | N
         from symlearn.data.npz_format import write_npz
 
         write_npz(demos, path)
+
+
+def _refuse_unreadable_text(demos: Demonstrations, path: Path) -> None:
+    """Refuse, before anything is written, text no reader takes back: a string with a lone
+    surrogate (half of a UTF-16 pair, not a character -- Python's reading of bytes that are not
+    UTF-8) in the metadata, a trajectory's actions, labels or info."""
+    from symlearn.input_limits import lone_surrogate_at
+
+    found = lone_surrogate_at(demos.metadata, "metadata")
+    for i, traj in enumerate(demos):
+        if found:
+            break
+        for field in ("actions", "labels", "info"):
+            value = getattr(traj, field)
+            if field == "labels" and value is not None:
+                value = [sorted(step) for step in value]
+            found = lone_surrogate_at(value, f"trajectory {i}, {field}") if value is not None else None
+            if found:
+                break
+    if found:
+        raise DataError(f"{found} holds a lone surrogate (half of a UTF-16 pair, not a character): "
+                        "the file could not be read back", file=path,
+                        hint="decode the text that came from bytes (a file name, say) with errors='replace', "
+                             "or write the character itself")
 
 
 def detect(path: str | os.PathLike[str]) -> str:

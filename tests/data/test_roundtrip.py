@@ -96,3 +96,23 @@ def test_a_save_that_fails_midway_keeps_the_old_file(tmp_path, monkeypatch):
     monkeypatch.undo()
     assert path.read_bytes() == before
     assert [p.name for p in tmp_path.iterdir()] == ["d.jsonl"]  # no temporary file left behind
+
+
+@pytest.mark.parametrize("suffix", [".jsonl", ".npz"])
+@pytest.mark.parametrize("where, demos", [
+    ("metadata['note']", Demonstrations([Trajectory(states=[0, 1], actions=["a"])], metadata={"note": "x\ud800"})),
+    ("trajectory 0, actions[0]", Demonstrations([Trajectory(states=[0, 1], actions=["go\udcff"])])),
+    ("trajectory 0, labels[1][0]", Demonstrations([Trajectory(states=[0, 1], actions=["a"], labels=[[], ["k\udc80"]])])),
+    ("trajectory 0, info key", Demonstrations([Trajectory(states=[0, 1], actions=["a"], info={"w\udc80": 1})])),
+])
+def test_text_no_reader_takes_back_is_refused_before_writing(tmp_path, suffix, where, demos):
+    """A lone surrogate (Python's reading of bytes that are not UTF-8) is refused by every reader;
+    a save that wrote one would lose the data, so the writer refuses first, naming where it is,
+    and an older file at the path stays as it was."""
+    path = tmp_path / f"d{suffix}"
+    old = Demonstrations([Trajectory(states=[0, 1], actions=["a"])])
+    old.save(path)
+    with pytest.raises(DataError, match="lone surrogate") as raised:
+        demos.save(path)
+    assert where in str(raised.value)
+    assert load(path) == old
