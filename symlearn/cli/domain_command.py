@@ -81,11 +81,14 @@ def _check_document(folder: str, rules: str | None, demos: str | None, allow_out
                     "fpr": None, "fnr": None, "accuracy": None, "missed_truth_rules": None,
                     "warnings": [u.as_dict() for u in domain.undefined_predicates(rules)]})
         if domain.truth is not None:
+            from symlearn.learners.constraints.constraint_metrics import reach_scores
+
             scores = constraint_metrics(learned, domain.truth_forbidden, ~domain.unavailable)
             truth = domain.hypothesis(domain.truth)
             missed = [rule for rule in truth.rules if (domain.rule_mask([rule]) & ~learned).any()]
             doc.update({"fpr": scores["fpr"], "fnr": scores["fnr"], "accuracy": scores["accuracy"],
-                        "missed_truth_rules": missed})
+                        "missed_truth_rules": missed,
+                        **reach_scores(learned, domain.truth_forbidden, domain.mdp, ~domain.unavailable)})
         if demos:
             from symlearn.data import load
 
@@ -131,6 +134,16 @@ def _demonstrations_report(domain, demos: str) -> dict:
             "impossible_steps": len(impossible), "first_impossible_step": first}
 
 
+def reach_lines(doc: dict) -> list[str]:
+    """The scores on the pairs a truth-abiding agent can meet, when some pairs lie in states it never
+    reaches (shared by ``domain check`` and ``learn constraints``)."""
+    if not doc.get("unreachable"):
+        return []
+    return [f"  on the {doc['reach_pairs']} pairs an agent obeying the truth can reach from the model's start: "
+            f"FPR {doc['reach_fpr']:.3f}  FNR {doc['reach_fnr']:.3f} (the other {doc['unreachable']} lie in states "
+            "no rule-abiding demonstration visits: what a rule forbids there, no demonstration can show)"]
+
+
 def _render(doc: dict) -> str:
     lines = [f"{doc['domain']}: {doc['states']} states x {doc['actions']} actions, {doc['pairs']} state-action pairs; "
              "every context has one answer set"]
@@ -153,6 +166,7 @@ def _render(doc: dict) -> str:
         lines.append(f"rules ({len(doc['rules'])}) forbid {doc['forbidden']} pairs")
         if doc["fpr"] is not None:
             lines.append(f"against the truth: FPR {doc['fpr']:.3f}  FNR {doc['fnr']:.3f}  accuracy {doc['accuracy']:.3f}")
+            lines += reach_lines(doc)
             lines += [f"  misses (partly) the truth rule {r}" for r in doc["missed_truth_rules"]]
         if "demonstrated_steps_forbidden" in doc:
             n = doc["demonstrated_steps_forbidden"]

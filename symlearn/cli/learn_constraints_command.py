@@ -31,7 +31,10 @@ user's, and grounding them cannot be interrupted. Its notes are printed when it 
 anything is learned (``--method ml -o X.lp`` would put JSON into a file named like rules).
 
 The scores (``fpr``, ``fnr``, ``accuracy``) compare the learned forbidden pairs with the ground
-truth over every pair that exists; they are ``null`` for a domain without truth rules.
+truth over every pair that exists; they are ``null`` for a domain without truth rules. With a
+truth, ``reach_fpr`` and ``reach_fnr`` score the pairs an agent obeying the truth can reach from
+the model's start (``reach_pairs``; ``unreachable`` counts the others, in states no rule-abiding
+demonstration can visit), printed as a second line when some pairs are unreachable.
 """
 
 from __future__ import annotations
@@ -330,7 +333,10 @@ def _learn(args: argparse.Namespace, out) -> None:
     if world.truth is not None:
         from symlearn.learners.constraints.constraint_metrics import constraint_metrics
 
+        from symlearn.learners.constraints.constraint_metrics import reach_scores
+
         scores = constraint_metrics(learned, world.truth, world.space)
+        doc.update(reach_scores(learned, world.truth, world.mdp, world.space))
     doc.update({"env": world.name, "method": method, "constraints": int(learned.sum()),
                 "fpr": scores["fpr"], "fnr": scores["fnr"], "accuracy": scores["accuracy"]})
     if method == "mce-icrl":
@@ -577,6 +583,9 @@ def _render(doc: dict) -> str:
     else:
         lines.append(f"forbidden pairs: {doc['constraints']}   against the ground truth: FPR {doc['fpr']:.3f}  "
                      f"FNR {doc['fnr']:.3f}  accuracy {doc['accuracy']:.3f}")
+        from symlearn.cli.domain_command import reach_lines
+
+        lines += reach_lines(doc)
     if doc.get("cost_map"):
         cost_map = doc["cost_map"]
         if "grid" in cost_map:

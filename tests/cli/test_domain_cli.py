@@ -36,3 +36,28 @@ def test_check_errors_are_one_line(capsys, tmp_path):
     bad.write_text(":- alarm, move(D)\n")
     code, out, err = run(capsys, "domain", "check", folder, "--rules", bad)
     assert code == 2 and "bad.lp:" in err and "Traceback" not in err
+
+
+def test_scores_on_the_pairs_a_rule_abiding_agent_reaches(capsys, tmp_path):
+    """A truth that makes some states unreachable: what a rule forbids there no rule-abiding
+    demonstration can show, so the check scores the reachable pairs on a second line too."""
+    folder = wh.write_warehouse(tmp_path / "warehouse")
+    # the robot may not move once loaded: loaded states away from the pick station are unreachable
+    (folder / "truth.lp").write_text(wh.TRUTH + ":- loaded, move(D).\n")
+    rules = tmp_path / "rules.lp"
+    rules.write_text(wh.TRUTH + ":- loaded, move(D).\n:- loaded, wait.\n")
+    code, out, err = run(capsys, "domain", "check", folder, "--rules", rules, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    # waiting loaded is forbidden in 10 cells x 2 alarm values (20 of 140 allowed pairs); only the pick
+    # station's 2 are reachable (of 86 allowed pairs a rule-abiding agent meets)
+    assert (doc["fpr"], doc["fnr"], doc["reach_fpr"], doc["reach_fnr"]) == (20 / 140, 0.0, 2 / 86, 0.0)
+    assert (doc["reach_pairs"], doc["unreachable"]) == (122, 102) and doc["reach_pairs"] + doc["unreachable"] == doc["pairs"]
+    code, out, err = run(capsys, "domain", "check", folder, "--rules", rules)
+    assert "pairs an agent obeying the truth can reach from the model's start: FPR" in out
+    # the plain warehouse reaches every state: no second line
+    plain = wh.write_warehouse(tmp_path / "plain")
+    code, out, err = run(capsys, "domain", "check", plain, "--rules", plain / "truth.lp", "--json")
+    assert json.loads(out)["unreachable"] == 0
+    code, out, err = run(capsys, "domain", "check", plain, "--rules", plain / "truth.lp")
+    assert "can reach" not in out

@@ -69,3 +69,18 @@ def reachable_pairs(mdp: Any, forbidden: np.ndarray, initial: np.ndarray | None 
         frontier = new
     reached &= ~np.asarray(mdp.terminal, dtype=bool)
     return np.repeat(reached[:, None], P.shape[1], axis=1)
+
+
+def reach_scores(learned: np.ndarray, truth: np.ndarray, mdp: Any, space: np.ndarray) -> dict[str, float | int]:
+    """FPR and FNR of ``learned`` against ``truth`` on the pairs an agent that obeys ``truth`` can
+    meet: every pair of ``space`` in a state it reaches from the model's start distribution
+    (:func:`reachable_pairs`). The other pairs of ``space`` lie in states no rule-abiding
+    demonstration can visit, so no demonstration can tell what a rule forbids there (a rule that
+    forbids everything in such a state and one that forbids nothing explain the data alike);
+    ``unreachable`` counts them. Keys: ``reach_fpr``, ``reach_fnr``, ``reach_pairs``, ``unreachable``."""
+    space = np.asarray(space, dtype=bool)
+    reach = reachable_pairs(mdp, np.asarray(truth, dtype=bool) | ~space) & space
+    scores = constraint_metrics(learned, truth, reach)
+    return {"reach_fpr": scores["fpr"], "reach_fnr": scores["fnr"], "reach_pairs": int(reach.sum()),
+            "unreachable": int((space & ~reach).sum())}
+

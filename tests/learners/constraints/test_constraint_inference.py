@@ -220,3 +220,20 @@ def test_bad_settings():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         MLConstraintInference(horizon=5, max_iterations=1).fit(demos, env)  # an env with to_tabular() works
+
+
+def test_reach_scores_leave_out_the_states_a_rule_abiding_agent_never_reaches():
+    from symlearn.learners.constraints.constraint_metrics import reach_scores
+    from symlearn.mdp import TabularMDP
+
+    # a chain 0 -> 1 -> 2 (action 0: forward, action 1: stay); the truth forbids 0's forward move,
+    # so 1 and 2 are unreachable from 0, and a rule that forbids staying in 1 is invisible there
+    P = np.zeros((3, 2, 3))
+    P[0, 0, 1] = P[1, 0, 2] = P[2, 0, 2] = 1.0
+    for s in range(3):
+        P[s, 1, s] = 1.0
+    mdp = TabularMDP(P, np.zeros((3, 2)), [1.0, 0.0, 0.0], [False, False, False])
+    truth = np.array([[True, False], [False, False], [False, False]])
+    learned = truth | np.array([[False, False], [False, True], [False, False]])
+    scores = reach_scores(learned, truth, mdp, np.ones((3, 2), bool))
+    assert scores == {"reach_fpr": 0.0, "reach_fnr": 0.0, "reach_pairs": 2, "unreachable": 4}
