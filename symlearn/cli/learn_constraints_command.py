@@ -331,9 +331,7 @@ def _learn(args: argparse.Namespace, out) -> None:
             doc["warnings"].append(warning)
     scores = {"fpr": None, "fnr": None, "accuracy": None}
     if world.truth is not None:
-        from symlearn.learners.constraints.constraint_metrics import constraint_metrics
-
-        from symlearn.learners.constraints.constraint_metrics import reach_scores
+        from symlearn.learners.constraints.constraint_metrics import constraint_metrics, reach_scores
 
         scores = constraint_metrics(learned, world.truth, world.space)
         doc.update(reach_scores(learned, world.truth, world.mdp, world.space))
