@@ -14,18 +14,20 @@ exits 0 having done nothing.
 
 1. **Recording** (Point and Car, Goal level 1; SafeNav's ``point-goal`` / ``car-goal`` alike):
    ``--demos`` scripted-expert episodes to learn from (episode seeds from seed 0), ``--held-out``
-   more expert episodes (seed 1) and ``--random`` uniform-random-policy episodes (seed 2), 1,000
-   steps each, on both simulators. The recorder writes SafeNav's 20 features; the check below
-   recomputes their lidar part here with SafeNav's own ``pseudo_lidar`` from the recorded poses.
+   more expert episodes (seed 1), ``--random`` uniform-random-policy episodes (seed 2) and as many
+   *straight* episodes (seed 3: the expert's steering aimed straight at the goal, hazards ignored,
+   so that both simulators have states with cost), 1,000 steps each, on both simulators. The
+   recorder writes SafeNav's 20 features; the check below recomputes their lidar part here with
+   SafeNav's own ``pseudo_lidar`` from the recorded poses.
 2. **Difficulty table**: random-policy cost per 1,000 steps, the scripted experts' return, cost and
    goals per episode, the simulated time per step, motion and hazard-lidar statistics.
 3. **The DNF pipeline through the CLI, as a user runs it**: the expert episodes are written as a
    symlearn demonstrations NPZ (``metadata["feature_names"]``), ``symlearn learn dnf --demos
    demos.npz -o F.dnf`` at the defaults and with ``--max-depth 3`` (the SafeNav benchmarks' depth),
-   then ``symlearn dnf eval F.dnf --points P.npz --json`` on held-out expert states and
-   random-policy states of *both* simulators: the share flagged unsafe, the recall on the states
-   with true cost (cost > 0, all from the random policy) and the false alarms on the random
-   policy's safe states. SafeNav's formulas go through the same commands on SafeNav's data, so
+   then ``symlearn dnf eval F.dnf --points P.npz --json`` on the held-out expert, random and
+   straight states of *both* simulators: the share flagged unsafe, the recall on the states with
+   true cost (cost > 0; from the random and straight policies) and the false alarms on their safe
+   states. SafeNav's formulas go through the same commands on SafeNav's data, so
    the diagonal compares like with like and the off-diagonal is the cross-transfer.
 
 Writes ``--json`` (default ``benchmarks/results/safety_gym_crosscheck.json``, with the command and
@@ -56,7 +58,9 @@ SG_IDS = {"point": "SafetyPointGoal1-v0", "car": "SafetyCarGoal1-v0"}
 ROBOTS = ("point", "car")
 SIMS = ("safenav", "safety-gym")
 SIM_LABEL = {"safenav": "SafeNav", "safety-gym": "Safety-Gymnasium"}
-ROLE_SEEDS = {"demos": 0, "heldout": 1, "random": 2}
+ROLE_SEEDS = {"demos": 0, "heldout": 1, "random": 2, "straight": 3}
+ROLE_POLICY = {"demos": "expert", "heldout": "expert", "random": "random", "straight": "straight"}
+EVAL_ROLES = ("heldout", "random", "straight")  # the points `dnf eval` sees, in this order
 NEAR = 0.88  # the lidar threshold the SafeNav formulas learn (`d_k > 0.88`, BENCHMARKS.md)
 
 
@@ -97,7 +101,7 @@ def peer_problem(python: str) -> str | None:
 
 def record_sg(python: str, robot: str, role: str, episodes: int, work: Path, rerecord: bool) -> Episodes:
     path = work / f"sg_{robot}_{role}.npz"
-    policy = "random" if role == "random" else "expert"
+    policy = ROLE_POLICY[role]
     seed = ROLE_SEEDS[role]
     if path.exists() and not rerecord:
         with np.load(path, allow_pickle=False) as z:
@@ -158,14 +162,14 @@ def safenav_episodes(robot: str, role: str, episodes: int) -> Episodes:
     from symlearn.envs.safenav_expert import expert_demonstrations
 
     seed = ROLE_SEEDS[role]
-    if role != "random":
+    if ROLE_POLICY[role] == "expert":
         demos = expert_demonstrations(robot, "goal", episodes, seed=seed)
         states = [np.asarray(t.states) for t in demos]
         costs = [np.array([1.0 if "hazard" in lab else 0.0 for lab in t.labels]) for t in demos]
         actions = [np.asarray(t.actions) for t in demos]
         rewards = [np.asarray(t.rewards, dtype=np.float64) for t in demos]
         goals = [t.info["goals_reached"] for t in demos]
-    else:  # the uniform random policy of safenav_common.probe_points, whole episodes
+    else:  # the uniform random policy of safenav_common.probe_points, or straight at the goal
         env = SafeNavEnv(robot, "goal")
         rng = np.random.default_rng(seed)
         states, costs, actions, rewards, goals = [], [], [], [], []
@@ -173,7 +177,7 @@ def safenav_episodes(robot: str, role: str, episodes: int) -> Episodes:
             _, info = env.reset(seed=int(episode_seed))
             xs, cs, acts, rs, done = [info["features"]], [info["cost"]], [], [], False
             while not done:
-                action = rng.uniform(-1.0, 1.0, size=2)
+                action = rng.uniform(-1.0, 1.0, size=2) if role == "random" else straight_at_goal(env)
                 _, reward, terminated, truncated, info = env.step(action)
                 done = terminated or truncated
                 xs.append(info["features"])
@@ -188,6 +192,18 @@ def safenav_episodes(robot: str, role: str, episodes: int) -> Episodes:
     return Episodes(np.vstack(states), np.concatenate(costs), np.vstack(actions), np.concatenate(rewards),
                     np.array([len(s) for s in states]), np.array([r.sum() for r in rewards]),
                     np.array([c.sum() for c in costs]), np.array(goals), DT, {"env": f"safenav-{robot}-goal"})
+
+
+def straight_at_goal(env) -> np.ndarray:
+    """The scripted expert's steering law (``SafeNavExpert._drive``) aimed straight at the goal at
+    full speed, hazards ignored: the ``straight`` policy of the recorder, here."""
+    state = env.state
+    error = (math.atan2(env.task.goal[1] - state.y, env.task.goal[0] - state.x) - state.heading + math.pi) % (2 * math.pi) - math.pi
+    forward = max(0.0, math.cos(error)) ** 3
+    if env.agent_name == "point":
+        return np.array([forward, np.clip(2.0 * error, -1.0, 1.0)])
+    turn = float(np.clip(1.5 * error - 0.3 * state.yaw_rate, -1.0, 1.0))
+    return np.clip(np.array([forward - turn, forward + turn]), -1.0, 1.0)
 
 
 # --------------------------------------------------------------------------------------------------
@@ -214,12 +230,14 @@ def motion_stats(states: np.ndarray) -> dict:
             "p99_abs_accel": [float(np.quantile(np.abs(a[:, 0]), 0.99)), float(np.quantile(np.abs(a[:, 1]), 0.99))]}
 
 
-def difficulty(expert: Episodes, random: Episodes) -> dict:
+def difficulty(expert: Episodes, random: Episodes, straight: Episodes) -> dict:
     steps = random.lengths - 1
     return {"dt": expert.dt, "episode_steps": int(np.median(expert.lengths - 1)),
             "episode_seconds": float(np.median(expert.lengths - 1) * expert.dt),
             "random_cost_per_1000_steps": mean_sd(1000 * random.episode_costs / steps),
             "random_return": mean_sd(random.returns), "random_share_states_in_hazard": float(np.mean(random.costs > 0)),
+            "straight_cost_per_1000_steps": mean_sd(1000 * straight.episode_costs / (straight.lengths - 1)),
+            "straight_return": mean_sd(straight.returns),
             "expert_episodes": int(len(expert.lengths)), "expert_return": mean_sd(expert.returns),
             "expert_cost": mean_sd(expert.episode_costs), "expert_goals": mean_sd(expert.goals),
             "expert_episodes_with_cost": int(np.sum(expert.episode_costs > 0)),
@@ -238,11 +256,11 @@ def concat(a: Episodes, b: Episodes) -> Episodes:
 # the DNF pipeline, through the CLI
 
 
-def cli(*args: str) -> dict:
-    """``symlearn ARGS --json --quiet`` in a fresh process (this checkout's package first)."""
+def cli(*args: str, cwd: Path = ROOT) -> dict:
+    """``symlearn ARGS --json --quiet`` in a fresh process (this checkout's package first), in ``cwd``."""
     env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]).rstrip(os.pathsep)}
     done = subprocess.run([sys.executable, "-m", "symlearn", *args, "--json", "--quiet"], capture_output=True,
-                          text=True, env=env, cwd=ROOT)
+                          text=True, env=env, cwd=cwd)
     if done.returncode != 0:
         raise SystemExit(f"symlearn {' '.join(args)} failed ({done.returncode}):\n{done.stderr[-3000:]}")
     return json.loads(done.stdout)
@@ -272,24 +290,29 @@ def write_demos(episodes: Episodes, path: Path, source: str) -> None:
     Demonstrations(trajectories, metadata={"feature_names": list(FEATURE_NAMES), "source": source}).save(path)
 
 
-def formula_rates(unsafe: np.ndarray, heldout: Episodes, random: Episodes) -> dict:
-    """Shares over the evaluation points, laid out ``[held-out expert states | random states]``."""
-    n = len(heldout.states)
-    on_expert, on_random = unsafe[:n], unsafe[n:]
-    hit = random.costs > 0
-    return {"expert_flagged": float(on_expert.mean()), "random_flagged": float(on_random.mean()),
-            "recall_on_cost_states": float(on_random[hit].mean()) if hit.any() else None,
-            "false_alarm_on_random_safe": float(on_random[~hit].mean()),
-            "cost_states": int(hit.sum()), "expert_cost_states": int(np.sum(heldout.costs > 0))}
+def formula_rates(unsafe: np.ndarray, d: dict[str, Episodes]) -> dict:
+    """Shares over the evaluation points, laid out as :data:`EVAL_ROLES` (see ``points_of``)."""
+    parts = np.split(unsafe, np.cumsum([len(d[role].states) for role in EVAL_ROLES])[:-1])
+    flagged = dict(zip(EVAL_ROLES, parts))
+    costly = {role: d[role].costs > 0 for role in EVAL_ROLES}
+    hit = np.concatenate([flagged[r][costly[r]] for r in ("random", "straight")])
+    safe = np.concatenate([flagged[r][~costly[r]] for r in ("random", "straight")])
+    return {"expert_flagged": float(flagged["heldout"].mean()), "random_flagged": float(flagged["random"].mean()),
+            "straight_flagged": float(flagged["straight"].mean()),
+            "recall_on_cost_states": float(hit.mean()) if hit.size else None,
+            "false_alarm_on_safe_states": float(safe.mean()),
+            "cost_states": int(hit.size), "expert_cost_states": int(costly["heldout"].sum())}
 
 
 def dnf_pipeline(data: dict, work: Path, rules_dir: Path, depths: list[int | None]) -> dict:
+    from safenav_common import unsafe_breakdown  # a sibling: this runs as a script from benchmarks/
     from symlearn.envs.safenav.observation import FEATURE_NAMES
+    from symlearn.logic.dnf import load as load_dnf
 
     points = {}
     for (sim, robot), d in data.items():
         path = work / f"points_{sim}_{robot}.npz"
-        np.savez_compressed(path, points=np.vstack([d["heldout"].states, d["random"].states]),
+        np.savez_compressed(path, points=np.vstack([d[role].states for role in EVAL_ROLES]),
                             features=np.array(FEATURE_NAMES))
         points[sim, robot] = path
     formulas = []
@@ -300,19 +323,22 @@ def dnf_pipeline(data: dict, work: Path, rules_dir: Path, depths: list[int | Non
         for depth in depths:
             name = f"{sim}_{robot}_goal.{'default' if depth is None else f'd{depth}'}.dnf"
             out = rules_dir / name
-            args = ["learn", "dnf", "--demos", str(demos_path), "-o", str(out)]
+            # From the work folder, so the formula's header names the demonstrations file, not /tmp/...
+            args = ["learn", "dnf", "--demos", demos_path.name, "-o", str(out.resolve())]
             if depth is not None:
                 args += ["--max-depth", str(depth)]
-            learned = cli(*args)
+            learned = cli(*args, cwd=work)
             row = {"source": sim, "robot": robot, "max_depth": depth, "file": display(out),
-                   "command": "symlearn " + shlex.join(args).replace(str(work), "WORK").replace(str(rules_dir), display(rules_dir)),
+                   "command": "symlearn " + shlex.join(args).replace(str(rules_dir.resolve()), display(rules_dir)),
                    "conjunctions": len(learned["conjunctions"]), "samples": learned["samples"],
                    "fit_seconds": learned["seconds"], "unsafe_share_of_box": learned["unsafe_share"],
                    "warnings": learned["warnings"], "on": {}}
             for target in SIMS:
                 evaluated = cli("dnf", "eval", str(out), "--points", str(points[target, robot]))
                 unsafe = np.asarray(evaluated["unsafe"], dtype=bool)
-                row["on"][target] = formula_rates(unsafe, data[target, robot]["heldout"], data[target, robot]["random"])
+                row["on"][target] = formula_rates(unsafe, data[target, robot])
+                # Which rules call the target's held-out expert unsafe (the SafeNav sections' diagnosis).
+                row["on"][target]["expert_breakdown"] = unsafe_breakdown(load_dnf(out), data[target, robot]["heldout"].states)
             formulas.append(row)
     return {"formulas": formulas}
 
@@ -341,6 +367,8 @@ def markdown(result: dict) -> str:
     line("seconds per step (steps per episode)", lambda d: f"{d['dt']:.2f} ({d['episode_steps']})")
     line("random policy: cost per 1,000 steps", lambda d: pm(d["random_cost_per_1000_steps"]))
     line("random policy: return per episode", lambda d: pm(d["random_return"], 2))
+    line("straight at the goal: cost per 1,000 steps", lambda d: pm(d["straight_cost_per_1000_steps"]))
+    line("straight at the goal: return per episode", lambda d: pm(d["straight_return"], 2))
     line("expert: return per episode", lambda d: pm(d["expert_return"], 2))
     line("expert: goals per episode", lambda d: pm(d["expert_goals"]))
     line("expert: cost per episode (episodes with cost)",
@@ -358,15 +386,29 @@ def markdown(result: dict) -> str:
              lambda d, w=who: "{:.1f}, {:.1f}".format(*d["motion_" + w]["p99_abs_accel"]))
     out = ["\n".join(lines), ""]
     table = ["| formula (learned on) | depth | conjunctions | on | held-out expert flagged | random flagged | "
-             "recall on cost states | false alarms on random safe states |", "|---|---|---:|---|---:|---:|---:|---:|"]
+             "straight flagged | recall on cost states (n) | false alarms on safe random/straight states |",
+             "|---|---|---:|---|---:|---:|---:|---:|---:|"]
     for f in result["dnf"]["formulas"]:
         for target in SIMS:
             r = f["on"][target]
             table.append(f"| {SIM_LABEL[f['source']]} {f['robot'].capitalize()}Goal | "
                          f"{'5 (default)' if f['max_depth'] is None else f['max_depth']} | {f['conjunctions']} | "
                          f"{SIM_LABEL[target]} | {pct(r['expert_flagged'])} | {pct(r['random_flagged'])} | "
-                         f"{pct(r['recall_on_cost_states'])} ({r['cost_states']}) | {pct(r['false_alarm_on_random_safe'])} |")
+                         f"{pct(r['straight_flagged'])} | {pct(r['recall_on_cost_states'])} ({r['cost_states']}) | "
+                         f"{pct(r['false_alarm_on_safe_states'])} |")
     out.append("\n".join(table))
+    why = ["| formula (depth 3) | on held-out expert of | flagged | by a one-atom a_* rule | v_* rule | d_* rule | "
+           "only by multi-atom rules |", "|---|---|---:|---:|---:|---:|---:|"]
+    for f in result["dnf"]["formulas"]:
+        if f["max_depth"] != 3:
+            continue
+        for target in SIMS:
+            b = f["on"][target]["expert_breakdown"]
+            g = b["one_atom_share_by_group"]
+            why.append(f"| {SIM_LABEL[f['source']]} {f['robot'].capitalize()}Goal | {SIM_LABEL[target]} | "
+                       f"{pct(b['unsafe_share'])} | {pct(g.get('acceleration', 0.0))} | {pct(g.get('velocity', 0.0))} | "
+                       f"{pct(g.get('lidar', 0.0))} | {pct(b['only_multi_atom_share'])} |")
+    out += ["", "\n".join(why)]
     return "\n".join(out)
 
 
@@ -385,7 +427,8 @@ def main(argv: list[str] | None = None) -> int:
                         help="a Python that imports safety_gymnasium (3.10 for safety-gymnasium 1.0.0)")
     parser.add_argument("--demos", type=int, default=20, help="expert episodes to learn from (20)")
     parser.add_argument("--held-out", type=int, default=10, help="more expert episodes to evaluate on (10)")
-    parser.add_argument("--random", type=int, default=10, help="random-policy episodes (10)")
+    parser.add_argument("--random", type=int, default=10,
+                        help="random-policy episodes, and as many straight-at-the-goal ones (10)")
     parser.add_argument("--work-dir", default="/tmp/symlearn-safety-gym", help="recordings, demos and points")
     parser.add_argument("--rules-dir", default=str(ROOT / "benchmarks/results/safety_gym_rules"))
     parser.add_argument("--json", default=str(ROOT / "benchmarks/results/safety_gym_crosscheck.json"))
@@ -404,7 +447,7 @@ def main(argv: list[str] | None = None) -> int:
     work, rules_dir = Path(args.work_dir), Path(args.rules_dir)
     work.mkdir(parents=True, exist_ok=True)
     rules_dir.mkdir(parents=True, exist_ok=True)
-    counts = {"demos": args.demos, "heldout": args.held_out, "random": args.random}
+    counts = {"demos": args.demos, "heldout": args.held_out, "random": args.random, "straight": args.random}
     data = {}
     for robot in ROBOTS:
         data["safety-gym", robot] = {role: record_sg(args.python, robot, role, n, work, args.rerecord)
@@ -417,7 +460,7 @@ def main(argv: list[str] | None = None) -> int:
               "recording_checks": {f"{robot}/{role}": data["safety-gym", robot][role].meta["check"]
                                    for robot in ROBOTS for role in counts},
               "difficulty": {f"{sim}/{robot}": difficulty(concat(data[sim, robot]["demos"], data[sim, robot]["heldout"]),
-                                                          data[sim, robot]["random"])
+                                                          data[sim, robot]["random"], data[sim, robot]["straight"])
                              for sim in SIMS for robot in ROBOTS},
               "dnf": dnf_pipeline(data, work, rules_dir, [None, 3])}
     result["seconds"] = {"recording_and_safenav": recorded, "total": time.perf_counter() - start}

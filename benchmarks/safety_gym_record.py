@@ -29,7 +29,9 @@ The cost is the one ``env.step`` returns (``info["cost_sum"]``; Safety-Gymnasium
 ``info["cost"]``): 1 when the agent's centre is within 0.2 of a hazard centre (level 1 charges
 hazards only; its vase is not constrained). The reset state's cost is 0 (the builder asserts it).
 
-Policies: ``random`` (uniform in ``[-1, 1]^2``, as SafeNav's random probes) and ``expert``, a
+Policies: ``random`` (uniform in ``[-1, 1]^2``, as SafeNav's random probes), ``straight`` (the
+expert's steering aimed straight at the goal at full speed, hazards ignored: a goal-seeker that
+crosses hazards, for states with cost) and ``expert``, a
 port of SafeNav's scripted expert (``symlearn/envs/safenav_expert.py``) to this simulator: a
 cost-to-go field over a 5 cm grid (hazards grown by the robot radius weigh 1000, a 0.25 m margin
 around them up to 21), a carrot six cells down the field, slowing near hazards, a shield that
@@ -217,8 +219,8 @@ class Expert:
 
     SHIELD = 0.15
 
-    def __init__(self, probe: Probe, margin: float = 0.25) -> None:
-        self.probe, self.margin = probe, margin
+    def __init__(self, probe: Probe, margin: float = 0.25, reckless: bool = False) -> None:
+        self.probe, self.margin, self.reckless = probe, margin, reckless
         # Level 1 has no walls; goals and hazards lie in [-1.5, 1.5]^2, so 2.2 leaves room to detour.
         self.grid = Grid(2.2)
         self._key: tuple | None = None
@@ -227,6 +229,8 @@ class Expert:
     def __call__(self) -> np.ndarray:
         probe = self.probe
         position, goal, hazards = probe.position(), probe.goal(), probe.hazards()
+        if self.reckless:  # straight at the goal, full speed, hazards ignored (states with cost)
+            return self._drive(math.atan2(goal[1] - position[1], goal[0] - position[0]), 1.0)
         key = (goal.tobytes(), hazards.tobytes())
         if key != self._key:
             self._key = key
@@ -290,7 +294,7 @@ def record(env_id: str, policy: str, episodes: int, seed: int) -> dict[str, np.n
     for episode_seed in seeds:
         start = time.perf_counter()
         env.reset(seed=int(episode_seed))
-        expert = Expert(probe) if policy == "expert" else None
+        expert = Expert(probe, reckless=policy == "straight") if policy != "random" else None
         hazards_per_episode.append(probe.hazards())
         x, pose = features(probe, None)
         ep_states, ep_poses, ep_costs_, ep_lidar = [x], [pose], [0.0], [probe.sg_lidar()]
@@ -356,7 +360,7 @@ def save_npz(path: str, arrays: dict[str, np.ndarray]) -> None:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--env", required=True, help="SafetyPointGoal1-v0 or SafetyCarGoal1-v0")
-    parser.add_argument("--policy", choices=("random", "expert"), required=True)
+    parser.add_argument("--policy", choices=("random", "expert", "straight"), required=True)
     parser.add_argument("--episodes", type=int, default=10)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("-o", "--output", required=True)
