@@ -55,8 +55,6 @@ import time
 
 import numpy as np
 
-N_BINS = 16
-LIDAR_MAX_DIST = 3.0  # SafeNav's and Safety-Gym's benchmark setting
 ACCEL_LIMIT, VEL_LIMIT = 50.0, 5.0  # SafeNav's SENSOR_LIMITS
 HAZARD_RADIUS = 0.2  # Safety-Gym's Hazards.size; checked against the task below
 ROBOT_RADIUS = 0.1  # SafeNav's planning radius; both Safety-Gym robots are about this wide
@@ -73,25 +71,23 @@ POINT_TOP_SPEED, POINT_SPEED_GAIN = 1.0, 4.0  # the Point expert's speed servo (
 # features
 
 
-def pseudo_lidar(x: float, y: float, heading: float, centers: np.ndarray, radius: float) -> np.ndarray:
-    """SafeNav's ``symlearn/envs/safenav/lidar.py: pseudo_lidar`` (same arithmetic, re-written
-    here because this interpreter cannot import symlearn; the driver re-computes it with
-    symlearn's own function from the recorded poses and compares)."""
-    obs = np.zeros(N_BINS)
-    dx, dy = centers[:, 0] - x, centers[:, 1] - y
-    surface = np.maximum(np.hypot(dx, dy) - radius, 0.0)
-    sensor = np.maximum(1.0 - surface / LIDAR_MAX_DIST, 0.0)
-    position = ((np.arctan2(dy, dx) - heading) % TWO_PI) * (N_BINS / TWO_PI)
-    for p, s in zip(position.tolist(), sensor.tolist()):
-        if s <= 0.0:
-            continue
-        b = int(p) % N_BINS
-        obs[b] = max(obs[b], s)
-        frac = p - math.floor(p)
-        up, down = (b + 1) % N_BINS, (b - 1) % N_BINS
-        obs[up] = max(obs[up], frac * s)
-        obs[down] = max(obs[down], (1.0 - frac) * s)
-    return obs
+def _safenav_lidar():
+    """SafeNav's own ``pseudo_lidar``, loaded from the checkout by path: this interpreter cannot
+    import the symlearn package (Python 3.11), but ``symlearn/envs/safenav/lidar.py`` needs numpy
+    only, so the features are computed by the very function SafeNav uses."""
+    import importlib.util
+
+    path = os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "symlearn", "envs", "safenav",
+                        "lidar.py")
+    spec = importlib.util.spec_from_file_location("safenav_lidar", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+_LIDAR = _safenav_lidar()
+N_BINS, LIDAR_MAX_DIST = _LIDAR.N_BINS, _LIDAR.MAX_DIST
+pseudo_lidar = _LIDAR.pseudo_lidar
 
 
 def clip(value: float, limit: float) -> float:

@@ -1,8 +1,8 @@
 """benchmarks/safety_gym_{record,crosscheck}.py without Safety-Gymnasium (a peer, never imported here).
 
-The recorder runs under a separate Python 3.10 and cannot import symlearn, so it carries its own
-copy of SafeNav's pseudo-lidar; these tests keep that copy equal to the library's, and check that
-the driver skips cleanly when the peer interpreter is missing.
+The recorder runs under a separate Python 3.10 and cannot import the symlearn package, so it loads
+SafeNav's lidar module from the checkout by path; these tests check that it computes exactly the
+library's lidar that way, and that the driver skips cleanly when the peer interpreter is missing.
 """
 
 from __future__ import annotations
