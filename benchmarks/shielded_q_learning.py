@@ -28,8 +28,11 @@ step breaking a ground-truth rule. Each agent drives one route (entry -> exit ar
 ``i`` takes route ``i mod (number of routes)``, so all routes are covered.
 
 Measured per method: P(at least one violation during training), P(at least one violation in
-the greedy test rollouts), violations per training episode, episodes to convergence, final
-(greedy test) cost per episode, wall time.
+the greedy test rollouts) (both: the share of agents), violations per training episode, episodes
+to convergence, final (greedy test) cost per episode, wall time. And Table 3.1's "empirical
+probability of a rule violation" as mean ± sd over agents of a per-agent rate, in training and in
+the greedy tests, for three rates (which one the thesis means is argued in docs/BENCHMARKS.md):
+violations per episode, share of episodes with a violation, violations per step.
 
 **Episodes to convergence** (per agent): the training cost of an episode is minus its return;
 the agent has converged at the first episode where the moving *median* over ``WINDOW`` episodes
@@ -130,25 +133,41 @@ def make_env(variant: str, route: tuple, mask: np.ndarray | None, seed: int, max
     return env if mask is None else Shield(env, mask, seed=seed)
 
 
-def greedy_rollouts(env, q: np.ndarray, episodes: int, seed: int) -> tuple[int, float, float]:
+def greedy_drives(env, q: np.ndarray, episodes: int, seed: int) -> dict:
     """Greedy (epsilon = 0) drives with the learned Q-table, ties broken at random, the shield's
-    mask respected. Returns (violations, mean cost per episode, success rate)."""
+    mask respected. Per drive: ``violations`` (steps breaking a ground-truth rule), ``steps``,
+    ``cost`` (minus the return) and ``success`` (goal reached), as arrays."""
     rng = np.random.default_rng(seed)
-    violations, cost, successes = 0, 0.0, 0
+    violations, steps, costs, successes = (np.zeros(episodes) for _ in range(4))
     seeds = np.random.SeedSequence(seed).generate_state(episodes).tolist()
-    for episode_seed in seeds:
+    for i, episode_seed in enumerate(seeds):
         state, info = env.reset(seed=int(episode_seed))
         while True:
             mask = np.asarray(info.get("action_mask", np.ones(q.shape[1])), bool)
             values = np.where(mask, q[int(state)], -np.inf)
             action = int(rng.choice(np.flatnonzero(values == values.max())))
             state, reward, terminated, truncated, info = env.step(action)
-            cost -= reward
-            violations += bool(info["violation"])
+            costs[i] -= reward
+            steps[i] += 1
+            violations[i] += bool(info["violation"])
             if terminated or truncated:
-                successes += bool(terminated)
+                successes[i] = bool(terminated)
                 break
-    return violations, cost / episodes, successes / episodes
+    return {"violations": violations, "steps": steps, "cost": costs, "success": successes}
+
+
+def greedy_rollouts(env, q: np.ndarray, episodes: int, seed: int) -> tuple[int, float, float]:
+    """:func:`greedy_drives` summed up: (violations, mean cost per episode, success rate)."""
+    drives = greedy_drives(env, q, episodes, seed)
+    return int(drives["violations"].sum()), float(drives["cost"].sum()) / episodes, float(drives["success"].mean())
+
+
+def per_agent_rates(violations: np.ndarray, steps: np.ndarray) -> dict:
+    """Table 3.1 candidates from one agent's per-episode violation counts and episode lengths:
+    violations per episode, the share of episodes with at least one violation (the empirical
+    probability of a violation per episode) and violations per step."""
+    return {"per_episode": float(violations.mean()), "episode_share": float((violations > 0).mean()),
+            "per_step": float(violations.sum() / max(steps.sum(), 1))}
 
 
 def moving(values: np.ndarray, statistic=np.median) -> np.ndarray:
@@ -183,8 +202,9 @@ def run_agent(variant: str, mask: np.ndarray | None, seed: int, episodes: int, t
     route = env_routes[seed % len(env_routes)]
     env = make_env(variant, route, mask, seed, max_steps)
     result = q_learning(env, episodes, seed=seed, **SETTINGS)
-    v, c, s = greedy_rollouts(make_env(variant, route, mask, seed + 10_000, max_steps), result.q_values,
-                              test_episodes, seed + 10_000)
+    drives = greedy_drives(make_env(variant, route, mask, seed + 10_000, max_steps), result.q_values,
+                           test_episodes, seed + 10_000)
+    v, c, s = int(drives["violations"].sum()), float(drives["cost"].mean()), float(drives["success"].mean())
     early = {}
     for k in test_at:
         if k >= episodes:
@@ -194,7 +214,9 @@ def run_agent(variant: str, mask: np.ndarray | None, seed: int, episodes: int, t
         early[k] = greedy_rollouts(make_env(variant, route, mask, seed + 10_000, max_steps), q_k, test_episodes,
                                    seed + 10_000)[:2]
     return {"costs": -result.returns, "train_violations": result.violations, "test_violations": v, "test_cost": c,
-            "success": s, "converged_at": converged_at(-result.returns), "early": early}
+            "success": s, "converged_at": converged_at(-result.returns), "early": early,
+            "rates": {"training": per_agent_rates(result.violations, result.lengths),
+                      "test": per_agent_rates(drives["violations"], drives["steps"])}}
 
 
 def run_agents(variant: str, masks: dict, seeds: int, episodes: int, test_episodes: int, max_steps: int,
@@ -210,11 +232,23 @@ def run_agents(variant: str, masks: dict, seeds: int, episodes: int, test_episod
                  for k in test_at if k < episodes}
         costs_a, train_a, test_a = np.array(costs), np.array(train_viol), np.array(test_viol)
         per_agent = train_a.sum(axis=1)
+        # Table 3.1's "empirical probability of a rule violation", mean ± sd (ddof 1) over agents of
+        # a per-agent rate; which rate the thesis means is read in docs/BENCHMARKS.md.
+        def mean_sd(values: list[float]) -> list[float]:
+            return [float(np.mean(values)), float(np.std(values, ddof=1)) if len(values) > 1 else 0.0]
+
+        rates = {phase: {name: mean_sd([a["rates"][phase][name] for a in agents])
+                         for name in ("per_episode", "episode_share", "per_step")}
+                 for phase in ("training", "test")}
+        # another reading: violations per episode averaged over agents, mean ± sd over the episodes
+        curve = train_a.mean(axis=0)
+        rates["training"]["per_episode_over_episodes"] = mean_sd(curve.tolist())
         results[method] = {
             "agents": seeds,
             "p_violation_training": float((per_agent > 0).mean()),
             "p_violation_test": float((test_a > 0).mean()),
             "violations_per_training_episode": float(train_a.mean()),
+            "table_3_1": rates,
             "training_violations_total": int(per_agent.sum()),
             "test_violations_total": int(test_a.sum()),
             "episodes_to_convergence_median": float(np.median(conv)),
@@ -292,6 +326,9 @@ def cell(junction: str, method: str, seed: int, episodes: int = 300, test_episod
                "training_cost_first_50": float(costs[:50].mean()), "training_cost_last_50": float(costs[-50:].mean()),
                "total_training_cost": float(costs.sum()), "test_cost": float(agent["test_cost"]),
                "test_success": float(agent["success"]), "training_cost": [float(c) for c in costs]}
+    for phase in ("training", "test"):  # Table 3.1's per-agent rates (mean ± sd over seeds = the script's)
+        for name, value in agent["rates"][phase].items():
+            metrics[f"{phase}_violations_{name}"] = value
     for k, (violations, cost) in agent["early"].items():
         metrics[f"violated_test_after_{k}"] = int(violations > 0)
         metrics[f"test_cost_after_{k}"] = float(cost)
@@ -320,6 +357,40 @@ def table(results: dict, title: str) -> str:
             cells = [f"{r['early_tests'][k]['p_violation_test']:.3f} / {r['early_tests'][k]['test_cost']:.1f}"
                      for k in early]
             lines.append(f"| {method} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+TABLE_3_1_STATISTICS = {"per_episode": "violations per episode",
+                        "episode_share": "share of episodes with a violation",
+                        "per_step": "violations per step"}
+
+
+def table_3_1(out: dict) -> str:
+    """Table 3.1's shape: method x (junction, training / test), mean ± sd over agents of each
+    per-agent rate, then the thesis' share-of-agents reading (``P(viol.)``) for comparison."""
+    junctions = list(out["junctions"])
+    methods = [m for m in ("QL", "C-QL", "LC-QL") if all(m in out["junctions"][j] for j in junctions)]
+    head = "| statistic | method | " + " | ".join(f"{j} {p}" for j in junctions for p in ("train", "test")) + " |"
+    lines = ["### Table 3.1: empirical probability of a rule violation (mean ± sd over agents)", "", head,
+             "|---|---|" + "---|" * (2 * len(junctions))]
+
+    def fmt(pair):
+        m, sd = pair
+        return f"{m:.3g} ± {sd:.2g}"
+
+    for key, label in TABLE_3_1_STATISTICS.items():
+        for method in methods:
+            cells = [fmt(out["junctions"][j][method]["table_3_1"][phase][key])
+                     for j in junctions for phase in ("training", "test")]
+            lines.append(f"| {label} | {method} | " + " | ".join(cells) + " |")
+    for method in methods:
+        cells = [fmt(out["junctions"][j][method]["table_3_1"]["training"]["per_episode_over_episodes"]) if phase ==
+                 "training" else "n/a" for j in junctions for phase in ("training", "test")]
+        lines.append(f"| violations per episode, sd over episodes | {method} | " + " | ".join(cells) + " |")
+    for method in methods:
+        cells = [f"{out['junctions'][j][method][f'p_violation_{phase}']:.3f}"
+                 for j in junctions for phase in ("training", "test")]
+        lines.append(f"| share of agents with any violation | {method} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 
@@ -391,6 +462,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"  recovery: {info['recovery']}")
     for variant, results in out["junctions"].items():
         print("\n" + table(results, f"{variant} junction ({seeds} agents x {episodes} episodes)"))
+    print("\n" + table_3_1(out))
     print("\n" + table(out["transfer"], f"transfer to the combined junction ({seeds} agents x {episodes} episodes)"))
     print(f"  translation: {transfer_recovery}")
     print(f"\ntotal {out['seconds']:.0f} s")

@@ -9,6 +9,15 @@ For every task, with propositions given and learned, and every seed:
 * ``scarlet``     Scarlet (Scarlet-ltl) fed expert traces as positives and random-walk traces
                   as negatives (baseline ii; propositions given only: with learned propositions
                   every state would be a proposition, far beyond its reach).
+* ``positive-only`` Roy et al.'s positive-only LTLf (the thesis' baseline ii,
+                  :mod:`symlearn.learners.temporal.positive_only_ltl`), fed the expert traces only:
+                  the most specific formula of size <= ``--po-max-size`` true on every expert
+                  trace, its language compared on a universe of traces over the letters the
+                  world can show (so ``G !n`` counts as more specific), bounded by
+                  ``--po-timeout`` (best formula enumerated so far on timeout, reported). With
+                  propositions given only by default, as in the thesis (intractable with learned
+                  ones); ``--po-props given learn`` also tries learned ones: one proposition per
+                  cell an expert visits, every other cell the empty letter.
 
 Each learned formula is turned into a nominal policy (DFA -> reward machine -> CRM Q-learning),
 whose greedy rollouts (ties broken at random, 20 of them) are checked against the ground-truth
@@ -135,6 +144,8 @@ def run_job(job: dict) -> dict:
             row.update(formula=str(learner.formula_), length=learner.length_, iterations=learner.iterations_,
                        unpruned_length=size(learner.unpruned_formula_), success=learner.success_rate(task.formula),
                        entropy=learner.entropy_, seconds=time.perf_counter() - t0)
+        elif job["method"] == "positive-only":
+            row.update(positive_only(task, env, demos, job))
         else:  # scarlet
             rng = np.random.default_rng(job["seed"])
             alphabet = list(env.labeling.propositions)
@@ -156,20 +167,49 @@ def run_job(job: dict) -> dict:
                                                                    job["seed"]))
     except Exception as exc:  # a failed run is a result too; keep going
         row.update(error=f"{type(exc).__name__}: {exc}", success=0.0, seconds=time.perf_counter() - t0)
-    print(f"  {job['task']:9s} {job['props']:5s} {job['method']:10s} seed {job['seed']} n={job['n_demos']:2d}: "
+    print(f"  {job['task']:9s} {job['props']:5s} {job['method']:13s} seed {job['seed']} n={job['n_demos']:2d}: "
           f"success {row.get('success')} length {row.get('length')} {row.get('seconds', 0):.1f}s "
           f"{row.get('formula') or row.get('error', '')}", flush=True)
     return row
 
 
-def cell(task: str, props: str, method: str, seed: int, n_demos: int = 50, scarlet_timeout: float = 120.0) -> dict:
+def positive_only(task, env, demos, job: dict) -> dict:
+    """Roy et al.'s positive-only LTLf on the expert label words, then the common scoring."""
+    from symlearn.grounding.labeling import Labeling
+    from symlearn.learners.temporal.positive_only_ltl import PositiveOnlyLtlLearner
+    from symlearn.logic.ltlf import size
+
+    if job["props"] == "given":
+        labeling = env.labeling
+    else:  # one proposition per cell an expert visits (no nominal policy here to show others)
+        visited = sorted({int(s) for t in demos for s in t.states})
+        labeling = Labeling({s: {f"c{s}"} for s in visited})
+    positives = [[labeling.label(int(s)) for s in t.states] for t in demos]
+    letters = {labeling.label(s) for s in range(int(env.observation_space.n))}
+    learner = PositiveOnlyLtlLearner(max_size=job.get("po_max_size", 6), timeout=job.get("po_timeout", 60.0),
+                                     letters=sorted(letters, key=sorted), random_state=job["seed"])
+    learner.fit(positives, list(labeling.propositions))
+    search = learner.search_
+    formula = learner.formula_
+    out = {"formula": str(formula), "length": size(formula), "iterations": None,
+           "finished": search.stopped_by == "max_size", "stopped_by": search.stopped_by,
+           "complete_up_to": search.complete_up_to, "candidates": search.candidates,
+           "universe": search.universe, "letters": search.letters, "seconds": search.seconds,
+           "learn_seconds": search.seconds,
+           "propositions": len(labeling.propositions)}
+    out.update(evaluate_formula(formula, env, task.formula, labeling, job["seed"]))
+    return out
+
+
+def cell(task: str, props: str, method: str, seed: int, n_demos: int = 50, scarlet_timeout: float = 120.0,
+         po_max_size: int = 6, po_timeout: float = 60.0) -> dict:
     """One cell of ``benchmarks/sweeps/spec_learning*.toml``: :func:`run_job`'s row for one
     (task, propositions, method, seed) as metrics (a failed run keeps success 0 and its error,
     as in the script's table)."""
     row = run_job(dict(task=task, props=props, method=method, seed=seed, n_demos=n_demos,
-                       scarlet_timeout=scarlet_timeout))
+                       scarlet_timeout=scarlet_timeout, po_max_size=po_max_size, po_timeout=po_timeout))
     keys = ("success", "entropy", "length", "unpruned_length", "iterations", "seconds", "formula", "error",
-            "finished")
+            "finished", "stopped_by")
     return {k: row.get(k) for k in keys}
 
 
@@ -196,6 +236,7 @@ def summarise(rows: list[dict]) -> list[dict]:
             "length": _mean([r.get("length") for r in rs]), "unpruned_length": _mean([r.get("unpruned_length") for r in rs]),
             "iterations": _mean([r.get("iterations") for r in rs]), "seconds": _mean([r.get("seconds") for r in rs]),
             "errors": sum(1 for r in rs if "error" in r),
+            "learn_seconds": _mean([r.get("learn_seconds") for r in rs]),
             "unfinished": sum(1 for r in rs if r.get("finished") is False),
         })
     return table
@@ -223,8 +264,12 @@ def main(argv=None) -> int:
     parser.add_argument("--no-baselines", action="store_true")
     parser.add_argument("--ablation", action="store_true", help="also the 5..50 demonstrations ablation (office)")
     parser.add_argument("--ablation-only", action="store_true")
-    parser.add_argument("--methods", nargs="*", choices=("ours", "no-updates", "scarlet"),
+    parser.add_argument("--methods", nargs="*", choices=("ours", "no-updates", "scarlet", "positive-only"),
                         help="run only these methods (default: all)")
+    parser.add_argument("--po-max-size", type=int, default=6, help="positive-only: formula size bound")
+    parser.add_argument("--po-timeout", type=float, default=60.0, help="positive-only: seconds per run")
+    parser.add_argument("--po-props", nargs="*", choices=("given", "learn"), default=["given"],
+                        help="positive-only: with which propositions (default: given, as in the thesis)")
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--out", default="benchmarks/results/spec_learning.json")
     args = parser.parse_args(argv)
@@ -240,10 +285,13 @@ def main(argv=None) -> int:
                     methods = ["ours"] if args.no_baselines else ["ours", "no-updates"]
                     if props == "given" and not (args.no_scarlet or args.no_baselines):
                         methods.append("scarlet")
+                    if props in args.po_props and not args.no_baselines:
+                        methods.append("positive-only")
                     if args.methods:
                         methods = [m for m in methods if m in args.methods]
                     jobs += [dict(task=task, props=props, method=m, seed=seed, n_demos=args.n_demos,
-                                  scarlet_timeout=timeout) for m in methods]
+                                  scarlet_timeout=timeout, po_max_size=args.po_max_size,
+                                  po_timeout=args.po_timeout) for m in methods]
     if args.ablation or args.ablation_only:
         for seed in range(seeds):
             for task in [t for t in tasks if t.startswith("office")]:

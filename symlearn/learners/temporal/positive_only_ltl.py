@@ -9,7 +9,10 @@ by enumeration instead of SAT:
 1. *Universe.* A finite set ``R`` of traces stands in for "all traces": every sequence of the
    letters seen in the positives (label sets) of length 1 .. the longest positive, or, when
    that is more than ``universe_limit`` traces, a seeded random sample of them (then the result
-   is minimal on the sample only, and says so).
+   is minimal on the sample only, and says so). Roy et al.'s language is over every letter;
+   ``letters`` widens ``R`` to letters the positives never show (say, the labels a world can
+   produce), so that excluding what the positives never do (``G !n``) makes a formula more
+   specific. With only the positives' letters, such a conjunct changes nothing on ``R``.
 2. *Candidates.* Every formula up to ``max_size`` over the operators is enumerated bottom-up
    (:class:`~symlearn.learners.temporal.ltl_enumeration.Enumerator`) on positives + ``R``, one
    per distinct truth-value vector, so two kept candidates differ on some trace of ``R``.
@@ -60,6 +63,8 @@ class PositiveOnlyResult:
     candidates: int  # distinct formulas enumerated
     complete_up_to: int  # every formula up to this size was enumerated
     seconds: float
+    stopped_by: str = "max_size"  # the enumeration's stop: "max_size", "candidate limit", "deadline", ...
+    letters: int = 0  # distinct letters the universe is made of
 
     def as_dict(self) -> dict:
         d = asdict(self)
@@ -70,8 +75,14 @@ class PositiveOnlyResult:
 def learn_positive_only(positive: Sequence[Sequence[Iterable[str]]], propositions: Sequence[str], *,
                         max_size: int = 5, operators: Sequence[str] = DEFAULT_OPERATORS,
                         universe_limit: int = 4000, max_candidates: int = 500_000, seed: int = 0,
-                        timeout: float | None = None) -> PositiveOnlyResult:
-    """The most specific formula of size <= ``max_size`` holding on every positive trace (module doc)."""
+                        timeout: float | None = None,
+                        letters: Iterable[Iterable[str]] | None = None) -> PositiveOnlyResult:
+    """The most specific formula of size <= ``max_size`` holding on every positive trace (module doc).
+
+    ``letters``: label sets the universe's traces are made of besides those the positives show
+    (default: none). ``timeout`` (seconds) and ``max_candidates`` stop the enumeration early: the
+    result is then the best among the formulas enumerated so far (``stopped_by`` says which limit,
+    ``complete_up_to`` up to which size the search is exhaustive)."""
     started = time.monotonic()
     positive = [[frozenset(label) for label in trace] for trace in positive]
     if not positive or any(not trace for trace in positive):
@@ -81,7 +92,12 @@ def learn_positive_only(positive: Sequence[Sequence[Iterable[str]]], proposition
         raise DataError(f"proposition {unknown[0]!r} is not declared", hint="declared: " + ", ".join(propositions))
     if max_size < 1:
         raise DataError(f"max_size must be at least 1, got {max_size}")
-    letters = sorted({label for trace in positive for label in trace}, key=lambda s: sorted(s))
+    extra = [frozenset(label) for label in letters or ()]
+    undeclared = sorted({p for label in extra for p in label} - set(propositions))
+    if undeclared:
+        raise DataError(f"letter proposition {undeclared[0]!r} is not declared",
+                        hint="declared: " + ", ".join(propositions))
+    letters = sorted({label for trace in positive for label in trace} | set(extra), key=lambda s: sorted(s))
     longest = max(len(t) for t in positive)
     total = sum(len(letters) ** n for n in range(1, longest + 1))
     complete = total <= universe_limit
@@ -108,7 +124,8 @@ def learn_positive_only(positive: Sequence[Sequence[Iterable[str]]], proposition
     best = int(order[0])
     formula = search.build(int(ids[best]), ast.Prop, lambda op, *kids: _NODES[op](*kids))
     return PositiveOnlyResult(formula, int(sizes[best]), int(accepted[best]), len(universe), complete,
-                              outcome.candidates, outcome.complete_up_to, time.monotonic() - started)
+                              outcome.candidates, outcome.complete_up_to, time.monotonic() - started,
+                              outcome.stopped_by, len(letters))
 
 
 class PositiveOnlyLtlLearner(Learner):
@@ -123,12 +140,15 @@ class PositiveOnlyLtlLearner(Learner):
     artefact_suffix = ".ltl"
 
     def __init__(self, *, max_size: int = 5, operators: Sequence[str] = DEFAULT_OPERATORS,
-                 universe_limit: int = 4000, random_state: int = 0, timeout: float | None = None) -> None:
+                 universe_limit: int = 4000, random_state: int = 0, timeout: float | None = None,
+                 letters: Sequence[Iterable[str]] | None = None, max_candidates: int = 500_000) -> None:
         self.max_size = max_size
         self.operators = operators
         self.universe_limit = universe_limit
         self.random_state = random_state
         self.timeout = timeout
+        self.letters = letters
+        self.max_candidates = max_candidates
 
     @renamed_arguments(sample="demonstrations", propositions="world")
     def fit(self, demonstrations: Any, world: Sequence[str] | None = None) -> PositiveOnlyLtlLearner:
@@ -150,7 +170,8 @@ class PositiveOnlyLtlLearner(Learner):
                 propositions = sorted({p for trace in traces for label in trace for p in label})
         search = learn_positive_only(traces, list(propositions), max_size=self.max_size,
                                      operators=tuple(self.operators), universe_limit=self.universe_limit,
-                                     seed=self.random_state, timeout=self.timeout)
+                                     seed=self.random_state, timeout=self.timeout, letters=self.letters,
+                                     max_candidates=self.max_candidates)
         self.search_ = search
         self.formula_ = search.formula
         metrics = {k: v for k, v in search.as_dict().items() if k not in ("formula", "seconds")}

@@ -44,3 +44,24 @@ def test_the_learner_writes_the_formula(tmp_path):
     learner = PositiveOnlyLtlLearner(max_size=4).fit(TRACES[:2], ["a", "b"])
     assert str(learner.formula_) == "a & F b" and learner.result_.metrics["minimal_on_all_traces"]
     assert learner.save(tmp_path / "f.ltl").read_text().strip() == "a & F b"
+
+
+def test_letters_the_positives_never_show_make_excluding_them_more_specific():
+    # without "c" in the universe, "G !c" changes nothing there and the smaller formula wins;
+    # with it, the most specific formula must rule "c" out
+    traces = [[{"a"}, {"b"}], [{"b"}, {"a"}]]
+    plain = learn_positive_only(traces, ["a", "b", "c"], max_size=4)
+    wide = learn_positive_only(traces, ["a", "b", "c"], max_size=4, letters=[{"c"}, set()])
+    assert "c" not in str(plain.formula)
+    assert wide.letters == 4 and plain.letters == 2
+    assert all(holds(wide.formula, [frozenset(x) for x in t]) for t in traces)
+    assert not holds(wide.formula, [frozenset({"a"}), frozenset({"c"}), frozenset({"b"})])
+    assert wide.stopped_by == "max_size"
+
+
+def test_undeclared_letters_and_a_deadline():
+    with pytest.raises(DataError, match="'z' is not declared"):
+        learn_positive_only(TRACES, ["a", "b"], letters=[{"z"}])
+    result = learn_positive_only(TRACES, ["a", "b"], max_size=12, timeout=0.0)
+    assert result.stopped_by == "deadline" and result.complete_up_to < 12
+    assert all(holds(result.formula, [frozenset(x) for x in t]) for t in TRACES)
