@@ -1,6 +1,7 @@
 """``symlearn learn dnf``: a one-class tree from demonstrations, the DNF written and re-read."""
 
 import json
+import sys
 
 import numpy as np
 
@@ -121,6 +122,70 @@ def test_demonstrations_narrower_than_the_environment_are_refused(capsys, tmp_pa
     code, out, err = run(capsys, "learn", "dnf", "--env", "CartPole-v1", "--demos", path, "-o", tmp_path / "p.dnf")
     assert code == 2 and "3 columns" in err and "observation has 4" in err and str(path) in err, err
     assert not (tmp_path / "p.dnf").exists()
+
+
+SWAPPED_CART = """
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class SwappedCart(gym.Env):
+    \"\"\"Observes (vel, pos); reports info["features"] as a dict {"pos": ..., "vel": ...}.\"\"\"
+
+    def __init__(self):
+        self.observation_space = spaces.Box(-2.0, 2.0, (2,), np.float32)
+        self.action_space = spaces.Box(-1.0, 1.0, (1,), np.float32)
+
+    def _out(self):
+        return np.array([self.vel, self.pos], np.float32), {"features": {"pos": self.pos, "vel": self.vel}}
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.pos, self.vel, self.t = float(self.np_random.uniform(-1.0, -0.5)), 0.0, 0
+        return self._out()
+
+    def step(self, action):
+        self.vel = float(np.clip(0.8 * self.vel + 0.05 * float(np.asarray(action).reshape(-1)[0]), -0.2, 0.2))
+        self.pos, self.t = float(np.clip(self.pos + self.vel, -1.5, 1.5)), self.t + 1
+        observation, info = self._out()
+        return observation, -abs(self.pos - 1.0), False, self.t >= 30, {**info, "cost": float(self.pos > 0.6)}
+
+
+gym.register("SwappedCart-v0", entry_point=SwappedCart)
+"""
+
+
+def test_names_of_info_features_are_not_put_on_observations_that_differ(capsys, tmp_path, monkeypatch):
+    """record() stores the observation; where the environment's info["features"] (whose keys name
+    the columns) are other numbers, learning would silently call the velocity "pos": refused in
+    one line, and --features naming the observation's columns learns what train --cost reads."""
+    import gymnasium
+
+    from symlearn.data import record
+
+    (tmp_path / "swapped_cart.py").write_text(SWAPPED_CART)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import swapped_cart  # noqa: F401 -- registers SwappedCart-v0
+
+    try:
+        record(gymnasium.make("SwappedCart-v0"), lambda o: np.array([1.0 if o[1] < 0.4 else -1.0], np.float32), 5,
+               seed=0).save(tmp_path / "demos.npz")
+        code, _, err = run(capsys, "learn", "dnf", "--env", "swapped_cart:SwappedCart-v0", "--demos", "demos.npz",
+                           "-o", "cart.dnf")
+        assert code == 2 and 'info["features"] (pos=' in err and "not its observation" in err, err
+        assert len(err.strip().splitlines()) == 1 and not (tmp_path / "cart.dnf").exists()
+        code, out, err = run(capsys, "learn", "dnf", "--env", "swapped_cart:SwappedCart-v0", "--demos", "demos.npz",
+                             "--features", "vel,pos", "--inputs", "pos", "--json", "-o", "cart.dnf")
+        assert code == 0, err
+        assert any(c.startswith("pos >") for c in json.loads(out)["conjunctions"])
+        code, _, err = run(capsys, "train", "--env", "swapped_cart:SwappedCart-v0", "--cost", "cart.dnf", "--steps",
+                           256, "--eval-episodes", 1)
+        assert code == 0, err
+    finally:
+        sys.modules.pop("swapped_cart", None)
+        gymnasium.registry.pop("SwappedCart-v0", None)
 
 
 def test_validation_names_a_shallower_depth_when_the_tree_does_not_generalise(capsys, tmp_path):
