@@ -72,7 +72,9 @@ it costs 0 --, ``learned_cost`` (what ``--cost`` charges the greedy evaluation's
 over rules, per episode; null without ``--cost``) and ``cost_limit`` (``--cost-limit`` of a Lagrangian
 with ``--cost``, else null), ``multipliers`` (null without a
 Lagrangian), ``pruned`` (the dropped rules, or null; with ``--prune`` also ``kept``), ``seconds``,
-``steps``, ``files``.
+``steps``, ``files``, ``warnings`` (a Lagrangian whose multiplier rose while the cost stayed over the
+limit, :mod:`symlearn.rl.ppo.limit_check`; else one whose greedy agent still pays more than the limit of
+what it was trained on).
 """
 
 from __future__ import annotations
@@ -248,6 +250,9 @@ def _train(args: argparse.Namespace, out) -> None:
         if cost is not None:
             raise
         raise refused_without_cost(target, args.algo, exc.steps) from None
+    kept = _limit_kept(args, cost, doc)
+    if kept and not doc["warnings"]:
+        doc["warnings"].append(kept)
     if args.prune:
         pruned = _prune(args, cost.stats, doc["steps"])
         doc["files"].insert(0, pruned.pop("file"))
@@ -305,6 +310,24 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
         result.save(args.output)
         doc["files"].append(str(args.output))
     return doc
+
+
+def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
+    """A Lagrangian's greedy agent that still pays more than ``--cost-limit`` of what it was
+    trained on (the learned cost, else ``info["cost"]``) per episode: one warning, whatever the
+    multiplier's units (SB3's rule has no threshold on it that means anything); None otherwise."""
+    if not args.algo.endswith("-lag"):
+        return None
+    paid = doc.get("learned_cost") if cost is not None else doc.get("cost")
+    if paid is None or paid <= args.cost_limit + 1e-9:
+        return None
+    what = "the learned cost" if cost is not None else 'info["cost"]'
+    advice = "raise --steps"
+    if cost is not None and cost.kind == "dnf":
+        advice += ("; a formula that also flags the expert's own states cannot be kept (learn dnf --validation 0.2 "
+                   "counts them)")
+    return (f"the trained agent does not keep --cost-limit {args.cost_limit:g}: its greedy episodes pay {paid:.3g} "
+            f"per episode of {what} after {doc['steps']} steps; {advice}")
 
 
 def _logged(log, cost):
