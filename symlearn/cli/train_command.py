@@ -314,10 +314,10 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
 
 def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
     """A Lagrangian's greedy agent that still pays more than ``--cost-limit`` of what it was
-    trained on (the learned cost, else ``info["cost"]``) per episode: one warning, whatever the
+    trained on (a DNF cost, else ``info["cost"]``) per episode: one warning, whatever the
     multiplier's units (SB3's rule has no threshold on it that means anything); None otherwise."""
-    if not args.algo.endswith("-lag"):
-        return None
+    if not args.algo.endswith("-lag") or (cost is not None and cost.kind != "dnf"):
+        return None   # a neural cost (a sigmoid) charges every state something: 0 is out of reach by design
     paid = doc.get("learned_cost") if cost is not None else doc.get("cost")
     if paid is None or paid <= args.cost_limit + 1e-9:
         return None
