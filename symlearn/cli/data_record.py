@@ -139,7 +139,6 @@ def run(args: argparse.Namespace, out) -> None:
     env = costs.wrap(target.make())
     policy = _policy(args.policy, env, args.stochastic, seed)
     metadata = {"policy": str(args.policy), "stochastic": bool(args.stochastic)}
-    view = None
     with raised_by_environment(None if target.bundled else environment_file(env), f"recording in {target.display}"):
         try:
             demos = record(env, policy, episodes, seed=seed, max_steps=max_steps, metadata=metadata)
