@@ -6,6 +6,7 @@ import sys
 import numpy as np
 
 from cli_runner import run
+from user_envs import SWAPPED_CART
 from symlearn.data import Demonstrations, Trajectory
 from symlearn.logic.dnf import load as load_dnf
 
@@ -122,38 +123,6 @@ def test_demonstrations_narrower_than_the_environment_are_refused(capsys, tmp_pa
     code, out, err = run(capsys, "learn", "dnf", "--env", "CartPole-v1", "--demos", path, "-o", tmp_path / "p.dnf")
     assert code == 2 and "3 columns" in err and "observation has 4" in err and str(path) in err, err
     assert not (tmp_path / "p.dnf").exists()
-
-
-SWAPPED_CART = """
-import gymnasium as gym
-import numpy as np
-from gymnasium import spaces
-
-
-class SwappedCart(gym.Env):
-    \"\"\"Observes (vel, pos); reports info["features"] as a dict {"pos": ..., "vel": ...}.\"\"\"
-
-    def __init__(self):
-        self.observation_space = spaces.Box(-2.0, 2.0, (2,), np.float32)
-        self.action_space = spaces.Box(-1.0, 1.0, (1,), np.float32)
-
-    def _out(self):
-        return np.array([self.vel, self.pos], np.float32), {"features": {"pos": self.pos, "vel": self.vel}}
-
-    def reset(self, *, seed=None, options=None):
-        super().reset(seed=seed)
-        self.pos, self.vel, self.t = float(self.np_random.uniform(-1.0, -0.5)), 0.0, 0
-        return self._out()
-
-    def step(self, action):
-        self.vel = float(np.clip(0.8 * self.vel + 0.05 * float(np.asarray(action).reshape(-1)[0]), -0.2, 0.2))
-        self.pos, self.t = float(np.clip(self.pos + self.vel, -1.5, 1.5)), self.t + 1
-        observation, info = self._out()
-        return observation, -abs(self.pos - 1.0), False, self.t >= 30, {**info, "cost": float(self.pos > 0.6)}
-
-
-gym.register("SwappedCart-v0", entry_point=SwappedCart)
-"""
 
 
 def test_names_of_info_features_are_not_put_on_observations_that_differ(capsys, tmp_path, monkeypatch):
