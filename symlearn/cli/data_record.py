@@ -123,8 +123,10 @@ def run(args: argparse.Namespace, out) -> None:
     from symlearn.cli.env_errors import environment_file, raised_by_environment
     from symlearn.cli.flag_values import whole
     from symlearn.data import record
+    from symlearn.data.recording import UnstorableObservations
     from symlearn.errors import SymlearnError
     from symlearn.recipes.environments import resolve_env
+    from symlearn.recipes.spaces import numeric_observations
 
     episodes = whole("--episodes", args.episodes, 1, MAX_EPISODES)
     max_steps = None if args.max_steps is None else whole("--max-steps", args.max_steps, 1, MAX_EPISODE_STEPS)
@@ -136,9 +138,25 @@ def run(args: argparse.Namespace, out) -> None:
     costs = _EpisodeCost()
     env = costs.wrap(target.make())
     policy = _policy(args.policy, env, args.stochastic, seed)
+    metadata = {"policy": str(args.policy), "stochastic": bool(args.stochastic)}
     with raised_by_environment(None if target.bundled else environment_file(env), f"recording in {target.display}"):
-        demos = record(env, policy, episodes, seed=seed, max_steps=max_steps,
-                       metadata={"policy": str(args.policy), "stochastic": bool(args.stochastic)})
+        try:
+            demos = record(env, policy, episodes, seed=seed, max_steps=max_steps, metadata=metadata)
+        except UnstorableObservations as exc:
+            # an image inside a Dict (MiniGrid's): keep the numeric view the policy reads instead,
+            # what docs/FORMATS.md tells a Python user to record
+            view = numeric_observations(env)
+            if view is env:
+                raise
+            note = f"{exc.message}; stored the numeric view the policy reads ({len(view.column_names)} columns)"
+            if view.dropped:
+                note += f", without {', '.join(view.dropped)}"
+            metadata["observation_view"] = "numeric"
+            metadata["feature_names"] = list(view.column_names)
+            costs.totals.clear()
+            demos = record(env, policy, episodes, seed=seed, max_steps=max_steps, observation=view.observation,
+                           metadata=metadata)
+            out.note(f"note: {note}")
     env.close()
     demos.save(args.output)
     returns = [float(np.sum(t.rewards)) if t.rewards is not None else 0.0 for t in demos]

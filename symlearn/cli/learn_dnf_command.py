@@ -99,6 +99,9 @@ def _demonstrations(args: argparse.Namespace, note=None):
     demos = demonstrations(target, args.demos, args.n_demos, seed=seed, note=note)
     if args.domain and demos.state_kind == "symbol":  # states by their names in states.jsonl
         demos = _states_as_ids(demos, domain, args.demos)
+    if target is not None and args.demos and demos.state_kind == "vector" and features is not None \
+            and not args.features:
+        _check_states_are_features(target, demos, args.demos)
     if target is not None and args.demos and demos.state_kind == "vector" and features is None:
         # the environment names nothing, so nothing counts the columns later (named ones are
         # counted against the file by the learner): its observation's width, one probe
@@ -131,6 +134,51 @@ def _check_width(target, demos, path) -> None:
                         f"{len(found.names)}", file=path,
                         hint="were they recorded in this environment? (without --env the file's columns are "
                              "learned as they are)")
+
+
+def _check_states_are_features(target, demos, path) -> None:
+    """The environment's names are those of ``info["features"]`` where it reports them, but
+    ``record()`` stores the observation: where the two differ and the file's first state is the
+    observation, those names would be put on other numbers (a silent mislabelling, not an
+    error downstream: ``train --cost`` reads ``info["features"]`` by the same names). Refused;
+    a first state that is the features, or that neither matches (a start that is not seeded), passes."""
+    from collections.abc import Mapping
+
+    import numpy as np
+
+    from symlearn.errors import DataError
+
+    first = demos[0]
+    seed = (first.info or {}).get("seed") if isinstance(first.info, Mapping) else None
+    env = target.make()
+    try:
+        observation, info = env.reset(seed=int(seed) if isinstance(seed, int) else 0)
+    finally:
+        env.close()
+    raw = info.get("features") if isinstance(info, Mapping) else None
+    if raw is None:
+        return
+    names = [str(k) for k in raw] if isinstance(raw, Mapping) else None
+    try:
+        features = np.asarray(list(raw.values()) if names is not None else raw, dtype=np.float64).reshape(-1)
+        observed = np.asarray(observation, dtype=np.float64).reshape(-1)
+        state = np.asarray(first.states[0], dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):   # a Dict observation, text: nothing to compare
+        return
+
+    def same(a, b) -> bool:
+        return a.shape == b.shape and bool(np.allclose(a, b))
+
+    if same(observed, features) or same(state, features) or not same(state, observed):
+        return
+    shown = ", ".join(f"{n}={v:.4g}" for n, v in zip(names, features)) if names else \
+        ", ".join(f"{v:.4g}" for v in features)
+    raise DataError(f"{target.display} names the columns of its info[\"features\"] ({shown} after "
+                    f"reset), which are not its observation ({', '.join(f'{v:.4g}' for v in observed)}); the "
+                    "demonstrations hold the observations (what record() stores), so those names would label "
+                    "other numbers", file=path,
+                    hint="name the observation's columns with --features a,b,... (train --cost finds the same "
+                         "names in a dict info[\"features\"]), or store the features as the states")
 
 
 def _states_as_ids(demos, domain, path):

@@ -326,6 +326,8 @@ def _in_the_view(demos: Any, env: Any, path: Any, names: Any = None) -> Any:
         return demos
     columns = demos.metadata.get("feature_names")
     if not isinstance(demos[0].states[0], Mapping):
+        if columns and list(columns) == list(observed.column_names):
+            return demos   # recorded in the view itself (`data record` where the observation holds an image)
         if not (columns and demos.state_kind == "vector"):
             return _vectors_in_the_view(demos, observed, path)
 

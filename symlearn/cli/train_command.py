@@ -70,9 +70,13 @@ JSON keys: ``env``, ``algo``, ``cost_kind`` (``dnf``, ``neural`` or null), ``ret
 (mean per episode of greedy evaluation episodes; ``cost`` is the environment's ground-truth
 ``info["cost"]``), ``violation_rate`` (ground-truth cost per evaluation step) -- both ``null``
 when no step of training or evaluation reported ``info["cost"]``; once one did, a step without
-it costs 0 --, ``multipliers`` (null without a
+it costs 0 --, ``learned_cost`` (what ``--cost`` charges the greedy evaluation's episodes, summed
+over rules, per episode; null without ``--cost``) and ``cost_limit`` (``--cost-limit`` of a Lagrangian
+with ``--cost``, else null), ``multipliers`` (null without a
 Lagrangian), ``pruned`` (the dropped rules, or null; with ``--prune`` also ``kept``), ``seconds``,
-``steps``, ``files``.
+``steps``, ``files``, ``warnings`` (a Lagrangian whose multiplier rose while the cost stayed over the
+limit, :mod:`symlearn.rl.ppo.limit_check`; else one whose greedy agent still pays more than the limit of
+what it was trained on).
 """
 
 from __future__ import annotations
@@ -247,6 +251,9 @@ def _train(args: argparse.Namespace, out) -> None:
         if cost is not None:
             raise
         raise refused_without_cost(target, args.algo, exc.steps) from None
+    kept = _limit_kept(args, cost, doc)
+    if kept and not doc["warnings"]:
+        doc["warnings"].append(kept)
     if args.prune:
         pruned = _prune(args, cost.stats, doc["steps"])
         doc["files"].insert(0, pruned.pop("file"))
@@ -283,9 +290,11 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
     with TrainingLog(args.log, args.tensorboard) as log:
         result = train_ppo(env_fn, args.steps, config, lagrangian=lagrangian, cost_fn=cost_fn, reward_fn=reward_fn,
                            callback=_logged(log, cost) if (args.log or args.tensorboard) else None)
-    episodes = evaluate(result.policy, target.make(), args.eval_episodes, seed=seed + 10_000)
+    tally = LearnedCostTally(cost)
+    episodes = evaluate(result.policy, tally.wrap(target.make()), args.eval_episodes, seed=seed + 10_000)
     doc = evaluation_document(args, cost, episodes.returns, episodes.lengths,
-                              episodes.costs if episodes.costs.shape[1] else None, reported=watch.seen)
+                              episodes.costs if episodes.costs.shape[1] else None, reported=watch.seen,
+                              learned=tally.per_episode())
     doc.update({"multipliers": [float(m) for m in result.multipliers] if lagrangian else None,
                 "steps": int(result.steps), "seconds": float(result.seconds)})
     if lagrangian:
@@ -304,6 +313,24 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
     return doc
 
 
+def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
+    """A Lagrangian's greedy agent that still pays more than ``--cost-limit`` of what it was
+    trained on (a DNF cost, else ``info["cost"]``) per episode: one warning, whatever the
+    multiplier's units (SB3's rule has no threshold on it that means anything); None otherwise."""
+    if not args.algo.endswith("-lag") or (cost is not None and cost.kind != "dnf"):
+        return None   # a neural cost (a sigmoid) charges every state something: 0 is out of reach by design
+    paid = doc.get("learned_cost") if cost is not None else doc.get("cost")
+    if paid is None or paid <= args.cost_limit + 1e-9:
+        return None
+    what = "the learned cost" if cost is not None else 'info["cost"]'
+    advice = "raise --steps"
+    if cost is not None and cost.kind == "dnf":
+        advice += ("; a formula that also flags the expert's own states cannot be kept (learn dnf --validation 0.2 "
+                   "counts them)")
+    return (f"the trained agent does not keep --cost-limit {args.cost_limit:g}: its greedy episodes pay {paid:.3g} "
+            f"per episode of {what} after {doc['steps']} steps; {advice}")
+
+
 def _logged(log, cost):
     """The training callback writing one log row per iteration: what :class:`PPOIteration` holds,
     with the finished episodes' cost named ``learned_cost`` when ``--cost`` drives training (it is
@@ -317,11 +344,46 @@ def _logged(log, cost):
     return write
 
 
+class LearnedCostTally:
+    """What the learned cost (``--cost``) charges the greedy evaluation's episodes, summed over its
+    rules: the agent is trained to keep it under ``--cost-limit``, so an agent that did not is seen
+    even where the environment reports no ``info["cost"]``. ``wrap`` is the identity without a cost."""
+
+    def __init__(self, cost) -> None:
+        self.cost, self.totals = cost, []
+
+    def wrap(self, env):
+        if self.cost is None:
+            return env
+        import gymnasium as gym
+        import numpy as np
+
+        from symlearn.backends.lagrangian import StepCostWrapper
+
+        tally = self
+
+        class Summed(gym.Wrapper):
+            def reset(self, **kwargs):
+                tally.totals.append(0.0)
+                return self.env.reset(**kwargs)
+
+            def step(self, action):
+                result = self.env.step(action)
+                tally.totals[-1] += float(np.sum(result[4]["learned_cost"]))
+                return result
+
+        return Summed(StepCostWrapper(self.cost.wrap(env) if self.cost.wrap else env, self.cost.step_cost))
+
+    def per_episode(self) -> float | None:
+        return None if self.cost is None or not self.totals else sum(self.totals) / len(self.totals)
+
+
 def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_costs, *,
-                        reported: bool = False) -> dict:
+                        reported: bool = False, learned: float | None = None) -> dict:
     """The result keys both trainers share; ``true_costs`` ``(E, k)``, or None when no evaluation
     step reported ``info["cost"]``: then, where a training step did (``reported``), every
-    evaluated step cost 0, and where none did, ``cost`` and ``violation_rate`` are null, never 0."""
+    evaluated step cost 0, and where none did, ``cost`` and ``violation_rate`` are null, never 0.
+    ``learned``: the learned cost per episode (:class:`LearnedCostTally`), null without ``--cost``."""
     import numpy as np
 
     per_episode = None
@@ -332,8 +394,10 @@ def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_c
     return {"env": args.env, "algo": args.algo, "cost_kind": None if cost is None else cost.kind,
             "return": float(np.mean(returns)),
             "cost": None if per_episode is None else float(np.mean(per_episode)),
+            "learned_cost": learned,
             "violation_rate": None if per_episode is None else
             float(np.sum(per_episode) / max(int(np.sum(lengths)), 1)),
+            "cost_limit": float(args.cost_limit) if cost is not None and args.algo.endswith("-lag") else None,
             "pruned": None, "files": [], "warnings": []}
 
 
@@ -354,7 +418,10 @@ def _render(doc: dict) -> str:
         return "n/a" if value is None else f"{value:.{digits}f}"
 
     lines = [f"{doc['env']}: {doc['algo']}, {doc['steps']} steps in {doc['seconds']:.1f} s",
-             f"greedy evaluation: return {doc['return']:.2f}, ground-truth cost {number(doc['cost'], 2)} per episode, "
+             f"greedy evaluation: return {doc['return']:.2f}, "
+             + ("" if doc.get("learned_cost") is None else f"learned cost {doc['learned_cost']:.2f} per episode"
+                + ("" if doc.get("cost_limit") is None else f" (limit {doc['cost_limit']:g})") + ", ")
+             + f"ground-truth cost {number(doc['cost'], 2)} per episode, "
              f"violation rate {number(doc['violation_rate'], 3)}"]
     if doc["multipliers"] is not None:
         lines.append("multipliers: " + ", ".join(f"{m:.3f}" for m in doc["multipliers"]))

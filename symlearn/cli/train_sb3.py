@@ -33,7 +33,7 @@ import numpy as np
 def train_sb3(args: argparse.Namespace, target: Any, cost: Any, watch: Any = None) -> dict[str, Any]:
     from symlearn.backends.sb3 import (algorithm_class, check_action_space, lagrangian_callback, monitor_callback,
                                        save_policy)
-    from symlearn.cli.train_command import evaluation_document
+    from symlearn.cli.train_command import LearnedCostTally, evaluation_document
 
     algo = args.algo.removeprefix("sb3-").removesuffix("-lag")
     lagrangian = args.algo.endswith("-lag")
@@ -108,12 +108,13 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any, watch: Any = Non
             started = time.perf_counter()
             model.learn(args.steps, callback=callbacks)
             seconds = time.perf_counter() - started
-        returns, lengths, true_costs = _evaluate(model, target, args.eval_episodes, seed + 10_000)
+        tally = LearnedCostTally(cost)
+        returns, lengths, true_costs = _evaluate(model, target, args.eval_episodes, seed + 10_000, tally.wrap)
     finally:
         torch.set_num_threads(threads)
         venv.close()
     doc = evaluation_document(args, cost, returns, lengths, true_costs,
-                              reported=watch is not None and watch.seen)
+                              reported=watch is not None and watch.seen, learned=tally.per_episode())
     doc.update({"multipliers": [float(m) for m in multipliers.values] if lagrangian else None,
                 "steps": int(model.num_timesteps), "seconds": seconds})
     if args.output:
@@ -123,13 +124,15 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any, watch: Any = Non
     return doc
 
 
-def _evaluate(model: Any, target: Any, n_episodes: int, seed: int) -> tuple[np.ndarray, np.ndarray, Any]:
+def _evaluate(model: Any, target: Any, n_episodes: int, seed: int,
+              wrap: Any = None) -> tuple[np.ndarray, np.ndarray, Any]:
     """Greedy episodes on a fresh environment, through the loop our PPO is evaluated with: returns,
-    lengths, and the summed ``info["cost"]`` ``(E, k)`` -- or None when the environment reports none."""
+    lengths, and the summed ``info["cost"]`` ``(E, k)`` -- or None when the environment reports none.
+    ``wrap``: around the environment, inside SB3's view (the learned cost's tally, as in training)."""
     from symlearn.backends.sb3_spaces import sb3_spaces
     from symlearn.rl.evaluation import run_episodes
 
-    env = sb3_spaces(target.make())
+    env = sb3_spaces(wrap(target.make()) if wrap is not None else target.make())
     try:
         episodes = run_episodes(env, lambda observation: model.predict(observation, deterministic=True)[0],
                                 n_episodes, seed=seed)

@@ -83,6 +83,11 @@ def record(
     return Demonstrations(trajectories, metadata=meta)
 
 
+class UnstorableObservations(DataError):
+    """The observations hold a part a trajectory cannot store as it is (an image inside a ``Dict``,
+    MiniGrid's); ``record(..., observation=...)`` chooses what to keep instead."""
+
+
 class _FlatStates:
     """What ``record`` stores of an observation when the caller chose nothing: the observation
     itself, except a ``Dict``/``Tuple`` holding vectors or nested parts, which becomes one vector
@@ -101,9 +106,9 @@ class _FlatStates:
             vector, names = observation_columns(observation, "the observation")
         except DataError as exc:
             keys = ", ".join(map(str, observation)) if isinstance(observation, Mapping) else ""
-            raise DataError(f"the observations cannot be stored as they are: {exc.message}",
-                            hint="choose what to keep with record(..., observation=lambda o: o[KEY])"
-                                 + (f"; keys: {keys}" if keys else "")) from None
+            raise UnstorableObservations(f"the observations cannot be stored as they are: {exc.message}",
+                                         hint="choose what to keep with record(..., observation=lambda o: o[KEY])"
+                                              + (f"; keys: {keys}" if keys else "")) from None
         if self.names is None:
             self.names = names
         elif names != self.names:
@@ -166,6 +171,6 @@ def _run_episode(env: Any, policy: Policy, seed: int, limit: int, labeler: Label
         if not isinstance(states[0], Mapping):
             raise
         keys = ", ".join(map(str, states[0]))  # a dict observation holding arrays (MiniGrid's image)
-        raise DataError(f"the observations cannot be stored as they are: {exc.message}",
-                        hint=f"choose what to keep with record(..., observation=lambda o: o[KEY]); keys: {keys}"
-                        ) from None
+        raise UnstorableObservations(f"the observations cannot be stored as they are: {exc.message}",
+                                     hint="choose what to keep with record(..., observation=lambda o: o[KEY]); "
+                                          f"keys: {keys}") from None

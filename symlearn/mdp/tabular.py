@@ -156,7 +156,9 @@ class TabularMDP:
         environments) returns its model directly; otherwise the toy-text convention (FrozenLake,
         CliffWalking, Taxi): ``env.unwrapped.P[s][a]`` is a list of
         ``(probability, next_state, reward, terminated)`` and ``env.unwrapped.initial_state_distrib``
-        the start distribution. A state entered with ``terminated=True`` is terminal.
+        the start distribution (where the environment has none, the frequencies of the states
+        ``env.reset(seed=i)`` returns for ``i < 64``). A state entered with ``terminated=True`` is
+        terminal.
         """
         inner = getattr(env, "unwrapped", env)
         own_model = getattr(inner, "to_tabular", None)
@@ -197,9 +199,27 @@ class TabularMDP:
             P[s, :, s] = 1.0
         R[terminal] = 0.0
         initial = getattr(inner, "initial_state_distrib", None)
-        if initial is None:
-            raise ModelError(f"{type(inner).__name__} does not expose initial_state_distrib")
+        if initial is None:   # not every toy-text-style world keeps it: read it off the environment's resets
+            initial = _reset_distribution(env, S)
         return cls(P, R, np.asarray(initial, dtype=float), terminal, tuple(state_names), tuple(action_names))
+
+
+RESETS = 64   # resets that estimate a start distribution the environment does not state
+
+
+def _reset_distribution(env: Any, n_states: int) -> np.ndarray:
+    """The start distribution of a discrete world without ``initial_state_distrib``: how often
+    ``env.reset(seed=i)``, ``i < RESETS``, returns each state."""
+    counts = np.zeros(n_states)
+    for seed in range(RESETS):
+        observation, _ = env.reset(seed=seed)
+        state = np.asarray(observation)
+        if state.shape != () or state.dtype.kind not in "iu" or not 0 <= int(state) < n_states:
+            raise ModelError(f"{type(getattr(env, 'unwrapped', env)).__name__}.reset() returned {observation!r}, "
+                             f"not a state 0..{n_states - 1} of its model P",
+                             hint="give the start distribution as env.unwrapped.initial_state_distrib")
+        counts[int(state)] += 1
+    return counts / RESETS
 
 
 def _index(name: str | int, names: tuple[str, ...], what: str) -> int:

@@ -332,7 +332,23 @@ class EnvTarget:
         found = self.features(env)
         if found is None:
             return None
-        return found.names if found.source == "observation" or len(found.names) == observation_width(env) else None
+        if found.source == "observation":
+            return found.names
+        if len(found.names) != observation_width(env):
+            return None
+        # info["features"] names its own numbers: they name the observation's entries only where
+        # they are the observation (features (pos, vel) of an observation (vel, pos) name neither)
+        observation, info = env.reset(seed=0)
+        raw = info.get("features") if isinstance(info, Mapping) else None
+        try:
+            import numpy as np
+
+            values = np.asarray(list(raw.values()) if isinstance(raw, Mapping) else raw, dtype=np.float64).reshape(-1)
+            observed = np.asarray(observation, dtype=np.float64).reshape(-1)
+        except (TypeError, ValueError):
+            return None
+        same = values.shape == observed.shape and bool(np.allclose(values, observed))
+        return found.names if same else None
 
     def reports_cost(self, env: Any = None, max_steps: int = 1000) -> bool:
         """Whether the environment reports a ground-truth cost (``info["cost"]``; the

@@ -81,3 +81,57 @@ def test_a_policy_from_elsewhere_and_bad_flags_are_one_line(capsys, tmp_path, mo
         lines = err.strip().splitlines()
         assert code == 2 and len(lines) == 1 and needle in lines[0] and "Traceback" not in err, (flags, err)
     assert not (tmp_path / "demos.npz").exists()
+
+
+CAMERA_CART = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class CameraCart(gym.Env):
+    """A cart on a line of 5 cells that sees a 3 x 3 picture as well as its cell, as MiniGrid's Dict does."""
+
+    def __init__(self):
+        self.observation_space = spaces.Dict({"image": spaces.Box(0, 255, (3, 3, 1), np.uint8),
+                                              "cell": spaces.Box(0.0, 4.0, (1,), np.float32)})
+        self.action_space = spaces.Discrete(2)
+
+    def _obs(self):
+        image = np.zeros((3, 3, 1), np.uint8)
+        image[self.cell % 3, :, 0] = 255
+        return {"image": image, "cell": np.array([self.cell], np.float32)}
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.cell, self.t = 0, 0
+        return self._obs(), {}
+
+    def step(self, action):
+        self.cell = int(np.clip(self.cell + (1 if int(action) == 1 else -1), 0, 4))
+        self.t += 1
+        return self._obs(), float(self.cell == 4), self.cell == 4, self.t >= 20, {}
+
+
+gym.register("CameraCart-v0", entry_point=CameraCart)
+'''
+
+
+def test_an_observation_holding_an_image_is_recorded_in_the_view_the_policy_reads(capsys, tmp_path, monkeypatch):
+    """A Dict with an image (MiniGrid's) cannot be stored as it is: `data record` keeps the numeric
+    view the policy acts on, says so, and `learn icrl` reads the file back."""
+    _module(tmp_path, monkeypatch, "camera_cart", CAMERA_CART)
+    code, _, err = run(capsys, "train", "--env", "camera_cart:CameraCart-v0", "--steps", 1024,
+                       "--eval-episodes", 1, "-o", "agent.safetensors")
+    assert code == 0, err
+    code, out, err = run(capsys, "data", "record", "--env", "camera_cart:CameraCart-v0", "--policy",
+                         "agent.safetensors", "--episodes", 3, "-o", "demos.npz", "--json")
+    assert code == 0, err
+    assert json.loads(out)["episodes"] == 3
+    assert "stored the numeric view the policy reads (10 columns)" in err and "'image'" in err
+    demos = load(tmp_path / "demos.npz")
+    assert len(demos) == 3 and np.asarray(demos[0].states).shape[1] == 10
+    assert demos.metadata["observation_view"] == "numeric" and len(demos.metadata["feature_names"]) == 10
+    code, _, err = run(capsys, "learn", "icrl", "--env", "camera_cart:CameraCart-v0", "--demos", "demos.npz",
+                       "--steps", 512, "--iterations", 1, "-o", "cost.safetensors")
+    assert code == 0, err

@@ -110,6 +110,29 @@ def test_a_users_module_with_a_toy_text_model_is_scored_against_its_constraint_m
     assert {(3, 1), (1, 2)} <= forbidden
 
 
+def test_a_model_without_initial_state_distrib_starts_where_reset_does(capsys, tmp_path, monkeypatch):
+    """``P`` is what the docs ask for; a world that does not also keep toy-text's
+    ``initial_state_distrib`` has its start distribution read off its resets."""
+    source = HOT_PLATE.replace("        self.initial_state_distrib = np.eye(n)[self.start]\n", "")
+    source = source.replace("HotPlate-v0", "BarePlate-v0")
+    assert "initial_state_distrib" not in source
+    (tmp_path / "bare_plate.py").write_text(source)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import bare_plate  # noqa: F401 -- registers BarePlate-v0
+
+    try:
+        record(gymnasium.make("BarePlate-v0"), round_the_plate, 10, seed=0).save(tmp_path / "demos.jsonl")
+        code, out, err = run(capsys, "learn", "constraints", "--env", "bare_plate:BarePlate-v0", "--demos",
+                             "demos.jsonl", "--json", "-o", "plate.json")
+        assert code == 0, err
+        forbidden = {(int(s), int(a)) for s, a in json.loads((tmp_path / "plate.json").read_text())["forbidden"]}
+        assert {(3, 1), (1, 2)} <= forbidden
+    finally:
+        sys.modules.pop("bare_plate", None)
+        gymnasium.registry.pop("BarePlate-v0", None)
+
+
 def test_a_gymnasium_id_with_a_model_learns_where_the_expert_never_went(capsys, tmp_path):
     record(gymnasium.make("CliffWalking-v1"), cliff_expert, 5, seed=0).save(tmp_path / "cliff.jsonl")
     code, out, err = run(capsys, "learn", "constraints", "--env", "CliffWalking-v1", "--demos", tmp_path / "cliff.jsonl",

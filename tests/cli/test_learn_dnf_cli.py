@@ -1,10 +1,12 @@
 """``symlearn learn dnf``: a one-class tree from demonstrations, the DNF written and re-read."""
 
 import json
+import sys
 
 import numpy as np
 
 from cli_runner import run
+from user_envs import SWAPPED_CART
 from symlearn.data import Demonstrations, Trajectory
 from symlearn.logic.dnf import load as load_dnf
 
@@ -121,6 +123,38 @@ def test_demonstrations_narrower_than_the_environment_are_refused(capsys, tmp_pa
     code, out, err = run(capsys, "learn", "dnf", "--env", "CartPole-v1", "--demos", path, "-o", tmp_path / "p.dnf")
     assert code == 2 and "3 columns" in err and "observation has 4" in err and str(path) in err, err
     assert not (tmp_path / "p.dnf").exists()
+
+
+def test_names_of_info_features_are_not_put_on_observations_that_differ(capsys, tmp_path, monkeypatch):
+    """record() stores the observation; where the environment's info["features"] (whose keys name
+    the columns) are other numbers, learning would silently call the velocity "pos": refused in
+    one line, and --features naming the observation's columns learns what train --cost reads."""
+    import gymnasium
+
+    from symlearn.data import record
+
+    (tmp_path / "swapped_cart.py").write_text(SWAPPED_CART)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import swapped_cart  # noqa: F401 -- registers SwappedCart-v0
+
+    try:
+        record(gymnasium.make("SwappedCart-v0"), lambda o: np.array([1.0 if o[1] < 0.4 else -1.0], np.float32), 5,
+               seed=0).save(tmp_path / "demos.npz")
+        code, _, err = run(capsys, "learn", "dnf", "--env", "swapped_cart:SwappedCart-v0", "--demos", "demos.npz",
+                           "-o", "cart.dnf")
+        assert code == 2 and 'info["features"] (pos=' in err and "not its observation" in err, err
+        assert len(err.strip().splitlines()) == 1 and not (tmp_path / "cart.dnf").exists()
+        code, out, err = run(capsys, "learn", "dnf", "--env", "swapped_cart:SwappedCart-v0", "--demos", "demos.npz",
+                             "--features", "vel,pos", "--inputs", "pos", "--json", "-o", "cart.dnf")
+        assert code == 0, err
+        assert any(c.startswith("pos >") for c in json.loads(out)["conjunctions"])
+        code, _, err = run(capsys, "train", "--env", "swapped_cart:SwappedCart-v0", "--cost", "cart.dnf", "--steps",
+                           256, "--eval-episodes", 1)
+        assert code == 0, err
+    finally:
+        sys.modules.pop("swapped_cart", None)
+        gymnasium.registry.pop("SwappedCart-v0", None)
 
 
 def test_validation_names_a_shallower_depth_when_the_tree_does_not_generalise(capsys, tmp_path):

@@ -250,3 +250,33 @@ def test_unnamed_observation_entries_are_x0_x1_as_learn_dnf_names_them(capsys, t
     code, _, err = run(capsys, "learn", "icrl", "--env", "rover_env:Rover-v0", "--demos", "rover.npz",
                        "--cost-inputs", "speed")
     assert code == 2 and "x0..x3" in err
+
+
+def test_names_of_info_features_that_are_not_the_observation_name_no_cost_input(capsys, tmp_path, monkeypatch):
+    """A cart observing (vel, pos) with info["features"] {"pos", "vel"}: those names are not the
+    observation's entries, so --cost-inputs pos is refused (it read the velocity before) and the
+    report calls the entries x0, x1."""
+    import sys
+
+    import gymnasium as gym
+    from user_envs import SWAPPED_CART
+
+    from symlearn.data import record
+
+    (tmp_path / "swapped_cart.py").write_text(SWAPPED_CART)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import swapped_cart  # noqa: F401 -- registers SwappedCart-v0
+
+    try:
+        record(gym.make("SwappedCart-v0"), lambda o: np.array([1.0], np.float32), 2, seed=0).save("cart.npz")
+        code, _, err = run(capsys, "learn", "icrl", "--env", "swapped_cart:SwappedCart-v0", "--demos", "cart.npz",
+                           "--cost-inputs", "pos")
+        assert code == 2 and "unknown observation entry 'pos'" in err and "x0..x1" in err, err
+        code, out, err = run(capsys, "learn", "icrl", "--env", "swapped_cart:SwappedCart-v0", "--demos", "cart.npz",
+                             "--steps", 512, "--iterations", 1, "--cost-inputs", "x1", "--json")
+        assert code == 0, err
+        assert json.loads(out)["cost_inputs"]["names"] == ["x1"]
+    finally:
+        sys.modules.pop("swapped_cart", None)
+        gym.registry.pop("SwappedCart-v0", None)

@@ -41,6 +41,37 @@ def test_plain_ppo_is_the_default_without_a_cost_and_an_unreported_cost_is_null(
     assert "ground-truth cost n/a per episode, violation rate n/a" in out
 
 
+def test_the_greedy_evaluation_reports_what_the_learned_cost_charges(capsys, tmp_path):
+    """An agent trained on a learned cost is evaluated on it too (summed over rules, per episode):
+    where the environment reports no info["cost"] it is the only sign that the agent kept, or
+    broke, the constraint it was trained on. A formula true everywhere charges every step."""
+    rules = tmp_path / "everywhere.dnf"
+    rules.write_text("x0 > -100\n")
+    small = ("--steps", 256, "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 2)
+    for algo in ("ppo-lag", "ppo", "sb3-ppo-lag"):
+        code, out, err = run(capsys, "train", "--env", "CartPole-v1", "--cost", rules, "--algo", algo, *small,
+                             "--json")
+        assert code == 0, err
+        doc = json.loads(out)
+        assert doc["cost"] is None   # CartPole reports none
+        assert doc["learned_cost"] == pytest.approx(doc["return"])   # 1 per step, as CartPole's reward
+        assert doc["cost_limit"] == (None if algo == "ppo" else 0.0)
+        # a Lagrangian whose greedy agent still pays more than the limit says so, whatever its multiplier
+        kept = [w for w in doc["warnings"] if "does not keep --cost-limit 0" in w]
+        assert len(kept) == (0 if algo == "ppo" else 1), doc["warnings"]
+    code, out, err = run(capsys, "train", "--env", "CartPole-v1", "--cost", rules, *small)
+    assert code == 0, err
+    assert "per episode (limit 0), ground-truth cost n/a per episode" in out and "learned cost " in out
+    code, out, err = run(capsys, "train", "--env", "CartPole-v1", *small, "--json")
+    assert code == 0 and json.loads(out)["learned_cost"] is None, err
+    never = tmp_path / "never.dnf"
+    never.write_text("x0 > 100\n")
+    code, out, err = run(capsys, "train", "--env", "CartPole-v1", "--cost", never, *small, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["learned_cost"] == 0 and doc["warnings"] == []
+
+
 ROBOT = "point_robot_env:HazardRobot-v0"   # tests/support/point_robot_env.py, a user's module
 HAZARD = "x > 0.4 & x < 0.6 & y < 0.6\n"
 

@@ -83,6 +83,30 @@ def test_from_gymnasium_needs_a_model():
         TabularMDP.from_gymnasium(gym.make("CartPole-v1"))
 
 
+class _StartsAnywhere(gym.Env):
+    """Gymnasium's toy-text model ``P`` without ``initial_state_distrib``: starts in 1 or 2."""
+
+    observation_space, action_space = gym.spaces.Discrete(3), gym.spaces.Discrete(1)
+    P = {s: {0: [(1.0, s, 0.0, False)]} for s in range(3)}
+
+    def __init__(self, start=None):
+        self.start = start
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        return (int(self.np_random.integers(1, 3)) if self.start is None else self.start), {}
+
+    def step(self, action):
+        return 0, 0.0, False, False, {}
+
+
+def test_from_gymnasium_reads_a_missing_start_distribution_off_the_resets():
+    mdp = TabularMDP.from_gymnasium(_StartsAnywhere())
+    assert mdp.initial[0] == 0 and mdp.initial[1] > 0 and mdp.initial[2] > 0 and mdp.initial.sum() == 1
+    with pytest.raises(ModelError, match="reset\\(\\) returned 7, not a state 0..2"):
+        TabularMDP.from_gymnasium(_StartsAnywhere(start=7))
+
+
 def test_from_gymnasium_uses_an_environments_own_model():
     from symlearn.envs.office_world import make_office_world
 

@@ -82,6 +82,40 @@ gym.register("GearSwitch-v0", entry_point=GearSwitch)
 '''
 
 
+#: a cart that observes (vel, pos) and reports info["features"] as a dict {"pos": ..., "vel": ...}:
+#: the features' names are not the observation's
+SWAPPED_CART = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class SwappedCart(gym.Env):
+    """Observes (vel, pos); reports info["features"] as a dict {"pos": ..., "vel": ...}."""
+
+    def __init__(self):
+        self.observation_space = spaces.Box(-2.0, 2.0, (2,), np.float32)
+        self.action_space = spaces.Box(-1.0, 1.0, (1,), np.float32)
+
+    def _out(self):
+        return np.array([self.vel, self.pos], np.float32), {"features": {"pos": self.pos, "vel": self.vel}}
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.pos, self.vel, self.t = float(self.np_random.uniform(-1.0, -0.5)), 0.0, 0
+        return self._out()
+
+    def step(self, action):
+        self.vel = float(np.clip(0.8 * self.vel + 0.05 * float(np.asarray(action).reshape(-1)[0]), -0.2, 0.2))
+        self.pos, self.t = float(np.clip(self.pos + self.vel, -1.5, 1.5)), self.t + 1
+        observation, info = self._out()
+        return observation, -abs(self.pos - 1.0), False, self.t >= 30, {**info, "cost": float(self.pos > 0.6)}
+
+
+gym.register("SwappedCart-v0", entry_point=SwappedCart)
+'''
+
+
 def write_module(folder: Path, name: str, source: str) -> Path:
     path = Path(folder) / f"{name}.py"
     path.write_text(source)
