@@ -3,7 +3,7 @@
 ``symlearn train --env ENV [--env-kwargs JSON] [--algo ALGO] [--cost rules.dnf|cost.safetensors
 [--features a,b] [--per-rule] [--depth-weight W]] [--cost-limit C] [--multiplier-update gradient|adam|pid]
 [--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns]
-[--cost-estimate rollout|episodes] [--normalize-observations]
+[--cost-estimate rollout|episodes] [--reset-actor auto|never] [--normalize-observations]
 [--normalize-values] [--n-envs N] [--n-steps T] [--prune [--prune-threshold T]] [--steps N]
 [--eval-episodes E] [-o agent.safetensors] [--log run.csv] [--tensorboard DIR] [--json]``
 
@@ -45,6 +45,13 @@
   has the same normalisation, learning rate and initial noise since they earned more on 11 of 15
   tasks than CleanRL's settings (docs/BENCHMARKS.md, "One default configuration for plain PPO").
   These are also the library's ``PPOConfig``/``LagrangianConfig`` defaults. Our PPO's only (refused with ``sb3-*``).
+* ``--reset-actor auto|never`` (``ppo-lag``): with ``auto`` (the default) a policy that stays over
+  ``--cost-limit`` while the multiplier keeps rising gets fresh weights -- critics, observation
+  statistics and multipliers kept -- at most twice, never in the last third of the run
+  (:mod:`symlearn.rl.ppo.stall`): a policy that learned a forbidden behaviour before the multiplier
+  priced it may never leave it (BlockedPoint with a learned wall: seed 2 ran through it at
+  multiplier 10; with the rule, reset once, it earns the expert's return at cost 0). JSON
+  ``actor_resets``: the iterations it fired at.
 * ``--cost-estimate rollout|episodes``: ``ppo-lag``'s multipliers are updated every iteration from
   the rollout's cost per step times the mean episode length (``rollout``, the default), or, as
   before, only in iterations in which an episode ended, from those episodes (``episodes``).
@@ -73,7 +80,8 @@ when no step of training or evaluation reported ``info["cost"]``; once one did, 
 it costs 0 --, ``learned_cost`` (what ``--cost`` charges the greedy evaluation's episodes, summed
 over rules, per episode; null without ``--cost``) and ``cost_limit`` (``--cost-limit`` of a Lagrangian
 with ``--cost``, else null), ``multipliers`` (null without a
-Lagrangian), ``pruned`` (the dropped rules, or null; with ``--prune`` also ``kept``), ``seconds``,
+Lagrangian), ``actor_resets`` (``ppo-lag``: the iterations whose actor was renewed, else null),
+``pruned`` (the dropped rules, or null; with ``--prune`` also ``kept``), ``seconds``,
 ``steps``, ``files``, ``warnings`` (a Lagrangian whose multiplier rose while the cost stayed over the
 limit, :mod:`symlearn.rl.ppo.limit_check`; else one whose greedy agent still pays more than the limit of
 what it was trained on).
@@ -135,6 +143,9 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--cost-estimate", choices=("rollout", "episodes"), default="rollout",
                      help="ppo-lag: update the multipliers every iteration from the rollout's cost per step x the "
                           "mean episode length (rollout, the default) or only from episodes that ended in it (episodes)")
+    cmd.add_argument("--reset-actor", choices=("auto", "never"), default=None,
+                     help="ppo-lag: give the policy fresh weights when it stays over --cost-limit while the multiplier "
+                          "keeps rising (auto, the default: a policy stuck in what the cost forbids), or never")
     cmd.add_argument("--normalize-observations", action=argparse.BooleanOptionalAction, default=None,
                      help="standardise the policy's inputs by running mean/std (saved with the model; "
                           "default: on)")
@@ -210,7 +221,8 @@ def _train(args: argparse.Namespace, out) -> None:
                                          ("--normalize-values", args.normalize_values),
                                          ("--advantage-scale", args.advantage_scale),
                                          ("--learning-rate", args.learning_rate),
-                                         ("--log-std-init", args.log_std_init)) if given is not None]
+                                         ("--log-std-init", args.log_std_init),
+                                         ("--reset-actor", args.reset_actor)) if given is not None]
         if ours:
             raise SymlearnError(f"{ours[0]} is an option of our PPO (--algo ppo|ppo-lag), not of --algo {args.algo}")
     if args.output and str(args.output).endswith(".zip"):
@@ -279,7 +291,8 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
     # with a Lagrangian, scale-free advantages and normalisation are the measured defaults (module doc)
     # None: the library's measured default (normalisation on with a Lagrangian, off without)
     if constrained:
-        given = {key: value for key, value in (("update", args.multiplier_update), ("lr", args.multiplier_lr))
+        given = {key: value for key, value in (("update", args.multiplier_update), ("lr", args.multiplier_lr),
+                                               ("reset_actor", args.reset_actor))
                  if value is not None}  # the rest: the library's defaults
         lagrangian = LagrangianConfig(cost_limit=args.cost_limit, advantage_scale=args.advantage_scale or "returns",
                                       cost_estimate=args.cost_estimate, **given)
@@ -296,6 +309,7 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
                               episodes.costs if episodes.costs.shape[1] else None, reported=watch.seen,
                               learned=tally.per_episode())
     doc.update({"multipliers": [float(m) for m in result.multipliers] if lagrangian else None,
+                "actor_resets": [h.iteration for h in result.history if h.actor_reset] if lagrangian else None,
                 "steps": int(result.steps), "seconds": float(result.seconds)})
     if lagrangian:
         from symlearn.rl.ppo import limit_warnings
@@ -398,7 +412,7 @@ def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_c
             "violation_rate": None if per_episode is None else
             float(np.sum(per_episode) / max(int(np.sum(lengths)), 1)),
             "cost_limit": float(args.cost_limit) if cost is not None and args.algo.endswith("-lag") else None,
-            "pruned": None, "files": [], "warnings": []}
+            "actor_resets": None, "pruned": None, "files": [], "warnings": []}
 
 
 def _prune(args: argparse.Namespace, stats, steps: int) -> dict:
@@ -425,6 +439,9 @@ def _render(doc: dict) -> str:
              f"violation rate {number(doc['violation_rate'], 3)}"]
     if doc["multipliers"] is not None:
         lines.append("multipliers: " + ", ".join(f"{m:.3f}" for m in doc["multipliers"]))
+    if doc.get("actor_resets"):
+        lines.append("fresh actor at iteration " + ", ".join(map(str, doc["actor_resets"]))
+                     + " (the policy stayed over the limit while the multiplier rose: --reset-actor)")
     if doc["pruned"] is not None:
         lines.append(f"pruning kept {len(doc['kept'])} rule(s), dropped {len(doc['pruned'])}")
         lines += [f"  kept: {r}" for r in doc["kept"]]

@@ -22,6 +22,7 @@ def test_ppo_lag_on_a_dnf_cost_with_pruning(capsys, tmp_path):
     doc = json.loads(out)
     assert {"return", "cost", "violation_rate", "pruned", "seconds"} <= set(doc)
     assert 0 <= doc["violation_rate"] <= 1 and len(doc["multipliers"]) == 1
+    assert isinstance(doc["actor_resets"], list)   # iterations whose actor was renewed (LagrangianConfig.reset_actor)
     assert "x > 5" in doc["pruned"]
     pruned = load_dnf(tmp_path / "toy.pruned.dnf")
     assert "x > 5" not in str(pruned) and set(map(str, pruned.conjunctions)) == set(doc["kept"])
@@ -136,6 +137,7 @@ def _one_line(code, err, *needles):
     (("--env-kwargs", '{"gravity": 1}'), "unknown --env-kwargs key 'gravity'"),
     (("--env-kwargs", "[1]"), "must be a JSON object"),
     (("--algo", "sb3-ppo", "--normalize-values"), "--normalize-values is an option of our PPO"),
+    (("--algo", "sb3-ppo", "--reset-actor", "never"), "--reset-actor is an option of our PPO"),
     (("--depth-weight", 3), "--depth-weight shapes a DNF cost"),
     (("--depth-weight", -1), "--depth-weight must be a finite number >= 0"),
     (("--depth-weight", "inf"), "--depth-weight must be a finite number >= 0"),

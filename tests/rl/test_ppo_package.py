@@ -23,7 +23,8 @@ from symlearn.rl.ppo.rollouts import RolloutBatch, _Rollouts  # noqa: E402
 
 PACKAGE = Path(ppo.__file__).parent
 # the order of the package docstring's module list: each imports only modules before it
-ORDER = ["config", "multipliers", "networks", "records", "rollouts", "update", "training", "evaluation", "limit_check"]
+ORDER = ["config", "multipliers", "networks", "records", "rollouts", "update", "stall", "training", "evaluation",
+         "limit_check"]
 
 
 def _package_imports(path: Path) -> set[str]:

@@ -14,7 +14,9 @@ are flattened, ``Discrete`` ones one-hot encoded (:mod:`symlearn.rl.spaces`).
 :mod:`~symlearn.rl.ppo.records` (:class:`PPOIteration`, :class:`PPOResult`),
 :mod:`~symlearn.rl.ppo.rollouts` (:class:`Rollout`, the rollout collector and its typed
 :class:`RolloutBatch`), :mod:`~symlearn.rl.ppo.update` (GAE, return scales, the clipped-surrogate
-epochs), :mod:`~symlearn.rl.ppo.training` (:func:`train_ppo`) and
+epochs), :mod:`~symlearn.rl.ppo.stall` (:class:`LagrangianStall`: a fresh actor for a policy stuck
+over its limit while the multiplier rises, ``LagrangianConfig.reset_actor="auto"``),
+:mod:`~symlearn.rl.ppo.training` (:func:`train_ppo`) and
 :mod:`~symlearn.rl.ppo.evaluation` (:func:`evaluate`), :mod:`~symlearn.rl.ppo.limit_check`
 (:func:`limit_warnings`: a limit the run never got within while its multiplier rose). Every name is importable from
 ``symlearn.rl.ppo``; each module imports only those before it in this list, and two modules of
@@ -121,6 +123,7 @@ from symlearn.rl.ppo.multipliers import Multipliers
 from symlearn.rl.ppo.networks import MODEL_KIND, OBS_CLIP, OBS_EPSILON, ActorCritic, NumpyActor
 from symlearn.rl.ppo.records import PPOIteration, PPOResult
 from symlearn.rl.ppo.rollouts import LENGTH_MEMORY, Rollout, RolloutBatch
+from symlearn.rl.ppo.stall import LagrangianStall
 from symlearn.rl.ppo.training import train_ppo
 from symlearn.rl.ppo.update import RETURN_SCALE_FLOOR, RETURN_SCALE_MEMORY
 
@@ -146,6 +149,7 @@ __all__ = [
     "EpisodeStats",
     "FinishedEpisode",
     "LagrangianConfig",
+    "LagrangianStall",
     "Multipliers",
     "NumpyActor",
     "PPOConfig",

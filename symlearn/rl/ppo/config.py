@@ -19,6 +19,7 @@ COST_ESTIMATES = ("rollout", "episodes")  # LagrangianConfig.cost_estimate
 # LagrangianConfig's defaults before they became those of `symlearn train` (with PPOConfig
 # normalize_observations=False, normalize_values=False): what the recorded benchmark tables used
 LEGACY_LAGRANGIAN = {"update": "adam", "lr": 0.035, "advantage_scale": "raw", "cost_estimate": "episodes",
+                     "reset_actor": "never",
                      "adam_beta2": 0.999}
 # what PPOConfig's None settings resolve to (PPOConfig.resolved), with a Lagrangian or without
 RESOLVED_DEFAULTS = {"normalize_observations": True, "normalize_values": True, "learning_rate": 1e-3,
@@ -163,6 +164,9 @@ class LagrangianConfig:
     cost_gamma: float | None = None
     advantage_scale: str = "returns"
     cost_estimate: str = "rollout"
+    # "auto": a fresh actor when the policy is stuck over its limit while the multiplier keeps
+    # rising (symlearn.rl.ppo.stall); "never": the policy is only ever continued
+    reset_actor: str = "auto"
 
     def __post_init__(self) -> None:
         limits = _numbers(self.cost_limit, "cost_limit")
@@ -193,6 +197,8 @@ class LagrangianConfig:
         if self.advantage_scale not in ADVANTAGE_SCALES:
             raise SymlearnError(f"advantage_scale must be one of {', '.join(map(repr, ADVANTAGE_SCALES))}, "
                                 f"got {self.advantage_scale!r}")
+        if self.reset_actor not in ("auto", "never"):
+            raise SymlearnError(f"reset_actor must be 'auto' or 'never', got {self.reset_actor!r}")
         if self.cost_estimate not in COST_ESTIMATES:
             raise SymlearnError(f"cost_estimate must be one of {', '.join(map(repr, COST_ESTIMATES))}, "
                                 f"got {self.cost_estimate!r}")

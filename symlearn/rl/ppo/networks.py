@@ -132,6 +132,11 @@ class ActorCritic(nn.Module):
             if not self.discrete:
                 self.log_std.fill_(self.log_std_init)
 
+    def actor_parameters(self) -> list[nn.Parameter]:
+        """The policy's parameters (the actor network and, for Box actions, ``log_std``): what
+        :meth:`reset_actor` renews, so an optimiser can forget their moments."""
+        return [*self.actor.parameters(), *([] if self.discrete else [self.log_std])]
+
     # --- observations and actions as arrays --------------------------------------------------------
 
     def encode(self, observations: Any) -> np.ndarray:

@@ -49,6 +49,8 @@ class PPOIteration:
     # the environment's own info["cost"] per episode, summed over constraints (rollout cost per step
     # x mean episode length), also when a learned cost drives training; NaN when it reports none
     true_cost: float = math.nan
+    # the actor was given fresh weights before this iteration's update (LagrangianConfig.reset_actor)
+    actor_reset: bool = False
 
     def as_dict(self) -> dict[str, Any]:
         return {f.name: _plain(getattr(self, f.name)) for f in fields(self)}

@@ -24,6 +24,7 @@ from symlearn.rl.ppo.multipliers import Multipliers
 from symlearn.rl.ppo.networks import ActorCritic, _space_spec
 from symlearn.rl.ppo.records import PPOIteration, PPOResult
 from symlearn.rl.ppo.rollouts import Rollout, _info_keys, _Rollouts, _signal
+from symlearn.rl.ppo.stall import LagrangianStall
 from symlearn.rl.ppo.update import _ReturnScales, _rescale_critics, _update
 
 
@@ -105,6 +106,7 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
     cost_optimizer = None if not agent.n_costs else \
         torch.optim.Adam(agent.cost_critics.parameters(), lr=config.learning_rate, eps=1e-5, foreach=True)
     multipliers = None
+    stall: LagrangianStall | None = None
     return_scales = _ReturnScales()
     rollouts = _Rollouts(envs, agent, costs, seed, _info_keys(reward_fn, cost_fn), read_costs=cost_fn is None)
     fresh_critics = policy is not None  # their outputs are in returns, not yet in the running scales
@@ -144,6 +146,8 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
                     agent.cost_critics.to(device)
                 if multipliers is None:
                     multipliers = Multipliers(lagrangian, n_costs)
+                    if lagrangian.reset_actor == "auto":
+                        stall = LagrangianStall(n_iterations, multipliers.limits)
             episodes = data.episodes
             mean_cost = episode_costs(episodes, n_costs).mean(axis=0) if episodes else np.full(n_costs, np.nan)
             estimate = None
@@ -155,6 +159,11 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
                 if estimate is not None:
                     multipliers.update(estimate)
             lambdas = multipliers.values.copy() if multipliers is not None else np.zeros(0)
+            reset = stall is not None and stall.update(iteration, estimate, lambdas)
+            if reset:   # stuck over the limit under a rising price: learn again from scratch at that price
+                agent.reset_actor(generator)
+                for parameter in agent.actor_parameters():
+                    optimizer.state.pop(parameter, None)
 
             stats = _update(agent, optimizer, cost_optimizer, data, config, lagrangian, lambdas, rng, device,
                             return_scales, fresh_critics)
@@ -166,7 +175,7 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
                 mean_length=float(np.mean([e.length for e in episodes])) if episodes else math.nan,
                 mean_cost=tuple(float(c) for c in mean_cost), multipliers=tuple(float(x) for x in lambdas),
                 cost_estimate=() if estimate is None else tuple(float(c) for c in estimate),
-                true_cost=rollouts.true_cost_estimate(data.true_costs),
+                true_cost=rollouts.true_cost_estimate(data.true_costs), actor_reset=bool(reset),
                 learning_rate=lr, steps_per_second=batch / seconds, seconds=seconds, **stats)
             history.append(record)
             bar.update(1, **{"return": record.mean_return, "cost": float(np.sum(record.mean_cost))
