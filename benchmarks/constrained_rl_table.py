@@ -6,8 +6,10 @@ For each task, each constrained agent is trained twice -- on the environment's t
 the task, the agent, the cost and the seed on its command line (default budget 50,000 steps,
 default cost limit 0, 10 greedy evaluation episodes):
 
-* agents: ``ppo-lag`` (ours), ``sb3-ppo-lag``, ``sb3-sac-lag`` (stable-baselines3 with our
-  multiplier callback), and ``ppo`` (ours, unconstrained: the reward a constraint costs);
+* agents: ``ppo-lag`` (ours), ``ppo-lag-auto`` (ours with ``--reset-actor auto``: the stall rule of
+  :mod:`symlearn.rl.ppo.stall`, off by default), ``sb3-ppo-lag``, ``sb3-sac-lag``
+  (stable-baselines3 with our multiplier callback), and ``ppo`` (ours, unconstrained: the reward a
+  constraint costs);
 * tasks and their learned artefacts, each learned once (seed 0) by the documented command:
   ``toy-navigation`` (``learn dnf --env toy-navigation --n-demos 20``, the README's recipe),
   ``blocked-point`` (``learn icrl --env blocked-point``: a neural cost), ``safenav-point-goal`` and
@@ -60,6 +62,8 @@ TASKS = {
 }
 CONSTRAINED = ("ppo-lag", "sb3-ppo-lag", "sb3-sac-lag")
 OURS = "ppo-lag"
+# our PPO-Lagrangian with the stall rule of symlearn.rl.ppo.stall (--reset-actor auto; off by default), beside
+AUTO = "ppo-lag-auto"
 COSTS = ("true", "learned")
 
 
@@ -69,7 +73,7 @@ def cell_id(task: str, cost: str, algo: str, seed: int) -> str:
 
 def cells(tasks: list[str], algos: list[str], seeds: list[int]) -> list[tuple[str, str, str, int]]:
     """Seed-major, cheap agents first: a partial run is already a table of the early seeds."""
-    order = {"ppo-lag": 0, "ppo": 1, "sb3-ppo-lag": 2, "sb3-sac-lag": 3}
+    order = {"ppo-lag": 0, AUTO: 0, "ppo": 1, "sb3-ppo-lag": 2, "sb3-sac-lag": 3}
     out = []
     for seed in seeds:
         for algo in sorted(algos, key=order.get):
@@ -104,7 +108,9 @@ def run_cell(out: Path, task: str, cost: str, algo: str, seed: int, steps: int |
     env, _, artefact = TASKS[task]
     log = out / "logs" / (cell_id(task, cost, algo, seed).replace("|", "_") + ".csv")
     # the true cost: a Lagrangian algorithm without --cost constrains the environment's info["cost"]
-    args = ["train", "--env", env, "--algo", algo, "--seed", str(seed), "--json", "--log", str(log.relative_to(out))]
+    args = ["train", "--env", env, "--algo", OURS if algo == AUTO else algo, "--seed", str(seed), "--json",
+            "--log", str(log.relative_to(out))]
+    args += ["--reset-actor", "auto"] if algo == AUTO else []
     args += ["--cost", artefact] if cost == "learned" else []
     args += ["--steps", str(steps)] if steps else []
     started = time.perf_counter()
@@ -115,7 +121,7 @@ def run_cell(out: Path, task: str, cost: str, algo: str, seed: int, steps: int |
         return {**row, "error": result.stderr.strip()[-400:]}
     doc = json.loads(result.stdout)
     return {**row, **{k: doc.get(k) for k in ("return", "cost", "violation_rate", "multipliers", "seconds", "steps",
-                                              "warnings")}}
+                                              "warnings", "actor_resets", "learned_cost")}}
 
 
 def read_log(path: Path) -> list[dict[str, float]]:
@@ -130,7 +136,7 @@ def read_log(path: Path) -> list[dict[str, float]]:
     return rows
 
 
-def binned_curve(paths: list[Path], steps: int, bins: int = 20) -> dict[str, list[float]]:
+def binned_curve(paths: list[Path], steps: int, bins: int = 10) -> dict[str, list[float]]:
     """Return and true cost per episode in ``bins`` windows of the run, the mean over ``paths``
     (seeds) of each run's mean over the rows in the window (NaN rows skipped)."""
     import numpy as np
@@ -204,10 +210,11 @@ def figure(out: Path, rows: list[dict], path: Path, steps: int) -> None:
 
     tasks = sorted({r["task"] for r in rows if "error" not in r})
     fig, axes = plt.subplots(2 * len(COSTS), len(tasks), figsize=(4.2 * len(tasks), 11), squeeze=False)
-    colours = {"ppo-lag": "tab:blue", "sb3-ppo-lag": "tab:orange", "sb3-sac-lag": "tab:green", "ppo": "tab:gray"}
+    colours = {"ppo-lag": "tab:blue", AUTO: "tab:purple", "sb3-ppo-lag": "tab:orange", "sb3-sac-lag": "tab:green",
+               "ppo": "tab:gray"}
     for j, task in enumerate(tasks):
         for c, cost in enumerate(COSTS):
-            for algo in (*CONSTRAINED, "ppo"):
+            for algo in (*CONSTRAINED, AUTO, "ppo"):
                 wanted = "none" if algo == "ppo" else cost
                 paths = [out / "logs" / (cell_id(task, wanted, algo, r["seed"]).replace("|", "_") + ".csv")
                          for r in rows if r["task"] == task and r["algo"] == algo and r["signal"] == wanted
@@ -245,13 +252,14 @@ def markdown(summary: dict) -> str:
         return f"**{entry['mean_return']:.2f}** at {'n/a' if cost is None else f'{cost:.1f}'} ({seeds}; cost {costs})"
 
     table = summary["table"]
-    lines = ["| task | cost | ours ppo-lag | sb3-ppo-lag | sb3-sac-lag | ppo (unconstrained) | target |",
-             "|---|---|---|---|---|---|---|"]
+    lines = ["| task | cost | ours ppo-lag | ours, --reset-actor auto | sb3-ppo-lag | sb3-sac-lag | ppo (unconstrained) "
+             "| target |", "|---|---|---|---|---|---|---|---|"]
     for task in sorted({e["task"] for e in table.values()}):
         for cost in COSTS:
             verdict = summary["targets"].get(f"{task}|{cost}", {})
             met = {True: "met", False: "**not met**", None: "no agent within the limit"}.get(verdict.get("met"), "-")
-            lines.append(f"| {task} | {cost} | " + " | ".join(cell(table.get(f"{task}|{cost}|{a}")) for a in CONSTRAINED)
+            lines.append(f"| {task} | {cost} | " + " | ".join(cell(table.get(f"{task}|{cost}|{a}"))
+                                                           for a in (OURS, AUTO, *CONSTRAINED[1:]))
                          + f" | {cell(table.get(f'{task}|none|ppo'))} | {met} |")
     return "\n".join(lines)
 
@@ -260,7 +268,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--seeds", type=int, nargs="+", default=[0, 1, 2])
     parser.add_argument("--tasks", nargs="+", choices=list(TASKS), default=list(TASKS))
-    parser.add_argument("--algos", nargs="+", choices=(*CONSTRAINED, "ppo"), default=[*CONSTRAINED, "ppo"])
+    parser.add_argument("--algos", nargs="+", choices=(*CONSTRAINED, AUTO, "ppo"), default=[*CONSTRAINED, AUTO, "ppo"])
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--steps", type=int, default=None, help="training steps per cell (default: train's own, 50k)")
     parser.add_argument("--out", type=Path, default=Path("benchmarks/results/constrained_rl_table"))

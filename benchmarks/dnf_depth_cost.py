@@ -73,17 +73,19 @@ def learn(task: str, workdir: Path) -> Path:
     return formula
 
 
-def run_cell(task: str, formula: Path, weight: float, seed: int, workdir: Path) -> dict:
+def run_cell(task: str, formula: Path, weight: float, seed: int, workdir: Path, more: tuple[str, ...] = ()) -> dict:
     env, _, extra = TASKS[task]
     command = [sys.executable, "-m", "symlearn", "train", "--env", env, "--cost", str(formula), "--seed", str(seed),
-               "--depth-weight", str(weight), "--json", *extra]
+               "--depth-weight", str(weight), "--json", *extra, *more]
     done = subprocess.run(command, capture_output=True, text=True, cwd=workdir, env=_env())
     row = {"task": task, "weight": weight, "seed": seed}
     if done.returncode:
         return {**row, "error": done.stderr.strip().splitlines()[-1:]}
     doc = json.loads(done.stdout)
     return {**row, "return": doc["return"], "cost": doc["cost"], "violation_rate": doc["violation_rate"],
-            "multipliers": doc["multipliers"], "seconds": doc["seconds"], "warnings": doc["warnings"]}
+            "multipliers": doc["multipliers"], "seconds": doc["seconds"], "warnings": doc["warnings"],
+            "actor_resets": doc.get("actor_resets"), "actor_restored": doc.get("actor_restored"),
+            "train_args": list(more)}
 
 
 def table(rows: list[dict], weights: list[float]) -> str:
@@ -113,13 +115,15 @@ def main() -> None:
     parser.add_argument("--tasks", nargs="+", default=list(TASKS))
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--json", type=Path, default=None)
+    parser.add_argument("--train-args", default="", help="more flags for every `symlearn train`, e.g. '--reset-actor never'")
     args = parser.parse_args()
+    more = tuple(args.train_args.split())
     with tempfile.TemporaryDirectory() as tmp:
         workdir = Path(tmp)
         formulas = {task: learn(task, workdir) for task in args.tasks}
         cells = [(t, formulas[t], w, s) for t in args.tasks for s in args.seeds for w in args.weights]
         with ThreadPoolExecutor(args.workers) as pool:
-            rows = list(pool.map(lambda cell: run_cell(*cell, workdir), cells))
+            rows = list(pool.map(lambda cell: run_cell(*cell, workdir, more), cells))
         rules = {task: sum(1 for line in f.read_text().splitlines() if line.strip() and not line.startswith("#"))
                  for task, f in formulas.items()}
     for row in rows:

@@ -45,13 +45,18 @@
   has the same normalisation, learning rate and initial noise since they earned more on 11 of 15
   tasks than CleanRL's settings (docs/BENCHMARKS.md, "One default configuration for plain PPO").
   These are also the library's ``PPOConfig``/``LagrangianConfig`` defaults. Our PPO's only (refused with ``sb3-*``).
-* ``--reset-actor auto|never`` (``ppo-lag``): with ``auto`` (the default) a policy that stays over
+* ``--reset-actor auto|never`` (``ppo-lag``; default ``never``, the library's): with ``auto`` a policy that stays over
   ``--cost-limit`` while the multiplier keeps rising gets fresh weights -- critics, observation
   statistics and multipliers kept -- at most twice, never in the last third of the run
   (:mod:`symlearn.rl.ppo.stall`): a policy that learned a forbidden behaviour before the multiplier
   priced it may never leave it (BlockedPoint with a learned wall: seed 2 ran through it at
-  multiplier 10; with the rule, reset once, it earns the expert's return at cost 0). JSON
-  ``actor_resets``: the iterations it fired at.
+  multiplier 10; with the rule, reset once, it earns the expert's return at cost 0). A reset is a
+  trial: one window later the fresh actor is compared with the old one by the Lagrangian objective
+  at the multipliers of that moment, and the old one is put back if it scores higher (a learned
+  formula charging a balancing CartPole: a fresh actor learns to fall at once). JSON
+  ``actor_resets`` / ``actor_restored``: the iterations of each. Not the default: on learned
+  formulas no policy keeps (the rover's, SafeNav PointGoal's) it fires in nearly every run and
+  cost the rover's return (docs/BENCHMARKS.md, "A fresh actor for a policy stuck over its limit").
 * ``--cost-estimate rollout|episodes``: ``ppo-lag``'s multipliers are updated every iteration from
   the rollout's cost per step times the mean episode length (``rollout``, the default), or, as
   before, only in iterations in which an episode ended, from those episodes (``episodes``).
@@ -144,8 +149,8 @@ def register(subparsers, common) -> None:
                      help="ppo-lag: update the multipliers every iteration from the rollout's cost per step x the "
                           "mean episode length (rollout, the default) or only from episodes that ended in it (episodes)")
     cmd.add_argument("--reset-actor", choices=("auto", "never"), default=None,
-                     help="ppo-lag: give the policy fresh weights when it stays over --cost-limit while the multiplier "
-                          "keeps rising (auto, the default: a policy stuck in what the cost forbids), or never")
+                     help="ppo-lag: try the policy with fresh weights when it stays over --cost-limit while the multiplier "
+                          "keeps rising (auto: a policy stuck in what the cost forbids), or never (the default)")
     cmd.add_argument("--normalize-observations", action=argparse.BooleanOptionalAction, default=None,
                      help="standardise the policy's inputs by running mean/std (saved with the model; "
                           "default: on)")
@@ -310,6 +315,7 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
                               learned=tally.per_episode())
     doc.update({"multipliers": [float(m) for m in result.multipliers] if lagrangian else None,
                 "actor_resets": [h.iteration for h in result.history if h.actor_reset] if lagrangian else None,
+                "actor_restored": [h.iteration for h in result.history if h.actor_restored] if lagrangian else None,
                 "steps": int(result.steps), "seconds": float(result.seconds)})
     if lagrangian:
         from symlearn.rl.ppo import limit_warnings
@@ -412,7 +418,7 @@ def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_c
             "violation_rate": None if per_episode is None else
             float(np.sum(per_episode) / max(int(np.sum(lengths)), 1)),
             "cost_limit": float(args.cost_limit) if cost is not None and args.algo.endswith("-lag") else None,
-            "actor_resets": None, "pruned": None, "files": [], "warnings": []}
+            "actor_resets": None, "actor_restored": None, "pruned": None, "files": [], "warnings": []}
 
 
 def _prune(args: argparse.Namespace, stats, steps: int) -> dict:
@@ -441,7 +447,9 @@ def _render(doc: dict) -> str:
         lines.append("multipliers: " + ", ".join(f"{m:.3f}" for m in doc["multipliers"]))
     if doc.get("actor_resets"):
         lines.append("fresh actor at iteration " + ", ".join(map(str, doc["actor_resets"]))
-                     + " (the policy stayed over the limit while the multiplier rose: --reset-actor)")
+                     + " (the policy stayed over the limit while the multiplier rose: --reset-actor)"
+                     + ("; the old one put back at " + ", ".join(map(str, doc["actor_restored"]))
+                        + " (the fresh one did worse)" if doc.get("actor_restored") else ""))
     if doc["pruned"] is not None:
         lines.append(f"pruning kept {len(doc['kept'])} rule(s), dropped {len(doc['pruned'])}")
         lines += [f"  kept: {r}" for r in doc["kept"]]

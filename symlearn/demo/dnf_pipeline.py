@@ -19,7 +19,7 @@ from symlearn.demo.registry import DemoContext, Pipeline, Section
 TOY_PPO = {"learning_rate": 1e-3, "log_std_init": -1.0, "normalize_observations": True, "normalize_values": True}
 #: PPO-Lagrangian: never enter the learned unsafe set (cost limit 0), scale-free multiplier starting at 1
 TOY_LAGRANGIAN = {"cost_limit": 0.0, "update": "adam", "lr": 0.035, "adam_beta2": 0.999, "advantage_scale": "returns",
-                  "init": 1.0, "cost_estimate": "episodes", "reset_actor": "never"}
+                  "init": 1.0, "cost_estimate": "episodes"}
 
 
 def toy_ppo_config(seed: int, **overrides):

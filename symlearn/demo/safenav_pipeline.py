@@ -71,7 +71,7 @@ def run(context: DemoContext) -> Section:
                        normalize_values=True, normalize_observations=False, log_std_init=0.0, seed=context.seed)
     lagrangian = LagrangianConfig(cost_limit=_COST_LIMIT, update="adam", lr=0.035, adam_beta2=0.999,
                                   advantage_scale="returns",
-                                  cost_estimate="episodes", reset_actor="never")
+                                  cost_estimate="episodes")
     curves, results, multipliers = {}, {}, []
     for name, constrained in (("PPO", False), ("PPO-Lagrangian, learned DNF", True)):
         log: list = []

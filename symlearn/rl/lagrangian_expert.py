@@ -105,10 +105,7 @@ def lagrangian_expert(env_fn: Callable[[], Any], n_demos: int, *, steps: int = 1
             _warn_if_unsafe(report)
             return demos, report
     started = time.perf_counter()
-    # the cached experts were trained before the stall rule (rl/ppo/stall.py): kept off, outside the
-    # hashed settings, so a cache file still names what it holds
-    result = train_ppo(env_fn, steps, PPOConfig(**ppo_settings, seed=seed),
-                       LagrangianConfig(**{"reset_actor": "never", **lagrangian_settings}))
+    result = train_ppo(env_fn, steps, PPOConfig(**ppo_settings, seed=seed), LagrangianConfig(**lagrangian_settings))
     batch = sample_episodes(result.policy, env_fn, n_demos, seed=seed + 1_000, deterministic=True)
     trajectories = []
     for e in range(batch.n_episodes):

@@ -266,8 +266,7 @@ def forward_lagrangian(settings: dict[str, Any] | None, multiplier: float, per_r
     ``multiplier``: raw advantage units, cost limit 0, and either the per-rollout rule
     (:data:`PER_ROLLOUT_RULE` under ``settings``) or the multiplier held fixed (capped at its
     start: with a limit of 0 and costs >= 0 every rule only raises it)."""
-    # reset_actor "never": the learner's own rule decides about its policy (learners/neural/alternation)
-    fields: dict[str, Any] = {**PER_ROLLOUT_RULE, "advantage_scale": "raw", "reset_actor": "never", **(settings or {}),
+    fields: dict[str, Any] = {**PER_ROLLOUT_RULE, "advantage_scale": "raw", **(settings or {}),
                               "cost_limit": 0.0, "init": float(multiplier)}
     if not per_rollout:
         fields["max_multiplier"] = max(float(multiplier), 1e-12)  # LagrangianConfig needs a cap > 0

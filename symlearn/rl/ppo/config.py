@@ -19,7 +19,6 @@ COST_ESTIMATES = ("rollout", "episodes")  # LagrangianConfig.cost_estimate
 # LagrangianConfig's defaults before they became those of `symlearn train` (with PPOConfig
 # normalize_observations=False, normalize_values=False): what the recorded benchmark tables used
 LEGACY_LAGRANGIAN = {"update": "adam", "lr": 0.035, "advantage_scale": "raw", "cost_estimate": "episodes",
-                     "reset_actor": "never",
                      "adam_beta2": 0.999}
 # what PPOConfig's None settings resolve to (PPOConfig.resolved), with a Lagrangian or without
 RESOLVED_DEFAULTS = {"normalize_observations": True, "normalize_values": True, "learning_rate": 1e-3,
@@ -164,9 +163,10 @@ class LagrangianConfig:
     cost_gamma: float | None = None
     advantage_scale: str = "returns"
     cost_estimate: str = "rollout"
-    # "auto": a fresh actor when the policy is stuck over its limit while the multiplier keeps
-    # rising (symlearn.rl.ppo.stall); "never": the policy is only ever continued
-    reset_actor: str = "auto"
+    # "auto": a fresh actor, on trial, when the policy is stuck over its limit while the multiplier
+    # keeps rising (symlearn.rl.ppo.stall); "never" (the default: measured, it helps some tasks and
+    # costs others, docs/BENCHMARKS.md): the policy is only ever continued
+    reset_actor: str = "never"
 
     def __post_init__(self) -> None:
         limits = _numbers(self.cost_limit, "cost_limit")

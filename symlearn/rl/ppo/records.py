@@ -51,6 +51,8 @@ class PPOIteration:
     true_cost: float = math.nan
     # the actor was given fresh weights before this iteration's update (LagrangianConfig.reset_actor)
     actor_reset: bool = False
+    # ... and the actor it replaced was put back (the fresh one did worse by the Lagrangian)
+    actor_restored: bool = False
 
     def as_dict(self) -> dict[str, Any]:
         return {f.name: _plain(getattr(self, f.name)) for f in fields(self)}

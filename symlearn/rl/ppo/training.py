@@ -107,6 +107,7 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
         torch.optim.Adam(agent.cost_critics.parameters(), lr=config.learning_rate, eps=1e-5, foreach=True)
     multipliers = None
     stall: LagrangianStall | None = None
+    kept: tuple[list[torch.Tensor], list[dict]] | None = None   # the actor a stall reset replaced, on trial
     return_scales = _ReturnScales()
     rollouts = _Rollouts(envs, agent, costs, seed, _info_keys(reward_fn, cost_fn), read_costs=cost_fn is None)
     fresh_critics = policy is not None  # their outputs are in returns, not yet in the running scales
@@ -159,11 +160,17 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
                 if estimate is not None:
                     multipliers.update(estimate)
             lambdas = multipliers.values.copy() if multipliers is not None else np.zeros(0)
-            reset = stall is not None and stall.update(iteration, estimate, lambdas)
-            if reset:   # stuck over the limit under a rising price: learn again from scratch at that price
+            verdict = None if stall is None else stall.update(
+                iteration, estimate, lambdas, _mean_return(data.episodes),
+                return_scales.scales() if lagrangian.advantage_scale == "returns" else None)
+            if verdict == "reset":   # stuck over the limit under a rising price: learn again at that price
+                kept = _actor_state(agent, optimizer)
                 agent.reset_actor(generator)
                 for parameter in agent.actor_parameters():
                     optimizer.state.pop(parameter, None)
+            elif verdict == "restore":   # the fresh actor did worse by the Lagrangian: the old one back
+                _restore_actor(agent, optimizer, kept)
+                kept = None
 
             stats = _update(agent, optimizer, cost_optimizer, data, config, lagrangian, lambdas, rng, device,
                             return_scales, fresh_critics)
@@ -175,7 +182,8 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
                 mean_length=float(np.mean([e.length for e in episodes])) if episodes else math.nan,
                 mean_cost=tuple(float(c) for c in mean_cost), multipliers=tuple(float(x) for x in lambdas),
                 cost_estimate=() if estimate is None else tuple(float(c) for c in estimate),
-                true_cost=rollouts.true_cost_estimate(data.true_costs), actor_reset=bool(reset),
+                true_cost=rollouts.true_cost_estimate(data.true_costs), actor_reset=verdict == "reset",
+                actor_restored=verdict == "restore",
                 learning_rate=lr, steps_per_second=batch / seconds, seconds=seconds, **stats)
             history.append(record)
             bar.update(1, **{"return": record.mean_return, "cost": float(np.sum(record.mean_cost))
@@ -191,6 +199,32 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
                      multipliers=np.zeros(0) if multipliers is None else multipliers.values.copy(),
                      steps=rollouts.steps, seconds=time.perf_counter() - started,
                      provenance={"environment": _env_name(envs[0]), "torch": torch.__version__})
+
+
+def _mean_return(episodes: list) -> float:
+    return float(np.mean([e.episode_return for e in episodes])) if episodes else math.nan
+
+
+def _actor_state(agent: ActorCritic, optimizer: torch.optim.Optimizer) -> tuple[list[torch.Tensor], list[dict]]:
+    """Copies of the actor's parameters and of their Adam moments."""
+    import copy
+
+    parameters = agent.actor_parameters()
+    return ([p.detach().clone() for p in parameters], [copy.deepcopy(optimizer.state.get(p, {})) for p in parameters])
+
+
+def _restore_actor(agent: ActorCritic, optimizer: torch.optim.Optimizer,
+                   kept: tuple[list[torch.Tensor], list[dict]] | None) -> None:
+    if kept is None:
+        return
+    values, states = kept
+    with torch.no_grad():
+        for parameter, value, state in zip(agent.actor_parameters(), values, states, strict=True):
+            parameter.copy_(value)
+            if state:
+                optimizer.state[parameter] = state
+            else:
+                optimizer.state.pop(parameter, None)
 
 
 def _continued(policy: ActorCritic, env: Any, config: PPOConfig) -> ActorCritic:
