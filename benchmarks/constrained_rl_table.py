@@ -71,6 +71,18 @@ def cell_id(task: str, cost: str, algo: str, seed: int) -> str:
     return f"{task}|{cost}|{algo}|s{seed}"
 
 
+def log_path(out: Path, task: str, signal: str, algo: str, seed: int) -> Path:
+    """Where a cell's ``--log`` CSV lies."""
+    return out / "logs" / (cell_id(task, signal, algo, seed).replace("|", "_") + ".csv")
+
+
+def run_logs(out: Path, rows: list[dict], task: str, signal: str, algo: str) -> list[Path]:
+    """The logs of the finished cells of one task x signal x agent (one per seed)."""
+    paths = [log_path(out, task, signal, algo, r["seed"]) for r in rows
+             if (r["task"], r["signal"], r["algo"]) == (task, signal, algo) and "error" not in r]
+    return [p for p in paths if p.exists()]
+
+
 def cells(tasks: list[str], algos: list[str], seeds: list[int]) -> list[tuple[str, str, str, int]]:
     """Seed-major, cheap agents first: a partial run is already a table of the early seeds."""
     order = {"ppo-lag": 0, AUTO: 0, "ppo": 1, "sb3-ppo-lag": 2, "sb3-sac-lag": 3}
@@ -106,7 +118,7 @@ def learn_artefacts(out: Path, tasks: list[str]) -> dict[str, dict]:
 
 def run_cell(out: Path, task: str, cost: str, algo: str, seed: int, steps: int | None = None) -> dict:
     env, _, artefact = TASKS[task]
-    log = out / "logs" / (cell_id(task, cost, algo, seed).replace("|", "_") + ".csv")
+    log = log_path(out, task, cost, algo, seed)
     # the true cost: a Lagrangian algorithm without --cost constrains the environment's info["cost"]
     args = ["train", "--env", env, "--algo", OURS if algo == AUTO else algo, "--seed", str(seed), "--json",
             "--log", str(log.relative_to(out))]
@@ -216,10 +228,7 @@ def figure(out: Path, rows: list[dict], path: Path, steps: int) -> None:
         for c, cost in enumerate(COSTS):
             for algo in (*CONSTRAINED, AUTO, "ppo"):
                 wanted = "none" if algo == "ppo" else cost
-                paths = [out / "logs" / (cell_id(task, wanted, algo, r["seed"]).replace("|", "_") + ".csv")
-                         for r in rows if r["task"] == task and r["algo"] == algo and r["signal"] == wanted
-                         and "error" not in r]
-                paths = [p for p in paths if p.exists()]
+                paths = run_logs(out, rows, task, wanted, algo)
                 if not paths:
                     continue
                 curve = binned_curve(paths, steps)
@@ -298,9 +307,8 @@ def main(argv: list[str] | None = None) -> int:
     doc = {"command": "python benchmarks/constrained_rl_table.py " + " ".join(argv if argv is not None else sys.argv[1:]),
            "machine": {"python": platform.python_version(), "cpus": os.cpu_count()}, "artefacts": artefacts,
            **summary,
-           "curves": {f"{t}|{c}|{a}": binned_curve(sorted((out / 'logs').glob(cell_id(t, c, a, 0).replace('|', '_')
-                                                                               .removesuffix('s0') + 's*.csv')), steps)
-                      for t, c, a in {(r["task"], r["signal"], r["algo"]) for r in rows if "error" not in r}},
+           "curves": {f"{t}|{c}|{a}": binned_curve(run_logs(out, rows, t, c, a), steps)
+                      for t, c, a in sorted({(r["task"], r["signal"], r["algo"]) for r in rows if "error" not in r})},
            "errors": [r for r in rows if "error" in r]}
     write_text(out.with_suffix(".json"), json.dumps(doc, indent=1))
     print(markdown(summary))

@@ -16,6 +16,7 @@ ACTIVATIONS = {"tanh": nn.Tanh, "relu": nn.ReLU}  # PPOConfig.activation
 ENTROPY_MODES = ("bonus", "reward")  # PPOConfig.entropy_mode
 ADVANTAGE_SCALES = ("raw", "returns")  # LagrangianConfig.advantage_scale
 COST_ESTIMATES = ("rollout", "episodes")  # LagrangianConfig.cost_estimate
+RESET_ACTOR_RULES = ("never", "auto")  # LagrangianConfig.reset_actor (symlearn.rl.ppo.stall)
 # LagrangianConfig's defaults before they became those of `symlearn train` (with PPOConfig
 # normalize_observations=False, normalize_values=False): what the recorded benchmark tables used
 LEGACY_LAGRANGIAN = {"update": "adam", "lr": 0.035, "advantage_scale": "raw", "cost_estimate": "episodes",
@@ -197,8 +198,9 @@ class LagrangianConfig:
         if self.advantage_scale not in ADVANTAGE_SCALES:
             raise SymlearnError(f"advantage_scale must be one of {', '.join(map(repr, ADVANTAGE_SCALES))}, "
                                 f"got {self.advantage_scale!r}")
-        if self.reset_actor not in ("auto", "never"):
-            raise SymlearnError(f"reset_actor must be 'auto' or 'never', got {self.reset_actor!r}")
+        if self.reset_actor not in RESET_ACTOR_RULES:
+            raise SymlearnError(f"reset_actor must be one of {', '.join(map(repr, RESET_ACTOR_RULES))}, "
+                                f"got {self.reset_actor!r}")
         if self.cost_estimate not in COST_ESTIMATES:
             raise SymlearnError(f"cost_estimate must be one of {', '.join(map(repr, COST_ESTIMATES))}, "
                                 f"got {self.cost_estimate!r}")

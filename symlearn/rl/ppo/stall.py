@@ -47,9 +47,7 @@ from collections import deque
 
 import numpy as np
 
-__all__ = ["LagrangianStall", "RESET_ACTOR_RULES"]
-
-RESET_ACTOR_RULES = ("auto", "never")
+__all__ = ["LagrangianStall"]
 
 
 class LagrangianStall:

@@ -150,6 +150,7 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
                     if lagrangian.reset_actor == "auto":
                         stall = LagrangianStall(n_iterations, multipliers.limits)
             episodes = data.episodes
+            mean_return = float(np.mean([e.episode_return for e in episodes])) if episodes else math.nan
             mean_cost = episode_costs(episodes, n_costs).mean(axis=0) if episodes else np.full(n_costs, np.nan)
             estimate = None
             if multipliers is not None:
@@ -161,7 +162,7 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
                     multipliers.update(estimate)
             lambdas = multipliers.values.copy() if multipliers is not None else np.zeros(0)
             verdict = None if stall is None else stall.update(
-                iteration, estimate, lambdas, _mean_return(data.episodes),
+                iteration, estimate, lambdas, mean_return,
                 return_scales.scales() if lagrangian.advantage_scale == "returns" else None)
             if verdict == "reset":   # stuck over the limit under a rising price: learn again at that price
                 kept = _actor_state(agent, optimizer)
@@ -178,7 +179,7 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
             seconds = time.perf_counter() - iteration_start
             record = PPOIteration(
                 iteration=iteration, steps=rollouts.steps, episodes=len(episodes),
-                mean_return=float(np.mean([e.episode_return for e in episodes])) if episodes else math.nan,
+                mean_return=mean_return,
                 mean_length=float(np.mean([e.length for e in episodes])) if episodes else math.nan,
                 mean_cost=tuple(float(c) for c in mean_cost), multipliers=tuple(float(x) for x in lambdas),
                 cost_estimate=() if estimate is None else tuple(float(c) for c in estimate),
@@ -199,10 +200,6 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
                      multipliers=np.zeros(0) if multipliers is None else multipliers.values.copy(),
                      steps=rollouts.steps, seconds=time.perf_counter() - started,
                      provenance={"environment": _env_name(envs[0]), "torch": torch.__version__})
-
-
-def _mean_return(episodes: list) -> float:
-    return float(np.mean([e.episode_return for e in episodes])) if episodes else math.nan
 
 
 def _actor_state(agent: ActorCritic, optimizer: torch.optim.Optimizer) -> tuple[list[torch.Tensor], list[dict]]:
