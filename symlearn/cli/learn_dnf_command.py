@@ -147,6 +147,7 @@ def _check_states_are_features(target, demos, path) -> None:
     import numpy as np
 
     from symlearn.errors import DataError
+    from symlearn.recipes.environments import features_and_observation, same_numbers as same
 
     first = demos[0]
     seed = (first.info or {}).get("seed") if isinstance(first.info, Mapping) else None
@@ -155,20 +156,16 @@ def _check_states_are_features(target, demos, path) -> None:
         observation, info = env.reset(seed=int(seed) if isinstance(seed, int) else 0)
     finally:
         env.close()
-    raw = info.get("features") if isinstance(info, Mapping) else None
-    if raw is None:
+    pair = features_and_observation(info, observation)
+    if pair is None:   # no features, or a Dict observation, text: nothing to compare
         return
+    features, observed = pair
+    raw = info["features"]
     names = [str(k) for k in raw] if isinstance(raw, Mapping) else None
     try:
-        features = np.asarray(list(raw.values()) if names is not None else raw, dtype=np.float64).reshape(-1)
-        observed = np.asarray(observation, dtype=np.float64).reshape(-1)
         state = np.asarray(first.states[0], dtype=np.float64).reshape(-1)
-    except (TypeError, ValueError):   # a Dict observation, text: nothing to compare
+    except (TypeError, ValueError):
         return
-
-    def same(a, b) -> bool:
-        return a.shape == b.shape and bool(np.allclose(a, b))
-
     if same(observed, features) or same(state, features) or not same(state, observed):
         return
     shown = ", ".join(f"{n}={v:.4g}" for n, v in zip(names, features)) if names else \

@@ -157,6 +157,29 @@ class CostWatch:
         return CostWatched(env)
 
 
+def features_and_observation(info: Any, observation: Any) -> tuple[Any, Any] | None:
+    """``info["features"]`` (a dict of named numbers or a vector) and ``observation`` as flat
+    float vectors, or None where there are no features or either is not numbers (a ``Dict``
+    observation, text): what tells whether an environment's features are its observation."""
+    import numpy as np
+
+    raw = info.get("features") if isinstance(info, Mapping) else None
+    if raw is None:
+        return None
+    try:
+        values = np.asarray(list(raw.values()) if isinstance(raw, Mapping) else raw, dtype=np.float64).reshape(-1)
+        return values, np.asarray(observation, dtype=np.float64).reshape(-1)
+    except (TypeError, ValueError):
+        return None
+
+
+def same_numbers(a: Any, b: Any) -> bool:
+    """Two flat vectors of one length and equal up to float noise."""
+    import numpy as np
+
+    return a.shape == b.shape and bool(np.allclose(a, b))
+
+
 @dataclass
 class EnvTarget:
     """A resolved ``--env``: how to build it, and what symlearn knows about it.
@@ -339,16 +362,8 @@ class EnvTarget:
         # info["features"] names its own numbers: they name the observation's entries only where
         # they are the observation (features (pos, vel) of an observation (vel, pos) name neither)
         observation, info = env.reset(seed=0)
-        raw = info.get("features") if isinstance(info, Mapping) else None
-        try:
-            import numpy as np
-
-            values = np.asarray(list(raw.values()) if isinstance(raw, Mapping) else raw, dtype=np.float64).reshape(-1)
-            observed = np.asarray(observation, dtype=np.float64).reshape(-1)
-        except (TypeError, ValueError):
-            return None
-        same = values.shape == observed.shape and bool(np.allclose(values, observed))
-        return found.names if same else None
+        pair = features_and_observation(info, observation)
+        return found.names if pair is not None and same_numbers(*pair) else None
 
     def reports_cost(self, env: Any = None, max_steps: int = 1000) -> bool:
         """Whether the environment reports a ground-truth cost (``info["cost"]``; the
