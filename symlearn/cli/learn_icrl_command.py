@@ -45,7 +45,9 @@ states sampled around the expert's, in the expert states' box widened until it h
 and unsafe states (``recovery_margin``; :mod:`symlearn.learners.neural.icrl_metrics`).
 
 JSON keys: ``reward``, ``violation_rate``, ``feasible_reward``, ``recovery_auc``,
-``recovery_iou``, ``recovery_margin``, ``expert_reward``, ``lambda``, ``cost_inputs`` (``entries``,
+``recovery_iou``, ``recovery_margin``, ``expert_reward``, ``lambda``, ``expert_cost`` (the learned
+cost's sum per demonstration episode: ``mean``, ``min``, ``max``, ``episodes``, ``mean_length``; the
+mean is the limit ``symlearn train --cost`` holds an agent to by default), ``cost_inputs`` (``entries``,
 ``names``, ``from``: given / declared features / all, ``selection``: candidates, selected, AUCs,
 ``shares`` of the first layer's weight; ``names`` from the environment's ``observation_names``,
 else its ``feature_names`` where there is one per observation entry, else null),
@@ -271,6 +273,8 @@ def _icrl(args: argparse.Namespace, out) -> None:
            "recovery_margin": None if rec is None else rec.margin,
            "expert_reward": result.metrics["expert_reward"],
            "lambda": [float(x) for x in learner.cost_.lambdas.numpy()],
+           # what the cost charges the demonstrations per episode: `train --cost`'s default limit
+           "expert_cost": learner.cost_.provenance.get("expert_cost"),
            "cost_inputs": _named_inputs(result.metrics["cost_inputs"], names),
            "demonstrations": learner.cost_.learned_from,
            "iterations": len(learner.history_), "actor_resets": result.metrics.get("actor_resets"),
@@ -468,6 +472,10 @@ def _render(doc: dict) -> str:
              f"  recovery of the unsafe set: AUC {number(doc['recovery_auc'])}, IoU {number(doc['recovery_iou'])}",
              "  lambda " + ", ".join(f"{x:.3g}" for x in doc["lambda"]),
              _render_inputs(doc["cost_inputs"])]
+    if doc.get("expert_cost"):
+        level = doc["expert_cost"]
+        lines.append(f"  the cost charges the expert {level['mean']:.3g} per episode ({level['min']:.3g} .. "
+                     f"{level['max']:.3g}): the limit `symlearn train --cost` holds an agent to by default")
     if doc.get("demonstrations"):
         lines.append(f"  learned from {doc['demonstrations']}")
     lines += [f"wrote {f}" for f in doc["files"]]

@@ -2,7 +2,7 @@
 
 ``symlearn train --env ENV [--env-kwargs JSON] [--algo ALGO] [--cost rules.dnf|cost.safetensors
 [--features a,b] [--per-rule] [--depth-weight W]] [--cost-limit C] [--multiplier-update gradient|adam|pid]
-[--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns]
+[--multiplier-init M] [--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns]
 [--cost-estimate rollout|episodes] [--reset-actor auto|never] [--normalize-observations]
 [--normalize-values] [--n-envs N] [--n-steps T] [--prune [--prune-threshold T]] [--steps N]
 [--eval-episodes E] [-o agent.safetensors] [--log run.csv] [--tensorboard DIR] [--json]``
@@ -57,6 +57,14 @@
   ``actor_resets`` / ``actor_restored``: the iterations of each. Not the default: on learned
   formulas no policy keeps (the rover's, SafeNav PointGoal's) it fires in nearly every run and
   cost the rover's return (docs/BENCHMARKS.md, "A fresh actor for a policy stuck over its limit").
+* ``--cost-limit C``: the expected cost per episode a Lagrangian allows; by default 0, except for
+  a neural cost from ``learn icrl``: what that cost charges its own demonstrations per episode
+  (the file's ``provenance.expert_cost.mean``; :attr:`symlearn.learners.neural.NeuralCost.expert_level`).
+  A sigmoid network charges every state something, so 0 is out of reach for every policy, the
+  expert's included, and the multiplier then rises for the whole run; the thesis' hard constraint
+  is the least cost a policy can reach, and the expert's level is one a policy is known to reach
+  and the constraint the learner matched (eq. 2.2). Measured in docs/BENCHMARKS.md ("A learned
+  neural cost's limit").
 * ``--cost-estimate rollout|episodes``: ``ppo-lag``'s multipliers are updated every iteration from
   the rollout's cost per step times the mean episode length (``rollout``, the default), or, as
   before, only in iterations in which an episode ended, from those episodes (``episodes``).
@@ -64,7 +72,7 @@
   ascending number of atoms) stayed below ``--prune-threshold`` (thesis: 0.001) are dropped; the
   pruned formula is written beside the cost file as ``NAME.pruned.dnf`` with a report.
 * Numeric flags are checked before anything runs: ``--steps`` 1 .. 10^9, ``--cost-limit`` and
-  ``--depth-weight`` finite and >= 0, ``--n-envs`` 1 .. 256, ``--n-envs`` x ``--n-steps`` (the rollout held in memory) at
+  ``--multiplier-init`` and ``--depth-weight`` finite and >= 0, ``--n-envs`` 1 .. 256, ``--n-envs`` x ``--n-steps`` (the rollout held in memory) at
   most 262,144 steps.
 * ``--log run.csv`` / ``--tensorboard DIR``: one row per iteration -- steps, mean return
   of the episodes that ended, their cost per constraint (``mean_cost_i``; ``learned_cost_i`` with
@@ -83,8 +91,9 @@ JSON keys: ``env``, ``algo``, ``cost_kind`` (``dnf``, ``neural`` or null), ``ret
 ``info["cost"]``), ``violation_rate`` (ground-truth cost per evaluation step) -- both ``null``
 when no step of training or evaluation reported ``info["cost"]``; once one did, a step without
 it costs 0 --, ``learned_cost`` (what ``--cost`` charges the greedy evaluation's episodes, summed
-over rules, per episode; null without ``--cost``) and ``cost_limit`` (``--cost-limit`` of a Lagrangian
-with ``--cost``, else null), ``multipliers`` (null without a
+over rules, per episode; null without ``--cost``), ``cost_limit`` (the limit of a Lagrangian
+with ``--cost``, else null) and ``cost_limit_from`` (``--cost-limit``, ``expert`` -- a learned neural
+cost's expert level -- or ``default``: 0), ``multipliers`` (null without a
 Lagrangian), ``actor_resets`` (``ppo-lag``: the iterations whose actor was renewed, else null),
 ``pruned`` (the dropped rules, or null; with ``--prune`` also ``kept``), ``seconds``,
 ``steps``, ``files``, ``warnings`` (a Lagrangian whose multiplier rose while the cost stayed over the
@@ -131,8 +140,11 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--depth-weight", type=float, default=0.0, metavar="W",
                      help="a DNF cost of 1 + W x how deep inside the unsafe set the state lies (in spans of the "
                           "formula's thresholds), so the cost points the way out; 0 (default): 1 per unsafe step")
-    cmd.add_argument("--cost-limit", type=float, default=0.0,
-                     help="Lagrangian: allowed expected cost per episode (default 0)")
+    cmd.add_argument("--cost-limit", type=float, default=None,
+                     help="Lagrangian: allowed expected cost per episode (default 0; for a cost learned by "
+                          "`learn icrl`, what it charges the expert's demonstrations per episode, recorded in its file)")
+    cmd.add_argument("--multiplier-init", type=float, default=None,
+                     help="Lagrangian: every multiplier's value at the start (ppo-lag: 0; sb3-*-lag: 0)")
     cmd.add_argument("--multiplier-lr", type=float, default=None,
                      help="Lagrangian: multiplier step size (ppo-lag: 0.1; sb3-*-lag: 0.05)")
     cmd.add_argument("--multiplier-update", choices=("gradient", "adam", "pid"), default=None,
@@ -187,8 +199,10 @@ def check_numbers(args: argparse.Namespace, default_steps: int) -> None:
         raise SymlearnError(f"--n-envs {args.n_envs} x --n-steps {args.n_steps} = {args.n_envs * args.n_steps:,} "
                             f"steps per rollout, more than the {MAX_ROLLOUT:,} held in memory at once",
                             hint="lower --n-steps or --n-envs")
-    if not (math.isfinite(args.cost_limit) and args.cost_limit >= 0):
+    if args.cost_limit is not None and not (math.isfinite(args.cost_limit) and args.cost_limit >= 0):
         raise SymlearnError(f"--cost-limit must be a finite number >= 0, got {args.cost_limit:g}")
+    if args.multiplier_init is not None and not (math.isfinite(args.multiplier_init) and args.multiplier_init >= 0):
+        raise SymlearnError(f"--multiplier-init must be a finite number >= 0, got {args.multiplier_init:g}")
     if args.multiplier_lr is not None and not (math.isfinite(args.multiplier_lr) and args.multiplier_lr > 0):
         raise SymlearnError(f"--multiplier-lr must be a finite number > 0, got {args.multiplier_lr:g}")
     if args.learning_rate is not None and not (math.isfinite(args.learning_rate) and 0 < args.learning_rate <= 1):
@@ -246,6 +260,10 @@ def _train(args: argparse.Namespace, out) -> None:
     if args.cost:
         cost = training_cost(args.cost, target, features=args.features, per_rule=args.per_rule,
                              depth_weight=args.depth_weight)
+    args.cost_limit_from = "--cost-limit" if args.cost_limit is not None else (
+        "expert" if cost is not None and cost.expert_level is not None else "default")
+    if args.cost_limit is None:
+        args.cost_limit = cost.expert_level if args.cost_limit_from == "expert" else 0.0
     from symlearn.cli.env_errors import environment_file, raised_by_environment
 
     # an exception from the user's environment code while training is theirs, one located line
@@ -297,6 +315,7 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
     # None: the library's measured default (normalisation on with a Lagrangian, off without)
     if constrained:
         given = {key: value for key, value in (("update", args.multiplier_update), ("lr", args.multiplier_lr),
+                                               ("init", args.multiplier_init),
                                                ("reset_actor", args.reset_actor))
                  if value is not None}  # the rest: the library's defaults
         lagrangian = LagrangianConfig(cost_limit=args.cost_limit, advantage_scale=args.advantage_scale or "returns",
@@ -337,13 +356,20 @@ def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
     """A Lagrangian's greedy agent that still pays more than ``--cost-limit`` of what it was
     trained on (a DNF cost, else ``info["cost"]``) per episode: one warning, whatever the
     multiplier's units (SB3's rule has no threshold on it that means anything); None otherwise."""
-    if not args.algo.endswith("-lag") or (cost is not None and cost.kind != "dnf"):
-        return None   # a neural cost (a sigmoid) charges every state something: 0 is out of reach by design
+    if not args.algo.endswith("-lag"):
+        return None
+    if cost is not None and cost.kind == "neural" and getattr(args, "cost_limit_from", None) != "expert" and args.cost_limit == 0:
+        # a sigmoid charges every state something: 0 is out of reach by design, the file says no better
+        return ("a learned neural cost charges every state something, so --cost-limit 0 is out of reach; this file "
+                "records no expert level to hold the agent to (learned by an older symlearn): learn it again, "
+                "or give --cost-limit")
     paid = doc.get("learned_cost") if cost is not None else doc.get("cost")
     if paid is None or paid <= args.cost_limit + 1e-9:
         return None
     what = "the learned cost" if cost is not None else 'info["cost"]'
     advice = "raise --steps"
+    if getattr(args, "cost_limit_from", None) == "expert":
+        what += f" (the limit is its expert's level, {args.cost_limit:.3g} per episode)"
     if cost is not None and cost.kind == "dnf":
         advice += ("; a formula that also flags the expert's own states cannot be kept (learn dnf --validation 0.2 "
                    "counts them)")
@@ -418,6 +444,8 @@ def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_c
             "violation_rate": None if per_episode is None else
             float(np.sum(per_episode) / max(int(np.sum(lengths)), 1)),
             "cost_limit": float(args.cost_limit) if cost is not None and args.algo.endswith("-lag") else None,
+            "cost_limit_from": getattr(args, "cost_limit_from", None) if cost is not None and args.algo.endswith("-lag")
+            else None,
             "actor_resets": None, "actor_restored": None, "pruned": None, "files": [], "warnings": []}
 
 

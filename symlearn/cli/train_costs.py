@@ -36,6 +36,7 @@ class TrainingCost:
     n_costs: int
     stats: Any = None             # RuleStats of a DNF (for --prune)
     wrap: Any = None              # env -> env making info["features"] a vector (dict features), or None
+    expert_level: float | None = None   # a neural cost's charge on its demonstrations per episode (default limit)
 
 
 class _DictFeatures:
@@ -69,7 +70,7 @@ def _neural(path: str, target: Any) -> TrainingCost:
     finally:
         env.close()
 
-    return TrainingCost("neural", cost.cost_fn(), cost.step_cost(), 1)
+    return TrainingCost("neural", cost.cost_fn(), cost.step_cost(), 1, expert_level=cost.expert_level)
 
 
 def _dnf(path: str, target: Any, features: str | None, per_rule: bool, depth_weight: float) -> TrainingCost:

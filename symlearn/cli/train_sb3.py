@@ -61,7 +61,8 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any, watch: Any = Non
         # SB3's measured rule (train_command's docstring), unless the flags name another
         multipliers = SharedMultipliers(LagrangianConfig(cost_limit=args.cost_limit,
                                                          update=args.multiplier_update or "gradient",
-                                                         lr=args.multiplier_lr or 0.05), n_costs)
+                                                         lr=args.multiplier_lr or 0.05,
+                                                         init=args.multiplier_init or 0.0), n_costs)
     elif cost is not None:
         multipliers = SharedMultipliers(n_costs=n_costs, fixed=[1.0] * n_costs)
 

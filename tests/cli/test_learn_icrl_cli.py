@@ -41,6 +41,7 @@ def test_short_run_writes_the_cost_and_reports_the_metrics(capsys, tmp_path):
 
     cost = NeuralCost.load(out, BlockedPoint())
     assert cost.phi.obs_dims == (0, 1) and len(cost.lambdas) == len(doc["lambda"])
+    assert doc["expert_cost"]["episodes"] == 3 and cost.expert_level == pytest.approx(doc["expert_cost"]["mean"])
 
 
 def _save(tmp_path, states, name="demos.npz"):

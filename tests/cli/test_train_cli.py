@@ -128,6 +128,8 @@ def _one_line(code, err, *needles):
     (("--steps", "2.5"), "--steps must be a whole number"),
     (("--cost-limit", -1, "--algo", "ppo-lag"), "--cost-limit must be a finite number >= 0"),
     (("--cost-limit", "nan"), "--cost-limit must be a finite number >= 0"),
+    (("--multiplier-init", -0.5), "--multiplier-init must be a finite number >= 0"),
+    (("--multiplier-init", "inf"), "--multiplier-init must be a finite number >= 0"),
     (("--n-envs", 0), "--n-envs must be between 1"),
     (("--n-envs", 100, "--n-steps", 100_000), "steps per rollout"),
     (("--n-steps", "1e12"), "--n-steps must be between 1"),
@@ -263,6 +265,32 @@ def test_a_learned_neural_cost_trains_a_fresh_agent(capsys, tmp_path):
     assert code == 2 and "cost.safetensors" in err and "Traceback" not in err
     code, _, err = run(capsys, "train", "--env", "blocked-point", "--cost", path, "--prune")
     assert code == 2 and "--prune" in err
+
+
+def test_a_neural_cost_holds_the_agent_to_its_experts_level_by_default(capsys, tmp_path):
+    """A sigmoid cost charges every state something, so limit 0 is out of reach: the default limit
+    is what the file records the cost charges its demonstrations; --cost-limit overrides it; a file
+    with no record keeps 0 and says why that cannot be kept."""
+    from symlearn.learners.neural import NeuralCost
+
+    path = _saved_cost(tmp_path, "blocked-point")
+    small = ("--steps", 256, "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 1, "--json")
+    code, out, err = run(capsys, "train", "--env", "blocked-point", "--cost", path, *small)
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["cost_limit"] == 0 and doc["cost_limit_from"] == "default"
+    assert any("out of reach" in w and "--cost-limit" in w for w in doc["warnings"])
+    cost = NeuralCost.load(path)
+    cost.provenance["expert_cost"] = {"mean": 12.5, "min": 3.0, "max": 20.0, "episodes": 4, "mean_length": 100.0}
+    cost.save(path)
+    code, out, err = run(capsys, "train", "--env", "blocked-point", "--cost", path, *small)
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["cost_limit"] == 12.5 and doc["cost_limit_from"] == "expert"
+    assert not any("out of reach" in w for w in doc["warnings"])
+    code, out, err = run(capsys, "train", "--env", "blocked-point", "--cost", path, "--cost-limit", 3, *small)
+    assert code == 0, err
+    assert (json.loads(out)["cost_limit"], json.loads(out)["cost_limit_from"]) == (3, "--cost-limit")
 
 
 def test_stable_baselines3_learners_on_a_user_module(capsys, tmp_path):
@@ -410,3 +438,16 @@ def test_a_depth_weighted_dnf_cost_charges_deep_violations_more(capsys, tmp_path
     code, out, err = run(capsys, "train", "--env", "toy-navigation", "--cost", rules, "--depth-weight", 3,
                          "--algo", "sb3-ppo-lag", "--steps", 256, "--n-steps", 64, "--eval-episodes", 1, "--json")
     assert code == 0, err
+
+
+def test_the_multipliers_start_where_multiplier_init_says(capsys, tmp_path):
+    """One iteration of Adam moves a multiplier by about --multiplier-lr: started at 5, it ends near 5."""
+    rules = tmp_path / "toy.dnf"
+    rules.write_text(UNSAFE_DNF)
+    log = tmp_path / "run.csv"
+    for init in (0, 5):
+        code, out, err = run(capsys, "train", "--env", "toy-navigation", "--cost", rules,
+                             "--multiplier-init", init, "--steps", 128, "--n-envs", 1, "--n-steps", 128,
+                             "--eval-episodes", 1, "--log", log, "--json")
+        assert code == 0, err
+        assert abs(json.loads(out)["multipliers"][0] - init) <= 0.1 + 1e-9

@@ -355,6 +355,7 @@ class NeuralMCEICRL(Learner):
         timings["cost"] = sum(h.cost_seconds for h in history)
         timings["total"] = self.seconds_
         expert_reward = float(np.where(expert.mask, expert.rewards, 0.0).sum(axis=1).mean())
+        cost.record_expert_level(expert)  # the default budget of an agent trained on it
         self._set_result(cost, "", metrics={"lambda": [float(x) for x in lambdas], "expert_reward": expert_reward,
                                             "final_sample": final.as_dict(), "actor_resets": resets,
                                             "pretrain": None if pretrain is None else pretrain.as_dict(),

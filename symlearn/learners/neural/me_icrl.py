@@ -242,6 +242,7 @@ class NeuralMEICRL(Learner):
         timings.update(policy=sum(h.policy_seconds for h in history), cost=sum(h.cost_seconds for h in history),
                        total=self.seconds_)
         expert_reward = float(np.where(expert.mask, expert.rewards, 0.0).sum(axis=1).mean())
+        cost.record_expert_level(expert)  # the default budget of an agent trained on it
         self._set_result(cost, "", metrics={"multiplier": multiplier, "expert_reward": expert_reward,
                                             "final_sample": final.as_dict(), "actor_resets": resets,
                                             "cost_inputs": inputs_report(cost, setup.inputs_from, selection)},

@@ -12,7 +12,9 @@ per-step form for stable-baselines3.
 Files: ``NAME.safetensors`` (the network's weights and standardisation, and ``lambda``) and
 ``NAME.json`` (kind ``neural-icrl-cost``: the network's shape, the spaces, the observation entry
 names when the environment has them, provenance: the learner, its parameters and, where the
-demonstrations said, their ``metadata["source"]`` -- :attr:`NeuralCost.learned_from`) through
+demonstrations said, their ``metadata["source"]`` -- :attr:`NeuralCost.learned_from` --, and
+``expert_cost``, what the final cost charges the demonstrations per episode -- the budget
+:attr:`NeuralCost.expert_level` an agent trained on the cost is held to by default) through
 :mod:`symlearn.rl.model_files`; loading
 reads numbers and JSON only. :meth:`NeuralCost.check_environment` refuses an environment whose
 observation space (kind, shape; entry names where both sides have them) or action space differs
@@ -80,6 +82,42 @@ class NeuralCost(nn.Module):
         not say, and in files written before it was recorded."""
         source = self.provenance.get("demonstrations")
         return source if isinstance(source, str) and source else None
+
+    @property
+    def expert_level(self) -> float | None:
+        """The mean per-episode sum of this cost over the demonstrations it was learned from
+        (undiscounted, the units of a PPO-Lagrangian ``cost_limit``), recorded in the provenance
+        as ``expert_cost``; None in files written before it was recorded.
+
+        Why a budget needs it: the cost is a sigmoid network's output times ``lambda``, so every
+        state costs something and a limit of 0 is out of reach for every policy, the expert's
+        included. The thesis' hard constraint is the least cost a policy can reach (budget
+        ``c_min``, ch. 2), and the constraint its learner matched is the expert's feature
+        expectation (eq. 2.2): the expert's level is the budget that both reads mean and that a
+        policy is known to reach."""
+        record = self.provenance.get("expert_cost")
+        if record is None:
+            return None
+        level = record.get("mean") if isinstance(record, dict) else None
+        if isinstance(level, bool) or not isinstance(level, (int, float)) or not np.isfinite(level) or level < 0:
+            raise ModelError(f"provenance.expert_cost.mean must be a finite number >= 0, got {level!r}")
+        return float(level)
+
+    def record_expert_level(self, expert: Any) -> dict[str, Any]:
+        """Store (and return) what this cost charges ``expert`` -- an
+        :class:`~symlearn.rl.episodes.EpisodeBatch` of the demonstrations -- per episode:
+        ``mean``, ``min``, ``max``, ``episodes``, ``mean_length`` (see :attr:`expert_level`)."""
+        obs, actions = expert.pairs()
+        per_step = self(obs, actions if self.uses_actions else None)
+        lengths = expert.mask.sum(axis=1).astype(int)
+        sums = np.array([part.sum() for part in np.split(per_step, np.cumsum(lengths)[:-1])]) if len(lengths) \
+            else np.zeros(0)
+        record = {"mean": float(sums.mean()) if len(sums) else 0.0,
+                  "min": float(sums.min()) if len(sums) else 0.0,
+                  "max": float(sums.max()) if len(sums) else 0.0,
+                  "episodes": int(len(sums)), "mean_length": float(lengths.mean()) if len(lengths) else 0.0}
+        self.provenance["expert_cost"] = record
+        return record
 
     # --- evaluation -------------------------------------------------------------------------------
 
@@ -201,6 +239,10 @@ class NeuralCost(nn.Module):
         if bad or (cost.phi.input_scale <= 0).any():
             raise ModelError(f"the tensor {bad[0] if bad else 'phi.input_scale'} holds "
                              f"{'NaN or infinite' if bad else 'non-positive'} values", file=str(path))
+        try:
+            cost.expert_level  # a malformed record is refused here, not when an agent is trained
+        except ModelError as exc:
+            raise ModelError(exc.message, file=str(path)) from None
         if env is not None:
             cost.check_environment(env, source=path)
         return cost
