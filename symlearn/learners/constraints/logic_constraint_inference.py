@@ -387,7 +387,9 @@ class LogicConstraintInference(Learner):
         if weak:
             header += "\nWeakly supported (the demonstrations are about as likely without the rule, the planner's " \
                       "rationality refitted; see symlearn.learners.constraints.rule_support):"
-            header += "".join(f"\n  {r.rule}  ({r.gain:.2f} nats)" for r in weak)
+            header += "".join(f"\n  {r.rule}  ({r.gain:.2f} nats"
+                              + ("" if not r.overlaps else f"; {', '.join(r.overlaps)} forbids its pairs too: keep that")
+                              + ")" for r in weak)
         if self.unexplained_:
             header += "\n" + "\n".join(unexplained_lines(self.unexplained_))
         return self.hypothesis_.lp_text(header, recheck=recheck or "symlearn domain check DOMAIN_DIR --rules THIS.lp "

@@ -17,6 +17,14 @@ fitted at 24 with it and 1.3 without; 119 with the learner's three-value shortcu
 about what the expert never needed costs nothing to drop once the planner is allowed to be as
 deliberate as the expert (``:- wait.``: 0.00 nats at rationality 24 either way).
 
+Rules that forbid the same pairs (two spellings of one rule, or a rule and a more general one)
+each cost nothing to drop while the other stays, so each alone looks unneeded; deleting both
+would lose what they forbid together. The weak rules are therefore checked together, weakest
+first: a rule joins the set reported weak only while dropping the whole set still costs less
+than :data:`WEAK_SUPPORT`; one that would push it over is needed after all (``joint_gain``, the
+drop measured with the weaker rules already gone), and the weak rules whose pairs it shares name
+it (``overlaps``): delete those, keep it.
+
 A gain below :data:`WEAK_SUPPORT` nats (the demonstrations are less than ``e^3 ~ 20`` times
 likelier with the rule) is reported as weak: a :class:`WeakRuleWarning` (a ``note:`` line of the
 CLI, JSON ``notes``) and a line of the rule file's header. Weak is
@@ -50,23 +58,31 @@ class RuleSupport:
     gain: float  # nats, over all demonstrated steps
     rationality_with: float  # fitted with every learned rule
     rationality_without: float  # fitted with the others only
+    # the drop when this rule goes *with* the weaker rules reported before it (module docstring);
+    # None where the rule's own gain already made it strong
+    joint_gain: float | None = None
+    overlaps: tuple[str, ...] = ()  # stronger rules forbidding some of the same pairs (delete this, keep them)
 
     @property
     def weak(self) -> bool:
-        return self.gain < WEAK_SUPPORT
+        return (self.gain if self.joint_gain is None else self.joint_gain) < WEAK_SUPPORT
 
     def as_dict(self) -> dict[str, Any]:
         return {"rule": self.rule, "gain": self.gain, "rationality_with": self.rationality_with,
-                "rationality_without": self.rationality_without, "weak": self.weak}
+                "rationality_without": self.rationality_without, "joint_gain": self.joint_gain,
+                "overlaps": list(self.overlaps), "weak": self.weak}
 
     def text(self) -> str:
         """The warning for a weak rule (one line)."""
         temperature = (f" (planner rationality {self.rationality_with:g} with it, {self.rationality_without:g} "
                        "without)" if self.rationality_with != self.rationality_without else
                        f" (planner rationality {self.rationality_with:g})")
+        shared = ("" if not self.overlaps else
+                  f" ({' and '.join(self.overlaps)} also forbid{'s' if len(self.overlaps) == 1 else ''} its pairs "
+                  "and is needed: keep that one)")
         return (f"rule {self.rule} is weakly supported: the demonstrations are {self.gain:.2f} nats likelier with "
-                f"it than without{temperature}, below {WEAK_SUPPORT:g}: they do not show that it matters -- keep it "
-                "if you know it holds, delete it otherwise")
+                f"it than without{temperature}, below {WEAK_SUPPORT:g}{shared}: they do not show that it matters -- "
+                "keep it if you know it holds, delete it otherwise")
 
 
 def rule_support(domain: Any, episodes, rules: list[str], reward: Any, horizon: int,
@@ -94,10 +110,11 @@ def rule_support(domain: Any, episodes, rules: list[str], reward: Any, horizon: 
     masks = [domain.rule_mask([rule]) for rule in rules]  # integrity constraints forbid independently
     steps = sum(len(e.actions) for e in episodes)
 
-    def allowed_without(leave_out: int | None) -> np.ndarray:
+    def allowed_without(leave_out: int | frozenset[int] | None) -> np.ndarray:
+        gone = {leave_out} if isinstance(leave_out, int) else (leave_out or set())
         forbidden = base.copy()
         for i, mask in enumerate(masks):
-            if i != leave_out:
+            if i not in gone:
                 forbidden |= mask
         return ~forbidden
 
@@ -117,7 +134,7 @@ def rule_support(domain: Any, episodes, rules: list[str], reward: Any, horizon: 
     else:
         candidates = sorted({round(v, 4) for v in (with_all, rationality, (with_all * rationality) ** 0.5)})
 
-        def profile_without(leave_out: int) -> tuple[float, float]:
+        def profile_without(leave_out: int | frozenset[int]) -> tuple[float, float]:
             allowed = allowed_without(leave_out)
             values = {beta: at(beta, allowed) for beta in candidates}
             best = max(values, key=values.get)
@@ -127,6 +144,28 @@ def rule_support(domain: Any, episodes, rules: list[str], reward: Any, horizon: 
     for i, rule in enumerate(rules):
         without, partial = profile_without(i)
         out.append(RuleSupport(rule, round(max(total - partial, 0.0), 4), with_all, without))
+    return _checked_together(out, masks, lambda gone: total - profile_without(frozenset(gone))[1])
+
+
+def _checked_together(support: list[RuleSupport], masks: list[np.ndarray], drop: Any) -> list[RuleSupport]:
+    """The weak rules checked as a set, weakest first (module docstring); ``drop(indices)`` is the
+    log-likelihood lost when all of ``indices`` go at once."""
+    weak = sorted((i for i, s in enumerate(support) if s.weak), key=lambda i: (support[i].gain, i))
+    if len(weak) < 2:
+        return support
+    out, gone = list(support), []
+    for i in weak:
+        lost = round(max(drop([*gone, i]), 0.0), 4)
+        if lost < WEAK_SUPPORT:
+            gone.append(i)
+        else:   # needed once the weaker rules are gone: strong, and they name it
+            out[i] = RuleSupport(support[i].rule, support[i].gain, support[i].rationality_with,
+                                 support[i].rationality_without, joint_gain=lost)
+    for i in gone:
+        shared = tuple(out[j].rule for j in weak if j not in gone and (masks[i] & masks[j]).any())
+        if shared:
+            out[i] = RuleSupport(support[i].rule, support[i].gain, support[i].rationality_with,
+                                 support[i].rationality_without, overlaps=shared)
     return out
 
 

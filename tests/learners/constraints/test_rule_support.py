@@ -77,3 +77,17 @@ def test_the_cli_prints_it_as_a_note_not_a_warning(capsys, floor, tmp_path):
     code, out, err = run(capsys, "learn", "constraints", "--domain", tmp_path / "floor_domain", "--demos",
                          tmp_path / "floor_demos.jsonl")
     assert "note: rule :- wait. is weakly supported" in out and "warning:" not in out
+
+
+def test_two_spellings_of_one_needed_rule_are_not_both_weak(floor):
+    """Each of two rules forbidding the same pairs costs nothing to drop while the other stays;
+    checked together, one is needed and the other, reported weak, names it."""
+    domain, demos = floor
+    rules = [":- move(D), rug_ahead(D).", ":- rug_ahead(D), move(D).", ":- wait."]
+    support = rule_support(domain, domain.episodes(demos), rules, "given", 30)
+    first, second, wait = support
+    assert first.gain < WEAK_SUPPORT and second.gain < WEAK_SUPPORT   # alone, each looks unneeded
+    assert first.weak and first.overlaps == (rules[1],) and "keep that one" in first.text()
+    assert not second.weak and second.joint_gain > 50 and second.overlaps == ()
+    assert wait.weak and wait.overlaps == ()   # waiting shares no pair with the rug rules
+    assert [r.rule for r in support if r.weak] == [rules[0], rules[2]]
