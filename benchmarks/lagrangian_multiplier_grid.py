@@ -79,7 +79,9 @@ def run(task: str, variant: str, seed: int, folder: Path, steps: int) -> dict:
     started = time.perf_counter()
     with progress_bars(False):
         result = train_ppo(env_fn, steps, PPOConfig(seed=seed, **spec.get("ppo", {})),
-                           lagrangian=LagrangianConfig(cost_limit=0.0, **spec.get("lag", {})), cost_fn=cost_fn)
+                           # init 0: the start every recorded row of this grid had (the default until 2026-12-07)
+                           lagrangian=LagrangianConfig(cost_limit=0.0, **{"init": 0.0, **spec.get("lag", {})}),
+                           cost_fn=cost_fn)
     episodes = evaluate(result.policy, target.make(), 10, seed=seed + 10_000)
     return {"task": task, "variant": variant, "seed": seed, "return": float(np.mean(episodes.returns)),
             "true_cost": float(episodes.costs.sum(axis=1).mean()),

@@ -42,6 +42,8 @@ VARIANTS = {"init 0": ["--multiplier-init", "0"], "init 1": ["--multiplier-init"
 USER_TASKS = {
     "hazard-robot|learned": ["--env", "point_robot_env:HazardRobot-v0", "--cost", "hazard.dnf"],
     "rover|true": ["--env", "rover_env:Rover-v0", "--algo", "ppo-lag"],
+    # the rover's safe route is a detour the reward does not point to: at its target by 150k steps
+    "rover 150k|true": ["--env", "rover_env:Rover-v0", "--algo", "ppo-lag", "--steps", "150000"],
 }
 
 

@@ -252,8 +252,8 @@ def lagrangian_config(cost_limit: float, multiplier_lr: float, advantage_scale: 
     if settings != "legacy":
         raise ValueError(f"settings must be one of {SETTINGS}, got {settings!r}")
     return LagrangianConfig(cost_limit=cost_limit, update="adam", lr=multiplier_lr, adam_beta2=0.999,
-                            advantage_scale=advantage_scale,
-                            cost_estimate="episodes")  # the recorded tables' rule
+                            advantage_scale=advantage_scale, init=0.0,
+                            cost_estimate="episodes")  # the recorded tables' rule and start
 
 
 def _binned(episodes: list[tuple[int, float, float, float]], total: int, bins: int) -> dict[str, list]:

@@ -37,6 +37,12 @@
   defaults, chosen on four tasks x 3 seeds (docs/BENCHMARKS.md, "PPO-Lagrangian defaults of
   `train`"): the earlier ``gradient``/0.05 with 2.5e-4 and 0 was safe everywhere but froze the
   toy's and a user's rover's agents at their start.
+* ``--multiplier-init M`` (``ppo-lag``: 1; ``sb3-*-lag``: 0): where the multipliers start. With
+  return-unit advantages 1 weighs the cost as much as the reward from the first iteration; from 0
+  the policy learns from the reward alone while the multiplier climbs, long enough on BlockedPoint
+  with a learned wall to commit to running through it (1 of 10 seeds; 0 of 10 from 1) --
+  docs/BENCHMARKS.md, "Where the multiplier starts". SB3's reward ``r - lambda c`` has no such
+  units, so its start stays 0.
 * ``--advantage-scale raw|returns``, ``--[no-]normalize-observations``, ``--[no-]normalize-values``:
   options of :mod:`symlearn.rl.ppo`. With a Lagrangian (``ppo-lag``) they default to ``returns``
   and on: measured on BlockedPoint, a user's hazard robot and the toy (docs/BENCHMARKS.md,
@@ -144,7 +150,8 @@ def register(subparsers, common) -> None:
                      help="Lagrangian: allowed expected cost per episode (default 0; for a cost learned by "
                           "`learn icrl`, what it charges the expert's demonstrations per episode, recorded in its file)")
     cmd.add_argument("--multiplier-init", type=float, default=None,
-                     help="Lagrangian: every multiplier's value at the start (ppo-lag: 0; sb3-*-lag: 0)")
+                     help="Lagrangian: every multiplier's value at the start (ppo-lag: 1, the cost weighing as much "
+                          "as the reward; sb3-*-lag: 0)")
     cmd.add_argument("--multiplier-lr", type=float, default=None,
                      help="Lagrangian: multiplier step size (ppo-lag: 0.1; sb3-*-lag: 0.05)")
     cmd.add_argument("--multiplier-update", choices=("gradient", "adam", "pid"), default=None,

@@ -70,7 +70,7 @@ def run(context: DemoContext) -> Section:
     config = PPOConfig(n_envs=4, n_steps=256, batch_size=256, n_epochs=5, learning_rate=3e-4,
                        normalize_values=True, normalize_observations=False, log_std_init=0.0, seed=context.seed)
     lagrangian = LagrangianConfig(cost_limit=_COST_LIMIT, update="adam", lr=0.035, adam_beta2=0.999,
-                                  advantage_scale="returns",
+                                  advantage_scale="returns", init=0.0,
                                   cost_estimate="episodes")
     curves, results, multipliers = {}, {}, []
     for name, constrained in (("PPO", False), ("PPO-Lagrangian, learned DNF", True)):

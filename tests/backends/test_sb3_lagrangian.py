@@ -56,7 +56,7 @@ def test_the_learner_sees_r_minus_lambda_c_of_the_learned_cost_and_the_true_cost
 
 
 def test_the_multiplier_callback_raises_lambda_while_the_agent_breaks_the_limit():
-    multipliers = SharedMultipliers(LagrangianConfig(cost_limit=0.0, update="gradient", lr=0.5), 1)
+    multipliers = SharedMultipliers(LagrangianConfig(cost_limit=0.0, update="gradient", lr=0.5, init=0.0), 1)
     venv = DummyVecEnv([lambda: lagrangian_robot(multipliers)] * 2)
     callback = lagrangian_callback(multipliers, cost_key="learned_cost")
     model = PPO("MlpPolicy", venv, n_steps=64, batch_size=64, n_epochs=1, seed=0, device="cpu",

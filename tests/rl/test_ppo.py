@@ -242,7 +242,7 @@ def test_two_constraints_two_multipliers():
     # constraint 0 (jump two) can cost at most 5 < 10: its multiplier never leaves 0;
     # constraint 1 (jump three) is broken by the unconstrained policy: its multiplier rises
     result = train_ppo(lambda: Corridor(vector=True), 12_000, PPOConfig(seed=0, **CORRIDOR),
-                       LagrangianConfig(cost_limit=[10.0, 1.0], update="gradient", lr=0.1))
+                       LagrangianConfig(cost_limit=[10.0, 1.0], update="gradient", lr=0.1, init=0.0))
     assert result.policy.n_costs == 2 and result.multipliers.shape == (2,)
     assert result.episodes.costs.shape == (len(result.episodes), 2)
     assert all(len(h.multipliers) == len(h.mean_cost) == len(h.cost_value_loss) == 2 for h in result.history)
@@ -282,7 +282,7 @@ def test_gradient_rule_by_hand_and_cap():
 
 def test_adam_rule_matches_torch_adam():
     """The numpy Adam step of the multipliers is torch's Adam on the loss -lambda (J_c - d), projected."""
-    m = Multipliers(LagrangianConfig(cost_limit=1.0, update="adam", lr=0.05), 1)  # adam_beta2 0.99 by default
+    m = Multipliers(LagrangianConfig(cost_limit=1.0, update="adam", lr=0.05, init=0.0), 1)  # adam_beta2 0.99 by default
     lam = torch.zeros(1, requires_grad=True)
     optimizer = torch.optim.Adam([lam], lr=0.05, betas=(0.9, 0.99))
     for cost in [3.0, 2.5, 0.5, 4.0, 0.0, 0.0, 0.0]:
@@ -378,3 +378,12 @@ def test_importing_symlearn_rl_does_not_load_torch():
             "symlearn.rl.crm_q_learning; print('torch' in sys.modules)")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_the_multipliers_start_at_one_by_default():
+    """With return-unit advantages a multiplier of 1 weighs the cost as much as the reward: the
+    default start (init=0 gives the old one, and LEGACY_LAGRANGIAN keeps it)."""
+    from symlearn.rl.ppo import LEGACY_LAGRANGIAN
+
+    assert LagrangianConfig(cost_limit=0.0).init == 1.0 and LEGACY_LAGRANGIAN["init"] == 0.0
+    assert Multipliers(LagrangianConfig(cost_limit=0.0), 2).values.tolist() == [1.0, 1.0]

@@ -66,7 +66,7 @@ def test_cost_fn_replaces_info_cost_and_drives_the_multiplier():
         return np.stack([2 * low, np.zeros_like(low)], axis=2)
 
     result = train_ppo(lambda: Line(), 1024, PPOConfig(seed=0, **SMALL),
-                       LagrangianConfig(cost_limit=0.0, update="gradient", lr=0.1), cost_fn=left)
+                       LagrangianConfig(cost_limit=0.0, update="gradient", lr=0.1, init=0.0), cost_fn=left)
     assert result.policy.n_costs == 2 and result.episodes.costs.shape == (len(result.episodes), 2)
     costs = result.episodes.costs
     assert np.all(costs[:, 0] % 2 == 0) and costs[:, 0].max() > 0 and np.all(costs[:, 1] == 0)

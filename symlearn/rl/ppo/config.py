@@ -20,7 +20,7 @@ RESET_ACTOR_RULES = ("never", "auto")  # LagrangianConfig.reset_actor (symlearn.
 # LagrangianConfig's defaults before they became those of `symlearn train` (with PPOConfig
 # normalize_observations=False, normalize_values=False): what the recorded benchmark tables used
 LEGACY_LAGRANGIAN = {"update": "adam", "lr": 0.035, "advantage_scale": "raw", "cost_estimate": "episodes",
-                     "adam_beta2": 0.999}
+                     "adam_beta2": 0.999, "init": 0.0}
 # what PPOConfig's None settings resolve to (PPOConfig.resolved), with a Lagrangian or without
 RESOLVED_DEFAULTS = {"normalize_observations": True, "normalize_values": True, "learning_rate": 1e-3,
                      "log_std_init": -1.0}
@@ -135,21 +135,27 @@ class LagrangianConfig:
     behaviour before; with 1000-step episodes and 4 x 128-step rollouts that is one update in
     eight iterations).
 
-    The defaults (``"adam"``, ``lr=0.1``, ``adam_beta2=0.99``, ``"returns"``, ``"rollout"``, with
+    The defaults (``"adam"``, ``lr=0.1``, ``adam_beta2=0.99``, ``"returns"``, ``"rollout"``, ``init=1``, with
     :class:`PPOConfig`'s Lagrangian settings: normalisation, learning rate 1e-3, log std -1) are the ones ``symlearn
     train --algo ppo-lag`` uses; they were chosen by measurement on four tasks x 3 seeds
     (docs/BENCHMARKS.md, "PPO-Lagrangian defaults of `train`"): Adam moves ``lambda`` by about
     ``lr`` an iteration whatever the size of the violation, where the gradient rule's first steps
     (``0.05 x`` an exploring agent's 100 cost steps) priced every cost out of reach of the reward and
-    froze the agent at its start. Before, the library's were ``"adam"``, ``lr=0.035``, ``"raw"``,
-    ``"episodes"``, no normalisation (``LEGACY_LAGRANGIAN``, with torch's ``adam_beta2=0.999``); the
+    froze the agent at its start. ``init=1`` (``0`` until 2026-12-07) was measured on ten tasks x 5-10
+    seeds (docs/BENCHMARKS.md, "Where the multiplier starts"): BlockedPoint's learned wall safe on
+    10 of 10 seeds instead of 9, the toy on its true cost 9 of 10 instead of 8, SafeNav's learned
+    formulas at a quarter to a third of the true cost, at some return on SafeNav. Before, the library's were ``"adam"``, ``lr=0.035``, ``"raw"``,
+    ``"episodes"``, no normalisation, ``init=0`` (``LEGACY_LAGRANGIAN``, with torch's ``adam_beta2=0.999``); the
     CLI's, ``"gradient"``, ``lr=0.05``.
     """
 
     cost_limit: float | Sequence[float]
     update: str = "adam"
     lr: float = 0.1
-    init: float | Sequence[float] = 0.0
+    # 1: with return-unit advantages the cost weighs as much as the reward from the first
+    # iteration; from 0 the policy learns from the reward alone for ~10 iterations, long enough to
+    # commit to a forbidden short cut it never leaves (docs/BENCHMARKS.md, "Where the multiplier starts")
+    init: float | Sequence[float] = 1.0
     kp: float = 0.1
     ki: float = 0.01
     kd: float = 0.01

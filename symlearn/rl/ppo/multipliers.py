@@ -24,7 +24,7 @@ class Multipliers:
 
     All three are capped at ``max_multiplier`` when set.
 
-    >>> m = Multipliers(LagrangianConfig(cost_limit=1.0, update="gradient", lr=0.5), 1)
+    >>> m = Multipliers(LagrangianConfig(cost_limit=1.0, update="gradient", lr=0.5, init=0.0), 1)
     >>> [float(m.update([3.0])[0]) for _ in range(2)], float(m.update([0.0])[0])
     ([1.0, 2.0], 1.5)
     """
