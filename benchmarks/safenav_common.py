@@ -242,13 +242,14 @@ def ppo_config(budget: Budget, seed: int, normalize: bool = False, settings: str
 
 
 def lagrangian_config(cost_limit: float, multiplier_lr: float, advantage_scale: str = "raw",
-                      settings: str = "legacy"):
+                      settings: str = "legacy", init: float | None = None):
     """``settings="defaults"``: ``LagrangianConfig(cost_limit=cost_limit)``, the library's defaults
-    (``multiplier_lr`` and ``advantage_scale`` are not used)."""
+    (``multiplier_lr`` and ``advantage_scale`` are not used; ``init``, where given, replaces the
+    default start of the multiplier)."""
     from symlearn.rl.ppo import LagrangianConfig
 
     if settings == "defaults":
-        return LagrangianConfig(cost_limit=cost_limit)
+        return LagrangianConfig(cost_limit=cost_limit, **({} if init is None else {"init": init}))
     if settings != "legacy":
         raise ValueError(f"settings must be one of {SETTINGS}, got {settings!r}")
     return LagrangianConfig(cost_limit=cost_limit, update="adam", lr=multiplier_lr, adam_beta2=0.999,
@@ -317,7 +318,8 @@ def run(spec: dict[str, Any]) -> dict[str, Any]:
     lagrangian = None
     if spec["algo"] == "ppo-lag":
         lagrangian = lagrangian_config(spec["cost_limit"], spec["multiplier_lr"],
-                                       spec.get("advantage_scale", "raw"), spec.get("settings", "legacy"))
+                                       spec.get("advantage_scale", "raw"), spec.get("settings", "legacy"),
+                                       spec.get("multiplier_init"))
     config = ppo_config(budget, spec["seed"], spec.get("normalize", False), spec.get("settings", "legacy"))
     result = train_ppo(env_fn, budget.steps, config, lagrangian=lagrangian)
     for w in wrappers:

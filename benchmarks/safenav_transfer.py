@@ -98,7 +98,8 @@ def run_suffix(args: argparse.Namespace) -> str:
     ``--settings defaults`` the legacy knobs (multiplier lr, advantage scale, normalisation) do not
     apply and the suffix is ``<steps>|L<limit>|defaults``."""
     if args.settings == "defaults":
-        return f"{args.steps}|L{args.cost_limit:g}|defaults"
+        start = "" if args.multiplier_init is None else f"|init{args.multiplier_init:g}"
+        return f"{args.steps}|L{args.cost_limit:g}|defaults{start}"
     lr = "" if args.multiplier_lr == 0.035 else f"|mlr{args.multiplier_lr:g}"
     scale = "" if args.advantage_scale == "raw" else f"|{args.advantage_scale}"
     norm = "|norm" if args.normalize else ""
@@ -109,7 +110,8 @@ def common(args: argparse.Namespace, seed: int) -> dict[str, Any]:
     return {"seed": seed, "budget": {"steps": args.steps, "eval_episodes": args.eval_episodes},
             "n_demos": args.n_demos, "demo_seed": args.demo_seed, "cost_limit": args.cost_limit,
             "multiplier_lr": args.multiplier_lr, "advantage_scale": args.advantage_scale,
-            "normalize": args.normalize, "settings": args.settings, "inputs": rule_inputs(args)}
+            "normalize": args.normalize, "settings": args.settings, "inputs": rule_inputs(args),
+            "multiplier_init": args.multiplier_init}
 
 
 def table_specs(args: argparse.Namespace, keys: list[str]) -> list[dict[str, Any]]:
@@ -493,6 +495,9 @@ def main() -> None:
     parser.add_argument("--inputs", default=None,
                         help="the features the learned rules may test: 'lidar' (d_0..d_15: what the hazards are "
                              "seen by) or a comma-separated list; default all 20 (run ids then carry -in<this>)")
+    parser.add_argument("--multiplier-init", type=float, default=None,
+                        help="with --settings defaults: where PPO-Lagrangian's multiplier starts (default: the "
+                             "library's, 1; 0 before 2026-12-07)")
     parser.add_argument("--rules-dir", default=str(REPO / "benchmarks/results/safenav_rules"),
                         help="where the learned formulas are written (<source>.d<depth>.dnf)")
     parser.add_argument("--markdown", default=None, help="also write the tables as markdown here")

@@ -69,8 +69,8 @@
   A sigmoid network charges every state something, so 0 is out of reach for every policy, the
   expert's included, and the multiplier then rises for the whole run; the thesis' hard constraint
   is the least cost a policy can reach, and the expert's level is one a policy is known to reach
-  and the constraint the learner matched (eq. 2.2). Measured in docs/BENCHMARKS.md ("A learned
-  neural cost's limit").
+  and the constraint the learner matched (eq. 2.2). Measured in docs/BENCHMARKS.md ("Where the
+  multiplier starts, and a learned neural cost's limit").
 * ``--cost-estimate rollout|episodes``: ``ppo-lag``'s multipliers are updated every iteration from
   the rollout's cost per step times the mean episode length (``rollout``, the default), or, as
   before, only in iterations in which an episode ended, from those episodes (``episodes``).

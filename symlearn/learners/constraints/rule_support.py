@@ -77,9 +77,10 @@ class RuleSupport:
         temperature = (f" (planner rationality {self.rationality_with:g} with it, {self.rationality_without:g} "
                        "without)" if self.rationality_with != self.rationality_without else
                        f" (planner rationality {self.rationality_with:g})")
+        one = len(self.overlaps) == 1
         shared = ("" if not self.overlaps else
-                  f" ({' and '.join(self.overlaps)} also forbid{'s' if len(self.overlaps) == 1 else ''} its pairs "
-                  "and is needed: keep that one)")
+                  f" ({' and '.join(self.overlaps)} also forbid{'s' if one else ''} its pairs and "
+                  f"{'is' if one else 'are'} needed: keep {'that one' if one else 'those'})")
         return (f"rule {self.rule} is weakly supported: the demonstrations are {self.gain:.2f} nats likelier with "
                 f"it than without{temperature}, below {WEAK_SUPPORT:g}{shared}: they do not show that it matters -- "
                 "keep it if you know it holds, delete it otherwise")
