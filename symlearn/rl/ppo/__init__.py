@@ -67,7 +67,10 @@ and spread, one unit of cost is cheap; as the agent becomes safe the cost's scal
 remaining violations get dearer. The constrained problem is unchanged (a positive rescaling of
 objective and constraint moves only the value of the multiplier at the saddle point);
 ``PPOIteration.return_scales`` records the scales, so ``lambda_i * scale_r / scale_ci`` is the
-price in raw units.
+price in raw units. In these units ``lambda = 1`` weighs a cost as much as the reward, which is
+where the multipliers start by default (``LagrangianConfig.init``): from 0 the first iterations
+learn from the reward alone, long enough for a policy to settle on a forbidden short cut before
+it is priced (docs/BENCHMARKS.md, "Where the multiplier starts").
 
 **Normalisation** (both on by default, with a Lagrangian or without; ``PPOConfig``'s ``None``
 decides it when training starts, ``CLEANRL_PLAIN`` turns it off with CleanRL's step sizes). ``normalize_observations``: the networks see the features
