@@ -37,12 +37,14 @@
   defaults, chosen on four tasks x 3 seeds (docs/BENCHMARKS.md, "PPO-Lagrangian defaults of
   `train`"): the earlier ``gradient``/0.05 with 2.5e-4 and 0 was safe everywhere but froze the
   toy's and a user's rover's agents at their start.
-* ``--multiplier-init M`` (``ppo-lag``: 1; ``sb3-*-lag``: 0): where the multipliers start. With
-  return-unit advantages 1 weighs the cost as much as the reward from the first iteration; from 0
-  the policy learns from the reward alone while the multiplier climbs, long enough on BlockedPoint
-  with a learned wall to commit to running through it (1 of 10 seeds; 0 of 10 from 1) --
-  docs/BENCHMARKS.md, "Where the multiplier starts". SB3's reward ``r - lambda c`` has no such
-  units, so its start stays 0.
+* ``--multiplier-init M`` (``ppo-lag``: 1 for a hard constraint -- limit 0, or a learned neural
+  cost's expert level, its floor --, 0 under a positive ``--cost-limit``; ``sb3-*-lag``: 0): where
+  the multipliers start. With return-unit advantages 1 weighs the cost as much as the reward from
+  the first iteration; from 0 the policy learns from the reward alone while the multiplier climbs,
+  long enough on BlockedPoint with a learned wall to commit to running through it (1 of 10 seeds;
+  0 of 10 from 1). Under a budget the policy may spend, starting at 1 halved SafeNav CarGoal's
+  return (docs/BENCHMARKS.md, "Where the multiplier starts"). SB3's reward ``r - lambda c`` has
+  no such units, so its start stays 0.
 * ``--advantage-scale raw|returns``, ``--[no-]normalize-observations``, ``--[no-]normalize-values``:
   options of :mod:`symlearn.rl.ppo`. With a Lagrangian (``ppo-lag``) they default to ``returns``
   and on: measured on BlockedPoint, a user's hazard robot and the toy (docs/BENCHMARKS.md,
@@ -150,8 +152,9 @@ def register(subparsers, common) -> None:
                      help="Lagrangian: allowed expected cost per episode (default 0; for a cost learned by "
                           "`learn icrl`, what it charges the expert's demonstrations per episode, recorded in its file)")
     cmd.add_argument("--multiplier-init", type=float, default=None,
-                     help="Lagrangian: every multiplier's value at the start (ppo-lag: 1, the cost weighing as much "
-                          "as the reward; sb3-*-lag: 0)")
+                     help="Lagrangian: every multiplier's value at the start (ppo-lag: 1 -- the cost weighing as "
+                          "much as the reward -- at limit 0 or a learned cost's expert level, 0 under a positive "
+                          "--cost-limit; sb3-*-lag: 0)")
     cmd.add_argument("--multiplier-lr", type=float, default=None,
                      help="Lagrangian: multiplier step size (ppo-lag: 0.1; sb3-*-lag: 0.05)")
     cmd.add_argument("--multiplier-update", choices=("gradient", "adam", "pid"), default=None,
@@ -321,8 +324,12 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
     # with a Lagrangian, scale-free advantages and normalisation are the measured defaults (module doc)
     # None: the library's measured default (normalisation on with a Lagrangian, off without)
     if constrained:
+        # a learned cost's expert level is its floor, the hard constraint in its own terms: from 1 as
+        # a limit of 0 would (the library starts a positive budget at 0)
+        start = 1.0 if args.multiplier_init is None and getattr(args, "cost_limit_from", None) == "expert" \
+            else args.multiplier_init
         given = {key: value for key, value in (("update", args.multiplier_update), ("lr", args.multiplier_lr),
-                                               ("init", args.multiplier_init),
+                                               ("init", start),
                                                ("reset_actor", args.reset_actor))
                  if value is not None}  # the rest: the library's defaults
         lagrangian = LagrangianConfig(cost_limit=args.cost_limit, advantage_scale=args.advantage_scale or "returns",

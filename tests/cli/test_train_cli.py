@@ -288,9 +288,12 @@ def test_a_neural_cost_holds_the_agent_to_its_experts_level_by_default(capsys, t
     doc = json.loads(out)
     assert doc["cost_limit"] == 12.5 and doc["cost_limit_from"] == "expert"
     assert not any("out of reach" in w for w in doc["warnings"])
+    assert abs(doc["multipliers"][0] - 1.0) <= 0.2 + 1e-9   # the expert level is the cost's floor: from 1
     code, out, err = run(capsys, "train", "--env", "blocked-point", "--cost", path, "--cost-limit", 3, *small)
     assert code == 0, err
-    assert (json.loads(out)["cost_limit"], json.loads(out)["cost_limit_from"]) == (3, "--cost-limit")
+    doc = json.loads(out)
+    assert (doc["cost_limit"], doc["cost_limit_from"]) == (3, "--cost-limit")
+    assert doc["multipliers"][0] <= 0.2 + 1e-9   # a budget the user gives: from 0
 
 
 def test_stable_baselines3_learners_on_a_user_module(capsys, tmp_path):

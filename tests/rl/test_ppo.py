@@ -380,10 +380,14 @@ def test_importing_symlearn_rl_does_not_load_torch():
     assert out.stdout.strip() == "False"
 
 
-def test_the_multipliers_start_at_one_by_default():
+def test_a_hard_constraint_starts_at_one_and_a_budget_at_zero():
     """With return-unit advantages a multiplier of 1 weighs the cost as much as the reward: the
-    default start (init=0 gives the old one, and LEGACY_LAGRANGIAN keeps it)."""
+    default start of a limit of 0; a positive budget starts at 0, per constraint (init=0 gives the
+    old start everywhere, and LEGACY_LAGRANGIAN keeps it)."""
     from symlearn.rl.ppo import LEGACY_LAGRANGIAN
 
     assert LagrangianConfig(cost_limit=0.0).init == 1.0 and LEGACY_LAGRANGIAN["init"] == 0.0
+    assert LagrangianConfig(cost_limit=25.0).init == 0.0
+    assert LagrangianConfig(cost_limit=[0.0, 3.0]).init == (1.0, 0.0)
+    assert LagrangianConfig(cost_limit=0.0, init=0.0).init == 0.0
     assert Multipliers(LagrangianConfig(cost_limit=0.0), 2).values.tolist() == [1.0, 1.0]

@@ -68,9 +68,10 @@ remaining violations get dearer. The constrained problem is unchanged (a positiv
 objective and constraint moves only the value of the multiplier at the saddle point);
 ``PPOIteration.return_scales`` records the scales, so ``lambda_i * scale_r / scale_ci`` is the
 price in raw units. In these units ``lambda = 1`` weighs a cost as much as the reward, which is
-where the multipliers start by default (``LagrangianConfig.init``): from 0 the first iterations
-learn from the reward alone, long enough for a policy to settle on a forbidden short cut before
-it is priced (docs/BENCHMARKS.md, "Where the multiplier starts").
+where the multiplier of a hard constraint (limit 0) starts by default (``LagrangianConfig.init``):
+from 0 the first iterations learn from the reward alone, long enough for a policy to settle on a
+forbidden short cut before it is priced; a positive budget starts at 0 (docs/BENCHMARKS.md,
+"Where the multiplier starts").
 
 **Normalisation** (both on by default, with a Lagrangian or without; ``PPOConfig``'s ``None``
 decides it when training starts, ``CLEANRL_PLAIN`` turns it off with CleanRL's step sizes). ``normalize_observations``: the networks see the features

@@ -135,16 +135,18 @@ class LagrangianConfig:
     behaviour before; with 1000-step episodes and 4 x 128-step rollouts that is one update in
     eight iterations).
 
-    The defaults (``"adam"``, ``lr=0.1``, ``adam_beta2=0.99``, ``"returns"``, ``"rollout"``, ``init=1``, with
+    The defaults (``"adam"``, ``lr=0.1``, ``adam_beta2=0.99``, ``"returns"``, ``"rollout"``, ``init``
+    1 for a limit of 0 and 0 for a positive one, with
     :class:`PPOConfig`'s Lagrangian settings: normalisation, learning rate 1e-3, log std -1) are the ones ``symlearn
     train --algo ppo-lag`` uses; they were chosen by measurement on four tasks x 3 seeds
     (docs/BENCHMARKS.md, "PPO-Lagrangian defaults of `train`"): Adam moves ``lambda`` by about
     ``lr`` an iteration whatever the size of the violation, where the gradient rule's first steps
     (``0.05 x`` an exploring agent's 100 cost steps) priced every cost out of reach of the reward and
-    froze the agent at its start. ``init=1`` (``0`` until 2026-12-07) was measured on ten tasks x 5-10
-    seeds (docs/BENCHMARKS.md, "Where the multiplier starts"): BlockedPoint's learned wall safe on
-    10 of 10 seeds instead of 9, the toy on its true cost 9 of 10 instead of 8, SafeNav's learned
-    formulas at a quarter to a third of the true cost, at some return on SafeNav. Before, the library's were ``"adam"``, ``lr=0.035``, ``"raw"``,
+    froze the agent at its start. The start (``0`` everywhere until 2026-12-07) was measured on eleven
+    tasks x 3-10 seeds and SafeNav with a budget of 25 (docs/BENCHMARKS.md, "Where the multiplier
+    starts"): from 1, BlockedPoint's learned wall was safe on 10 of 10 seeds instead of 9 and the
+    toy on its true cost on 9 of 10 instead of 8; under the budget, SafeNav CarGoal earned 3.04
+    instead of 6.24 (10 seeds). Before, the library's were ``"adam"``, ``lr=0.035``, ``"raw"``,
     ``"episodes"``, no normalisation, ``init=0`` (``LEGACY_LAGRANGIAN``, with torch's ``adam_beta2=0.999``); the
     CLI's, ``"gradient"``, ``lr=0.05``.
     """
@@ -152,10 +154,12 @@ class LagrangianConfig:
     cost_limit: float | Sequence[float]
     update: str = "adam"
     lr: float = 0.1
-    # 1: with return-unit advantages the cost weighs as much as the reward from the first
-    # iteration; from 0 the policy learns from the reward alone for ~10 iterations, long enough to
-    # commit to a forbidden short cut it never leaves (docs/BENCHMARKS.md, "Where the multiplier starts")
-    init: float | Sequence[float] = 1.0
+    # None: 1 for a hard constraint (limit 0), 0 for a budget (limit > 0). With return-unit
+    # advantages 1 weighs the cost as much as the reward from the first iteration; from 0 a policy
+    # learns from the reward alone for ~10 iterations, long enough to commit to a forbidden short
+    # cut it never leaves. Under a budget the policy may spend, starting at 1 cost SafeNav CarGoal
+    # half its return (docs/BENCHMARKS.md, "Where the multiplier starts")
+    init: float | Sequence[float] | None = None
     kp: float = 0.1
     ki: float = 0.01
     kd: float = 0.01
@@ -182,6 +186,9 @@ class LagrangianConfig:
                 where = "" if np.ndim(self.cost_limit) == 0 else f" (constraint {i})"
                 raise SymlearnError(f"cost_limit must be >= 0, got {limit:g}{where}",
                                     hint="a cost limit bounds an expected sum of non-negative costs")
+        if self.init is None:   # per constraint: hard (limit 0) from 1, a budget from 0
+            starts = tuple(1.0 if limit == 0 else 0.0 for limit in limits)
+            object.__setattr__(self, "init", starts[0] if np.ndim(self.cost_limit) == 0 else starts)
         inits = _numbers(self.init, "init")
         if any(x < 0 for x in inits):
             raise SymlearnError(f"the initial multipliers must be >= 0, got {list(inits)}")
