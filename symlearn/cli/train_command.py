@@ -80,7 +80,7 @@
   ascending number of atoms) stayed below ``--prune-threshold`` (thesis: 0.001) are dropped; the
   pruned formula is written beside the cost file as ``NAME.pruned.dnf`` with a report.
 * Numeric flags are checked before anything runs: ``--steps`` 1 .. 10^9, ``--cost-limit`` and
-  ``--multiplier-init`` and ``--depth-weight`` finite and >= 0, ``--n-envs`` 1 .. 256, ``--n-envs`` x ``--n-steps`` (the rollout held in memory) at
+  ``--depth-weight`` finite and >= 0, ``--multiplier-init`` 0 .. 10^6, ``--n-envs`` 1 .. 256, ``--n-envs`` x ``--n-steps`` (the rollout held in memory) at
   most 262,144 steps.
 * ``--log run.csv`` / ``--tensorboard DIR``: one row per iteration -- steps, mean return
   of the episodes that ended, their cost per constraint (``mean_cost_i``; ``learned_cost_i`` with
@@ -211,8 +211,10 @@ def check_numbers(args: argparse.Namespace, default_steps: int) -> None:
                             hint="lower --n-steps or --n-envs")
     if args.cost_limit is not None and not (math.isfinite(args.cost_limit) and args.cost_limit >= 0):
         raise SymlearnError(f"--cost-limit must be a finite number >= 0, got {args.cost_limit:g}")
-    if args.multiplier_init is not None and not (math.isfinite(args.multiplier_init) and args.multiplier_init >= 0):
-        raise SymlearnError(f"--multiplier-init must be a finite number >= 0, got {args.multiplier_init:g}")
+    # above 10^6 the reward has no weight left in the mix (and lambda x cost can overflow a float)
+    if args.multiplier_init is not None and not (math.isfinite(args.multiplier_init)
+                                                 and 0 <= args.multiplier_init <= 1e6):
+        raise SymlearnError(f"--multiplier-init must be a number in [0, 1e6], got {args.multiplier_init:g}")
     if args.multiplier_lr is not None and not (math.isfinite(args.multiplier_lr) and args.multiplier_lr > 0):
         raise SymlearnError(f"--multiplier-lr must be a finite number > 0, got {args.multiplier_lr:g}")
     if args.learning_rate is not None and not (math.isfinite(args.learning_rate) and 0 < args.learning_rate <= 1):
