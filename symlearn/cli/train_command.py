@@ -484,7 +484,8 @@ def _render(doc: dict) -> str:
     lines = [f"{doc['env']}: {doc['algo']}, {doc['steps']} steps in {doc['seconds']:.1f} s",
              f"greedy evaluation: return {doc['return']:.2f}, "
              + ("" if doc.get("learned_cost") is None else f"learned cost {doc['learned_cost']:.2f} per episode"
-                + ("" if doc.get("cost_limit") is None else f" (limit {doc['cost_limit']:g})") + ", ")
+                + ("" if doc.get("cost_limit") is None else f" (limit {doc['cost_limit']:.3g}"
+                   + (", the expert's level" if doc.get("cost_limit_from") == "expert" else "") + ")") + ", ")
              + f"ground-truth cost {number(doc['cost'], 2)} per episode, "
              f"violation rate {number(doc['violation_rate'], 3)}"]
     if doc["multipliers"] is not None:
