@@ -38,10 +38,14 @@ import constrained_rl_table as table  # noqa: E402
 
 from symlearn.atomic import write_text  # noqa: E402
 
-VARIANTS = {"init 0": ["--multiplier-init", "0"], "init 1": ["--multiplier-init", "1"]}
+VARIANTS = {"init 0": ["--multiplier-init", "0"], "init 1": ["--multiplier-init", "1"],
+            # the defaults (a hard constraint from 1) with the critics on raw returns
+            "init 1, raw values": ["--multiplier-init", "1", "--no-normalize-values"]}
 USER_TASKS = {
     "hazard-robot|learned": ["--env", "point_robot_env:HazardRobot-v0", "--cost", "hazard.dnf"],
     "rover|true": ["--env", "rover_env:Rover-v0", "--algo", "ppo-lag"],
+    # sparse reward 1 at the goal behind a hazard wall with one gap: the safe route is a detour
+    "gap-grid|true": ["--env", "gap_grid_env:GapGrid-v0", "--algo", "ppo-lag"],
     # the rover's safe route is a detour the reward does not point to: at its target by 150k steps
     "rover 150k|true": ["--env", "rover_env:Rover-v0", "--algo", "ppo-lag", "--steps", "150000"],
 }
@@ -58,7 +62,7 @@ def tasks() -> dict[str, list[str]]:
 
 def prepare(folder: Path) -> dict:
     """The user modules, the hand-written formula and the learned artefacts, in ``folder``."""
-    for module in ("point_robot_env.py", "rover_env.py"):
+    for module in ("point_robot_env.py", "rover_env.py", "gap_grid_env.py"):
         shutil.copy(REPO / "tests" / "support" / module, folder)
     (folder / "hazard.dnf").write_text("x > 0.4 & x < 0.6 & y < 0.6\n")
     return table.learn_artefacts(folder, list(table.TASKS))
