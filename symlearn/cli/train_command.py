@@ -374,8 +374,11 @@ def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
     multiplier's units (SB3's rule has no threshold on it that means anything); None otherwise."""
     if not args.algo.endswith("-lag"):
         return None
-    if cost is not None and cost.kind == "neural" and getattr(args, "cost_limit_from", None) != "expert" and args.cost_limit == 0:
-        # a sigmoid charges every state something: 0 is out of reach by design, the file says no better
+    if cost is not None and cost.kind == "neural" and args.cost_limit == 0:
+        # a sigmoid charges every state something: 0 is out of reach by design
+        if cost.expert_level is not None:
+            return (f"a learned neural cost charges every state something, so --cost-limit 0 is out of reach; its "
+                    f"own demonstrations pay {cost.expert_level:.3g} per episode (the limit without --cost-limit)")
         return ("a learned neural cost charges every state something, so --cost-limit 0 is out of reach; this file "
                 "records no expert level to hold the agent to (learned by an older symlearn): learn it again, "
                 "or give --cost-limit")

@@ -295,6 +295,10 @@ def test_a_neural_cost_holds_the_agent_to_its_experts_level_by_default(capsys, t
     doc = json.loads(out)
     assert (doc["cost_limit"], doc["cost_limit_from"]) == (3, "--cost-limit")
     assert doc["multipliers"][0] <= 0.2 + 1e-9   # a budget the user gives: from 0
+    code, out, err = run(capsys, "train", "--env", "blocked-point", "--cost", path, "--cost-limit", 0, *small)
+    assert code == 0, err
+    warned = [w for w in json.loads(out)["warnings"] if "out of reach" in w]
+    assert warned and "pay 12.5 per episode" in warned[0] and "older" not in warned[0]
 
 
 def test_stable_baselines3_learners_on_a_user_module(capsys, tmp_path):
