@@ -369,9 +369,10 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
 
 
 def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
-    """A Lagrangian's greedy agent that still pays more than ``--cost-limit`` of what it was
-    trained on (a DNF cost, else ``info["cost"]``) per episode: one warning, whatever the
-    multiplier's units (SB3's rule has no threshold on it that means anything); None otherwise."""
+    """A Lagrangian's greedy agent that still pays more than its limit of what it was trained on
+    (the learned cost, else ``info["cost"]``) per episode, or a neural cost held to 0, which no
+    policy reaches: one warning, whatever the multiplier's units (SB3's rule has no threshold on it
+    that means anything); None otherwise."""
     if not args.algo.endswith("-lag"):
         return None
     if cost is not None and cost.kind == "neural" and args.cost_limit == 0:
@@ -387,12 +388,13 @@ def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
         return None
     what = "the learned cost" if cost is not None else 'info["cost"]'
     advice = "raise --steps"
+    limit = f"--cost-limit {args.cost_limit:g}"
     if getattr(args, "cost_limit_from", None) == "expert":
-        what += f" (the limit is its expert's level, {args.cost_limit:.3g} per episode)"
+        limit = f"its limit, the expert's level of {args.cost_limit:.3g} per episode"
     if cost is not None and cost.kind == "dnf":
         advice += ("; a formula that also flags the expert's own states cannot be kept (learn dnf --validation 0.2 "
                    "counts them)")
-    return (f"the trained agent does not keep --cost-limit {args.cost_limit:g}: its greedy episodes pay {paid:.3g} "
+    return (f"the trained agent does not keep {limit}: its greedy episodes pay {paid:.3g} "
             f"per episode of {what} after {doc['steps']} steps; {advice}")
 
 

@@ -299,6 +299,16 @@ def test_a_neural_cost_holds_the_agent_to_its_experts_level_by_default(capsys, t
     assert code == 0, err
     warned = [w for w in json.loads(out)["warnings"] if "out of reach" in w]
     assert warned and "pay 12.5 per episode" in warned[0] and "older" not in warned[0]
+    from symlearn.cli.train_command import _limit_kept
+
+    class Args:   # an agent that paid 40 against the level of 12.5 the limit was taken from
+        algo, cost_limit, cost_limit_from = "ppo-lag", 12.5, "expert"
+
+    class Neural:
+        kind, expert_level = "neural", 12.5
+
+    said = _limit_kept(Args, Neural, {"learned_cost": 40.0, "steps": 256})
+    assert "does not keep its limit, the expert's level of 12.5 per episode" in said and "pay 40" in said
 
 
 def test_stable_baselines3_learners_on_a_user_module(capsys, tmp_path):
