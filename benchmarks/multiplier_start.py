@@ -39,6 +39,7 @@ import constrained_rl_table as table  # noqa: E402
 from symlearn.atomic import write_text  # noqa: E402
 
 VARIANTS = {"init 0": ["--multiplier-init", "0"], "init 1": ["--multiplier-init", "1"],
+            "init 5": ["--multiplier-init", "5"],
             # the defaults (a hard constraint from 1) with the critics on raw returns
             "init 1, raw values": ["--multiplier-init", "1", "--no-normalize-values"]}
 USER_TASKS = {
