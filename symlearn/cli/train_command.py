@@ -328,7 +328,7 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
     if constrained:
         # a learned cost's expert level is its floor, the hard constraint in its own terms: from 1 as
         # a limit of 0 would (the library starts a positive budget at 0)
-        start = 1.0 if args.multiplier_init is None and getattr(args, "cost_limit_from", None) == "expert" \
+        start = 1.0 if args.multiplier_init is None and args.cost_limit_from == "expert" \
             else args.multiplier_init
         given = {key: value for key, value in (("update", args.multiplier_update), ("lr", args.multiplier_lr),
                                                ("init", start),
@@ -389,7 +389,7 @@ def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
     what = "the learned cost" if cost is not None else 'info["cost"]'
     advice = "raise --steps"
     limit = f"--cost-limit {args.cost_limit:g}"
-    if getattr(args, "cost_limit_from", None) == "expert":
+    if args.cost_limit_from == "expert":
         limit = f"its limit, the expert's level of {args.cost_limit:.3g} per episode"
     if cost is not None and cost.kind == "dnf":
         advice += ("; a formula that also flags the expert's own states cannot be kept (learn dnf --validation 0.2 "
@@ -458,15 +458,15 @@ def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_c
         true_costs = np.zeros((len(returns), 1))
     if true_costs is not None:   # summed over constraints
         per_episode = np.asarray(true_costs, dtype=np.float64).reshape(len(returns), -1).sum(axis=1)
+    limited = cost is not None and args.algo.endswith("-lag")   # a Lagrangian on a learned cost
     return {"env": args.env, "algo": args.algo, "cost_kind": None if cost is None else cost.kind,
             "return": float(np.mean(returns)),
             "cost": None if per_episode is None else float(np.mean(per_episode)),
             "learned_cost": learned,
             "violation_rate": None if per_episode is None else
             float(np.sum(per_episode) / max(int(np.sum(lengths)), 1)),
-            "cost_limit": float(args.cost_limit) if cost is not None and args.algo.endswith("-lag") else None,
-            "cost_limit_from": getattr(args, "cost_limit_from", None) if cost is not None and args.algo.endswith("-lag")
-            else None,
+            "cost_limit": float(args.cost_limit) if limited else None,
+            "cost_limit_from": args.cost_limit_from if limited else None,
             "actor_resets": None, "actor_restored": None, "pruned": None, "files": [], "warnings": []}
 
 

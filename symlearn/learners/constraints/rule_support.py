@@ -37,7 +37,7 @@ the plain likelihood ratio.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -165,13 +165,11 @@ def _checked_together(support: list[RuleSupport], masks: list[np.ndarray], drop:
         if lost < WEAK_SUPPORT:
             gone.append(i)
         else:   # needed once the weaker rules are gone: strong, and they name it
-            out[i] = RuleSupport(support[i].rule, support[i].gain, support[i].rationality_with,
-                                 support[i].rationality_without, joint_gain=lost)
+            out[i] = replace(support[i], joint_gain=lost)
     for i in gone:
         shared = tuple(out[j].rule for j in weak if j not in gone and (masks[i] & masks[j]).any())
         if shared:
-            out[i] = RuleSupport(support[i].rule, support[i].gain, support[i].rationality_with,
-                                 support[i].rationality_without, overlaps=shared)
+            out[i] = replace(support[i], overlaps=shared)
     return out
 
 
