@@ -45,11 +45,18 @@ def register(commands, common) -> None:
 
 
 class _EpisodeCost:
-    """Sums ``info["cost"]`` per episode while recording (None while no step reported one)."""
+    """Sums ``info["cost"]`` per episode while recording (None while no step reported one), read
+    as ``train`` reads it (:class:`~symlearn.rl.episode_stats.CostReader`: a number or a vector,
+    summed over its constraints as ``train``'s report sums them; ``None``, text or NaN are refused
+    in one line, where ``float()`` raised an internal ``TypeError``)."""
 
     def __init__(self) -> None:
+        from symlearn.rl.episode_stats import CostReader
+
         self.totals: list[float] = []
         self.seen = False
+        self.reader = CostReader(None)
+        self.steps = 0
 
     def wrap(self, env: Any) -> Any:
         import gymnasium as gym
@@ -59,13 +66,16 @@ class _EpisodeCost:
         class Summed(gym.Wrapper):
             def reset(self, **kwargs: Any) -> Any:
                 watch.totals.append(0.0)
+                watch.steps = 0   # an error names the step within its episode
                 return self.env.reset(**kwargs)
 
             def step(self, action: Any) -> Any:
                 result = self.env.step(action)
-                if "cost" in result[4]:
+                cost = watch.reader.read(result[4], 0, watch.steps)
+                watch.steps += 1
+                if cost is not None:
                     watch.seen = True
-                    watch.totals[-1] += float(result[4]["cost"])
+                    watch.totals[-1] += float(cost.sum())
                 return result
 
         return Summed(env)

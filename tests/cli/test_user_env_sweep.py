@@ -1,0 +1,47 @@
+"""Third-party environments at default settings, as a new user brings them (``module:EnvId`` from
+the module's folder): every command either works as docs/GUIDE.md says or refuses in one line."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from cli_runner import run
+from odd_cost_envs import ODD_COST
+
+
+def _module(tmp_path, monkeypatch, name, source):
+    (tmp_path / f"{name}.py").write_text(source)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+
+
+@pytest.fixture
+def odd_cost(capsys, tmp_path, monkeypatch):
+    """The OddCost module and an agent trained on it (the policy does not depend on the cost's form)."""
+    _module(tmp_path, monkeypatch, "odd_cost", ODD_COST)
+    code, _, err = run(capsys, "train", "--env", "odd_cost:OddCost-v0", "--env-kwargs", '{"kind": "none"}',
+                       "--steps", 512, "--eval-episodes", 1, "-o", "agent.safetensors")
+    assert code == 0, err
+
+
+@pytest.mark.parametrize("kind, cost", [("vector", True), ("list", True), ("none", False)])
+def test_data_record_reads_info_cost_as_train_does(capsys, odd_cost, kind, cost):
+    """``data record`` summed ``float(info["cost"])``: a vector or list of constraints (which
+    ``train`` accepts) and ``None`` were internal ``TypeError``s."""
+    code, out, err = run(capsys, "data", "record", "--env", "odd_cost:OddCost-v0", "--env-kwargs",
+                         json.dumps({"kind": kind}), "--policy", "agent.safetensors", "--episodes", 2,
+                         "--stochastic", "-o", "demos.npz", "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert (doc["cost"] is not None) is cost
+    if cost:
+        assert doc["cost"] >= 0
+
+
+def test_data_record_refuses_a_cost_that_is_no_number_in_one_line(capsys, odd_cost):
+    code, out, err = run(capsys, "data", "record", "--env", "odd_cost:OddCost-v0", "--env-kwargs",
+                         '{"kind": "complex"}', "--policy", "agent.safetensors", "-o", "demos.npz", "--json")
+    assert code == 2, err
+    assert "internal error" not in err and "info['cost'] must be a number" in err
+    assert json.loads(out)["error"]["kind"] != "internal"
