@@ -68,6 +68,7 @@ def record(
         if policy != "random":
             raise SymlearnError(f"unknown policy {policy!r}", hint="pass a callable or 'random'")
         policy = _random_policy(env, seed)
+    _check_action_space(getattr(env, "action_space", None))
     spec = getattr(env, "spec", None)
     limit = max_steps or getattr(spec, "max_episode_steps", None) or DEFAULT_MAX_STEPS
     episode_seeds = np.random.SeedSequence(seed).generate_state(n_episodes).tolist()
@@ -81,6 +82,21 @@ def record(
         meta["feature_names"] = flat.names
     meta.update(metadata or {})
     return Demonstrations(trajectories, metadata=meta)
+
+
+def _check_action_space(space: Any) -> None:
+    """Refuse, before any episode runs, an action space whose actions are arrays of two or more
+    dimensions (``Box(-1, 1, (2, 2))``, ``MultiDiscrete([[2, 3], [2, 2]])``): a trajectory stores
+    one id or 1-D vector per action, and the episodes would otherwise all run before the first
+    one failed to store."""
+    shape = getattr(space, "shape", None)
+    if space is None or shape is None or len(shape) < 2:
+        return
+    described = " ".join(str(space).split())  # MultiDiscrete's repr spans lines
+    raise DataError(f"the action space {described} acts in arrays of shape {tuple(shape)}; demonstrations store one "
+                    f"id or 1-D vector per action",
+                    hint="wrap the environment in a gymnasium ActionWrapper whose action space is the flat "
+                         "Box or MultiDiscrete (reshape each action to the environment's shape)")
 
 
 class UnstorableObservations(DataError):

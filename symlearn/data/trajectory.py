@@ -55,8 +55,10 @@ class Trajectory:
         action_values = None
         if actions is not None:
             action_kind, action_values = kinds.normalize_column(actions, "actions")
-            if action_kind == "image":
-                raise DataError("actions must be ids, vectors, feature dicts or symbols, not images")
+            if action_kind == "image":  # any array of 2 or more dimensions per step, not only pictures
+                shape = tuple(np.shape(action_values)[1:])
+                raise DataError(f"actions must be one id, 1-D vector, feature dict or symbol per step, got arrays "
+                                f"of shape {shape}", hint="store each action flattened (numpy.ravel)")
             if len(action_values) not in (n, n - 1):
                 raise DataError(
                     f"mismatched lengths: {len(action_values)} actions for {n} states",

@@ -7,7 +7,7 @@ import json
 
 import pytest
 from cli_runner import run
-from odd_cost_envs import ODD_COST
+from odd_cost_envs import MATRIX_ACTION, ODD_COST
 
 
 def _module(tmp_path, monkeypatch, name, source):
@@ -45,3 +45,27 @@ def test_data_record_refuses_a_cost_that_is_no_number_in_one_line(capsys, odd_co
     assert code == 2, err
     assert "internal error" not in err and "info['cost'] must be a number" in err
     assert json.loads(out)["error"]["kind"] != "internal"
+
+
+@pytest.mark.parametrize("kind, algo", [("box", "sb3-ppo"), ("multi", "ppo")])
+def test_data_record_refuses_matrix_actions_before_recording(capsys, tmp_path, monkeypatch, kind, algo):
+    """An agent ``train`` saved in a ``(2, 2)`` action space: ``data record`` ran every episode and
+    then said "actions must be ... not images"; now it names the space before the first episode."""
+    _module(tmp_path, monkeypatch, "matrix_action", MATRIX_ACTION)
+    env = ("--env", "matrix_action:MatrixAction-v0", "--env-kwargs", json.dumps({"kind": kind}))
+    code, _, err = run(capsys, "train", *env, "--algo", algo, "--steps", 256, "--eval-episodes", 1,
+                       "-o", "agent.safetensors")
+    assert code == 0, err
+    code, _, err = run(capsys, "data", "record", *env, "--policy", "agent.safetensors", "-o", "demos.npz")
+    assert code == 2, err
+    assert "images" not in err and "shape (2, 2)" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_trajectory_of_matrix_actions_names_their_shape():
+    import numpy as np
+
+    from symlearn.data import Trajectory
+    from symlearn.errors import DataError
+
+    with pytest.raises(DataError, match=r"shape \(2, 2\)"):
+        Trajectory(states=[[0.0], [1.0]], actions=np.zeros((1, 2, 2)))

@@ -35,3 +35,31 @@ class OddCost(gym.Env):
 
 gym.register("OddCost-v0", entry_point=OddCost)
 '''
+
+#: ``MatrixAction-v0``: acts in a ``Box(-1, 1, (2, 2))`` (``MultiDiscrete([[2, 3], [2, 2]])`` with
+#: ``kind="multi"``): stable-baselines3's PPO trains in it, a demonstration cannot store it
+MATRIX_ACTION = """
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class MatrixAction(gym.Env):
+    observation_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
+
+    def __init__(self, kind="box"):
+        self.action_space = (spaces.Box(-1.0, 1.0, (2, 2), np.float32) if kind == "box"
+                             else spaces.MultiDiscrete([[2, 3], [2, 2]]))
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.t = 0
+        return np.zeros(2, np.float32), {}
+
+    def step(self, action):
+        self.t += 1
+        return np.zeros(2, np.float32), float(np.sum(action)), False, self.t >= 5, {}
+
+
+gym.register("MatrixAction-v0", entry_point=MatrixAction)
+"""
