@@ -39,7 +39,7 @@ import numpy as np
 
 from symlearn.errors import SymlearnError
 from symlearn.optional import require
-from symlearn.rl.episode_stats import NoCostReported
+from symlearn.rl.episode_stats import NoCostReported, summed_cost
 
 __all__ = ["ALGORITHMS", "check_action_space", "counterfactual_callback", "lagrangian_callback", "load_policy",
            "monitor_callback", "save_policy"]
@@ -283,8 +283,9 @@ def _monitor_class() -> type:
             rewards = np.asarray(self.locals["rewards"], dtype=np.float64).reshape(-1)
             for i, (info, done) in enumerate(zip(self.locals["infos"], self.locals["dones"], strict=True)):
                 self._return[i] += float(info.get("env_reward", rewards[i]))
-                if info.get("cost") is not None:
-                    self._true[i] += float(np.sum(info["cost"]))
+                cost = summed_cost(info, i, int(self._length[i]))
+                if cost is not None:
+                    self._true[i] += cost
                     self._true_seen = True
                 if self.learned_cost and info.get("learned_cost") is not None:
                     cost = np.asarray(info["learned_cost"], dtype=np.float64).reshape(-1)

@@ -68,7 +68,8 @@ def blame_file(path: Any) -> Iterator[None]:
     try:
         yield
     except DataError as exc:
-        if path is None or exc.file:
+        # an error of the environment's own (its info["cost"]) is not the file's, whatever was read
+        if path is None or exc.file or getattr(exc, "about_the_environment", False):
             raise
         located = copy.copy(exc)  # same type and fields (DemonstrationError keeps its index)
         located.file = str(path)

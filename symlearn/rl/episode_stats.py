@@ -42,6 +42,14 @@ class NoCostReported(DataError):
         self.steps = steps
 
 
+class BadCostReport(DataError):
+    """The environment's ``info["cost"]`` is no number, not finite, or changes its length: an
+    error in the environment, which a command must not blame on the demonstrations file it was
+    reading when the environment stepped (:func:`symlearn.cli.output.blame_file`)."""
+
+    about_the_environment = True
+
+
 class CostReader:
     """Reads ``info["cost"]``: a number or a vector whose length, once seen, stays fixed."""
 
@@ -54,20 +62,24 @@ class CostReader:
         if raw is None:
             return None
         try:
+            # numbers and booleans only: text ("1") converted silently and np.sum of it failed
+            # inside stable-baselines3's loop; complex numbers lose their imaginary part
+            if np.asarray(raw).dtype.kind not in "biuf":
+                raise TypeError
             cost = np.asarray(raw, dtype=np.float64).reshape(-1)
         except (TypeError, ValueError):
-            raise DataError(f"info['cost'] must be a number or a vector of numbers, got {raw!r} "
+            raise BadCostReport(f"info['cost'] must be a number or a vector of numbers, got {raw!r} "
                             f"(environment {env_index}, step {step})") from None
         if cost.size == 0:
-            raise DataError(f"info['cost'] is empty (environment {env_index}, step {step})")
+            raise BadCostReport(f"info['cost'] is empty (environment {env_index}, step {step})")
         if not np.all(np.isfinite(cost)):
-            raise DataError(f"info['cost'] is not finite: {cost.tolist()} (environment {env_index}, step {step})",
+            raise BadCostReport(f"info['cost'] is not finite: {cost.tolist()} (environment {env_index}, step {step})",
                             hint="an environment must report a finite cost on every step")
         if self.n is None:
             self.n = cost.size
         elif cost.size != self.n:
             before = "the cost limits name" if not self.seen else "earlier steps reported"
-            raise DataError(f"info['cost'] has {cost.size} entries, {before} {self.n} "
+            raise BadCostReport(f"info['cost'] has {cost.size} entries, {before} {self.n} "
                             f"(environment {env_index}, step {step})",
                             hint="report one cost per constraint on every step, always in the same order")
         self.seen = True
@@ -82,6 +94,16 @@ class CostReader:
             raise DataError(f"cost_fn returned {k} cost(s) per step, {before} {self.n}",
                             hint="return one cost per constraint, always in the same order")
         self.seen = True
+
+
+def summed_cost(info: dict[str, Any], env_index: int = 0, step: int = 0) -> float | None:
+    """One step's ``info["cost"]`` summed over its constraints, read and checked as
+    :class:`CostReader` reads it (None where the step reports none, ``None`` included): the
+    samplers that only need the total (neural ICRL's episodes, stable-baselines3's monitor,
+    tabular Q-learning) so refuse what training refuses in one line, instead of failing on
+    ``float(None)`` or summing text."""
+    cost = CostReader(None).read(info, env_index, step)
+    return None if cost is None else float(cost.sum())
 
 
 class FinishedEpisode(NamedTuple):
@@ -129,4 +151,4 @@ def episode_stats(episodes: Sequence[FinishedEpisode], n_costs: int) -> EpisodeS
                         np.array([e.end_step for e in episodes], dtype=np.int64))
 
 
-__all__ = ["CostReader", "NoCostReported", "EpisodeStats", "FinishedEpisode", "episode_costs", "episode_stats", "plain"]
+__all__ = ["BadCostReport", "CostReader", "summed_cost", "NoCostReported", "EpisodeStats", "FinishedEpisode", "episode_costs", "episode_stats", "plain"]

@@ -25,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from symlearn.errors import DataError
+from symlearn.rl.episode_stats import summed_cost
 
 
 @dataclass(frozen=True)
@@ -105,7 +106,7 @@ def sample_episodes(policy: Any, env_fn: Callable[[], Any], n_episodes: int, *, 
         for i in np.flatnonzero(alive):
             o, r, term, trunc, info = envs[i].step(to_env(actions[i]))
             rewards[i] = r
-            costs[i] = float(np.sum(info.get("cost", 0.0)))
+            costs[i] = summed_cost(info, int(i)) or 0.0
             following[i] = np.asarray(o)
             if term or trunc:
                 alive[i] = False

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from symlearn.errors import SymlearnError
+from symlearn.rl.episode_stats import summed_cost
 
 
 @dataclass(frozen=True)
@@ -89,7 +90,7 @@ def q_learning(
             else:
                 action = _greedy(q[s], mask, rng)
             state, reward, terminated, truncated, info = env.step(action)
-            cost = float(info.get("cost", 0.0))
+            cost = summed_cost(info, 0, step) or 0.0
             returns[episode] += reward
             costs[episode] += cost
             violations[episode] += bool(info.get("violation", False))

@@ -69,3 +69,32 @@ def test_a_trajectory_of_matrix_actions_names_their_shape():
 
     with pytest.raises(DataError, match=r"shape \(2, 2\)"):
         Trajectory(states=[[0.0], [1.0]], actions=np.zeros((1, 2, 2)))
+
+
+@pytest.mark.parametrize("kind", ["text", "complex"])
+def test_sb3_refuses_a_cost_that_is_no_number_in_one_line(capsys, tmp_path, monkeypatch, kind):
+    """stable-baselines3's monitor summed ``np.sum(info["cost"])``: text was an internal TypeError
+    (our PPO turned "1" into 1.0 silently); both now refuse as the one cost reader does."""
+    _module(tmp_path, monkeypatch, "odd_cost", ODD_COST)
+    code, _, err = run(capsys, "train", "--env", "odd_cost:OddCost-v0", "--env-kwargs", json.dumps({"kind": kind}),
+                       "--algo", "sb3-ppo", "--steps", 256, "--eval-episodes", 1)
+    assert code == 2 and "internal error" not in err, err
+    assert "info['cost'] must be a number" in err
+    code, _, err = run(capsys, "train", "--env", "odd_cost:OddCost-v0", "--env-kwargs", json.dumps({"kind": kind}),
+                       "--algo", "ppo-lag", "--steps", 256, "--eval-episodes", 1)
+    assert code == 2 and "info['cost'] must be a number" in err, err
+
+
+def test_learn_icrl_reads_info_cost_as_train_does(capsys, odd_cost):
+    """Neural ICRL's sampler summed ``float(np.sum(info.get("cost", 0.0)))``: ``None`` was an
+    internal TypeError; a text cost is the environment's error, not the demonstrations file's."""
+    code, _, err = run(capsys, "data", "record", "--env", "odd_cost:OddCost-v0", "--policy", "agent.safetensors",
+                       "--episodes", 3, "--stochastic", "-o", "demos.npz")
+    assert code == 0, err
+    learn = ("learn", "icrl", "--env", "odd_cost:OddCost-v0", "--demos", "demos.npz", "--steps", 1024,
+             "--iterations", 1)
+    code, _, err = run(capsys, *learn, "--env-kwargs", '{"kind": "none"}', "-o", "cost.safetensors")
+    assert code == 0, err
+    code, _, err = run(capsys, *learn, "--env-kwargs", '{"kind": "text"}', "-o", "cost.safetensors")
+    assert code == 2 and "info['cost'] must be a number" in err, err
+    assert "demos.npz:" not in err

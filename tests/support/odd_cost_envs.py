@@ -5,7 +5,7 @@ source a test drops into a folder of its own (reached as ``module:EnvId``)."""
 from __future__ import annotations
 
 #: ``OddCost-v0``: a line walk from 0, paid for stepping right; ``info["cost"]`` on every step is
-#: ``{"vector": [x > 0.25, 0], "list": [x > 0.25], "none": None, "complex": 0j}[kind]``
+#: ``{"vector": [x > 0.25, 0], "list": [x > 0.25], "none": None, "complex": 0j, "text": "0"}[kind]``
 ODD_COST = '''
 import gymnasium as gym
 import numpy as np
@@ -29,7 +29,8 @@ class OddCost(gym.Env):
         self.x = float(np.clip(self.x + (0.1 if action else -0.1), -1.0, 1.0))
         self.t += 1
         paid = float(self.x > 0.25)
-        cost = {"vector": np.array([paid, 0.0]), "list": [paid], "none": None, "complex": 0j}[self.kind]
+        cost = {"vector": np.array([paid, 0.0]), "list": [paid], "none": None, "complex": 0j,
+                "text": "1" if paid else "0"}[self.kind]
         return np.array([self.x], np.float32), float(action), False, self.t >= self.horizon, {"cost": cost}
 
 
