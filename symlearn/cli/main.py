@@ -22,6 +22,7 @@ import argparse
 import contextlib
 import importlib
 import json
+import re
 import signal
 import sys
 import threading
@@ -217,6 +218,10 @@ def main(argv: Sequence[str] | None = None) -> int:
             signal.signal(signal.SIGTERM, previous)
 
 
+#: a terminal colour or cursor code (CSI), as libraries embed in their warnings
+_ANSI_CODE = re.compile(r"\x1b\[[0-9;?]*[ -/]*[@-~]")
+
+
 @contextlib.contextmanager
 def _one_line_warnings(debug: bool):
     """Warnings no command turned into a note of its own (a library's, a learner's) printed as one
@@ -229,7 +234,10 @@ def _one_line_warnings(debug: bool):
     previous = warnings.formatwarning
 
     def one_line(message, category, filename, lineno, line=None):
-        return "warning: " + " ".join(str(message).split()) + "\n"
+        # gymnasium colours its checker's warnings (ESC[33m ... ESC[0m): the codes are dropped and
+        # any other control character escaped, so a log file gets one plain line
+        text = _ANSI_CODE.sub("", " ".join(str(message).split()))
+        return "warning: " + printable(text) + "\n"
 
     warnings.formatwarning = one_line
     try:

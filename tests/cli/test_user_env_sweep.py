@@ -98,3 +98,16 @@ def test_learn_icrl_reads_info_cost_as_train_does(capsys, odd_cost):
     code, _, err = run(capsys, *learn, "--env-kwargs", '{"kind": "text"}', "-o", "cost.safetensors")
     assert code == 2 and "info['cost'] must be a number" in err, err
     assert "demos.npz:" not in err
+
+
+def test_a_coloured_library_warning_is_one_plain_line():
+    """gymnasium's environment checker colours its warnings: the escape codes reached the
+    ``warning:`` line raw (``^[[33mWARN: ...^[[0m`` in a log file)."""
+    import warnings
+
+    from symlearn.cli.main import _one_line_warnings
+
+    with _one_line_warnings(debug=False):
+        line = warnings.formatwarning("\x1b[33mWARN: The obs returned by the `reset()` method\n is odd\x07\x1b[0m",
+                                      UserWarning, "env.py", 3)
+    assert line == "warning: WARN: The obs returned by the `reset()` method is odd\\x07\n"
