@@ -423,6 +423,8 @@ def _declared_names(env: Any, entry: Entry | None) -> tuple[str, ...] | None:
     names = getattr(env.unwrapped, "feature_names", None)
     if callable(names):
         names = names()
+    if isinstance(names, str):  # feature_names = "xy" is one name, not the names "x" and "y"
+        names = (names,)
     if names is not None:
         return tuple(str(n) for n in names)
     return entry.feature_names() if entry is not None else None

@@ -111,3 +111,17 @@ def test_a_coloured_library_warning_is_one_plain_line():
         line = warnings.formatwarning("\x1b[33mWARN: The obs returned by the `reset()` method\n is odd\x07\x1b[0m",
                                       UserWarning, "env.py", 3)
     assert line == "warning: WARN: The obs returned by the `reset()` method is odd\\x07\n"
+
+
+def test_feature_names_given_as_one_string_are_one_name(capsys, tmp_path, monkeypatch):
+    """``feature_names = "xy"`` (a string where a tuple belongs) was iterated into the names ``x``
+    and ``y``: rules silently over two made-up names. It is one name, and two columns refuse it."""
+    source = ODD_COST.replace('feature_names = ("x",)', 'feature_names = "xy"').replace(
+        'spaces.Box(-1.0, 1.0, (1,), np.float32)', 'spaces.Box(-1.0, 1.0, (2,), np.float32)').replace(
+        'np.array([self.x], np.float32)', 'np.array([self.x, 0.0], np.float32)').replace("OddCost-v0", "OneName-v0")
+    _module(tmp_path, monkeypatch, "one_name", source)   # a module name of its own: odd_cost is imported
+    from symlearn.data import Demonstrations, Trajectory
+
+    Demonstrations([Trajectory(states=[[0.0, 0.0], [0.1, 0.0]], actions=[1])]).save(tmp_path / "demos.npz")
+    code, _, err = run(capsys, "learn", "dnf", "--env", "one_name:OneName-v0", "--demos", "demos.npz")
+    assert code == 2 and "1 feature names (xy) for 2 columns" in err, err

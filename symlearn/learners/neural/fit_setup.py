@@ -110,6 +110,9 @@ def declared_inputs(env: Any) -> list[int] | None:
     features, names = getattr(unwrapped, "feature_names", None), getattr(unwrapped, "observation_names", None)
     if not features or not names:
         return None
+    # a lone string is one name (iterating "xy" would give the names "x" and "y")
+    features = [features] if isinstance(features, str) else features
+    names = [names] if isinstance(names, str) else names
     names = [str(n) for n in names]
     if any(str(f) not in names for f in features):
         return None
