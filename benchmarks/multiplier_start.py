@@ -41,12 +41,21 @@ from symlearn.atomic import write_text  # noqa: E402
 VARIANTS = {"init 0": ["--multiplier-init", "0"], "init 1": ["--multiplier-init", "1"],
             "init 5": ["--multiplier-init", "5"],
             # the defaults (a hard constraint from 1) with the critics on raw returns
-            "init 1, raw values": ["--multiplier-init", "1", "--no-normalize-values"]}
+            "init 1, raw values": ["--multiplier-init", "1", "--no-normalize-values"],
+            # the gap grids' exploration limit: a slower policy, a faster multiplier, and the peer
+            "policy lr 2.5e-4": ["--learning-rate", "2.5e-4"], "multiplier lr 0.5": ["--multiplier-lr", "0.5"],
+            "multiplier lr 0.25": ["--multiplier-lr", "0.25"],
+            "sb3-ppo-lag": ["--algo", "sb3-ppo-lag"]}
 USER_TASKS = {
     "hazard-robot|learned": ["--env", "point_robot_env:HazardRobot-v0", "--cost", "hazard.dnf"],
     "rover|true": ["--env", "rover_env:Rover-v0", "--algo", "ppo-lag"],
     # sparse reward 1 at the goal behind a hazard wall with one gap: the safe route is a detour
     "gap-grid|true": ["--env", "gap_grid_env:GapGrid-v0", "--algo", "ppo-lag"],
+    # the same with a wall of three cells (a gap of two rows), and with a step penalty of 0.01
+    "gap-grid short wall|true": ["--env", "gap_grid_env:GapGrid-v0", "--algo", "ppo-lag",
+                                 "--env-kwargs", '{"wall_rows": [2, 3, 4]}'],
+    "gap-grid step penalty|true": ["--env", "gap_grid_env:GapGrid-v0", "--algo", "ppo-lag",
+                                   "--env-kwargs", '{"step_reward": -0.01}'],
     # the rover's safe route is a detour the reward does not point to: at its target by 150k steps
     "rover 150k|true": ["--env", "rover_env:Rover-v0", "--algo", "ppo-lag", "--steps", "150000"],
 }
@@ -94,6 +103,8 @@ def summarise(rows: list[dict]) -> dict:
             runs = entry["runs"]
             entry["n"] = len(runs)
             entry["true_cost_zero"] = sum(1 for r in runs if r["cost"] == 0)
+            # the gap grids: safe *and* at the goal (their return is positive only there)
+            entry["true_cost_zero_return_positive"] = sum(1 for r in runs if r["cost"] == 0 and r["return"] > 0)
             entry["mean_return"] = sum(r["return"] for r in runs) / len(runs)
             entry["mean_true_cost"] = sum(r["cost"] for r in runs) / len(runs)
     return out
