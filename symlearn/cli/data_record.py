@@ -119,10 +119,12 @@ def _policy(path: str, env: Any, stochastic: bool, seed: int):
             raise
         model, view = load_policy(path, joint), joint
     to_env = view.action if view is not numeric else (lambda a: a)
+    from symlearn.backends.sb3_spaces import env_action
 
     def act(o: Any) -> Any:
         action, _ = model.predict(observe(o), deterministic=not stochastic)
-        return to_env(action.item() if getattr(action, "shape", None) == () else action)
+        # SB3's MultiBinary actions are floats: the environment gets its own dtype
+        return env_action(env.action_space, to_env(action.item() if getattr(action, "shape", None) == () else action))
 
     return act
 

@@ -8,7 +8,8 @@ import gymnasium
 import numpy as np
 import pytest
 from cli_runner import run
-from space_envs import ENDLESS_LINE, FAULTY, GEARED_POINT, MATRIX_POINT, OFFSET_WALK, ONE_GUESS, SWITCH_BOARD
+from space_envs import (ENDLESS_LINE, FAULTY, GEARED_POINT, LAMP_COUNTER, MATRIX_POINT, OFFSET_WALK, ONE_GUESS,
+                        SWITCH_BOARD)
 
 from symlearn.data import record
 
@@ -134,6 +135,25 @@ def test_stable_baselines3_on_discrete_spaces_from_another_start_and_scalar_obse
                              "--steps", 128, "--n-steps", 32, "--eval-episodes", 1, "-o", f"{algo}.safetensors")
         assert code == 0, (algo, err)
         assert json.loads(out)["cost"] is not None
+
+
+def test_stable_baselines3_multibinary_actions_reach_the_environment_as_integers(capsys, tmp_path, monkeypatch):
+    """SB3 samples MultiBinary actions as floats; train and data record give the environment the
+    space's own integers (a float action made its integer counters floats)."""
+    pytest.importorskip("stable_baselines3")
+    (tmp_path / "lamp_counter.py").write_text(LAMP_COUNTER)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    env = ("--env", "lamp_counter:LampCounter-v0")
+    code, out, err = run(capsys, "--json", "--quiet", "train", *env, "--algo", "sb3-ppo", "--steps", 128,
+                         "--n-steps", 32, "--eval-episodes", 1, "-o", "agent.safetensors")
+    assert code == 0, err
+    code, out, err = run(capsys, "--quiet", "data", "record", *env, "--policy", "agent.safetensors",
+                         "--episodes", 1, "-o", "lamps.npz")
+    assert code == 0, err
+    from symlearn.data import load
+
+    assert load(tmp_path / "lamps.npz")[0].actions.dtype.kind in "biu"
 
 
 def test_learn_dnf_on_discrete_states_names_the_ways_out_of_the_cli(capsys, tmp_path, monkeypatch):
