@@ -245,6 +245,21 @@ def test_learn_icrl_cuts_an_endless_environment_at_the_demonstrations_length(cap
     assert abs(doc["reward"]) <= 30 and abs(doc["history"][0]["reward"]) <= 30   # at most 1 per step, 30 steps
 
 
+def test_learn_icrl_says_nothing_of_a_time_limit_the_environment_keeps_itself(capsys, tmp_path, monkeypatch):
+    """An environment that truncates its episodes at 30 by itself (none registered) is not said
+    to be cut at 30 steps by symlearn: its demonstrations' replay ends there on its own."""
+    (tmp_path / "endless_line.py").write_text(ENDLESS_LINE)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import endless_line  # noqa: F401  (registers EndlessLine-v0)
+
+    record(gymnasium.make("EndlessLine-v0", horizon=30), lambda x: int(x[0] < 0.4), 3, seed=0).save("line.npz")
+    code, out, err = run(capsys, "--json", "learn", "icrl", "--env", "endless_line:EndlessLine-v0",
+                         "--env-kwargs", '{"horizon": 30}', "--demos", "line.npz", "--steps", 512, "--iterations", 1)
+    assert code == 0, err
+    assert "time limit" not in err and "cut at" not in err
+
+
 def test_learn_icrl_on_part_of_a_dict_observation_says_how_to_record_the_view(capsys, tmp_path, monkeypatch):
     (tmp_path / "geared_point.py").write_text(GEARED_POINT)
     monkeypatch.chdir(tmp_path)

@@ -141,18 +141,21 @@ from gymnasium import spaces
 class EndlessLine(gym.Env):
     feature_names = ("x",)
 
-    def __init__(self):
+    def __init__(self, horizon=None):   # horizon: a time limit of its own, none registered
+        self.horizon = horizon
         self.observation_space = spaces.Box(-1.0, 1.0, (1,), np.float32)
         self.action_space = spaces.Discrete(2)
 
     def reset(self, seed=None, options=None):
         super().reset(seed=seed)
-        self.x = 0.0
+        self.x, self.t = 0.0, 0
         return np.array([self.x], np.float32), {}
 
     def step(self, action):
         self.x = float(np.clip(self.x + (0.05 if action else -0.05), -1.0, 1.0))
-        return np.array([self.x], np.float32), self.x, False, False, {"cost": float(self.x > 0.5)}
+        self.t += 1
+        cut = self.horizon is not None and self.t >= self.horizon
+        return np.array([self.x], np.float32), self.x, False, cut, {"cost": float(self.x > 0.5)}
 
 
 gym.register("EndlessLine-v0", entry_point=EndlessLine)
