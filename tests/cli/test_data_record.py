@@ -68,7 +68,7 @@ def test_a_policy_from_elsewhere_and_bad_flags_are_one_line(capsys, tmp_path, mo
     assert code == 0, err
     cases = [
         (("--env", "switch_board:SwitchBoard-v0", "--policy", "cartpole.safetensors"), "was trained for observations"),
-        (("--env", "CartPole-v1", "--policy", "missing.safetensors"), "missing"),
+        (("--env", "CartPole-v1", "--policy", "missing.safetensors"), "no such model: neither missing.safetensors"),
         (("--env", "CartPole-v1", "--policy", "cartpole.safetensors", "--episodes", 0), "--episodes must be"),
         (("--env", "CartPole-v1", "--policy", "cartpole.safetensors", "--max-steps", 2.5), "--max-steps must be"),
         (("--env", "CartPole-v1", "--policy", "cartpole.safetensors", "-o", "demos.csv"), "cannot tell the format"),
