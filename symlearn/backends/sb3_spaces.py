@@ -4,10 +4,12 @@ stable-baselines3 (2.x) one-hot encodes a ``Discrete`` observation as ids ``0..n
 a ``Discrete`` space with ids ``0..n-1``: a space numbered from another ``start``
 (``Discrete(8, start=2)``) breaks the encoding or sends actions outside the space. Its
 ``MlpPolicy`` flattens observations from their second dimension, so a scalar ``Box`` observation
-(shape ``()``) fails. :func:`sb3_spaces` wraps an environment with such spaces in
-:class:`SB3Spaces`: observation ids shifted to start at 0, action ids shifted back to the
-environment's own, a scalar observation as a vector of one entry; other environments are
-returned unchanged. ``train --algo sb3-*`` uses it outside the cost wrappers, so a learned cost
+(shape ``()``) fails. Its ``MultiBinary`` actions are floats (``[1., 0., 1.]``, the Bernoulli
+samples), which an environment that counts with them turns into float observations.
+:func:`sb3_spaces` wraps an environment with such spaces in :class:`SB3Spaces`: observation ids
+shifted to start at 0, action ids shifted back to the environment's own, ``MultiBinary`` and
+``MultiDiscrete`` actions cast to the space's dtype, a scalar observation as a vector of one
+entry; other environments are returned unchanged. ``train --algo sb3-*`` uses it outside the cost wrappers, so a learned cost
 reads the environment's own values; a policy saved from it loads on ``sb3_spaces(env)``.
 
 >>> import gymnasium as gym
@@ -38,8 +40,26 @@ def _scalar_box(space: Any) -> bool:
     return isinstance(space, spaces.Box) and space.shape == ()
 
 
+def _integer_array(space: Any) -> bool:
+    return isinstance(space, (spaces.MultiBinary, spaces.MultiDiscrete))
+
+
+def env_action(space: Any, action: Any) -> Any:
+    """``action`` as stable-baselines3 gives it, in ``space``'s own type: ``MultiBinary`` and
+    ``MultiDiscrete`` actions as arrays of the space's dtype (SB3's Bernoulli samples are floats);
+    other actions unchanged.
+
+    >>> env_action(spaces.MultiBinary(3), np.array([1., 0., 1.], dtype=np.float32))
+    array([1, 0, 1], dtype=int8)
+    """
+    if _integer_array(space):
+        return np.asarray(action).astype(space.dtype)
+    return action
+
+
 class SB3Spaces(gym.Wrapper):
-    """``env`` with Discrete spaces numbered from 0 and a scalar Box observation as shape ``(1,)``."""
+    """``env`` with Discrete spaces numbered from 0, a scalar Box observation as shape ``(1,)`` and
+    MultiBinary/MultiDiscrete actions cast to the space's dtype."""
 
     def __init__(self, env: gym.Env) -> None:
         super().__init__(env)
@@ -68,15 +88,17 @@ class SB3Spaces(gym.Wrapper):
     def step(self, action: Any):
         if self._act_start:
             action = int(action) + self._act_start
+        action = env_action(self.env.action_space, action)
         observation, reward, terminated, truncated, info = self.env.step(action)
         return self._observation(observation), reward, terminated, truncated, info
 
 
 def sb3_spaces(env: gym.Env) -> gym.Env:
     """:class:`SB3Spaces` over ``env`` where its spaces need it (module doc), else ``env``."""
-    if _offset(env.observation_space) or _offset(env.action_space) or _scalar_box(env.observation_space):
+    if (_offset(env.observation_space) or _offset(env.action_space) or _scalar_box(env.observation_space)
+            or _integer_array(env.action_space)):
         return SB3Spaces(env)
     return env
 
 
-__all__ = ["SB3Spaces", "sb3_spaces"]
+__all__ = ["SB3Spaces", "env_action", "sb3_spaces"]

@@ -140,14 +140,19 @@ def _render_show(doc: dict) -> str:
 
 
 def read_trace(text: str) -> list[frozenset[str]]:
-    """A trace from JSON text or from a file holding it."""
+    """A trace from JSON text or from a file holding it. Errors name the file, or ``--trace``
+    for the text itself (a bare ``1:11:`` located nothing)."""
     from symlearn.errors import DataError, ParseError
     from symlearn.input_limits import load_json, read_input_text
 
-    source = None
+    source = "--trace"
     path = Path(text)
-    if not text.lstrip().startswith("[") and path.exists():
-        source, text = str(path), read_input_text(path, what="trace file")
+    if not text.lstrip().startswith("["):
+        if path.exists():
+            source, text = str(path), read_input_text(path, what="trace file")
+        elif not text.lstrip().startswith(("{", '"')):
+            raise DataError(f"{text!r} is neither a trace file nor a JSON trace", file="--trace",
+                            hint='give a file holding the trace, or the trace itself: [["a"], [], ["a", "b"]]')
     try:
         value = load_json(text, source=source, syntax="the trace is not valid JSON")
     except ParseError as exc:

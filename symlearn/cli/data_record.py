@@ -12,6 +12,7 @@ numeric view of the observations it was trained on, while the file keeps the env
 observations (a ``Dict`` flattened and named as ``record()`` does) and its own actions (a
 ``MultiDiscrete`` action, not the index of its combination). Greedy (the mean or most likely
 action) unless ``--stochastic``. A policy trained for other spaces is refused in one line.
+``--policy random`` samples the action space (seeded by ``--seed``), as ``record(env, "random")``.
 
 JSON keys: ``env``, ``policy``, ``episodes``, ``steps``, ``return`` (mean per episode), ``cost``
 (mean ``info["cost"]`` per episode, null where no step reported one), ``files``.
@@ -34,7 +35,9 @@ def register(commands, common) -> None:
                                           "demonstrations (.npz or .jsonl).")
     cmd.add_argument("--env", required=True, help="a bundled name, a gymnasium id or module:EnvId")
     cmd.add_argument("--env-kwargs", metavar="JSON", help="keyword arguments of the environment, a JSON object")
-    cmd.add_argument("--policy", required=True, metavar="AGENT.safetensors", help="what `symlearn train -o` wrote")
+    cmd.add_argument("--policy", required=True, metavar="AGENT.safetensors",
+                     help="what `symlearn train -o` wrote, or 'random': actions sampled from the action space "
+                          "(seeded by --seed), the aimless baseline")
     cmd.add_argument("--episodes", type=float, default=20, help="episodes to record (20)")
     cmd.add_argument("--stochastic", action="store_true",
                      help="sample the policy's actions (default: its mean or most likely action)")
@@ -71,7 +74,7 @@ class _EpisodeCost:
 
             def step(self, action: Any) -> Any:
                 result = self.env.step(action)
-                cost = watch.reader.read(result[4], 0, watch.steps)
+                cost = watch.reader.read(result[4], where=f"episode {len(watch.totals) - 1}, step {watch.steps}")
                 watch.steps += 1
                 if cost is not None:
                     watch.seen = True
@@ -119,10 +122,12 @@ def _policy(path: str, env: Any, stochastic: bool, seed: int):
             raise
         model, view = load_policy(path, joint), joint
     to_env = view.action if view is not numeric else (lambda a: a)
+    from symlearn.backends.sb3_spaces import env_action
 
     def act(o: Any) -> Any:
         action, _ = model.predict(observe(o), deterministic=not stochastic)
-        return to_env(action.item() if getattr(action, "shape", None) == () else action)
+        # SB3's MultiBinary actions are floats: the environment gets its own dtype
+        return env_action(env.action_space, to_env(action.item() if getattr(action, "shape", None) == () else action))
 
     return act
 
@@ -147,7 +152,8 @@ def run(args: argparse.Namespace, out) -> None:
     target = resolve_env(args.env, kwargs=args.env_kwargs)
     costs = _EpisodeCost()
     env = costs.wrap(target.make())
-    policy = _policy(args.policy, env, args.stochastic, seed)
+    # 'random' as record() takes it; a file of that name is a model's (random.safetensors)
+    policy = "random" if args.policy == "random" else _policy(args.policy, env, args.stochastic, seed)
     metadata = {"policy": str(args.policy), "stochastic": bool(args.stochastic)}
     with raised_by_environment(None if target.bundled else environment_file(env), f"recording in {target.display}"):
         try:

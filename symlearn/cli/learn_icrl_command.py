@@ -388,14 +388,15 @@ def _within_the_demonstrations_horizon(target: Any, env: Any, demos: Any, note: 
     ``TimeLimit``) whose demonstrations were all cut off rather than ended (``record()``'s
     ``max_steps``: ``info["truncated"]``), episodes cut at the longest demonstration's length,
     so the policy's sampled episodes are as long as the ones they are compared with (and do not
-    run to the sampler's cap of 10,000 steps)."""
+    run to the sampler's cap of 10,000 steps). Not where the environment truncates its episodes
+    by itself within that length (a replay of the longest demonstration shows it)."""
     if target.bundled or getattr(getattr(env, "spec", None), "max_episode_steps", None) is not None:
         return target.env_fn
     infos = [getattr(t, "info", None) or {} for t in demos]
     if not all(i.get("truncated") is True and i.get("terminated") is False for i in infos):
         return target.env_fn
     horizon = max((len(t.actions) for t in demos if t.actions is not None), default=0)
-    if horizon < 1:
+    if horizon < 1 or _truncates_itself(target, max(demos, key=lambda t: 0 if t.actions is None else len(t.actions))):
         return target.env_fn
     from gymnasium.wrappers import TimeLimit
 
@@ -403,6 +404,26 @@ def _within_the_demonstrations_horizon(target: Any, env: Any, demos: Any, note: 
          f"episodes are cut at {horizon} steps, the demonstrations' longest "
          "(gymnasium.register(..., max_episode_steps=N) sets a limit)")
     return lambda: TimeLimit(target.make(), max_episode_steps=horizon)
+
+
+def _truncates_itself(target: Any, longest: Any) -> bool:
+    """Whether the environment ends an episode by itself (``truncated``) when the longest
+    demonstration's actions are replayed from its seed, at or before the demonstration's length:
+    then it has a time limit of its own, if not a registered one. A replay that fails, or ends
+    (terminated) where the demonstration went on, says nothing: False."""
+    seed = (getattr(longest, "info", None) or {}).get("seed")
+    env = target.make()
+    try:
+        env.reset(seed=seed if isinstance(seed, int) else None)
+        for action in longest.actions:
+            _, _, terminated, truncated, _ = env.step(action)
+            if terminated or truncated:
+                return bool(truncated) and not terminated
+        return False
+    except Exception:  # noqa: BLE001 -- the run itself reports a failing environment, in its own words
+        return False
+    finally:
+        env.close()
 
 
 def _vectors_in_the_view(demos: Any, env: Any, path: Any) -> Any:

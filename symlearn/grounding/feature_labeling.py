@@ -5,12 +5,12 @@ table of propositions; :class:`FeatureLabeling` says when each proposition holds
 inequalities over the features of a :class:`~symlearn.grounding.features.FeatureMap`:
 
     near_goal:  dist < 0.5
-    fast:       speed >= 2 & lane == ...        (only < <= > >= are allowed)
+    fast:       speed >= 2 & lane == 1          (< <= > >= == != compare with a number)
     zone_a:     x < 1 & y < 1  |  x > 4 & y > 4
 
 A proposition holds when one of its conjunctions holds (``|`` between conjunctions, ``&``
 between atoms ``feature op number``). Conditions are plain text in the JSON form (see
-``docs/FORMATS.md``) and errors name the proposition and the column.
+``docs/FORMATS.md``) and errors name the proposition and the column within its condition.
 
 :class:`CallableLabeling` wraps a Python function ``state -> iterable of proposition names``
 with its declared propositions; it labels anything but cannot be saved.
@@ -48,7 +48,9 @@ Condition = DNF
 
 def parse_condition(text: str, *, where: str = "condition", source: str | None = None) -> DNF:
     """Read ``"x < 1 & y > 0 | z >= 2"`` (the one-line DNF syntax of :mod:`symlearn.logic.dnf`);
-    a mistake is a :class:`ParseError` naming ``where`` and the column."""
+    a mistake is a :class:`ParseError` naming ``where`` and the column within ``text`` (in the
+    message, with the condition and a caret: the column is not one of ``source``'s, whose
+    condition is a JSON string)."""
     if not isinstance(text, str) or not text.strip():
         raise ParseError(f"{where}: the condition is empty", file=source, hint="write e.g. 'x < 1 & y > 0'")
     if "\n" in text.strip():
@@ -56,7 +58,9 @@ def parse_condition(text: str, *, where: str = "condition", source: str | None =
     try:
         condition = parse_dnf(text)
     except ParseError as exc:
-        raise ParseError(f"{where}: {exc.message}", file=source, column=exc.column, hint=exc.hint) from None
+        at = f", column {exc.column} of its condition" if exc.column is not None else ""
+        excerpt = f"\n  {text}\n  {' ' * (exc.column - 1)}^" if exc.column is not None else ""
+        raise ParseError(f"{where}{at}: {exc.message}{excerpt}", file=source, hint=exc.hint) from None
     if not condition.conjunctions:
         raise ParseError(f"{where}: the condition is never true", file=source)
     return condition
@@ -74,7 +78,7 @@ class FeatureLabeling(LabelingBase, JsonFile):
         for name, condition in conditions.items():
             if not isinstance(name, str) or not name:
                 raise DataError(f"{name!r} is not a proposition name")
-            cond = condition if isinstance(condition, DNF) else parse_condition(condition, where=name)
+            cond = condition if isinstance(condition, DNF) else parse_condition(condition, where=f"proposition {name!r}")
             unknown = sorted(set(cond.features) - set(self.feature_map.names))
             if unknown:
                 raise DataError(f"proposition {name!r} uses unknown feature {unknown[0]!r}",

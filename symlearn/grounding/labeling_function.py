@@ -42,7 +42,7 @@ from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-from symlearn.errors import DataError, UnknownNameError
+from symlearn.errors import DataError, ParseError, UnknownNameError
 from symlearn.grounding.labeling import LabelingBase
 
 __all__ = ["FunctionLabeling", "as_observation_labeler", "load_labeling_function", "read_labeling"]
@@ -215,8 +215,8 @@ def read_labeling(spec: str, *, feature_names: Sequence[str] | None = None):
 
     try:
         return FeatureLabeling(list(feature_names), doc)
-    except DataError as exc:
-        raise type(exc)(exc.message, file=spec, column=exc.column, hint=exc.hint) from None
+    except (DataError, ParseError) as exc:   # the column, where there is one, is the condition's (in the message)
+        raise type(exc)(exc.message, file=spec, hint=exc.hint) from None
 
 
 def as_observation_labeler(labeling: Any) -> Callable[..., frozenset[str]]:

@@ -27,8 +27,9 @@ Text format (``grammars/dnf.lark``)
 -----------------------------------
 
 * one conjunction per line, atoms ``feature op number`` joined by ``&`` (also ``&&``, ``∧``);
-  ``op`` is one of ``< <= > >=`` (also ``≤ ≥``); ``#`` starts a comment; blank lines are
-  ignored. Several conjunctions may share a line joined by ``|`` (also ``||``, ``∨``), the
+  ``op`` is one of ``< <= > >=`` (also ``≤ ≥``); ``x == 3`` is read as ``x >= 3 & x <= 3``
+  and ``x != 3`` (also ``≠``) as two conjunctions, one with ``x < 3`` and one with ``x > 3``
+  (at most 10 ``!=`` in one conjunction); ``#`` starts a comment; blank lines are ignored. Several conjunctions may share a line joined by ``|`` (also ``||``, ``∨``), the
   one-line form of feature labelings.
 * ``true`` (``⊤``) is the empty conjunction (always holds); a ``false`` (``⊥``) line adds
   nothing; a file without conjunctions is the empty disjunction, false (printed ``false``).
@@ -77,6 +78,7 @@ features). NaN in a used column is an error (it would compare false with every b
 from __future__ import annotations
 
 import gc
+import itertools
 import json
 import math
 import os
@@ -971,18 +973,28 @@ def _parse_line_with_grammar(line: str, number: int, last: bool, source: str | N
                 if conj.data == "true":
                     conjunctions.append(Conjunction(()))
                     continue
-                atoms = []
+                choices = []   # per atom, its alternatives: one, or two for '!='
                 for node in conj.children:
                     try:
-                        atoms.append(_atom(node, source))
+                        choices.append(_atom(node, source))
                     except ParseError as exc:
                         raise _BadNumber(ParseError(exc.message, file=source, line=exc.line + number - 1,
                                                     column=exc.column, hint=exc.hint)) from None
-                conjunctions.append(Conjunction(tuple(atoms)))
+                split = sum(len(c) > 1 for c in choices)
+                if split > MAX_NOT_EQUAL:
+                    raise ParseError(f"{split} '!=' atoms in one conjunction split it into 2^{split} conjunctions; "
+                                     f"at most {MAX_NOT_EQUAL} are read", file=source, line=number)
+                conjunctions.extend(Conjunction(sum(picked, ())) for picked in itertools.product(*choices))
     return conjunctions
 
 
-def _atom(node, source: str | None) -> Atom:
+#: '!=' atoms one conjunction may hold (each doubles the conjunctions it becomes)
+MAX_NOT_EQUAL = 10
+
+
+def _atom(node, source: str | None) -> list[tuple[Atom, ...]]:
+    """The atom's alternatives, each a tuple of atoms: ``x == 3`` is ``[(x >= 3, x <= 3)]``,
+    ``x != 3`` is ``[(x < 3,), (x > 3,)]``, any other one atom ``[(atom,)]``."""
     feature_node, op_token, value_node = node.children
     name = str(feature_node.children[0])
     if feature_node.data == "quoted_name":
@@ -995,11 +1007,16 @@ def _atom(node, source: str | None) -> Atom:
     if not math.isfinite(value):
         raise ParseError(f"the number {str(token)} is too large for a float", file=source, line=token.line,
                          column=token.column)
-    return Atom(name, _UNICODE_OPS.get(str(op_token), str(op_token)), value)
+    op = _UNICODE_OPS.get(str(op_token), str(op_token))
+    if op == "==":
+        return [(Atom(name, ">=", value), Atom(name, "<=", value))]
+    if op in ("!=", "\u2260"):
+        return [(Atom(name, "<", value),), (Atom(name, ">", value),)]
+    return [(Atom(name, op, value),)]
 
 
 _TERMINALS = {
-    "NAME": "a feature name", "QUOTED": "a quoted feature name", "OP": "a comparison (< <= > >=)",
+    "NAME": "a feature name", "QUOTED": "a quoted feature name", "OP": "a comparison (< <= > >= == !=)",
     "NUMBER": "a number", "_AND": "'&'", "_OR": "'|'", "_NL": "end of line", "TRUE": "true", "FALSE": "false",
     "$END": "end of input",
 }
@@ -1030,8 +1047,8 @@ def _syntax_error(text: str, exc, source: str | None) -> ParseError:
         message += "; expected " + (expected[0] if len(expected) == 1 else "one of " + ", ".join(expected))
     hint = None
     rest = here[col - 1:] if col - 1 < len(here) else ""
-    if rest.startswith(("==", "!=", "=")):
-        hint = "only < <= > >= compare a feature with a number"
+    if rest.startswith(("=", "!")):
+        hint = "< <= > >= == != compare a feature with a number (== for equality)"
     elif rest.split()[:1] and rest.split()[0].lower() in ("and", "or"):
         hint = "write '&' between atoms and one conjunction per line (or '|' between conjunctions)"
     return ParseError(message, file=source, line=row, column=col, hint=hint)

@@ -50,6 +50,14 @@ class BadCostReport(DataError):
     about_the_environment = True
 
 
+def _where(where: str | None, env_index: int | None, step: int | None) -> str:
+    if where:
+        return where
+    if env_index is not None:
+        return f"training step {step}, environment copy {env_index}"
+    return "a step" if step is None else f"step {step}"
+
+
 class CostReader:
     """Reads ``info["cost"]``: a number or a vector whose length, once seen, stays fixed."""
 
@@ -57,7 +65,12 @@ class CostReader:
         self.n = n  # None until the first cost arrives (or the Lagrangian limits fix it)
         self.seen = False
 
-    def read(self, info: dict[str, Any], env_index: int, step: int) -> np.ndarray | None:
+    def read(self, info: dict[str, Any], env_index: int | None = None, step: int | None = None, *,
+             where: str | None = None) -> np.ndarray | None:
+        """The step's cost vector, or None where it reports none. An error says where the step
+        was: ``where`` as given (``"evaluation episode 2, step 7"``), else, for the copies PPO's
+        training steps side by side, ``training step 1234, environment copy 0`` (``step``
+        counts the steps of all copies)."""
         raw = info.get("cost")
         if raw is None:
             return None
@@ -69,18 +82,18 @@ class CostReader:
             cost = np.asarray(raw, dtype=np.float64).reshape(-1)
         except (TypeError, ValueError):
             raise BadCostReport(f"info['cost'] must be a number or a vector of numbers, got {raw!r} "
-                            f"(environment {env_index}, step {step})") from None
+                            f"({_where(where, env_index, step)})") from None
         if cost.size == 0:
-            raise BadCostReport(f"info['cost'] is empty (environment {env_index}, step {step})")
+            raise BadCostReport(f"info['cost'] is empty ({_where(where, env_index, step)})")
         if not np.all(np.isfinite(cost)):
-            raise BadCostReport(f"info['cost'] is not finite: {cost.tolist()} (environment {env_index}, step {step})",
+            raise BadCostReport(f"info['cost'] is not finite: {cost.tolist()} ({_where(where, env_index, step)})",
                             hint="an environment must report a finite cost on every step")
         if self.n is None:
             self.n = cost.size
         elif cost.size != self.n:
             before = "the cost limits name" if not self.seen else "earlier steps reported"
             raise BadCostReport(f"info['cost'] has {cost.size} entries, {before} {self.n} "
-                            f"(environment {env_index}, step {step})",
+                            f"({_where(where, env_index, step)})",
                             hint="report one cost per constraint on every step, always in the same order")
         self.seen = True
         return cost
@@ -96,13 +109,13 @@ class CostReader:
         self.seen = True
 
 
-def summed_cost(info: dict[str, Any], env_index: int = 0, step: int = 0) -> float | None:
+def summed_cost(info: dict[str, Any], *, where: str) -> float | None:
     """One step's ``info["cost"]`` summed over its constraints, read and checked as
     :class:`CostReader` reads it (None where the step reports none, ``None`` included): the
     samplers that only need the total (neural ICRL's episodes, stable-baselines3's monitor,
     tabular Q-learning) so refuse what training refuses in one line, instead of failing on
-    ``float(None)`` or summing text."""
-    cost = CostReader(None).read(info, env_index, step)
+    ``float(None)`` or summing text. ``where`` names the step in an error (``episode 3, step 7``)."""
+    cost = CostReader(None).read(info, where=where)
     return None if cost is None else float(cost.sum())
 
 

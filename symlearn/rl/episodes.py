@@ -96,7 +96,7 @@ def sample_episodes(policy: Any, env_fn: Callable[[], Any], n_episodes: int, *, 
                         for i, env in enumerate(envs)])
     alive = np.ones(n_episodes, dtype=bool)
     rows: dict[str, list[np.ndarray]] = {"obs": [], "actions": [], "rewards": [], "costs": [], "mask": []}
-    for _ in range(max_steps):
+    for t in range(max_steps):
         if not alive.any():
             break
         actions = np.asarray(act(current, rng))
@@ -106,7 +106,7 @@ def sample_episodes(policy: Any, env_fn: Callable[[], Any], n_episodes: int, *, 
         for i in np.flatnonzero(alive):
             o, r, term, trunc, info = envs[i].step(to_env(actions[i]))
             rewards[i] = r
-            costs[i] = summed_cost(info, int(i)) or 0.0
+            costs[i] = summed_cost(info, where=f"sampled episode {i}, step {t}") or 0.0
             following[i] = np.asarray(o)
             if term or trunc:
                 alive[i] = False

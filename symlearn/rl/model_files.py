@@ -82,10 +82,13 @@ def read_model_kind(path: str | os.PathLike[str]) -> str:
 
 
 def _read_document(path: str | os.PathLike[str], kind: str | None) -> dict[str, Any]:
-    _, config_path = model_paths(path)
+    weights, config_path = model_paths(path)
     try:  # a user may bring this file: size-capped, nesting and duplicate keys refused
         text = read_input_text(config_path, what="model configuration")
     except FileNotFoundError:
+        if not weights.exists():   # not "no configuration beside the weights" when there are none
+            raise ModelError(f"no such model: neither {weights.name} nor {config_path.name} exists", file=path,
+                             hint="a model is two files, NAME.safetensors and NAME.json, as `-o` wrote them") from None
         raise ModelError("no model configuration beside the weights", file=config_path,
                          hint="a model is two files, NAME.safetensors and NAME.json") from None
     document = load_json(text, source=config_path, error=ModelError, syntax="not JSON")

@@ -75,9 +75,10 @@ def test_explain_accepted(capsys, spec):
 
 
 @pytest.mark.parametrize("trace, message", [
-    ('[["a"], ["b"]', "the trace is not valid JSON"),
-    ('{"a": 1}', "a trace must be a JSON list of steps"),
-    ('[["a"], "b"]', "trace step 1 must be a list of proposition names"),
+    ('[["a"], ["b"]', "--trace:1:14: the trace is not valid JSON"),   # not a bare "1:14:"
+    ('{"a": 1}', "--trace: a trace must be a JSON list of steps"),
+    ('[["a"], "b"]', "--trace: trace step 1 must be a list of proposition names"),
+    ("missing.json", "--trace: 'missing.json' is neither a trace file nor a JSON trace"),   # was "1:1: not valid JSON"
 ])
 def test_explain_bad_trace(capsys, spec, trace, message):
     code, _, err = run(capsys, "automaton", "explain", spec, "--trace", trace)

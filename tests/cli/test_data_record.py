@@ -68,7 +68,7 @@ def test_a_policy_from_elsewhere_and_bad_flags_are_one_line(capsys, tmp_path, mo
     assert code == 0, err
     cases = [
         (("--env", "switch_board:SwitchBoard-v0", "--policy", "cartpole.safetensors"), "was trained for observations"),
-        (("--env", "CartPole-v1", "--policy", "missing.safetensors"), "missing"),
+        (("--env", "CartPole-v1", "--policy", "missing.safetensors"), "no such model: neither missing.safetensors"),
         (("--env", "CartPole-v1", "--policy", "cartpole.safetensors", "--episodes", 0), "--episodes must be"),
         (("--env", "CartPole-v1", "--policy", "cartpole.safetensors", "--max-steps", 2.5), "--max-steps must be"),
         (("--env", "CartPole-v1", "--policy", "cartpole.safetensors", "-o", "demos.csv"), "cannot tell the format"),
@@ -135,3 +135,17 @@ def test_an_observation_holding_an_image_is_recorded_in_the_view_the_policy_read
     code, _, err = run(capsys, "learn", "icrl", "--env", "camera_cart:CameraCart-v0", "--demos", "demos.npz",
                        "--steps", 512, "--iterations", 1, "-o", "cost.safetensors")
     assert code == 0, err
+
+
+def test_policy_random_samples_the_action_space(capsys, tmp_path, monkeypatch):
+    """`--policy random` is record()'s "random" (it was read as a model file random.json); seeded."""
+    _module(tmp_path, monkeypatch, "switch_board", SWITCH_BOARD)
+    flags = ("data", "record", "--env", "switch_board:SwitchBoard-v0", "--policy", "random", "--episodes", 2)
+    code, out, err = run(capsys, *flags, "-o", "random.npz", "--json")
+    assert code == 0, err
+    assert json.loads(out)["policy"] == "random"
+    demos = load(tmp_path / "random.npz")
+    assert len(demos) == 2 and demos.metadata["policy"] == "random"
+    code, _, err = run(capsys, *flags, "-o", "again.npz")
+    assert code == 0, err
+    assert load(tmp_path / "again.npz") == demos

@@ -8,7 +8,8 @@ import gymnasium
 import numpy as np
 import pytest
 from cli_runner import run
-from space_envs import ENDLESS_LINE, FAULTY, GEARED_POINT, MATRIX_POINT, OFFSET_WALK, ONE_GUESS, SWITCH_BOARD
+from space_envs import (ENDLESS_LINE, FAULTY, GEARED_POINT, LAMP_COUNTER, MATRIX_POINT, OFFSET_WALK, ONE_GUESS,
+                        SWITCH_BOARD)
 
 from symlearn.data import record
 
@@ -136,6 +137,25 @@ def test_stable_baselines3_on_discrete_spaces_from_another_start_and_scalar_obse
         assert json.loads(out)["cost"] is not None
 
 
+def test_stable_baselines3_multibinary_actions_reach_the_environment_as_integers(capsys, tmp_path, monkeypatch):
+    """SB3 samples MultiBinary actions as floats; train and data record give the environment the
+    space's own integers (a float action made its integer counters floats)."""
+    pytest.importorskip("stable_baselines3")
+    (tmp_path / "lamp_counter.py").write_text(LAMP_COUNTER)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    env = ("--env", "lamp_counter:LampCounter-v0")
+    code, out, err = run(capsys, "--json", "--quiet", "train", *env, "--algo", "sb3-ppo", "--steps", 128,
+                         "--n-steps", 32, "--eval-episodes", 1, "-o", "agent.safetensors")
+    assert code == 0, err
+    code, out, err = run(capsys, "--quiet", "data", "record", *env, "--policy", "agent.safetensors",
+                         "--episodes", 1, "-o", "lamps.npz")
+    assert code == 0, err
+    from symlearn.data import load
+
+    assert load(tmp_path / "lamps.npz")[0].actions.dtype.kind in "biu"
+
+
 def test_learn_dnf_on_discrete_states_names_the_ways_out_of_the_cli(capsys, tmp_path, monkeypatch):
     _walk(tmp_path, monkeypatch)
     code, out, err = run(capsys, "learn", "dnf", "--env", "offset_walk:OffsetWalk-v0", "--demos", "walk.jsonl")
@@ -223,6 +243,21 @@ def test_learn_icrl_cuts_an_endless_environment_at_the_demonstrations_length(cap
     assert "cut at 30 steps" in err
     doc = json.loads(out)
     assert abs(doc["reward"]) <= 30 and abs(doc["history"][0]["reward"]) <= 30   # at most 1 per step, 30 steps
+
+
+def test_learn_icrl_says_nothing_of_a_time_limit_the_environment_keeps_itself(capsys, tmp_path, monkeypatch):
+    """An environment that truncates its episodes at 30 by itself (none registered) is not said
+    to be cut at 30 steps by symlearn: its demonstrations' replay ends there on its own."""
+    (tmp_path / "endless_line.py").write_text(ENDLESS_LINE)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import endless_line  # noqa: F401  (registers EndlessLine-v0)
+
+    record(gymnasium.make("EndlessLine-v0", horizon=30), lambda x: int(x[0] < 0.4), 3, seed=0).save("line.npz")
+    code, out, err = run(capsys, "--json", "learn", "icrl", "--env", "endless_line:EndlessLine-v0",
+                         "--env-kwargs", '{"horizon": 30}', "--demos", "line.npz", "--steps", 512, "--iterations", 1)
+    assert code == 0, err
+    assert "time limit" not in err and "cut at" not in err
 
 
 def test_learn_icrl_on_part_of_a_dict_observation_says_how_to_record_the_view(capsys, tmp_path, monkeypatch):

@@ -44,6 +44,7 @@ def test_data_record_refuses_a_cost_that_is_no_number_in_one_line(capsys, odd_co
                          '{"kind": "complex"}', "--policy", "agent.safetensors", "-o", "demos.npz", "--json")
     assert code == 2, err
     assert "internal error" not in err and "info['cost'] must be a number" in err
+    assert "(episode 0, step 0)" in err   # not "environment 0": there is one
     assert json.loads(out)["error"]["kind"] != "internal"
 
 
@@ -79,10 +80,11 @@ def test_sb3_refuses_a_cost_that_is_no_number_in_one_line(capsys, tmp_path, monk
     code, _, err = run(capsys, "train", "--env", "odd_cost:OddCost-v0", "--env-kwargs", json.dumps({"kind": kind}),
                        "--algo", "sb3-ppo", "--steps", 256, "--eval-episodes", 1)
     assert code == 2 and "internal error" not in err, err
-    assert "info['cost'] must be a number" in err
+    assert "info['cost'] must be a number" in err and "(step 0 of an episode of environment copy 0)" in err
     code, _, err = run(capsys, "train", "--env", "odd_cost:OddCost-v0", "--env-kwargs", json.dumps({"kind": kind}),
                        "--algo", "ppo-lag", "--steps", 256, "--eval-episodes", 1)
     assert code == 2 and "info['cost'] must be a number" in err, err
+    assert "(training step 0, environment copy 0)" in err
 
 
 def test_learn_icrl_reads_info_cost_as_train_does(capsys, odd_cost):

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from symlearn.errors import DataError, ParseError, SymlearnError
 from symlearn.grounding import (CallableLabeling, FactGrounding, FeatureLabeling, FeatureMap, Labeling,
-                                load_labeling, parse_condition)
+                                load_labeling, parse_condition, read_labeling)
 
 DOC = {"symlearn": "labeling", "format_version": 1, "kind": "features",
        "features": {"symlearn": "feature-map", "format_version": 1, "names": ["x", "y", "speed"]},
@@ -60,9 +60,19 @@ def test_condition_print_parse_round_trip(atoms, n_disjuncts):
 
 
 def test_condition_errors_name_the_column():
-    with pytest.raises(ParseError, match="p: unexpected character") as info:
+    """The column is the condition's, said in the message with a caret: as a location it read as
+    a line of the labeling file, or alone ("6: lava: ...") as nothing."""
+    with pytest.raises(ParseError, match="p, column 11 of its condition: unexpected character") as info:
         parse_condition("x > 1 & y = 2", where="p")
-    assert info.value.column == 11
+    assert info.value.column is None and str(info.value).endswith("  x > 1 & y = 2\n            ^ (hint: < <= > >= "
+                                                                   "== != compare a feature with a number (== for "
+                                                                   "equality))")
+    with pytest.raises(ParseError) as info:
+        read_labeling('{"lava": "cell = 12"}', feature_names=["cell"])
+    assert str(info.value).startswith("--labeling: proposition 'lava', column 6 of its condition: unexpected "
+                                      "character '='")
+    assert read_labeling('{"lava": "cell == 12", "dry": "cell != 12"}', feature_names=["cell"]).label_word(
+        [[11], [12], [13]]) == (frozenset({"dry"}), frozenset({"lava"}), frozenset({"dry"}))
     with pytest.raises(ParseError, match="empty"):
         parse_condition("  ")
     with pytest.raises(DataError, match="unknown feature 'z'"):

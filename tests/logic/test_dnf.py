@@ -98,14 +98,25 @@ def test_text_format_details():
     assert parse("inf > 1").features == ("inf",)  # a feature may be called inf
 
 
+def test_equality_and_inequality_are_boxes():
+    """'==' is a degenerate box, '!=' splits its conjunction in two: the formula stays a DNF of bounds."""
+    assert parse("cell == 12") == DNF.of([("cell", ">=", 12), ("cell", "<=", 12)])
+    assert parse("a > 0 & cell != 3 | b < 1") == DNF.of([("a", ">", 0), ("cell", "<", 3)],
+                                                        [("a", ">", 0), ("cell", ">", 3)], [("b", "<", 1)])
+    points = np.array([[1.0, 2.0], [0.0, 2.0], [0.5, -1.0], [1.0, -1.0]])
+    assert parse("x \u2260 1 & y < 0\ny == 2 & x != 0").evaluate(points, ["x", "y"]).tolist() == [
+        True, False, True, False]
+    with pytest.raises(ParseError, match="11 '!=' atoms"):
+        parse(" & ".join(f"x{i} != 0" for i in range(11)), source="rules.dnf")
+
+
 @pytest.mark.parametrize("text, line, column, words", [
     ("x > 0.1 & \n", 1, 11, "expected a feature name"),
     ("x > 1\ny >< 2", 2, 4, "expected a number"),
     ("x > 1\ny > 2 z > 1", 2, 7, "unexpected 'z'"),
-    ("x == 1", 1, 3, "only < <= > >="),
-    ("x = 1", 1, 3, "only < <= > >="),
+    ("x = 1", 1, 3, "(== for equality)"),
     ("x => 1", 1, 3, "unexpected"),
-    ("x != 1", 1, 3, "unexpected"),
+    ("x ! 1", 1, 3, "== !="),
     ("x > 1 and y < 2", 1, 7, "write '&'"),
     ("x >", 1, 4, "unexpected end of input"),
     ("x < nan", 1, 5, "finite"),

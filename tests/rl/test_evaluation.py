@@ -48,3 +48,20 @@ def test_an_endless_episode_stops_at_max_steps():
 def test_a_cost_that_changes_width_is_refused_as_in_training():
     with pytest.raises(DataError, match="entries"):
         run_episodes(Walk(costs=lambda t: [1.0] * t), lambda observation: 0, 1, seed=0)
+
+
+def test_a_bad_cost_names_the_evaluation_episode_and_its_step():
+    """Not "environment 0, step 7" (one environment, steps counted over all episodes): the episode
+    and the step within it, from 0."""
+    calls = iter(range(100))   # episode 0 has 4 steps (seed 1), so the 6th step is episode 1's second
+    with pytest.raises(DataError, match=r"not finite: \[nan\] \(evaluation episode 1, step 1\)"):
+        run_episodes(Walk(costs=lambda t: float("nan") if next(calls) == 5 else 0.0), lambda observation: 0, 2, seed=1)
+
+
+def test_the_cost_reader_says_where_the_step_was():
+    from symlearn.rl.episode_stats import CostReader, summed_cost
+
+    with pytest.raises(DataError, match=r"\(training step 9, environment copy 1\)"):
+        CostReader(None).read({"cost": "1"}, 1, 9)
+    with pytest.raises(DataError, match=r"\(episode 2, step 4\)"):
+        summed_cost({"cost": []}, where="episode 2, step 4")

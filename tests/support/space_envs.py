@@ -141,18 +141,21 @@ from gymnasium import spaces
 class EndlessLine(gym.Env):
     feature_names = ("x",)
 
-    def __init__(self):
+    def __init__(self, horizon=None):   # horizon: a time limit of its own, none registered
+        self.horizon = horizon
         self.observation_space = spaces.Box(-1.0, 1.0, (1,), np.float32)
         self.action_space = spaces.Discrete(2)
 
     def reset(self, seed=None, options=None):
         super().reset(seed=seed)
-        self.x = 0.0
+        self.x, self.t = 0.0, 0
         return np.array([self.x], np.float32), {}
 
     def step(self, action):
         self.x = float(np.clip(self.x + (0.05 if action else -0.05), -1.0, 1.0))
-        return np.array([self.x], np.float32), self.x, False, False, {"cost": float(self.x > 0.5)}
+        self.t += 1
+        cut = self.horizon is not None and self.t >= self.horizon
+        return np.array([self.x], np.float32), self.x, False, cut, {"cost": float(self.x > 0.5)}
 
 
 gym.register("EndlessLine-v0", entry_point=EndlessLine)
@@ -220,4 +223,33 @@ class MatrixPoint(gym.Env):
 
 
 gym.register("MatrixPoint-v0", entry_point=MatrixPoint)
+'''
+
+#: lamps switched by ``MultiBinary(3)`` actions, counted in an integer ``Box`` observation; the
+#: environment refuses an action that is not of integers (stable-baselines3 samples floats)
+LAMP_COUNTER = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class LampCounter(gym.Env):
+    def __init__(self):
+        self.observation_space = spaces.Box(0, 100, shape=(3,), dtype=np.int64)
+        self.action_space = spaces.MultiBinary(3)
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.count, self.t = np.zeros(3, dtype=np.int64), 0
+        return self.count.copy(), {}
+
+    def step(self, action):
+        if np.asarray(action).dtype.kind not in "biu":
+            raise TypeError(f"action {action!r} is not of integers")
+        self.count = np.minimum(self.count + action, 100)
+        self.t += 1
+        return self.count.copy(), float(np.sum(action)), False, self.t >= 10, {"cost": float(action[0])}
+
+
+gym.register("LampCounter-v0", entry_point=LampCounter)
 '''
