@@ -192,8 +192,8 @@ def _states_as_ids(demos, domain, path):
 
 
 def _dnf(args: argparse.Namespace, out) -> None:
-    from symlearn.errors import DataError
-    from symlearn.learners.trees.one_class_tree import OneClassTreeConstraint
+    from symlearn.errors import DataError, SymlearnError
+    from symlearn.learners.trees.one_class_tree import OneClassTreeConstraint, UnknownInputs
 
     demos, features = _demonstrations(args, out.note)
     if demos.state_kind in ("discrete", "symbol") and not args.domain:
@@ -218,6 +218,9 @@ def _dnf(args: argparse.Namespace, out) -> None:
         with warnings.catch_warnings():  # the learner's warnings go into the result (text and JSON)
             warnings.simplefilter("ignore", UserWarning)
             learner.fit(demos, features)
+    except UnknownInputs as exc:   # the flag's name, not the learner parameter's
+        raise SymlearnError(f"--inputs: no feature named {', '.join(map(repr, exc.unknown))}",
+                            hint=f"the features are {', '.join(exc.names)}") from None
     except DataError as exc:
         if args.demos and not exc.file:
             raise DataError(exc.message, file=args.demos, hint=exc.hint) from None

@@ -500,6 +500,16 @@ class OneClassTreeConstraint(Learner):
 # -- input ------------------------------------------------------------------------------------------
 
 
+class UnknownInputs(SymlearnError):
+    """``inputs`` names a feature the data lacks; ``unknown`` lists them, ``names`` has the
+    features there are (a command says its own flag instead of the parameter's name)."""
+
+    def __init__(self, unknown: Sequence[str], names: Sequence[str]) -> None:
+        super().__init__(f"inputs: no feature named {', '.join(map(repr, unknown))}",
+                         hint=f"the features are {', '.join(names)}")
+        self.unknown, self.names = list(unknown), list(names)
+
+
 def _input_columns(inputs: Sequence[str] | None, names: Sequence[str]) -> list[int] | None:
     """The positions of ``inputs`` among the feature ``names`` (None: every feature)."""
     if inputs is None:
@@ -511,8 +521,7 @@ def _input_columns(inputs: Sequence[str] | None, names: Sequence[str]) -> list[i
         raise SymlearnError("inputs names no feature", hint=f"the features are {', '.join(names)}")
     unknown = [name for name in chosen if name not in names]
     if unknown:
-        raise SymlearnError(f"inputs: no feature named {', '.join(map(repr, unknown))}",
-                            hint=f"the features are {', '.join(names)}")
+        raise UnknownInputs(unknown, names)
     if len(set(chosen)) != len(chosen):
         raise SymlearnError(f"inputs names a feature twice: {', '.join(chosen)}")
     return [list(names).index(name) for name in chosen]

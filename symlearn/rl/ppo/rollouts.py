@@ -146,7 +146,7 @@ class _Rollouts:
                 o, r, term, trunc, info = env.step(agent.env_action(actions[t, i]))
                 if not math.isfinite(r):
                     raise DataError(f"the reward is not finite: {r} "
-                                    f"(environment {i}, step {self.steps + t * n_envs + i})")
+                                    f"(training step {self.steps + t * n_envs + i}, environment copy {i})")
                 rewards[t, i] = r
                 if read_costs:
                     cost = self.costs.read(info, i, self.steps + t * n_envs + i)
@@ -164,7 +164,7 @@ class _Rollouts:
                 reached[t, i] = agent.features(np.asarray(o)[None])[0]
                 if not np.isfinite(reached[t, i]).all():
                     raise DataError(f"the observation is not finite (NaN or inf): {np.asarray(o).tolist()} "
-                                    f"(environment {i}, step {self.steps + t * n_envs + i})",
+                                    f"(training step {self.steps + t * n_envs + i}, environment copy {i})",
                                     hint="an environment must observe finite numbers on every step")
                 next_obs[i] = reached[t, i]
                 if term or trunc:
@@ -199,8 +199,8 @@ class _Rollouts:
     def _record(self, arrays: dict[str, np.ndarray], key: str, info: dict[str, Any], t: int, i: int,
                 n_steps: int, n_envs: int) -> None:
         if key not in info:
-            raise DataError(f"the environment reports no info[{key!r}] (environment {i}, "
-                            f"step {self.steps + t * n_envs + i})",
+            raise DataError(f"the environment reports no info[{key!r}] (training step "
+                            f"{self.steps + t * n_envs + i}, environment copy {i})",
                             hint="reward_fn/cost_fn name it in info_keys")
         value = np.asarray(info[key])
         if value.shape == self._shapes.get(key):   # every step after the first
@@ -211,7 +211,7 @@ class _Rollouts:
                                    dtype=np.float64 if value.dtype.kind in "fiub" else value.dtype)
         if value.shape != arrays[key].shape[2:]:
             raise DataError(f"info[{key!r}] has shape {value.shape}, earlier steps {arrays[key].shape[2:]} "
-                            f"(environment {i}, step {self.steps + t * n_envs + i})")
+                            f"(training step {self.steps + t * n_envs + i}, environment copy {i})")
         arrays[key][t, i] = value
         self._shapes[key] = value.shape
 
