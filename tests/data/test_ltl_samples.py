@@ -59,6 +59,16 @@ def test_bad_documents_name_file_and_json_path(tmp_path, change, message):
     assert str(info.value).startswith(str(path))
 
 
+def test_a_bad_value_is_located_at_its_line_and_column(tmp_path):
+    path = _write(tmp_path, json.dumps(_doc(negative_traces=[{"a": [1, 0], "b": [0, "x"]}]), indent=1))
+    with pytest.raises(DataError) as info:
+        load_sample(path)
+    lines = path.read_text().splitlines()
+    line, column = info.value.line, info.value.column
+    assert lines[line - 1][column - 1:].startswith('"x"'), (line, column)
+    assert str(info.value).startswith(f"{path}:{line}:{column}: negative_traces[0].b[1]: expected 0 or 1")
+
+
 def test_missing_key_and_bad_json(tmp_path):
     doc = _doc()
     del doc["negative_traces"]

@@ -1,0 +1,52 @@
+"""symlearn.json_position: a path of keys and indexes back to the line and column of JSON text."""
+
+import json
+
+import pytest
+
+from symlearn.json_position import JsonPathError, locate, located
+
+TEXT = '''{"a": "x]}\\\\\\"{[",
+ "list": [1, -2.5e3, true, null, {"k": [7, "]"]}],
+ "nested": {"deep": [[], [{"b": 0}]]}}'''
+
+
+def test_the_text_is_json():
+    assert json.loads(TEXT)["nested"]["deep"][1][0]["b"] == 0
+
+
+@pytest.mark.parametrize("path, where", [
+    ((), (1, 1)),
+    (("a",), (1, 7)),
+    (("list",), (2, 10)),
+    (("list", 1), (2, 14)),
+    (("list", 3), (2, 28)),
+    (("list", 4, "k", 1), (2, 44)),
+    (("nested", "deep", 1, 0, "b"), (3, 33)),
+])
+def test_a_path_is_located(path, where):
+    assert locate(TEXT, path) == where
+
+
+@pytest.mark.parametrize("path", [("missing",), ("list", 9), ("a", 0), ("list", "k"), (0,), ("list", True)])
+def test_a_path_that_is_not_there_is_none(path):
+    assert locate(TEXT, path) is None
+
+
+def test_text_json_would_refuse_gives_none_not_a_guess():
+    assert locate('{"a": [1, 2', ("a", 5)) is None
+    assert locate('{"a" 1}', ("b",)) is None
+
+
+def test_deep_nesting_is_scanned_without_recursion():
+    depth = 50_000
+    text = "[" * depth + "1" + "]" * depth
+    assert locate(text, (0,) * depth) == (1, depth + 1)
+    assert locate('[' + text + ', 2]', (1,)) == (1, 2 * depth + 5)
+
+
+def test_located_fills_in_line_and_column_once():
+    error = located(JsonPathError("list[1]: bad", path=("list", 1), file="f.json"), TEXT)
+    assert (error.line, error.column) == (2, 14) and str(error).startswith("f.json:2:14: list[1]: bad")
+    kept = located(JsonPathError("x", path=("list",), line=9, column=1), TEXT)
+    assert (kept.line, kept.column) == (9, 1)
