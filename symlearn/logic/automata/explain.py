@@ -44,12 +44,15 @@ class Edit:
     position: int
     old: frozenset[str] | None = None
     new: frozenset[str] | None = None
+    at_end: bool = False  # an insertion after the trace's last step (no step ``position`` to be before)
 
     def __str__(self) -> str:
         if self.kind == "substitute":
             return f"replace step {self.position} {_text(self.old)} by {_text(self.new)}"
         if self.kind == "delete":
             return f"delete step {self.position} ({_text(self.old)})"
+        if self.at_end:
+            return f"append {_text(self.new)} at the end"
         return f"insert {_text(self.new)} before step {self.position}"
 
     def to_dict(self) -> dict:
@@ -136,7 +139,7 @@ def shortest_fix(dfa, trace: list[frozenset[str]], live=None) -> tuple[list[Edit
         for guard, target in dfa.successors(q):
             if target in live:
                 new = guard.satisfying_label()
-                moves.append((1, (i, target), Edit("insert", i, None, new), new))
+                moves.append((1, (i, target), Edit("insert", i, None, new, at_end=i == len(trace)), new))
         for step_cost, target_node, edit, emitted in moves:
             new_cost = cost + step_cost
             if new_cost < best.get(target_node, float("inf")):

@@ -21,7 +21,8 @@ def test_accepted_trace():
 def test_incomplete_trace_gets_an_insertion():
     report = explain(a_then_b_avoid_c(), [set(), {"a"}])
     assert report.reason == "incomplete" and report.failure_step == 2
-    assert [str(e) for e in report.edits] == ["insert {b} before step 2"]
+    assert [str(e) for e in report.edits] == ["append {b} at the end"]   # there is no step 2 to be before
+    assert report.edits[0].to_dict() == {"kind": "insert", "position": 2, "old": None, "new": ["b"]}
     assert report.fixed_trace == [frozenset(), frozenset({"a"}), frozenset({"b"})]
 
 
