@@ -10,8 +10,10 @@ leaves (BlockedPoint with a learned wall, seed 2 of the validation table).
 
 Tasks: the validation table's (``benchmarks/constrained_rl_table.py``: toy, BlockedPoint,
 SafeNav Point/Car Goal, each on its true cost and on its learned artefact, learned once by the
-documented command) and two user modules outside the package (``tests/support``): the hazard
-robot with a hand-written DNF and the rover on its true cost.
+documented command) and user modules outside the package (``tests/support``): the hazard
+robot with a hand-written DNF, the rover on its true cost, the sparse-reward gap grid in three
+layouts, and CartPole held left of a line. Besides the starts, the variants measure a slower
+policy, faster multipliers, the reward's scale floor and SB3's PPO-Lagrangian as the peer.
 
     python benchmarks/multiplier_start.py --seeds 0 1 2 3 4 --workers 2 \\
         --out benchmarks/results/multiplier_start
@@ -45,7 +47,10 @@ VARIANTS = {"init 0": ["--multiplier-init", "0"], "init 1": ["--multiplier-init"
             # the gap grids' exploration limit: a slower policy, a faster multiplier, and the peer
             "policy lr 2.5e-4": ["--learning-rate", "2.5e-4"], "multiplier lr 0.5": ["--multiplier-lr", "0.5"],
             "multiplier lr 0.25": ["--multiplier-lr", "0.25"],
-            "sb3-ppo-lag": ["--algo", "sb3-ppo-lag"]}
+            "sb3-ppo-lag": ["--algo", "sb3-ppo-lag"],
+            # the reward's return scale held at its largest spread (LagrangianConfig.reward_scale_floor)
+            "reward floor 1": ["--reward-scale-floor", "1"], "reward floor 0.1": ["--reward-scale-floor", "0.1"],
+            "reward floor 0.01": ["--reward-scale-floor", "0.01"]}
 USER_TASKS = {
     "hazard-robot|learned": ["--env", "point_robot_env:HazardRobot-v0", "--cost", "hazard.dnf"],
     "rover|true": ["--env", "rover_env:Rover-v0", "--algo", "ppo-lag"],
@@ -56,6 +61,8 @@ USER_TASKS = {
                                  "--env-kwargs", '{"wall_rows": [2, 3, 4]}'],
     "gap-grid step penalty|true": ["--env", "gap_grid_env:GapGrid-v0", "--algo", "ppo-lag",
                                    "--env-kwargs", '{"step_reward": -0.01}'],
+    # CartPole with a line the cart must stay left of: balancing is easy on both sides
+    "cartpole line|true": ["--env", "cartpole_cost_env:CartPoleRightOfLine-v0", "--algo", "ppo-lag"],
     # the rover's safe route is a detour the reward does not point to: at its target by 150k steps
     "rover 150k|true": ["--env", "rover_env:Rover-v0", "--algo", "ppo-lag", "--steps", "150000"],
 }
@@ -72,7 +79,7 @@ def tasks() -> dict[str, list[str]]:
 
 def prepare(folder: Path) -> dict:
     """The user modules, the hand-written formula and the learned artefacts, in ``folder``."""
-    for module in ("point_robot_env.py", "rover_env.py", "gap_grid_env.py"):
+    for module in ("point_robot_env.py", "rover_env.py", "gap_grid_env.py", "cartpole_cost_env.py"):
         shutil.copy(REPO / "tests" / "support" / module, folder)
     (folder / "hazard.dnf").write_text("x > 0.4 & x < 0.6 & y < 0.6\n")
     return table.learn_artefacts(folder, list(table.TASKS))

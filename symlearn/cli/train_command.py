@@ -2,7 +2,7 @@
 
 ``symlearn train --env ENV [--env-kwargs JSON] [--algo ALGO] [--cost rules.dnf|cost.safetensors
 [--features a,b] [--per-rule] [--depth-weight W]] [--cost-limit C] [--multiplier-update gradient|adam|pid]
-[--multiplier-init M] [--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns]
+[--multiplier-init M] [--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns] [--reward-scale-floor SHARE]
 [--cost-estimate rollout|episodes] [--reset-actor auto|never] [--normalize-observations]
 [--normalize-values] [--n-envs N] [--n-steps T] [--prune [--prune-threshold T]] [--steps N]
 [--eval-episodes E] [-o agent.safetensors] [--log run.csv] [--tensorboard DIR] [--json]``
@@ -53,6 +53,13 @@
   has the same normalisation, learning rate and initial noise since they earned more on 11 of 15
   tasks than CleanRL's settings (docs/BENCHMARKS.md, "One default configuration for plain PPO").
   These are also the library's ``PPOConfig``/``LagrangianConfig`` defaults. Our PPO's only (refused with ``sb3-*``).
+* ``--reward-scale-floor SHARE`` (``ppo-lag``; default 0.01): the reward's return scale in the
+  Lagrangian's mix never drops below SHARE of the largest it had. Once every episode earns about
+  the same (a pole balanced to its time limit) the scale collapses, and in its units the reward's
+  small differences outweigh any cost: CartPole with a line the cart must keep left of was safe on
+  3 of 5 seeds at the default, 5 of 5 with 1 -- but 1 costs SafeNav and BlockedPoint's learned wall
+  (docs/BENCHMARKS.md, "A reward that stops varying"), so it is a remedy the run's warning names,
+  not the default.
 * ``--reset-actor auto|never`` (``ppo-lag``; default ``never``, the library's): with ``auto`` a policy that stays over
   ``--cost-limit`` while the multiplier keeps rising gets fresh weights -- critics, observation
   statistics and multipliers kept -- at most twice, never in the last third of the run
@@ -167,6 +174,10 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--advantage-scale", choices=("raw", "returns"), default=None,
                      help="ppo-lag: mix advantages in their own units (raw) or in standard deviations of "
                           "their returns (returns, the default: the multiplier's range no longer depends on the units)")
+    cmd.add_argument("--reward-scale-floor", type=float, default=None, metavar="SHARE",
+                     help="ppo-lag: in the mix of reward and cost, the reward's return scale never drops below "
+                          "SHARE x the largest it had (default 0.01; 1 when every episode earns about the same "
+                          "and the cost stays over its limit: the run's warning says when)")
     cmd.add_argument("--cost-estimate", choices=("rollout", "episodes"), default="rollout",
                      help="ppo-lag: update the multipliers every iteration from the rollout's cost per step x the "
                           "mean episode length (rollout, the default) or only from episodes that ended in it (episodes)")
@@ -217,6 +228,9 @@ def check_numbers(args: argparse.Namespace, default_steps: int) -> None:
         raise SymlearnError(f"--multiplier-init must be a number in [0, 1e6], got {args.multiplier_init:g}")
     if args.multiplier_lr is not None and not (math.isfinite(args.multiplier_lr) and args.multiplier_lr > 0):
         raise SymlearnError(f"--multiplier-lr must be a finite number > 0, got {args.multiplier_lr:g}")
+    if args.reward_scale_floor is not None and not (math.isfinite(args.reward_scale_floor)
+                                                    and 0 < args.reward_scale_floor <= 1):
+        raise SymlearnError(f"--reward-scale-floor must be a number in (0, 1], got {args.reward_scale_floor:g}")
     if args.learning_rate is not None and not (math.isfinite(args.learning_rate) and 0 < args.learning_rate <= 1):
         raise SymlearnError(f"--learning-rate must be a number in (0, 1], got {args.learning_rate:g}")
     if args.log_std_init is not None and not (math.isfinite(args.log_std_init) and -20 <= args.log_std_init <= 5):
@@ -251,6 +265,7 @@ def _train(args: argparse.Namespace, out) -> None:
         ours = [flag for flag, given in (("--normalize-observations", args.normalize_observations),
                                          ("--normalize-values", args.normalize_values),
                                          ("--advantage-scale", args.advantage_scale),
+                                         ("--reward-scale-floor", args.reward_scale_floor),
                                          ("--learning-rate", args.learning_rate),
                                          ("--log-std-init", args.log_std_init),
                                          ("--reset-actor", args.reset_actor)) if given is not None]
@@ -331,7 +346,7 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
         start = 1.0 if args.multiplier_init is None and args.cost_limit_from == "expert" \
             else args.multiplier_init
         given = {key: value for key, value in (("update", args.multiplier_update), ("lr", args.multiplier_lr),
-                                               ("init", start),
+                                               ("init", start), ("reward_scale_floor", args.reward_scale_floor),
                                                ("reset_actor", args.reset_actor))
                  if value is not None}  # the rest: the library's defaults
         lagrangian = LagrangianConfig(cost_limit=args.cost_limit, advantage_scale=args.advantage_scale or "returns",
@@ -356,7 +371,8 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
         from symlearn.rl.ppo import limit_warnings
 
         doc["warnings"] = limit_warnings(result.history, [args.cost_limit] * len(result.multipliers),
-                                         advantage_scale=lagrangian.advantage_scale)
+                                         advantage_scale=lagrangian.advantage_scale,
+                                         reward_floor=lagrangian.reward_scale_floor)
         if doc["warnings"] and cost is not None and cost.kind == "dnf" and not args.depth_weight:
             # an agent that cut across a narrow safe set pays 1 on every step of the short cut
             # whichever way it turns; a depth-shaped cost tells it the way out (backends/dnf_depth)

@@ -45,3 +45,22 @@ def test_train_warns_when_the_cost_is_paid_on_every_step(capsys, tmp_path):
     code, out, err = run(capsys, "train", "--env", "toy-navigation", "--cost", never, "--steps", 6144,
                          "--multiplier-lr", 1, "--json")
     assert code == 0 and json.loads(out)["warnings"] == []
+
+
+def _with_scales(runs, reward_scales):
+    return [dataclasses.replace(h, return_scales=(s, 1.0)) for h, s in zip(runs, reward_scales)]
+
+
+def test_a_reward_that_stopped_varying_under_a_broken_limit_is_named():
+    """CartPole held left of a line: every episode balances to 500 steps, the reward's return
+    scale falls to a fiftieth of its widest, and the cost stays over its limit with the multiplier
+    rising but below the heavy threshold: the one warning is about the reward's scale."""
+    collapsing = [20.0] * 6 + [20.0 / 2 ** k for k in range(1, 7)]          # ends at 20 / 64
+    broken = _with_scales(history([1 + 0.5 * i for i in range(12)], [100.0] * 12), collapsing)
+    [warning] = limit_warnings(broken, [0.0])
+    assert "vary 64x less than at their widest" in warning and "--reward-scale-floor 1" in warning
+    # nothing when the reward still varies, the limit is met at the end, or the floor is raised already
+    varied = _with_scales(history([1 + 0.5 * i for i in range(12)], [100.0] * 12), [20.0] * 6 + [5.0] * 6)
+    met = _with_scales(history([1 + 0.5 * i for i in range(12)], [100.0] * 11 + [0.0]), collapsing)
+    assert limit_warnings(varied, [0.0]) == limit_warnings(met, [0.0]) == []
+    assert limit_warnings(broken, [0.0], reward_floor=1.0) == []

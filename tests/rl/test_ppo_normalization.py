@@ -15,6 +15,7 @@ from gymnasium import spaces
 
 torch = pytest.importorskip("torch")
 
+from symlearn.errors import SymlearnError  # noqa: E402
 from symlearn.rl.ppo import (  # noqa: E402
     OBS_CLIP,
     ActorCritic,
@@ -121,6 +122,31 @@ def test_rescaling_the_output_layer_scales_the_values():
         _rescale_critics(agent, 1, np.array([4.0, 0.25]))
         torch.testing.assert_close(agent.value(x), 4.0 * before[0])
         torch.testing.assert_close(agent.cost_values(x), 0.25 * before[1])
+
+
+def test_the_reward_scale_floor_holds_a_collapsed_reward_at_its_largest_spread():
+    """Returns that stop varying (every episode earns the most) shrink the reward's running scale
+    towards 1 % of its peak; with ``reward_floor=1`` the scale the Lagrangian mixes in stays at the
+    peak, each cost's floor is 1 % whatever the reward's, and the critics' unit is unchanged."""
+    from symlearn.rl.ppo.update import RETURN_SCALE_FLOOR, _ReturnScales
+
+    spread = np.array([[0.0, 0.0], [10.0, 4.0]])     # reward std 5, cost std 2
+    settled = np.array([[10.0, 0.0], [10.0, 0.0]])   # both stopped varying
+    running, held = _ReturnScales(), _ReturnScales(reward_floor=1.0)
+    for scales in (running, held):
+        scales.update(spread)
+        for _ in range(200):
+            scales.update(settled)
+    floored = [5.0 * RETURN_SCALE_FLOOR, 2.0 * RETURN_SCALE_FLOOR]
+    np.testing.assert_allclose(running.mix_scales(), floored)
+    np.testing.assert_allclose(held.mix_scales(), [5.0, 2.0 * RETURN_SCALE_FLOOR])
+    np.testing.assert_allclose(held.scales(), floored)   # the critics' unit is not held
+
+
+@pytest.mark.parametrize("floor", [0.0, 1.5, float("nan"), True, "1"])
+def test_reward_scale_floor_is_a_share(floor):
+    with pytest.raises(SymlearnError, match="reward_scale_floor"):
+        LagrangianConfig(cost_limit=0.0, reward_scale_floor=floor)
 
 
 def _run(reward_unit: float, cost_unit: float, scale: str, normalize_values: bool):

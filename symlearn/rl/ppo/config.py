@@ -173,6 +173,15 @@ class LagrangianConfig:
     max_multiplier: float | None = None
     cost_gamma: float | None = None
     advantage_scale: str = "returns"
+    # in the mix (advantage_scale="returns"), the reward's return scale never drops below this share
+    # of the largest it had (each cost's: RETURN_SCALE_FLOOR; the critics' unit is not affected).
+    # Once every episode earns about the same -- a pole balanced to the time limit -- the spread of
+    # the reward's returns collapses, and in its units the small differences left between
+    # near-equal episodes outweigh any constraint. 1 fixes CartPole held left of a line (5 of 5
+    # seeds safe, 3 of 5 at 0.01) but costs SafeNav and BlockedPoint's learned wall; 0.1 changed
+    # nothing within 50k steps (docs/BENCHMARKS.md, "A reward that stops varying"): the default
+    # stays, and limit_warnings names this setting when a run shows the collapse
+    reward_scale_floor: float = 0.01
     cost_estimate: str = "rollout"
     # "auto": a fresh actor, on trial, when the policy is stuck over its limit while the multiplier
     # keeps rising (symlearn.rl.ppo.stall); "never" (the default: measured, it helps some tasks and
@@ -211,6 +220,9 @@ class LagrangianConfig:
         if self.advantage_scale not in ADVANTAGE_SCALES:
             raise SymlearnError(f"advantage_scale must be one of {', '.join(map(repr, ADVANTAGE_SCALES))}, "
                                 f"got {self.advantage_scale!r}")
+        if isinstance(self.reward_scale_floor, bool) or not isinstance(self.reward_scale_floor, (int, float)) \
+                or not 0 < self.reward_scale_floor <= 1:
+            raise SymlearnError(f"reward_scale_floor must be a number in (0, 1], got {self.reward_scale_floor!r}")
         if self.reset_actor not in RESET_ACTOR_RULES:
             raise SymlearnError(f"reset_actor must be one of {', '.join(map(repr, RESET_ACTOR_RULES))}, "
                                 f"got {self.reset_actor!r}")

@@ -21,19 +21,23 @@ from collections.abc import Sequence
 
 from symlearn.rl.ppo.records import PPOIteration
 
-__all__ = ["limit_warnings", "MIN_WINDOW", "HEAVY_MULTIPLIER"]
+__all__ = ["limit_warnings", "MIN_WINDOW", "HEAVY_MULTIPLIER", "SATURATED_SHARE"]
 
 #: iterations with a multiplier update needed in the window before anything is said
 MIN_WINDOW = 3
 #: a multiplier at least this large leaves the reward at most 1 / (1 + 9) of the objective
 HEAVY_MULTIPLIER = 9.0
+#: the reward's return scale at most this share of its largest: every episode earns about the same
+SATURATED_SHARE = 0.05
 
 
 def limit_warnings(history: Sequence[PPOIteration], cost_limits: Sequence[float], *,
-                   advantage_scale: str = "returns") -> list[str]:
+                   advantage_scale: str = "returns", reward_floor: float = 0.01) -> list[str]:
     """One warning per constraint whose cost stayed above its limit while its multiplier rose to
     :data:`HEAVY_MULTIPLIER` or more over the last third of the run; ``[]`` for a run without a
-    Lagrangian, one that met its limits, or one with raw advantages."""
+    Lagrangian, one that met its limits, or one with raw advantages. A run whose limit was broken
+    throughout the window while the reward's returns stopped varying gets :func:`_saturated`'s
+    warning as well."""
     if advantage_scale != "returns":
         return []
     updated = [h for h in history if h.cost_estimate]
@@ -53,4 +57,25 @@ def limit_warnings(history: Sequence[PPOIteration], cost_limits: Sequence[float]
                 f"to {last:.3g} (the reward {reward_weight:.0%} of the objective): the limit may be out of reach "
                 "for this cost, and the agent trades its reward away for it; a learned formula that also flags the expert (see `learn dnf --validation`) "
                 "needs a limit of at least what the expert pays, else raise --steps")
-    return warnings
+    return warnings + _saturated(history, window, cost_limits, reward_floor)
+
+
+def _saturated(history: Sequence[PPOIteration], window: Sequence[PPOIteration], cost_limits: Sequence[float],
+               reward_floor: float) -> list[str]:
+    """A constraint broken on every update of the window while its multiplier rose, and the
+    reward's return scale ended at most :data:`SATURATED_SHARE` of the largest it had: every
+    episode earns about the same (a pole balanced to the time limit), and in units of that spread
+    the small reward differences left outweigh the cost at any multiplier the run reaches
+    (docs/BENCHMARKS.md: CartPole with a line the cart must keep left of, 3 of 5 seeds safe at the
+    defaults, 5 of 5 with ``reward_scale_floor=1``). Nothing when the floor is already raised."""
+    scales = [h.return_scales[0] for h in history if h.return_scales]
+    if not scales or reward_floor >= SATURATED_SHARE or max(scales) <= 0:
+        return []
+    share = scales[-1] / max(scales)
+    broken = any(min(h.cost_estimate[i] for h in window) > limit
+                 and window[-1].multipliers[i] > window[0].multipliers[i] for i, limit in enumerate(cost_limits))
+    if share > SATURATED_SHARE or not broken:
+        return []
+    return [f"the reward's returns vary {1 / share:.0f}x less than at their widest (every episode earns about the "
+            "same), and in units of that spread the reward's small differences outweigh the cost: hold the "
+            "reward's scale at its widest with --reward-scale-floor 1 (LagrangianConfig.reward_scale_floor)"]

@@ -108,7 +108,7 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
     multipliers = None
     stall: LagrangianStall | None = None
     kept: tuple[list[torch.Tensor], list[dict]] | None = None   # the actor a stall reset replaced, on trial
-    return_scales = _ReturnScales()
+    return_scales = _ReturnScales() if lagrangian is None else _ReturnScales(lagrangian.reward_scale_floor)
     rollouts = _Rollouts(envs, agent, costs, seed, _info_keys(reward_fn, cost_fn), read_costs=cost_fn is None)
     fresh_critics = policy is not None  # their outputs are in returns, not yet in the running scales
     batch = config.n_envs * config.n_steps
@@ -163,7 +163,7 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
             lambdas = multipliers.values.copy() if multipliers is not None else np.zeros(0)
             verdict = None if stall is None else stall.update(
                 iteration, estimate, lambdas, mean_return,
-                return_scales.scales() if lagrangian.advantage_scale == "returns" else None)
+                return_scales.mix_scales() if lagrangian.advantage_scale == "returns" else None)
             if verdict == "reset":   # stuck over the limit under a rising price: learn again at that price
                 kept = _actor_state(agent, optimizer)
                 agent.reset_actor(generator)

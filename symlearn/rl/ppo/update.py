@@ -27,11 +27,14 @@ class _ReturnScales:
     """The running standard deviation of each signal's returns (reward, then every cost): an
     exponential average over iterations (memory :data:`RETURN_SCALE_MEMORY`), never below
     :data:`RETURN_SCALE_FLOOR` times the largest value it reached, so a constraint the agent stopped
-    breaking keeps a finite scale; a signal whose returns never varied has scale 1."""
+    breaking keeps a finite scale; a signal whose returns never varied has scale 1. The reward's
+    scale in the Lagrangian's mix (:meth:`mix_scales`, not the critics' unit) is floored at
+    ``reward_floor`` times its largest value instead (``LagrangianConfig.reward_scale_floor``)."""
 
-    def __init__(self) -> None:
+    def __init__(self, reward_floor: float = RETURN_SCALE_FLOOR) -> None:
         self.values: np.ndarray | None = None
         self.peak: np.ndarray | None = None
+        self.reward_floor = float(reward_floor)
 
     def update(self, returns: np.ndarray) -> np.ndarray:
         now = np.asarray(returns, dtype=np.float64).std(axis=0)
@@ -46,6 +49,14 @@ class _ReturnScales:
         if self.values is None:
             return np.zeros(0)
         return np.where(self.peak > 0, np.maximum(self.values, RETURN_SCALE_FLOOR * self.peak), 1.0)
+
+    def mix_scales(self) -> np.ndarray:
+        """:meth:`scales` with the reward's floored at ``reward_floor`` of its largest value: the
+        units the Lagrangian's advantages are mixed in."""
+        scales = self.scales()
+        if scales.size and self.peak[0] > 0:
+            scales[0] = max(scales[0], self.reward_floor * self.peak[0])
+        return scales
 
 
 
@@ -118,7 +129,7 @@ def _update(agent: ActorCritic, optimizer: torch.optim.Optimizer, cost_optimizer
     # the Lagrangian's advantage (the docstring of symlearn.rl.ppo); lambda = 0 is plain PPO
     mixed = advantages
     if lagrangian is not None and lagrangian.advantage_scale == "returns":  # in standard deviations of returns
-        mixed = advantages / scales
+        mixed = advantages / return_scales.mix_scales()
     policy_adv = (mixed[:, 0] - mixed[:, 1:1 + len(lambdas)] @ lambdas) / (1.0 + lambdas.sum())
     policy_adv_t = as_tensor(policy_adv.astype(np.float32))
     returns_t = as_tensor(targets.astype(np.float32))
