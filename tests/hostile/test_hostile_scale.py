@@ -763,3 +763,29 @@ def test_learn_spec_refuses_an_output_whose_companions_are_too_long(tmp_path):
     result = run_command(["learn", "spec", "--env", "office-1", "--n-demos", "3", "-o", out], cwd=tmp_path, timeout=60)
     assert result.returncode == 0, result.describe()
     assert (tmp_path / out).is_file() and (tmp_path / ("a" * 235 + ".labeling.json")).is_file()
+
+
+@pytest.mark.parametrize("directive", ['#include %* note *% "{secret}".', '#include % note\n "{secret}" .',
+                                       '#include "{secret}" %* note *% .', '#include\t%*a*%%*b*%"{secret}"\n.'])
+def test_a_comment_inside_an_include_does_not_hide_it(tmp_path, directive):
+    """clingo allows comments between #include and its file name; the directive pattern did not,
+    so the folder check never saw it and clingo read the outside file (held-out pass, 2026-12-06)."""
+    folder, secret = _warehouse(tmp_path)
+    secret.write_text("broken(\n")  # were it read, clingo's syntax error would show it
+    (folder / "bk.lp").write_text((folder / "bk.lp").read_text() + "\n" + directive.format(secret=secret) + "\n")
+    line = check(["domain", "check", folder], cwd=tmp_path, timeout=60, names="bk.lp", location=True,
+                 contains="outside the folder").stderr
+    assert "syntax error" not in line
+
+
+def test_an_include_the_pattern_cannot_read_is_refused(tmp_path):
+    from symlearn.errors import ParseError
+    from symlearn.logic.asp.program import Program, expand_includes
+
+    (tmp_path / "a.lp").write_text("x.\n")
+    (tmp_path / "m.lp").write_text('p.\n#include "a.lp" % no final dot\n')
+    with pytest.raises(ParseError, match=r"m.lp:2:1: an #include symlearn cannot read"):
+        expand_includes(Program.from_file(tmp_path / "m.lp", expand=False), within=tmp_path)
+    (tmp_path / "m.lp").write_text('p. #include %* c *% "a.lp". q.\n')
+    parts = expand_includes(Program.from_file(tmp_path / "m.lp", expand=False), within=tmp_path).parts
+    assert [p.text for p in parts] == ["p. ", "x.\n", " q.\n"]
