@@ -97,10 +97,14 @@ def read_points(path: str, features: str | None):
     return columns, n
 
 
+EVAL_BLOCK_CELLS = 1 << 24  # booleans of the points x conjunctions table held at once (16 MB)
+MAX_HOLDING = 10_000_000  # (point, conjunction) pairs --per-conjunction may list
+
+
 def _eval(args: argparse.Namespace, out) -> None:
     import numpy as np
 
-    from symlearn.errors import DataError
+    from symlearn.errors import DataError, LimitExceededError
     from symlearn.logic.dnf import load
 
     rules = load(args.rules)
@@ -110,16 +114,34 @@ def _eval(args: argparse.Namespace, out) -> None:
         raise DataError(f"the rules use feature{'s' if len(missing) > 1 else ''} {', '.join(missing)}, "
                         f"which the points do not have (they have: {', '.join(columns) or 'none'})",
                         file=args.points)
-    with blame_file(args.points):
-        per = rules.evaluate(columns, per_conjunction=True)
-    unsafe = per.any(axis=1)
+    m = len(rules)
+    # the points x conjunctions table is built a block of points at a time (at most
+    # EVAL_BLOCK_CELLS cells): 2e4 points x 2e5 conjunctions asked numpy for 3.7 GiB at once
+    rows = max(1, EVAL_BLOCK_CELLS // max(m, 1))
+    unsafe = np.zeros(n, dtype=bool)
+    hits = np.zeros(m, dtype=np.int64)
+    holding: list[list[int]] = []
+    listed = 0
+    for start in range(0, max(n, 1), rows):
+        block = {name: column[start:start + rows] for name, column in columns.items()}
+        with blame_file(args.points):
+            per = rules.evaluate(block, per_conjunction=True)
+        unsafe[start:start + len(per)] = per.any(axis=1)
+        hits += per.sum(axis=0, dtype=np.int64)
+        if args.per_conjunction:
+            listed += int(per.sum())
+            if listed > MAX_HOLDING:
+                raise LimitExceededError(f"--per-conjunction would list more than {MAX_HOLDING:,} (point, "
+                                         f"conjunction) pairs ({m:,} conjunctions, {n:,} points); leave it "
+                                         f"out for the counts per conjunction", file=args.rules)
+            holding.extend(np.flatnonzero(row).tolist() for row in per)
     doc = {"rules": str(args.rules), "points": str(args.points), "n_points": n,
-           "features": list(rules.features), "conjunctions": len(rules),
+           "features": list(rules.features), "conjunctions": m,
            "unsafe_count": int(unsafe.sum()),
-           "conjunction_hits": per.sum(axis=0).astype(int).tolist(),
+           "conjunction_hits": hits.tolist(),
            "unsafe": unsafe.tolist()}
     if args.per_conjunction:
-        doc["holding"] = [np.flatnonzero(row).tolist() for row in per]
+        doc["holding"] = holding
     out.result(doc, _render_eval)
 
 

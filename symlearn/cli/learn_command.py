@@ -334,6 +334,17 @@ def _check_output(output: str) -> None:
         raise SymlearnError(f"-o {output}: learn spec writes an LTLf formula and names its companion files "
                             f"after it, so the name must end in .ltl",
                             hint=f"-o {stem}.ltl writes {stem}.ltl, {stem}.labeling.json, {stem}.dot and {stem}.svg")
+    import os
+
+    from symlearn.atomic import NAME_MAX
+
+    # the longest companion; checked before the learning, so a name the file system refuses does not
+    # leave SPEC.ltl written and the labeling missing (a 254-byte -o did, held-out pass 2026-12-06)
+    longest = f"{path.with_suffix('').name}.labeling.json"
+    if len(os.fsencode(longest)) > NAME_MAX:
+        raise SymlearnError(f"-o {output[:60]!r}... is too long a name: the files written beside it "
+                            f"(NAME.labeling.json) would have more than {NAME_MAX} bytes",
+                            hint="choose a shorter file name")
 
 
 def _check_demos_world(demos, source: str, task, env) -> None:

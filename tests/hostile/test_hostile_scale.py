@@ -708,3 +708,84 @@ def test_a_huge_state_id_is_a_gap_not_a_memory_limit(tmp_path):
     result = check(["domain", "check", folder], cwd=tmp_path, timeout=60, names="states.jsonl",
                    contains=["ids must be 0..1000000000000000000 without gaps", "is missing"])
     assert result.seconds < 20 and result.max_rss_mb < 400
+
+
+# -- dnf eval: the points x conjunctions table is never held whole (held-out pass, 2026-12-06) -----
+def test_dnf_eval_of_many_points_and_conjunctions_is_blockwise(tmp_path):
+    """10^5 conjunctions x 10^4 points: numpy was asked for the whole 10^9-cell table at once (an
+    internal MemoryError under the cap; 3.7 GiB at 2e5 x 2e4); now a block of points at a time."""
+    rng = np.random.default_rng(26)
+    (tmp_path / "r.dnf").write_text("".join(f"x > {i * 1e-5:.5f} & y < {i % 97}.5\n" for i in range(100_000)))
+    np.savez(tmp_path / "p.npz", points=rng.random((10_000, 2)))
+    result = run_command(["dnf", "eval", "r.dnf", "--points", "p.npz", "--features", "x,y", "--json"],
+                         cwd=tmp_path, timeout=120, memory_mb=1024)
+    assert result.returncode == 0 and "Traceback" not in result.stderr, result.describe()
+    assert result.max_rss_mb < 700, result.describe()
+    import json
+
+    doc = json.loads(result.stdout)
+    assert doc["unsafe_count"] == 10_000 and len(doc["conjunction_hits"]) == 100_000
+    check(["dnf", "eval", "r.dnf", "--points", "p.npz", "--features", "x,y", "--per-conjunction"], cwd=tmp_path,
+          timeout=120, memory_mb=1024, names="r.dnf", contains=["--per-conjunction would list more than 10,000,000"])
+
+
+def test_dnf_eval_blocks_agree_with_the_whole_table(tmp_path, monkeypatch, capsys):
+    import json
+
+    import symlearn.cli.dnf_command as dnf_command
+    from symlearn.cli.main import main
+    from symlearn.logic.dnf import load
+
+    rng = np.random.default_rng(7)
+    (tmp_path / "r.dnf").write_text("".join(f"x > {rng.random():.3f} & y <= {rng.random():.3f}\nx == {i}\n"
+                                            for i in range(40)))
+    points = rng.random((1_001, 2))
+    points[::50, 0] = 3.0
+    np.savez(tmp_path / "p.npz", points=points)
+    monkeypatch.setattr(dnf_command, "EVAL_BLOCK_CELLS", 7 * 80)  # 7 points a block
+    assert main(["--json", "dnf", "eval", str(tmp_path / "r.dnf"), "--points", str(tmp_path / "p.npz"),
+                 "--features", "x,y", "--per-conjunction"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    whole = load(tmp_path / "r.dnf").evaluate(points, "x,y", per_conjunction=True)
+    assert doc["unsafe"] == whole.any(axis=1).tolist()
+    assert doc["conjunction_hits"] == whole.sum(axis=0).tolist()
+    assert doc["holding"] == [np.flatnonzero(row).tolist() for row in whole]
+
+
+def test_learn_spec_refuses_an_output_whose_companions_are_too_long(tmp_path):
+    """-o of 254 bytes is a legal name, but SPEC.labeling.json beside it is not: the formula was
+    learned and written, then 'File name too long' left it without its labeling (held-out pass)."""
+    out = "a" * 250 + ".ltl"
+    check(["learn", "spec", "--env", "office-1", "--n-demos", "3", "-o", out], cwd=tmp_path, timeout=60,
+          contains=["too long a name", "NAME.labeling.json", "255 bytes"], outputs=[out])
+    assert list(tmp_path.iterdir()) == []
+    out = "a" * 235 + ".ltl"  # its companions fit: written as before
+    result = run_command(["learn", "spec", "--env", "office-1", "--n-demos", "3", "-o", out], cwd=tmp_path, timeout=60)
+    assert result.returncode == 0, result.describe()
+    assert (tmp_path / out).is_file() and (tmp_path / ("a" * 235 + ".labeling.json")).is_file()
+
+
+@pytest.mark.parametrize("directive", ['#include %* note *% "{secret}".', '#include % note\n "{secret}" .',
+                                       '#include "{secret}" %* note *% .', '#include\t%*a*%%*b*%"{secret}"\n.'])
+def test_a_comment_inside_an_include_does_not_hide_it(tmp_path, directive):
+    """clingo allows comments between #include and its file name; the directive pattern did not,
+    so the folder check never saw it and clingo read the outside file (held-out pass, 2026-12-06)."""
+    folder, secret = _warehouse(tmp_path)
+    secret.write_text("broken(\n")  # were it read, clingo's syntax error would show it
+    (folder / "bk.lp").write_text((folder / "bk.lp").read_text() + "\n" + directive.format(secret=secret) + "\n")
+    line = check(["domain", "check", folder], cwd=tmp_path, timeout=60, names="bk.lp", location=True,
+                 contains="outside the folder").stderr
+    assert "syntax error" not in line
+
+
+def test_an_include_the_pattern_cannot_read_is_refused(tmp_path):
+    from symlearn.errors import ParseError
+    from symlearn.logic.asp.program import Program, expand_includes
+
+    (tmp_path / "a.lp").write_text("x.\n")
+    (tmp_path / "m.lp").write_text('p.\n#include "a.lp" % no final dot\n')
+    with pytest.raises(ParseError, match=r"m.lp:2:1: an #include symlearn cannot read"):
+        expand_includes(Program.from_file(tmp_path / "m.lp", expand=False), within=tmp_path)
+    (tmp_path / "m.lp").write_text('p. #include %* c *% "a.lp". q.\n')
+    parts = expand_includes(Program.from_file(tmp_path / "m.lp", expand=False), within=tmp_path).parts
+    assert [p.text for p in parts] == ["p. ", "x.\n", " q.\n"]

@@ -171,8 +171,11 @@ def check_nesting(text: str, source: str | None, line: int = 1, column: int = 1,
 # -- #include ---------------------------------------------------------------------------------------
 
 # comments and strings are matched first so that an #include inside them is left alone
+# (clingo allows comments between the directive's words: `#include %* c *% "f".` was left to
+# clingo, which read the file from outside a domain folder -- held-out pass, 2026-12-06)
+_GAP = r'(?:\s|%\*.*?\*%|%[^\n]*)*'
 _INCLUDE = re.compile(r'%\*.*?\*%|%[^\n]*|"(?:[^"\\\n]|\\.)*"'
-                      r'|#include\s*(?:"((?:[^"\\\n]|\\.)*)"|<([^>\n]*)>)\s*\.', re.S)
+                      r'|#include' + _GAP + r'(?:"((?:[^"\\\n]|\\.)*)"|<([^>\n]*)>)' + _GAP + r'\.', re.S)
 
 
 #: any ``#include`` outside comments and strings, whatever follows it: where no directive is
@@ -202,6 +205,23 @@ def _position(text: str, offset: int, part: Part) -> tuple[int, int]:
 def _folder_of(source: str) -> Path:
     path = Path(source)
     return path.parent if source and not source.startswith("<") and path.is_file() else Path.cwd()
+
+
+def _refuse_unread_include(piece: str, part: Part, offset: int) -> None:
+    """An ``#include`` left in ``piece`` (one the directive pattern did not read) would be
+    followed by clingo itself, past the folder check: refused at its place."""
+    found = find_include(piece)
+    if found is not None:
+        line, column = _position(part.text, offset + _offset_of(piece, *found), part)
+        raise ParseError("an #include symlearn cannot read (write it as #include \"file.lp\".)", file=part.source,
+                         line=line, column=column)
+
+
+def _offset_of(text: str, line: int, column: int) -> int:
+    start = 0
+    for _ in range(line - 1):
+        start = text.index("\n", start) + 1
+    return start + column - 1
 
 
 def expand_includes(program: Program, *, seen: set[Path] | None = None, within: Path | None = None) -> Program:
@@ -236,6 +256,7 @@ def expand_includes(program: Program, *, seen: set[Path] | None = None, within: 
                 raise ParseError(f"unsupported feature #include <{match.group(2)}> at line {line}", file=part.source,
                                  line=line, column=column, hint="include files by name: #include \"file.lp\".")
             before = text[done:match.start()]
+            _refuse_unread_include(before, part, done)
             if before.strip():
                 at_line, at_column = _position(text, done, part)
                 parts.append(Part(before, part.source, at_line, at_column))
@@ -261,6 +282,7 @@ def expand_includes(program: Program, *, seen: set[Path] | None = None, within: 
             included = Program.from_file(target, expand=False)
             parts.extend(expand_includes(included, seen=seen, within=within).parts)
         rest = text[done:]
+        _refuse_unread_include(rest, part, done)
         if rest.strip():
             at_line, at_column = _position(text, done, part)
             parts.append(Part(rest, part.source, at_line, at_column))
