@@ -172,16 +172,24 @@ def check_nesting(text: str, source: str | None, line: int = 1, column: int = 1,
 
 # comments and strings are matched first so that an #include inside them is left alone
 # (clingo allows comments between the directive's words: `#include %* c *% "f".` was left to
-# clingo, which read the file from outside a domain folder -- held-out pass, 2026-12-06)
-_GAP = r'(?:\s|%\*.*?\*%|%[^\n]*)*'
-_INCLUDE = re.compile(r'%\*.*?\*%|%[^\n]*|"(?:[^"\\\n]|\\.)*"'
-                      r'|#include' + _GAP + r'(?:"((?:[^"\\\n]|\\.)*)"|<([^>\n]*)>)' + _GAP + r'\.', re.S)
+# clingo, which read the file from outside a domain folder -- held-out pass, 2026-12-07).
+# Every piece matches one way only, so the patterns stay linear: a block comment ends at its
+# first `*%` (an unclosed one runs to the end of the text, which clingo refuses as a lexer error;
+# `%\*.*?\*%` with a line-comment fallback rescanned the rest of the text at every unclosed `%*`,
+# quadratic), and a line comment inside the directive runs to the end of its line (`%[^\n]*`
+# repeated could split a run of `%` in exponentially many ways)
+_BLOCK_COMMENT = r'%\*(?:[^*]|\*(?!%))*(?:\*%|\Z)'
+_LINE_COMMENT = r'%(?!\*)[^\n]*'
+_GAP = r'(?:\s|' + _BLOCK_COMMENT + '|' + _LINE_COMMENT + r'(?=\n|\Z))*'
+_STRING = r'"(?:[^"\\\n]|\\.)*"'
+_INCLUDE = re.compile(_BLOCK_COMMENT + '|' + _LINE_COMMENT + '|' + _STRING
+                      + r'|#include' + _GAP + r'(?:"((?:[^"\\\n]|\\.)*)"|<([^>\n]*)>)' + _GAP + r'\.')
 
 
 #: any ``#include`` outside comments and strings, whatever follows it: where no directive is
 #: allowed, one without its final ``.`` must be refused too -- a state's facts get a ``.``
 #: appended before clingo reads them, which completes ``#include "f"`` into a directive
-_INCLUDE_TOKEN = re.compile(r'%\*.*?\*%|%[^\n]*|"(?:[^"\\\n]|\\.)*"|#include\b', re.S)
+_INCLUDE_TOKEN = re.compile(_BLOCK_COMMENT + '|' + _LINE_COMMENT + '|' + _STRING + r'|#include\b')
 
 
 def find_include(text: str) -> tuple[int, int] | None:
