@@ -339,7 +339,7 @@ def _check_output(output: str) -> None:
     from symlearn.atomic import NAME_MAX
 
     # the longest companion; checked before the learning, so a name the file system refuses does not
-    # leave SPEC.ltl written and the labeling missing (a 254-byte -o did, held-out pass 2026-12-06)
+    # leave SPEC.ltl written and the labeling missing (a 254-byte -o did, held-out pass 2026-12-07)
     longest = f"{path.with_suffix('').name}.labeling.json"
     if len(os.fsencode(longest)) > NAME_MAX:
         raise SymlearnError(f"-o {output[:60]!r}... is too long a name: the files written beside it "
