@@ -283,7 +283,7 @@ def _monitor_class() -> type:
             rewards = np.asarray(self.locals["rewards"], dtype=np.float64).reshape(-1)
             for i, (info, done) in enumerate(zip(self.locals["infos"], self.locals["dones"], strict=True)):
                 self._return[i] += float(info.get("env_reward", rewards[i]))
-                cost = summed_cost(info, where=f"step {int(self._length[i])} of an episode of environment copy {i}")
+                cost = summed_cost(info, where=lambda: f"step {int(self._length[i])} of an episode of environment copy {i}")
                 if cost is not None:
                     self._true[i] += cost
                     self._true_seen = True

@@ -74,7 +74,7 @@ class _EpisodeCost:
 
             def step(self, action: Any) -> Any:
                 result = self.env.step(action)
-                cost = watch.reader.read(result[4], where=f"episode {len(watch.totals) - 1}, step {watch.steps}")
+                cost = watch.reader.read(result[4], where=lambda: f"episode {len(watch.totals) - 1}, step {watch.steps}")
                 watch.steps += 1
                 if cost is not None:
                     watch.seen = True

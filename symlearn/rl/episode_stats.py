@@ -11,7 +11,7 @@ evaluating a stable-baselines3 or tabular policy loads nothing of our PPO.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
@@ -50,7 +50,9 @@ class BadCostReport(DataError):
     about_the_environment = True
 
 
-def _where(where: str | None, env_index: int | None, step: int | None) -> str:
+def _where(where: str | Callable[[], str] | None, env_index: int | None, step: int | None) -> str:
+    if callable(where):   # formatted only for an error: the samplers read a cost on every step
+        where = where()
     if where:
         return where
     if env_index is not None:
@@ -66,20 +68,21 @@ class CostReader:
         self.seen = False
 
     def read(self, info: dict[str, Any], env_index: int | None = None, step: int | None = None, *,
-             where: str | None = None) -> np.ndarray | None:
+             where: str | Callable[[], str] | None = None) -> np.ndarray | None:
         """The step's cost vector, or None where it reports none. An error says where the step
-        was: ``where`` as given (``"evaluation episode 2, step 7"``), else, for the copies PPO's
-        training steps side by side, ``training step 1234, environment copy 0`` (``step``
-        counts the steps of all copies)."""
+        was: ``where`` as given (``"evaluation episode 2, step 7"``, or a function returning it,
+        called only for the error), else, for the copies PPO's training steps side by side,
+        ``training step 1234, environment copy 0`` (``step`` counts the steps of all copies)."""
         raw = info.get("cost")
         if raw is None:
             return None
         try:
             # numbers and booleans only: text ("1") converted silently and np.sum of it failed
             # inside stable-baselines3's loop; complex numbers lose their imaginary part
-            if np.asarray(raw).dtype.kind not in "biuf":
+            array = np.asarray(raw)
+            if array.dtype.kind not in "biuf":
                 raise TypeError
-            cost = np.asarray(raw, dtype=np.float64).reshape(-1)
+            cost = array.astype(np.float64, copy=False).reshape(-1)
         except (TypeError, ValueError):
             raise BadCostReport(f"info['cost'] must be a number or a vector of numbers, got {raw!r} "
                             f"({_where(where, env_index, step)})") from None
@@ -109,12 +112,19 @@ class CostReader:
         self.seen = True
 
 
-def summed_cost(info: dict[str, Any], *, where: str) -> float | None:
+def summed_cost(info: dict[str, Any], *, where: str | Callable[[], str]) -> float | None:
     """One step's ``info["cost"]`` summed over its constraints, read and checked as
     :class:`CostReader` reads it (None where the step reports none, ``None`` included): the
     samplers that only need the total (neural ICRL's episodes, stable-baselines3's monitor,
     tabular Q-learning) so refuse what training refuses in one line, instead of failing on
-    ``float(None)`` or summing text. ``where`` names the step in an error (``episode 3, step 7``)."""
+    ``float(None)`` or summing text. ``where`` names the step in an error (``episode 3, step 7``;
+    a function is called only then)."""
+    raw = info.get("cost")
+    # the usual report, a finite Python number, without the arrays (tabular Q-learning reads one
+    # per step: 6.5 us through the reader against 0.06 us for float() before the checks)
+    if (type(raw) is float and math.isfinite(raw)) or type(raw) is bool \
+            or (type(raw) is int and -2**63 <= raw < 2**63):   # beyond int64 numpy refuses it: the reader's error
+        return float(raw)
     cost = CostReader(None).read(info, where=where)
     return None if cost is None else float(cost.sum())
 

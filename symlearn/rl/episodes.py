@@ -106,7 +106,7 @@ def sample_episodes(policy: Any, env_fn: Callable[[], Any], n_episodes: int, *, 
         for i in np.flatnonzero(alive):
             o, r, term, trunc, info = envs[i].step(to_env(actions[i]))
             rewards[i] = r
-            costs[i] = summed_cost(info, where=f"sampled episode {i}, step {t}") or 0.0
+            costs[i] = summed_cost(info, where=lambda: f"sampled episode {i}, step {t}") or 0.0
             following[i] = np.asarray(o)
             if term or trunc:
                 alive[i] = False

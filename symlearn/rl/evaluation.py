@@ -42,7 +42,7 @@ def run_episodes(env: Any, act: Callable[[Any], Any], n_episodes: int = 10, *, s
         for _ in range(max_steps):
             observation, reward, terminated, truncated, info = env.step(act(observation))
             total, length, step = total + float(reward), length + 1, step + 1
-            cost = reader.read(info, where=f"evaluation episode {episode}, step {length - 1}")
+            cost = reader.read(info, where=lambda: f"evaluation episode {episode}, step {length - 1}")
             if cost is not None:
                 cost_sum = cost if cost_sum.size == 0 else cost_sum + cost
             if terminated or truncated:

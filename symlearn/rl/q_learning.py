@@ -90,7 +90,7 @@ def q_learning(
             else:
                 action = _greedy(q[s], mask, rng)
             state, reward, terminated, truncated, info = env.step(action)
-            cost = summed_cost(info, where=f"episode {episode}, step {step}") or 0.0
+            cost = summed_cost(info, where=lambda: f"episode {episode}, step {step}") or 0.0
             returns[episode] += reward
             costs[episode] += cost
             violations[episode] += bool(info.get("violation", False))
