@@ -26,6 +26,12 @@ def printable(text: object) -> str:
     return _UNPRINTABLE.sub(_escape, str(text))
 
 
+def with_excerpt(message: str, line: str, column: int) -> str:
+    """``message`` followed by the excerpt :class:`SymlearnError` prints under it (:data:`_EXCERPT`):
+    the offending ``line`` and a caret under its ``column`` (1-based), each indented."""
+    return f"{message}\n  {line}\n  {' ' * (column - 1)}^"
+
+
 def clipped(text: str, width: int = 40) -> str:
     """``text`` cut to ``width`` characters, ``...`` marking the cut: a value quoted from a file
     (a hand-edited field, a huge number) keeps its error message short."""

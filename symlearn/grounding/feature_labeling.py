@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from symlearn.errors import DataError, ParseError, SymlearnError
+from symlearn.errors import DataError, ParseError, SymlearnError, with_excerpt
 from symlearn.grounding.features import FeatureMap
 from symlearn.json_document import JsonFile
 from symlearn.grounding.labeling import LabelingBase
@@ -58,9 +58,10 @@ def parse_condition(text: str, *, where: str = "condition", source: str | None =
     try:
         condition = parse_dnf(text)
     except ParseError as exc:
-        at = f", column {exc.column} of its condition" if exc.column is not None else ""
-        excerpt = f"\n  {text}\n  {' ' * (exc.column - 1)}^" if exc.column is not None else ""
-        raise ParseError(f"{where}{at}: {exc.message}{excerpt}", file=source, hint=exc.hint) from None
+        message = f"{where}: {exc.message}"
+        if exc.column is not None:
+            message = with_excerpt(f"{where}, column {exc.column} of its condition: {exc.message}", text, exc.column)
+        raise ParseError(message, file=source, hint=exc.hint) from None
     if not condition.conjunctions:
         raise ParseError(f"{where}: the condition is never true", file=source)
     return condition

@@ -40,7 +40,7 @@ from __future__ import annotations
 import re
 from functools import cache
 
-from symlearn.errors import ParseError
+from symlearn.errors import ParseError, with_excerpt
 from symlearn.logic.ltlf.ast import FALSE, TRUE, And, Formula, Next, Or, Prop, WeakNext
 from symlearn.logic.ltlf.fast_parser import UNARY as _UNARY
 from symlearn.logic.ltlf.fast_parser import fold_left, group_arrows, group_temporal, read
@@ -192,7 +192,7 @@ def _syntax_error(text: str, exc, source: str | None, line_offset: int | None) -
     message = f"{what} at column {col}"
     if expected:
         message += f"; expected {expected}"
-    message += f"\n  {here}\n  {' ' * (col - 1)}^"
+    message = with_excerpt(message, here, col)
     if len(lines) > 1:
         message = message.replace(" at column", f" at line {row}, column", 1)
     return ParseError(message, file=source, line=(row if line_offset is None else line_offset + row - 1),
