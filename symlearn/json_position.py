@@ -15,25 +15,35 @@ from json.decoder import scanstring
 
 from symlearn.errors import DataError
 
-__all__ = ["JsonPathError", "locate", "located"]
+__all__ = ["JsonPathError", "locate", "located", "path_text"]
 
 _SPACE = " \t\n\r"
 
 
 class JsonPathError(DataError):
     """A value of a decoded JSON document that a reader refuses; ``path`` (keys and indexes from
-    the root) says which, for :func:`located` to turn into a line and column."""
+    the root) says which: the message starts with it (:func:`path_text`, ``positive_traces[0].a[1]: ...``)
+    and :func:`located` turns it into a line and column."""
 
     def __init__(self, message: str, *, path: Sequence[str | int], **location) -> None:
-        super().__init__(message, **location)
+        super().__init__(f"{path_text(path)}: {message}", **location)
         self.path = tuple(path)
+        self.detail = message
 
     def __reduce__(self):
-        return (_rebuild, (type(self), self.message, self.path, self.file, self.line, self.column, self.hint))
+        return (_rebuild, (type(self), self.detail, self.path, self.file, self.line, self.column, self.hint))
 
 
-def _rebuild(cls, message, path, file, line, column, hint):
-    return cls(message, path=path, file=file, line=line, column=column, hint=hint)
+def _rebuild(cls, detail, path, file, line, column, hint):
+    return cls(detail, path=path, file=file, line=line, column=column, hint=hint)
+
+
+def path_text(path: Sequence[str | int]) -> str:
+    """``("positive_traces", 0, "a", 1)`` as ``positive_traces[0].a[1]``; the root is ``$``."""
+    text = ""
+    for part in path:
+        text += f"[{part}]" if isinstance(part, int) else (f".{part}" if text else str(part))
+    return text or "$"
 
 
 def located(error: JsonPathError, text: str) -> JsonPathError:

@@ -45,8 +45,20 @@ def test_deep_nesting_is_scanned_without_recursion():
     assert locate('[' + text + ', 2]', (1,)) == (1, 2 * depth + 5)
 
 
+def test_the_message_starts_with_the_path():
+    assert str(JsonPathError("bad", path=())) == "$: bad"
+    assert str(JsonPathError("bad", path=("traces", 0, "a", 2))) == "traces[0].a[2]: bad"
+    assert str(copied(JsonPathError("bad", path=("k",), file="f.json"))) == "f.json: k: bad"
+
+
+def copied(error):
+    import copy
+
+    return copy.copy(error)   # through __reduce__, as between processes
+
+
 def test_located_fills_in_line_and_column_once():
-    error = located(JsonPathError("list[1]: bad", path=("list", 1), file="f.json"), TEXT)
+    error = located(JsonPathError("bad", path=("list", 1), file="f.json"), TEXT)
     assert (error.line, error.column) == (2, 14) and str(error).startswith("f.json:2:14: list[1]: bad")
     kept = located(JsonPathError("x", path=("list",), line=9, column=1), TEXT)
     assert (kept.line, kept.column) == (9, 1)

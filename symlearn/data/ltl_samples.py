@@ -124,65 +124,62 @@ def _validate(sample: LtlSample) -> None:
 def parse_sample(document: Any, *, source: str | None = None) -> LtlSample:
     """Validate a JSON document (already decoded) and build the sample; errors name the JSON path."""
     if not isinstance(document, dict):
-        raise JsonPathError(f"$: expected a JSON object, found {type(document).__name__}", file=source, path=())
+        raise JsonPathError(f"expected a JSON object, found {type(document).__name__}", file=source, path=())
     for key in ("atomic_propositions", "positive_traces", "negative_traces"):
         if key not in document:
-            raise JsonPathError(f"$: missing key {key!r}", file=source, path=(),
-                            hint="an LTL learning sample has atomic_propositions, positive_traces and negative_traces")
+            raise JsonPathError(f"missing key {key!r}", file=source, path=(),
+                                hint="an LTL learning sample has atomic_propositions, positive_traces and negative_traces")
     trace_type = document.get("trace_type", "finite")
     if trace_type != "finite":
-        raise JsonPathError(f"trace_type: {json.dumps(trace_type)[:40]} traces are not read (LTLf is about finite "
-                            "traces)", file=source, path=("trace_type",), hint='a sample of finite traces says "trace_type": "finite" (or leaves it out)')
+        raise JsonPathError(f"{json.dumps(trace_type)[:40]} traces are not read (LTLf is about finite traces)",
+                            file=source, path=("trace_type",),
+                            hint='a sample of finite traces says "trace_type": "finite" (or leaves it out)')
     props = document["atomic_propositions"]
     if not isinstance(props, list) or not all(isinstance(p, str) and p for p in props):
-        raise JsonPathError("atomic_propositions: expected a list of non-empty strings", file=source,
-                            path=("atomic_propositions",))
+        raise JsonPathError("expected a list of non-empty strings", file=source, path=("atomic_propositions",))
     pos = _read_traces(document["positive_traces"], "positive_traces", props, source)
     neg = _read_traces(document["negative_traces"], "negative_traces", props, source)
     formula = document.get("smallest_known_formula") or None
     if formula is not None and not isinstance(formula, str):
-        raise JsonPathError("smallest_known_formula: expected a string", file=source, path=("smallest_known_formula",))
+        raise JsonPathError("expected a string", file=source, path=("smallest_known_formula",))
     metadata = {k: v for k, v in document.items() if k not in _OWN_KEYS}
     return LtlSample(tuple(props), pos, neg, formula, metadata, source)
 
 
 def _read_traces(value: Any, key: str, props: list[str], source: str | None) -> tuple[Trace, ...]:
     if not isinstance(value, list):
-        raise JsonPathError(f"{key}: expected a list of traces, found {type(value).__name__}", file=source, path=(key,))
+        raise JsonPathError(f"expected a list of traces, found {type(value).__name__}", file=source, path=(key,))
     known = set(props)
     traces = []
     for i, trace in enumerate(value):
-        path = f"{key}[{i}]"
         if not isinstance(trace, dict):
-            raise JsonPathError(f"{path}: expected an object mapping propositions to 0/1 lists", file=source,
-                                path=(key, i))
+            raise JsonPathError("expected an object mapping propositions to 0/1 lists", file=source, path=(key, i))
         length = None
         columns: dict[str, list[bool]] = {}
         for name, values in trace.items():
             if name not in known:
-                raise JsonPathError(f"{path}.{name}: unknown proposition {name!r}", file=source, path=(key, i, name),
-                                hint=f"declared atomic_propositions: {', '.join(props) or '(none)'}")
+                raise JsonPathError(f"unknown proposition {name!r}", file=source, path=(key, i, name),
+                                    hint=f"declared atomic_propositions: {', '.join(props) or '(none)'}")
             if not isinstance(values, list):
-                raise JsonPathError(f"{path}.{name}: expected a list of 0/1 values", file=source, path=(key, i, name))
+                raise JsonPathError("expected a list of 0/1 values", file=source, path=(key, i, name))
             if length is not None and len(values) != length:
-                raise JsonPathError(f"{path}.{name}: {len(values)} values where the other propositions have "
-                                    f"{length}", file=source, path=(key, i, name), hint="all value lists of a trace have the trace's length")
+                raise JsonPathError(f"{len(values)} values where the other propositions have {length}", file=source,
+                                    path=(key, i, name), hint="all value lists of a trace have the trace's length")
             length = len(values)
-            columns[name] = [_bit(v, f"{path}.{name}[{step}]", source, (key, i, name, step))
-                             for step, v in enumerate(values)]
+            columns[name] = [_bit(v, source, (key, i, name, step)) for step, v in enumerate(values)]
         if not length:
-            raise JsonPathError(f"{path}: empty trace (LTLf traces have at least one step)", file=source, path=(key, i))
+            raise JsonPathError("empty trace (LTLf traces have at least one step)", file=source, path=(key, i))
         missing = [p for p in props if p not in columns]
         if missing:
-            raise JsonPathError(f"{path}: no values for proposition {missing[0]!r}", file=source, path=(key, i))
+            raise JsonPathError(f"no values for proposition {missing[0]!r}", file=source, path=(key, i))
         traces.append(tuple(frozenset(p for p in props if columns[p][step]) for step in range(length)))
     return tuple(traces)
 
 
-def _bit(value: Any, path: str, source: str | None, where: tuple[str | int, ...]) -> bool:
+def _bit(value: Any, source: str | None, where: tuple[str | int, ...]) -> bool:
     if value in (0, 1) and not isinstance(value, float) or value in ("0", "1"):
         return value in (1, "1")  # bool is an int too: True/False are accepted as 1/0
-    raise JsonPathError(f"{path}: expected 0 or 1, found {json.dumps(value)}", file=source, path=where)
+    raise JsonPathError(f"expected 0 or 1, found {json.dumps(value)}", file=source, path=where)
 
 
 def load_sample(path: str | PathLike[str]) -> LtlSample:
