@@ -146,6 +146,18 @@ def algorithm_class(algo: str) -> Any:
     return getattr(stable_baselines3, ALGORITHMS[algo][0])
 
 
+def quiet_logger() -> Any:
+    """A logger with no outputs and no folder.
+
+    SB3's own default (``configure``) creates ``SB3-<date>`` in the temporary directory on every
+    ``learn`` even when it writes nothing there: hundreds of empty folders after a sweep. Our
+    monitor callback reports progress and writes the CSV/TensorBoard logs itself.
+    """
+    from stable_baselines3.common.logger import Logger
+
+    return Logger(folder=None, output_formats=[])
+
+
 def lagrangian_callback(multipliers: Any, *, cost_key: str = "cost", update_every: int | None = None) -> Any:
     """A ``BaseCallback`` updating a :class:`~symlearn.backends.lagrangian.SharedMultipliers` from
     the ``info[cost_key]`` of the steps the learner takes.

@@ -32,7 +32,7 @@ import numpy as np
 
 def train_sb3(args: argparse.Namespace, target: Any, cost: Any, watch: Any = None) -> dict[str, Any]:
     from symlearn.backends.sb3 import (algorithm_class, check_action_space, lagrangian_callback, monitor_callback,
-                                       save_policy)
+                                       quiet_logger, save_policy)
     from symlearn.cli.train_command import LearnedCostTally, evaluation_document
 
     algo = args.algo.removeprefix("sb3-").removesuffix("-lag")
@@ -98,6 +98,7 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any, watch: Any = Non
         except (ValueError, NotImplementedError, AssertionError, KeyError) as exc:  # SB3's checks of the spaces
             raise SymlearnError(f"stable-baselines3 {algorithm.__name__} cannot train on {target.display}: "
                                 f"{type(exc).__name__}: {exc}") from None
+        model.set_logger(quiet_logger())
         from symlearn.rl.training_log import TrainingLog
 
         with TrainingLog(args.log, args.tensorboard) as log:

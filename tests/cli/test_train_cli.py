@@ -473,3 +473,19 @@ def test_the_multipliers_start_where_multiplier_init_says(capsys, tmp_path):
                              "--eval-episodes", 1, "--log", log, "--json")
         assert code == 0, err
         assert abs(json.loads(out)["multipliers"][0] - init) <= 0.1 + 1e-9
+
+
+def test_sb3_training_leaves_no_folder_in_the_temporary_directory(capsys, tmp_path, monkeypatch):
+    """SB3's default logger makes an empty ``SB3-<date>`` folder in the temporary directory on every
+    ``learn``; ours has no folder, so a sweep of SB3 runs leaves the temporary directory as it was."""
+    import tempfile
+
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    monkeypatch.delenv("SB3_LOGDIR", raising=False)
+    monkeypatch.setattr(tempfile, "tempdir", str(scratch))
+    code, out, err = run(capsys, "train", "--env", "toy-navigation", "--algo", "sb3-ppo", "--steps", 256,
+                         "--n-envs", 1, "--n-steps", 128, "--eval-episodes", 1, "--json")
+    assert code == 0, err
+    assert json.loads(out)["steps"] == 256
+    assert list(scratch.iterdir()) == []
