@@ -49,6 +49,9 @@ def register(subparsers, common) -> None:
                      help="let the sweep file name functions of this installed package (repeatable); without "
                           "it, a sweep runs functions from its own files and from modules outside the Python "
                           "installation only")
+    run.add_argument("--allow-outside", action="store_true",
+                     help="let the sweep file's function file and its command's paths lie outside its own folder "
+                          "and the current folder; only for a file you trust")
     run.set_defaults(handler=_run)
 
     report = commands.add_parser(
@@ -92,7 +95,7 @@ def _run(args: argparse.Namespace, out) -> int | None:
     from symlearn.sweep.runner import run_sweep
     from symlearn.sweep.spec import read_spec
 
-    spec = read_spec(args.file, allow_packages=args.allow_package)
+    spec = read_spec(args.file, allow_packages=args.allow_package, allow_outside=args.allow_outside)
     folder = args.out or default_out(args.file)
     summary = run_sweep(spec, folder, backend="local" if args.local else "ray", workers=args.workers,
                         retries=args.retries, force=args.force, address=args.address).as_dict()

@@ -56,7 +56,7 @@ from typing import Any
 
 from symlearn.errors import DataError, ParseError
 from symlearn.input_limits import MAX_JSON_DEPTH, depth, load_toml, read_input_text
-from symlearn.sweep.target_policy import command_refusal, function_refusal
+from symlearn.sweep.target_policy import command_refusal, function_refusal, outside_refusal, path_word
 
 SECTIONS = {"sweep", "fixed", "grid", "cases", "report"}
 SWEEP_KEYS = {"name", "function", "command", "seeds", "metrics", "timeout", "retries", "cpus"}
@@ -217,11 +217,13 @@ def cell_id(target: str, params: dict[str, Any], seed: int, metrics: list[str] |
 
 # -- reading ----------------------------------------------------------------------------------------
 
-def read_spec(path: str | Path, *, check_target: bool = True, allow_packages: Iterable[str] = ()) -> SweepSpec:
+def read_spec(path: str | Path, *, check_target: bool = True, allow_packages: Iterable[str] = (),
+              allow_outside: bool = False) -> SweepSpec:
     """Parse and check the sweep file at ``path``. ``check_target``: import the function and check
     the parameters against its signature (off when only the recorded spec is re-read);
-    ``allow_packages``: installed packages whose functions the user lets the file name
-    (symlearn/sweep/target_policy.py)."""
+    ``allow_packages``: installed packages whose functions the user lets the file name;
+    ``allow_outside``: let its function file and its command's paths lie outside the sweep file's
+    folder and the current folder (symlearn/sweep/target_policy.py)."""
     path = Path(path)
     text = read_input_text(path)
     try:
@@ -259,6 +261,8 @@ def read_spec(path: str | Path, *, check_target: bool = True, allow_packages: It
         raise where.error("command must be a non-empty list of strings", "sweep", "command")
     refusal = (function_refusal(function, path.parent, allow_packages) if function is not None
                else command_refusal(command))
+    if not refusal and function is not None and not allow_outside and function.rpartition(":")[0].endswith(".py"):
+        refusal = outside_refusal(function.rpartition(":")[0], path.parent)
     if refusal:  # before anything is imported or run (symlearn/sweep/target_policy.py)
         raise where.error(f"refused: {refusal}", "sweep", "function" if function is not None else "command",
                           hint="see 'Sweep files' in docs/FORMATS.md for what a sweep may run")
@@ -311,6 +315,8 @@ def read_spec(path: str | Path, *, check_target: bool = True, allow_packages: It
     plot = report.get("plot")
     if plot is not None and (not isinstance(plot, list) or not all(isinstance(m, str) for m in plot)):
         raise where.error("[report] plot must be a list of metric names", "report", "plot")
+    if command is not None and not allow_outside:
+        _check_command_paths(spec, where)
     if check_target:
         if function is not None:
             check_parameters(resolve_function(function, path.parent, where), names, where)
@@ -425,6 +431,43 @@ def _check_command(command: list[str], names: list[str], where: "_Locator") -> N
             raise where.error(f"unknown parameter {name!r}: the command has no {{{name}}} placeholder", section, key)
     for name in sorted(used - set(names) - {SEED}):
         raise where.error(f"the command's placeholder {{{name}}} is no parameter of the sweep", "sweep", "command")
+
+
+def _command_paths(spec: SweepSpec) -> Iterable[str]:
+    """The distinct words of the spec's commands, with every cell's parameters put in (seeds are
+    numbers and name no path): listed over the parameters the words use only, so a large grid of
+    other parameters costs nothing."""
+    used = sorted({m for word in spec.command for m in _PLACEHOLDER.findall(word)} - {SEED})
+    combos = set()
+    grid_keys = [k for k in spec.grid if k in used]
+    for case in spec.cases or [{}]:
+        base = {k: v for k, v in {**spec.fixed, **case}.items() if k in used}
+        for values in itertools.product(*(spec.grid[k] for k in grid_keys)):
+            params = {**base, **dict(zip(grid_keys, values))}
+            combos.add(_canonical(params))
+    seen = set()
+    for combo in combos:
+        values = {k: v if isinstance(v, str) else json.dumps(v) for k, v in json.loads(combo).items()}
+        values[SEED] = "0"
+        for word in spec.command:
+            try:
+                filled = word.format_map(values)
+            except (KeyError, ValueError, IndexError):  # a malformed placeholder: refused later, by name
+                filled = word
+            if filled not in seen:
+                seen.add(filled)
+                yield filled
+
+
+def _check_command_paths(spec: SweepSpec, where: "_Locator") -> None:
+    """A command's words that climb out of the sweep file's folder must stay inside it or the
+    current folder (symlearn/sweep/target_policy.py), checked before any cell runs."""
+    for word in _command_paths(spec):
+        named = path_word(word)
+        refusal = named and outside_refusal(named, spec.path.parent)
+        if refusal:
+            raise where.error(f"refused: the command's word {word!r}: {refusal}", "sweep", "command",
+                              hint="see 'Sweep files' in docs/FORMATS.md for what a sweep may run")
 
 
 # -- locating keys in the file ----------------------------------------------------------------------

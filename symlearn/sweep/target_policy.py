@@ -17,6 +17,14 @@ file received from someone else write files or run a shell. The rule (``docs/FOR
   can never be complete, and the permission cannot come from the file being checked;
 * ``command = [...]``: the first word must be ``symlearn`` (run as this environment's
   ``python -m symlearn``).
+
+Files stay where the user put the experiment: a ``file.py`` function, and every word of a
+command that names a path by climbing out (absolute, ``~``, or a ``..`` step), must lie inside the
+sweep file's folder or the folder the command is run from -- the two places the person running it
+chose. A file received from someone else cannot then run a Python file lying elsewhere on the
+machine, or make a ``symlearn`` command write (``-o /elsewhere/f``) or read outside them; ``sweep run
+--allow-outside`` lifts this for a file one trusts (the same rule and flag as domain folders).
+A relative word without ``..`` stays inside the sweep file's folder, where commands run.
 """
 
 from __future__ import annotations
@@ -28,7 +36,7 @@ import sysconfig
 from collections.abc import Iterable
 from pathlib import Path
 
-__all__ = ["LIBRARIES", "function_refusal", "command_refusal"]
+__all__ = ["LIBRARIES", "function_refusal", "command_refusal", "outside_refusal", "sweep_roots"]
 
 #: top-level packages a sweep may not name functions from besides the standard library: symlearn's
 #: own dependencies, whose functions write files or run code when called with the right keywords
@@ -86,7 +94,7 @@ def function_refusal(reference: str, base: Path, allowed: Iterable[str] = ()) ->
     libraries in :data:`LIBRARIES`)."""
     where, _, _ = reference.rpartition(":")
     if where.endswith(".py"):
-        folder = _installation_folder((base / where).resolve())
+        folder = _installation_folder(_resolved(base / where))
         if folder is not None:
             return (f"{where} lies inside the Python installation ({folder}); a sweep runs functions from "
                     "its own files or from a named package")
@@ -113,3 +121,39 @@ def command_refusal(command: list[str]) -> str | None:
         return None
     return (f"a sweep command must start with 'symlearn', not {command[0]!r}" if command
             else "a sweep command must start with 'symlearn'")
+
+
+def sweep_roots(base: Path) -> list[Path]:
+    """Where a sweep's files may lie: the sweep file's folder and the current folder (resolved)."""
+    return [_resolved(base), _resolved(Path.cwd())]
+
+
+def _resolved(path: Path) -> Path:
+    try:
+        return path.expanduser().resolve()
+    except (OSError, RuntimeError):  # a symlink loop: judged by its absolute spelling
+        return Path(os.path.abspath(path))
+
+
+def path_word(word: str) -> str | None:
+    """The path a command word names when it climbs out of the folder it runs in, else None:
+    the word itself or the value of ``--flag=VALUE``, absolute, starting with ``~`` or with a
+    ``..`` step (``FILE.py:function`` is judged by its file)."""
+    value = word.split("=", 1)[1] if word.startswith("-") and "=" in word else word
+    if not value:
+        return None
+    if value.startswith(("/", "~")) and ".py:" in value:
+        value = value[:value.rindex(".py:") + 3]
+    climbs = ".." in value.replace("\\", "/").split("/")
+    return value if value.startswith(("/", "~")) or climbs else None
+
+
+def outside_refusal(named: str, base: Path) -> str | None:
+    """Why the file or folder ``named`` (relative to ``base``, the sweep file's folder) may not be
+    used, or None: it lies outside the sweep file's folder and the current folder."""
+    target = _resolved(base / named)
+    roots = sweep_roots(base)
+    if any(target.is_relative_to(root) for root in roots):
+        return None
+    return (f"{named} lies outside the sweep file's folder ({roots[0]}) and the current folder; a sweep "
+            "uses files from those only, unless you allow it: sweep run --allow-outside")

@@ -7,6 +7,7 @@ memory, or (for the large-input cases) finish within a time that only linear wor
 from __future__ import annotations
 
 import io
+import json
 import time
 import zipfile
 from pathlib import Path
@@ -228,6 +229,67 @@ def test_sweep_of_its_own_module_or_an_allowed_package_runs(tmp_path):
                          cwd=tmp_path, timeout=60)
     assert result.returncode == 2 and "a package installed in" not in result.stderr, result.describe()
     assert "simplify() needs parameter expr" in result.stderr and not (tmp_path / "out2").exists()
+
+
+MARKING_CELL = ("from pathlib import Path\n\ndef cell(seed, n=1):\n"
+                "    (Path(__file__).parent / 'ran').write_text('x')\n    return {'value': seed}\n")
+
+
+def _outside_case(tmp_path: Path) -> tuple[Path, Path]:
+    """A sweep folder ``exp`` (the current folder too) and a Python file elsewhere on the machine."""
+    exp, elsewhere = tmp_path / "exp", tmp_path / "elsewhere"
+    exp.mkdir()
+    elsewhere.mkdir()
+    (elsewhere / "x.py").write_text(MARKING_CELL)
+    return exp, elsewhere
+
+
+@pytest.mark.parametrize("how", ["absolute", "climbing", "symlink"])
+def test_sweep_function_files_stay_in_the_sweep_folder(tmp_path, how):
+    # found by the eighth held-out pass: an absolute /elsewhere/x.py:f ran (the policy said "or absolute")
+    exp, elsewhere = _outside_case(tmp_path)
+    named = {"absolute": f"{elsewhere / 'x.py'}", "climbing": "../elsewhere/x.py", "symlink": "link.py"}[how]
+    if how == "symlink":
+        (exp / "link.py").symlink_to(elsewhere / "x.py")
+    path = exp / "s.toml"
+    path.write_text(f'[sweep]\nfunction = "{named}:cell"\nseeds = 1\n')
+    check(["sweep", "run", path.name, "--out", "out", "--local"], cwd=exp, timeout=30, names="s.toml",
+          location=True, contains=["refused", "lies outside the sweep file's folder", "--allow-outside"])
+    assert not (exp / "out").exists() and not (elsewhere / "ran").exists()
+    # the user's own permission, on the command line, runs it
+    result = run_command(["sweep", "run", path.name, "--out", "out", "--local", "--allow-outside"], cwd=exp,
+                         timeout=60)
+    assert result.returncode == 0, result.describe()
+    assert (elsewhere / "ran").exists()
+
+
+@pytest.mark.parametrize("words, grid", [
+    (["ltl", "dfa", "F a", "--save", "{where}"], '["/elsewhere/f.json"]'),
+    (["ltl", "dfa", "F a", "--save={where}"], '["../f.json"]'),
+    (["ltl", "dfa", "F a", "--save", "~/{where}"], '["f.json"]'),
+    (["ltl", "dfa", "F a", "--save", "{where}/f.json"], '["ok", "sub/../../out"]'),
+])
+def test_sweep_commands_stay_in_the_sweep_folder(tmp_path, words, grid):
+    # found by the eighth held-out pass: `symlearn ... --save /elsewhere/f` wrote outside the folder;
+    # every cell's words are checked (parameters put in) before any cell runs
+    exp, _ = _outside_case(tmp_path)
+    path = exp / "s.toml"
+    path.write_text(f"[sweep]\ncommand = {json.dumps(['symlearn', *words])}\nseeds = 1\n[grid]\nwhere = {grid}\n")
+    check(["sweep", "run", path.name, "--out", "out", "--local"], cwd=exp, timeout=30, names="s.toml",
+          location=True, contains=["refused", "lies outside", "--allow-outside"])
+    assert not (exp / "out").exists()
+
+
+def test_sweep_commands_may_name_paths_inside_the_folder(tmp_path):
+    exp, _ = _outside_case(tmp_path)
+    (exp / "sub").mkdir()
+    path = exp / "s.toml"
+    words = ["symlearn", "ltl", "dfa", "F a", "--save", "{where}", "--json"]
+    path.write_text(f"[sweep]\ncommand = {json.dumps(words)}\nseeds = 1\n"
+                    f"[grid]\nwhere = [\"a.json\", \"sub/../b.json\", \"{exp / 'c.json'}\"]\n")
+    result = run_command(["sweep", "run", path.name, "--out", "out", "--local"], cwd=exp, timeout=120)
+    assert result.returncode == 0, result.describe()
+    assert all((exp / name).exists() for name in ("a.json", "b.json", "c.json"))
 
 
 @pytest.mark.parametrize("rest, words", [
