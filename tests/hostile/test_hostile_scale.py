@@ -868,3 +868,23 @@ def test_the_include_scan_is_linear(text):
     list(_INCLUDE.finditer(text))
     find_include(text)
     assert time.perf_counter() - started < 2.0
+
+
+@pytest.mark.parametrize("text", ["%*\n" * 200_000, "a(1). %* x\n" * 100_000 + "\u00e9."])
+def test_the_bracket_and_character_scans_are_linear(text):
+    """The scans that skip comments before the bracket-depth and character checks: an unclosed '%*'
+    rescanned the rest of the text from every later one (quadratic; 20,000 lines took seconds).
+    It now runs to the end, as clingo reads it (and refuses it)."""
+    from symlearn.logic.asp.clingo_adapter import _CODE_CHARACTER
+    from symlearn.logic.asp.program import _SKIP
+
+    started = time.perf_counter()
+    _SKIP.sub("", text)
+    list(_CODE_CHARACTER.finditer(text))
+    assert time.perf_counter() - started < 2.0
+
+
+def test_an_unclosed_block_comment_is_clingos_error_at_its_place(tmp_path):
+    (tmp_path / "h.lp").write_text(":- move(X), wall(X).\n%* a note\nthat never ends\n:- b.\n")
+    check(["ilp", "check", str(Path(__file__).resolve().parents[2] / "background_kb/hanoi/tasks/hanoi.las"),
+           "h.lp"], cwd=tmp_path, timeout=60, names="h.lp", location=True)

@@ -170,8 +170,9 @@ class _Stop(Exception):
     """Raised inside a clingo callback to stop it; the real exception is kept aside."""
 
 
-#: comments and strings, where any character may stand, else one character clingo cannot take
-_CODE_CHARACTER = re.compile(r'%\*.*?\*%|%[^\n]*|"(?:[^"\\\n]|\\.)*"|[^\x01-\x7f]', re.S)
+#: comments and strings, where any character may stand, else one character clingo cannot take; an
+#: unclosed %* runs to the end (clingo refuses it), so it is scanned once, not from every later %*
+_CODE_CHARACTER = re.compile(r'%\*(?:.*?\*%|.*\Z)|%[^\n]*|"(?:[^"\\\n]|\\.)*"|[^\x01-\x7f]', re.S)
 _SPELLINGS = {"\u2212": "-", "\u2013": "-", "\u2264": "<=", "\u2265": ">=", "\u2260": "!=", "\u00ac": "not",
               "\u2018": "'", "\u2019": "'", "\u201c": '"', "\u201d": '"', "\u00a0": "a plain space"}
 

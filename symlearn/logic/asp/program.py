@@ -127,7 +127,9 @@ def as_program(value: Program | str | os.PathLike[str] | None) -> Program:
 #: clingo crashes (segmentation fault) grounding a term nested 100,000 deep.
 MAX_NESTING = 100
 
-_SKIP = re.compile(r'%\*.*?\*%|%[^\n]*|"(?:[^"\\\n]|\\.)*"', re.S)
+# an unclosed %* runs to the end (clingo refuses it as an unexpected end of file): matched once,
+# not rescanned from every later %* as ".*?\*%" alone would (quadratic)
+_SKIP = re.compile(r'%\*(?:.*?\*%|.*\Z)|%[^\n]*|"(?:[^"\\\n]|\\.)*"', re.S)
 _NOT_BRACKET = re.compile(r"[^()\[\]{}]+")
 _PAIR = re.compile(r"\(\)|\[\]|\{\}")
 
