@@ -4,7 +4,9 @@ Every command that takes ``--env`` resolves it here, so all of them accept the s
 
 * a bundled name (``toy-navigation``, ``office-1``; ``symlearn envs`` lists them), built from its
   registry entry (:mod:`symlearn.envs.registry`), which also names its expert and features;
-* any id in gymnasium's registry (``CartPole-v1``, ``symlearn/toy-navigation-v0``);
+* any id in gymnasium's registry (``CartPole-v1``, ``symlearn/toy-navigation-v0``), or one the
+  installed package named by its stem registers on import (``MiniGrid-Empty-5x5-v0``: ``minigrid``
+  is imported, as for ``minigrid:MiniGrid-Empty-5x5-v0``);
 * ``module:EnvId`` -- gymnasium's ``make`` convention: ``module`` is imported (the current
   directory first, as for ``python -m``), and importing it must register ``EnvId``.
 
@@ -25,6 +27,7 @@ import importlib
 import inspect
 import os
 import sys
+import re
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -458,7 +461,27 @@ def resolve_env(name: str, kwargs: str | Mapping[str, Any] | None = None, *, kin
         if bundled is not None:  # symlearn/toy-navigation-v0: the entry, with its expert
             return _bundled(name, bundled, kwargs)
         return _registered(name, name, kwargs)
+    registering = _registering_package(name, gymnasium)
+    if registering is not None:
+        try:  # MiniGrid-Empty-5x5-v0 is minigrid's: as if the user had written minigrid:MiniGrid-Empty-5x5-v0
+            return _from_module(f"{registering}:{name}", kwargs)
+        except UnknownNameError:  # the package registers no such id: the name is unknown after all
+            pass
     raise _unknown(name, gymnasium, kind, what)
+
+
+def _registering_package(name: str, gymnasium: Any) -> str | None:
+    """The installed package an unknown gymnasium id is probably registered by on import
+    (``MiniGrid-Empty-5x5-v0`` -> ``minigrid``, ``highway-v0`` -> ``highway_env``), or None: only
+    for a name shaped like an id (``Name-vN``) that is no misspelling of a bundled name or of a
+    registered id (those get "did you mean" instead)."""
+    if not re.fullmatch(r"[A-Za-z][\w.]*(-[\w.]+)*-v\d+", name):
+        return None
+    if get_close_matches(name.lower(), list(entry_names()), n=1):
+        return None
+    if get_close_matches(name, [i for i in gymnasium.registry if not i.startswith("symlearn/")], n=1):
+        return None
+    return _installed_package(name.split("-")[0].lower())
 
 
 def _entry_with_gym_id(gym_id: str) -> Entry | None:

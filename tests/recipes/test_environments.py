@@ -92,6 +92,26 @@ def test_hints_say_what_was_meant(user_folder, tmp_path, monkeypatch):
     assert "named package:ID (e.g. qqqxjz:Qqqxjz-v0)" in info.value.hint
 
 
+def test_an_id_its_installed_package_registers_on_import_resolves_without_the_package(tmp_path, monkeypatch):
+    """MiniGrid-Empty-5x5-v0 without minigrid: (gymnasium's own make needs the package imported
+    first): the installed package that registers the id is imported, as for package:ID. A
+    package of this test's own, so that no other test has imported it first."""
+    (tmp_path / "zorkland_env").mkdir()
+    (tmp_path / "zorkland_env" / "__init__.py").write_text(
+        "import gymnasium as gym\n"
+        "gym.register('Zorkland-v0', entry_point='gymnasium.envs.classic_control:CartPoleEnv', max_episode_steps=5)\n")
+    monkeypatch.syspath_prepend(str(tmp_path))
+    target = resolve_env("Zorkland-v0")
+    assert target.gym_id == "Zorkland-v0"
+    env = target.make()
+    assert env.reset(seed=0)[0].shape == (4,)
+    env.close()
+    # a misspelt id of that package is still refused, with the package:ID hint
+    with pytest.raises(UnknownNameError) as info:
+        resolve_env("Zorklandd-v7")
+    assert "did you mean 'Zorkland-v0'?" in info.value.hint
+
+
 @pytest.mark.parametrize("name, hint", [
     ("my_point_robot.py:PointRobot-v0", "run from its folder with --env my_point_robot:..."),
     ("/home/me/lab/my_point_robot.py:PointRobot-v0", "run from /home/me/lab with --env my_point_robot:..."),
