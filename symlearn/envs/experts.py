@@ -53,6 +53,14 @@ def driving(n: int, seed: int = 0, env_kwargs: dict[str, Any] | None = None):
     return expert_demonstrations(n, seed=seed)
 
 
+def driving_constrained(n: int, seed: int = 0, *, constraint: str, env_kwargs: dict[str, Any] | None = None):
+    from symlearn.envs.driving.env import DrivingEnv
+    from symlearn.envs.driving.expert import constrained_demonstrations
+
+    env = DrivingEnv(**{"constraint": constraint, **(env_kwargs or {})})
+    return constrained_demonstrations(n, seed=seed, constraint=constraint, env=env)
+
+
 def blocked_point(n: int, seed: int = 0, env_kwargs: dict[str, Any] | None = None):
     from symlearn.envs.blocked_point import BlockedPoint, expert_demonstrations
 

@@ -260,6 +260,16 @@ ENTRIES: tuple[Entry, ...] = (
           "needs symlearn[highway])", _DNF_METHODS, "symlearn/driving-v0",
           Factory("symlearn.envs.driving.env:DrivingEnv"), expert=Factory("symlearn.envs.experts:driving"),
           features="symlearn.envs.driving.features:FEATURE_NAMES"),
+    # Section 2.5.3's realistic traffic (highD there): the same highway with a speed cap or a
+    # minimum gap as the constraint neural ICRL recovers; IDM/MOBIL demonstrators that obey it.
+    *(Entry(f"driving-{kind}", frozenset({Kind.CONTINUOUS}),
+            f"highway-env highway, continuous action, {what} (neural ICRL; needs symlearn[highway])",
+            _ICRL_METHODS, f"symlearn/driving-{kind}-v0",
+            Factory("symlearn.envs.driving.env:DrivingEnv", {"constraint": kind}),
+            expert=Factory("symlearn.envs.experts:driving_constrained", {"constraint": kind}),
+            features="symlearn.envs.driving.features:FEATURE_NAMES")
+      for kind, what in (("velocity", "speed along the road at most 25 m/s"),
+                         ("distance", "a gap of at least 10 m to the car ahead"))),
     # Neural MCE-ICRL (thesis chapter 2) at CPU size: a numpy stand-in for the blocked MuJoCo robots
     # (section 2.5.2) and the kinematic point of the transfer experiment (section 2.5.4).
     Entry("blocked-point", frozenset({Kind.CONTINUOUS}),

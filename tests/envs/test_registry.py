@@ -22,7 +22,8 @@ GYM_IDS = sorted(registry.gym_entries())
 # Environments built on an optional engine (the `highway` and `mujoco` extras): skipped where it is absent.
 MUJOCO = ("blocked-half-cheetah", "blocked-ant", "blocked-walker2d", "blocked-swimmer", "biased-inverted-pendulum",
           "broken-ant")
-_ENGINES = {"symlearn/driving-v0": "highway", **{f"symlearn/{name}-v0": "mujoco" for name in MUJOCO}}
+DRIVING = ("driving", "driving-velocity", "driving-distance")
+_ENGINES = {**{f"symlearn/{name}-v0": "highway" for name in DRIVING}, **{f"symlearn/{name}-v0": "mujoco" for name in MUJOCO}}
 
 
 def _skip_without_engine(gym_id):
@@ -41,10 +42,10 @@ def test_names_are_unique_and_the_agreed_ones():
     blocks += [f"blocks-place-{k}" for k in range(2, 7)] + [f"blocks-stack-{r}" for r in range(1, 5)]
     assert set(names) == {"hanoi", "junction-lights", "junction-priority", "junction-combined", "gridworld",
                           *(f"{world}-{i}" for world in ("office", "craft") for i in range(1, 5)),
-                          "toy-navigation", *safenav, "driving", "blocked-point", "point-circle", *MUJOCO, *blocks}
+                          "toy-navigation", *safenav, *DRIVING, "blocked-point", "point-circle", *MUJOCO, *blocks}
     assert GYM_IDS == sorted(f"symlearn/{n}-v0" for n in ("junction-lights", "junction-priority",
                                                           "junction-combined", "gridworld", "office", "craft",
-                                                          "toy-navigation", *safenav, "driving", "blocked-point",
+                                                          "toy-navigation", *safenav, *DRIVING, "blocked-point",
                                                           "point-circle", *MUJOCO,
                                                           *(b for b in blocks if b.startswith("blockworld-"))))
 

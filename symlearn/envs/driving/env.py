@@ -25,6 +25,11 @@ ego driven by a continuous action, so it *can* leave the road.
   centre is beyond a road edge) and ``info["cost"] = 1.0`` if either, else 0.0 -- as SafeNav's
   ``info["cost"]`` is its true cost; a :class:`DnfCostWrapper` on top moves it to
   ``info["env_cost"]`` and puts the learned formula's cost in ``info["cost"]``.
+* **Traffic constraints** (thesis section 2.5.3, the neural-ICRL experiment):
+  ``constraint="velocity"`` or ``"distance"`` (with ``bound``) makes ``info["cost"]`` that
+  constraint instead, and gives the environment ``is_unsafe(observations)`` for the recovery
+  figures of ``learn icrl`` (:mod:`~symlearn.envs.driving.traffic_constraints`); registered as
+  ``driving-velocity`` / ``driving-distance``.
 * **Episodes** terminate on a collision or on leaving the road (``offroad_terminal``, as
   CommonRoad-RL does) and are truncated after ``duration`` seconds (30, highway-env's fast
   highway): 150 steps at 5 Hz.
@@ -51,6 +56,7 @@ from gymnasium import spaces
 from symlearn.envs.driving.features import (
     FEATURE_NAMES, N_FEATURES, OBSERVATION_CLIP, driving_features, observation_scales,
 )
+from symlearn.envs.driving import traffic_constraints
 from symlearn.envs.driving.scene import make_scene
 from symlearn.errors import DataError
 from symlearn.optional import require
@@ -62,15 +68,17 @@ MAX_SPEED = 40.0  # highway-env's Vehicle.MAX_SPEED
 
 class DrivingEnv(gym.Env):
     """``DrivingEnv(lanes=3, vehicles=20, duration=30, frequency=5, steering_range=0.2,
-    acceleration_range=5, sensor_range=100, density=1, offroad_terminal=True)`` (see the
-    module docstring)."""
+    acceleration_range=5, sensor_range=100, density=1, offroad_terminal=True, constraint=None,
+    bound=None)`` (see the module docstring)."""
 
     metadata = {"render_modes": []}
 
     def __init__(self, *, lanes: int = 3, vehicles: int = 20, duration: float = 30.0, frequency: int = 5,
                  simulation_frequency: int | None = None, steering_range: float = 0.2,
                  acceleration_range: float = 5.0, sensor_range: float = 100.0, density: float = 1.0,
-                 offroad_terminal: bool = True, render_mode: str | None = None) -> None:
+                 offroad_terminal: bool = True, constraint: str | None = None, bound: float | None = None,
+                 render_mode: str | None = None) -> None:
+        self.constraint, self.bound = constraint, traffic_constraints.check(constraint, bound)
         require("highway", "the driving environment")
         if render_mode is not None:
             raise DataError(f"the driving environment does not render (render_mode={render_mode!r})",
@@ -90,6 +98,7 @@ class DrivingEnv(gym.Env):
         self.sensor_range, self.offroad_terminal = float(sensor_range), bool(offroad_terminal)
         self.render_mode = None
         self.feature_names = FEATURE_NAMES
+        self.observation_names = FEATURE_NAMES  # the observation is the features, scaled
         self.lane_width = LANE_WIDTH
         self.speed_limit = SPEED_LIMIT
         self._scales = observation_scales(lanes=self.lanes, lane_width=LANE_WIDTH, sensor_range=self.sensor_range,
@@ -108,6 +117,8 @@ class DrivingEnv(gym.Env):
             "simulation_frequency": self.simulation_frequency, "offroad_terminal": self.offroad_terminal,
         })
         self.steps = 0
+        if constraint is not None:  # the ground truth learn icrl measures a learned cost's recovery against
+            self.is_unsafe = self._breaks_constraint
 
     # --- gymnasium API ------------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict[str, Any] | None = None):
@@ -152,9 +163,17 @@ class DrivingEnv(gym.Env):
     def _observe(self, *, collision: bool, offroad: bool) -> tuple[np.ndarray, dict[str, Any]]:
         features = self.features()
         observation = np.clip(features / self._scales, -OBSERVATION_CLIP, OBSERVATION_CLIP).astype(np.float32)
-        info = {"cost": 1.0 if collision or offroad else 0.0, "collision": collision, "offroad": offroad,
+        if self.constraint is None:
+            cost = 1.0 if collision or offroad else 0.0
+        else:
+            cost = float(traffic_constraints.violated(self.constraint, self.bound, features))
+        info = {"cost": cost, "collision": collision, "offroad": offroad,
                 "features": features, "lane": int(self.ego.lane_index[2]), "speed": float(self.ego.speed)}
         return observation, info
+
+    def _breaks_constraint(self, observations: Any) -> np.ndarray | bool:
+        """Whether observations (rows of the policy's scaled features) break the constraint."""
+        return traffic_constraints.violated_observations(self.constraint, self.bound, observations, self._scales)
 
     # --- scenes for tests and figures ---------------------------------------------------------
     def place(self, *, lane: int | None = None, speed: float | None = None, heading: float = 0.0,

@@ -130,6 +130,67 @@ def expert_demonstrations(n: int = 10, seed: int | None = 0, *, target_speeds: t
     return Demonstrations(trajectories, metadata=metadata)
 
 
+def constrained_demonstrations(n: int = 20, seed: int | None = 0, *, constraint: str,
+                               env: DrivingEnv | None = None, **env_kwargs: Any) -> Demonstrations:
+    """``n`` IDM/MOBIL episodes on ``DrivingEnv(constraint=...)`` for neural ICRL (thesis section
+    2.5.3): states are the policy's *observations* (what ``learn icrl`` compares the policy's
+    with), not ``info["features"]``. The demonstrator obeys the constraint the way a driver
+    would: under the ``velocity`` cap it wants 1-5 m/s less than the cap (IDM never overshoots
+    its desired speed), under the ``distance`` rule it drives as usual (IDM's spacing keeps the
+    gap above 10 m at highway speeds). Episodes ending in a collision or off the road are
+    replaced; steps on which the constraint is broken anyway (a car cutting in ahead) are kept and
+    counted in the metadata (``expert_violation_rate``), as the thesis' experts break theirs too.
+    """
+    if n < 1:
+        raise DataError(f"n must be at least 1, got {n}")
+    env = env or DrivingEnv(constraint=constraint, **env_kwargs)
+    if env.constraint != constraint:
+        raise DataError(f"the environment's constraint is {env.constraint!r}, not {constraint!r}")
+    low, high = ((env.bound - 5.0, env.bound - 1.0) if constraint == "velocity" else (24.0, 30.0))
+    if low <= 0:
+        raise DataError(f"a velocity cap of {env.bound} m/s leaves the demonstrator no speed to drive at",
+                        hint="a cap above 6 m/s")
+    rng = np.random.default_rng(seed)
+    expert = IdmMobilExpert(env, rng=np.random.default_rng(rng.integers(2**63)))
+    trajectories, replaced, violations, steps = [], 0, 0, 0
+    for _ in progress(range(n), total=n, desc=f"driving IDM/MOBIL expert ({constraint})", unit="episode"):
+        for _attempt in range(50):
+            trajectory, broken = _observed_episode(env, expert, int(rng.integers(2**31)), float(rng.uniform(low, high)))
+            if not (trajectory.info["collision"] or trajectory.info["offroad"]):
+                break
+            replaced += 1
+        else:
+            raise DataError("the demonstrator crashed in 50 episodes in a row")
+        trajectories.append(trajectory)
+        violations, steps = violations + broken, steps + len(trajectory.actions)
+    metadata = {"env": f"symlearn/driving-{constraint}-v0", "expert": "IDM/MOBIL (highway-env IDMVehicle)",
+                "seed": seed, "n_episodes": n, "target_speeds": [low, high], "constraint": constraint,
+                "bound": env.bound, "replaced_unsafe": replaced, "expert_violation_rate": violations / max(steps, 1),
+                "observation_names": list(env.observation_names)}
+    return Demonstrations(trajectories, metadata=metadata)
+
+
+def _observed_episode(env: DrivingEnv, expert: IdmMobilExpert, seed: int,
+                      target_speed: float) -> tuple[Trajectory, int]:
+    """One episode with the observations as states, and how many of its steps paid the cost."""
+    observation, info = env.reset(seed=seed)
+    expert.reset(target_speed)
+    states, actions, rewards, broken = [observation], [], [], 0
+    done = False
+    while not done:
+        action = expert()
+        observation, reward, terminated, truncated, info = env.step(action)
+        done = terminated or truncated
+        states.append(observation)
+        actions.append(action)
+        rewards.append(reward)
+        broken += info["cost"] > 0
+    trajectory = Trajectory(np.array(states), np.array(actions), rewards,
+                            info={"seed": seed, "target_speed": target_speed, "lane_changes": expert.lane_changes,
+                                  "collision": bool(info["collision"]), "offroad": bool(info["offroad"])})
+    return trajectory, int(broken)
+
+
 def _episode(env: DrivingEnv, expert: IdmMobilExpert, seed: int, target_speed: float) -> Trajectory:
     states, actions, rewards, labels, info = record_episode(env, expert, seed, _label,
                                                             start=lambda: expert.reset(target_speed))
@@ -142,4 +203,4 @@ def _label(info: dict[str, Any]) -> tuple[str, ...]:
     return tuple(name for name in ("collision", "offroad") if info[name])
 
 
-__all__ = ["IdmMobilExpert", "expert_demonstrations"]
+__all__ = ["IdmMobilExpert", "constrained_demonstrations", "expert_demonstrations"]
