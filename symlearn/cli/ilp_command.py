@@ -162,8 +162,10 @@ def _check_job(job: dict) -> dict:
     report["rules"] = hypothesis.rules
     report["passed"] = not report["uncovered_without_penalty"]
     report["warnings"] = _undefined_predicates(task, Program.from_file(job["hypothesis"], expand=False))
-    matrix = (coverage_matrix(task, hypothesis, timeout=remaining(job["started"], job["seconds"]))
-              if job["coverage"] else None)
+    matrix = None
+    if job["coverage"]:  # the report names the rules that exclude an uncovered positive: only those columns
+        wanted = [e for e in task.examples if e.positive and not report["coverage"][e.id]]
+        matrix = coverage_matrix(task, hypothesis, timeout=remaining(job["started"], job["seconds"]), examples=wanted)
     report["uncovered"] = [_uncovered(e, matrix) for e in task.examples if not report["coverage"][e.id]]
     return report
 

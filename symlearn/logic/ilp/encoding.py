@@ -77,16 +77,47 @@ def witnesses(task: ILPTask, rules: Sequence[str] | Program, examples: Sequence[
     """Per example, an answer set of B ∪ rules ∪ context extending it (atoms tagged with the
     example's position in ``examples``), or None when there is none.
 
-    One clingo call for all examples: each copy may be switched off (``{active__(i)}``) and the
-    number of active copies is maximised; since the copies are independent, the optimum switches
-    on exactly the examples that are accepted. ``atoms=False``: which examples only (an accepted
-    one gets an empty list); the answer set is not read back, which for rules that derive many
-    atoms is most of the time (``ilp check``, issue 26).
+    One clingo call for all examples (:func:`_best_copies`). ``atoms=False``: which examples only
+    (an accepted one gets an empty list); the answer set is not read back, which for rules that
+    derive many atoms is most of the time (``ilp check``, issue 26).
     """
     if not examples:
         return {}
     indexed = list(enumerate(examples))
-    program = examples_program(task, indexed) + tagged_rules(rules) + Program.from_text(
+    program = examples_program(task, indexed) + tagged_rules(rules)
+    return _best_copies(program, indexed, timeout=timeout, atoms=atoms)
+
+
+def accepted_pairs(task: ILPTask, rules: Sequence[Program], pairs: Sequence[tuple[int, Example]], *,
+                   timeout: float | None = None) -> list[bool]:
+    """For each (rule index, example): does B ∪ {rules[index]} ∪ context accept the example?
+
+    One copy of B and the context per pair, the rule switched on in its own copy only
+    (``pick__(copy, index)``), so that one clingo call checks many rules on many examples.
+    """
+    if not pairs:
+        return []
+    indexed = [(k, example) for k, (_rule, example) in enumerate(pairs)]
+    used = sorted({rule for rule, _example in pairs})
+    pieces = [(rules[j], "E__", (f"{ACTIVE}(E__)", f"pick__(E__,{j})")) for j in used]
+    picks = Program.from_text("\n".join(f"pick__({k},{rule})." for k, (rule, _example) in enumerate(pairs)),
+                              source="<coverage check>")
+    program = Program.compose([examples_program(task, indexed), *cl.tag_programs_located(pieces), picks])
+    found = _best_copies(program, indexed, timeout=timeout, atoms=False, unique_ids=False)
+    return [found[k] is not None for k, _example in indexed]
+
+
+def _best_copies(program: Program, indexed: list[tuple[int, Example]], *, timeout: float | None, atoms: bool,
+                 unique_ids: bool = True) -> dict:
+    """Switch on as many copies of ``program`` as have an answer set; per example (by id, or by
+    copy number when ``unique_ids`` is False) its copy's atoms or None when it has none.
+
+    Each copy may be switched off (``{active__(i)}``) and the number of active copies is
+    maximised; since the copies are independent, the optimum switches on exactly the examples
+    that are accepted. ``atoms=False``: which examples only (an accepted one gets an empty list).
+    """
+    key = (lambda i, e: e.id) if unique_ids else (lambda i, e: i)
+    program = program + Program.from_text(
         "\n".join(f"{{ {ACTIVE}({i}) }}." for i, _ in indexed)
         + f"\n#maximize {{ 1,E : {ACTIVE}(E) }}." + ("" if atoms else f"\n#show {ACTIVE}/1."),
         source="<coverage check>")
@@ -95,21 +126,21 @@ def witnesses(task: ILPTask, rules: Sequence[str] | Program, examples: Sequence[
     # (the tagged copies have no #show of their own: tagging drops it)
     outcome = cl.optimize(program, timeout=timeout, shown_only=not atoms, arguments=["--opt-strategy=usc"])
     if not outcome.models:
-        return {e.id: None for e in examples}
+        return {key(i, e): None for i, e in indexed}
     if not outcome.complete:
-        raise cl.LimitExceededError(f"checking {len(examples)} examples did not finish within {timeout} s",
+        raise cl.LimitExceededError(f"checking {len(indexed)} examples did not finish within {timeout} s",
                                     hint="raise the timeout")
     model = outcome.models[-1]
     active = {s.arguments[0].number for s in model if s.name == ACTIVE}
     if not atoms:
-        return {e.id: ([] if i in active else None) for i, e in indexed}
+        return {key(i, e): ([] if i in active else None) for i, e in indexed}
     by_tag: dict[int, list[cl.Symbol]] = {i: [] for i in active}
     for atom in model:
         if atom.name != ACTIVE and atom.arguments and atom.arguments[0].type == cl.SymbolType.Number:
             tag = atom.arguments[0].number
             if tag in by_tag:
                 by_tag[tag].append(atom)
-    return {e.id: (by_tag[i] if i in active else None) for i, e in indexed}
+    return {key(i, e): (by_tag[i] if i in active else None) for i, e in indexed}
 
 
 def firing_rows(candidates: Iterable, atoms: Iterable[cl.Symbol], tags: Iterable[int]) -> dict[int, set[int]]:
