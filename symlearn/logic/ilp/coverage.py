@@ -73,6 +73,8 @@ def rule_acceptance(task: ILPTask, hypothesis: Hypothesis, examples: Sequence[Ex
     """``rows[j][i]``: does B ∪ {hypothesis.rules[j]} accept ``examples[i]`` (an answer set
     extending it)? LimitExceededError when ``seconds`` (one budget for all) run out."""
     examples = list(examples)
+    if not examples:  # ``ilp check --coverage`` with no uncovered positive
+        return [[] for _rule in hypothesis.rules]
     clock = _Clock(seconds, f"checking each of the {len(hypothesis.rules)} rules alone")
     try:
         return _acceptance(task, hypothesis, examples, clock)

@@ -103,20 +103,20 @@ def accepted_pairs(task: ILPTask, rules: Sequence[Program], pairs: Sequence[tupl
     picks = Program.from_text("\n".join(f"pick__({k},{rule})." for k, (rule, _example) in enumerate(pairs)),
                               source="<coverage check>")
     program = Program.compose([examples_program(task, indexed), *cl.tag_programs_located(pieces), picks])
-    found = _best_copies(program, indexed, timeout=timeout, atoms=False, unique_ids=False)
+    found = _best_copies(program, indexed, timeout=timeout, atoms=False, by_id=False)
     return [found[k] is not None for k, _example in indexed]
 
 
 def _best_copies(program: Program, indexed: list[tuple[int, Example]], *, timeout: float | None, atoms: bool,
-                 unique_ids: bool = True) -> dict:
+                 by_id: bool = True) -> dict:
     """Switch on as many copies of ``program`` as have an answer set; per example (by id, or by
-    copy number when ``unique_ids`` is False) its copy's atoms or None when it has none.
+    copy number when ``by_id`` is False) its copy's atoms or None when it has none.
 
     Each copy may be switched off (``{active__(i)}``) and the number of active copies is
     maximised; since the copies are independent, the optimum switches on exactly the examples
     that are accepted. ``atoms=False``: which examples only (an accepted one gets an empty list).
     """
-    key = (lambda i, e: e.id) if unique_ids else (lambda i, e: i)
+    key = (lambda i, e: e.id) if by_id else (lambda i, e: i)
     program = program + Program.from_text(
         "\n".join(f"{{ {ACTIVE}({i}) }}." for i, _ in indexed)
         + f"\n#maximize {{ 1,E : {ACTIVE}(E) }}." + ("" if atoms else f"\n#show {ACTIVE}/1."),
@@ -125,9 +125,9 @@ def _best_copies(program: Program, indexed: list[tuple[int, Example]], *, timeou
     # where branch-and-bound would improve the count one copy at a time
     # (the tagged copies have no #show of their own: tagging drops it)
     outcome = cl.optimize(program, timeout=timeout, shown_only=not atoms, arguments=["--opt-strategy=usc"])
-    if not outcome.models:
+    if not outcome.models and outcome.complete:
         return {key(i, e): None for i, e in indexed}
-    if not outcome.complete:
+    if not outcome.complete:  # also before the first model: no copy has been decided
         raise cl.LimitExceededError(f"checking {len(indexed)} examples did not finish within {timeout} s",
                                     hint="raise the timeout")
     model = outcome.models[-1]
