@@ -247,3 +247,17 @@ def test_a_long_rule_is_checked_and_reported(tmp_path, run_cli):
         f"D != {i + 3}" if i % 2 else f"not at(D, P, {i + 3})" for i in range(2, 1999)) + ".")
     assert err.strip() == f"symlearn: error: {rules}: 114 examples without a penalty not covered: " \
                           "p1, p2, p3, p4, p5 and 109 more"
+
+
+def test_coverage_out_of_time_is_one_line_naming_the_users_limit(capsys, monkeypatch, tmp_path):
+    """--coverage gets what --timeout leaves after scoring; running out of it names --timeout."""
+    from symlearn.logic.ilp import coverage
+
+    monkeypatch.setenv("SYMLEARN_WORKER", "off")
+    monkeypatch.setattr(coverage._Clock, "left", lambda clock: (_ for _ in ()).throw(clock.exceeded()))
+    rules = tmp_path / "rules.lp"
+    rules.write_text(excluding_rules(60))
+    code, out, err = run(capsys, "ilp", "check", TASK, rules, "--coverage", "--timeout", "30")
+    assert (code, out) == (2, "")
+    assert err == "symlearn: error: time limit of 30 s reached while checking each of the 60 rules alone " \
+                  "(--coverage) (hint: raise --timeout)\n"
