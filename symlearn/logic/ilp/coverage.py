@@ -14,7 +14,7 @@ B ∪ context extending the example (its *witness*, one clingo call for all exam
 
 Which rule fires on which witness is decided for all rules in one grounding (the witnesses as
 facts). The pairs left (a rule with a head that B reads, or a constraint on an example with
-several answer sets) are checked exactly, many per clingo call (:func:`accepted_pairs`).
+several answer sets) are checked exactly, many per clingo call (:class:`PairCheck`).
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from symlearn.errors import LimitExceededError
 from symlearn.logic.asp import clingo_adapter as cl
 from symlearn.logic.asp.hypothesis import Hypothesis
 from symlearn.logic.asp.program import Program
-from symlearn.logic.ilp.encoding import ACTIVE, accepted_pairs, examples_program, tagged_rules, witnesses
+from symlearn.logic.ilp.encoding import ACTIVE, PairCheck, examples_program, tagged_rules, witnesses
 from symlearn.logic.ilp.task import Example, ILPTask
 
 ASTType = cl.clingo.ast.ASTType
@@ -172,11 +172,10 @@ def _check_the_rest(task: ILPTask, hypothesis: Hypothesis, examples: list[Exampl
     open_pairs = [(j, i) for j, row in enumerate(rows) for i, value in enumerate(row) if value is None]
     if not open_pairs:
         return
-    rules = _one_program_a_rule(hypothesis)
+    check = PairCheck(task, _one_program_a_rule(hypothesis), examples)
     for start in range(0, len(open_pairs), PAIRS_PER_CALL):
         chunk = open_pairs[start:start + PAIRS_PER_CALL]
-        answers = accepted_pairs(task, rules, [(j, examples[i]) for j, i in chunk], timeout=clock.left())
-        for (j, i), answer in zip(chunk, answers):
+        for (j, i), answer in zip(chunk, check.accepted(chunk, timeout=clock.left())):
             rows[j][i] = answer
 
 

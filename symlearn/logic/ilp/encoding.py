@@ -88,23 +88,53 @@ def witnesses(task: ILPTask, rules: Sequence[str] | Program, examples: Sequence[
     return _best_copies(program, indexed, timeout=timeout, atoms=atoms)
 
 
-def accepted_pairs(task: ILPTask, rules: Sequence[Program], pairs: Sequence[tuple[int, Example]], *,
-                   timeout: float | None = None) -> list[bool]:
-    """For each (rule index, example): does B ∪ {rules[index]} ∪ context accept the example?
+class PairCheck:
+    """Does B ∪ {rules[j]} ∪ context accept example ``examples[i]``, for many (j, i) pairs?
 
-    One copy of B and the context per pair, the rule switched on in its own copy only
-    (``pick__(copy, index)``), so that one clingo call checks many rules on many examples.
+    One copy of B per pair in one clingo call, the pair's example and rule switched on in that
+    copy only: ``of__(copy, i)`` guards the contexts and acceptance constraints of example i,
+    ``pick__(copy, j)`` the rule j. Contexts and rules are tagged once here, not once per pair
+    (tagging a context through clingo's AST costs more than grounding its copy).
     """
-    if not pairs:
-        return []
-    indexed = [(k, example) for k, (_rule, example) in enumerate(pairs)]
-    used = sorted({rule for rule, _example in pairs})
-    pieces = [(rules[j], "E__", (f"{ACTIVE}(E__)", f"pick__(E__,{j})")) for j in used]
-    picks = Program.from_text("\n".join(f"pick__({k},{rule})." for k, (rule, _example) in enumerate(pairs)),
-                              source="<coverage check>")
-    program = Program.compose([examples_program(task, indexed), *cl.tag_programs_located(pieces), picks])
-    found = _best_copies(program, indexed, timeout=timeout, atoms=False, by_id=False)
-    return [found[k] is not None for k, _example in indexed]
+
+    def __init__(self, task: ILPTask, rules: Sequence[Program], examples: Sequence[Example]) -> None:
+        self.task, self.rules = task, rules
+        self.examples = list(examples)
+        contexts = [(e.context, "E__", (f"{ACTIVE}(E__)", f"of__(E__,{i})"))
+                    for i, e in enumerate(self.examples) if not e.context.is_empty()]
+        accept = [_acceptance_of(e, i) for i, e in enumerate(self.examples)]
+        self.base = Program.compose([located_background(task), *cl.tag_programs_located(contexts),
+                                     Program.from_text("\n".join(a for a in accept if a),
+                                                       source=f"{task.source} (examples)")])
+        self.tagged: dict[int, Program] = {}
+
+    def accepted(self, pairs: Sequence[tuple[int, int]], *, timeout: float | None = None) -> list[bool]:
+        """For each (rule index, example index) pair: accepted? One clingo call."""
+        if not pairs:
+            return []
+        self._tag([j for j, _i in pairs])
+        links = "\n".join(f"of__({k},{i}). pick__({k},{j})." for k, (j, i) in enumerate(pairs))
+        program = Program.compose([self.base, *(self.tagged[j] for j in sorted({j for j, _i in pairs})),
+                                   Program.from_text(links, source="<coverage check>")])
+        indexed = [(k, self.examples[i]) for k, (_j, i) in enumerate(pairs)]
+        found = _best_copies(program, indexed, timeout=timeout, atoms=False, by_id=False)
+        return [found[k] is not None for k, _example in indexed]
+
+    def _tag(self, wanted: Iterable[int]) -> None:
+        missing = sorted(set(wanted) - set(self.tagged))
+        pieces = [(self.rules[j], "E__", (f"{ACTIVE}(E__)", f"pick__(E__,{j})")) for j in missing]
+        self.tagged.update(zip(missing, cl.tag_programs_located(pieces)))
+
+
+def _acceptance_of(example: Example, index: int) -> str:
+    """:func:`acceptance_constraints` for every copy ``E__`` that ``of__`` links to the example."""
+    def tagged(s: cl.Symbol) -> str:
+        return f"{'' if s.positive else '-'}{s.name}({','.join(['E__', *map(str, s.arguments)])})"
+
+    guard = f"{ACTIVE}(E__), of__(E__,{index})"
+    lines = [f":- {guard}, not {tagged(s)}." for s in example.inclusions]
+    lines += [f":- {guard}, {tagged(s)}." for s in example.exclusions]
+    return "\n".join(lines)
 
 
 def _best_copies(program: Program, indexed: list[tuple[int, Example]], *, timeout: float | None, atoms: bool,
