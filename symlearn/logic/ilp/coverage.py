@@ -12,7 +12,7 @@ B ∪ context extending the example (its *witness*, one clingo call for all exam
   its own body) sits on top of B (splitting set theorem): every answer set of B ∪ {rule} is one
   of B plus the heads the rule derives from it, so accepted exactly when B alone accepts.
 
-Which rule fires on which witness is decided for all rules in one grounding (the witnesses as
+Which rules each witness satisfies is decided for all rules in one grounding (the witnesses as
 facts). The pairs left (a rule with a head that B reads, or a constraint on an example with
 several answer sets) are checked exactly, many per clingo call (:class:`PairCheck`).
 """
@@ -45,7 +45,9 @@ class _Rule:
 
     index: int
     kind: str  # "constraint", "atom" (one plain atom as head) or "other" (choice, disjunction, ...)
-    violation: str  # ``viol__(index) :- ...``: true on an answer set exactly when the rule is violated
+    # ``viol__(index) :- ...``: false on an answer set only if the rule holds there (exactly when it
+    # is violated for a constraint or an "atom" rule; when its body holds, for the others)
+    violation: str
     fresh: bool  # an "atom" rule whose head predicate occurs nowhere else
 
 
