@@ -120,7 +120,7 @@ def _load(job: dict):
 def _learn_job(job: dict) -> dict:
     from symlearn.errors import LimitExceededError
     from symlearn.worker import remaining
-    from symlearn.logic.ilp import coverage_matrix, learn
+    from symlearn.logic.ilp import learn
 
     task = _load(job)
     result = learn(task, timeout=remaining(job["started"], job["seconds"]), noise=job["noise"],
@@ -132,7 +132,7 @@ def _learn_job(job: dict) -> dict:
     doc["diagnostics"]["hints"] = [cli_words(h) for h in doc["diagnostics"]["hints"]]
     doc["diagnostics_text"] = cli_words(result.diagnostics.render())
     if result.hypothesis is not None and job["coverage"]:
-        doc["matrix"] = coverage_matrix(task, result.hypothesis, timeout=remaining(job["started"], job["seconds"]))
+        doc["matrix"] = _coverage(task, result.hypothesis, job, task.examples)
     if result.hypothesis is not None and job["output"]:
         header = (f"learned by symlearn ilp learn from {job['task']}\n"
                   f"score {result.score} ({'optimal' if result.optimal else 'not proven optimal'}), "
@@ -154,7 +154,7 @@ def _check_job(job: dict) -> dict:
     from symlearn.logic.asp import Hypothesis
     from symlearn.logic.asp.program import Program
     from symlearn.worker import remaining
-    from symlearn.logic.ilp import coverage_matrix, score
+    from symlearn.logic.ilp import score
 
     task = _load(job)
     hypothesis = Hypothesis.from_lp(job["hypothesis"], background=task.background)
@@ -162,10 +162,25 @@ def _check_job(job: dict) -> dict:
     report["rules"] = hypothesis.rules
     report["passed"] = not report["uncovered_without_penalty"]
     report["warnings"] = _undefined_predicates(task, Program.from_file(job["hypothesis"], expand=False))
-    matrix = (coverage_matrix(task, hypothesis, timeout=remaining(job["started"], job["seconds"]))
-              if job["coverage"] else None)
+    matrix = None
+    if job["coverage"]:  # the report names the rules that exclude an uncovered positive: only those columns
+        wanted = [e for e in task.examples if e.positive and not report["coverage"][e.id]]
+        matrix = _coverage(task, hypothesis, job, wanted)
     report["uncovered"] = [_uncovered(e, matrix) for e in task.examples if not report["coverage"][e.id]]
     return report
+
+
+def _coverage(task, hypothesis, job: dict, examples) -> dict:
+    """``--coverage``: each rule alone on ``examples``, in what is left of ``--timeout``."""
+    from symlearn.errors import LimitExceededError
+    from symlearn.logic.ilp import coverage_matrix
+    from symlearn.worker import remaining
+
+    try:
+        return coverage_matrix(task, hypothesis, timeout=remaining(job["started"], job["seconds"]), examples=examples)
+    except LimitExceededError:  # its own budget is what was left: name the user's
+        raise LimitExceededError(f"time limit of {job['seconds']:g} s reached while checking each of the "
+                                 f"{len(hypothesis.rules)} rules alone (--coverage)", hint="raise --timeout") from None
 
 
 def _undefined_predicates(task, rules) -> list[dict]:

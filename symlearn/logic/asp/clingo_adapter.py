@@ -365,6 +365,29 @@ def is_satisfiable(program: Program, *, timeout: float | None = None) -> bool:
                              hint="raise the timeout")
 
 
+def consequences(program: Program, *, timeout: float | None = None) -> tuple[list[Symbol], list[Symbol]] | None:
+    """(brave, cautious) consequences of ``program``: the atoms true in some and in every answer
+    set, from one grounding; None when it has no answer set. Raises LimitExceededError when
+    clingo does not finish within ``timeout``."""
+    start = time.perf_counter()
+    ctl = ground(program)
+    found = []
+    for mode in ("brave", "cautious"):
+        ctl.configuration.solve.enum_mode = mode
+        ctl.configuration.solve.models = "0"
+        last: list[list[Symbol]] = []
+        left = None if timeout is None else max(0.0, timeout - (time.perf_counter() - start))
+        complete, satisfiable = _solve(ctl, timeout=left,
+                                       on_model=lambda model: last.append(list(model.symbols(atoms=True))))
+        if satisfiable is False:
+            return None
+        if not complete:
+            raise LimitExceededError(f"clingo did not find the {mode} consequences within {timeout} s",
+                                     hint="raise the timeout")
+        found.append(sorted(last[-1]))
+    return found[0], found[1]
+
+
 def optimize(program: Program, *, timeout: float | None = None, arguments: Sequence[str] = (),
              on_improvement: Callable[[list[Symbol], list[int]], None] | None = None,
              shown_only: bool = True) -> SolveOutcome:

@@ -20,6 +20,7 @@ import os
 import re
 from collections.abc import Iterable
 from dataclasses import dataclass, field
+from functools import cached_property
 from pathlib import Path
 
 from symlearn.errors import ParseError
@@ -38,7 +39,7 @@ class Part:
     origin: Program | None = field(default=None, compare=False, repr=False)
     positions: tuple[tuple[int, int], ...] | None = field(default=None, compare=False, repr=False)
 
-    @property
+    @cached_property  # Program.locate asks for every message: counted once, not once a message
     def n_lines(self) -> int:
         return self.text.count("\n") + 1
 

@@ -25,17 +25,19 @@ from __future__ import annotations
 import math
 import time
 from collections import Counter
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 from symlearn.errors import DataError, LimitExceededError, SymlearnError
 from symlearn.logic.asp import clingo_adapter as cl
 from symlearn.logic.asp.hypothesis import Hypothesis
+from symlearn.logic.ilp.coverage import rule_acceptance
 from symlearn.logic.ilp.encoding import accepted_by
 from symlearn.logic.ilp.general import SearchOutcome, search_general
 from symlearn.logic.ilp.selection import firing_matrix, select_rules, single_worlds
 from symlearn.logic.ilp.space import HypothesisSpace, generate_space
-from symlearn.logic.ilp.task import ILPTask
+from symlearn.logic.ilp.task import Example, ILPTask
 
 METHODS = ("auto", "single", "general")
 
@@ -334,10 +336,14 @@ def score(task: ILPTask, hypothesis: Hypothesis, *, timeout: float | None = 60.0
             "score": None if hard_misses else hypothesis.cost + penalty}
 
 
-def coverage_matrix(task: ILPTask, hypothesis: Hypothesis, *, timeout: float | None = 60.0) -> dict[str, dict[str, bool]]:
-    """For each rule alone: which examples B ∪ {rule} covers (rows: rules, columns: example ids)."""
-    matrix = {}
-    for rule in hypothesis.rules:
-        single = Hypothesis([rule], background=task.background)
-        matrix[rule] = score(task, single, timeout=timeout)["coverage"]
+def coverage_matrix(task: ILPTask, hypothesis: Hypothesis, *, timeout: float | None = 60.0,
+                    examples: Sequence[Example] | None = None) -> dict[str, dict[str, bool]]:
+    """For each rule alone: which examples B ∪ {rule} covers (rows: rules, columns: example ids;
+    ``examples``: only those columns). ``timeout``: one budget for the whole matrix."""
+    _check_examples(task)
+    examples = task.examples if examples is None else list(examples)
+    rows = rule_acceptance(task, hypothesis, examples, seconds=_budget(timeout))
+    matrix: dict[str, dict[str, bool]] = {}
+    for rule, row in zip(hypothesis.rules, rows):
+        matrix.setdefault(rule, {e.id: (ok if e.positive else not ok) for e, ok in zip(examples, row)})
     return matrix
