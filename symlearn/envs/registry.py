@@ -268,7 +268,7 @@ ENTRIES: tuple[Entry, ...] = (
             Factory("symlearn.envs.driving.env:DrivingEnv", {"constraint": kind}),
             expert=Factory("symlearn.envs.experts:driving_constrained", {"constraint": kind}),
             features="symlearn.envs.driving.features:FEATURE_NAMES")
-      for kind, what in (("velocity", "speed along the road at most 25 m/s"),
+      for kind, what in (("velocity", "speed along the road at most 20 m/s"),
                          ("distance", "a gap of at least 10 m to the car ahead"))),
     # Neural MCE-ICRL (thesis chapter 2) at CPU size: a numpy stand-in for the blocked MuJoCo robots
     # (section 2.5.2) and the kinematic point of the transfer experiment (section 2.5.4).

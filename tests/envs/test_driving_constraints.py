@@ -20,7 +20,7 @@ def fresh(**kwargs):
 
 
 @needs_highway
-@pytest.mark.parametrize("speed, cost", [(20.0, 0.0), (24.9, 0.0), (25.5, 1.0), (29.0, 1.0)])
+@pytest.mark.parametrize("speed, cost", [(15.0, 0.0), (19.9, 0.0), (20.5, 1.0), (29.0, 1.0)])
 def test_the_velocity_constraint_charges_speeding_only(speed, cost):
     env = fresh(constraint="velocity")
     observation, info = env.place(lane=1, speed=speed, others=[])
@@ -28,7 +28,7 @@ def test_the_velocity_constraint_charges_speeding_only(speed, cost):
     assert bool(env.unwrapped.is_unsafe(observation)) == bool(cost)
     # a step keeps the rule: the speed is what the next state has
     _, _, _, _, info = env.step(np.zeros(2, dtype=np.float32))
-    assert info["cost"] == float(info["features"][0] > 25.0)
+    assert info["cost"] == float(info["features"][0] > 20.0)
 
 
 @needs_highway
@@ -76,9 +76,9 @@ def test_the_demonstrator_records_observations_and_obeys_the_constraint(constrai
         assert trajectory.states.shape == (len(trajectory.actions) + 1, 10)
         assert env.observation_space.contains(trajectory.states[0].astype(np.float32))
         assert not (trajectory.info["collision"] or trajectory.info["offroad"])
-    assert demos.metadata["constraint"] == constraint and demos.metadata["expert_violation_rate"] <= 0.05
-    if constraint == "velocity":   # IDM never exceeds its desired speed, drawn below the cap
-        assert all((t.states[:, 0] * 30.0 <= 25.0 + 1e-6).all() for t in demos)
+    assert demos.metadata["constraint"] == constraint and demos.metadata["expert_violation_rate"] <= 0.08
+    if constraint == "velocity":   # from the start's 25 m/s IDM brakes to its desired speed, below the cap
+        assert all((t.states[10:, 0] * 30.0 <= 20.0 + 1e-6).all() for t in demos)
 
 
 def test_the_tasks_are_bundled_for_neural_icrl():
