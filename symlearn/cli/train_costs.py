@@ -83,6 +83,7 @@ def _dnf(path: str, target: Any, features: str | None, per_rule: bool, depth_wei
         # names counted against the columns; learn dnf's own x0 .. x{k-1} where nothing names them
         found = target.features(env, override=features, numbered=True)
         _, info = env.reset(seed=0)
+        space = env.observation_space
     finally:
         env.close()
     if found is not None and not found.named and not set(dnf.features) <= set(found.names):
@@ -106,7 +107,8 @@ def _dnf(path: str, target: Any, features: str | None, per_rule: bool, depth_wei
     wrap = _DictFeatures(names) if source == "info" and isinstance(info.get("features"), dict) else None
     # evaluated once per rollout over all its steps (the same costs and rule counts as the
     # per-step form, a fraction of its overhead)
-    rollout = DnfRolloutCost(dnf, names, source=source, per_rule=per_rule, stats=stats, depth_weight=depth_weight)
+    rollout = DnfRolloutCost(dnf, names, source=source, per_rule=per_rule, stats=stats, depth_weight=depth_weight,
+                             observation_space=space)
     formula = FormulaCost(dnf, names, per_rule=per_rule, stats=stats, depth_weight=depth_weight)
 
     def step_cost(observation: Any, action: Any, next_observation: Any, info: dict[str, Any]) -> np.ndarray:

@@ -1,0 +1,46 @@
+"""A fresh sweep of users' environments at the CLI's defaults (docs/BENCHMARKS.md, issue 25: "A sweep
+of users' modules and gymnasium's toy-text worlds"): what failed there, kept failing-proof here."""
+
+from __future__ import annotations
+
+import csv
+import json
+
+import gymnasium
+import numpy as np
+from cli_runner import run
+from space_envs import OFFSET_WALK
+
+from symlearn.backends.dnf_cost import DnfRolloutCost
+from symlearn.logic import dnf
+
+
+def test_a_dnf_cost_reads_a_discrete_observation_as_its_id(capsys, tmp_path, monkeypatch):
+    """The policy sees a Discrete observation one-hot; the rule ``cell == 5`` reads the id. Before,
+    ``train --cost`` stopped with 'expected 1 features (cell), got 8' (the one-hot columns)."""
+    (tmp_path / "offset_walk.py").write_text(OFFSET_WALK)
+    (tmp_path / "walk.dnf").write_text("cell == 5\n")
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    code, out, err = run(capsys, "--json", "--quiet", "train", "--env", "offset_walk:OffsetWalk-v0", "--cost",
+                         "walk.dnf", "--features", "cell", "--algo", "ppo", "--steps", 1024, "--eval-episodes", 2,
+                         "--log", "run.csv")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["learned_cost"] == doc["cost"], doc   # the rule is the environment's own info["cost"]
+    rows = list(csv.DictReader(open(tmp_path / "run.csv")))
+    # a random walk from cell 2 steps on cell 5 in most episodes: the rollout's cost sees it
+    assert float(rows[0]["learned_cost_0"]) > 0, rows[0]
+
+
+def test_the_rollout_cost_of_a_discrete_observation_space_from_another_start():
+    rule = dnf.parse("cell == 5")
+    space = gymnasium.spaces.Discrete(8, start=2)
+    cost = DnfRolloutCost(rule, ("cell",), source="observation", observation_space=space)
+    ids = np.array([[2, 5], [5, 9]])
+    one_hot = np.eye(8, dtype=np.float32)[ids - 2]   # [T, N, 8], as the rollout holds them
+
+    class Rollout:
+        next_obs = one_hot
+
+    assert cost(Rollout()).tolist() == [[0.0, 1.0], [1.0, 0.0]]
