@@ -44,3 +44,28 @@ def test_the_rollout_cost_of_a_discrete_observation_space_from_another_start():
         next_obs = one_hot
 
     assert cost(Rollout()).tolist() == [[0.0, 1.0], [1.0, 0.0]]
+
+
+def test_learn_pdfa_reads_matrix_observations_as_their_entries(capsys, tmp_path, monkeypatch):
+    """A (2, 1) Box observation is stored as a 2-D state per step; `learn dnf` reads its entries
+    x0, x1, and so does `learn pdfa` now (before: 'the demonstrations hold image states'). Pictures
+    (H, W, C) are still refused, naming `learn rm`."""
+    from symlearn.data import Demonstrations, Trajectory
+
+    monkeypatch.chdir(tmp_path)
+    rng = np.random.default_rng(0)
+    runs = []
+    for _ in range(12):   # dwell at (0, 0), move, dwell at (1, 1)
+        path = [np.zeros(2)] * 8 + [np.full(2, t / 6) for t in range(1, 6)] + [np.ones(2)] * 8
+        states = np.asarray(path) + rng.normal(0, 0.005, (len(path), 2))
+        runs.append(Trajectory(states=states.reshape(-1, 2, 1), actions=np.zeros(len(path) - 1, dtype=np.int64)))
+    Demonstrations(runs).save("column.npz")
+    code, out, err = run(capsys, "--json", "--quiet", "learn", "pdfa", "--demos", "column.npz", "-o", "plan.json")
+    assert code == 0, err
+    centres = [g["centre"] for g in json.loads(out)["subgoals"].values()]
+    assert any(np.allclose(c, [1, 1], atol=0.05) for c in centres), out   # where the runs end (the start is no goal)
+
+    pictures = [Trajectory(states=rng.integers(0, 255, (6, 4, 4, 3), dtype=np.uint8)) for _ in range(2)]
+    Demonstrations(pictures).save("video.npz")
+    code, out, err = run(capsys, "learn", "pdfa", "--demos", "video.npz")
+    assert code == 2 and "pictures (4, 4, 3)" in err and "learn rm" in err and len(err.strip().splitlines()) == 1, err
