@@ -42,7 +42,7 @@ def register(commands, common) -> None:
     cmd.add_argument("--stochastic", action="store_true",
                      help="sample the policy's actions (default: its mean or most likely action)")
     cmd.add_argument("--max-steps", type=float, default=None, help="cap on an episode's length (default: the "
-                                                                    "environment's own time limit)")
+                                                                    "environment's own time limit, else 10000)")
     cmd.add_argument("-o", "--output", required=True, metavar="DEMOS.npz", help="the file to write (.npz or .jsonl)")
     cmd.set_defaults(handler=run)
 

@@ -316,6 +316,12 @@ def _train(args: argparse.Namespace, out) -> None:
     kept = _limit_kept(args, cost, doc)
     if kept and not doc["warnings"]:
         doc["warnings"].append(kept)
+    cut, cap = getattr(args, "evaluation_cut", (0, 0))
+    if cut:
+        doc["warnings"].append(f"{cut} of the {args.eval_episodes} evaluation episodes ran {cap:,} steps without "
+                               f"ending and were cut there, so the return and costs above are sums over {cap:,} "
+                               f"steps: {target.display} registers no time limit (gymnasium.register(..., "
+                               "max_episode_steps=N) sets one)")
     if args.prune:
         pruned = _prune(args, cost.stats, doc["steps"])
         doc["files"].insert(0, pruned.pop("file"))
@@ -469,6 +475,11 @@ def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_c
     ``learned``: the learned cost per episode (:class:`LearnedCostTally`), null without ``--cost``."""
     import numpy as np
 
+    from symlearn.rl.evaluation import MAX_EPISODE_STEPS
+
+    # an environment with no time limit whose greedy episodes never end is cut by the evaluation
+    # loop: _train says so, since the return and cost are then sums over that many steps
+    args.evaluation_cut = int(np.sum(np.asarray(lengths) >= MAX_EPISODE_STEPS)), MAX_EPISODE_STEPS
     per_episode = None
     if true_costs is None and reported:   # costs reported only where paid, and evaluation paid none
         true_costs = np.zeros((len(returns), 1))

@@ -9,7 +9,7 @@ import json
 import gymnasium
 import numpy as np
 from cli_runner import run
-from space_envs import OFFSET_WALK
+from space_envs import ENDLESS_LINE, OFFSET_WALK
 
 from symlearn.backends.dnf_cost import DnfRolloutCost
 from symlearn.logic import dnf
@@ -69,3 +69,19 @@ def test_learn_pdfa_reads_matrix_observations_as_their_entries(capsys, tmp_path,
     Demonstrations(pictures).save("video.npz")
     code, out, err = run(capsys, "learn", "pdfa", "--demos", "video.npz")
     assert code == 2 and "pictures (4, 4, 3)" in err and "learn rm" in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_train_says_when_evaluation_episodes_of_an_endless_environment_were_cut(capsys, tmp_path, monkeypatch):
+    """No time limit and never done: each greedy evaluation episode runs to the evaluation loop's
+    cap. Before, the return (a sum over 100,000 steps) was reported as an episode's without a word."""
+    (tmp_path / "endless_line.py").write_text(ENDLESS_LINE)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    code, out, err = run(capsys, "--json", "--quiet", "train", "--env", "endless_line:EndlessLine-v0", "--steps", 512,
+                         "--eval-episodes", 1)
+    assert code == 0, err
+    [warning] = json.loads(out)["warnings"]
+    assert "1 of the 1 evaluation episodes ran 100,000 steps" in warning and "max_episode_steps" in warning
+    code, out, err = run(capsys, "--json", "--quiet", "train", "--env", "endless_line:EndlessLine-v0", "--env-kwargs",
+                         '{"horizon": 30}', "--steps", 512, "--eval-episodes", 1)
+    assert code == 0 and json.loads(out)["warnings"] == [], out   # a limit of its own: nothing to say
