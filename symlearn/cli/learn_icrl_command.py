@@ -45,7 +45,8 @@ states sampled around the expert's, in the expert states' box widened until it h
 and unsafe states (``recovery_margin``; :mod:`symlearn.learners.neural.icrl_metrics`).
 
 JSON keys: ``reward``, ``violation_rate``, ``feasible_reward``, ``recovery_auc``,
-``recovery_iou``, ``recovery_margin``, ``expert_reward``, ``lambda``, ``expert_cost`` (the learned
+``recovery_iou``, ``recovery_margin``, ``expert_reward`` (null when the demonstrations hold no
+rewards), ``lambda``, ``expert_cost`` (the learned
 cost's sum per demonstration episode: ``mean``, ``min``, ``max``, ``episodes``, ``mean_length``; the
 mean is the limit ``symlearn train --cost`` holds an agent to by default), ``cost_inputs`` (``entries``,
 ``names``, ``from``: given / declared features / all, ``selection``: candidates, selected, AUCs,
@@ -271,7 +272,8 @@ def _icrl(args: argparse.Namespace, out) -> None:
            "recovery_auc": None if rec is None else rec.as_dict()["auc"],
            "recovery_iou": None if rec is None else rec.as_dict()["iou"],
            "recovery_margin": None if rec is None else rec.margin,
-           "expert_reward": result.metrics["expert_reward"],
+           # demonstrations written without rewards say nothing of the expert's: n/a, never 0
+           "expert_reward": result.metrics["expert_reward"] if any(t.rewards is not None for t in demos) else None,
            "lambda": [float(x) for x in learner.cost_.lambdas.numpy()],
            # what the cost charges the demonstrations per episode: `train --cost`'s default limit
            "expert_cost": learner.cost_.provenance.get("expert_cost"),
@@ -487,7 +489,8 @@ def _render(doc: dict) -> str:
         return "n/a" if x is None else f"{x:.3f}"
 
     lines = [f"{doc['method']} on {doc['env']}: {doc['iterations']} iterations in {doc['seconds']:.1f} s",
-             f"  reward {doc['reward']:.2f} (expert {doc['expert_reward']:.2f}), violation rate "
+             f"  reward {doc['reward']:.2f} (expert "
+             + ("n/a" if doc["expert_reward"] is None else f"{doc['expert_reward']:.2f}") + "), violation rate "
              f"{number(doc['violation_rate'])}, feasible reward "
              + ("n/a" if doc["feasible_reward"] is None else f"{doc['feasible_reward']:.2f}"),
              f"  recovery of the unsafe set: AUC {number(doc['recovery_auc'])}, IoU {number(doc['recovery_iou'])}",

@@ -85,3 +85,21 @@ def test_train_says_when_evaluation_episodes_of_an_endless_environment_were_cut(
     code, out, err = run(capsys, "--json", "--quiet", "train", "--env", "endless_line:EndlessLine-v0", "--env-kwargs",
                          '{"horizon": 30}', "--steps", 512, "--eval-episodes", 1)
     assert code == 0 and json.loads(out)["warnings"] == [], out   # a limit of its own: nothing to say
+
+
+def test_learn_icrl_on_demonstrations_without_rewards_reports_the_experts_reward_as_unknown(capsys, tmp_path,
+                                                                                           monkeypatch):
+    """A hand-written JSONL file need not hold rewards; before, the expert's reward was reported
+    as 0.00 (the missing rewards summed as zeros) beside the policy's."""
+    (tmp_path / "offset_walk.py").write_text(OFFSET_WALK)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    walks = [json.dumps({"states": [2, 3, 4, 4], "actions": [1, 1, 0]})] * 4
+    (tmp_path / "walk.jsonl").write_text('{"symlearn": "demonstrations", "format_version": 1}\n' + "\n".join(walks))
+    code, out, err = run(capsys, "learn", "icrl", "--env", "offset_walk:OffsetWalk-v0", "--demos", "walk.jsonl",
+                         "--steps", 1024, "--iterations", 1)
+    assert code == 0, err
+    assert "(expert n/a)" in out, out
+    code, out, err = run(capsys, "--json", "learn", "icrl", "--env", "offset_walk:OffsetWalk-v0", "--demos",
+                         "walk.jsonl", "--steps", 1024, "--iterations", 1)
+    assert code == 0 and json.loads(out)["expert_reward"] is None, err
