@@ -103,3 +103,70 @@ def test_learn_icrl_on_demonstrations_without_rewards_reports_the_experts_reward
     code, out, err = run(capsys, "--json", "learn", "icrl", "--env", "offset_walk:OffsetWalk-v0", "--demos",
                          "walk.jsonl", "--steps", 1024, "--iterations", 1)
     assert code == 0 and json.loads(out)["expert_reward"] is None, err
+
+
+def _warehouse_with_features(folder):
+    """The warehouse folder with a feature map (x, y, carry of every state id) and no labeling."""
+    from warehouse_domain import expert_demonstrations, states, write_warehouse
+
+    write_warehouse(folder, labeling=False)
+    rows = [[i, [4.0, 3.0, 1.0] if s == "done" else [float(s[0][0]), float(s[0][1]), float(s[2])]]
+            for i, s in enumerate(states())]
+    (folder / "features.json").write_text(json.dumps({"symlearn": "feature-map", "format_version": 1,
+                                                      "names": ["x", "y", "carry"], "table_by_state": rows}))
+    with open(folder / "domain.toml", "a") as toml:
+        toml.write('features = "features.json"\n')
+    expert_demonstrations(20, seed=0).save(folder.parent / "deliveries.jsonl")
+
+
+def test_learn_spec_in_a_domain_folder_reads_a_feature_labeling_through_its_feature_map(capsys, tmp_path,
+                                                                                       monkeypatch):
+    """A domain's states are ids; a feature labeling (`carry > 0.5`) reads each id's features from
+    the folder's feature map. Before, a feature labeling in domain.toml stopped `learn spec` with
+    'state: expected 3 features (x, y, carry), got shape (1,)', blamed on the demonstrations, and
+    `--labeling '{...}'` with --domain read the object as a file name."""
+    monkeypatch.chdir(tmp_path)
+    folder = tmp_path / "warehouse"
+    _warehouse_with_features(folder)
+    labels = '{"loaded": "carry > 0.5", "at_drop": "x > 2.5 & y > 1.5"}'
+    code, out, err = run(capsys, "--json", "--quiet", "learn", "spec", "--domain", "warehouse", "--demos",
+                         "deliveries.jsonl", "--labeling", labels, "--max-iterations", 2, "-o", "spec.ltl")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert set(doc["propositions"]) == {"loaded", "at_drop"} and doc["formula"] != "true", doc
+
+    # the same labeling saved in the folder (as learn spec wrote it) is the folder's own
+    (folder / "labeling.json").write_text((tmp_path / "spec.labeling.json").read_text())
+    with open(folder / "domain.toml", "a") as toml:
+        toml.write('labeling = "labeling.json"\n')
+    code, out, err = run(capsys, "--json", "--quiet", "learn", "spec", "--domain", "warehouse", "--demos",
+                         "deliveries.jsonl", "--max-iterations", 2)
+    assert code == 0 and json.loads(out)["formula"] == doc["formula"], err
+
+
+def test_a_domain_without_a_labeling_names_the_flags_that_give_one(capsys, tmp_path, monkeypatch):
+    """Before, the hint named the Python API's keywords (labeling=, propositions='learn') and the
+    message was located in the demonstrations file."""
+    monkeypatch.chdir(tmp_path)
+    folder = tmp_path / "warehouse"
+    _warehouse_with_features(folder)
+    code, out, err = run(capsys, "learn", "spec", "--domain", "warehouse", "--demos", "deliveries.jsonl")
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "--props learn" in err and "--labeling" in err and "propositions=" not in err, err
+    assert "deliveries.jsonl" not in err, err
+
+
+def test_a_feature_labeling_in_a_folder_without_features_is_one_line_naming_it(capsys, tmp_path, monkeypatch):
+    from warehouse_domain import write_warehouse
+
+    monkeypatch.chdir(tmp_path)
+    folder = write_warehouse(tmp_path / "warehouse", labeling=False)
+    (folder / "labels.json").write_text(json.dumps({
+        "symlearn": "labeling", "format_version": 1, "kind": "features",
+        "features": {"symlearn": "feature-map", "format_version": 1, "names": ["x", "y"]},
+        "propositions": [{"name": "east", "meaning": "", "when": "x > 2"}]}))
+    with open(folder / "domain.toml", "a") as toml:
+        toml.write('labeling = "labels.json"\n')
+    code, out, err = run(capsys, "domain", "check", "warehouse")
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "labels.json" in err and "features" in err, err
