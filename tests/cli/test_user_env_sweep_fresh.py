@@ -170,3 +170,32 @@ def test_a_feature_labeling_in_a_folder_without_features_is_one_line_naming_it(c
     code, out, err = run(capsys, "domain", "check", "warehouse")
     assert code == 2 and len(err.strip().splitlines()) == 1, err
     assert "labels.json" in err and "features" in err, err
+
+
+def test_a_dnf_learned_from_the_numeric_view_of_a_picture_observation_trains_there(capsys, tmp_path, monkeypatch):
+    """MiniGrid observes Dict(direction, image, mission): `data record` stores the numeric view the
+    policy reads (direction=0.., image[0..]); `learn dnf` learns over those columns. Before, `train
+    --cost` on the same environment refused the formula ("uses feature 'direction=0', which the
+    environment does not provide"): it read only the Dict's named scalars."""
+    import pytest
+
+    pytest.importorskip("minigrid")
+    from symlearn.recipes.spaces import numeric_observations
+
+    import minigrid  # noqa: F401  (registers the MiniGrid ids)
+    from symlearn.data import record
+
+    monkeypatch.chdir(tmp_path)
+    env = numeric_observations(gymnasium.make("MiniGrid-Empty-5x5-v0"))
+    demos = record(env, lambda observation: 0, 2, seed=0, max_steps=12)   # turns left on the spot
+    demos.metadata["feature_names"] = list(env.column_names)
+    demos.save("turning.npz")
+    code, out, err = run(capsys, "--quiet", "learn", "dnf", "--env", "minigrid:MiniGrid-Empty-5x5-v0", "--demos",
+                         "turning.npz", "-o", "turning.dnf")
+    assert code == 0, err
+    code, out, err = run(capsys, "--json", "--quiet", "train", "--env", "minigrid:MiniGrid-Empty-5x5-v0", "--cost",
+                         "turning.dnf", "--steps", 512, "--eval-episodes", 1, "--log", "run.csv")
+    assert code == 0, err
+    rows = list(csv.DictReader(open(tmp_path / "run.csv")))
+    # the first policy moves about: it leaves the turning robot's states, which the formula forbids
+    assert float(rows[0]["learned_cost_0"]) > 0, rows[0]
