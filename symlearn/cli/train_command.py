@@ -91,7 +91,8 @@
   most 262,144 steps.
 * ``--log run.csv`` / ``--tensorboard DIR``: one row per iteration -- steps, mean return
   of the episodes that ended, their cost per constraint (``mean_cost_i``; ``learned_cost_i`` with
-  ``--cost``, since the learned cost is what training sees), ``true_cost`` (the environment's
+  ``--cost`` under ``ppo-lag``, since the learned cost is what training sees; under ``--algo ppo`` a
+  learned cost is a penalty in the reward and ``mean_cost_i`` is the environment's ``info["cost"]``), ``true_cost`` (the environment's
   ``info["cost"]`` per episode, estimated from the whole rollout; empty when it reports none), the
   estimate the multipliers were updated from (``cost_estimate_i``), the multipliers, losses, KL,
   steps/s -- written as training goes (:mod:`symlearn.rl.training_log`).
@@ -363,7 +364,7 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
                        learning_rate=args.learning_rate, log_std_init=args.log_std_init)
     with TrainingLog(args.log, args.tensorboard) as log:
         result = train_ppo(env_fn, args.steps, config, lagrangian=lagrangian, cost_fn=cost_fn, reward_fn=reward_fn,
-                           callback=_logged(log, cost) if (args.log or args.tensorboard) else None)
+                           callback=_logged(log, cost_fn is not None) if (args.log or args.tensorboard) else None)
     tally = LearnedCostTally(cost)
     episodes = evaluate(result.policy, tally.wrap(target.make()), args.eval_episodes, seed=seed + 10_000)
     doc = evaluation_document(args, cost, episodes.returns, episodes.lengths,
@@ -420,13 +421,15 @@ def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
             f"per episode of {what} after {doc['steps']} steps; {advice}")
 
 
-def _logged(log, cost):
+def _logged(log, learned: bool):
     """The training callback writing one log row per iteration: what :class:`PPOIteration` holds,
-    with the finished episodes' cost named ``learned_cost`` when ``--cost`` drives training (it is
-    the learned one then); ``true_cost`` is always the environment's own ``info["cost"]``."""
+    with the finished episodes' cost named ``learned_cost`` when ``--cost`` is the Lagrangian's
+    cost (``learned``: it is the learned one then). Under plain PPO a learned cost is a penalty in
+    the reward and the episodes' cost is the environment's ``info["cost"]``, left as ``mean_cost``;
+    ``true_cost`` is always the environment's own."""
     def write(record, policy) -> None:
         row = record.as_dict()
-        if cost is not None:
+        if learned:
             row["learned_cost"] = row.pop("mean_cost")
         log.write(row)
 

@@ -23,8 +23,7 @@ def test_a_dnf_cost_reads_a_discrete_observation_as_its_id(capsys, tmp_path, mon
     monkeypatch.chdir(tmp_path)
     monkeypatch.syspath_prepend(str(tmp_path))
     code, out, err = run(capsys, "--json", "--quiet", "train", "--env", "offset_walk:OffsetWalk-v0", "--cost",
-                         "walk.dnf", "--features", "cell", "--algo", "ppo", "--steps", 1024, "--eval-episodes", 2,
-                         "--log", "run.csv")
+                         "walk.dnf", "--features", "cell", "--steps", 1024, "--eval-episodes", 2, "--log", "run.csv")
     assert code == 0, err
     doc = json.loads(out)
     assert doc["learned_cost"] == doc["cost"], doc   # the rule is the environment's own info["cost"]
@@ -199,3 +198,22 @@ def test_a_dnf_learned_from_the_numeric_view_of_a_picture_observation_trains_the
     rows = list(csv.DictReader(open(tmp_path / "run.csv")))
     # the first policy moves about: it leaves the turning robot's states, which the formula forbids
     assert float(rows[0]["learned_cost_0"]) > 0, rows[0]
+
+
+def test_the_log_of_plain_ppo_on_a_learned_cost_does_not_call_the_environments_cost_learned(capsys, tmp_path,
+                                                                                          monkeypatch):
+    """Under --algo ppo a learned cost is a penalty in the reward; the episodes' cost the log has
+    is the environment's info["cost"]. Before, it was written as learned_cost_0. The rule here
+    (`cell == 9`, the goal, once per episode at most) is not the environment's cost (cell 5)."""
+    (tmp_path / "offset_walk.py").write_text(OFFSET_WALK)
+    (tmp_path / "goal.dnf").write_text("cell == 9\n")
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    for algo, log in (("ppo", "plain.csv"), ("ppo-lag", "lagrangian.csv")):
+        code, out, err = run(capsys, "--quiet", "train", "--env", "offset_walk:OffsetWalk-v0", "--cost", "goal.dnf",
+                             "--features", "cell", "--algo", algo, "--steps", 1024, "--eval-episodes", 1, "--log", log)
+        assert code == 0, err
+    plain = list(csv.DictReader(open(tmp_path / "plain.csv")))
+    assert "learned_cost_0" not in plain[0] and float(plain[0]["mean_cost_0"]) > 1, plain[0]
+    lagrangian = list(csv.DictReader(open(tmp_path / "lagrangian.csv")))
+    assert all(float(row["learned_cost_0"]) <= 1 for row in lagrangian), lagrangian
