@@ -9,7 +9,7 @@ import json
 import gymnasium
 import numpy as np
 from cli_runner import run
-from space_envs import ENDLESS_LINE, OFFSET_WALK
+from space_envs import ENDLESS_LINE, MATRIX_POINT, OFFSET_WALK
 
 from symlearn.backends.dnf_cost import DnfRolloutCost
 from symlearn.logic import dnf
@@ -217,3 +217,15 @@ def test_the_log_of_plain_ppo_on_a_learned_cost_does_not_call_the_environments_c
     assert "learned_cost_0" not in plain[0] and float(plain[0]["mean_cost_0"]) > 1, plain[0]
     lagrangian = list(csv.DictReader(open(tmp_path / "lagrangian.csv")))
     assert all(float(row["learned_cost_0"]) <= 1 for row in lagrangian), lagrangian
+
+
+def test_data_record_of_matrix_observations_to_jsonl_is_refused_before_recording(capsys, tmp_path, monkeypatch):
+    """Before, the episodes were run first and the refusal called a (2, 3) matrix 'image states'."""
+    (tmp_path / "matrix_point.py").write_text(MATRIX_POINT)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    code, out, err = run(capsys, "data", "record", "--env", "matrix_point:MatrixPoint-v0", "--policy", "random",
+                         "-o", "demos.jsonl")
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "(2, 3)" in err and "demos.npz" in err and "image" not in err, err
+    assert not (tmp_path / "demos.jsonl").exists()
