@@ -102,7 +102,8 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--iterations", type=int, default=10, help="ICRL iterations (10)")
     cmd.add_argument("--beta", type=float, default=0.01, help="entropy coefficient, > 0 (0.01)")
     cmd.add_argument("--cost-inputs", help="candidate observation entries of the cost: names (x,y; x0,x1 where "
-                                            "nothing names them), indices or 'all' (default: the environment's "
+                                            "nothing names them; a Discrete observation's states cell=3, "
+                                            "or its name for all of them), indices or 'all' (default: the environment's "
                                             "declared constraint features, else all)")
     cmd.add_argument("--select-inputs", type=float, default=0.01, metavar="TOL",
                      help="keep the fewest candidate inputs that tell expert from nominal states within TOL of all "
@@ -163,6 +164,17 @@ def _check_arguments(args: argparse.Namespace) -> None:
         raise DataError(f"--steps {args.steps} is too few for {args.iterations} iterations")
 
 
+def _input_entries(env: Any, names: Any, width: int) -> tuple[Any, int]:
+    """The entries the cost network reads and their names. A ``Discrete`` observation reaches the
+    networks one-hot: one entry per state, named ``cell=3`` (``x=3`` where nothing names the
+    observation), where the observation's own width would be one entry of its id."""
+    space = env.observation_space
+    if type(space).__name__ != "Discrete":
+        return names, width
+    base = names[0] if names is not None and len(names) == 1 else "x"
+    return tuple(f"{base}={int(space.start) + i}" for i in range(int(space.n))), int(space.n)
+
+
 def _cost_inputs(text: str | None, names: Any, width: int) -> list[int] | None:
     from symlearn.errors import DataError
 
@@ -172,6 +184,10 @@ def _cost_inputs(text: str | None, names: Any, width: int) -> list[int] | None:
         return list(range(width))
     dims = []
     for item in (part.strip() for part in text.split(",")):
+        one_hot = [i for i, name in enumerate(names or ()) if name.startswith(f"{item}=")]
+        if one_hot and item not in (names or ()):   # a Discrete observation's name: all its entries
+            dims.extend(one_hot)
+            continue
         if item.lstrip("-").isdigit():
             index = int(item)
         elif names is not None and item in names:
@@ -213,8 +229,8 @@ def _icrl(args: argparse.Namespace, out) -> None:
     target = target.as_numeric(actions=True)
     env = target.make()
     names = target.observation_names(env)
-    width = observation_width(env) or 1
-    obs_dims = _cost_inputs(args.cost_inputs, names, width)
+    entry_names, width = _input_entries(env, names, observation_width(env) or 1)
+    obs_dims = _cost_inputs(args.cost_inputs, entry_names, width)
     seed = getattr(args, "seed", 0) or 0
     demos = demonstrations(target, args.demos, args.n_demos, seed=seed, expert_steps=args.expert_steps,
                            expert_cache=args.expert_cache, note=out.note)
@@ -277,7 +293,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
            "lambda": [float(x) for x in learner.cost_.lambdas.numpy()],
            # what the cost charges the demonstrations per episode: `train --cost`'s default limit
            "expert_cost": learner.cost_.provenance.get("expert_cost"),
-           "cost_inputs": _named_inputs(result.metrics["cost_inputs"], names),
+           "cost_inputs": _named_inputs(result.metrics["cost_inputs"], entry_names),
            "demonstrations": learner.cost_.learned_from,
            "iterations": len(learner.history_), "actor_resets": result.metrics.get("actor_resets"),
            "seconds": time.perf_counter() - started,

@@ -15,6 +15,18 @@ from symlearn.backends.dnf_cost import DnfRolloutCost
 from symlearn.logic import dnf
 
 
+def _walk(tmp_path, monkeypatch):
+    """The OffsetWalk module (Discrete(8, start=2) observations) and 4 walks that keep off cell 5."""
+    from symlearn.data import record
+
+    (tmp_path / "offset_walk.py").write_text(OFFSET_WALK)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    import offset_walk  # noqa: F401  (registers OffsetWalk-v0)
+
+    record(gymnasium.make("OffsetWalk-v0"), lambda cell: 1 if cell < 4 else 0, 4, seed=0).save("walk.jsonl")
+
+
 def test_a_dnf_cost_reads_a_discrete_observation_as_its_id(capsys, tmp_path, monkeypatch):
     """The policy sees a Discrete observation one-hot; the rule ``cell == 5`` reads the id. Before,
     ``train --cost`` stopped with 'expected 1 features (cell), got 8' (the one-hot columns)."""
@@ -229,3 +241,20 @@ def test_data_record_of_matrix_observations_to_jsonl_is_refused_before_recording
     assert code == 2 and len(err.strip().splitlines()) == 1, err
     assert "(2, 3)" in err and "demos.npz" in err and "image" not in err, err
     assert not (tmp_path / "demos.jsonl").exists()
+
+
+def test_learn_icrl_cost_inputs_of_a_discrete_observation_are_its_one_hot_entries(capsys, tmp_path, monkeypatch):
+    """The networks read a Discrete observation one-hot. Before, its width was taken as 1:
+    `--cost-inputs all` gave the cost one input, the indicator of the first state, and the report
+    called it by the observation's name."""
+    _walk(tmp_path, monkeypatch)
+    code, out, err = run(capsys, "--json", "--quiet", "learn", "icrl", "--env", "offset_walk:OffsetWalk-v0",
+                         "--demos", "walk.jsonl", "--cost-inputs", "all", "--steps", 1024, "--iterations", 1)
+    assert code == 0, err
+    inputs = json.loads(out)["cost_inputs"]
+    assert inputs["selection"]["candidates"] == list(range(8)), inputs   # cells 2..9
+    assert all(name.startswith("x=") for name in inputs["names"]), inputs
+    code, out, err = run(capsys, "--json", "--quiet", "learn", "icrl", "--env", "offset_walk:OffsetWalk-v0",
+                         "--demos", "walk.jsonl", "--cost-inputs", "x=5,x=6", "--steps", 1024, "--iterations", 1)
+    assert code == 0, err
+    assert json.loads(out)["cost_inputs"]["selection"]["candidates"] == [3, 4], out
