@@ -492,12 +492,21 @@ def _named_inputs(inputs: dict, names: Any) -> dict:
     return {**inputs, "names": [str(names[int(i)]) for i in inputs["entries"]]}
 
 
+#: inputs named on the cost-inputs line of the text report
+SHOWN_INPUTS = 12
+
+
 def _render_inputs(inputs: dict) -> str:
     """One line: where the cost's candidate inputs came from, whether they were selected, and the
     entries read with their share of the first layer's weight."""
     names = inputs["names"] or inputs["entries"]
-    read = ", ".join(f"{name} {share:.2f}" for name, share in zip(names, inputs["shares"]))
-    return f"  cost inputs ({inputs['from']}{', selected' if inputs['selection'] else ''}): {read}"
+    pairs = list(zip(names, inputs["shares"]))
+    more = ""
+    if len(pairs) > SHOWN_INPUTS:   # a camera's pixels: the largest shares, the rest counted
+        pairs = sorted(pairs, key=lambda pair: -pair[1])[:SHOWN_INPUTS]
+        more = f", ... {len(names) - SHOWN_INPUTS} more (the largest shares shown; --json lists every one)"
+    read = ", ".join(f"{name} {share:.2f}" for name, share in pairs)
+    return f"  cost inputs ({inputs['from']}{', selected' if inputs['selection'] else ''}): {read}{more}"
 
 
 def _render(doc: dict) -> str:
