@@ -266,7 +266,7 @@ class EnvTarget:
 
             build = lambda: gymnasium.make(self.gym_id, **self.kwargs)  # noqa: E731
         try:
-            return build()
+            env = build()
         except SymlearnError:
             raise
         except (TypeError, ValueError) as exc:  # a value of the wrong type ("wall": "left")
@@ -279,6 +279,9 @@ class EnvTarget:
                             hint="see `symlearn doctor` for the optional extras") from None
         except Exception as exc:  # the user's own environment failed: say so in one line
             raise DataError(f"building {self.display} failed: {type(exc).__name__}: {exc}") from None
+        if self.entry is None:
+            _check_reset_signature(env, self.display)
+        return env
 
     @property
     def env_fn(self) -> Callable[[], Any]:
@@ -402,6 +405,30 @@ class EnvTarget:
             raise DataError(f"{self.display} has no expert: give your demonstrations with --demos FILE",
                             hint="record them with symlearn.data.record(env, policy, n) and save them as .npz/.jsonl")
         return self.entry.expert(n, seed=seed, env_kwargs=dict(self.kwargs))
+
+
+def _check_reset_signature(env: Any, display: str) -> None:
+    """gymnasium's wrappers call ``reset(seed=..., options=...)``; a user's ``reset`` without those
+    keywords (the pre-0.26 gym API) fails deep inside a learner with a TypeError that names no file
+    of the user's: refuse it here, in one line naming the method's file and line."""
+    import inspect
+
+    reset = getattr(type(getattr(env, "unwrapped", env)), "reset", None)
+    try:
+        parameters = inspect.signature(reset).parameters
+    except (TypeError, ValueError):   # a builtin or C extension: nothing to read
+        return
+    if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters.values()):
+        return
+    missing = [name for name in ("seed", "options") if name not in parameters]
+    if missing:
+        try:
+            where = {"file": inspect.getsourcefile(reset), "line": inspect.getsourcelines(reset)[1]}
+        except (TypeError, OSError):
+            where = {}
+        raise DataError(f"{display}: reset() takes no {' or '.join(repr(m) for m in missing)} argument, and "
+                        "gymnasium calls reset(seed=..., options=...)",
+                        hint="define reset(self, seed=None, options=None) and call super().reset(seed=seed)", **where)
 
 
 def observation_width(env: Any) -> int | None:

@@ -281,3 +281,38 @@ def test_learn_icrl_on_a_camera_keeps_every_pixel_rather_than_eliminate_them_one
     assert code == 0, err
     [line] = [line for line in out.splitlines() if "cost inputs" in line]
     assert "756 more" in line, line
+
+
+OLD_STYLE_RESET = """
+import gymnasium as gym
+import numpy as np
+
+
+class OldStyle(gym.Env):
+    observation_space = gym.spaces.Box(-1.0, 1.0, (2,), np.float32)
+    action_space = gym.spaces.Discrete(3)
+
+    def reset(self, seed=None):   # the pre-0.26 gym API: no options
+        self.t = 0
+        return np.zeros(2, np.float32), {}
+
+    def step(self, action):
+        self.t += 1
+        return np.zeros(2, np.float32), 0.0, False, self.t >= 10, {}
+
+
+gym.register("OldStyle-v0", entry_point=OldStyle, disable_env_checker=True)
+"""
+
+
+def test_a_reset_without_options_is_one_line_naming_its_file(capsys, tmp_path, monkeypatch):
+    """gymnasium's wrappers call reset(seed=..., options=...); before, such an environment was an
+    internal error (TypeError from gymnasium's code, no file of the user's in the traceback)."""
+    (tmp_path / "old_style.py").write_text(OLD_STYLE_RESET)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    for args in (("train", "--env", "old_style:OldStyle-v0", "--steps", 256),
+                 ("data", "record", "--env", "old_style:OldStyle-v0", "--policy", "random", "-o", "d.npz")):
+        code, out, err = run(capsys, *args)
+        assert code == 2 and len(err.strip().splitlines()) == 1, err
+        assert "old_style.py:10:" in err and "options" in err, err   # the line of def reset
