@@ -281,6 +281,7 @@ class EnvTarget:
             raise DataError(f"building {self.display} failed: {type(exc).__name__}: {exc}") from None
         if self.entry is None:
             _check_reset_signature(env, self.display)
+            _check_returns(build, self.display, (self.gym_id, repr(sorted(self.kwargs.items()))))
         return env
 
     @property
@@ -429,6 +430,50 @@ def _check_reset_signature(env: Any, display: str) -> None:
         raise DataError(f"{display}: reset() takes no {' or '.join(repr(m) for m in missing)} argument, and "
                         "gymnasium calls reset(seed=..., options=...)",
                         hint="define reset(self, seed=None, options=None) and call super().reset(seed=seed)", **where)
+
+
+#: the (id, kwargs) of users' environments whose reset and step returns were checked in this process
+_RETURNS_CHECKED: set[tuple[Any, str]] = set()
+
+
+def _check_returns(build: Callable[[], Any], display: str, key: tuple[Any, str]) -> None:
+    """A user's ``reset`` must return ``(observation, info)`` and ``step`` five values (gymnasium's
+    API since 0.26); the old gym API's observation alone and ``(observation, reward, done, info)``
+    fail deep inside a learner as an unrelated IndexError or broadcast error. One reset and one
+    step of a separate copy, once per environment and process, say so in one line instead. An
+    exception the copy raises is left to the command, which reports it where it happens."""
+    if key in _RETURNS_CHECKED:
+        return
+    _RETURNS_CHECKED.add(key)
+    try:
+        env = build()
+    except Exception:
+        return
+    raw = getattr(env, "unwrapped", env)   # gymnasium's own wrappers (TimeLimit) would unpack the values first
+    try:
+        found = raw.reset(seed=0)
+        if not (isinstance(found, tuple) and len(found) == 2 and isinstance(found[1], Mapping)):
+            raise DataError(f"{display}: reset() returned {_shape_of(found)}, not (observation, info)",
+                            hint="gymnasium's API: return observation, {} (info a dict)")
+        found = raw.step(raw.action_space.sample())
+        if not (isinstance(found, tuple) and len(found) == 5):
+            raise DataError(f"{display}: step() returned {_shape_of(found)}, not (observation, reward, terminated, "
+                            "truncated, info)", hint="gymnasium's API: the old done is terminated (the task ended) "
+                                                     "or truncated (a time limit)")
+    except SymlearnError:
+        _RETURNS_CHECKED.discard(key)
+        raise
+    except Exception:
+        pass
+    finally:
+        try:
+            env.close()
+        except Exception:
+            pass
+
+
+def _shape_of(value: Any) -> str:
+    return f"a tuple of {len(value)}" if isinstance(value, tuple) else f"one {type(value).__name__}"
 
 
 def observation_width(env: Any) -> int | None:

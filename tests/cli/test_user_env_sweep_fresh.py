@@ -1,5 +1,6 @@
-"""A fresh sweep of users' environments at the CLI's defaults (docs/BENCHMARKS.md, issue 25: "A sweep
-of users' modules and gymnasium's toy-text worlds"): what failed there, kept failing-proof here."""
+"""A fresh sweep of users' environments and domain folders at the CLI's defaults (docs/BENCHMARKS.md,
+issue 25: "A sweep of users' modules, gymnasium's toy text and MiniGrid at the CLI's defaults"): one
+test per failure it found."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import json
 
 import gymnasium
 import numpy as np
+import pytest
 from cli_runner import run
 from space_envs import ENDLESS_LINE, MATRIX_POINT, OFFSET_WALK
 
@@ -188,8 +190,6 @@ def test_a_dnf_learned_from_the_numeric_view_of_a_picture_observation_trains_the
     policy reads (direction=0.., image[0..]); `learn dnf` learns over those columns. Before, `train
     --cost` on the same environment refused the formula ("uses feature 'direction=0', which the
     environment does not provide"): it read only the Dict's named scalars."""
-    import pytest
-
     pytest.importorskip("minigrid")
     from symlearn.recipes.spaces import numeric_observations
 
@@ -316,3 +316,45 @@ def test_a_reset_without_options_is_one_line_naming_its_file(capsys, tmp_path, m
         code, out, err = run(capsys, *args)
         assert code == 2 and len(err.strip().splitlines()) == 1, err
         assert "old_style.py:10:" in err and "options" in err, err   # the line of def reset
+
+
+OLD_GYM_API = """
+import gymnasium as gym
+import numpy as np
+
+
+class OldGym(gym.Env):
+    observation_space = gym.spaces.Box(-1.0, 1.0, (2,), np.float32)
+    action_space = gym.spaces.Discrete(3)
+
+    def __init__(self, returns="step"):
+        self.returns = returns
+
+    def reset(self, seed=None, options=None):
+        self.t = 0
+        observation = np.zeros(2, np.float32)
+        return observation if self.returns == "reset" else (observation, {})
+
+    def step(self, action):
+        self.t += 1
+        return np.zeros(2, np.float32), 0.0, self.t >= 10, {}   # (observation, reward, done, info)
+
+
+gym.register("OldGym-v0", entry_point=OldGym, max_episode_steps=20)
+"""
+
+
+@pytest.mark.parametrize("returns, says", [("reset", "reset() returned one ndarray"),
+                                           ("step", "step() returned a tuple of 4")])
+def test_the_old_gym_apis_returns_are_one_line(capsys, tmp_path, monkeypatch, returns, says):
+    """Before: internal errors (an IndexError in record, a broadcast error in our PPO's rollouts,
+    an unpacking error in stable-baselines3's), none naming the environment."""
+    (tmp_path / "old_gym.py").write_text(OLD_GYM_API)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    for command in (["train", "--steps", 256], ["train", "--algo", "sb3-ppo", "--steps", 256],
+                    ["data", "record", "--policy", "random", "-o", "d.npz"]):
+        code, out, err = run(capsys, *command, "--env", "old_gym:OldGym-v0", "--env-kwargs",
+                             json.dumps({"returns": returns}))
+        assert code == 2 and len(err.strip().splitlines()) == 1, err
+        assert says in err and "old_gym:OldGym-v0" in err, err
