@@ -285,23 +285,28 @@ class DnfRolloutCost:
     evaluation does.
 
     ``source``: ``"info"`` (``info["features"]``, recorded by PPO for every step) or
-    ``"observation"`` (the reached observation as the policy sees it, flattened to float32).
+    ``"observation"`` (the reached observation as the policy sees it, flattened to float32). Give
+    ``observation_space`` where it is ``Discrete``: the policy sees its one-hot vector, the formula
+    reads the state's id (``cell == 5``), as :class:`DnfCostWrapper` does.
     """
 
     def __init__(self, dnf: Any, features: Any, *, source: str = "info", violation_cost: float = 1.0,
                  per_rule: bool = False, track: bool = True, stats: RuleStats | None = None,
-                 depth_weight: float = 0.0) -> None:
+                 depth_weight: float = 0.0, observation_space: Any = None) -> None:
         if source not in ("info", "observation"):
             raise SymlearnError(f"unknown feature source {source!r}", hint="use 'info' or 'observation'")
         self.cost = FormulaCost(dnf, features, violation_cost=violation_cost, per_rule=per_rule, track=track,
                                 stats=stats, depth_weight=depth_weight)
         self.dnf, self.source = dnf, source
         self.stats, self.feature_names = self.cost.stats, self.cost.feature_names
+        self._id_start = int(observation_space.start) if isinstance(observation_space, gym.spaces.Discrete) else None
         # what train_ppo records from every step's info for us
         self.info_keys = ("features",) if source == "info" else ()
 
     def __call__(self, rollout: Any) -> np.ndarray:
         raw = rollout.info["features"] if self.source == "info" else rollout.next_obs
+        if self.source == "observation" and self._id_start is not None:   # one-hot rows back to ids
+            raw = raw.argmax(axis=-1)[..., None] + self._id_start
         shape = raw.shape[:2]
         costs, _ = self.cost(np.asarray(raw, dtype=np.float64).reshape(shape[0] * shape[1], -1))
         return costs.reshape(*shape, *costs.shape[1:])

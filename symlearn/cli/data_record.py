@@ -21,6 +21,7 @@ JSON keys: ``env``, ``policy``, ``episodes``, ``steps``, ``return`` (mean per ep
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 from typing import Any
 
 from symlearn.cli.flag_values import MAX_DEMOS as MAX_EPISODES  # one bound for every recorded-episode count
@@ -42,7 +43,7 @@ def register(commands, common) -> None:
     cmd.add_argument("--stochastic", action="store_true",
                      help="sample the policy's actions (default: its mean or most likely action)")
     cmd.add_argument("--max-steps", type=float, default=None, help="cap on an episode's length (default: the "
-                                                                    "environment's own time limit)")
+                                                                    "environment's own time limit, else 10000)")
     cmd.add_argument("-o", "--output", required=True, metavar="DEMOS.npz", help="the file to write (.npz or .jsonl)")
     cmd.set_defaults(handler=run)
 
@@ -152,6 +153,11 @@ def run(args: argparse.Namespace, out) -> None:
     target = resolve_env(args.env, kwargs=args.env_kwargs)
     costs = _EpisodeCost()
     env = costs.wrap(target.make())
+    shape = getattr(env.observation_space, "shape", None)
+    if str(args.output).endswith(".jsonl") and type(env.observation_space).__name__ == "Box" and len(shape) >= 2:
+        # before the episodes are run: JSONL holds no arrays of 2 or more dimensions per step
+        raise SymlearnError(f"{args.output}: {target.display} observes arrays of shape {tuple(shape)}, which JSONL "
+                            "cannot hold", hint=f"write {Path(args.output).with_suffix('.npz')}")
     # 'random' as record() takes it; a file of that name is a model's (random.safetensors)
     policy = "random" if args.policy == "random" else _policy(args.policy, env, args.stochastic, seed)
     metadata = {"policy": str(args.policy), "stochastic": bool(args.stochastic)}

@@ -143,17 +143,18 @@ def _spec(args: argparse.Namespace, out) -> None:
         raise DataError("a domain has no bundled expert: give your demonstrations with --demos FILE")
     else:
         demos = expert_demonstrations(task, args.n_demos, seed=seed)
-    labeling = load_labeling(args.labeling) if args.labeling else None
-    if labeling is not None and args.props == "learn":
+    if args.labeling and args.props == "learn":
         raise DataError("--labeling gives propositions, which contradicts --props learn")
+    if task is not None:
+        env = task.make_env()
+        labeling = load_labeling(args.labeling) if args.labeling else None
+    else:
+        env = load_domain(args)
+        labeling = _domain_labeling(args, env)
 
     learner = SpecLearner(propositions=args.props, labeling=labeling, threshold=args.threshold,
                           max_iterations=args.max_iterations, prune=not args.no_prune, random_state=seed,
                           horizon=args.horizon, callback=_reporter(out))
-    if task is not None:
-        env = task.make_env()
-    else:
-        env = load_domain(args)
     if args.demos:
         _check_demos_world(demos, args.demos, task, env)
     with blame_file(args.demos):
@@ -174,6 +175,28 @@ def _spec(args: argparse.Namespace, out) -> None:
         "labeling_not_written": not_written,
     }
     out.result(doc, _render)
+
+
+def _domain_labeling(args: argparse.Namespace, domain):
+    """``--labeling`` in a domain folder, in every form ``--env`` takes it (a saved labeling,
+    ``{proposition: condition}`` over the folder's feature map, ``FILE.py:function`` of a state id),
+    a feature labeling reading each state's features; None for the folder's own labeling. With
+    ``--props given`` and no labeling anywhere, one line naming the ways to give one."""
+    from symlearn.errors import DataError
+    from symlearn.grounding.domain_folder import labeling_of_states
+    from symlearn.grounding.labeling_function import read_labeling
+
+    if not args.labeling:
+        if domain.labeling is None and args.props == "given":
+            raise DataError(f"the domain {args.domain} has no labeling, so there are no given propositions",
+                            hint='add labeling = "labeling.json" to its domain.toml, give --labeling FILE.json (or '
+                                 '{"p": "feature > 1"} over its feature map), or learn propositions with --props learn')
+        return None
+    names = domain.feature_map.names if domain.feature_map is not None else None
+    labeling = read_labeling(args.labeling, feature_names=names,
+                             names_hint='the domain names no features: add a feature map of every state (features = '
+                                        '"features.json" in domain.toml), or give a table labeling')
+    return labeling_of_states(labeling, domain.feature_map, args.labeling)
 
 
 def _meanings(labeling, conditions=None, source: str | None = None) -> dict[str, str]:

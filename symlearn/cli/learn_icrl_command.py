@@ -45,7 +45,8 @@ states sampled around the expert's, in the expert states' box widened until it h
 and unsafe states (``recovery_margin``; :mod:`symlearn.learners.neural.icrl_metrics`).
 
 JSON keys: ``reward``, ``violation_rate``, ``feasible_reward``, ``recovery_auc``,
-``recovery_iou``, ``recovery_margin``, ``expert_reward``, ``lambda``, ``expert_cost`` (the learned
+``recovery_iou``, ``recovery_margin``, ``expert_reward`` (null when the demonstrations hold no
+rewards), ``lambda``, ``expert_cost`` (the learned
 cost's sum per demonstration episode: ``mean``, ``min``, ``max``, ``episodes``, ``mean_length``; the
 mean is the limit ``symlearn train --cost`` holds an agent to by default), ``cost_inputs`` (``entries``,
 ``names``, ``from``: given / declared features / all, ``selection``: candidates, selected, AUCs,
@@ -101,7 +102,8 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--iterations", type=int, default=10, help="ICRL iterations (10)")
     cmd.add_argument("--beta", type=float, default=0.01, help="entropy coefficient, > 0 (0.01)")
     cmd.add_argument("--cost-inputs", help="candidate observation entries of the cost: names (x,y; x0,x1 where "
-                                            "nothing names them), indices or 'all' (default: the environment's "
+                                            "nothing names them; a Discrete observation's states cell=3, "
+                                            "or its name for all of them), indices or 'all' (default: the environment's "
                                             "declared constraint features, else all)")
     cmd.add_argument("--select-inputs", type=float, default=0.01, metavar="TOL",
                      help="keep the fewest candidate inputs that tell expert from nominal states within TOL of all "
@@ -162,6 +164,17 @@ def _check_arguments(args: argparse.Namespace) -> None:
         raise DataError(f"--steps {args.steps} is too few for {args.iterations} iterations")
 
 
+def _input_entries(env: Any, names: Any, width: int) -> tuple[Any, int]:
+    """The entries the cost network reads and their names. A ``Discrete`` observation reaches the
+    networks one-hot: one entry per state, named ``cell=3`` (``x=3`` where nothing names the
+    observation), where the observation's own width would be one entry of its id."""
+    space = env.observation_space
+    if type(space).__name__ != "Discrete":
+        return names, width
+    base = names[0] if names is not None and len(names) == 1 else "x"
+    return tuple(f"{base}={int(space.start) + i}" for i in range(int(space.n))), int(space.n)
+
+
 def _cost_inputs(text: str | None, names: Any, width: int) -> list[int] | None:
     from symlearn.errors import DataError
 
@@ -171,6 +184,10 @@ def _cost_inputs(text: str | None, names: Any, width: int) -> list[int] | None:
         return list(range(width))
     dims = []
     for item in (part.strip() for part in text.split(",")):
+        one_hot = [i for i, name in enumerate(names or ()) if name.startswith(f"{item}=")]
+        if one_hot and item not in (names or ()):   # a Discrete observation's name: all its entries
+            dims.extend(one_hot)
+            continue
         if item.lstrip("-").isdigit():
             index = int(item)
         elif names is not None and item in names:
@@ -212,8 +229,8 @@ def _icrl(args: argparse.Namespace, out) -> None:
     target = target.as_numeric(actions=True)
     env = target.make()
     names = target.observation_names(env)
-    width = observation_width(env) or 1
-    obs_dims = _cost_inputs(args.cost_inputs, names, width)
+    entry_names, width = _input_entries(env, names, observation_width(env) or 1)
+    obs_dims = _cost_inputs(args.cost_inputs, entry_names, width)
     seed = getattr(args, "seed", 0) or 0
     demos = demonstrations(target, args.demos, args.n_demos, seed=seed, expert_steps=args.expert_steps,
                            expert_cache=args.expert_cache, note=out.note)
@@ -271,11 +288,12 @@ def _icrl(args: argparse.Namespace, out) -> None:
            "recovery_auc": None if rec is None else rec.as_dict()["auc"],
            "recovery_iou": None if rec is None else rec.as_dict()["iou"],
            "recovery_margin": None if rec is None else rec.margin,
-           "expert_reward": result.metrics["expert_reward"],
+           # demonstrations written without rewards say nothing of the expert's: n/a, never 0
+           "expert_reward": result.metrics["expert_reward"] if any(t.rewards is not None for t in demos) else None,
            "lambda": [float(x) for x in learner.cost_.lambdas.numpy()],
            # what the cost charges the demonstrations per episode: `train --cost`'s default limit
            "expert_cost": learner.cost_.provenance.get("expert_cost"),
-           "cost_inputs": _named_inputs(result.metrics["cost_inputs"], names),
+           "cost_inputs": _named_inputs(result.metrics["cost_inputs"], entry_names),
            "demonstrations": learner.cost_.learned_from,
            "iterations": len(learner.history_), "actor_resets": result.metrics.get("actor_resets"),
            "seconds": time.perf_counter() - started,
@@ -474,12 +492,21 @@ def _named_inputs(inputs: dict, names: Any) -> dict:
     return {**inputs, "names": [str(names[int(i)]) for i in inputs["entries"]]}
 
 
+#: inputs named on the cost-inputs line of the text report
+SHOWN_INPUTS = 12
+
+
 def _render_inputs(inputs: dict) -> str:
     """One line: where the cost's candidate inputs came from, whether they were selected, and the
     entries read with their share of the first layer's weight."""
     names = inputs["names"] or inputs["entries"]
-    read = ", ".join(f"{name} {share:.2f}" for name, share in zip(names, inputs["shares"]))
-    return f"  cost inputs ({inputs['from']}{', selected' if inputs['selection'] else ''}): {read}"
+    pairs = list(zip(names, inputs["shares"]))
+    more = ""
+    if len(pairs) > SHOWN_INPUTS:   # a camera's pixels: the largest shares, the rest counted
+        pairs = sorted(pairs, key=lambda pair: -pair[1])[:SHOWN_INPUTS]
+        more = f", ... {len(names) - SHOWN_INPUTS} more (the largest shares shown; --json lists every one)"
+    read = ", ".join(f"{name} {share:.2f}" for name, share in pairs)
+    return f"  cost inputs ({inputs['from']}{', selected' if inputs['selection'] else ''}): {read}{more}"
 
 
 def _render(doc: dict) -> str:
@@ -487,7 +514,8 @@ def _render(doc: dict) -> str:
         return "n/a" if x is None else f"{x:.3f}"
 
     lines = [f"{doc['method']} on {doc['env']}: {doc['iterations']} iterations in {doc['seconds']:.1f} s",
-             f"  reward {doc['reward']:.2f} (expert {doc['expert_reward']:.2f}), violation rate "
+             f"  reward {doc['reward']:.2f} (expert "
+             + ("n/a" if doc["expert_reward"] is None else f"{doc['expert_reward']:.2f}") + "), violation rate "
              f"{number(doc['violation_rate'])}, feasible reward "
              + ("n/a" if doc["feasible_reward"] is None else f"{doc['feasible_reward']:.2f}"),
              f"  recovery of the unsafe set: AUC {number(doc['recovery_auc'])}, IoU {number(doc['recovery_iou'])}",

@@ -91,7 +91,8 @@
   most 262,144 steps.
 * ``--log run.csv`` / ``--tensorboard DIR``: one row per iteration -- steps, mean return
   of the episodes that ended, their cost per constraint (``mean_cost_i``; ``learned_cost_i`` with
-  ``--cost``, since the learned cost is what training sees), ``true_cost`` (the environment's
+  ``--cost`` under ``ppo-lag``, since the learned cost is what training sees; under ``--algo ppo`` a
+  learned cost is a penalty in the reward and ``mean_cost_i`` is the environment's ``info["cost"]``), ``true_cost`` (the environment's
   ``info["cost"]`` per episode, estimated from the whole rollout; empty when it reports none), the
   estimate the multipliers were updated from (``cost_estimate_i``), the multipliers, losses, KL,
   steps/s -- written as training goes (:mod:`symlearn.rl.training_log`).
@@ -316,6 +317,12 @@ def _train(args: argparse.Namespace, out) -> None:
     kept = _limit_kept(args, cost, doc)
     if kept and not doc["warnings"]:
         doc["warnings"].append(kept)
+    cut, cap = getattr(args, "evaluation_cut", (0, 0))
+    if cut:
+        doc["warnings"].append(f"{cut} of the {args.eval_episodes} evaluation episodes ran {cap:,} steps without "
+                               f"ending and were cut there, so the return and costs above are sums over {cap:,} "
+                               f"steps: {target.display} registers no time limit (gymnasium.register(..., "
+                               "max_episode_steps=N) sets one)")
     if args.prune:
         pruned = _prune(args, cost.stats, doc["steps"])
         doc["files"].insert(0, pruned.pop("file"))
@@ -357,7 +364,7 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
                        learning_rate=args.learning_rate, log_std_init=args.log_std_init)
     with TrainingLog(args.log, args.tensorboard) as log:
         result = train_ppo(env_fn, args.steps, config, lagrangian=lagrangian, cost_fn=cost_fn, reward_fn=reward_fn,
-                           callback=_logged(log, cost) if (args.log or args.tensorboard) else None)
+                           callback=_logged(log, cost_fn is not None) if (args.log or args.tensorboard) else None)
     tally = LearnedCostTally(cost)
     episodes = evaluate(result.policy, tally.wrap(target.make()), args.eval_episodes, seed=seed + 10_000)
     doc = evaluation_document(args, cost, episodes.returns, episodes.lengths,
@@ -414,13 +421,15 @@ def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
             f"per episode of {what} after {doc['steps']} steps; {advice}")
 
 
-def _logged(log, cost):
+def _logged(log, learned: bool):
     """The training callback writing one log row per iteration: what :class:`PPOIteration` holds,
-    with the finished episodes' cost named ``learned_cost`` when ``--cost`` drives training (it is
-    the learned one then); ``true_cost`` is always the environment's own ``info["cost"]``."""
+    with the finished episodes' cost named ``learned_cost`` when ``--cost`` is the Lagrangian's
+    cost (``learned``: it is the learned one then). Under plain PPO a learned cost is a penalty in
+    the reward and the episodes' cost is the environment's ``info["cost"]``, left as ``mean_cost``;
+    ``true_cost`` is always the environment's own."""
     def write(record, policy) -> None:
         row = record.as_dict()
-        if cost is not None:
+        if learned:
             row["learned_cost"] = row.pop("mean_cost")
         log.write(row)
 
@@ -469,6 +478,11 @@ def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_c
     ``learned``: the learned cost per episode (:class:`LearnedCostTally`), null without ``--cost``."""
     import numpy as np
 
+    from symlearn.rl.evaluation import MAX_EPISODE_STEPS
+
+    # an environment with no time limit whose greedy episodes never end is cut by the evaluation
+    # loop: _train says so, since the return and cost are then sums over that many steps
+    args.evaluation_cut = int(np.sum(np.asarray(lengths) >= MAX_EPISODE_STEPS)), MAX_EPISODE_STEPS
     per_episode = None
     if true_costs is None and reported:   # costs reported only where paid, and evaluation paid none
         true_costs = np.zeros((len(returns), 1))

@@ -18,7 +18,7 @@ reports, never what a learned cost is trained against.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -83,8 +83,15 @@ def _dnf(path: str, target: Any, features: str | None, per_rule: bool, depth_wei
         # names counted against the columns; learn dnf's own x0 .. x{k-1} where nothing names them
         found = target.features(env, override=features, numbered=True)
         _, info = env.reset(seed=0)
+        space = env.observation_space
+        view = _view_columns(env)
     finally:
         env.close()
+    if found is not None and view is not None and not set(dnf.features) <= set(found.names) \
+            and set(dnf.features) <= set(view):
+        # learned from demonstrations of the policy's numeric view (`data record` of a Dict
+        # observation holding a picture stores that view): read the view, by the names record gave it
+        found = replace(found, names=view, source="observation", named=True)
     if found is not None and not found.named and not set(dnf.features) <= set(found.names):
         where = 'info["features"]' if found.source == "info" else "the observation"
         raise DataError(f"{target.display} names no features and the formula reads {', '.join(sorted(dnf.features))}"
@@ -106,7 +113,8 @@ def _dnf(path: str, target: Any, features: str | None, per_rule: bool, depth_wei
     wrap = _DictFeatures(names) if source == "info" and isinstance(info.get("features"), dict) else None
     # evaluated once per rollout over all its steps (the same costs and rule counts as the
     # per-step form, a fraction of its overhead)
-    rollout = DnfRolloutCost(dnf, names, source=source, per_rule=per_rule, stats=stats, depth_weight=depth_weight)
+    rollout = DnfRolloutCost(dnf, names, source=source, per_rule=per_rule, stats=stats, depth_weight=depth_weight,
+                             observation_space=space)
     formula = FormulaCost(dnf, names, per_rule=per_rule, stats=stats, depth_weight=depth_weight)
 
     def step_cost(observation: Any, action: Any, next_observation: Any, info: dict[str, Any]) -> np.ndarray:
@@ -116,6 +124,17 @@ def _dnf(path: str, target: Any, features: str | None, per_rule: bool, depth_wei
 
     n = len(dnf.conjunctions) if per_rule else 1
     return TrainingCost("dnf", rollout, step_cost, n, stats=stats, wrap=wrap)
+
+
+def _view_columns(env: Any) -> tuple[str, ...] | None:
+    """The names of the numeric view's columns (:class:`~symlearn.recipes.spaces.NumericObservations`
+    among ``env``'s wrappers), or None where the environment is seen as it is."""
+    while env is not None:
+        names = vars(env).get("column_names") if hasattr(env, "__dict__") else None
+        if names is not None:
+            return tuple(names)
+        env = getattr(env, "env", None)
+    return None
 
 
 def penalised(cost: TrainingCost) -> Any:

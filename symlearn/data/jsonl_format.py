@@ -48,7 +48,9 @@ def _dtype_name(kind: str | None, values: Any) -> str | None:
 
 def write_jsonl(demos: Demonstrations, path: str | os.PathLike[str]) -> None:
     if demos.state_kind == "image":
-        raise DataError(f"{path}: image states cannot be written as JSONL", hint="save to a .npz file")
+        shape = tuple(np.shape(demos[0].states)[1:])
+        raise DataError(f"{path}: states of shape {shape} per step (images, matrices) cannot be written as JSONL",
+                        hint="save to a .npz file")
     ref_actions = next((t for t in demos if t.n_actions), demos[0])
     header = {
         "symlearn": MAGIC,

@@ -27,6 +27,8 @@ import tomllib
 import zipfile
 import zlib
 from pathlib import Path
+from typing import Any
+
 import numpy as np
 
 from symlearn.atomic import write_bytes, write_text
@@ -106,16 +108,16 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
                         file=sources["actions"])
     mdp = _model_mdp(model, sources["model"], grounding.action_atoms, grounding.state_names)
     truth = read_input_text(path("truth")) if "truth" in config else None
-    labeling = None
-    if "labeling" in config:
-        from symlearn.grounding.labeling import load_labeling
-
-        labeling = load_labeling(path("labeling"))
     feature_map = None
     if "features" in config:
         from symlearn.grounding.features import FeatureMap
 
         feature_map = FeatureMap.load(path("features"))
+    labeling = None
+    if "labeling" in config:
+        from symlearn.grounding.labeling import load_labeling
+
+        labeling = labeling_of_states(load_labeling(path("labeling")), feature_map, sources["labeling"])
     domain = Domain(config["name"], background=background, bias=bias, grounding=grounding, mdp=mdp, truth=truth,
                     labeling=labeling, available=model.get("available"), description=config.get("description", ""),
                     sources=sources, feature_map=feature_map)
@@ -124,6 +126,28 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
     if feature_map is not None:
         _check_every_state_has_features(feature_map, grounding.n_states, sources["features"])
     return domain
+
+
+def labeling_of_states(labeling: Any, feature_map: Any, source: str) -> Any:
+    """``labeling`` as it labels the folder's states, which are ids: a feature labeling (conditions
+    over named features, ``height > 3``) reads each id's features from the folder's feature map
+    (``features = ...``); any other labeling is returned as it is. A feature labeling in a folder
+    without a feature map, or over a name the map lacks, is one error naming ``source``."""
+    from symlearn.grounding.feature_labeling import FeatureLabeling
+    from symlearn.grounding.features import FeatureMap
+
+    own = getattr(labeling, "feature_map", None)
+    if not isinstance(labeling, FeatureLabeling) or own != FeatureMap(own.names):   # a table or function of its own
+        return labeling
+    if feature_map is None:
+        raise DataError(f"the labeling's propositions are conditions over the features {', '.join(own.names)}, and "
+                        "the domain's states are ids with no features", file=source,
+                        hint='add a feature map of every state (features = "features.json" in domain.toml)')
+    try:
+        return FeatureLabeling(feature_map, {p: labeling.condition(p) for p in labeling.propositions},
+                               meanings=labeling.meanings)
+    except DataError as exc:
+        raise DataError(f"{exc.message} (the domain's feature map)", file=source, hint=exc.hint) from None
 
 
 def _check_every_state_has_features(feature_map, n_states: int, source: str) -> None:

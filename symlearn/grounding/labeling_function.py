@@ -180,10 +180,12 @@ def _line_in(exc: BaseException, path: str | None) -> int | None:
     return line
 
 
-def read_labeling(spec: str, *, feature_names: Sequence[str] | None = None):
+def read_labeling(spec: str, *, feature_names: Sequence[str] | None = None,
+                  names_hint: str = "give --features a,b,... or an environment with a feature_names attribute"):
     """A labeling from ``--labeling``: ``FILE.py:function``, a saved labeling JSON (table or
     features), or a plain JSON object ``{proposition: condition}`` over ``feature_names`` (in a
-    file, or the object itself as the argument)."""
+    file, or the object itself as the argument); ``names_hint`` says where names come from when
+    there are none."""
     if ".py:" in spec or spec.endswith(".py"):
         return load_labeling_function(spec)
     from symlearn.grounding.labeling import load_labeling_text
@@ -209,8 +211,7 @@ def read_labeling(spec: str, *, feature_names: Sequence[str] | None = None):
         raise DataError("a labeling file is a saved labeling or a JSON object {proposition: condition}", file=spec,
                         hint='e.g. {"near_goal": "x > 0.8 & y > 0.8"}')
     if not feature_names:
-        raise DataError("this feature labeling needs the observation's feature names", file=spec,
-                        hint="give --features a,b,... or an environment with a feature_names attribute")
+        raise DataError("this feature labeling needs the observation's feature names", file=spec, hint=names_hint)
     from symlearn.grounding.feature_labeling import FeatureLabeling
 
     try:

@@ -269,7 +269,7 @@ class EnvTarget:
 
             build = lambda: gymnasium.make(self.gym_id, **self.kwargs)  # noqa: E731
         try:
-            return build()
+            env = build()
         except SymlearnError:
             raise
         except (TypeError, ValueError) as exc:  # a value of the wrong type ("wall": "left")
@@ -282,6 +282,10 @@ class EnvTarget:
                             hint="see `symlearn doctor` for the optional extras") from None
         except Exception as exc:  # the user's own environment failed: say so in one line
             raise DataError(f"building {self.display} failed: {type(exc).__name__}: {exc}") from None
+        if self.entry is None:
+            _check_reset_signature(env, self.display)
+            _check_returns(build, self.display, (self.gym_id, repr(sorted(self.kwargs.items()))))
+        return env
 
     @property
     def env_fn(self) -> Callable[[], Any]:
@@ -405,6 +409,74 @@ class EnvTarget:
             raise DataError(f"{self.display} has no expert: give your demonstrations with --demos FILE",
                             hint="record them with symlearn.data.record(env, policy, n) and save them as .npz/.jsonl")
         return self.entry.expert(n, seed=seed, env_kwargs=dict(self.kwargs))
+
+
+def _check_reset_signature(env: Any, display: str) -> None:
+    """gymnasium's wrappers call ``reset(seed=..., options=...)``; a user's ``reset`` without those
+    keywords (the pre-0.26 gym API) fails deep inside a learner with a TypeError that names no file
+    of the user's: refuse it here, in one line naming the method's file and line."""
+    import inspect
+
+    reset = getattr(type(getattr(env, "unwrapped", env)), "reset", None)
+    try:
+        parameters = inspect.signature(reset).parameters
+    except (TypeError, ValueError):   # a builtin or C extension: nothing to read
+        return
+    if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in parameters.values()):
+        return
+    missing = [name for name in ("seed", "options") if name not in parameters]
+    if missing:
+        try:
+            where = {"file": inspect.getsourcefile(reset), "line": inspect.getsourcelines(reset)[1]}
+        except (TypeError, OSError):
+            where = {}
+        raise DataError(f"{display}: reset() takes no {' or '.join(repr(m) for m in missing)} argument, and "
+                        "gymnasium calls reset(seed=..., options=...)",
+                        hint="define reset(self, seed=None, options=None) and call super().reset(seed=seed)", **where)
+
+
+#: the (id, kwargs) of users' environments whose reset and step returns were checked in this process
+_RETURNS_CHECKED: set[tuple[Any, str]] = set()
+
+
+def _check_returns(build: Callable[[], Any], display: str, key: tuple[Any, str]) -> None:
+    """A user's ``reset`` must return ``(observation, info)`` and ``step`` five values (gymnasium's
+    API since 0.26); the old gym API's observation alone and ``(observation, reward, done, info)``
+    fail deep inside a learner as an unrelated IndexError or broadcast error. One reset and one
+    step of a separate copy, once per environment and process, say so in one line instead. An
+    exception the copy raises is left to the command, which reports it where it happens."""
+    if key in _RETURNS_CHECKED:
+        return
+    _RETURNS_CHECKED.add(key)
+    try:
+        env = build()
+    except Exception:
+        return
+    raw = getattr(env, "unwrapped", env)   # gymnasium's own wrappers (TimeLimit) would unpack the values first
+    try:
+        found = raw.reset(seed=0)
+        if not (isinstance(found, tuple) and len(found) == 2 and isinstance(found[1], Mapping)):
+            raise DataError(f"{display}: reset() returned {_shape_of(found)}, not (observation, info)",
+                            hint="gymnasium's API: return observation, {} (info a dict)")
+        found = raw.step(raw.action_space.sample())
+        if not (isinstance(found, tuple) and len(found) == 5):
+            raise DataError(f"{display}: step() returned {_shape_of(found)}, not (observation, reward, terminated, "
+                            "truncated, info)", hint="gymnasium's API: the old done is terminated (the task ended) "
+                                                     "or truncated (a time limit)")
+    except SymlearnError:
+        _RETURNS_CHECKED.discard(key)
+        raise
+    except Exception:
+        pass
+    finally:
+        try:
+            env.close()
+        except Exception:
+            pass
+
+
+def _shape_of(value: Any) -> str:
+    return f"a tuple of {len(value)}" if isinstance(value, tuple) else f"one {type(value).__name__}"
 
 
 def observation_width(env: Any) -> int | None:

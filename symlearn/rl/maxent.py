@@ -157,6 +157,40 @@ class BackwardPassResult:
     policy: np.ndarray  # Z_sa / Z_s, uniform over allowed actions where Z_s = 0
 
 
+class _Successors:
+    """``logsumexp(log_weight[s, a, :] + v)`` over next states, for many ``v``.
+
+    A gymnasium toy-text world has one or a few successors per pair (Taxi: 500 states, 1 of 500),
+    so summing only over the pairs' successors -- the entries with ``P > 0``, every other term
+    being ``exp(-inf) = 0`` -- is the same sum in a few hundredth of the time: the dense
+    ``(S, A, S)`` logsumexp took 4.6 s per backward pass on Taxi. Dense worlds keep the dense sum.
+    """
+
+    def __init__(self, log_weight: np.ndarray) -> None:
+        self.log_weight = log_weight
+        self.shape = log_weight.shape[:2]
+        finite = np.isfinite(log_weight)
+        counts = finite.sum(axis=2).reshape(-1)
+        # reduceat needs a non-empty group per pair; a pair that reaches nothing stays dense
+        self.sparse = finite.sum() * 4 <= finite.size and bool((counts > 0).all())
+        if self.sparse:
+            pairs, self.next_states = np.nonzero(finite.reshape(-1, finite.shape[2]))
+            self.weights = log_weight.reshape(-1, finite.shape[2])[pairs, self.next_states]
+            self.starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+            self.pair_of = pairs
+
+    def logsumexp(self, v: np.ndarray) -> np.ndarray:
+        if not self.sparse:
+            return logsumexp(self.log_weight + v[None, None, :], axis=2)
+        terms = self.weights + v[self.next_states]
+        top = np.maximum.reduceat(terms, self.starts)
+        finite = np.isfinite(top)
+        shifted = np.exp(terms - np.where(finite, top, 0.0)[self.pair_of])
+        with np.errstate(divide="ignore"):
+            total = np.log(np.add.reduceat(shifted, self.starts)) + top
+        return np.where(finite, total, top).reshape(self.shape)
+
+
 def maxent_backward_pass(
     mdp: TabularMDP,
     goals: Sequence[int] | np.ndarray,
@@ -191,10 +225,11 @@ def maxent_backward_pass(
         log_weight = np.log(mdp.transitions) + R  # log(P exp R), -inf where P = 0
     # Non-goal terminal states end a trajectory without reaching a goal: they contribute nothing.
     dead_end = mdp.terminal & ~goal_mask
+    successors = _Successors(log_weight)
     log_z_s = np.where(goal_mask, 0.0, -np.inf)
     log_z_sa = np.full(mask.shape, -np.inf)
     for _ in range(horizon):
-        log_z_sa = logsumexp(log_weight + log_z_s[None, None, :], axis=2)
+        log_z_sa = successors.logsumexp(log_z_s)
         log_z_sa = np.where(mask & ~(goal_mask | dead_end)[:, None], log_z_sa, -np.inf)
         log_z_s = np.where(goal_mask, 0.0, logsumexp(log_z_sa, axis=1))
     policy = _masked_softmax_policy(log_z_sa, mask)

@@ -179,3 +179,44 @@ def test_bad_arguments():
         maxent_backward_pass(mdp, [3], 0)
     with pytest.raises(ModelError, match="policy must have shape"):
         forward_pass(mdp, np.ones((1, 1)), 5)
+
+
+def test_the_backward_pass_of_a_sparse_world_is_the_dense_sum():
+    """Worlds with a few successors per pair (gymnasium's toy text: Taxi has 1 of 500) sum over
+    those only; before, the dense (S, A, S) logsumexp took 4.6 s per pass on Taxi, and `learn
+    constraints --env Taxi-v4 --method ml` ran for minutes. The result is the dense one, unreachable
+    pairs (-inf) included."""
+    from scipy.special import logsumexp
+
+    rng = np.random.default_rng(3)
+    S, A = 30, 4
+    P = np.zeros((S, A, S))
+    for s, a in itertools.product(range(S), range(A)):
+        successors = rng.choice(S, size=rng.integers(1, 3), replace=False)
+        P[s, a, successors] = rng.random(len(successors)) + 0.1
+    P[S - 1] = 0
+    P[S - 1, :, S - 1] = 1
+    P[S - 2] = 0
+    P[S - 2, :, S - 2] = 1     # a trap: nothing reaches the goal from it
+    P /= P.sum(axis=2, keepdims=True)
+    R = rng.normal(size=(S, A))
+    terminal = np.zeros(S, bool)
+    terminal[S - 1] = True
+    mdp = TabularMDP(P, R, np.eye(S)[0], terminal)
+    allowed = rng.random((S, A)) < 0.8
+    allowed[:, 0] = True
+    result = maxent_backward_pass(mdp, [S - 1], 12, allowed=allowed)
+
+    with np.errstate(divide="ignore"):
+        log_weight = np.log(P) + R[:, :, None]
+    goal = np.zeros(S, bool)
+    goal[S - 1] = True
+    log_z_s = np.where(goal, 0.0, -np.inf)
+    for _ in range(12):
+        log_z_sa = logsumexp(log_weight + log_z_s[None, None, :], axis=2)
+        log_z_sa = np.where(allowed & ~goal[:, None], log_z_sa, -np.inf)
+        log_z_s = np.where(goal, 0.0, logsumexp(log_z_sa, axis=1))
+    assert np.array_equal(np.isfinite(result.log_z_sa), np.isfinite(log_z_sa))
+    assert np.isinf(result.log_z_s[S - 2])
+    finite = np.isfinite(log_z_sa)
+    np.testing.assert_allclose(result.log_z_sa[finite], log_z_sa[finite], rtol=1e-12, atol=1e-12)

@@ -18,7 +18,8 @@ the least, as long as the remaining set still scores within ``tolerance`` of all
 together. With more than :data:`MAX_BACKWARD` candidates (MiniGrid's 151 entries, a MuJoCo
 robot's 105) one removal at a time costs O(d^2) cross-validations, minutes; elimination then
 starts from the entries one tree on all candidates splits on (at most 15), when they alone
-score within ``tolerance`` (else from every candidate, as before). Backward rather than forward: entries that separate only together (an XOR) each look
+score within ``tolerance`` (else from every candidate, as before, up to :data:`MAX_FULL_BACKWARD`
+of them; more, a camera's pixels, are all kept: elimination would take hours). Backward rather than forward: entries that separate only together (an XOR) each look
 useless alone, and a forward search would never take the first of them. The learners run it
 once, on the demonstrations and the nominal policy's sampled episodes, before the feature
 network is built.
@@ -44,6 +45,9 @@ MIN_LEAF = 20
 FOLDS = 3
 #: above this many candidates, elimination starts from the entries one tree on all of them splits on
 MAX_BACKWARD = 16
+#: the most candidates elimination runs on one at a time when the split entries alone fall short:
+#: O(d^2) cross-validations, about a minute at 64; a (16, 16, 3) camera's 768 would take hours
+MAX_FULL_BACKWARD = 64
 
 
 @dataclass(frozen=True)
@@ -104,6 +108,8 @@ def select_inputs(expert: np.ndarray, policy: np.ndarray, candidates: Sequence[i
             if score >= everything - tolerance:
                 kept = used
                 steps.append(score)
+        if len(kept) > MAX_FULL_BACKWARD:   # too many to eliminate one at a time: the cost reads them all
+            return InputSelection(candidates, candidates, tuple(steps), float(everything), float(tolerance))
     while len(kept) > 1:
         scores = [separation_auc(expert, policy, [i for i in kept if i != j], seed) for j in kept]
         k = int(np.argmax(scores))
@@ -147,5 +153,5 @@ def choose_inputs(setup: Any, nominal: Any, tolerance: float, seed: int | None) 
     return select_inputs(setup.expert_x, nominal_x, setup.obs_dims, tolerance=float(tolerance), seed=seed)
 
 
-__all__ = ["FOLDS", "InputSelection", "MAX_BACKWARD", "MIN_LEAF", "TREE_DEPTH", "choose_inputs", "inputs_report", "select_inputs",
+__all__ = ["FOLDS", "InputSelection", "MAX_BACKWARD", "MAX_FULL_BACKWARD", "MIN_LEAF", "TREE_DEPTH", "choose_inputs", "inputs_report", "select_inputs",
            "separation_auc"]

@@ -5,7 +5,8 @@ its coordinates in that frame; symlearn's :class:`~symlearn.data.Demonstrations`
 learner fed NaN by mistake would learn nonsense), so this learner also takes plain arrays, where
 NaN is allowed and means *unknown*. Accepted forms:
 
-* a :class:`~symlearn.data.Demonstrations` with vector or feature-dict states;
+* a :class:`~symlearn.data.Demonstrations` with vector or feature-dict states (a matrix
+  state, a ``(2, 2)`` observation, is its entries in row-major order; pictures ``(H, W, C)`` are refused);
 * a sequence of ``(T_i, k)`` arrays (one per demonstration; ``T_i`` may differ);
 * one ``(N, T, k)`` array.
 
@@ -53,9 +54,12 @@ def demonstration_frames(demonstrations: Any, features: Any = None) -> tuple[lis
     elif features is not None:
         names = tuple(str(n) for n in features)
     if isinstance(demonstrations, Demonstrations):
-        if demonstrations.state_kind in ("symbol", "image"):
-            raise DataError(f"the demonstrations hold {demonstrations.state_kind} states; sub-goals are clustered on "
-                            "numeric feature vectors", hint="give vector or feature-dict states (or a frame archive)")
+        shape = np.shape(demonstrations[0].states)[1:] if demonstrations.state_kind == "image" else ()
+        if demonstrations.state_kind == "symbol" or len(shape) > 2:
+            what = f"pictures {shape}" if shape else "symbol states"
+            raise DataError(f"the demonstrations hold {what}; sub-goals are clustered on numeric feature vectors",
+                            hint="give vector or feature-dict states (or a frame archive); `learn rm` finds "
+                                 "sub-goals in pictures")
         runs = []
         for trajectory in demonstrations:
             states = trajectory.states
@@ -66,7 +70,10 @@ def demonstration_frames(demonstrations: Any, features: Any = None) -> tuple[lis
                 names = keys
                 runs.append(_feature_rows(states, keys, len(runs)))
             else:
-                runs.append(np.asarray(states, dtype=np.float64))
+                # a multi-dimensional state (a (2, 1) Box observation) is its entries in row-major
+                # order, x0, x1, ..., as learn dnf and train --cost read it
+                run = np.asarray(states, dtype=np.float64)
+                runs.append(run.reshape(len(run), -1) if run.ndim > 2 else run)
     elif isinstance(demonstrations, np.ndarray) and demonstrations.ndim == 3:
         runs = list(np.asarray(demonstrations, dtype=np.float64))
     elif isinstance(demonstrations, (Sequence, np.ndarray)) and not isinstance(demonstrations, (str, bytes)):
