@@ -263,10 +263,12 @@ class _Composer:
         for part in parts:
             if id(part) in condition_ids:
                 continue
-            # only a part that reads a condition's proposition at the first letter is restricted
-            # by it; the others would explore every state they explore alone (see
-            # first_letter_propositions), so their progression would gain nothing from the join
-            mine = [c for c in conditions if self.propositions(c) & self.first_letter_propositions(part)]
+            mine = [c for c in conditions if self.propositions(c) & self.propositions(part)]
+            composite = self.composite(part) or self.distributable(part)
+            if composite:
+                # joined, a composite part is progressed whole before it is composed: worth it
+                # only where its conditions restrict it (first_letter_propositions)
+                mine = [c for c in mine if self.propositions(c) & self.first_letter_propositions(part)]
             if mine:
                 used.update(id(c) for c in mine)
                 original, part = part, _rebuild([part, *mine], And)
@@ -274,7 +276,7 @@ class _Composer:
                 # part, taken apart, would meet its conditions here once more); where that
                 # progression runs out of nodes, the part and its conditions are composed instead
                 self.verdicts[id(part)] = False
-                if self.composite(original) or self.distributable(original):
+                if composite:
                     self.unjoined[id(part)] = (original, mine)
             joined.append(part)
         return joined + [c for c in conditions if id(c) not in used]
@@ -284,14 +286,15 @@ class _Composer:
         ``X``/``WX`` (nor on the right of ``T``, which is ``F(left & X F right)``).
 
         A state condition ``c`` sharing none of these with a part ``P`` does not restrict ``P``'s
-        exploration: after a first letter ``a``, ``P`` & ``c`` goes on as ``P`` progressed by
-        ``a``, and which of those obligations are reached does not depend on the propositions
-        ``c`` constrains. So joining ``c`` to ``P`` only gives progression a larger formula to
-        carry. SYNTCOMP's double counters start their system counter at 0 (``!counter_sys_i``)
-        while their rules and goal sit under ``X[!] G`` / ``X[!] F``: joined, the 4-bit one took
-        the joined progression (1.6 s), composed 0.5 s. A Nim game's rules are ``G (...)`` from
-        the first letter, where its start position restricts them (joined 2 s, composed 3.5-60 s).
-        (Over-approximated, never under: a proposition counted here only keeps the old join.)"""
+        exploration: after a first letter ``a``, ``P & c`` goes on as ``P`` progressed by ``a``,
+        and which of those obligations are reached does not depend on the propositions ``c``
+        constrains. So a composite ``P`` joined to such a ``c`` is progressed whole (within
+        :data:`JOINED_NODES`) for nothing its composition would not give. SYNTCOMP's double
+        counters start their system counter at 0 (``!counter_sys_i``) while their rules and goal
+        sit under ``X[!] G`` / ``X[!] F``: joined, the 4-bit one took 1.6-2.6 s, composed 0.6-1.0 s.
+        A Nim game's rules are ``G (...)`` from the first letter, where its start position
+        restricts them: joined 0.4-3 s, composed 1.5-4x that (measured in docs/BENCHMARKS.md).
+        (Over-approximated, never under: a proposition counted here only keeps the join.)"""
         memo = self.first_props
         stack = [formula]
         while stack:

@@ -209,6 +209,16 @@ def test_start_conditions_join_parts_that_read_them_at_the_first_letter(text, jo
     assert translate(f) == to_dfa._progression(f, 20_000)
 
 
+@pytest.mark.parametrize("text, parts", [
+    ("!a & X[!] G (a -> b)", 1),  # one progression: composing it would only add a product
+    ("!a & X[!] G ((a -> b) & (b -> X c))", 2),  # composite (distributed), and reads a from the 2nd letter
+    ("!a & G ((a -> b) & (b -> X c))", 1),  # composite, but reads a at the first letter
+])
+def test_only_composite_parts_are_kept_from_conditions_they_cannot_restrict(text, parts):
+    composer = composition._Composer(to_dfa._progression, 20_000)
+    assert len(composer.attach_state_conditions(composition._operands(parse(text)))) == parts
+
+
 def test_start_conditions_that_fall_back_join_the_conjunction_they_are_in(always_compose, monkeypatch):
     """A part joined to its start conditions whose progression runs out (here: no nodes at all)
     is composed, and its skeleton's and conditions' DFAs join the surrounding conjunction's
