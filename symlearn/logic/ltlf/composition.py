@@ -30,8 +30,9 @@ conjunction (or of ``F``/``X``/``WX`` over a disjunction) of dependent parts is 
 progression of the leaf fails its trial: ``X[!] G (r1 & ... & r40)``, a double counter's rules,
 becomes forty small parts. And a part joined to its start conditions that is itself a composite
 skeleton is progressed whole only within :data:`JOINED_NODES`, then composed with its conditions
-apart, their DFAs joining the enclosing conjunction's products one by one; the measurements that
-chose both are in ``docs/BENCHMARKS.md`` (issue 27).
+apart, their DFAs joining the enclosing conjunction's products one by one (a composite part is
+joined only to the conditions it reads at the first letter: the others cannot restrict it); the
+measurements that chose these are in ``docs/BENCHMARKS.md`` (issue 27).
 
 An assumption joins its guarantee's products. ``A -> G`` is ``!A | G``, which is also
 ``!A | (A & G)``; when ``G`` is composed from parts, ``A``'s DFA is one more member of the
@@ -291,10 +292,11 @@ class _Composer:
         constrains. So a composite ``P`` joined to such a ``c`` is progressed whole (within
         :data:`JOINED_NODES`) for nothing its composition would not give. SYNTCOMP's double
         counters start their system counter at 0 (``!counter_sys_i``) while their rules and goal
-        sit under ``X[!] G`` / ``X[!] F``: joined, the 4-bit one took 1.6-2.6 s, composed 0.6-1.0 s.
-        A Nim game's rules are ``G (...)`` from the first letter, where its start position
-        restricts them: joined 0.4-3 s, composed 1.5-4x that (measured in docs/BENCHMARKS.md).
-        (Over-approximated, never under: a proposition counted here only keeps the join.)"""
+        sit under ``X[!] G`` / ``X[!] F``: joined, the 4-bit one took 1.5 s, composed 0.5 s. A Nim
+        game's rules are ``G (...)`` from the first letter, where its start position restricts
+        them: composed, they took 2.3-7.7x as long as joined (nim_pb_03_04: 6 s joined, past 40 s
+        composed; docs/BENCHMARKS.md, issue 27's fourth round). (Over-approximated, never under:
+        a proposition counted here only keeps the join.)"""
         memo = self.first_props
         stack = [formula]
         while stack:
