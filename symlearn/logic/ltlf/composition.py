@@ -30,8 +30,9 @@ conjunction (or of ``F``/``X``/``WX`` over a disjunction) of dependent parts is 
 progression of the leaf fails its trial: ``X[!] G (r1 & ... & r40)``, a double counter's rules,
 becomes forty small parts. And a part joined to its start conditions that is itself a composite
 skeleton is progressed whole only within :data:`JOINED_NODES`, then composed with its conditions
-apart, their DFAs joining the enclosing conjunction's products one by one; the measurements that
-chose both are in ``docs/BENCHMARKS.md`` (issue 27).
+apart, their DFAs joining the enclosing conjunction's products one by one (a composite part is
+joined only to the conditions it reads at the first letter: the others cannot restrict it); the
+measurements that chose these are in ``docs/BENCHMARKS.md`` (issue 27).
 
 An assumption joins its guarantee's products. ``A -> G`` is ``!A | G``, which is also
 ``!A | (A & G)``; when ``G`` is composed from parts, ``A``'s DFA is one more member of the
@@ -50,7 +51,7 @@ from symlearn.logic.automata import transition_diagram as td
 from symlearn.logic.automata.dfa import DFA
 from symlearn.logic.automata.operations import complement
 from symlearn.logic.ltlf.ast import (Always, And, Binary, Const, Eventually, Formula, Iff, Implies, Next, Not, Or,
-                                     Prop, Unary, WeakNext)
+                                     Prop, Then, Unary, WeakNext)
 
 __all__ = ["compose", "is_composite"]
 
@@ -118,6 +119,7 @@ class _Composer:
         self.direct = direct
         self.max_states = max_states
         self.props: dict[int, frozenset[str]] = {}
+        self.first_props: dict[int, frozenset[str]] = {}  # read at the first letter (first_letter_propositions)
         self.verdicts: dict[int, bool] = {}
         self.spread: dict[int, Formula] = {}  # distributed forms, by the identity of the original
         self.unjoined: dict[int, tuple[Formula, list[Formula]]] = {}  # a part joined to its start conditions
@@ -263,6 +265,11 @@ class _Composer:
             if id(part) in condition_ids:
                 continue
             mine = [c for c in conditions if self.propositions(c) & self.propositions(part)]
+            composite = self.composite(part) or self.distributable(part)
+            if composite:
+                # joined, a composite part is progressed whole before it is composed: worth it
+                # only where its conditions restrict it (first_letter_propositions)
+                mine = [c for c in mine if self.propositions(c) & self.first_letter_propositions(part)]
             if mine:
                 used.update(id(c) for c in mine)
                 original, part = part, _rebuild([part, *mine], And)
@@ -270,10 +277,46 @@ class _Composer:
                 # part, taken apart, would meet its conditions here once more); where that
                 # progression runs out of nodes, the part and its conditions are composed instead
                 self.verdicts[id(part)] = False
-                if self.composite(original) or self.distributable(original):
+                if composite:
                     self.unjoined[id(part)] = (original, mine)
             joined.append(part)
         return joined + [c for c in conditions if id(c) not in used]
+
+    def first_letter_propositions(self, formula: Formula) -> frozenset[str]:
+        """The propositions ``formula``'s verdict may read at the first letter: those not under a
+        ``X``/``WX`` (nor on the right of ``T``, which is ``F(left & X F right)``).
+
+        A state condition ``c`` sharing none of these with a part ``P`` does not restrict ``P``'s
+        exploration: after a first letter ``a``, ``P & c`` goes on as ``P`` progressed by ``a``,
+        and which of those obligations are reached does not depend on the propositions ``c``
+        constrains. So a composite ``P`` joined to such a ``c`` is progressed whole (within
+        :data:`JOINED_NODES`) for nothing its composition would not give. SYNTCOMP's double
+        counters start their system counter at 0 (``!counter_sys_i``) while their rules and goal
+        sit under ``X[!] G`` / ``X[!] F``: joined, the 4-bit one took 1.5 s, composed 0.5 s. A Nim
+        game's rules are ``G (...)`` from the first letter, where its start position restricts
+        them: composed, they took 2.3-7.7x as long as joined (nim_pb_03_04: 6 s joined, past 40 s
+        composed; docs/BENCHMARKS.md, issue 27's fourth round). (Over-approximated, never under:
+        a proposition counted here only keeps the join.)"""
+        memo = self.first_props
+        stack = [formula]
+        while stack:
+            node = stack[-1]
+            if id(node) in memo:
+                stack.pop()
+                continue
+            children = () if isinstance(node, (Next, WeakNext)) else \
+                (node.left,) if isinstance(node, Then) else \
+                _operands(node) if isinstance(node, (And, Or)) else node.children()
+            waiting = [c for c in children if id(c) not in memo]
+            if waiting:
+                stack += waiting
+                continue
+            stack.pop()
+            if isinstance(node, Prop):
+                memo[id(node)] = frozenset((node.name,))
+            else:
+                memo[id(node)] = frozenset().union(*(memo[id(c)] for c in children))
+        return memo[id(formula)]
 
     def state_condition(self, formula: Formula) -> bool:
         """Whether ``formula`` is Boolean over propositions only (it speaks of the first letter)."""
