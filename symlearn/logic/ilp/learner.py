@@ -192,7 +192,8 @@ def learn(task: ILPTask, timeout: float = 30.0, noise: bool = False, *, method: 
     seconds = time.perf_counter() - start
     if outcome.selected is None:
         if diagnostics.timed_out:
-            diagnostics.hints[:] = ["time ran out before a hypothesis was found: raise the timeout"]
+            diagnostics.hints[:] = ["time ran out before a hypothesis was found: raise the timeout"
+                                    + _enumeration_warning(task, space, noise, chosen_method)]
         elif not diagnostics.hints:
             diagnostics.hints.append(_relax_hint(task))
         return LearningResult(None, None, False, seconds, len(space), {}, diagnostics, chosen_method)
@@ -329,6 +330,20 @@ def _settled_outcome(task: ILPTask, space: HypothesisSpace, noise: bool, deadlin
                              "background, these contexts or their inclusions/exclusions; drop #modeh to learn "
                              "constraints, use the heads in the background or the examples, or fix the labels")
     return SearchOutcome(None, notes=["no hypothesis in the space covers the examples"])
+
+
+def _enumeration_warning(task: ILPTask, space: HypothesisSpace, noise: bool, method: str) -> str:
+    """Why raising the timeout may not help: without a constraint in the space, the general search
+    rules out one set of normal rules per wrongly accepted negative, up to 2^(rules) rounds."""
+    if method != "general" or any(c.is_constraint for c in space.candidates):
+        return ""
+    hard = [e.id for e in task.negatives if not (noise and e.penalty is not None)]
+    if not hard:
+        return ""
+    return (f"; but the space holds no constraint, so the search rules out one subset of its {len(space)} normal "
+            f"rules per round (2^{len(space)} in all): it may hold no hypothesis that excludes {_listing(hard)} "
+            "(normal rules exclude a negative only through the background, e.g. a constraint on their head, or "
+            "the example's exclusions)")
 
 
 def _general_diagnostics(task: ILPTask, diagnostics: Diagnostics) -> None:

@@ -247,3 +247,13 @@ def test_an_uncoverable_positive_no_rule_can_affect_is_reported():
     result = learn(task, timeout=60)
     assert result.hypothesis is None and not result.timed_out
     assert result.diagnostics.uncoverable_positives == ["p1"]
+
+
+def test_a_timed_out_search_without_constraints_says_the_space_may_hold_no_hypothesis():
+    # "ok :- bad." reads the head, so the examples are not settled up front, yet nothing excludes
+    # n1 or n2: the search enumerates sets of normal rules until the time limit
+    result = learn(parse_task("ok :- bad.\n" + GREENHOUSE), timeout=1.0)
+    assert result.hypothesis is None and result.timed_out
+    hint = result.diagnostics.hints[0]
+    assert hint.startswith("time ran out before a hypothesis was found: raise the timeout; but the space holds "
+                           "no constraint") and "may hold no hypothesis that excludes n1, n2" in hint
