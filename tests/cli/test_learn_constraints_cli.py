@@ -100,7 +100,8 @@ def _lift(folder):
     (folder / "states.jsonl").write_text("".join(json.dumps(
         {"id": i, "facts": "" if s == "done" else f"floor({s[0]})." + (" doorOpen." if s[1] else "")}) + "\n"
         for i, s in enumerate(states)))
-    (folder / "actions.jsonl").write_text("".join(json.dumps({"id": a, "atom": n}) + "\n" for a, n in enumerate(actions)))
+    (folder / "actions.jsonl").write_text("".join(json.dumps({"id": a, "atom": n}) + "\n"
+                                                  for a, n in enumerate(actions)))
     (folder / "bk.lp").write_text("top :- floor(4).\nbottom :- floor(0).\n")
     (folder / "bias.las").write_text("#modeb(1, doorOpen).\n#modeb(1, move(const(dir)), (positive)).\n#modeb(1, top).\n"
                                      "#modeb(1, bottom).\n#constant(dir, up).\n#constant(dir, down).\n#maxv(1).\n")
