@@ -127,7 +127,8 @@ def _learn_job(job: dict) -> dict:
                    method=job["method"])
     if result.hypothesis is None and result.timed_out:
         raise LimitExceededError(f"time ran out: no hypothesis found within --timeout {job['seconds']:g} s "
-                                 f"({result.space_size} candidate rules)", file=job["task"], hint="raise --timeout")
+                                 f"({result.space_size} candidate rules)", file=job["task"],
+                                 hint=_timeout_hint(result.diagnostics.hints))
     doc = result.to_dict()
     doc["diagnostics"]["hints"] = [cli_words(h) for h in doc["diagnostics"]["hints"]]
     doc["diagnostics_text"] = cli_words(result.diagnostics.render())
@@ -139,6 +140,13 @@ def _learn_job(job: dict) -> dict:
                   f"{result.space_size} candidate rules")
         doc["lp_text"] = result.hypothesis.lp_text(header, recheck=_recheck_command(job))
     return doc
+
+
+def _timeout_hint(hints: list[str]) -> str:
+    """The learner's time-out hint without what the message already says ("raise --timeout",
+    with its warning where the space may hold no hypothesis at all)."""
+    said = "time ran out before a hypothesis was found: "
+    return cli_words(hints[0]).removeprefix(said) if hints else "raise --timeout"
 
 
 def _recheck_command(job: dict) -> str:

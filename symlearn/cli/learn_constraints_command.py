@@ -448,12 +448,14 @@ def _run(method: str, world: _World, demos, args, known, out):
 
         learner = LogicConstraintInference(iterations=args.iterations or 20, horizon=args.horizon,
                                            reward=_reward(args, world), rationality=_rationality(args, world),
-                                           noise=args.noise, known=known).fit(demos, world.domain)
+                                           noise=args.noise,
+                                           known=Path(args.known) if args.known else None).fit(demos, world.domain)
         for step in learner.history_:
             out.note(f"iteration {step.iteration}: inferred {step.inferred}; {len(step.rules)} rule(s), "
                      f"{step.n_constraints} forbidden pairs (inference {step.inference_seconds:.2f} s, "
                      f"induction {step.induction_seconds:.2f} s)")
-        doc = {"rules": learner.rules_, "iterations": len(learner.history_), "seconds": learner.seconds_,
+        doc = {"rules": learner.rules_, "known_rules": learner.known_rules_,
+               "iterations": len(learner.history_), "seconds": learner.seconds_,
                "rationality": learner.rationality_fit_.as_dict(),
                "stop_reason": learner.stop_reason_, "stop": learner.stop_text(),
                "unexplained": [u.as_dict() for u in learner.unexplained_],
@@ -568,6 +570,9 @@ def _render(doc: dict) -> str:
     if doc.get("rules") is not None:
         lines.append("rules:" if doc["rules"] else "rules: (none induced)")
         lines += [f"  {r}" for r in doc["rules"]]
+    if doc.get("known_rules"):
+        lines.append("given (--known, not learned):")
+        lines += [f"  {r}" for r in doc["known_rules"]]
     if doc.get("stop"):
         lines.append(f"stopped: {doc['stop']}")
     if (doc.get("rationality") or {}).get("source") == "fitted":

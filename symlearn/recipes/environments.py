@@ -323,7 +323,7 @@ class EnvTarget:
                 names = tuple(str(k) for k in raw)
                 width = len(names)
             else:
-                width = _width(raw) if in_info else observation_width(env)
+                width = _width(raw) if in_info else _feature_width(env)
                 names = None
             if override is not None:
                 names = parse_feature_names(override)
@@ -491,6 +491,16 @@ def observation_width(env: Any) -> int | None:
     width = 1
     for dim in shape:
         width *= int(dim)
+    return width
+
+
+def _feature_width(env: Any) -> int | None:
+    """Columns of the observation as features: its flattened width, and 1 for a ``Discrete``
+    observation, whose one number (the state's index) is a feature as a scalar ``Box`` is; so
+    it gets the default name ``x0`` where a ``Box`` gets ``x0, x1, ...`` (labelings, DNF rules)."""
+    width = observation_width(env)
+    if width is None and type(getattr(env, "observation_space", None)).__name__ == "Discrete":
+        return 1
     return width
 
 

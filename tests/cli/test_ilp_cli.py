@@ -103,6 +103,36 @@ def test_no_solution_prints_diagnostics_and_exits_2(run_cli, tmp_path):
     assert "no hypothesis found" in result.stdout and "p and q conflict" in result.stdout
 
 
+GREENHOUSE = """
+bed(0).
+onBed :- at(X), bed(X).
+#modeh(bad).
+#modeb(1, rain, (positive)). #modeb(1, water, (positive)).
+#modeb(1, onBed, (positive)). #modeb(1, wet, (positive)).
+#maxv(1).
+#pos(p1, {}, {}, {at(-2). water.}).
+#pos(p2, {}, {}, {at(0). rest.}).
+#neg(n1, {}, {}, {at(-1). rain. water.}).
+#neg(n2, {}, {}, {at(0). water.}).
+"""
+
+
+def test_a_space_that_cannot_exclude_the_negatives_answers_without_waiting(run_cli, tmp_path):
+    # only normal rules whose head nothing reads: it used to search until --timeout, then say "raise --timeout"
+    task = tmp_path / "gh.las"
+    task.write_text(GREENHOUSE)
+    result = run_cli("ilp", "learn", task, "--timeout", "60")
+    assert result.returncode == 2, result.stderr
+    assert "no hypothesis found" in result.stdout
+    assert "no rule of the space can change whether n1, n2 are accepted" in result.stdout
+    # where the background reads the head, the search runs; its time-out says the space may hold none
+    task.write_text("ok :- bad.\n" + GREENHOUSE)
+    result = run_cli("ilp", "learn", task, "--timeout", "1")
+    assert result.returncode == 2
+    assert "(hint: raise --timeout; but the space holds no constraint" in result.stderr
+    assert "may hold no hypothesis that excludes n1, n2" in result.stderr
+
+
 def test_noise_flag_and_coverage_matrix(run_cli, tmp_path):
     task = tmp_path / "noisy.las"
     task.write_text(TASK + "#pos(p3@4, {}, {}, { wall(south). go(south). }).\n")  # mislabelled

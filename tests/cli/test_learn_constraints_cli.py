@@ -76,6 +76,67 @@ def test_demonstrations_breaking_known_rules(capsys, tmp_path):
     assert "warning: " in out and "break the given constraints (treated as noise)" in out
 
 
+def _lift(folder):
+    """A lift, floors 0..4, doors open or closed; the truth: never move with the doors open. The
+    demonstrations close the doors, go up four floors and open them (the goal)."""
+    import numpy as np
+
+    folder.mkdir()
+    states = [(f, d) for f in range(5) for d in (0, 1)] + ["done"]
+    actions = ["move(up)", "move(down)", "open", "close"]
+    idx = {s: i for i, s in enumerate(states)}
+    P = np.zeros((len(states), len(actions), len(states)))
+    R = np.full((len(states), len(actions)), -1.0)
+    P[idx["done"], :, idx["done"]], R[idx["done"]] = 1, 0
+    for f, d in states[:-1]:
+        for a, name in enumerate(actions):
+            f2 = {"move(up)": min(f + 1, 4), "move(down)": max(f - 1, 0)}.get(name, f)
+            d2 = {"open": 1, "close": 0}.get(name, d)
+            done = f2 == 4 and name == "open"
+            P[idx[(f, d)], a, idx["done"] if done else idx[(f2, d2)]] = 1
+            R[idx[(f, d)], a] = 5 if done else -1
+    np.savez(folder / "model.npz", transitions=P, initial=np.eye(len(states))[idx[(0, 1)]],
+             terminal=np.eye(len(states))[idx["done"]].astype(bool), rewards=R)
+    (folder / "states.jsonl").write_text("".join(json.dumps(
+        {"id": i, "facts": "" if s == "done" else f"floor({s[0]})." + (" doorOpen." if s[1] else "")}) + "\n"
+        for i, s in enumerate(states)))
+    (folder / "actions.jsonl").write_text("".join(json.dumps({"id": a, "atom": n}) + "\n"
+                                                  for a, n in enumerate(actions)))
+    (folder / "bk.lp").write_text("top :- floor(4).\nbottom :- floor(0).\n")
+    (folder / "bias.las").write_text("#modeb(1, doorOpen).\n#modeb(1, move(const(dir)), (positive)).\n#modeb(1, top).\n"
+                                     "#modeb(1, bottom).\n#constant(dir, up).\n#constant(dir, down).\n#maxv(1).\n")
+    (folder / "truth.lp").write_text(":- move(up), doorOpen.\n:- move(down), doorOpen.\n")
+    (folder / "domain.toml").write_text('name = "lift"\nbackground = "bk.lp"\nbias = "bias.las"\nmodel = "model.npz"\n'
+                                        'states = "states.jsonl"\nactions = "actions.jsonl"\ntruth = "truth.lp"\n')
+    demo = {"states": [idx[(0, 1)]] + [idx[(f, 0)] for f in range(5)] + [idx["done"]], "actions": [3, 0, 0, 0, 0, 2]}
+    demos = folder / "demos.jsonl"
+    demos.write_text(json.dumps({"symlearn": "demonstrations", "format_version": 1}) + "\n"
+                     + (json.dumps(demo) + "\n") * 5)
+    return folder, demos
+
+
+def test_known_rules_are_reported_as_given_not_learned(capsys, tmp_path):
+    # the known rule used to come back among the learned rules, flagged weakly supported (0 nats)
+    domain, demos = _lift(tmp_path / "lift")
+    known = tmp_path / "known.lp"
+    known.write_text(":- move(up), doorOpen.\n")
+    rules = tmp_path / "rules.lp"
+    args = ("learn", "constraints", "--domain", domain, "--demos", demos, "--known", known, "-o", rules)
+    code, out, err = run(capsys, *args, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["known_rules"] == [":- move(up), doorOpen."]
+    assert doc["rules"] and ":- move(up), doorOpen." not in doc["rules"]
+    assert all("move(up)" not in r["rule"] for r in doc["rule_support"])
+    assert not any("move(up)" in n for n in doc["notes"])
+    header, _, body = rules.read_text().partition("\n\n")
+    assert "% Given in advance (known, not learned; not among the rules below):\n%   :- move(up), doorOpen." in header
+    assert "move(up)" not in body
+    code, out, err = run(capsys, *args)
+    assert code == 0, err
+    assert "given (--known, not learned):\n  :- move(up), doorOpen." in out
+
+
 def test_method_needing_facts_or_reward_is_refused(capsys):
     code, _, err = run(capsys, "learn", "constraints", "--env", "gridworld", "--method", "logic")
     assert code == 2 and "no ASP facts" in err

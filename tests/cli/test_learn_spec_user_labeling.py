@@ -187,3 +187,29 @@ def test_learn_spec_with_ppo_in_a_dict_observation_and_a_labeling_over_its_named
     code, out, err = run(capsys, "learn", "spec", *env, "--labeling", '{"high": "\\"pos[9]\\" > 0.3"}')
     line = _one_line_error(code, out, err)
     assert "unknown feature 'pos[9]'" in line and "pos[0], pos[1]" in line
+
+
+def test_a_discrete_observation_nothing_names_is_x0(capsys, lake_demos, tmp_path):
+    """FrozenLake's observation is one number, the cell's index: like a scalar Box it is the
+    column x0 (it used to get no name, so an inline labeling was refused asking for --features)."""
+    code, out, err = run(capsys, "learn", "spec", "--env", "FrozenLake-v1", "--demos", lake_demos,
+                         "--labeling", '{"goal": "x0 == 15", "hole": "x0 == 5"}', "--max-iterations", "1",
+                         "-o", tmp_path / "lake.ltl")
+    assert code == 0, err
+    assert "x0" in (tmp_path / "lake.labeling.json").read_text()
+    code, out, err = run(capsys, "learn", "spec", "--env", "FrozenLake-v1", "--demos", lake_demos,
+                         "--labeling", '{"goal": "cell == 15"}')
+    assert "uses unknown feature 'cell'" in _one_line_error(code, out, err) and "x0" in err
+    # two names for its one column are refused, as for a Box of another width
+    code, out, err = run(capsys, "learn", "spec", "--env", "FrozenLake-v1", "--demos", lake_demos,
+                         "--labeling", '{"goal": "row == 3"}', "--features", "row,col")
+    assert "2 feature names (row, col) for 1 columns of the observation" in _one_line_error(code, out, err)
+
+
+def test_a_dnf_over_x0_trains_on_a_discrete_observation(capsys, tmp_path):
+    rules = tmp_path / "lake.dnf"
+    rules.write_text("x0 >= 5 & x0 <= 5\n")  # the hole at cell 5
+    code, out, err = run(capsys, "--json", "--quiet", "train", "--env", "FrozenLake-v1", "--cost", rules,
+                         "--steps", 256, "--n-steps", 32, "--eval-episodes", 1)
+    assert code == 0, err
+    assert json.loads(out)["cost_kind"] == "dnf"

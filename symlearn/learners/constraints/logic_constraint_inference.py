@@ -32,6 +32,7 @@ ended), so only demonstrations, background knowledge and bias are needed.
 
 from __future__ import annotations
 
+import os
 import time
 import warnings
 from dataclasses import dataclass
@@ -47,7 +48,7 @@ from symlearn.learners.constraints.constraint_metrics import constraint_metrics
 from symlearn.learners.constraints.ml_constraint_inference import STOP_REASONS as ML_STOP_REASONS
 from symlearn.learners.constraints.ml_constraint_inference import MLConstraintInference
 from symlearn.progress import progress
-from symlearn.rl.tabular import restrict
+from symlearn.rl.tabular import check_mask, restrict
 
 
 @dataclass(frozen=True)
@@ -121,8 +122,12 @@ class RuleInduction:
     rules), the best rules so far and one :class:`Induction` record per call.
     """
 
-    def __init__(self, domain: Domain, *, noise: bool, penalty: int, timeout: float, bar: Any = None) -> None:
+    def __init__(self, domain: Domain, *, noise: bool, penalty: int, timeout: float, bar: Any = None,
+                 known: np.ndarray | None = None) -> None:
         self.domain, self.noise, self.penalty, self.timeout = domain, noise, penalty, timeout
+        # pairs the given rules forbid already: no learned rule is needed for them, so they are
+        # no negatives (else induction learns the given rules again, as if from the data)
+        self.known = np.zeros(domain.unavailable.shape, dtype=bool) if known is None else known
         self.bar = iter(bar) if bar is not None else None
         self.rule_masks: dict[tuple[str, ...], np.ndarray] = {}
         self.best: tuple[tuple[str, ...], Any] = ((), None)
@@ -152,7 +157,7 @@ class RuleInduction:
                                self.penalty if self.noise else None)
         # Inferred constraints may be wrong (an allowed pair nobody happened to demonstrate), so
         # each negative may be left uncovered at a penalty.
-        negatives = d.examples(map(tuple, np.argwhere(forbidden & available)), False, self.penalty)
+        negatives = d.examples(map(tuple, np.argwhere(forbidden & available & ~self.known)), False, self.penalty)
         self.last_negatives = forbidden & available
         result = learn(d.ilp_task(positives + negatives), timeout=self.timeout, noise=True,
                        space=d.hypothesis_space)
@@ -217,6 +222,12 @@ class LogicConstraintInference(Learner):
     are counted in a warning instead of an error, and the ILP step may then also leave a
     demonstrated pair uncovered at ``penalty``.
 
+    ``known``: constraints given in advance, a forbidden ``(S, A)`` mask or rules (an ``.lp`` path,
+    rule text or a list, as :meth:`~symlearn.grounding.Domain.rule_mask` takes). Their pairs are
+    forbidden throughout but are no examples for induction, so ``rules_`` holds learned rules
+    only, and rule support judges those against the given constraints; given rules are kept in
+    ``known_rules_`` and listed apart in the rule file's header.
+
     ``rationality`` is the MaxEnt model's inverse temperature; ``"auto"`` (the default) fits it to
     the demonstrations by maximum likelihood before the loop (see
     :mod:`~symlearn.learners.constraints.rationality_fit`; ``rationality_`` is the value used). It
@@ -276,11 +287,13 @@ class LogicConstraintInference(Learner):
         from symlearn.mdp.episodes import demonstrated_pairs
 
         reach = bias_reach(d, demonstrated_pairs(episodes, d.mdp), noise=self.noise)
+        known, self.known_rules_ = _known(self.known, d)
         bar = progress(range(self.iterations), total=self.iterations, desc=f"logic inference {d.name}")
-        induction = RuleInduction(d, noise=self.noise, penalty=self.penalty, timeout=self.ilp_timeout, bar=bar)
+        induction = RuleInduction(d, noise=self.noise, penalty=self.penalty, timeout=self.ilp_timeout, bar=bar,
+                                  known=None if known is None else check_mask(d.mdp, known, "known constraints"))
         inference = MLConstraintInference(
             reward=self.reward, horizon=self.horizon, max_iterations=self.iterations,
-            min_visitation=self.min_visitation, known_constraints=self.known,
+            min_visitation=self.min_visitation, known_constraints=known,
             on_violation="warn" if self.noise else "error", generalize=induction,
             rationality=self.rationality, start=self.start, choosable=reach,
             stop_when=lambda: induction.converged(self.patience))
@@ -383,6 +396,10 @@ class LogicConstraintInference(Learner):
         if fit is not None and fit.source == "fitted":
             header += (f"\nMaxEnt rationality {self.rationality_:g}, fitted to the demonstrations (maximum "
                        "likelihood; --rationality sets it).")
+        given = self.__dict__.get("known_rules_") or []
+        if given:
+            header += "\nGiven in advance (known, not learned; not among the rules below):"
+            header += "".join(f"\n  {rule}" for rule in given)
         weak = self._weak_rules()
         if weak:
             header += "\nWeakly supported (the demonstrations are about as likely without the rule, the planner's " \
@@ -409,6 +426,15 @@ class LogicConstraintInference(Learner):
         from symlearn.atomic import write_text
 
         return write_text(path, self._lp_text(recheck))
+
+
+def _known(known: Any, d: Domain) -> tuple[np.ndarray | None, list[str]]:
+    """The ``known`` argument as a forbidden mask, and its rules when it was given as rules."""
+    rules = isinstance(known, (str, os.PathLike)) or (
+        isinstance(known, (list, tuple)) and bool(known) and all(isinstance(r, str) for r in known))
+    if not rules:
+        return known, []
+    return d.rule_mask(known), list(d.hypothesis(known).rules)
 
 
 def unexplained_lines(unexplained: list[Unexplained], shown: int = 20) -> list[str]:

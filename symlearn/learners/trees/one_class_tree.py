@@ -62,6 +62,9 @@ path from the root to a node (the tightest bound per feature), the formula is th
   on which its box is tighter than ``t``'s: ``P_t & x_j >= L_n & x_j <= R_n & x_d < lo``
   (``> hi``), then the same for the child's own split.
 
+Where ``x_d < lo`` (``> hi``) meets a bound of ``P_t`` on the same feature and side, a
+conjunction keeps the tighter of the two (the same points, one atom fewer).
+
 **Readable sides** (``readable=True``, the default): after growing, every box side is rounded to
 the fewest significant digits that keep every demonstration point on its side, and a gap between
 neighbouring children narrower than the feature's bandwidth, or crossed by a demonstrated step
@@ -1107,7 +1110,9 @@ def tree_dnf(tree: OneClassTree) -> DNF:
             visit(child, inner)
 
     visit(root, {})
-    return DNF(tuple(conjunctions))
+    # a side tightened below an ancestor's split adds a second bound on that feature in the same
+    # direction (x1 < -0.39 & x1 < -0.64): keep the tightest, the same set of points
+    return DNF(tuple(c.simplify() for c in conjunctions))
 
 
 def _upper_atom(name: str, op: str, upper: float) -> Atom:

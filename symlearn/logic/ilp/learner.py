@@ -36,6 +36,7 @@ from symlearn.logic.ilp.coverage import rule_acceptance
 from symlearn.logic.ilp.encoding import accepted_by
 from symlearn.logic.ilp.general import SearchOutcome, search_general
 from symlearn.logic.ilp.selection import firing_matrix, select_rules, single_worlds
+from symlearn.logic.ilp.settled import unaffected_examples
 from symlearn.logic.ilp.space import HypothesisSpace, generate_space
 from symlearn.logic.ilp.task import Example, ILPTask
 
@@ -54,6 +55,8 @@ class Diagnostics:
     # negative -> positives most often excluded with it, when no single positive blocks every candidate
     frequent_blockers: dict[str, list[str]] = field(default_factory=dict)
     conflicts: list[tuple[str, str]] = field(default_factory=list)  # (positive, negative) indistinguishable
+    # hard negatives that every hypothesis of the space accepts (no rule of it can affect them)
+    unaffected_negatives: list[str] = field(default_factory=list)
     hints: list[str] = field(default_factory=list)
     notes: list[str] = field(default_factory=list)
     timed_out: bool = False  # the time limit cut the search (the result may not be the best)
@@ -62,7 +65,8 @@ class Diagnostics:
         return {"space_size": self.space_size, "uncoverable_positives": self.uncoverable_positives,
                 "unexcludable_negatives": self.unexcludable_negatives,
                 "frequent_blockers": self.frequent_blockers,
-                "conflicts": [list(c) for c in self.conflicts], "hints": self.hints, "notes": self.notes,
+                "conflicts": [list(c) for c in self.conflicts], "unaffected_negatives": self.unaffected_negatives,
+                "hints": self.hints, "notes": self.notes,
                 "timed_out": self.timed_out}
 
     def render(self) -> str:
@@ -79,6 +83,9 @@ class Diagnostics:
             else:
                 why = " (no candidate fires on it)"
             lines.append(f"negative {neg} cannot be excluded{why}")
+        if self.unaffected_negatives:
+            lines.append("negatives every hypothesis of the space accepts (no rule of it can exclude them): "
+                         + _listing(self.unaffected_negatives))
         for pos, neg in self.conflicts:
             lines.append(f"examples {pos} and {neg} conflict: same answer set, one positive, one negative")
         lines += [f"note: {n}" for n in self.notes]
@@ -175,6 +182,8 @@ def learn(task: ILPTask, timeout: float = 30.0, noise: bool = False, *, method: 
                 outcome = _single(task, space, worlds, noise, deadline, diagnostics)
     if outcome is None:
         chosen_method = "general"
+        outcome = _settled_outcome(task, space, noise, deadline, diagnostics)
+    if outcome is None:
         outcome = search_general(task, space, noise=noise, deadline=deadline)
         if outcome.selected is None and outcome.notes and "no hypothesis" in outcome.notes[-1]:
             _general_diagnostics(task, diagnostics)
@@ -183,7 +192,8 @@ def learn(task: ILPTask, timeout: float = 30.0, noise: bool = False, *, method: 
     seconds = time.perf_counter() - start
     if outcome.selected is None:
         if diagnostics.timed_out:
-            diagnostics.hints[:] = ["time ran out before a hypothesis was found: raise the timeout"]
+            diagnostics.hints[:] = ["time ran out before a hypothesis was found: raise the timeout"
+                                    + _enumeration_warning(task, space, noise, chosen_method)]
         elif not diagnostics.hints:
             diagnostics.hints.append(_relax_hint(task))
         return LearningResult(None, None, False, seconds, len(space), {}, diagnostics, chosen_method)
@@ -292,6 +302,48 @@ def _single_diagnostics(task, space, worlds, fires, hard_pos, hard_neg, diagnost
                                  "check its inclusions/exclusions and the background")
     elif diagnostics.unexcludable_negatives:
         diagnostics.hints.append(_relax_hint(task))
+
+
+def _settled_outcome(task: ILPTask, space: HypothesisSpace, noise: bool, deadline: float,
+                     diagnostics: Diagnostics) -> SearchOutcome | None:
+    """A failed outcome when some hard example is accepted or rejected alike by every hypothesis
+    of the space, against its label (:mod:`~symlearn.logic.ilp.settled`); else None. Without
+    this the general search would enumerate every set of normal rules until the time limit."""
+    hard = [e for e in task.examples if not (noise and e.penalty is not None)]
+    fixed = unaffected_examples(task, space, hard)
+    if not fixed:
+        return None
+    try:
+        verdict = accepted_by(task, [], fixed, timeout=max(deadline - time.perf_counter(), 0.001))
+    except SymlearnError:  # undecided in time: let the search (and its time limit) answer
+        return None
+    negatives = [e.id for e in fixed if not e.positive and verdict[e.id]]
+    positives = [e.id for e in fixed if e.positive and not verdict[e.id]]
+    if not negatives and not positives:
+        return None
+    diagnostics.uncoverable_positives.extend(positives)
+    diagnostics.unaffected_negatives.extend(negatives)
+    named = negatives + positives
+    diagnostics.hints.append(f"no rule of the space can change whether {_listing(named)} "
+                             f"{'is' if len(named) == 1 else 'are'} accepted: it holds no constraint (a bias "
+                             "with #modeh learns normal rules only) and its head predicates occur nowhere in the "
+                             "background, these contexts or their inclusions/exclusions; drop #modeh to learn "
+                             "constraints, use the heads in the background or the examples, or fix the labels")
+    return SearchOutcome(None, notes=["no hypothesis in the space covers the examples"])
+
+
+def _enumeration_warning(task: ILPTask, space: HypothesisSpace, noise: bool, method: str) -> str:
+    """Why raising the timeout may not help: without a constraint in the space, the general search
+    rules out one set of normal rules per wrongly accepted negative, up to 2^(rules) rounds."""
+    if method != "general" or any(c.is_constraint for c in space.candidates):
+        return ""
+    hard = [e.id for e in task.negatives if not (noise and e.penalty is not None)]
+    if not hard:
+        return ""
+    return (f"; but the space holds no constraint, so the search rules out one subset of its {len(space)} normal "
+            f"rules per round (2^{len(space)} in all): it may hold no hypothesis that excludes {_listing(hard)} "
+            "(normal rules exclude a negative only through the background, e.g. a constraint on their head, or "
+            "the example's exclusions)")
 
 
 def _general_diagnostics(task: ILPTask, diagnostics: Diagnostics) -> None:

@@ -200,3 +200,26 @@ def test_to_lp_without_rules_is_an_error(hanoi_fit):
 def test_results_before_fit_are_a_not_fitted_error():
     with pytest.raises(NotFittedError):
         LogicConstraintInference(iterations=1).to_lp("unused.lp")
+
+
+def test_known_rules_are_given_not_learned_again(hanoi):
+    # the known rule's pairs are no examples for induction: it is neither relearned nor judged by
+    # rule support, and the rule file lists it apart from the learned rules
+    learner = LogicConstraintInference(iterations=3, known=":- on(1,2).").fit(hanoi.expert_demonstrations(10, seed=0),
+                                                                            hanoi)
+    assert learner.rules_ == [":- on(V1,V2), V1 < V2."]
+    assert learner.known_rules_ == [":- on(1,2)."]
+    assert [r.rule for r in learner.rule_support_] == learner.rules_
+    header, _, body = learner._lp_text().partition("\n\n")
+    assert "Given in advance (known, not learned; not among the rules below):\n%   :- on(1,2)." in header
+    assert body.split() == [":-", "on(V1,V2),", "V1", "<", "V2."]
+
+
+def test_a_known_truth_leaves_nothing_to_learn(hanoi):
+    learner = LogicConstraintInference(iterations=3, known=[":- on(V1,V2), V1 < V2."]).fit(
+        hanoi.expert_demonstrations(10, seed=0), hanoi)
+    assert learner.rules_ == [] and learner.known_rules_ == [":- on(V1,V2), V1 < V2."]
+    # a mask is still accepted: no rules to list then
+    mask = hanoi.rule_mask([":- on(V1,V2), V1 < V2."])
+    assert LogicConstraintInference(iterations=1, known=mask).fit(hanoi.expert_demonstrations(10, seed=0),
+                                                                  hanoi).known_rules_ == []

@@ -153,6 +153,21 @@ def test_formula_is_the_complement_of_the_leaf_boxes(seed):
     assert (counts == 1).all()
 
 
+@pytest.mark.parametrize("seed", range(3))
+def test_a_conjunction_keeps_the_tightest_bound_per_feature_and_direction(seed):
+    # a side tightened below an ancestor's split used to print both bounds (x1 < -0.39 & x1 < -0.64);
+    # seed 1 made one such conjunction
+    X = clusters(600, 3, seed=seed)
+    X[:, 2] = np.round(X[:, 2] / 3)
+    learner = OneClassTreeConstraint(min_samples_leaf=3).fit(X)
+    for conjunction in learner.dnf_:
+        sides = [(a.feature, a.is_upper) for a in conjunction]
+        assert len(sides) == len(set(sides)), str(conjunction)
+    check_formula(learner, boundary_grid(learner))  # the same set of points as the leaf boxes' complement
+    assert parse(str(learner.dnf_)) == learner.dnf_
+    assert learner.result_.metrics["n_atoms"] == sum(len(c) for c in learner.dnf_)
+
+
 def test_clusters_in_many_dimensions_give_one_box_each():
     X = clusters(20000, 8, n_clusters=3, spread=0.5)
     learner = OneClassTreeConstraint().fit(X)

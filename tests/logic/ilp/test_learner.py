@@ -206,3 +206,54 @@ def test_nan_timeout_is_refused():
 
     with pytest.raises(SymlearnError, match="not NaN"):
         learn(parse_task(_grid_task(5)), timeout=float("nan"))
+
+
+GREENHOUSE = """
+bed(0).
+onBed :- at(X), bed(X).
+#modeh(bad).
+#modeb(1, rain, (positive)). #modeb(1, water, (positive)).
+#modeb(1, onBed, (positive)). #modeb(1, wet, (positive)).
+#maxv(1).
+#pos(p1, {}, {}, {at(-2). water.}).
+#pos(p2, {}, {}, {at(1). water.}).
+#pos(p3, {}, {}, {at(0). rest.}).
+#pos(p4, {}, {}, {at(-1). rain. rest.}).
+#neg(n1, {}, {}, {at(-1). rain. water.}).
+#neg(n2, {}, {}, {at(0). water.}).
+"""
+
+
+def test_negatives_no_rule_of_the_space_can_exclude_end_the_search_at_once():
+    # Only normal rules whose head (bad) nothing reads: every hypothesis accepts n1 and n2. The
+    # general search used to enumerate all 2^15 sets of rules until the time limit.
+    result = learn(parse_task(GREENHOUSE), timeout=60)
+    assert result.hypothesis is None and not result.timed_out and result.seconds < 20
+    assert result.diagnostics.unaffected_negatives == ["n1", "n2"]
+    assert "no rule of the space can change whether n1, n2 are accepted" in result.diagnostics.hints[0]
+    assert "negatives every hypothesis of the space accepts" in result.diagnostics.render()
+
+
+def test_a_head_the_background_reads_keeps_the_search():
+    # with ":- bad." in the background the head matters: the negatives are excluded by deriving bad
+    result = learn(parse_task(":- bad.\n" + GREENHOUSE), timeout=60)
+    assert sorted(result.hypothesis.rules) == ["bad :- rain, water.", "bad :- water, onBed."]
+    assert result.optimal and not result.diagnostics.unaffected_negatives
+
+
+def test_an_uncoverable_positive_no_rule_can_affect_is_reported():
+    task = parse_task("#modeh(bad). #modeb(1, x, (positive)).\n#pos(p1, {seen}, {}, { x. }).\n"
+                      "#neg(n1, {}, {}, { y. }).\n")
+    result = learn(task, timeout=60)
+    assert result.hypothesis is None and not result.timed_out
+    assert result.diagnostics.uncoverable_positives == ["p1"]
+
+
+def test_a_timed_out_search_without_constraints_says_the_space_may_hold_no_hypothesis():
+    # "ok :- bad." reads the head, so the examples are not settled up front, yet nothing excludes
+    # n1 or n2: the search enumerates sets of normal rules until the time limit
+    result = learn(parse_task("ok :- bad.\n" + GREENHOUSE), timeout=1.0)
+    assert result.hypothesis is None and result.timed_out
+    hint = result.diagnostics.hints[0]
+    assert hint.startswith("time ran out before a hypothesis was found: raise the timeout; but the space holds "
+                           "no constraint") and "may hold no hypothesis that excludes n1, n2" in hint
