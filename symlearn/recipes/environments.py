@@ -543,7 +543,7 @@ def resolve_env(name: str, kwargs: str | Mapping[str, Any] | None = None, *, kin
         if bundled is not None:  # symlearn/toy-navigation-v0: the entry, with its expert
             return _bundled(name, bundled, kwargs)
         return _registered(name, name, kwargs)
-    registering = _registering_package(name, gymnasium)
+    registering = _registering_package(name)
     if registering is not None:
         try:  # MiniGrid-Empty-5x5-v0 is minigrid's: as if the user had written minigrid:MiniGrid-Empty-5x5-v0
             return _from_module(f"{registering}:{name}", kwargs)
@@ -552,16 +552,16 @@ def resolve_env(name: str, kwargs: str | Mapping[str, Any] | None = None, *, kin
     raise _unknown(name, gymnasium, kind, what)
 
 
-def _registering_package(name: str, gymnasium: Any) -> str | None:
+def _registering_package(name: str) -> str | None:
     """The installed package an unknown gymnasium id is probably registered by on import
     (``MiniGrid-Empty-5x5-v0`` -> ``minigrid``, ``highway-v0`` -> ``highway_env``), or None: only
-    for a name shaped like an id (``Name-vN``) that is no misspelling of a bundled name or of a
-    registered id (those get "did you mean" instead)."""
+    for a name shaped like an id (``Name-vN``) that is no misspelling of a bundled name. A
+    misspelt registered id is tried too: its stem rarely names a package, and where it does the
+    package is imported, registers other ids, and "did you mean" follows (a closeness test
+    first would turn real ids away: ``Zorkland-v0`` is "close" to ``Broken-v0``)."""
     if not re.fullmatch(r"[A-Za-z][\w.]*(-[\w.]+)*-v\d+", name):
         return None
     if get_close_matches(name.lower(), list(entry_names()), n=1):
-        return None
-    if get_close_matches(name, [i for i in gymnasium.registry if not i.startswith("symlearn/")], n=1):
         return None
     return _installed_package(name.split("-")[0].lower())
 
