@@ -117,7 +117,8 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
     if "labeling" in config:
         from symlearn.grounding.labeling import load_labeling
 
-        labeling = labeling_of_states(load_labeling(path("labeling")), feature_map, sources["labeling"])
+        labeling = labeling_of_states(load_labeling(path("labeling")), feature_map, sources["labeling"],
+                                      grounding.n_states)
     domain = Domain(config["name"], background=background, bias=bias, grounding=grounding, mdp=mdp, truth=truth,
                     labeling=labeling, available=model.get("available"), description=config.get("description", ""),
                     sources=sources, feature_map=feature_map)
@@ -128,14 +129,21 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
     return domain
 
 
-def labeling_of_states(labeling: Any, feature_map: Any, source: str) -> Any:
+def labeling_of_states(labeling: Any, feature_map: Any, source: str, n_states: int | None = None) -> Any:
     """``labeling`` as it labels the folder's states, which are ids: a feature labeling (conditions
     over named features, ``height > 3``) reads each id's features from the folder's feature map
     (``features = ...``); any other labeling is returned as it is. A feature labeling in a folder
-    without a feature map, or over a name the map lacks, is one error naming ``source``."""
+    without a feature map, or over a name the map lacks, is one error naming ``source``; so is a
+    table labeling a state that is no id ``0..n_states-1``."""
     from symlearn.grounding.feature_labeling import FeatureLabeling
     from symlearn.grounding.features import FeatureMap
 
+    if n_states is not None:
+        for k, (state, _) in enumerate(getattr(labeling, "items", lambda: [])()):
+            if not (isinstance(state, (int, np.integer)) and not isinstance(state, bool) and 0 <= state < n_states):
+                raise DataError(f"table[{k}]: the labeling labels state {state!r}, which is not one of the domain's "
+                                f"{n_states} states (ids 0..{n_states - 1})", file=source,
+                                hint="a domain's states are the ids of its states.jsonl")
     own = getattr(labeling, "feature_map", None)
     if not isinstance(labeling, FeatureLabeling) or own != FeatureMap(own.names):   # a table or function of its own
         return labeling
