@@ -106,3 +106,8 @@ def test_a_weak_rule_wider_than_the_needed_one_says_some_of_its_pairs(floor):
     assert wide.as_dict()["overlaps_cover"] is False
     weak_spelling = narrow if narrow.weak else spelling
     assert weak_spelling.overlaps_cover and "also forbids its pairs and is needed" in weak_spelling.text()
+    # the rule file's header says the same
+    learner = LogicConstraintInference(iterations=20, reward="given").fit(demos, domain)
+    learner.rule_support_ = support
+    text = learner._lp_text()
+    assert f"%   {rules[0]}  (0.00 nats; {wide.overlaps[0]} forbids some of its pairs too: keep that)" in text, text
