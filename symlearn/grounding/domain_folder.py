@@ -53,8 +53,9 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
         raise DataError(f"{folder} is not a folder", file=str(folder), hint="a domain is a folder with domain.toml")
     if not toml_path.is_file():
         raise DataError("the domain folder has no domain.toml", file=str(folder))
+    toml_text = read_input_text(toml_path)
     try:
-        config = load_toml(read_input_text(toml_path), source=toml_path)
+        config = load_toml(toml_text, source=toml_path)
     except RecursionError:
         raise ParseError("domain.toml is nested too deeply", file=str(toml_path)) from None
     except tomllib.TOMLDecodeError as exc:
@@ -63,14 +64,20 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
         line, column = (int(where.group(1)), int(where.group(2))) if where else (None, None)
         raise ParseError(f"invalid TOML: {str(exc).split(' (at')[0]}", file=str(toml_path), line=line,
                          column=column) from None
+    # an unknown key first: a misspelt one is why a required key is missing ('backgrund')
+    unknown = sorted(set(config) - set(REQUIRED) - set(OPTIONAL))
+    if unknown:
+        import difflib
+
+        close = difflib.get_close_matches(unknown[0], [k for k in REQUIRED + OPTIONAL if k not in config], n=1)
+        line = next((i for i, text in enumerate(toml_text.splitlines(), start=1)
+                     if re.match(rf"\s*[\"']?{re.escape(unknown[0])}[\"']?\s*=", text)), None)
+        raise DataError(f"unknown key {unknown[0]!r}" + (f" (did you mean {close[0]!r}?)" if close else ""),
+                        file=str(toml_path), line=line, hint="known keys: " + ", ".join(REQUIRED + OPTIONAL))
     for key in REQUIRED:
         if key not in config:
             raise DataError(f"missing key {key!r}", file=str(toml_path),
                             hint="required: " + ", ".join(REQUIRED) + "; optional: " + ", ".join(OPTIONAL))
-    unknown = sorted(set(config) - set(REQUIRED) - set(OPTIONAL))
-    if unknown:
-        raise DataError(f"unknown key {unknown[0]!r}", file=str(toml_path),
-                        hint="known keys: " + ", ".join(REQUIRED + OPTIONAL))
     for key in config:
         if not isinstance(config[key], str):
             raise DataError(f"key {key!r} must be a string, got {type(config[key]).__name__}", file=str(toml_path))

@@ -178,3 +178,13 @@ def test_an_unsafe_truth_rule_is_located_in_the_truth_file(folder):
     with pytest.raises(ParseError, match="unsafe variable Z") as info:
         Domain.from_folder(folder).truth_forbidden
     assert info.value.file == str(folder / "truth.lp") and info.value.line == line
+
+
+def test_a_misspelt_key_is_named_before_the_key_it_leaves_missing(folder):
+    # before: "missing key 'background'", the misspelt 'backgrund' not mentioned
+    toml = (folder / "domain.toml").read_text()
+    _edit(folder, "domain.toml", toml.replace("background =", "backgrund ="))
+    line = next(i for i, t in enumerate(toml.splitlines(), start=1) if t.startswith("background ="))
+    with pytest.raises(DataError, match=r"unknown key 'backgrund' \(did you mean 'background'\?\)") as info:
+        Domain.from_folder(folder)
+    assert info.value.file.endswith("domain.toml") and info.value.line == line
