@@ -155,8 +155,8 @@ def wide_subgoal_warnings(subgoals, frames) -> list[str]:
             continue
         extent = float(np.linalg.norm(stacked.max(axis=0) - stacked.min(axis=0)))
         if extent > 0 and goal.radius > WIDE_SUBGOAL * extent:
-            out.append(f"sub-goal {goal.name} has radius {goal.radius:.3g}, {goal.radius / extent:.0%} of the extent of "
-                       f"its frames ({extent:.3g}): no single place, but several joined by the frames in between "
+            out.append(f"sub-goal {goal.name} has radius {goal.radius:.3g}, {goal.radius / extent:.0%} of the extent "
+                       f"of its frames ({extent:.3g}): no single place, but several joined by the frames in between "
                        "(lower --eps below half a demonstration's step, or raise --min-samples)")
     return out
 
