@@ -164,6 +164,8 @@ class Domain:
         from symlearn.logic.asp import Hypothesis
 
         background = self.background + self.bias.background
+        if isinstance(rules, Hypothesis):
+            return rules
         if isinstance(rules, os.PathLike):
             return Hypothesis.from_lp(rules, background=background)
         if isinstance(rules, str):
@@ -272,7 +274,12 @@ class Domain:
         """The pairs the ground-truth rules forbid, or None without truth."""
         if self.truth is None:
             return None
-        mask = self.rule_mask(self.truth)
+        from symlearn.logic.asp import Hypothesis
+
+        # located in the folder's truth file, so an unsafe variable names its line there
+        source = (self.sources or {}).get("truth", "<truth>")
+        truth = Hypothesis.from_text(self.truth, source=source, background=self.background + self.bias.background)
+        mask = self.rule_mask(truth)
         mask.setflags(write=False)
         return mask
 

@@ -53,8 +53,9 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
         raise DataError(f"{folder} is not a folder", file=str(folder), hint="a domain is a folder with domain.toml")
     if not toml_path.is_file():
         raise DataError("the domain folder has no domain.toml", file=str(folder))
+    toml_text = read_input_text(toml_path)
     try:
-        config = load_toml(read_input_text(toml_path), source=toml_path)
+        config = load_toml(toml_text, source=toml_path)
     except RecursionError:
         raise ParseError("domain.toml is nested too deeply", file=str(toml_path)) from None
     except tomllib.TOMLDecodeError as exc:
@@ -63,14 +64,20 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
         line, column = (int(where.group(1)), int(where.group(2))) if where else (None, None)
         raise ParseError(f"invalid TOML: {str(exc).split(' (at')[0]}", file=str(toml_path), line=line,
                          column=column) from None
+    # an unknown key first: a misspelt one is why a required key is missing ('backgrund')
+    unknown = sorted(set(config) - set(REQUIRED) - set(OPTIONAL))
+    if unknown:
+        import difflib
+
+        close = difflib.get_close_matches(unknown[0], [k for k in REQUIRED + OPTIONAL if k not in config], n=1)
+        line = next((i for i, text in enumerate(toml_text.splitlines(), start=1)
+                     if re.match(rf"\s*[\"']?{re.escape(unknown[0])}[\"']?\s*=", text)), None)
+        raise DataError(f"unknown key {unknown[0]!r}" + (f" (did you mean {close[0]!r}?)" if close else ""),
+                        file=str(toml_path), line=line, hint="known keys: " + ", ".join(REQUIRED + OPTIONAL))
     for key in REQUIRED:
         if key not in config:
             raise DataError(f"missing key {key!r}", file=str(toml_path),
                             hint="required: " + ", ".join(REQUIRED) + "; optional: " + ", ".join(OPTIONAL))
-    unknown = sorted(set(config) - set(REQUIRED) - set(OPTIONAL))
-    if unknown:
-        raise DataError(f"unknown key {unknown[0]!r}", file=str(toml_path),
-                        hint="known keys: " + ", ".join(REQUIRED + OPTIONAL))
     for key in config:
         if not isinstance(config[key], str):
             raise DataError(f"key {key!r} must be a string, got {type(config[key]).__name__}", file=str(toml_path))
@@ -117,7 +124,8 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
     if "labeling" in config:
         from symlearn.grounding.labeling import load_labeling
 
-        labeling = labeling_of_states(load_labeling(path("labeling")), feature_map, sources["labeling"])
+        labeling = labeling_of_states(load_labeling(path("labeling")), feature_map, sources["labeling"],
+                                      grounding.n_states)
     domain = Domain(config["name"], background=background, bias=bias, grounding=grounding, mdp=mdp, truth=truth,
                     labeling=labeling, available=model.get("available"), description=config.get("description", ""),
                     sources=sources, feature_map=feature_map)
@@ -128,14 +136,21 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
     return domain
 
 
-def labeling_of_states(labeling: Any, feature_map: Any, source: str) -> Any:
+def labeling_of_states(labeling: Any, feature_map: Any, source: str, n_states: int | None = None) -> Any:
     """``labeling`` as it labels the folder's states, which are ids: a feature labeling (conditions
     over named features, ``height > 3``) reads each id's features from the folder's feature map
     (``features = ...``); any other labeling is returned as it is. A feature labeling in a folder
-    without a feature map, or over a name the map lacks, is one error naming ``source``."""
+    without a feature map, or over a name the map lacks, is one error naming ``source``; so is a
+    table labeling a state that is no id ``0..n_states-1``."""
     from symlearn.grounding.feature_labeling import FeatureLabeling
     from symlearn.grounding.features import FeatureMap
 
+    if n_states is not None:
+        for k, (state, _) in enumerate(getattr(labeling, "items", lambda: [])()):
+            if not (isinstance(state, (int, np.integer)) and not isinstance(state, bool) and 0 <= state < n_states):
+                raise DataError(f"table[{k}]: the labeling labels state {state!r}, which is not one of the domain's "
+                                f"{n_states} states (ids 0..{n_states - 1})", file=source,
+                                hint="a domain's states are the ids of its states.jsonl")
     own = getattr(labeling, "feature_map", None)
     if not isinstance(labeling, FeatureLabeling) or own != FeatureMap(own.names):   # a table or function of its own
         return labeling

@@ -66,8 +66,9 @@ def split_facts(text: str | Iterable[str], *, source: str = "<facts>", line: int
         for statement in statements:
             text_form = str(statement)
             if not is_ground_fact(statement):
-                raise ParseError(f"{text_form!r} is not a ground fact", file=source, line=line, column=column,
-                                 hint="write facts such as at(0,1). or loaded.")
+                at, hint = _variable_in(piece, statement)
+                raise ParseError(f"{text_form!r} is not a ground fact", file=source, line=line, column=column + at,
+                                 hint=hint)
             found.append(text_form)
     return tuple(found)
 
@@ -239,6 +240,27 @@ def _text_column(raw: str, key: str) -> int:
     except (ValueError, IndexError):
         return 1
     return found + 1 if found else 1
+
+
+def _variable_in(piece: str, statement: Any) -> tuple[int, str]:
+    """Where in ``piece`` a non-ground statement's first variable is (0-based; 0 when none is
+    found) and the hint that names it: a capitalised name is a variable in ASP."""
+    import re
+
+    generic = 0, "write facts such as at(0,1). or loaded."
+    if ":-" in str(statement) or str(statement).lstrip()[:1] in "{#":  # a rule, a choice, a directive
+        return generic
+    begin = statement.location.begin
+    start = 0
+    if begin.line == 1:
+        start = max(0, begin.column - 1) + len(piece) - len(piece.lstrip())
+    body = re.sub(r'"(?:[^"\\]|\\.)*"', lambda m: " " * len(m.group()), piece)  # strings are constants
+    found = re.compile(r"(?<![A-Za-z0-9_'])([A-Z_][A-Za-z0-9_']*)").search(body, start)
+    if not found:
+        return generic
+    return found.start(), (f"{found.group(1)} starts with a capital letter or '_', which makes it a variable in ASP: "
+                           "predicate and constant names start with a lowercase letter (write it in lowercase or "
+                           "as a string, \"" + found.group(1) + "\")")
 
 
 def _fact_hint(text: str) -> str | None:

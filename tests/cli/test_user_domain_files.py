@@ -285,3 +285,15 @@ def test_a_misspelt_truth_rule_is_warned_about(capsys, blocks):
     assert code == 0 and json.loads(out)["truth_warnings"][0]["did_you_mean"] == "stack/2"
     code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", demos, "-q")
     assert code == 0 and f"warning: {folder / 'truth.lp'}:2:4: truth: predicate stak/2 is defined nowhere" in out
+
+
+def test_a_capitalised_constant_in_a_states_facts_is_named_where_it_is(capsys, blocks):
+    # item(Glass) parses (Glass is a variable) but is no ground fact: the column is the variable's
+    # and the hint names it, as for a capitalised predicate
+    folder, _ = blocks
+    line = _edit_line(folder / "states.jsonl", 5, '"facts": "', '"facts": "colour(Red).  ')
+    code, out, err = run(capsys, "domain", "check", folder)
+    column = line.index("Red)") + 1
+    assert code == 2 and err.startswith(f"symlearn: error: {folder / 'states.jsonl'}:5:{column}: 'colour(Red).' is "
+                                        "not a ground fact"), err
+    assert "Red starts with a capital letter" in err

@@ -169,3 +169,22 @@ def test_feature_map_in_the_folder(folder, tmp_path):
     assert d.feature_map.features(0).tolist() == [0.0, 0.0]
     again = Domain.from_folder(d.save(tmp_path / "copy"))
     assert again.feature_map == d.feature_map
+
+
+def test_an_unsafe_truth_rule_is_located_in_the_truth_file(folder):
+    # before: '<hypothesis>:N:1', a name no file has
+    _edit(folder, "truth.lp", (folder / "truth.lp").read_text() + ":- go(D), at(X, Y), X > Z.\n")
+    line = (folder / "truth.lp").read_text().splitlines().index(":- go(D), at(X, Y), X > Z.") + 1
+    with pytest.raises(ParseError, match="unsafe variable Z") as info:
+        Domain.from_folder(folder).truth_forbidden
+    assert info.value.file == str(folder / "truth.lp") and info.value.line == line
+
+
+def test_a_misspelt_key_is_named_before_the_key_it_leaves_missing(folder):
+    # before: "missing key 'background'", the misspelt 'backgrund' not mentioned
+    toml = (folder / "domain.toml").read_text()
+    _edit(folder, "domain.toml", toml.replace("background =", "backgrund ="))
+    line = next(i for i, t in enumerate(toml.splitlines(), start=1) if t.startswith("background ="))
+    with pytest.raises(DataError, match=r"unknown key 'backgrund' \(did you mean 'background'\?\)") as info:
+        Domain.from_folder(folder)
+    assert info.value.file.endswith("domain.toml") and info.value.line == line

@@ -191,3 +191,20 @@ def test_dnf_learning_through_a_domain_feature_map(tmp_path, capsys):
     code, out, err = run(capsys, "learn", "dnf", "--domain", folder, "--demos", tmp_path / "demos.jsonl",
                          "--timeout", "-1")
     assert code == 2 and "--timeout" in err and len(err.strip().splitlines()) == 1
+
+
+def test_a_labeling_naming_a_state_the_domain_lacks_is_the_labelings_error(tmp_path, capsys):
+    """A table labeling of a state id the folder does not have: refused when the folder is read
+    (domain check said nothing before) and, given as --labeling, named by its own file (before:
+    the demonstrations file was blamed)."""
+    folder = wh.write_warehouse(tmp_path / "det", alarm_prob=0.0)
+    wh.expert_demonstrations(5, seed=0, alarm_prob=0.0).save(tmp_path / "demos.jsonl")
+    doc = json.loads((folder / "labeling.json").read_text())
+    doc["table"].append([999, [doc["propositions"][0]["name"]]])
+    (tmp_path / "bad.json").write_text(json.dumps(doc))
+    code, out, err = run(capsys, "learn", "spec", "--domain", folder, "--demos", tmp_path / "demos.jsonl",
+                         "--labeling", tmp_path / "bad.json")
+    assert code == 2 and err.startswith(f"symlearn: error: {tmp_path / 'bad.json'}: table[") and "state 999" in err
+    (folder / "labeling.json").write_text(json.dumps(doc))
+    code, out, err = run(capsys, "domain", "check", folder)
+    assert code == 2 and f"{folder / 'labeling.json'}: table[" in err and "state 999" in err

@@ -405,7 +405,10 @@ class LogicConstraintInference(Learner):
             header += "\nWeakly supported (the demonstrations are about as likely without the rule, the planner's " \
                       "rationality refitted; see symlearn.learners.constraints.rule_support):"
             header += "".join(f"\n  {r.rule}  ({r.gain:.2f} nats"
-                              + ("" if not r.overlaps else f"; {', '.join(r.overlaps)} forbids its pairs too: keep that")
+                              + ("" if not r.overlaps else f"; {' and '.join(r.overlaps)} "
+                                 f"{'forbids' if len(r.overlaps) == 1 else 'forbid'} "
+                                 f"{'its pairs' if r.overlaps_cover else 'some of its pairs'} too: keep "
+                                 f"{'that' if len(r.overlaps) == 1 else 'those'}")
                               + ")" for r in weak)
         if self.unexplained_:
             header += "\n" + "\n".join(unexplained_lines(self.unexplained_))

@@ -63,6 +63,7 @@ class RuleSupport:
     # None where the rule's own gain already made it strong
     joint_gain: float | None = None
     overlaps: tuple[str, ...] = ()  # stronger rules forbidding some of the same pairs (delete this, keep them)
+    overlaps_cover: bool = True  # whether they forbid every pair this rule forbids, or only some
 
     @property
     def weak(self) -> bool:
@@ -71,7 +72,8 @@ class RuleSupport:
     def as_dict(self) -> dict[str, Any]:
         return {"rule": self.rule, "gain": self.gain, "rationality_with": self.rationality_with,
                 "rationality_without": self.rationality_without, "joint_gain": self.joint_gain,
-                "overlaps": list(self.overlaps), "weak": self.weak}
+                "overlaps": list(self.overlaps), "overlaps_cover": bool(self.overlaps) and self.overlaps_cover,
+                "weak": self.weak}
 
     def text(self) -> str:
         """The warning for a weak rule (one line)."""
@@ -80,7 +82,8 @@ class RuleSupport:
                        f" (planner rationality {self.rationality_with:g})")
         one = len(self.overlaps) == 1
         shared = ("" if not self.overlaps else
-                  f" ({' and '.join(self.overlaps)} also forbid{'s' if one else ''} its pairs and "
+                  f" ({' and '.join(self.overlaps)} also forbid{'s' if one else ''} "
+                  f"{'its pairs' if self.overlaps_cover else 'some of its pairs'} and "
                   f"{'is' if one else 'are'} needed: keep {'that one' if one else 'those'})")
         return (f"rule {self.rule} is weakly supported: the demonstrations are {self.gain:.2f} nats likelier with "
                 f"it than without{temperature}, below {WEAK_SUPPORT:g}{shared}: they do not show that it matters -- "
@@ -167,9 +170,11 @@ def _checked_together(support: list[RuleSupport], masks: list[np.ndarray], drop:
         else:   # needed once the weaker rules are gone: strong, and they name it
             out[i] = replace(support[i], joint_gain=lost)
     for i in gone:
-        shared = tuple(out[j].rule for j in weak if j not in gone and (masks[i] & masks[j]).any())
-        if shared:
-            out[i] = replace(support[i], overlaps=shared)
+        sharing = [j for j in weak if j not in gone and (masks[i] & masks[j]).any()]
+        if sharing:
+            kept = np.logical_or.reduce([masks[j] for j in sharing])
+            out[i] = replace(support[i], overlaps=tuple(out[j].rule for j in sharing),
+                             overlaps_cover=not (masks[i] & ~kept).any())
     return out
 
 

@@ -187,9 +187,15 @@ def find_subgoals(frames: Sequence[np.ndarray], subsets: Sequence[FeatureSubset]
                             hint="check the demonstrations and the subsets' columns")
         described = "; ".join(f"{r.subset}: {r.clusters} clusters, {r.dropped_initial} holding an initial state, "
                               f"eps={r.eps:.3g}, min_samples={r.min_samples:.3g}" for r in records)
-        raise DataError(f"no sub-goal found ({described})",
-                        hint="lower min_samples (--min-samples) so sparser places count, or raise eps (--eps) "
-                             "so a dwelling place forms one cluster")
+        hint = ("lower min_samples (--min-samples) so sparser places count, or raise eps (--eps) so a dwelling "
+                "place forms one cluster")
+        if any(r.clusters and r.dropped_initial == r.clusters for r in records):
+            # the start was joined to the places: transit frames, not too little density
+            hint = ("every cluster held a demonstration's first frame: the frames between the start and the places "
+                    "joined them into one, as a demonstration passing through puts several frames within eps of "
+                    "each other when eps is more than about half its step; lower eps (--eps) or raise min_samples "
+                    "(--min-samples)")
+        raise DataError(f"no sub-goal found ({described})", hint=hint)
     return SubGoalSet(goals, feature_names=feature_names), records
 
 

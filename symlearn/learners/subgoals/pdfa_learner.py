@@ -31,6 +31,8 @@ import warnings
 from collections import Counter
 from typing import Any
 
+import numpy as np
+
 from symlearn.backends.subgoal_plan import greedy_plan
 from symlearn.errors import DataError
 from symlearn.learners.base import Learner
@@ -85,6 +87,9 @@ class SubgoalPDFALearner(Learner):
         subgoals, records = find_subgoals(frames, subsets, eps=self.eps, min_samples=self.min_samples,
                                           method=self.method, cell_fraction=self.cell_fraction, feature_names=names)
         t_cluster = time.perf_counter()
+        for message in wide_subgoal_warnings(subgoals, frames):
+            self.warnings_.append(message)
+            warnings.warn(message, UserWarning, stacklevel=FIT_CALLER)
         words = demonstration_words(subgoals, frames)
         t_words = time.perf_counter()
         counts = count_orderings(words, subgoals.propositions)
@@ -129,6 +134,30 @@ def setting_warnings(frames, names, subsets) -> list[str]:
             out.append(f"feature(s) {', '.join(hit)} of subset {subset.name} are constant within every demonstration "
                        f"and differ between them (a setting of the episode, not a choice of the expert): its sub-goals "
                        f"also sort the demonstrations by that setting{hint}")
+    return out
+
+
+#: a sub-goal whose radius exceeds this share of its frames' extent (bounding-box diagonal) is no place
+WIDE_SUBGOAL = 0.25
+
+
+def wide_subgoal_warnings(subgoals, frames) -> list[str]:
+    """One warning per sub-goal wider than :data:`WIDE_SUBGOAL` of the extent of its subset's frames:
+    a place where demonstrations dwell is small; a cluster that wide is several places joined by
+    the frames between them (a demonstration passing through puts several frames within ``eps``
+    of each other when ``eps`` is more than about half its step)."""
+    out = []
+    for goal in subgoals:
+        columns = list(goal.features)
+        stacked = np.concatenate([f[:, columns] for f in frames])
+        stacked = stacked[~np.isnan(stacked).any(axis=1)]
+        if not len(stacked):
+            continue
+        extent = float(np.linalg.norm(stacked.max(axis=0) - stacked.min(axis=0)))
+        if extent > 0 and goal.radius > WIDE_SUBGOAL * extent:
+            out.append(f"sub-goal {goal.name} has radius {goal.radius:.3g}, {goal.radius / extent:.0%} of the extent "
+                       f"of its frames ({extent:.3g}): no single place, but several joined by the frames in between "
+                       "(lower --eps below half a demonstration's step, or raise --min-samples)")
     return out
 
 

@@ -91,3 +91,23 @@ def test_two_spellings_of_one_needed_rule_are_not_both_weak(floor):
     assert not second.weak and second.joint_gain > 50 and second.overlaps == ()
     assert wait.weak and wait.overlaps == ()   # waiting shares no pair with the rug rules
     assert [r.rule for r in support if r.weak] == [rules[0], rules[2]]
+
+
+def test_a_weak_rule_wider_than_the_needed_one_says_some_of_its_pairs(floor):
+    """A weak rule that shares only some pairs with the needed one it names: the note says 'some of
+    its pairs' (before: 'also forbids its pairs', as if deleting it lost nothing the other keeps)."""
+    domain, demos = floor
+    # never driving west: the rug's west pairs, and west from (1,2) where the rug is south
+    rules = [":- move(west), rug_ahead(D).", ":- move(D), rug_ahead(D).", ":- rug_ahead(D), move(D)."]
+    support = rule_support(domain, domain.episodes(demos), rules, "given", 30)
+    wide, narrow, spelling = support
+    assert wide.weak and len(wide.overlaps) == 1 and wide.overlaps[0] in rules[1:]
+    assert not wide.overlaps_cover and "also forbids some of its pairs" in wide.text()
+    assert wide.as_dict()["overlaps_cover"] is False
+    weak_spelling = narrow if narrow.weak else spelling
+    assert weak_spelling.overlaps_cover and "also forbids its pairs and is needed" in weak_spelling.text()
+    # the rule file's header says the same
+    learner = LogicConstraintInference(iterations=20, reward="given").fit(demos, domain)
+    learner.rule_support_ = support
+    text = learner._lp_text()
+    assert f"%   {rules[0]}  (0.00 nats; {wide.overlaps[0]} forbids some of its pairs too: keep that)" in text, text

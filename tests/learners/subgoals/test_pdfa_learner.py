@@ -60,3 +60,34 @@ def test_bad_parameters(runs, kw, message):
 def test_bad_demonstrations(data, message):
     with pytest.raises(DataError, match=message):
         SubgoalPDFALearner().fit(data)
+
+
+def _walking_tours(n, rng):
+    """A cook walks (0.3 per step) between three stations and dwells 6-10 frames at each, in
+    mostly one order: eps from the dwell noise spans more than one walking step."""
+    stations = [np.array(p) for p in [(0.0, 0.0), (5.0, 0.0), (2.5, 4.0)]]
+    tours = []
+    for k in range(n):
+        order = [0, 1, 2] if k % 10 < 7 else [1, 0, 2]
+        pos, states = np.array([2.5, -2.0]), []
+        for i in order:
+            while np.linalg.norm(stations[i] - pos) > 0.3:
+                pos = pos + 0.3 * (stations[i] - pos) / np.linalg.norm(stations[i] - pos) + rng.normal(0, 0.05, 2)
+                states.append(pos)
+            states += [stations[i] + rng.normal(0, 0.05, 2) for _ in range(int(rng.integers(6, 11)))]
+        tours.append(np.array(states))
+    return tours
+
+
+def test_places_joined_by_walking_frames_are_said_so():
+    # before: no sub-goal found with the hint to lower min_samples or raise eps (the wrong way), and
+    # with a feature more, a sub-goal 3 wide reported without a word
+    tours = _walking_tours(60, np.random.default_rng(0))
+    with pytest.raises(DataError, match="every cluster held a demonstration's first frame") as info:
+        SubgoalPDFALearner(subsets="cook=0,1").fit(tours, ["x", "y"])
+    assert "lower eps (--eps) or raise min_samples" in info.value.hint
+    hand = [np.column_stack([t, (np.arange(len(t)) > 20).astype(float)]) for t in tours]
+    with pytest.warns(UserWarning, match=r"sub-goal all_0 has radius .* of the extent of its frames"):
+        SubgoalPDFALearner().fit(hand, ["x", "y", "hand"])
+    found = SubgoalPDFALearner(subsets="cook=0,1", eps=0.2).fit(tours, ["x", "y"])
+    assert len(found.subgoals_) == 3 and not found.warnings_
