@@ -53,6 +53,42 @@ from symlearn.logic.automata.operations import complement
 from symlearn.logic.ltlf.ast import (Always, And, Binary, Const, Eventually, Formula, Iff, Implies, Next, Not, Or,
                                      Prop, Then, Unary, WeakNext)
 
+
+def _all_children(node: Formula) -> tuple:
+    """Every operand (a junction chain's operands at once)."""
+    return (node.arg,) if isinstance(node, Unary) else \
+        _operands(node) if isinstance(node, (And, Or)) else \
+        (node.left, node.right) if isinstance(node, Binary) else ()
+
+
+def _first_letter_children(node: Formula) -> tuple:
+    """The operands read at the first letter: none under ``X``/``WX``, only the left of ``T``."""
+    return () if isinstance(node, (Next, WeakNext)) else \
+        (node.left,) if isinstance(node, Then) else \
+        _operands(node) if isinstance(node, (And, Or)) else node.children()
+
+
+def _propositions_below(formula: Formula, memo: dict[int, frozenset[str]], children_of) -> frozenset[str]:
+    """The propositions reachable from ``formula`` through ``children_of``, memoised by node id in
+    ``memo`` (children before parents, without recursion: TLSF formulas are deep)."""
+    stack = [formula]
+    while stack:
+        node = stack[-1]
+        if id(node) in memo:
+            stack.pop()
+            continue
+        children = children_of(node)
+        waiting = [c for c in children if id(c) not in memo]
+        if waiting:
+            stack += waiting
+            continue
+        stack.pop()
+        if isinstance(node, Prop):
+            memo[id(node)] = frozenset((node.name,))
+        else:
+            memo[id(node)] = frozenset().union(*(memo[id(c)] for c in children))
+    return memo[id(formula)]
+
 __all__ = ["compose", "is_composite"]
 
 Direct = Callable[..., DFA]  # direct(formula, max_states, max_nodes=None, first_nodes=None): progression
@@ -297,26 +333,7 @@ class _Composer:
         them: composed, they took 2.3-7.7x as long as joined (nim_pb_03_04: 6 s joined, past 40 s
         composed; docs/BENCHMARKS.md, issue 27's fourth round). (Over-approximated, never under:
         a proposition counted here only keeps the join.)"""
-        memo = self.first_props
-        stack = [formula]
-        while stack:
-            node = stack[-1]
-            if id(node) in memo:
-                stack.pop()
-                continue
-            children = () if isinstance(node, (Next, WeakNext)) else \
-                (node.left,) if isinstance(node, Then) else \
-                _operands(node) if isinstance(node, (And, Or)) else node.children()
-            waiting = [c for c in children if id(c) not in memo]
-            if waiting:
-                stack += waiting
-                continue
-            stack.pop()
-            if isinstance(node, Prop):
-                memo[id(node)] = frozenset((node.name,))
-            else:
-                memo[id(node)] = frozenset().union(*(memo[id(c)] for c in children))
-        return memo[id(formula)]
+        return _propositions_below(formula, self.first_props, _first_letter_children)
 
     def state_condition(self, formula: Formula) -> bool:
         """Whether ``formula`` is Boolean over propositions only (it speaks of the first letter)."""
@@ -378,26 +395,7 @@ class _Composer:
         A chain of one junction counts as one node over its operands: a set per inner node of
         a left-deep ``c1 & ... & cn`` would hold n(n+1)/2 names in all (100,000 TLSF
         assumptions filled 4 GB before anything was translated)."""
-        memo = self.props
-        stack = [formula]
-        while stack:
-            node = stack[-1]
-            if id(node) in memo:
-                stack.pop()
-                continue
-            children = (node.arg,) if isinstance(node, Unary) else \
-                _operands(node) if isinstance(node, (And, Or)) else \
-                (node.left, node.right) if isinstance(node, Binary) else ()
-            waiting = [c for c in children if id(c) not in memo]
-            if waiting:
-                stack += waiting
-                continue
-            stack.pop()
-            if isinstance(node, Prop):
-                memo[id(node)] = frozenset((node.name,))
-            else:
-                memo[id(node)] = frozenset().union(*(memo[id(c)] for c in children))
-        return memo[id(formula)]
+        return _propositions_below(formula, self.props, _all_children)
 
 
 def _product(left: DFA, right: DFA, accept, max_states: int) -> DFA:
