@@ -23,7 +23,7 @@ from types import SimpleNamespace
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from hidden_domains import build_arrays, demonstrations, python_truth, write_domain  # noqa: E402
+from hidden_domains import build_arrays, demonstrations, python_truth, write_demonstration_sets, write_domain  # noqa: E402
 
 # --------------------------------------------------------------------------------------- elevator
 # Floors 0..3; a passenger calls from floor 1, 2 or 3 (random at the start) and wants the ground
@@ -355,20 +355,7 @@ def main():
         folder = write_domain(spec, out / name)
         if hasattr(spec, "label"):
             write_labeling(spec, folder)
-        d = Domain.from_folder(folder)
-        arrays = build_arrays(spec)
-        py = python_truth(spec, arrays)
-        assert np.array_equal(py, d.truth_forbidden & ~d.unavailable), (name, np.argwhere(py != d.truth_forbidden))
-        forbidden = d.truth_forbidden | d.unavailable
-        print(f"{name}: {d.n_states} states x {d.n_actions} actions, {int((~d.unavailable).sum())} available pairs, "
-              f"{int(py.sum())} forbidden by the truth", flush=True)
-        for label, beta in [("optimal", None)] + [(f"boltzmann{b}", float(b)) for b in args.betas.split(",") if b]:
-            demos, cut = demonstrations(spec, arrays, forbidden, args.n, args.seed, beta)
-            path = out / f"{name}_{label}.jsonl"
-            demos.save(path)
-            steps = sum(len(t.actions) for t in demos)
-            print(f"  {label}: {args.n} episodes, {steps} steps (mean {steps / args.n:.1f}), {cut} cut at 100 steps",
-                  flush=True)
+        write_demonstration_sets(name, spec, Domain.from_folder(folder), out, args.n, args.seed, args.betas)
 
 
 if __name__ == "__main__":

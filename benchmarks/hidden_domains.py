@@ -461,20 +461,23 @@ def main():
     for name in args.domains.split(","):
         spec = SPECS[name]
         folder = write_domain(spec, out / name)
-        d = Domain.from_folder(folder)
-        arrays = build_arrays(spec)
-        py = python_truth(spec, arrays)
-        assert np.array_equal(py, d.truth_forbidden & ~d.unavailable), (name, np.argwhere(py != d.truth_forbidden))
-        forbidden = d.truth_forbidden | d.unavailable
-        print(f"{name}: {d.n_states} states x {d.n_actions} actions, {int((~d.unavailable).sum())} available pairs, "
-              f"{int(py.sum())} forbidden by the truth", flush=True)
-        for label, beta in [("optimal", None)] + [(f"boltzmann{b}", float(b)) for b in args.betas.split(",")]:
-            demos, cut = demonstrations(spec, arrays, forbidden, args.n, args.seed, beta)
-            path = out / f"{name}_{label}.jsonl"
-            demos.save(path)
-            steps = sum(len(t.actions) for t in demos)
-            print(f"  {label}: {args.n} episodes, {steps} steps (mean {steps / args.n:.1f}), {cut} cut at 100 steps",
-                  flush=True)
+        write_demonstration_sets(name, spec, Domain.from_folder(folder), out, args.n, args.seed, args.betas)
+
+
+def write_demonstration_sets(name, spec, d, out: Path, n: int, seed: int, betas: str) -> None:
+    """Check that the folder's ``truth.lp`` forbids what the spec's Python rules forbid, then write
+    ``NAME_optimal.jsonl`` and ``NAME_boltzmannB.jsonl`` for each B of ``betas`` into ``out``."""
+    arrays = build_arrays(spec)
+    py = python_truth(spec, arrays)
+    assert np.array_equal(py, d.truth_forbidden & ~d.unavailable), (name, np.argwhere(py != d.truth_forbidden))
+    forbidden = d.truth_forbidden | d.unavailable
+    print(f"{name}: {d.n_states} states x {d.n_actions} actions, {int((~d.unavailable).sum())} available pairs, "
+          f"{int(py.sum())} forbidden by the truth", flush=True)
+    for label, beta in [("optimal", None)] + [(f"boltzmann{b}", float(b)) for b in betas.split(",") if b]:
+        demos, cut = demonstrations(spec, arrays, forbidden, n, seed, beta)
+        demos.save(out / f"{name}_{label}.jsonl")
+        steps = sum(len(t.actions) for t in demos)
+        print(f"  {label}: {n} episodes, {steps} steps (mean {steps / n:.1f}), {cut} cut at 100 steps", flush=True)
 
 
 if __name__ == "__main__":
