@@ -23,7 +23,7 @@ from types import SimpleNamespace
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from hidden_domains import build_arrays, demonstrations, python_truth, write_demonstration_sets, write_domain  # noqa: E402
+from hidden_domains import write_demonstration_sets, write_domain  # noqa: E402
 
 # --------------------------------------------------------------------------------------- elevator
 # Floors 0..3; a passenger calls from floor 1, 2 or 3 (random at the start) and wants the ground
