@@ -126,6 +126,9 @@ class DrivingEnv(gym.Env):
         # highway-env seeds its own generator; drawing its seed from ours keeps reset() without a
         # seed reproducible after one seeded reset
         self.scene.reset(seed=int(self.np_random.integers(2**31)))
+        if self.constraint == "velocity" and self.ego.speed > self.bound:
+            # start at the cap, not above it (traffic_constraints says why)
+            self.ego.speed = self.bound
         self.steps = 0
         return self._observe(collision=False, offroad=False)
 

@@ -9,9 +9,12 @@ re-creates both on highway-env's highway (``DrivingEnv(constraint="velocity" | "
   :data:`DEFAULT_BOUNDS` 20). The reward pays progress up to the 30 m/s speed limit and the
   traffic drives at about 23-28 m/s, so an agent that ignores the cap keeps up with it. (A cap of
   25 did not bind: measured, PPO without the constraint learns to drive at about 20 m/s on the
-  crowded highway, where speeding up ends in rear-ending a slower car.) Every episode starts at
-  highway-env's 25 m/s, so the first second breaks the cap for every driver, the demonstrator
-  included -- as the thesis says of its traffic constraints.
+  crowded highway, where speeding up ends in rear-ending a slower car.) highway-env starts the
+  ego at 25 m/s; this task starts it at the cap. With the start above the cap every episode paid
+  the cost for its first second whatever the driver did, and PPO-Lagrangian on the true cost
+  (limit 0) learned to end its episodes by crashing within three steps (return 1.6 against the
+  demonstrator's 83; measured, ``benchmarks/results/icrl_driving_velocity20_start25.json``): a cost no
+  policy can avoid makes an early end the cheapest policy.
 * ``distance``: the bumper gap to the vehicle ahead in the ego's own lane (``lead_same``) must be
   at least ``bound`` metres (default 10). The thesis says neither value; these are our choice:
   a cap below the traffic's speed, and a gap IDM's own spacing (5 m standstill + 1.5 s
