@@ -399,6 +399,12 @@ def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
     that means anything); None otherwise."""
     if not args.algo.endswith("-lag"):
         return None
+    if cost is not None and getattr(cost, "charges_nothing", False):
+        # learn icrl ended with every lambda at 0 (issue 24, a fresh conveyor arm): the cost is 0
+        # everywhere, the agent was trained on the reward alone -- not a limit out of reach
+        return ("this learned neural cost is 0 everywhere (every lambda in it is 0: `learn icrl` found nothing in "
+                "the demonstrations to charge), so it constrained nothing and the agent learned from the reward "
+                "alone; learn it again (another --seed, more --iterations or --steps) or use a DNF file")
     if cost is not None and cost.kind == "neural" and args.cost_limit == 0:
         # a sigmoid charges every state something: 0 is out of reach by design
         if cost.expert_level is not None:
