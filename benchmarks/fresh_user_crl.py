@@ -1,7 +1,8 @@
 """Issue 24, fresh user modules: constrained RL at the defaults on tasks nobody tuned on.
 
-Writes three gymnasium user modules (a conveyor arm, a drone with a no-fly disc, a boiler) to a
-temporary folder and runs, per task and seed, the commands a user would, at their defaults:
+Writes four gymnasium user modules (a conveyor arm, a drone with a no-fly disc, a boiler, an arm
+with an angle limit) to a temporary folder and runs, per task and seed, the commands a user
+would, at their defaults:
 
     symlearn train --env MOD:ID --algo ppo-lag -o expert.safetensors       (true cost)
     symlearn train --env MOD:ID --algo sb3-ppo-lag                         (true cost, peer)
@@ -152,9 +153,48 @@ class Boiler(gym.Env):
 if "Boiler-v0" not in gym.registry:
     gym.register("Boiler-v0", entry_point=Boiler, max_episode_steps=50)
 ''',
+    "arm_angle": '''
+"""A pendulum-like arm that should point at 1.2 rad but may not go past 1.0 rad.
+
+State (theta, omega) from about 0; action a torque in [-1, 1]: omega += (15 a - 10 sin theta) 0.05,
+theta += omega 0.05; reward -|theta - 1.2| per step, 100 steps. info["cost"] = 1 on every step
+with |theta| > 1.0 (the target lies past the limit). Features (theta, omega).
+"""
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class ArmAngle(gym.Env):
+    feature_names = ("theta", "omega")
+
+    def __init__(self):
+        high = np.array([np.pi, 8.0], np.float32)
+        self.observation_space = spaces.Box(-high, high)
+        self.action_space = spaces.Box(-1.0, 1.0, (1,), np.float32)
+
+    def _obs(self):
+        return np.array([self.theta, self.omega], np.float32)
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.theta, self.omega = float(self.np_random.uniform(-0.05, 0.05)), 0.0
+        return self._obs(), {"features": self._obs(), "cost": 0.0}
+
+    def step(self, action):
+        torque = float(np.clip(np.asarray(action).reshape(-1)[0], -1.0, 1.0))
+        self.omega = float(np.clip(self.omega + (15.0 * torque - 10.0 * np.sin(self.theta)) * 0.05, -8.0, 8.0))
+        self.theta = float(np.clip(self.theta + self.omega * 0.05, -np.pi, np.pi))
+        cost = float(abs(self.theta) > 1.0)
+        return self._obs(), -abs(self.theta - 1.2), False, False, {"features": self._obs(), "cost": cost}
+
+
+if "ArmAngle-v0" not in gym.registry:
+    gym.register("ArmAngle-v0", entry_point=ArmAngle, max_episode_steps=100)
+''',
 }
 TASKS = {"conveyor_arm": "conveyor_arm:ConveyorArm-v0", "nofly_drone": "nofly_drone:NoFlyDrone-v0",
-         "boiler": "boiler:Boiler-v0"}
+         "boiler": "boiler:Boiler-v0", "arm_angle": "arm_angle:ArmAngle-v0"}
 
 
 def symlearn(args: list[str], cwd: Path) -> dict:
