@@ -299,6 +299,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
            "seconds": time.perf_counter() - started,
            "timings": {k: v for k, v in result.timings.items() if k != "total"},
            "history": [h.as_dict() for h in learner.history_], "files": []}
+    doc["warnings"] = lambda_warnings(doc["lambda"])
     if args.output:
         path = learner.save(args.output)
         doc["files"] = [str(path), str(path.with_suffix(".json"))]
@@ -492,6 +493,16 @@ def _named_inputs(inputs: dict, names: Any) -> dict:
     return {**inputs, "names": [str(names[int(i)]) for i in inputs["entries"]]}
 
 
+def lambda_warnings(lambdas: list[float]) -> list[str]:
+    """A warning when every lambda is 0: the cost is 0 everywhere and `train --cost` constrains
+    nothing (issue 24: a fresh conveyor arm, seed 2, whose report said only "lambda 0, 0, 0, 0")."""
+    if any(lambdas):
+        return []
+    return ["every lambda is 0: the learned cost is 0 everywhere and constrains nothing (the steps on lambda "
+            "never grew it: the policy's feature sums never exceeded the demonstrations'); learn again with "
+            "another --seed or more --iterations / --steps"]
+
+
 #: inputs named on the cost-inputs line of the text report
 SHOWN_INPUTS = 12
 
@@ -528,4 +539,5 @@ def _render(doc: dict) -> str:
     if doc.get("demonstrations"):
         lines.append(f"  learned from {doc['demonstrations']}")
     lines += [f"wrote {f}" for f in doc["files"]]
+    lines += [f"warning: {w}" for w in doc.get("warnings") or ()]
     return "\n".join(lines)

@@ -379,7 +379,8 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
 
         doc["warnings"] = limit_warnings(result.history, [args.cost_limit] * len(result.multipliers),
                                          advantage_scale=lagrangian.advantage_scale,
-                                         reward_floor=lagrangian.reward_scale_floor)
+                                         reward_floor=lagrangian.reward_scale_floor,
+                                         cost_kind=None if cost is None else cost.kind)
         if doc["warnings"] and cost is not None and cost.kind == "dnf" and not args.depth_weight:
             # an agent that cut across a narrow safe set pays 1 on every step of the short cut
             # whichever way it turns; a depth-shaped cost tells it the way out (backends/dnf_depth)
@@ -398,6 +399,12 @@ def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
     that means anything); None otherwise."""
     if not args.algo.endswith("-lag"):
         return None
+    if cost is not None and getattr(cost, "charges_nothing", False):
+        # learn icrl ended with every lambda at 0 (issue 24, a fresh conveyor arm): the cost is 0
+        # everywhere, the agent was trained on the reward alone -- not a limit out of reach
+        return ("this learned neural cost is 0 everywhere (every lambda in it is 0: `learn icrl` found nothing in "
+                "the demonstrations to charge), so it constrained nothing and the agent learned from the reward "
+                "alone; learn it again (another --seed, more --iterations or --steps) or use a DNF file")
     if cost is not None and cost.kind == "neural" and args.cost_limit == 0:
         # a sigmoid charges every state something: 0 is out of reach by design
         if cost.expert_level is not None:

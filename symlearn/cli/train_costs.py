@@ -37,6 +37,7 @@ class TrainingCost:
     stats: Any = None             # RuleStats of a DNF (for --prune)
     wrap: Any = None              # env -> env making info["features"] a vector (dict features), or None
     expert_level: float | None = None   # a neural cost's charge on its demonstrations per episode (default limit)
+    charges_nothing: bool = False       # a neural cost whose weights lambda are all 0: 0 everywhere
 
 
 class _DictFeatures:
@@ -70,7 +71,8 @@ def _neural(path: str, target: Any) -> TrainingCost:
     finally:
         env.close()
 
-    return TrainingCost("neural", cost.cost_fn(), cost.step_cost(), 1, expert_level=cost.expert_level)
+    return TrainingCost("neural", cost.cost_fn(), cost.step_cost(), 1, expert_level=cost.expert_level,
+                        charges_nothing=not bool(np.any(cost.lambdas.numpy())))
 
 
 def _dnf(path: str, target: Any, features: str | None, per_rule: bool, depth_weight: float) -> TrainingCost:

@@ -281,3 +281,18 @@ def test_names_of_info_features_that_are_not_the_observation_name_no_cost_input(
     finally:
         sys.modules.pop("swapped_cart", None)
         gym.registry.pop("SwappedCart-v0", None)
+
+
+def test_a_cost_with_every_lambda_at_zero_is_warned_about():
+    """A fresh conveyor arm (issue 24, seed 2) ended with "lambda 0, 0, 0, 0" and no other sign that
+    the cost is 0 everywhere; the report now says so in a warning line."""
+    from symlearn.cli.learn_icrl_command import _render, lambda_warnings
+
+    assert lambda_warnings([0.0, 0.5]) == []
+    [warning] = lambda_warnings([0.0, 0.0, 0.0])
+    assert "0 everywhere" in warning and "constrains nothing" in warning
+    doc = {"method": "mce-icrl", "env": "e", "iterations": 1, "seconds": 1.0, "reward": 0.0, "expert_reward": None,
+           "violation_rate": None, "feasible_reward": None, "recovery_auc": None, "recovery_iou": None,
+           "lambda": [0.0], "cost_inputs": {"names": ["x"], "entries": [0], "shares": [1.0], "from": "all",
+                                            "selection": False}, "files": [], "warnings": [warning]}
+    assert f"warning: {warning}" in _render(doc).splitlines()

@@ -315,6 +315,27 @@ def test_a_neural_cost_holds_the_agent_to_its_experts_level_by_default(capsys, t
     assert "does not keep its limit, the expert's level of 12.5 per episode" in said and "pay 40" in said
 
 
+def test_a_neural_cost_of_zero_everywhere_is_named_as_such(capsys, tmp_path):
+    """`learn icrl` can end with every lambda at 0 (issue 24: a fresh conveyor arm, seed 2): the cost
+    is 0 everywhere and charges its demonstrations 0, so the default limit is 0. `train` said "a
+    learned neural cost charges every state something, so --cost-limit 0 is out of reach" to a user
+    who gave no --cost-limit; it now says the cost constrains nothing."""
+    from symlearn.learners.neural import NeuralCost
+
+    path = _saved_cost(tmp_path, "blocked-point")
+    cost = NeuralCost.load(path)
+    cost.set_lambdas([0.0])
+    cost.provenance["expert_cost"] = {"mean": 0.0, "min": 0.0, "max": 0.0, "episodes": 4, "mean_length": 100.0}
+    cost.save(path)
+    code, out, err = run(capsys, "train", "--env", "blocked-point", "--cost", path, "--steps", 256, "--n-envs", 2,
+                         "--n-steps", 64, "--eval-episodes", 1, "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["cost_limit"] == 0 and doc["cost_limit_from"] == "expert"
+    assert not any("charges every state something" in w for w in doc["warnings"]), doc["warnings"]
+    assert any("0 everywhere" in w and "constrained nothing" in w for w in doc["warnings"]), doc["warnings"]
+
+
 def test_stable_baselines3_learners_on_a_user_module(capsys, tmp_path):
     pytest.importorskip("stable_baselines3")
     from point_robot_env import PointRobot

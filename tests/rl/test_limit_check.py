@@ -64,3 +64,52 @@ def test_a_reward_that_stopped_varying_under_a_broken_limit_is_named():
     met = _with_scales(history([1 + 0.5 * i for i in range(12)], [100.0] * 11 + [0.0]), collapsing)
     assert limit_warnings(varied, [0.0]) == limit_warnings(met, [0.0]) == []
     assert limit_warnings(broken, [0.0], reward_floor=1.0) == []
+
+
+def test_the_advice_matches_the_kind_of_cost():
+    """A run on the environment's own info["cost"] was told about 'a learned formula that also flags
+    the expert' (issue 24, the fresh conveyor arm): the advice now follows what was constrained."""
+    rising = history([2 + i for i in range(12)], [50.0] * 12)
+    [formula] = limit_warnings(rising, [25.0])                       # the default: a learned formula
+    [true_cost] = limit_warnings(rising, [25.0], cost_kind=None)
+    [neural] = limit_warnings(rising, [25.0], cost_kind="neural")
+    assert "learn dnf --validation" in formula
+    assert "formula" not in true_cost and "expert" not in true_cost and "raise --steps" in true_cost
+    assert "formula" not in neural and "charges the expert" in neural
+
+
+ALWAYS_PAID = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class AlwaysPaid(gym.Env):
+    def __init__(self):
+        self.observation_space = spaces.Box(-1.0, 1.0, (1,), np.float32)
+        self.action_space = spaces.Discrete(2)
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.t = 0
+        return np.zeros(1, np.float32), {"cost": 1.0}
+
+    def step(self, action):
+        self.t += 1
+        return np.zeros(1, np.float32), float(action), False, self.t >= 20, {"cost": 1.0}
+
+
+gym.register("AlwaysPaid-v0", entry_point=AlwaysPaid)
+'''
+
+
+def test_train_on_the_environments_own_cost_names_no_formula(capsys, tmp_path, monkeypatch):
+    (tmp_path / "always_paid.py").write_text(ALWAYS_PAID)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+    code, out, err = run(capsys, "train", "--env", "always_paid:AlwaysPaid-v0", "--algo", "ppo-lag",
+                         "--steps", 6144, "--multiplier-lr", 1, "--json")
+    assert code == 0, err
+    warnings = json.loads(out)["warnings"]
+    assert any("out of reach for this cost" in w for w in warnings), warnings
+    assert not any("formula" in w or "learn dnf" in w for w in warnings), warnings

@@ -31,13 +31,28 @@ HEAVY_MULTIPLIER = 9.0
 SATURATED_SHARE = 0.05
 
 
+#: what each kind of cost adds to the warning: a learned cost that also charges the expert's own
+#: states needs a limit of at least what the expert pays; the environment's own cost (``None``) has
+#: no expert to point at, and a run on it was told about formulas it never had (issue 24)
+_COST_HINTS = {
+    "dnf": "a learned formula that also flags the expert (see `learn dnf --validation`) needs a limit of at least "
+           "what the expert pays, else raise --steps",
+    "neural": "a learned cost needs a limit of at least what it charges the expert (the default without "
+              "--cost-limit), else raise --steps",
+    None: "raise --steps, or check that some policy of the environment keeps the limit",
+}
+
+
 def limit_warnings(history: Sequence[PPOIteration], cost_limits: Sequence[float], *,
-                   advantage_scale: str = "returns", reward_floor: float = 0.01) -> list[str]:
+                   advantage_scale: str = "returns", reward_floor: float = 0.01,
+                   cost_kind: str | None = "dnf") -> list[str]:
     """One warning per constraint whose cost stayed above its limit while its multiplier rose to
     :data:`HEAVY_MULTIPLIER` or more over the last third of the run; ``[]`` for a run without a
     Lagrangian, one that met its limits, or one with raw advantages. A run whose limit was broken
     throughout the window while the reward's returns stopped varying gets :func:`_saturated`'s
-    warning as well."""
+    warning as well. ``cost_kind`` is what the Lagrangian constrained -- ``"dnf"`` (a learned
+    formula), ``"neural"`` (a learned network) or ``None`` (the environment's ``info["cost"]``) --
+    and picks the advice that ends the warning."""
     if advantage_scale != "returns":
         return []
     updated = [h for h in history if h.cost_estimate]
@@ -55,8 +70,7 @@ def limit_warnings(history: Sequence[PPOIteration], cost_limits: Sequence[float]
                 f"{name} stayed above --cost-limit {limit:g} for the last {len(window)} iterations "
                 f"(last estimate {estimates[-1]:.3g} per episode) while the multiplier rose from {first:.3g} "
                 f"to {last:.3g} (the reward {reward_weight:.0%} of the objective): the limit may be out of reach "
-                "for this cost, and the agent trades its reward away for it; a learned formula that also flags the expert (see `learn dnf --validation`) "
-                "needs a limit of at least what the expert pays, else raise --steps")
+                f"for this cost, and the agent trades its reward away for it; {_COST_HINTS.get(cost_kind, _COST_HINTS[None])}")
     return warnings + _saturated(history, window, cost_limits, reward_floor)
 
 
