@@ -113,3 +113,27 @@ def test_train_on_the_environments_own_cost_names_no_formula(capsys, tmp_path, m
     warnings = json.loads(out)["warnings"]
     assert any("out of reach for this cost" in w for w in warnings), warnings
     assert not any("formula" in w or "learn dnf" in w for w in warnings), warnings
+
+
+def _run(lengths, returns, multipliers):
+    return [dataclasses.replace(BASE, iteration=i, mean_length=n, mean_return=r, multipliers=(m,), cost_estimate=(1.0,))
+            for i, (n, r, m) in enumerate(zip(lengths, returns, multipliers))]
+
+
+def test_episodes_ended_early_to_stop_paying_are_warned_about():
+    # the traffic task with its start above the speed cap: 150-step episodes became 3-step crashes
+    crashing = _run([150] * 6 + [40, 10, 4, 3, 3, 3], [90] * 6 + [30, 8, 3, 1.6, 1.6, 1.6], [1 + i for i in range(12)])
+    warnings = limit_warnings(crashing, [0.0])
+    [early] = [w for w in warnings if "shorter" in w]
+    assert "mean length 150 -> 3 steps" in early and "--cost-limit at least" in early
+
+
+def test_shorter_episodes_that_earn_more_or_run_unconstrained_are_not():
+    # a goal reached sooner: shorter episodes, a higher return
+    sooner = _run([150] * 6 + [60, 30, 20, 20, 20, 20], [1] * 6 + [5, 8, 10, 10, 10, 10], [1.0] * 12)
+    # the multiplier never on: not the Lagrangian's doing
+    unconstrained = _run([150] * 6 + [3] * 6, [90] * 6 + [1] * 6, [0.0] * 12)
+    # a little shorter only
+    slightly = _run([150] * 6 + [100] * 6, [90] * 6 + [30] * 6, [2.0] * 12)
+    for run in (sooner, unconstrained, slightly):
+        assert not [w for w in limit_warnings(run, [0.0]) if "shorter" in w]

@@ -17,6 +17,8 @@ so no threshold is meaningful there and nothing is said.
 
 from __future__ import annotations
 
+import math
+
 from collections.abc import Sequence
 
 from symlearn.rl.ppo.records import PPOIteration
@@ -71,7 +73,32 @@ def limit_warnings(history: Sequence[PPOIteration], cost_limits: Sequence[float]
                 f"(last estimate {estimates[-1]:.3g} per episode) while the multiplier rose from {first:.3g} "
                 f"to {last:.3g} (the reward {reward_weight:.0%} of the objective): the limit may be out of reach "
                 f"for this cost, and the agent trades its reward away for it; {_COST_HINTS.get(cost_kind, _COST_HINTS[None])}")
-    return warnings + _saturated(history, window, cost_limits, reward_floor)
+    return warnings + _saturated(history, window, cost_limits, reward_floor) + _ending_early(history, window)
+
+
+#: episodes this many times shorter than at their longest, and returns this share of their best
+SHORTER, POORER = 4.0, 0.5
+
+
+def _ending_early(history: Sequence[PPOIteration], window: Sequence[PPOIteration]) -> list[str]:
+    """Episodes that grew much shorter while the return fell and the multiplier was on: with a cost
+    no policy can avoid (paid at the start, before any action can help), ending the episode early --
+    a crash, a fall -- is the cheapest policy, and PPO-Lagrangian finds it (docs/BENCHMARKS.md,
+    realistic traffic: a speed cap below the start speed, episodes of three steps at the end). A
+    task whose episodes shorten because the goal is reached sooner earns more, not less: no warning."""
+    ended = [h for h in history if h.episodes and math.isfinite(h.mean_length) and math.isfinite(h.mean_return)]
+    recent = [h for h in window if h.episodes and math.isfinite(h.mean_length) and math.isfinite(h.mean_return)]
+    if not ended or not recent or not any(sum(h.multipliers) > 0 for h in recent):
+        return []
+    longest, best = max(h.mean_length for h in ended), max(h.mean_return for h in ended)
+    length = sum(h.mean_length for h in recent) / len(recent)
+    earned = sum(h.mean_return for h in recent) / len(recent)
+    if best <= 0 or length * SHORTER > longest or earned > POORER * best:
+        return []
+    return [f"the episodes grew {longest / max(length, 1e-9):.0f}x shorter (mean length {longest:.0f} -> {length:.0f} "
+            f"steps) while the return fell ({best:.3g} -> {earned:.3g}): the agent may be ending its episodes "
+            "early (a crash, a fall) to stop paying the cost; if part of the cost cannot be avoided (paid at the "
+            "start, whatever the agent does), give --cost-limit at least that much"]
 
 
 def _saturated(history: Sequence[PPOIteration], window: Sequence[PPOIteration], cost_limits: Sequence[float],
