@@ -259,10 +259,8 @@ def read_spec(path: str | Path, *, check_target: bool = True, allow_packages: It
     if command is not None and (not isinstance(command, list) or not command
                                 or not all(isinstance(w, str) for w in command)):
         raise where.error("command must be a non-empty list of strings", "sweep", "command")
-    refusal = (function_refusal(function, path.parent, allow_packages) if function is not None
-               else command_refusal(command))
-    if not refusal and function is not None and not allow_outside and function.rpartition(":")[0].endswith(".py"):
-        refusal = outside_refusal(function.rpartition(":")[0], path.parent)
+    refusal = (function_refusal(function, path.parent, allow_packages, allow_outside=allow_outside)
+               if function is not None else command_refusal(command))
     if refusal:  # before anything is imported or run (symlearn/sweep/target_policy.py)
         raise where.error(f"refused: {refusal}", "sweep", "function" if function is not None else "command",
                           hint="see 'Sweep files' in docs/FORMATS.md for what a sweep may run")
@@ -437,26 +435,22 @@ def _command_paths(spec: SweepSpec) -> Iterable[str]:
     """The distinct words of the spec's commands, with every cell's parameters put in (seeds are
     numbers and name no path): listed over the parameters the words use only, so a large grid of
     other parameters costs nothing."""
-    used = sorted({m for word in spec.command for m in _PLACEHOLDER.findall(word)} - {SEED})
-    combos = set()
+    used = {m for word in spec.command for m in _PLACEHOLDER.findall(word)} - {SEED}
     grid_keys = [k for k in spec.grid if k in used]
+    seen = set()
     for case in spec.cases or [{}]:
         base = {k: v for k, v in {**spec.fixed, **case}.items() if k in used}
         for values in itertools.product(*(spec.grid[k] for k in grid_keys)):
-            params = {**base, **dict(zip(grid_keys, values))}
-            combos.add(_canonical(params))
-    seen = set()
-    for combo in combos:
-        values = {k: v if isinstance(v, str) else json.dumps(v) for k, v in json.loads(combo).items()}
-        values[SEED] = "0"
-        for word in spec.command:
-            try:
-                filled = word.format_map(values)
-            except (KeyError, ValueError, IndexError):  # a malformed placeholder: refused later, by name
-                filled = word
-            if filled not in seen:
-                seen.add(filled)
-                yield filled
+            params = {**base, **dict(zip(grid_keys, values)), SEED: 0}
+            text = {k: v if isinstance(v, str) else json.dumps(v) for k, v in params.items()}
+            for word in spec.command:
+                try:
+                    filled = word.format_map(text)
+                except (KeyError, ValueError, IndexError):  # a malformed placeholder: refused later, by name
+                    filled = word
+                if filled not in seen:
+                    seen.add(filled)
+                    yield filled
 
 
 def _check_command_paths(spec: SweepSpec, where: "_Locator") -> None:

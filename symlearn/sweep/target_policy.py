@@ -88,17 +88,19 @@ def _installation_folder(path: Path) -> Path | None:
     return max((f for f in _installation() if path.is_relative_to(f)), key=lambda f: len(f.parts), default=None)
 
 
-def function_refusal(reference: str, base: Path, allowed: Iterable[str] = ()) -> str | None:
+def function_refusal(reference: str, base: Path, allowed: Iterable[str] = (), *,
+                     allow_outside: bool = False) -> str | None:
     """Why ``reference`` (``module:function`` or ``file.py:function``) may not be run, or None;
     ``allowed``: installed packages the user allows by name (never the standard library or the
-    libraries in :data:`LIBRARIES`)."""
+    libraries in :data:`LIBRARIES`); ``allow_outside``: a ``file.py`` may lie outside the sweep
+    file's folder and the current folder."""
     where, _, _ = reference.rpartition(":")
     if where.endswith(".py"):
         folder = _installation_folder(_resolved(base / where))
         if folder is not None:
             return (f"{where} lies inside the Python installation ({folder}); a sweep runs functions from "
                     "its own files or from a named package")
-        return None
+        return None if allow_outside else outside_refusal(where, base)
     top = where.split(".", 1)[0]
     if top in sys.stdlib_module_names or top in sys.builtin_module_names:
         return f"{where!r} is part of Python's standard library; a sweep runs only an experiment's own functions"
