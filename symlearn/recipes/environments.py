@@ -26,8 +26,8 @@ from __future__ import annotations
 import importlib
 import inspect
 import os
-import sys
 import re
+import sys
 from collections.abc import Callable, Iterator, Mapping, Sequence
 from contextlib import contextmanager
 from dataclasses import dataclass, field
@@ -415,8 +415,6 @@ def _check_reset_signature(env: Any, display: str) -> None:
     """gymnasium's wrappers call ``reset(seed=..., options=...)``; a user's ``reset`` without those
     keywords (the pre-0.26 gym API) fails deep inside a learner with a TypeError that names no file
     of the user's: refuse it here, in one line naming the method's file and line."""
-    import inspect
-
     reset = getattr(type(getattr(env, "unwrapped", env)), "reset", None)
     try:
         parameters = inspect.signature(reset).parameters

@@ -18,7 +18,6 @@ so no threshold is meaningful there and nothing is said.
 from __future__ import annotations
 
 import math
-
 from collections.abc import Sequence
 
 from symlearn.rl.ppo.records import PPOIteration
@@ -86,8 +85,10 @@ def _ending_early(history: Sequence[PPOIteration], window: Sequence[PPOIteration
     a crash, a fall -- is the cheapest policy, and PPO-Lagrangian finds it (docs/BENCHMARKS.md,
     realistic traffic: a speed cap below the start speed, episodes of three steps at the end). A
     task whose episodes shorten because the goal is reached sooner earns more, not less: no warning."""
-    ended = [h for h in history if h.episodes and math.isfinite(h.mean_length) and math.isfinite(h.mean_return)]
-    recent = [h for h in window if h.episodes and math.isfinite(h.mean_length) and math.isfinite(h.mean_return)]
+    def finished(records: Sequence[PPOIteration]) -> list[PPOIteration]:   # iterations in which episodes ended
+        return [h for h in records if h.episodes and math.isfinite(h.mean_length) and math.isfinite(h.mean_return)]
+
+    ended, recent = finished(history), finished(window)
     if not ended or not recent or not any(sum(h.multipliers) > 0 for h in recent):
         return []
     longest, best = max(h.mean_length for h in ended), max(h.mean_return for h in ended)
