@@ -58,7 +58,9 @@ def register(subparsers, common) -> None:
         "report", parents=[common()], help="tables and plots of a sweep's results",
         description="Aggregate the results over seeds (mean and standard error, or a bootstrap interval) into "
                     "report.md, summary.json and figures (PNG and SVG).")
-    report.add_argument("folder", metavar="DIR", help="the results folder of 'sweep run'")
+    report.add_argument("folder", metavar="DIR", help="the results folder of 'sweep run', or the sweep file whose "
+                                                      "default results folder (FILE without .toml, plus "
+                                                      "'-results') to report")
     report.add_argument("--output", metavar="REPORT_DIR", help="where to write the report (default: DIR/report)")
     report.add_argument("--interval", choices=("se", "bootstrap"), default="se",
                         help="band: mean ± standard error (default) or a 95%% bootstrap interval")
@@ -71,6 +73,23 @@ def default_out(file: str) -> str:
 
     path = Path(file)
     return str(path.with_name(path.stem + "-results"))
+
+
+def _results_folder(given: str) -> str:
+    """The folder ``sweep report`` reads: a sweep file given in its place (as ``sweep run`` takes)
+    stands for the folder ``sweep run`` wrote by default; an ``--out`` folder must be named."""
+    from pathlib import Path
+
+    path = Path(given)
+    if path.suffix == ".toml" and path.is_file():
+        folder = default_out(given)
+        if not (Path(folder) / "sweep.json").is_file():
+            from symlearn.errors import DataError
+
+            raise DataError(f"{given} is a sweep file and its default results folder {folder} holds no results yet",
+                            hint=f"run 'symlearn sweep run {given}' first, or give the --out folder it wrote")
+        return folder
+    return given
 
 
 def _render_run(doc: dict) -> str:
@@ -115,7 +134,7 @@ def _render_report(doc: dict) -> str:
 def _report(args: argparse.Namespace, out) -> None:
     from symlearn.sweep.report import write_report
 
-    doc = write_report(args.folder, args.output, interval=args.interval, plots=not args.no_plots)
+    doc = write_report(_results_folder(args.folder), args.output, interval=args.interval, plots=not args.no_plots)
     if out.json_mode:
         doc = {k: v for k, v in doc.items() if k != "markdown"}
     out.result(doc, _render_report)

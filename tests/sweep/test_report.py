@@ -106,3 +106,15 @@ def test_report_plot_selects_the_figures(write_sweep, cli, tmp_path):
     assert cli("sweep", "report", out)[0] == 0
     assert sorted(p.name for p in (out / "report" / "figures").iterdir()) == ["curve_curve.png", "curve_curve.svg"]
     assert "step (units)" in (out / "report" / "figures" / "curve_curve.svg").read_text()
+
+
+def test_report_of_the_sweep_file_reads_its_default_results_folder(write_sweep, cli, tmp_path):
+    """``sweep run FILE.toml`` writes ``FILE-results``; ``sweep report FILE.toml`` reads it (a user
+    naturally gives the report the file they ran), and says so when nothing ran yet."""
+    path = write_sweep("square", {"x": [1, 2]}, seeds=2)
+    code, _, stderr = cli("sweep", "report", path)
+    assert code == 2 and "holds no results yet" in stderr and f"sweep run {path}" in stderr
+    assert cli("sweep", "run", path, "--local")[0] == 0
+    code, stdout, _ = cli("sweep", "report", path, "--no-plots")
+    assert code == 0 and "written:" in stdout
+    assert (path.with_name(path.stem + "-results") / "report" / "report.md").is_file()
