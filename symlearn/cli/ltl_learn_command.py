@@ -13,7 +13,9 @@ def add_learn_command(ltl_subparsers, common) -> argparse.ArgumentParser:
     learn = ltl_subparsers.add_parser(
         "learn", parents=[common()], help="learn a formula separating positive from negative traces",
         description="Learn a small LTLf formula that holds on every positive trace and on no negative trace of "
-                    "SAMPLES.json (the JSON format of the public LTLf learning benchmarks). Exit 0 with "
+                    "SAMPLES.json (the JSON format of the public LTLf learning benchmarks, or traces written "
+                    "as lists of steps: {\"positive_traces\": [[[\"a\"], [\"b\"]]], \"negative_traces\": "
+                    "[[[\"b\"]]]}; docs/FORMATS.md). Exit 0 with "
                     "'formula: null' when no formula is found within the bounds.")
     learn.add_argument("samples", metavar="SAMPLES.json", help="labelled traces (positive_traces, negative_traces)")
     learn.add_argument("--timeout", default="10", metavar="S", help="seconds before the best formula so "

@@ -11,7 +11,10 @@ propositions. On disk (the schema of the LTLf_Learning_Benchmarks suite, which
      ...}                                               # other keys are kept as metadata
 
 A trace maps every proposition to a list of 0/1 values (ints, or the strings ``"0"``/``"1"``),
-one per step; all lists of a trace have the same length. In memory a trace is a tuple of
+one per step; all lists of a trace have the same length. A trace may also be written as a list
+of steps, each the list of propositions true there (``[["a"], [], ["a", "b"]]``, the form of
+traces files); when every trace is written so, ``atomic_propositions`` may be left out and is
+then the sorted set of names the traces use. In memory a trace is a tuple of
 labels, each the frozenset of propositions true at that step (the convention of
 :func:`symlearn.logic.ltlf.semantics.holds`).
 
@@ -125,10 +128,20 @@ def parse_sample(document: Any, *, source: str | None = None) -> LtlSample:
     """Validate a JSON document (already decoded) and build the sample; errors name the JSON path."""
     if not isinstance(document, dict):
         raise JsonPathError(f"expected a JSON object, found {type(document).__name__}", file=source, path=())
-    for key in ("atomic_propositions", "positive_traces", "negative_traces"):
+    for key in ("positive_traces", "negative_traces"):
         if key not in document:
             raise JsonPathError(f"missing key {key!r}", file=source, path=(),
                                 hint="an LTL learning sample has atomic_propositions, positive_traces and negative_traces")
+    if "atomic_propositions" not in document:
+        # traces written as lists of steps name their propositions themselves; the columns of
+        # the benchmark schema do not say which names a trace may leave out
+        named = _named_propositions(document, source)
+        if named is None:
+            raise JsonPathError("missing key 'atomic_propositions'", file=source, path=(),
+                                hint="an LTL learning sample has atomic_propositions, positive_traces and "
+                                     "negative_traces (it may be left out when every trace is a list of steps, "
+                                     'e.g. [["a"], [], ["a", "b"]])')
+        document = {**document, "atomic_propositions": named}
     trace_type = document.get("trace_type", "finite")
     if trace_type != "finite":
         raise JsonPathError(f"{json.dumps(trace_type)[:40]} traces are not read (LTLf is about finite traces)",
@@ -152,8 +165,12 @@ def _read_traces(value: Any, key: str, props: list[str], source: str | None) -> 
     known = set(props)
     traces = []
     for i, trace in enumerate(value):
+        if isinstance(trace, list):
+            traces.append(_step_list(trace, known, props, source, (key, i)))
+            continue
         if not isinstance(trace, dict):
-            raise JsonPathError("expected an object mapping propositions to 0/1 lists", file=source, path=(key, i))
+            raise JsonPathError("expected an object mapping propositions to 0/1 lists, or a list of steps (each a "
+                                "list of the propositions true there)", file=source, path=(key, i))
         length = None
         columns: dict[str, list[bool]] = {}
         for name, values in trace.items():
@@ -174,6 +191,48 @@ def _read_traces(value: Any, key: str, props: list[str], source: str | None) -> 
             raise JsonPathError(f"no values for proposition {missing[0]!r}", file=source, path=(key, i))
         traces.append(tuple(frozenset(p for p in props if columns[p][step]) for step in range(length)))
     return tuple(traces)
+
+
+def _named_propositions(document: dict, source: str | None) -> list[str] | None:
+    """The propositions named by a sample whose traces are all lists of steps, sorted; None when a
+    trace is in the column form (whose names must be declared)."""
+    names: set[str] = set()
+    for key in ("positive_traces", "negative_traces"):
+        traces = document[key]
+        if not isinstance(traces, list):
+            raise JsonPathError(f"expected a list of traces, found {type(traces).__name__}", file=source, path=(key,))
+        for trace in traces:
+            if not isinstance(trace, list):
+                return None
+            for step in trace:
+                if isinstance(step, list):
+                    names.update(name for name in step if isinstance(name, str) and name)
+    return sorted(names)
+
+
+def _step_list(trace: list, known: set[str], props: list[str], source: str | None,
+               where: tuple[str | int, ...]) -> Trace:
+    """A trace written as a list of steps, each the list of propositions true there (the form of
+    ``symlearn ltl eval`` traces files and ``automaton explain --trace``)."""
+    if not trace:
+        raise JsonPathError("empty trace (LTLf traces have at least one step)", file=source, path=where,
+                            hint="a step where nothing holds is written [], e.g. [[]] is a one-step trace")
+    steps = []
+    for step, label in enumerate(trace):
+        if not isinstance(label, list):
+            raise JsonPathError(f"expected a list of the propositions true at this step, found {json.dumps(label)[:40]}",
+                                file=source, path=(*where, step),
+                                hint=f"write [{json.dumps(label)}] if it is the only true proposition"
+                                if isinstance(label, str) else None)
+        for k, name in enumerate(label):
+            if not isinstance(name, str) or not name:
+                raise JsonPathError(f"expected a proposition name, found {json.dumps(name)[:40]}", file=source,
+                                    path=(*where, step, k))
+            if name not in known:
+                raise JsonPathError(f"unknown proposition {name!r}", file=source, path=(*where, step, k),
+                                    hint=f"declared atomic_propositions: {', '.join(props) or '(none)'}")
+        steps.append(frozenset(label))
+    return tuple(steps)
 
 
 def _bit(value: Any, source: str | None, where: tuple[str | int, ...]) -> bool:

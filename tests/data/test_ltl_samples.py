@@ -128,3 +128,32 @@ def test_a_sample_of_infinite_traces_is_refused_not_learned_as_finite():
     with _pytest.raises(_DataError, match='trace_type: "infinite" traces are not read'):
         parse_sample(document)
     assert parse_sample({**document, "trace_type": "finite"}).positive == ((frozenset({"a"}),),)
+
+
+def test_traces_written_as_lists_of_steps_and_their_propositions_inferred(tmp_path):
+    """The form symlearn's traces files and ``automaton explain --trace`` use: each trace a list of
+    steps, each step the propositions true there; ``atomic_propositions`` is then optional."""
+    doc = {"positive_traces": [[["a"], ["b"]], [["a", "c"], []]], "negative_traces": [[["b"]]]}
+    s = load_sample(_write(tmp_path, doc))
+    assert s.propositions == ("a", "b", "c")
+    assert s.positive == ((frozenset({"a"}), frozenset({"b"})), (frozenset({"a", "c"}), frozenset()))
+    # the two forms mix once the names are declared
+    mixed = parse_sample(_doc(negative_traces=[[["b"]], {"a": [0, 1], "b": [1, 1]}]))
+    assert mixed.negative == ((frozenset({"b"}),), (frozenset({"b"}), frozenset({"a", "b"})))
+
+
+@pytest.mark.parametrize("doc, message, needle", [
+    ({"atomic_propositions": ["a"], "positive_traces": [[["a"], ["c"]]], "negative_traces": [[[]]]},
+     "positive_traces[0][1][0]: unknown proposition 'c'", '"c"'),
+    ({"positive_traces": [[["a"], "b"]], "negative_traces": [[[]]]},
+     "positive_traces[0][1]: expected a list of the propositions true at this step", '"b"'),
+    ({"positive_traces": [[["a"]]], "negative_traces": [[]]}, "negative_traces[0]: empty trace", "[]]"),
+    ({"positive_traces": [{"a": [1]}], "negative_traces": [[["a"]]]}, "missing key 'atomic_propositions'", "{"),
+])
+def test_bad_step_lists_are_located(tmp_path, doc, message, needle):
+    path = _write(tmp_path, json.dumps(doc))
+    with pytest.raises(DataError) as info:
+        load_sample(path)
+    assert message in str(info.value)
+    text = path.read_text()
+    assert text[info.value.column - 1:].startswith(needle), (info.value.column, text)
