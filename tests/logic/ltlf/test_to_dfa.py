@@ -7,7 +7,7 @@ from ltlf_strategies import formulas
 from symlearn.errors import LimitExceededError
 from symlearn.logic.automata import DFA
 from symlearn.logic.ltlf import equivalent, parse, to_dfa, translate
-from symlearn.logic.ltlf.ast import Always, Eventually, Not, Prop, conjunction
+from symlearn.logic.ltlf.ast import Always, Eventually, Next, Not, Prop, conjunction
 
 
 @pytest.mark.parametrize("text, states, edges", [
@@ -118,3 +118,49 @@ def test_explicit_edge_threshold_is_the_automata_side_one():
     from symlearn.logic.automata import transition_diagram
 
     assert sys.modules["symlearn.logic.ltlf.to_dfa"].EXPLICIT_EDGES == transition_diagram.EXPLICIT_EDGES
+
+
+def _eventuality_shapes():
+    """Formulas rich in eventualities nested under ``&``, ``X``, ``U`` and ``T`` (the shapes of
+    sub-goal sequences), with the weak operators beside them."""
+    from hypothesis import strategies as st
+
+    from symlearn.logic.ltlf.ast import And, Or, Then, Until, WeakNext
+
+    atoms = st.sampled_from(["a", "b"]).map(Prop)
+
+    def extend(children):
+        return st.one_of(
+            st.tuples(st.sampled_from((Next, WeakNext, Eventually, Always, Not)), children).map(lambda p: p[0](p[1])),
+            st.tuples(st.sampled_from((And, And, Until, Then, Or)), children, children).map(lambda p: p[0](p[1], p[2])),
+        )
+
+    return st.recursive(atoms, extend, max_leaves=7)
+
+
+def _agrees_with_the_semantics(f) -> None:
+    import itertools
+
+    from symlearn.logic.ltlf.semantics import holds
+
+    dfa = translate(f)
+    letters = [frozenset(), frozenset({"a"}), frozenset({"b"}), frozenset({"a", "b"})]
+    for length in range(1, 5):
+        for trace in itertools.product(letters, repeat=length):
+            assert dfa.accepts(list(trace)) == holds(f, list(trace)), (str(f), trace)
+
+
+@settings(max_examples=300, deadline=None)
+@given(_eventuality_shapes())
+def test_nested_eventualities_keep_the_language(f):
+    _agrees_with_the_semantics(f)
+
+
+@pytest.mark.parametrize("text", [
+    # one eventuality forcing another through &, strong X, U's right side and nesting
+    "F(a & X F b)", "F(a & X F(b & X F a))", "F(a U F b)", "F(F b & a)", "F(a & X(b & X F b))", "a T (b T a)",
+    # weak next, always and a disjunction force nothing: a last a ends F(a & WX F b) without any b
+    "F(a & WX F b)", "F(a & G F b)", "F(a | X F b)", "F(a & WX(b & X F a))", "F(G b & a) & F b",
+])
+def test_eventualities_forcing_others_or_not(text):
+    _agrees_with_the_semantics(parse(text))
