@@ -154,7 +154,9 @@ def run(args: argparse.Namespace, out) -> None:
     costs = _EpisodeCost()
     env = costs.wrap(target.make())
     shape = getattr(env.observation_space, "shape", None)
-    if str(args.output).endswith(".jsonl") and type(env.observation_space).__name__ == "Box" and len(shape) >= 2:
+    from gymnasium import spaces
+
+    if str(args.output).endswith(".jsonl") and isinstance(env.observation_space, spaces.Box) and len(shape) >= 2:
         # before the episodes are run: JSONL holds no arrays of 2 or more dimensions per step
         raise SymlearnError(f"{args.output}: {target.display} observes arrays of shape {tuple(shape)}, which JSONL "
                             "cannot hold", hint=f"write {Path(args.output).with_suffix('.npz')}")

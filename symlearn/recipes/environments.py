@@ -480,9 +480,11 @@ def _shape_of(value: Any) -> str:
 def observation_width(env: Any) -> int | None:
     """Entries of the flattened observation (``None`` for a space without a shape, e.g.
     ``Discrete``; 1 for a scalar ``Box``)."""
+    from gymnasium import spaces   # imported already: the environment is gymnasium's
+
     space = getattr(env, "observation_space", None)
     shape = getattr(space, "shape", None)
-    if shape == () and type(space).__name__ == "Box":
+    if shape == () and isinstance(space, spaces.Box):   # a subclass of Box is one too
         return 1
     if not shape:
         return None
@@ -496,8 +498,10 @@ def _feature_width(env: Any) -> int | None:
     """Columns of the observation as features: its flattened width, and 1 for a ``Discrete``
     observation, whose one number (the state's index) is a feature as a scalar ``Box`` is; so
     it gets the default name ``x0`` where a ``Box`` gets ``x0, x1, ...`` (labelings, DNF rules)."""
+    from gymnasium import spaces
+
     width = observation_width(env)
-    if width is None and type(getattr(env, "observation_space", None)).__name__ == "Discrete":
+    if width is None and isinstance(getattr(env, "observation_space", None), spaces.Discrete):
         return 1
     return width
 

@@ -192,3 +192,25 @@ def test_a_careful_expert_is_recorded_on_a_users_environment(user_folder):
     env = resolve_env("my_point_robot:PointRobot-v0").make()
     demos = record(env, careful_expert(), 3, seed=0)
     assert len(demos) == 3 and json.loads(json.dumps(demos.metadata))["env"] == "PointRobot-v0"
+
+
+def test_widths_of_a_users_subclassed_spaces():
+    """A user's own space classes derived from gymnasium's count as their bases (the class name
+    was compared before, so a ``Box`` subclass of shape () had no width and a ``Discrete``
+    subclass no default feature)."""
+    import gymnasium
+
+    from symlearn.recipes.environments import _feature_width, observation_width
+
+    class Gauge(gymnasium.spaces.Box):
+        pass
+
+    class Dial(gymnasium.spaces.Discrete):
+        pass
+
+    class Env:
+        observation_space = Gauge(low=0.0, high=1.0, shape=())
+
+    assert observation_width(Env()) == 1 and _feature_width(Env()) == 1
+    Env.observation_space = Dial(5)
+    assert observation_width(Env()) is None and _feature_width(Env()) == 1
