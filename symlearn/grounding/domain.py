@@ -131,6 +131,14 @@ class Domain:
             first = task.examples[0]
             raise DataError(f"the bias file holds examples ({first.describe()}); it must hold mode declarations only",
                             file=source, line=first.line, hint="examples come from demonstrations")
+        if task.modeh:
+            # a rule with a head changes answer sets instead of removing pairs: the learners and
+            # rule_mask work on integrity constraints only, so such a bias can never be used
+            mode = task.modeh[0]
+            raise DataError(f"the bias declares {mode}: a domain's rules are integrity constraints "
+                            "(':- body.', the pairs they forbid), which have no head",
+                            file=source, line=mode.line, column=mode.column,
+                            hint="remove the #modeh declaration; #modeb literals make the constraints' bodies")
         return task
 
     @cached_property
@@ -138,6 +146,12 @@ class Domain:
         """The candidate rules of the bias (independent of the examples, so built once)."""
         from symlearn.logic.ilp.space import generate_space
 
+        if not self.bias.modeb and not self.bias.modec:
+            # named here, not as the generated induction task, and only when rules are to be learned
+            # (checking a folder or rules needs no bias)
+            raise DataError("the bias declares no #modeb or #modec: no rule can be learned",
+                            file=self.sources.get("bias", f"<{self.name} bias>"),
+                            hint="add mode declarations such as #modeb(1, p(var(t))).")
         return generate_space(self.ilp_task([]))
 
     def examples(self, pairs: Iterable[tuple[int, int]], positive: bool, penalty: int | None = None,
@@ -178,17 +192,21 @@ class Domain:
         the pair's index (one solve for all pairs)."""
         from symlearn.logic.asp import clingo_adapter as cl
         from symlearn.logic.asp.program import Program
-        from symlearn.logic.ilp.encoding import ACTIVE, tagged_background
+        from symlearn.logic.ilp.encoding import ACTIVE, located_background
 
         if not self.pair_ids:
             return []
         # Contexts are ground facts already normalised by clingo's printer, so each is tagged as
-        # text (``at(1,2).`` -> ``at(7,1,2).``) instead of parsing thousands of them again.
-        lines = [tagged_background(self.ilp_task([]))]
+        # text (``at(1,2).`` -> ``at(7,1,2).``) instead of parsing thousands of them again. The
+        # background keeps its lines' origins, so clingo's errors on it (an unsafe variable) name
+        # the user's file and line, not a line of the generated program.
+        lines = []
         for index, (s, a) in enumerate(self.pair_ids):
             lines.append(f"{ACTIVE}({index}).")
             lines.extend(_tag_fact(fact, index) for fact in self.facts(s, a))
-        outcome = cl.solve(Program.from_text("\n".join(lines), source=f"<{self.name} pair contexts>"), max_models=2)
+        program = located_background(self.ilp_task([])) + Program.from_text(
+            "\n".join(lines), source=f"<{self.name} pair contexts>")
+        outcome = cl.solve(program, max_models=2)
         if len(outcome.models) != 1:
             self._explain_bad_context()
         return [atom for atom in outcome.models[0] if atom.name != ACTIVE]
