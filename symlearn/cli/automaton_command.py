@@ -177,8 +177,10 @@ def _explain(args: argparse.Namespace, out) -> None:
     automaton = load(args.file)
     dfa = automaton if isinstance(automaton, DFA) else automaton.dfa
     if not dfa.accepting:
-        raise ModelError(f"{args.file} has no accepting states, so there is nothing to explain against",
-                         file=args.file)
+        # the file is named once, by the error's location (not again in the message)
+        terminal = " (a reward machine's terminal states are not accepting states)" if dfa is not automaton else ""
+        raise ModelError(f"the automaton has no accepting states{terminal}, so there is nothing to explain "
+                         "against", file=args.file)
     trace = read_trace(args.trace)
     unknown = sorted(set().union(*trace) - dfa.alphabet) if trace else []
     if unknown:

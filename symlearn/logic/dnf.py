@@ -1015,10 +1015,13 @@ def _atom(node, source: str | None) -> list[tuple[Atom, ...]]:
     return [(Atom(name, op, value),)]
 
 
+_UNICODE_MINUSES = "\u2212\u2013\u2014\u2010\u2011\u2012\ufe63\uff0d"  # minus sign, dashes, hyphens
+
 _TERMINALS = {
     "NAME": "a feature name", "QUOTED": "a quoted feature name", "OP": "a comparison (< <= > >= == !=)",
     "NUMBER": "a number", "_AND": "'&'", "_OR": "'|'", "_NL": "end of line", "TRUE": "true", "FALSE": "false",
-    "$END": "end of input",
+    # the symbols are other spellings of true and false: named as those, not as lark's token names
+    "TOP": "true", "BOTTOM": "false", "$END": "end of input",
 }
 
 
@@ -1051,4 +1054,9 @@ def _syntax_error(text: str, exc, source: str | None) -> ParseError:
         hint = "< <= > >= == != compare a feature with a number (== for equality)"
     elif rest.split()[:1] and rest.split()[0].lower() in ("and", "or"):
         hint = "write '&' between atoms and one conjunction per line (or '|' between conjunctions)"
+    elif rest[:1] and rest[0] in _UNICODE_MINUSES:
+        hint = "write the ASCII '-' for a minus sign"
+    elif rest[:1] and (rest[0].isdigit() or rest[0] in "+-.") and "a feature name" in expected:
+        # '1 < x': the grammar has the feature on the left only
+        hint = "an atom is 'feature op number', the feature first: write x > 1 for 1 < x"
     return ParseError(message, file=source, line=row, column=col, hint=hint)

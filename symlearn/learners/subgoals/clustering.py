@@ -2,7 +2,9 @@
 
 For each candidate feature subset, every observed frame of every demonstration is projected on
 the subset and the projections are clustered with DBSCAN; clusters holding the first frame of a
-demonstration (an initial state) are dropped; each remaining cluster is a sub-goal: its centre is
+demonstration (an initial state) are dropped where at least half of the demonstrations that reach
+them start in them (a place a few demonstrations start near is still a sub-goal for the others);
+each remaining cluster is a sub-goal: its centre is
 the mean of its frames, its radius the largest distance from the centre to one of its core points
 (plus the collapse resolution).
 
@@ -83,6 +85,7 @@ class CollapsedFrames:
     weights: np.ndarray  # (P,) frames per point
     sums: np.ndarray  # (P, d) coordinate sums of those frames
     initial: np.ndarray  # (P,) bool: the cell holds a demonstration's first frame
+    index: np.ndarray | None = None  # (N,) the point each projected frame was collapsed into
 
 
 def collapse(projected: np.ndarray, initial: np.ndarray, cell: float) -> CollapsedFrames:
@@ -98,7 +101,20 @@ def collapse(projected: np.ndarray, initial: np.ndarray, cell: float) -> Collaps
     has_initial = np.zeros(len(counts), dtype=bool)
     has_initial[inverse[initial]] = True
     weights = counts.astype(np.float64)
-    return CollapsedFrames(sums / weights[:, None], weights, sums, has_initial)
+    return CollapsedFrames(sums / weights[:, None], weights, sums, has_initial, inverse)
+
+
+def _start_place(members: np.ndarray, collapsed: CollapsedFrames, initial: np.ndarray,
+                 demonstration: np.ndarray) -> bool:
+    """Whether a cluster holding some demonstration's first frame is where demonstrations start:
+    at least half of the demonstrations that reach it start in it. A place every demonstration
+    goes to stays a sub-goal when a few of them happen to start in or next to it (an object
+    whose random start lies near its goal: that demonstration's approach chains its first frame
+    into the goal's cluster), which dropping on any first frame would throw away for all."""
+    frames = members[collapsed.index]
+    visiting = np.unique(demonstration[frames])
+    starting = np.unique(demonstration[frames & initial])
+    return 2 * len(starting) >= len(visiting)
 
 
 def default_eps(runs: Sequence[np.ndarray]) -> float:
@@ -156,6 +172,7 @@ def find_subgoals(frames: Sequence[np.ndarray], subsets: Sequence[FeatureSubset]
         projected = np.concatenate([r[m] for r, m in zip(runs, observed)])
         # a demonstration's first frame, where it is observed: the initial states
         initial = np.concatenate([np.arange(m.sum()) < int(m[0]) for m in observed])
+        demonstration = np.concatenate([np.full(int(m.sum()), i) for i, m in enumerate(observed)])
         if len(projected) == 0:
             never_observed.append(subset.name)
             records.append(ClusterRecord(subset.name, 0, 0, subset_eps, subset_min, 0, 0, 0.0,
@@ -167,7 +184,7 @@ def find_subgoals(frames: Sequence[np.ndarray], subsets: Sequence[FeatureSubset]
         found, dropped = [], 0
         for label in range(labels.max() + 1 if len(labels) else 0):
             members = labels == label
-            if collapsed.initial[members].any():
+            if collapsed.initial[members].any() and _start_place(members, collapsed, initial, demonstration):
                 dropped += 1
                 continue
             weight = collapsed.weights[members].sum()

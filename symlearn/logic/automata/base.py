@@ -73,10 +73,16 @@ class GuardedAutomaton:
 
     @classmethod
     def from_json(cls, text: str | Mapping, *, source: str | None = None):
-        from symlearn.logic.automata.json_format import loads
+        from symlearn.errors import SymlearnError
+        from symlearn.logic.automata.json_format import located_in, loads
 
-        document = text if isinstance(text, Mapping) else loads(text, source=source)
-        return cls.from_dict(document, source=source)
+        if isinstance(text, Mapping):
+            return cls.from_dict(text, source=source)
+        document = loads(text, source=source)
+        try:
+            return cls.from_dict(document, source=source)
+        except SymlearnError as exc:
+            raise located_in(exc, text) from None
 
     def save(self, path: str | Path) -> Path:
         from symlearn.atomic import write_text

@@ -27,12 +27,14 @@ from __future__ import annotations
 
 import json
 import math
+import re
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 from symlearn.errors import ParseError, SymlearnError
 from symlearn.input_limits import check_size, load_json, read_input_text
+from symlearn.json_position import locate
 from symlearn.logic.guards import Guard
 
 FORMAT = "symlearn-automaton"
@@ -58,7 +60,9 @@ class _Reader:
 
     def fail(self, path: str, message: str, hint: str | None = None) -> ParseError:
         where = f"{path}: " if path else ""
-        return ParseError(f"{where}{message}", file=self.source, hint=hint)
+        error = ParseError(f"{where}{message}", file=self.source, hint=hint)
+        error.json_path = _path_parts(path)  # read by located_in(): the field's line and column
+        return error
 
     def get(self, obj: Any, path: str, key: str, kind, *, optional: bool = False, default=None):
         if not isinstance(obj, dict):
@@ -103,6 +107,25 @@ class _Reader:
             return Guard.parse(text)
         except SymlearnError as exc:
             raise self.fail(path, exc.message, exc.hint) from None
+
+
+def _path_parts(path: str) -> tuple[str | int, ...]:
+    """``transitions[3].guard`` as ``("transitions", 3, "guard")`` (the reader writes only such paths)."""
+    return tuple(int(index) if index else key for key, index in re.findall(r"([^.\[\]]+)|\[(\d+)\]", path))
+
+
+def located_in(error: SymlearnError, text: str) -> SymlearnError:
+    """``error`` with the line and column of the field it names (its ``json_path``) in ``text``,
+    the document it was read from, so a field's mistake reads ``FILE:LINE:COL`` like a syntax error."""
+    path = getattr(error, "json_path", None)
+    if path is not None and error.line is None:
+        # a missing field has no position of its own: the object that lacks it has
+        for end in range(len(path), -1, -1):
+            position = locate(text, path[:end])
+            if position is not None:
+                error.line, error.column = position
+                break
+    return error
 
 
 def _finite_float(value: int | float) -> bool:
@@ -154,6 +177,13 @@ def read_header(document: Any, kind: str | None, source: str | None) -> tuple[_R
         "state_names": _unique(reader, "state_names",
                                reader.list_of(document, "", "state_names", "str", optional=True), "state name"),
     }
+    reader.fields = fields  # read_transitions checks each edge's states and propositions against them
+    _state(reader, fields["initial"], "initial", "initial state")
+    for i, q in enumerate(fields["accepting"]):
+        _state(reader, q, f"accepting[{i}]", "accepting state")
+    names = fields["state_names"]
+    if names is not None and len(names) != fields["n_states"]:
+        raise reader.fail("state_names", f"{len(names)} state names for {fields['n_states']} states")
     return reader, fields
 
 
@@ -199,12 +229,27 @@ def read_transitions(reader: _Reader, document: dict, extra: str | None) -> dict
     result: dict[int, list[tuple]] = {}
     for i, item in enumerate(reader.get(document, "", "transitions", "list")):
         path = f"transitions[{i}]"
-        source = reader.get(item, path, "source", "int")
-        target = reader.get(item, path, "target", "int")
+        source = _state(reader, reader.get(item, path, "source", "int"), f"{path}.source", "source")
+        target = _state(reader, reader.get(item, path, "target", "int"), f"{path}.target", "target")
         guard = reader.guard(reader.get(item, path, "guard", "str"), f"{path}.guard")
+        outside = sorted(guard.propositions - set(reader.fields["alphabet"]))
+        if outside:
+            # checked here, with the edge's path, rather than by the constructor, which cannot
+            # say where in the file the edge is
+            raise reader.fail(f"{path}.guard", f"guard {str(guard)!r} uses {', '.join(outside)}, outside "
+                              f"the alphabet ({', '.join(reader.fields['alphabet']) or 'empty'})",
+                              hint="add the propositions to \"alphabet\" or correct the guard")
         edge = (guard, target) + ((reader.get(item, path, extra, "number"),) if extra else ())
         result.setdefault(source, []).append(edge)
     return result
+
+
+def _state(reader: _Reader, value: int, path: str, what: str) -> int:
+    n = reader.fields["n_states"]
+    if not 0 <= value < n:
+        raise reader.fail(path, f"{what} {value} is not a state (states are 0..{n - 1}, as \"states\": {n} "
+                                "declares)")
+    return value
 
 
 def construct(reader: _Reader, build):
@@ -236,15 +281,19 @@ def dfa_from_dict(document: Any, *, source: str | None = None):
 def load_automaton(path: str | Path):
     """Read any automaton file (DFA, PDFA or reward machine), dispatching on ``kind``."""
     source = str(path)
-    document = loads(read_input_text(path), source=source)
-    _, fields = read_header(document, None, source)
-    kind = fields["kind"]
-    if kind == "dfa":
-        return dfa_from_dict(document, source=source)
-    if kind == "pdfa":
-        from symlearn.logic.automata.pdfa import PDFA
+    text = read_input_text(path)
+    document = loads(text, source=source)
+    try:
+        _, fields = read_header(document, None, source)
+        kind = fields["kind"]
+        if kind == "dfa":
+            return dfa_from_dict(document, source=source)
+        if kind == "pdfa":
+            from symlearn.logic.automata.pdfa import PDFA
 
-        return PDFA.from_dict(document, source=source)
-    from symlearn.logic.automata.reward_machine import RewardMachine
+            return PDFA.from_dict(document, source=source)
+        from symlearn.logic.automata.reward_machine import RewardMachine
 
-    return RewardMachine.from_dict(document, source=source)
+        return RewardMachine.from_dict(document, source=source)
+    except SymlearnError as exc:
+        raise located_in(exc, text) from None

@@ -226,9 +226,12 @@ def to_rm_text(rm) -> str:
     """Write ``rm`` in the public code's format: DNF guards without spaces, ``True`` for true.
 
     The public code evaluates guards letter by letter, so it understands only single-letter
-    proposition names; longer names are written as they are.
+    proposition names; longer names are written as they are. States keep the numbers they were
+    read with (the reader keeps a file's own numbers, ``-1`` for a failure state, as state names),
+    so text -> JSON -> text gives the file's numbering back; other names are numbered ``0..n-1``.
     """
-    lines = [str(rm.initial), "[" + ", ".join(str(q) for q in sorted(rm.terminal)) + "]"]
+    number = _state_numbers(rm)
+    lines = [number[rm.initial], "[" + ", ".join(number[q] for q in sorted(rm.terminal, key=int)) + "]"]
     for source, guard, target, reward in rm.edges():
         if guard.is_true():
             text = "True"
@@ -236,5 +239,16 @@ def to_rm_text(rm) -> str:
             text = "|".join("&".join(("" if v else "!") + n for n, v in sorted(cube.items()))
                             for cube in guard.cubes())
         value = int(reward) if float(reward).is_integer() else reward
-        lines.append(f"({source},{target},'{text}',ConstantRewardFunction({value}))")
+        lines.append(f"({number[source]},{number[target]},'{text}',ConstantRewardFunction({value}))")
     return "\n".join(lines) + "\n"
+
+
+def _state_numbers(rm) -> list[str]:
+    """The text's number of each state: its name where every name is a distinct integer in
+    increasing state order (the order the reader numbers them in), else its index."""
+    names = rm.state_names
+    if names and all(re.fullmatch(r"[-+]?\d{1,18}", n) for n in names):
+        values = [int(n) for n in names]
+        if all(a < b for a, b in zip(values, values[1:])):
+            return [str(v) for v in values]
+    return [str(q) for q in range(rm.n_states)]

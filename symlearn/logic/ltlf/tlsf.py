@@ -179,6 +179,7 @@ class _Reader:
                 raise self.error(f"expected an INFO field such as TITLE, found {key.text or 'end of file'!r}", key)
             self.expect(":", f"':' after {key.text}")
             parts = []
+            first = self.peek
             while True:
                 value = self.take()
                 if value.kind == "end":
@@ -187,6 +188,12 @@ class _Reader:
                 if self.peek.text != ",":
                     break
                 self.take()
+            if key.text == "SEMANTICS" and "finite" not in {p.strip().lower() for p in parts}:
+                # Mealy/Moore alone mean infinite traces (LTL): the same formula read as LTLf means
+                # something else, so translating it would silently answer another question
+                raise self.error(f"SEMANTICS: {','.join(parts)} is infinite-trace (LTL) semantics; symlearn reads "
+                                 "finite-trace TLSF (SEMANTICS: Finite,Moore or Finite,Mealy)", first,
+                                 hint="a specification meant for finite traces says Finite in SEMANTICS")
             info[key.text] = ",".join(parts)
         self.take()
         return info
