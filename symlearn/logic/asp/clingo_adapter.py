@@ -162,8 +162,33 @@ def _raise_clingo_error(program: Program, messages: _Messages, fallback: str) ->
         elif detail:
             full += ": " + detail
         raise ParseError(f"clingo: {full}", file=source, line=src_line, column=src_col,
-                         hint="check the ASP syntax at this position")
+                         hint=_syntax_hint(program.text, line, column, message))
     raise ParseError(f"clingo: {fallback}", file=program.first_source)
+
+
+_DIRECTIVES = ("#modeb", "#modeh", "#modec", "#pos", "#neg", "#constant", "#maxv", "#max_penalty", "#bias",
+               "#include", "#const", "#show", "#program")
+
+
+def _syntax_hint(text: str, line: int, column: int, message: str) -> str:
+    """What a clingo syntax error at ``line:column`` of ``text`` most likely means, in the user's
+    terms: the mistakes people bring from other languages, which clingo words in its grammar's."""
+    import difflib
+
+    lines = text.splitlines()
+    here = lines[line - 1] if 0 < line <= len(lines) else ""
+    rest = here[max(column - 1, 0):]
+    if rest.startswith("//") or here.lstrip().startswith("//"):
+        return "comments in ASP start with '%' (a block comment is %* ... *%)"
+    if re.search(r"\d\.\d", here[max(column - 4, 0):column + 3]):
+        return ("ASP has no decimal numbers: write 0.5 as a scaled integer (5 in tenths) or a string (\"0.5\"); "
+                "compare scaled integers in rules")
+    directive = re.match(r"#\w+", rest)
+    if directive and "unexpected" in message:
+        close = difflib.get_close_matches(directive.group(), _DIRECTIVES, n=1, cutoff=0.6)
+        if close and close[0] != directive.group():
+            return f"unknown directive {directive.group()}: did you mean {close[0]}?"
+    return "check the ASP syntax at this position"
 
 
 class _Stop(Exception):

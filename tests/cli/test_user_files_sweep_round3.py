@@ -1,0 +1,229 @@
+"""A third sweep of files a researcher writes by hand from the documentation (a drone domain with
+CRLF, BOM and tabs, hand-written automata, reward-machine text, TLSF, DNF files, frame archives),
+read through the CLI at its defaults: every mistake is one line at its file, line and column, and
+what is read back is what was written."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+from cli_runner import run
+
+# --- a small domain folder, written as a user would ------------------------------------------------
+_CELLS = 3  # a corridor 0..2, the drone starts in 0 and lands in 2; cell 1 is a no-fly zone it may not enter
+
+
+def _write_drone(folder, *, background=None, bias=None):
+    """A corridor drone: states are cells, actions fly(east), fly(west), hover."""
+    folder.mkdir()
+    actions = ["fly(east)", "fly(west)", "hover"]
+    moves = {"fly(east)": 1, "fly(west)": -1, "hover": 0}
+    P = np.zeros((_CELLS, 3, _CELLS))
+    for s in range(_CELLS):
+        for a, name in enumerate(actions):
+            P[s, a, min(max(s + moves[name], 0), _CELLS - 1)] = 1.0
+    terminal = np.array([s == _CELLS - 1 for s in range(_CELLS)])
+    np.savez(folder / "model.npz", transitions=P, initial=np.eye(_CELLS)[0], terminal=terminal)
+    (folder / "drone.lp").write_bytes((background or "% the corridor\r\n\tnofly(1).\r\n").encode())
+    (folder / "bias.las").write_text(bias if bias is not None else "#modeb(1, hover).\n")
+    (folder / "states.jsonl").write_text("".join(json.dumps({"id": s, "facts": f"at({s})."}) + "\n"
+                                                 for s in range(_CELLS)))
+    (folder / "actions.jsonl").write_text("".join(json.dumps({"id": a, "atom": name}) + "\n"
+                                                  for a, name in enumerate(actions)))
+    (folder / "domain.toml").write_text('name = "drone"\nbackground = "drone.lp"\nbias = "bias.las"\n'
+                                        'model = "model.npz"\nstates = "states.jsonl"\nactions = "actions.jsonl"\n')
+    return folder
+
+
+def _demos(path):
+    path.write_text('{"symlearn": "demonstrations", "format_version": 1}\n'
+                    '{"states": [0, 1, 2], "actions": ["fly(east)", "fly(east)"]}\n')
+    return path
+
+
+def test_an_unsafe_rule_in_the_background_is_located_in_the_background_file(capsys, tmp_path):
+    # before: "<drone pair contexts>:2:9", a line of the program symlearn generates
+    folder = _write_drone(tmp_path / "drone", background="\ufeff% comment\r\n\r\nnofly(1).\r\n  bad(X) :- not nofly(1).\r\n")
+    code, out, err = run(capsys, "domain", "check", folder)
+    assert code == 2 and "Traceback" not in err
+    assert err.startswith(f"symlearn: error: {folder / 'drone.lp'}:4:3: unsafe variable X"), err
+
+
+def test_a_modeh_in_a_domains_bias_is_refused_at_its_line(capsys, tmp_path):
+    # before: an internal error (WorkerCrash: clingo rejected generated constraint ...)
+    folder = _write_drone(tmp_path / "drone", bias="% rules with heads\n#modeb(1, hover).\n  #modeh(stuck).\n")
+    code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", _demos(tmp_path / "d.jsonl"),
+                         "-o", tmp_path / "rules.lp")
+    assert code == 2 and "internal error" not in err
+    assert f"{folder / 'bias.las'}:3:3: the bias declares #modeh(stuck)" in err
+    assert not (tmp_path / "rules.lp").exists()
+
+
+def test_a_bias_without_modes_is_named_where_rules_are_learned(capsys, tmp_path):
+    folder = _write_drone(tmp_path / "drone", bias="% nothing declared yet\n")
+    code, out, err = run(capsys, "domain", "check", folder)  # checking the folder needs no bias
+    assert code == 0, err
+    code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", _demos(tmp_path / "d.jsonl"))
+    assert code == 2 and f"{folder / 'bias.las'}: the bias declares no #modeb or #modec" in err, err
+    assert "induction task" not in err
+
+
+@pytest.mark.parametrize("rules, hint", [
+    ("// the drone may not hover\n:- hover.\n", "comments in ASP start with '%'"),
+    (":- hover. // why\n", "comments in ASP start with '%'"),
+    (":- fly(D), at(0.5).\n", "ASP has no decimal numbers"),
+])
+def test_rule_file_syntax_errors_get_a_hint_in_the_users_terms(capsys, tmp_path, rules, hint):
+    folder = _write_drone(tmp_path / "drone")
+    path = tmp_path / "edited.lp"
+    path.write_text(rules)
+    code, out, err = run(capsys, "domain", "check", folder, "--rules", path)
+    assert code == 2 and f"{path}:1:" in err and hint in err, err
+
+
+def test_a_misspelt_directive_in_the_bias_is_suggested(capsys, tmp_path):
+    folder = _write_drone(tmp_path / "drone", bias="#modeb(1, hover).\n#constnt(dir, east).\n")
+    code, out, err = run(capsys, "domain", "check", folder)
+    assert code == 2 and f"{folder / 'bias.las'}:2:1:" in err and "did you mean #constant?" in err, err
+
+
+# --- DNF files ------------------------------------------------------------------------------------
+@pytest.mark.parametrize("text, column, says", [
+    ("speed > 1\n1.5 < x\n", 1, "the feature first"),
+    ("temp > \u22123\n", 8, "write the ASCII '-'"),
+])
+def test_dnf_mistakes_from_mathematical_writing_get_a_hint(capsys, tmp_path, text, column, says):
+    path = tmp_path / "rules.dnf"
+    path.write_text(text, encoding="utf-8")
+    code, out, err = run(capsys, "dnf", "show", path)
+    assert code == 2 and f"{path}:{text.count(chr(10), 0, text.index(text.splitlines()[-1])) + 1}:{column}:" in err
+    assert says in err, err
+
+
+def test_dnf_errors_name_true_and_false_not_the_grammars_tokens(capsys, tmp_path):
+    path = tmp_path / "rules.dnf"
+    path.write_text("2 < x\n")
+    code, out, err = run(capsys, "dnf", "show", path)
+    assert code == 2 and "bottom" not in err and "top" not in err and "true" in err, err
+
+
+# --- automata ---------------------------------------------------------------------------------------
+_DFA = """{"format": "symlearn-automaton", "version": 1, "kind": "dfa",
+ "alphabet": ["door", "key"],
+ "states": 3, "initial": 0, "accepting": [2],
+ "state_names": ["start", "has key", "done"],
+ "transitions": [
+   {"source": 0, "target": 1, "guard": "key"},
+   {"source": 1, "target": 2, "guard": "door"},
+   {"source": 0, "target": 0, "guard": "!key"}
+ ]}
+"""
+
+
+@pytest.mark.parametrize("old, new, where, says", [
+    ('"guard": "door"', '"guard": "dor"', "7:40", "transitions[1].guard: guard 'dor' uses dor, outside the alphabet"),
+    ('"target": 2', '"target": 3', "7:28", "transitions[1].target: target 3 is not a state"),
+    ('"guard": "door"', '"guard": "door &"', "7:40", "transitions[1].guard: unexpected end"),
+    ('"accepting": [2]', '"accepting": ["done"]', "3:43", "accepting[0]: expected an integer"),
+    ('"initial": 0', '"initial": 5', "3:26", "initial: initial state 5 is not a state"),
+    ('"start", "has key", "done"', '"start", "done"', "4:17", "state_names: 2 state names for 3 states"),
+    ('"kind": "dfa"', '"kind": "DFA"', "1:56", "kind: unknown automaton kind 'DFA'"),
+    ('"target": 1, "guard": "key"', '"target": 1', "6:4", "transitions[0].guard: missing field"),
+])
+def test_a_hand_written_automatons_mistakes_are_at_their_line_and_column(capsys, tmp_path, old, new, where, says):
+    # before: "bad.json: transitions[1].guard: ..." without a line, or the constructor's words
+    # ("DFA guard 'dor' on state 1 ...") without the field
+    path = tmp_path / "bad.json"
+    assert old in _DFA
+    path.write_text(_DFA.replace(old, new, 1))
+    code, out, err = run(capsys, "automaton", "show", path)
+    assert code == 2 and "Traceback" not in err
+    assert err.startswith(f"symlearn: error: {path}:{where}: {says}"), err
+
+
+_RM = """# coffee, then the office; a plant is a failure
+0      # initial
+[2, -1]
+(0, 0, '!c & !n', ConstantRewardFunction(0))
+(0,1,'c&!n',ConstantRewardFunction(0))
+(1,1,'!o&!n',ConstantRewardFunction(0))
+(1,2,'o&!n',ConstantRewardFunction(1))
+(0,-1,'n',ConstantRewardFunction(-1))
+(1,-1,'n',ConstantRewardFunction(-1.5e0))
+"""
+
+
+def test_reward_machine_text_to_json_and_back_keeps_the_files_state_numbers(capsys, tmp_path):
+    # before: the text written back renumbered the states 0..3 (the initial state became 1, the failure 0)
+    (tmp_path / "task.txt").write_text(_RM)
+    for source, target in [("task.txt", "task.json"), ("task.json", "back.txt"), ("back.txt", "again.json")]:
+        code, out, err = run(capsys, "automaton", "convert", tmp_path / source, tmp_path / target)
+        assert code == 0, err
+    back = (tmp_path / "back.txt").read_text().splitlines()
+    assert back[:2] == ["0", "[-1, 2]"]
+    assert "(1,2,'!n&o',ConstantRewardFunction(1))" in back and "(0,-1,'n',ConstantRewardFunction(-1))" in back
+    assert json.loads((tmp_path / "task.json").read_text()) == json.loads((tmp_path / "again.json").read_text())
+
+
+def test_explaining_a_reward_machine_names_the_file_once_and_says_why(capsys, tmp_path):
+    path = tmp_path / "task.txt"
+    path.write_text(_RM)
+    code, out, err = run(capsys, "automaton", "explain", path, "--trace", '[["c"], ["o"]]')
+    assert code == 2 and err.count(str(path)) == 1 and "terminal states are not accepting states" in err, err
+
+
+# --- TLSF -------------------------------------------------------------------------------------------
+_TLSF = """INFO {
+  TITLE:       "arbiter"
+  DESCRIPTION: "two clients"
+  SEMANTICS:   %s
+  TARGET:      Mealy
+}
+MAIN {
+  INPUTS { r_1; r_2; }
+  OUTPUTS { g_1; g_2; }
+  GUARANTEES { G !(g_1 && g_2); G (r_1 -> X[!] F g_1); }
+}
+"""
+
+
+def test_a_tlsf_file_with_infinite_trace_semantics_is_refused(capsys, tmp_path):
+    # before: read as LTLf without a word, though Mealy alone means LTL on infinite traces
+    path = tmp_path / "arbiter.tlsf"
+    path.write_text(_TLSF % "Mealy")
+    code, out, err = run(capsys, "ltl", "parse", "--tlsf", path)
+    assert code == 2 and f"{path}:4:16: SEMANTICS: Mealy is infinite-trace (LTL) semantics" in err, err
+    path.write_text(_TLSF % "Finite,Mealy")
+    code, out, err = run(capsys, "ltl", "parse", "--tlsf", path)
+    assert code == 0, err
+
+
+# --- sub-goals from frames ---------------------------------------------------------------------------
+def test_a_goal_some_demonstrations_start_near_stays_a_sub_goal(capsys, tmp_path):
+    # A cup and a lid start at random places; every demonstration puts the cup at (0.5, 0.5) and then
+    # the lid at (-0.5, 0.5). One demonstration's lid starts next to its goal, so its approach chains
+    # its first frame into the goal's cluster. Before: the lid's cluster was dropped as a start place
+    # for all 12 demonstrations ("1 sub-goals ... plan: cup_0").
+    rng = np.random.default_rng(0)
+    cup_goal, lid_goal = np.array([0.5, 0.5, 0.0]), np.array([-0.5, 0.5, 0.0])
+    runs = []
+    for k in range(12):
+        cup = np.r_[rng.uniform(-1, 0, 2), 0.0]
+        lid = lid_goal + [0.06, 0.0, 0.0] if k == 0 else np.r_[rng.uniform(0, 1, 2), 0.0]
+        frames = []
+        for obj, goal in ((cup, cup_goal), (lid, lid_goal)):
+            start = obj.copy()
+            for t in range(1, 11):
+                obj[:] = start + (goal - start) * t / 10
+                frames.append(np.r_[cup, lid])
+            frames += [np.r_[cup, lid]] * 5
+        runs.append(np.array(frames))
+    np.savez(tmp_path / "frames.npz", states=np.concatenate(runs), lengths=[len(r) for r in runs],
+             feature_names=["cup_x", "cup_y", "cup_z", "lid_x", "lid_y", "lid_z"])
+    code, out, err = run(capsys, "learn", "pdfa", "--demos", tmp_path / "frames.npz",
+                         "--subsets", "cup=cup_x,cup_y,cup_z;lid=3,4,5", "--json", "-q")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["plan"] == ["cup_0", "lid_0"], doc["plan"]
