@@ -272,13 +272,30 @@ class Domain:
                                              Program.from_text(" ".join(facts), source=f"<{self.name} state facts>")]))
 
     def undefined_predicates(self, rules: str | os.PathLike[str]) -> list:
-        """The predicates a rule file's bodies use that :attr:`defined_signatures` lacks (each an
-        :class:`~symlearn.logic.asp.predicates.UndefinedPredicate`, located in the file): a
-        misspelt predicate makes a rule that never fires."""
+        """What clingo accepts in a rule file but can never mean: the predicates its bodies use that
+        :attr:`defined_signatures` lacks (:class:`~symlearn.logic.asp.predicates.UndefinedPredicate`:
+        a misspelt predicate makes a rule that never fires), then the arguments no pair's answer set
+        matches (:class:`~symlearn.logic.asp.argument_values.UnmatchedArgument`: ``"explosive"`` for
+        ``explosive``, or ``East``, a variable matching every value, for ``east``); each located in
+        the file, with ``message()`` and ``as_dict()``."""
+        from symlearn.logic.asp.argument_values import unmatched_arguments
         from symlearn.logic.asp.predicates import undefined_predicates
         from symlearn.logic.asp.program import Program
 
-        return undefined_predicates(Program.from_file(rules, expand=False), set(self.defined_signatures))
+        program = Program.from_file(rules, expand=False)
+        found = undefined_predicates(program, set(self.defined_signatures))
+        return found + unmatched_arguments(program, self.argument_values)
+
+    @cached_property
+    def argument_values(self) -> dict:
+        """``{(name, arity): [values at each position]}`` of every atom of every pair's answer set."""
+        import clingo
+
+        from symlearn.logic.asp.argument_values import argument_values
+
+        # the answer sets' atoms carry the pair's index as their first argument: dropped here
+        return argument_values(clingo.Function(a.name, a.arguments[1:], a.positive) for a in self._worlds
+                               if a.arguments)
 
     def bias_warnings(self) -> list:
         """Mode declarations of the bias that can give no useful literal (a predicate defined

@@ -91,7 +91,8 @@ def test_bad_automaton_file(capsys, tmp_path):
     path.write_text('{"format": "symlearn-automaton", "version": 1, "kind": "dfa", "alphabet": ["a"], '
                     '"states": 2, "initial": 0, "accepting": [1], "transitions": [{"source": 0, "target": 1}]}')
     code, _, err = run(capsys, "automaton", "show", path)
-    assert code == 2 and f"{path}: transitions[0].guard: missing field" in err
+    # located at the transition that lacks the field (line 1, column 143)
+    assert code == 2 and f"{path}:1:143: transitions[0].guard: missing field" in err
     code, _, err = run(capsys, "automaton", "show", tmp_path / "x.yaml")
     assert code == 2 and "cannot tell the format" in err
     code, _, err = run(capsys, "automaton", "show", tmp_path / "missing.json")
