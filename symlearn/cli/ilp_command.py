@@ -169,7 +169,9 @@ def _check_job(job: dict) -> dict:
     report = score(task, hypothesis, timeout=remaining(job["started"], job["seconds"]))
     report["rules"] = hypothesis.rules
     report["passed"] = not report["uncovered_without_penalty"]
-    report["warnings"] = _undefined_predicates(task, Program.from_file(job["hypothesis"], expand=False))
+    rules_program = Program.from_file(job["hypothesis"], expand=False)
+    report["warnings"] = _undefined_predicates(task, rules_program) + _unmatched_arguments(task, hypothesis,
+                                                                                           rules_program)
     matrix = None
     if job["coverage"]:  # the report names the rules that exclude an uncovered positive: only those columns
         wanted = [e for e in task.examples if e.positive and not report["coverage"][e.id]]
@@ -198,6 +200,28 @@ def _undefined_predicates(task, rules) -> list[dict]:
     defined = defined_signatures([task.background] + [e.context for e in task.examples if e.context.text.strip()])
     defined |= {(a.name, len(a.arguments)) for e in task.examples for a in (*e.inclusions, *e.exclusions)}
     return [u.as_dict() for u in undefined_predicates(rules, defined)]
+
+
+def _unmatched_arguments(task, hypothesis, rules) -> list[dict]:
+    """Arguments of the rule file's atoms that no atom the task can derive matches (a string for a
+    constant, a one-off capitalised variable for a constant): read from one grounding of the
+    background, every context and the rules, which over-approximates what any answer set holds."""
+    import clingo
+
+    from symlearn.logic.asp import clingo_adapter as cl
+    from symlearn.logic.asp.argument_values import argument_values, unmatched_arguments
+    from symlearn.logic.asp.program import Program
+    from symlearn.logic.ilp.encoding import ACTIVE, examples_program, tagged_rules
+
+    indexed = list(enumerate(task.examples))
+    program = (examples_program(task, indexed, accept=False) + tagged_rules(hypothesis.program())
+               + Program.from_text("\n".join(f"{ACTIVE}({i})." for i, _ in indexed), source="<examples>"))
+    control = cl.ground(program)  # kept alive while its atoms are read (they belong to it)
+    symbols = [a.symbol for a in control.symbolic_atoms]
+    # every atom carries its example's index as its first argument: dropped here
+    values = argument_values(clingo.Function(s.name, s.arguments[1:], s.positive) for s in symbols
+                             if s.type == clingo.SymbolType.Function and s.arguments and s.name != ACTIVE)
+    return [u.as_dict() for u in unmatched_arguments(rules, values)]
 
 
 def _uncovered(example, matrix: dict | None) -> dict:

@@ -227,3 +227,58 @@ def test_a_goal_some_demonstrations_start_near_stays_a_sub_goal(capsys, tmp_path
     assert code == 0, err
     doc = json.loads(out)
     assert doc["plan"] == ["cup_0", "lid_0"], doc["plan"]
+
+
+# --- rule arguments no answer set matches ------------------------------------------------------------
+@pytest.mark.parametrize("rules, where, says", [
+    # a capitalised constant is a variable: the rule forbids every flight
+    (":- fly(East).\n", "1:8", "variable East occurs nowhere else in its rule, so it matches every value of fly/1's "
+                               "argument 1; did you mean the constant east?"),
+    (":- hover, nofly(\"1\").\n", "1:17", "nofly/1 never has \"1\" as argument 1 (it has: 1), so the atom is always "
+                                          "false; did you mean 1?"),
+])
+def test_domain_check_warns_about_arguments_no_pair_has(capsys, tmp_path, rules, where, says):
+    # before: no warning (clingo accepts both); the first forbade every flight, the second nothing
+    folder = _write_drone(tmp_path / "drone")
+    path = tmp_path / "edited.lp"
+    path.write_text(rules)
+    code, out, err = run(capsys, "domain", "check", folder, "--rules", path)
+    assert code == 0, err
+    assert f"warning: {path}:{where}: {says}" in out, out
+    code, out, err = run(capsys, "domain", "check", folder, "--rules", path, "--json")
+    assert json.loads(out)["warnings"][0]["line"] == 1
+
+
+def test_learned_rules_and_well_written_ones_get_no_argument_warning(capsys, tmp_path):
+    folder = _write_drone(tmp_path / "drone")
+    path = tmp_path / "edited.lp"
+    path.write_text(":- fly(east), at(A), nofly(B), B = A + 1.\n:- fly(V1), hover.\n")
+    code, out, err = run(capsys, "domain", "check", folder, "--rules", path)
+    assert code == 0 and "warning" not in out, out
+
+
+_LAB = """% never add a reagent that reacts explosively with one in the flask
+reaction("Na", "H2O", explosive).
+reaction(B, A, K) :- reaction(A, B, K).
+#pos(ok, {}, {}, { in_flask("Oil"). add("Na"). }).
+#neg(bad, {}, {}, { in_flask("Na"). add("H2O"). }).
+#modeb(1, add(var(r)), (positive)).
+#modeb(1, in_flask(var(r)), (positive)).
+#modeb(1, reaction(var(r), var(r), const(k)), (positive)).
+#constant(k, explosive).
+#maxv(2).
+"""
+
+
+def test_ilp_check_names_a_string_written_for_a_constant(capsys, tmp_path):
+    # before: only "bad (negative) ... no rule excludes it", with nothing pointing at the quotes
+    (tmp_path / "lab.las").write_text(_LAB)
+    rules = tmp_path / "edited.lp"
+    rules.write_text(':- add(R), in_flask(S), reaction(R, S, "explosive").\n')
+    code, out, err = run(capsys, "ilp", "check", tmp_path / "lab.las", rules)
+    assert code == 2 and "bad" in err
+    assert (f'warning: {rules}:1:40: reaction/3 never has "explosive" as argument 3 (it has: explosive), so the '
+            "atom is always false; did you mean explosive?") in out, out
+    rules.write_text(":- add(R), in_flask(S), reaction(R, S, explosive).\n")
+    code, out, err = run(capsys, "ilp", "check", tmp_path / "lab.las", rules)
+    assert code == 0 and "warning" not in out, out
