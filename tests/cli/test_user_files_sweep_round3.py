@@ -282,3 +282,14 @@ def test_ilp_check_names_a_string_written_for_a_constant(capsys, tmp_path):
     rules.write_text(":- add(R), in_flask(S), reaction(R, S, explosive).\n")
     code, out, err = run(capsys, "ilp", "check", tmp_path / "lab.las", rules)
     assert code == 0 and "warning" not in out, out
+
+
+# --- LTLf formulas ------------------------------------------------------------------------------------
+@pytest.mark.parametrize("formula, says", [
+    ("F key & eventually door", "'eventually' is read as a proposition here; write 'F'"),
+    ("always !lava", "'always' is read as a proposition here; write 'G'"),
+])
+def test_an_operator_written_as_a_word_is_named_where_the_next_name_fails(capsys, formula, says):
+    # before: the error at 'door' had no hint (the word before it parsed as a proposition)
+    code, out, err = run(capsys, "ltl", "parse", formula)
+    assert code == 2 and says in err, err

@@ -230,6 +230,10 @@ def _hint(text: str, position: int) -> str | None:
             return _WORD_HINTS[name]
         if not re.fullmatch(r"[a-z_][a-z0-9_]*", name):
             return f'propositions are written in lowercase; quote other names: "{name}"'
+        # 'eventually door': the operator's word was read as a proposition, the error is at the next one
+        before = re.search(r"([a-z_][a-z0-9_]*)\s+$", text[:position])
+        if before and before.group(1) in _WORD_HINTS:
+            return f"{before.group(1)!r} is read as a proposition here; {_WORD_HINTS[before.group(1)]}"
         return None
     start = end = position
     while start > 0 and text[start - 1] in _OPERATOR_CHARS:
