@@ -220,6 +220,15 @@ def _offset(lines: list[str], row: int, col: int) -> int:
     return sum(len(l) + 1 for l in lines[: row - 1]) + col - 1
 
 
+def _word_before(text: str, position: int) -> str | None:
+    """'eventually door', 'always !lava': the operator's word was read as a proposition, and the
+    error is at what follows it."""
+    before = re.search(r"([a-z_][a-z0-9_]*)\s+$", text[:position])
+    if before and before.group(1) in _WORD_HINTS:
+        return f"{before.group(1)!r} is read as a proposition here; {_WORD_HINTS[before.group(1)]}"
+    return None
+
+
 def _hint(text: str, position: int) -> str | None:
     if position >= len(text):
         return None
@@ -230,11 +239,9 @@ def _hint(text: str, position: int) -> str | None:
             return _WORD_HINTS[name]
         if not re.fullmatch(r"[a-z_][a-z0-9_]*", name):
             return f'propositions are written in lowercase; quote other names: "{name}"'
-        # 'eventually door': the operator's word was read as a proposition, the error is at the next one
-        before = re.search(r"([a-z_][a-z0-9_]*)\s+$", text[:position])
-        if before and before.group(1) in _WORD_HINTS:
-            return f"{before.group(1)!r} is read as a proposition here; {_WORD_HINTS[before.group(1)]}"
-        return None
+        return _word_before(text, position)
+    if _word_before(text, position):
+        return _word_before(text, position)
     start = end = position
     while start > 0 and text[start - 1] in _OPERATOR_CHARS:
         start -= 1
