@@ -32,8 +32,9 @@ from typing import Any
 import numpy as np
 
 from symlearn.atomic import write_bytes, write_text
-from symlearn.errors import DataError, ModelError, ParseError
+from symlearn.errors import DataError, ModelError, ParseError, SymlearnError
 from symlearn.input_limits import load_toml, read_input_text
+from symlearn.json_position import JsonPathError, located
 
 REQUIRED = ("name", "background", "bias", "model", "states", "actions")
 OPTIONAL = ("description", "truth", "labeling", "features")
@@ -136,6 +137,17 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
     return domain
 
 
+def _in_file(error):
+    """``error`` (a :class:`JsonPathError`) at its line and column when its file can be read again:
+    the labeling was read before its states could be checked against the domain's."""
+    try:
+        if error.file and Path(error.file).is_file():
+            return located(error, read_input_text(error.file))
+    except (OSError, SymlearnError):  # the check's own message stands without a position
+        pass
+    return error
+
+
 def labeling_of_states(labeling: Any, feature_map: Any, source: str, n_states: int | None = None) -> Any:
     """``labeling`` as it labels the folder's states, which are ids: a feature labeling (conditions
     over named features, ``height > 3``) reads each id's features from the folder's feature map
@@ -148,9 +160,9 @@ def labeling_of_states(labeling: Any, feature_map: Any, source: str, n_states: i
     if n_states is not None:
         for k, (state, _) in enumerate(getattr(labeling, "items", lambda: [])()):
             if not (isinstance(state, (int, np.integer)) and not isinstance(state, bool) and 0 <= state < n_states):
-                raise DataError(f"table[{k}]: the labeling labels state {state!r}, which is not one of the domain's "
-                                f"{n_states} states (ids 0..{n_states - 1})", file=source,
-                                hint="a domain's states are the ids of its states.jsonl")
+                raise _in_file(JsonPathError(f"the labeling labels state {state!r}, which is not one of the domain's "
+                                             f"{n_states} states (ids 0..{n_states - 1})", path=("table", k),
+                                             file=source, hint="a domain's states are the ids of its states.jsonl"))
     own = getattr(labeling, "feature_map", None)
     if not isinstance(labeling, FeatureLabeling) or own != FeatureMap(own.names):   # a table or function of its own
         return labeling

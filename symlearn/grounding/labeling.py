@@ -24,6 +24,7 @@ from typing import Any
 
 from symlearn.errors import DataError
 from symlearn.json_document import JsonFile, read_document
+from symlearn.json_position import JsonPathError, located
 
 FORMAT_VERSION = 1
 MAGIC = "labeling"
@@ -160,26 +161,56 @@ class Labeling(LabelingBase, JsonFile):
 
     @classmethod
     def from_json(cls, text: str, *, source: str = "<string>") -> Labeling:
-        return cls.from_document(read_document(text, MAGIC, FORMAT_VERSION, source=source), source=source)
+        try:
+            return cls.from_document(read_document(text, MAGIC, FORMAT_VERSION, source=source), source=source)
+        except JsonPathError as exc:  # the mistake's line and column in the text
+            raise located(exc, text) from None
 
     @classmethod
     def from_document(cls, doc: dict[str, Any], *, source: str = "<string>") -> Labeling:
         if doc.get("kind", "table") != "table":
             raise DataError(f"this labeling is of kind {doc.get('kind')!r}, not a table", file=source,
                             hint="read it with symlearn.grounding.load_labeling")
-        try:
-            props = [(p["name"], p.get("meaning", "")) for p in doc["propositions"]]
-            entries = [(_state_from_json(state), names) for state, names in doc["table"]]
-            table = dict(entries)
-        except (KeyError, TypeError, ValueError, AttributeError) as exc:
-            raise DataError(f"malformed labeling ({type(exc).__name__}: {exc})", file=source,
-                            hint="expected 'propositions': [{name, meaning}], 'table': [[state, [props]]]") from None
+        props, entries = _read_table_document(doc, source)
         _check_file_table(props, entries, source)
+        table = dict(entries)
         try:
             return cls(table, meanings=dict(props), propositions=[name for name, _ in props])
         except DataError as exc:
             raise DataError(exc.message, file=source) from None
 
+
+
+_SHAPE = "expected 'propositions': [{\"name\": ..., \"meaning\": ...}], 'table': [[state, [propositions]], ...]"
+
+
+def _read_table_document(doc: Mapping[str, Any], source: str) -> tuple[list, list]:
+    """``(name, meaning)`` per proposition and ``(state, names)`` per table entry, each part's
+    shape checked with its JSON path (located in the file by :func:`load_labeling_text`)."""
+    for key in ("propositions", "table"):
+        if not isinstance(doc.get(key), list):
+            raise JsonPathError(f"expected a list, got {_json_kind(doc.get(key))}" if key in doc else f"missing key {key!r}",
+                                path=(key,) if key in doc else (), file=source, hint=_SHAPE)
+    props = []
+    for i, p in enumerate(doc["propositions"]):
+        if not isinstance(p, Mapping) or "name" not in p:
+            raise JsonPathError(f"expected an object with a \"name\" (and a \"meaning\"), got {_json_kind(p)}",
+                                path=("propositions", i), file=source, hint=_SHAPE)
+        props.append((p["name"], p.get("meaning", "")))
+    entries = []
+    for i, entry in enumerate(doc["table"]):
+        if not isinstance(entry, list) or len(entry) != 2:
+            raise JsonPathError(f"expected [state, [propositions]], got {_json_kind(entry)}", path=("table", i),
+                                file=source, hint=_SHAPE)
+        entries.append((_state_from_json(entry[0]), entry[1]))
+    return props, entries
+
+
+def _json_kind(value: Any) -> str:
+    if isinstance(value, str):
+        return f"text {json.dumps(value)[:40]}"
+    return {dict: "an object", list: "a list", bool: "a boolean", type(None): "null"}.get(
+        type(value), f"the number {value!r}" if isinstance(value, (int, float)) else type(value).__name__)
 
 
 def _check_file_table(props: list[tuple[Any, Any]], entries: list[tuple[Hashable, Any]], source: str) -> None:
@@ -188,28 +219,30 @@ def _check_file_table(props: list[tuple[Any, Any]], entries: list[tuple[Hashable
     declared: dict[Any, int] = {}
     for i, (name, _) in enumerate(props):
         if not isinstance(name, str) or not name:
-            raise DataError(f"propositions[{i}]: a name must be a non-empty string, got {json.dumps(name)}",
-                            file=source)
+            raise JsonPathError(f"a name must be a non-empty string, got {json.dumps(name)}",
+                                path=("propositions", i), file=source)
         if name in declared:
-            raise DataError(f"propositions[{i}]: proposition {name!r} is declared twice (first at "
-                            f"propositions[{declared[name]}])", file=source)
+            raise JsonPathError(f"proposition {name!r} is declared twice (first at "
+                                f"propositions[{declared[name]}])", path=("propositions", i), file=source)
         declared[name] = i
     seen: dict[Hashable, int] = {}
     for i, (state, names) in enumerate(entries):
         try:
             key = _hashable(state)
         except TypeError:
-            raise DataError(f"table[{i}]: state {json.dumps(state)} cannot be used as a state", file=source) from None
+            raise JsonPathError(f"state {json.dumps(state)} cannot be used as a state", path=("table", i),
+                                file=source) from None
         if key in seen:
-            raise DataError(f"table[{i}]: state {json.dumps(_state_to_json(state))} is listed twice (first at "
-                            f"table[{seen[key]}])", file=source, hint="merge the two entries")
+            raise JsonPathError(f"state {json.dumps(_state_to_json(state))} is listed twice (first at "
+                                f"table[{seen[key]}])", path=("table", i), file=source, hint="merge the two entries")
         seen[key] = i
         if isinstance(names, str) or not isinstance(names, list):
-            raise DataError(f"table[{i}]: the propositions of a state must be a list of names", file=source)
-        for name in names:
+            raise JsonPathError("the propositions of a state must be a list of names", path=("table", i),
+                                file=source)
+        for j, name in enumerate(names):
             if name not in declared:
-                raise DataError(f"table[{i}]: proposition {json.dumps(name)} is not declared in 'propositions'",
-                                file=source, hint="declare it with its meaning, or fix the name")
+                raise JsonPathError(f"proposition {json.dumps(name)} is not declared in 'propositions'",
+                                    path=("table", i), file=source, hint="declare it with its meaning, or fix the name")
 
 
 def load_labeling_text(text: str, *, source: str = "<string>"):
@@ -218,7 +251,10 @@ def load_labeling_text(text: str, *, source: str = "<string>"):
     doc = read_document(text, MAGIC, FORMAT_VERSION, source=source)
     kind = doc.get("kind", "table")
     if kind == "table":
-        return Labeling.from_document(doc, source=source)
+        try:
+            return Labeling.from_document(doc, source=source)
+        except JsonPathError as exc:
+            raise located(exc, text) from None
     if kind == "features":
         from symlearn.grounding.feature_labeling import FeatureLabeling
 

@@ -293,3 +293,28 @@ def test_an_operator_written_as_a_word_is_named_where_the_next_name_fails(capsys
     # before: the error at 'door' had no hint (the word before it parsed as a proposition)
     code, out, err = run(capsys, "ltl", "parse", formula)
     assert code == 2 and says in err, err
+
+
+# --- labelings --------------------------------------------------------------------------------------
+def _labeling(propositions, table):
+    return ('{"symlearn": "labeling", "format_version": 1, "kind": "table",\n'
+            f' "propositions": {propositions},\n "table": {table}}}\n')
+
+
+@pytest.mark.parametrize("propositions, table, where, says", [
+    # names alone, a plausible shortcut: before, "malformed labeling (TypeError: string indices must be integers ...)"
+    ('["hovering"]', '[[0, ["hovering"]]]', "2:19", 'propositions[0]: expected an object with a "name"'),
+    ('[{"name": "hovering"}]', '[[0, ["hovering"]], [2, ["hoverng"]]]', "3:31",
+     'table[1]: proposition "hoverng" is not declared'),
+    ('[{"name": "hovering"}]', '[[0, ["hovering"]], [7, ["hovering"]]]', "3:31",
+     "table[1]: the labeling labels state 7, which is not one of the domain's 3 states"),
+])
+def test_a_labeling_files_mistakes_are_at_their_line_and_column(capsys, tmp_path, propositions, table, where, says):
+    # before: "labels.json: table[1]: ..." without a line and column
+    folder = _write_drone(tmp_path / "drone")
+    path = tmp_path / "labels.json"
+    path.write_text(_labeling(propositions, table))
+    code, out, err = run(capsys, "learn", "spec", "--domain", folder, "--demos", _demos(tmp_path / "d.jsonl"),
+                         "--labeling", path)
+    assert code == 2 and "Traceback" not in err
+    assert err.startswith(f"symlearn: error: {path}:{where}: {says}"), err

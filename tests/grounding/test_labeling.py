@@ -30,8 +30,9 @@ def test_bad_labeling_files(tmp_path):
         Labeling.load(path)
     assert info.value.line == 2
     path.write_text('{"symlearn": "labeling", "format_version": 1, "propositions": [{"nom": "a"}], "table": []}')
-    with pytest.raises(DataError, match="malformed labeling"):
+    with pytest.raises(DataError, match=r'propositions\[0\]: expected an object with a "name"') as info:
         Labeling.load(path)
+    assert (info.value.line, info.value.column) == (1, 64)  # the object that lacks the name
     path.write_text('{"format_version": 1}')
     with pytest.raises(DataError, match="not a symlearn labeling"):
         Labeling.load(path)
