@@ -36,7 +36,7 @@ from symlearn.data.demonstrations import Demonstrations
 from symlearn.data.trajectory import Trajectory
 from symlearn.data.kinds import KINDS
 from symlearn.data.npz_header import action_lengths_of, check_declared_kinds, complete_header
-from symlearn.errors import DataError
+from symlearn.errors import DataError, SymlearnError
 from symlearn.input_limits import MAX_JSON_DEPTH, check_size, depth, load_json
 
 FORMAT_VERSION = 1
@@ -249,7 +249,13 @@ def read_npz(path: str | os.PathLike[str]) -> Demonstrations:
 
 
 def _read_meta(path: Path, text: str) -> dict:
-    header = load_json(text, source=path)
+    try:
+        header = load_json(text, source=path)
+    except SymlearnError as exc:
+        # the position is within the member's text, not a line of the archive: say so
+        where = f" at line {exc.line}, column {exc.column}" if exc.line is not None else ""
+        raise DataError(f"member '__meta__' is not a JSON header{where}: {exc.message}", file=path,
+                        hint='__meta__ = json.dumps({"symlearn": "demonstrations", "format_version": 1, ...})') from None
     if not isinstance(header, dict) or header.get("symlearn") != MAGIC:
         raise DataError("not a symlearn demonstrations archive (bad __meta__)", file=path)
     version = header.get("format_version")
@@ -324,6 +330,9 @@ def _unpack(path: Path, archive, headers: dict) -> Demonstrations:
         rows("labels", total, "one per state")
         label_shape = headers["labels"][1]
         names_shape = headers.get("label_names", (None, ()))[1]
+        if "label_names" not in headers:
+            raise DataError("member 'labels' without a 'label_names' member, which names its columns", file=path,
+                            hint="add label_names = numpy.array([...]), one proposition per column of 'labels'")
         if len(label_shape) != 2 or len(names_shape) != 1 or label_shape[1] != names_shape[0]:
             raise DataError(f"member 'labels' has {label_shape[1] if len(label_shape) == 2 else '?'} columns but "
                             f"'label_names' has {names_shape[0] if len(names_shape) == 1 else '?'} names",

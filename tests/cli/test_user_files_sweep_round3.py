@@ -318,3 +318,21 @@ def test_a_labeling_files_mistakes_are_at_their_line_and_column(capsys, tmp_path
                          "--labeling", path)
     assert code == 2 and "Traceback" not in err
     assert err.startswith(f"symlearn: error: {path}:{where}: {says}"), err
+
+
+# --- NPZ demonstrations written with numpy ----------------------------------------------------------
+def test_labels_without_their_names_say_what_is_missing(capsys, tmp_path):
+    # before: "member 'labels' has 1 columns but 'label_names' has ? names"
+    meta = json.dumps({"symlearn": "demonstrations", "format_version": 1})
+    np.savez(tmp_path / "d.npz", __meta__=meta, lengths=[2], states=[0, 1], labels=[[True], [False]])
+    code, out, err = run(capsys, "data", "info", tmp_path / "d.npz")
+    assert code == 2 and "member 'labels' without a 'label_names' member" in err and "?" not in err, err
+
+
+def test_a_broken_meta_header_is_placed_inside_the_member(capsys, tmp_path):
+    # before: "d.npz:2:22: invalid JSON ...", a line and column of the binary archive
+    np.savez(tmp_path / "d.npz", __meta__='{"symlearn": "demonstrations",\n "format_version": 1,,}', lengths=[2],
+             states=[0, 1])
+    code, out, err = run(capsys, "data", "info", tmp_path / "d.npz")
+    assert code == 2 and err.startswith(f"symlearn: error: {tmp_path / 'd.npz'}: member '__meta__' is not a JSON "
+                                        "header at line 2, column 22"), err
