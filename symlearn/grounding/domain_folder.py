@@ -130,6 +130,11 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
     domain = Domain(config["name"], background=background, bias=bias, grounding=grounding, mdp=mdp, truth=truth,
                     labeling=labeling, available=model.get("available"), description=config.get("description", ""),
                     sources=sources, feature_map=feature_map)
+    if not domain.pair_ids:
+        # nothing to learn or check: and every later message (a predicate "defined nowhere", a
+        # demonstrated step "after the episode ended") would name a consequence, not the cause
+        raise DataError("the model has no state-action pair: every state is terminal or has no available move",
+                        file=sources.get("model"), hint="terminal[s] is True only where an episode ends")
     if truth is not None:  # a syntax error in the truth file should surface now, located
         domain.hypothesis(Path(sources["truth"]))
     if feature_map is not None:

@@ -62,7 +62,10 @@ class TabularMDP:
             raise ModelError("rewards must be finite")
         mu = np.asarray(self.initial, dtype=np.float64)
         if mu.shape != (S,) or (mu < 0).any() or abs(mu.sum() - 1.0) > 1e-6:
-            raise ModelError(f"initial must be a probability vector of length {S}")
+            # say which of the three it is: a vector of the right length that sums to 2 is not "of length S"
+            found = (f"got shape {mu.shape}" if mu.shape != (S,) else "it has a negative entry" if (mu < 0).any()
+                     else f"it sums to {mu.sum():.6g}, not 1")
+            raise ModelError(f"initial must be a probability vector of length {S}: {found}")
         term = np.asarray(self.terminal, dtype=bool)
         if term.shape != (S,):
             raise ModelError(f"terminal must be a boolean vector of length {S}, got shape {term.shape}")

@@ -336,3 +336,24 @@ def test_a_broken_meta_header_is_placed_inside_the_member(capsys, tmp_path):
     code, out, err = run(capsys, "data", "info", tmp_path / "d.npz")
     assert code == 2 and err.startswith(f"symlearn: error: {tmp_path / 'd.npz'}: member '__meta__' is not a JSON "
                                         "header at line 2, column 22"), err
+
+
+# --- a domain's model.npz -----------------------------------------------------------------------------
+def test_a_model_where_every_state_is_terminal_says_so(capsys, tmp_path):
+    # before: "warning: ... predicate at/1 is defined nowhere", a consequence of having no pair at all
+    folder = _write_drone(tmp_path / "drone")
+    arrays = dict(np.load(folder / "model.npz"))
+    arrays["terminal"][:] = True
+    np.savez(folder / "model.npz", **arrays)
+    code, out, err = run(capsys, "domain", "check", folder)
+    assert code == 2 and f"{folder / 'model.npz'}: the model has no state-action pair" in err, err
+
+
+def test_an_initial_distribution_that_does_not_sum_to_one_says_what_it_sums_to(capsys, tmp_path):
+    # before: "initial must be a probability vector of length 3" of a vector of length 3
+    folder = _write_drone(tmp_path / "drone")
+    arrays = dict(np.load(folder / "model.npz"))
+    arrays["initial"] = np.array([1.0, 1.0, 0.0])
+    np.savez(folder / "model.npz", **arrays)
+    code, out, err = run(capsys, "domain", "check", folder)
+    assert code == 2 and "it sums to 2, not 1" in err, err
