@@ -357,3 +357,17 @@ def test_an_initial_distribution_that_does_not_sum_to_one_says_what_it_sums_to(c
     np.savez(folder / "model.npz", **arrays)
     code, out, err = run(capsys, "domain", "check", folder)
     assert code == 2 and "it sums to 2, not 1" in err, err
+
+
+def test_learn_dnf_on_whole_number_features_counts_the_states_not_the_volume(capsys, tmp_path):
+    # Two counters, every combination demonstrated: the formula forbids no possible state. Before:
+    # "warning: the formula marks 100% of the demonstrations' bounding box unsafe" (the safe boxes
+    # around single points have no volume).
+    lines = ['{"symlearn": "demonstrations", "format_version": 1}']
+    for first in [0, 1, 2] * 8:  # the players take turns: each demonstration starts with another one
+        lines.append(json.dumps({"states": [{"turn": (first + c) % 3 + 1, "played": c} for c in range(4)]}))
+    (tmp_path / "d.jsonl").write_text("\n".join(lines) + "\n")
+    code, out, err = run(capsys, "learn", "dnf", "--demos", tmp_path / "d.jsonl", "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["unsafe_share"] == 0.0 and doc["warnings"] == [], doc["warnings"]

@@ -434,6 +434,12 @@ class OneClassTreeConstraint(Learner):
                          for r, n in zip(grower.splits, internal)]
         safe_share = _volume_fraction(self.safe_boxes_, root.box)
         self.unsafe_share_ = max(0.0, 1.0 - safe_share)
+        lattice = _lattice_unsafe_share(X, dnf, names)
+        if lattice is not None:
+            # whole-number features (cells, counters, ids): the states are the lattice's points,
+            # and boxes around single points have no volume, so the volume share would call a
+            # formula that forbids no possible state "100% unsafe"
+            self.unsafe_share_ = lattice
         self.slivers_closed_ = slivers
         self.slivers_crossed_ = closed["crossed"]
         self.notes_ = _notes(self, closed, steps is not None)
@@ -1055,6 +1061,26 @@ def demonstrated_steps(lengths: np.ndarray | None) -> np.ndarray | None:
     first = np.arange(int(lengths.sum()) - 1, dtype=np.int64)
     first = first[~np.isin(first, np.cumsum(lengths) - 1)]  # a demonstration's last row starts no step
     return np.column_stack([first, first + 1])
+
+
+#: whole-number points of the bounding box counted one by one at most (past it: the volume share)
+LATTICE_POINTS = 100_000
+
+
+def _lattice_unsafe_share(X: np.ndarray, dnf, names: Sequence[str]) -> float | None:
+    """Share of the whole-number points of the data's bounding box that ``dnf`` marks unsafe,
+    where every value of the data is a whole number and there are at most ``LATTICE_POINTS``
+    of them; else None."""
+    X = np.asarray(X, dtype=np.float64)
+    if X.size == 0 or not np.array_equal(X, np.round(X)):
+        return None
+    lo, hi = X.min(axis=0), X.max(axis=0)
+    extents = (hi - lo + 1).astype(np.float64)
+    if float(np.prod(extents)) > LATTICE_POINTS:
+        return None
+    axes = [np.arange(a, b + 1) for a, b in zip(lo, hi)]
+    points = np.stack([g.reshape(-1) for g in np.meshgrid(*axes, indexing="ij")], axis=1)
+    return float(np.mean(dnf.evaluate(points, list(names))))
 
 
 def _volume_fraction(boxes: Sequence[Box], bounds: Box) -> float:
