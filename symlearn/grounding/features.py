@@ -33,6 +33,7 @@ import numpy as np
 
 from symlearn.errors import DataError, SymlearnError
 from symlearn.json_document import JsonFile, read_document
+from symlearn.json_position import JsonPathError, located
 
 FORMAT_VERSION = 1
 MAGIC = "feature-map"
@@ -153,6 +154,11 @@ class FeatureMap(JsonFile):
     def from_json(cls, text: str, *, source: str = "<string>") -> FeatureMap:
         doc = read_document(text, MAGIC, FORMAT_VERSION, source=source)
         try:
+            _check_rows(doc)
+        except JsonPathError as exc:
+            exc.file = source
+            raise located(exc, text) from None
+        try:
             names = doc["names"]
             if "table" in doc:
                 return cls(names, table=np.asarray(doc["table"], dtype=np.float64))
@@ -171,3 +177,25 @@ def _key(value: Any) -> Hashable:
 
 
 __all__ = ["FeatureMap"]
+
+
+def _check_rows(doc: Any) -> None:
+    """Each row of ``table`` (and each ``[state, row]`` of ``table_by_state``) a list of numbers
+    with one entry per name, named by its JSON path: numpy's own words for a ragged table
+    ("inhomogeneous shape after 1 dimensions") say neither which row nor what was expected."""
+    names = doc.get("names")
+    width = len(names) if isinstance(names, list) else None
+    rows: list[tuple[tuple, Any]] = []
+    if isinstance(doc.get("table"), list):
+        rows = [(("table", i), row) for i, row in enumerate(doc["table"])]
+    if isinstance(doc.get("table_by_state"), list):
+        for i, entry in enumerate(doc["table_by_state"]):
+            if not isinstance(entry, list) or len(entry) != 2:
+                raise JsonPathError("expected [state, [feature values]]", path=("table_by_state", i))
+            rows.append((("table_by_state", i, 1), entry[1]))
+    for path, row in rows:
+        if not isinstance(row, list) or not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in row):
+            raise JsonPathError("expected a list of numbers, one per feature name", path=path)
+        if width is not None and len(row) != width:
+            raise JsonPathError(f"{len(row)} values for {width} feature names ({', '.join(map(str, names))})",
+                                path=path)
