@@ -371,3 +371,15 @@ def test_learn_dnf_on_whole_number_features_counts_the_states_not_the_volume(cap
     assert code == 0, err
     doc = json.loads(out)
     assert doc["unsafe_share"] == 0.0 and doc["warnings"] == [], doc["warnings"]
+
+
+def test_a_ragged_feature_map_row_is_named_at_its_line(capsys, tmp_path):
+    # before: "malformed feature map (ValueError: setting an array element with a sequence. ... inhomogeneous ...)"
+    folder = _write_drone(tmp_path / "drone")
+    (folder / "features.json").write_text('{"symlearn": "feature-map", "format_version": 1, "names": ["x"],\n'
+                                          ' "table": [[0], [1], [2, 5]]}\n')
+    with open(folder / "domain.toml", "a") as toml:
+        toml.write('features = "features.json"\n')
+    code, out, err = run(capsys, "domain", "check", folder)
+    assert code == 2 and "inhomogeneous" not in err
+    assert err.startswith(f"symlearn: error: {folder / 'features.json'}:2:22: table[2]: 2 values for 1 feature names"), err
