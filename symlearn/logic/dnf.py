@@ -759,25 +759,33 @@ def from_json(text: str | Mapping, *, source: str | None = None) -> DNF:
     """Read the JSON form (see :meth:`DNF.to_json`); mistakes name the member."""
     from symlearn.json_document import read_document
 
+    from symlearn.json_position import locate
+
     doc = read_document(text, MAGIC, FORMAT_VERSION, source=source)
+
+    def at(*path) -> dict:
+        """The line and column of ``path`` in the file's text, so a member's mistake reads FILE:LINE:COL."""
+        found = locate(text, path) if isinstance(text, str) else None
+        return {"file": source, "line": found[0], "column": found[1]} if found else {"file": source}
+
     conjunctions = doc.get("conjunctions")
     if not isinstance(conjunctions, list):
-        raise DataError('"conjunctions" must be a list of lists of [feature, op, value]', file=source)
+        raise DataError('"conjunctions" must be a list of lists of [feature, op, value]', **at("conjunctions"))
     out = []
     for i, conj in enumerate(conjunctions):
         if not isinstance(conj, list):
-            raise DataError(f"conjunctions[{i}] must be a list of [feature, op, value]", file=source)
+            raise DataError(f"conjunctions[{i}] must be a list of [feature, op, value]", **at("conjunctions", i))
         atoms = []
         for j, atom in enumerate(conj):
             where = f"conjunctions[{i}][{j}]"
             if not isinstance(atom, list) or len(atom) != 3:
-                raise DataError(f"{where} must be [feature, op, value], not {atom!r}", file=source)
+                raise DataError(f"{where} must be [feature, op, value], not {atom!r}", **at("conjunctions", i, j))
             if not isinstance(atom[0], str) or not isinstance(atom[1], str):
-                raise DataError(f"{where}: feature and op must be strings", file=source)
+                raise DataError(f"{where}: feature and op must be strings", **at("conjunctions", i, j))
             try:
                 atoms.append(Atom(*atom))
             except DataError as exc:
-                raise DataError(f"{where}: {exc.message}", file=source, hint=exc.hint) from None
+                raise DataError(f"{where}: {exc.message}", hint=exc.hint, **at("conjunctions", i, j)) from None
         out.append(Conjunction(tuple(atoms)))
     return DNF(tuple(out))
 

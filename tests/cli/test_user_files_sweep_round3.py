@@ -383,3 +383,12 @@ def test_a_ragged_feature_map_row_is_named_at_its_line(capsys, tmp_path):
     code, out, err = run(capsys, "domain", "check", folder)
     assert code == 2 and "inhomogeneous" not in err
     assert err.startswith(f"symlearn: error: {folder / 'features.json'}:2:22: table[2]: 2 values for 1 feature names"), err
+
+
+def test_a_dnf_json_files_mistake_is_at_its_line_and_column(capsys, tmp_path):
+    # before: "rules.json: conjunctions[1][0]: unknown comparison '=<'" without a line and column
+    path = tmp_path / "rules.json"
+    path.write_text('{"symlearn": "dnf", "format_version": 1,\n'
+                    ' "conjunctions": [[["speed", ">", 1.5]], [["x_0", "=<", 0]]]}\n')
+    code, out, err = run(capsys, "dnf", "show", path)
+    assert code == 2 and err.startswith(f"symlearn: error: {path}:2:43: conjunctions[1][0]: unknown comparison"), err
