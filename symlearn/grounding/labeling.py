@@ -189,8 +189,8 @@ def _read_table_document(doc: Mapping[str, Any], source: str) -> tuple[list, lis
     shape checked with its JSON path (located in the file by :func:`load_labeling_text`)."""
     for key in ("propositions", "table"):
         if not isinstance(doc.get(key), list):
-            raise JsonPathError(f"expected a list, got {_json_kind(doc.get(key))}" if key in doc else f"missing key {key!r}",
-                                path=(key,) if key in doc else (), file=source, hint=_SHAPE)
+            what = f"expected a list, got {_json_kind(doc.get(key))}" if key in doc else f"missing key {key!r}"
+            raise JsonPathError(what, path=(key,) if key in doc else (), file=source, hint=_SHAPE)
     props = []
     for i, p in enumerate(doc["propositions"]):
         if not isinstance(p, Mapping) or "name" not in p:
@@ -229,6 +229,7 @@ def _check_file_table(props: list[tuple[Any, Any]], entries: list[tuple[Hashable
     for i, (state, names) in enumerate(entries):
         try:
             key = _hashable(state)
+            hash(key)  # an object ({"a": 1}) is no state: it could not be looked up
         except TypeError:
             raise JsonPathError(f"state {json.dumps(state)} cannot be used as a state", path=("table", i),
                                 file=source) from None

@@ -392,3 +392,12 @@ def test_a_dnf_json_files_mistake_is_at_its_line_and_column(capsys, tmp_path):
                     ' "conjunctions": [[["speed", ">", 1.5]], [["x_0", "=<", 0]]]}\n')
     code, out, err = run(capsys, "dnf", "show", path)
     assert code == 2 and err.startswith(f"symlearn: error: {path}:2:43: conjunctions[1][0]: unknown comparison"), err
+
+
+def test_a_labeling_state_that_is_an_object_is_named_at_its_line(capsys, tmp_path):
+    folder = _write_drone(tmp_path / "drone")
+    path = tmp_path / "labels.json"
+    path.write_text(_labeling('[{"name": "hovering"}]', '[[{"cell": 0}, ["hovering"]]]'))
+    code, out, err = run(capsys, "learn", "spec", "--domain", folder, "--demos", _demos(tmp_path / "d.jsonl"),
+                         "--labeling", path)
+    assert code == 2 and err.startswith(f"symlearn: error: {path}:3:12: table[0]: state"), err
