@@ -70,6 +70,7 @@ class ClusterRecord:
     dropped_initial: int  # of those, holding an initial state
     noise_weight: float  # frames in no cluster
     seconds: float
+    eps_source: str = "given"  # or how the default was found: "dwelling noise", "half the travel step"
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -101,17 +102,67 @@ def collapse(projected: np.ndarray, initial: np.ndarray, cell: float) -> Collaps
     return CollapsedFrames(sums / weights[:, None], weights, sums, has_initial)
 
 
-def default_eps(runs: Sequence[np.ndarray]) -> float:
-    """``max(0.02 * bounding-box diagonal, 4 * lower-quartile consecutive step)`` of projected runs."""
+def otsu_split(values: np.ndarray) -> float | None:
+    """The threshold between the two modes of positive ``values``: Otsu's split (the largest
+    between-group variance) of their logarithms, zeros counted in the lower group; None when
+    fewer than two distinct values. (The reward-machine learner separates still from moving
+    frames the same way, :mod:`symlearn.learners.reward_machines.prototypes`.)"""
+    v = np.sort(np.asarray(values, dtype=np.float64))
+    positive = v[v > 0]
+    if len(v) < 2 or not len(positive) or v[0] == v[-1]:
+        return None
+    logs = np.log(np.maximum(v, positive[0] / 10))
+    n = len(logs)
+    left = np.cumsum(logs)[:-1]
+    counts = np.arange(1, n)
+    between = counts * (n - counts) * (left / counts - (logs.sum() - left) / (n - counts)) ** 2
+    between[logs[:-1] == logs[1:]] = -1  # a split falls between two different values
+    k = int(np.argmax(between))
+    return float(np.exp((logs[k] + logs[k + 1]) / 2))
+
+
+def travel_step(steps: np.ndarray) -> float | None:
+    """The median of the upper mode of consecutive-frame ``steps`` (:func:`otsu_split`): the
+    step of a demonstration in motion. None when the steps do not split."""
+    threshold = otsu_split(steps)
+    if threshold is None:
+        return None
+    moving = steps[steps > threshold]
+    return float(np.median(moving)) if len(moving) else None
+
+
+@dataclass(frozen=True)
+class EpsChoice:
+    """How the default ``eps`` of a subset was found (:func:`derive_eps`)."""
+
+    eps: float
+    source: str  # "dwelling noise" or "half the travel step"
+    noise_eps: float  # max(0.02 * diagonal, 4 * lower-quartile step)
+    travel_step: float | None  # median step in motion (None: the steps do not split in two modes)
+
+
+def derive_eps(runs: Sequence[np.ndarray]) -> EpsChoice:
+    """The default ``eps`` of projected ``runs`` (see the module docstring): ``max(0.02 *
+    bounding-box diagonal, 4 * lower-quartile consecutive step)``, at most half the travel step."""
     observed = [r[~np.isnan(r).any(axis=1)] for r in runs]
     stacked = np.concatenate([r for r in observed if len(r)]) if any(len(r) for r in observed) else None
     if stacked is None:
-        return 1.0
+        return EpsChoice(1.0, "no frames", 1.0, None)
     diagonal = float(np.linalg.norm(stacked.max(axis=0) - stacked.min(axis=0)))
     steps = [np.linalg.norm(np.diff(r, axis=0), axis=1) for r in observed if len(r) > 1]
-    step = float(np.quantile(np.concatenate(steps), 0.25)) if steps else 0.0
-    eps = max(0.02 * diagonal, 4 * step)
-    return eps if eps > 0 else 1e-6
+    all_steps = np.concatenate(steps) if steps else np.zeros(0)
+    step = float(np.quantile(all_steps, 0.25)) if len(all_steps) else 0.0
+    noise_eps = max(0.02 * diagonal, 4 * step)
+    noise_eps = noise_eps if noise_eps > 0 else 1e-6
+    travel = travel_step(all_steps)
+    if travel is not None and travel / 2 < noise_eps:
+        return EpsChoice(travel / 2, "half the travel step", noise_eps, travel)
+    return EpsChoice(noise_eps, "dwelling noise", noise_eps, travel)
+
+
+def default_eps(runs: Sequence[np.ndarray]) -> float:
+    """The default ``eps`` of projected runs (:func:`derive_eps`)."""
+    return derive_eps(runs).eps
 
 
 #: beyond this, squared Euclidean distances between frames overflow float64 (about 1.8e308)
@@ -150,7 +201,11 @@ def find_subgoals(frames: Sequence[np.ndarray], subsets: Sequence[FeatureSubset]
         started = time.perf_counter()
         runs = [f[:, subset.features] for f in frames]
         _check_magnitude(runs, subset.name)
-        subset_eps = float(eps) if eps is not None else default_eps(runs)
+        if eps is not None:
+            subset_eps, eps_source = float(eps), "given"
+        else:
+            choice = derive_eps(runs)
+            subset_eps, eps_source = choice.eps, choice.source
         subset_min = float(min_samples) if min_samples is not None else default_min_samples(len(frames))
         observed = [~np.isnan(r).any(axis=1) for r in runs]
         projected = np.concatenate([r[m] for r, m in zip(runs, observed)])
@@ -159,7 +214,7 @@ def find_subgoals(frames: Sequence[np.ndarray], subsets: Sequence[FeatureSubset]
         if len(projected) == 0:
             never_observed.append(subset.name)
             records.append(ClusterRecord(subset.name, 0, 0, subset_eps, subset_min, 0, 0, 0.0,
-                                         time.perf_counter() - started))
+                                         time.perf_counter() - started, eps_source))
             continue
         cell = cell_fraction * subset_eps / math.sqrt(len(subset.features))
         collapsed = collapse(projected, initial, cell)
@@ -180,7 +235,8 @@ def find_subgoals(frames: Sequence[np.ndarray], subsets: Sequence[FeatureSubset]
             goals.append(SubGoal(f"{subset.name}_{k}", subset.name, subset.features, centre, radius))
         records.append(ClusterRecord(subset.name, int(len(projected)), int(len(collapsed.weights)), subset_eps,
                                      subset_min, int(labels.max() + 1) if len(labels) else 0, dropped,
-                                     float(collapsed.weights[labels < 0].sum()), time.perf_counter() - started))
+                                     float(collapsed.weights[labels < 0].sum()), time.perf_counter() - started,
+                                     eps_source))
     if not goals:
         if len(never_observed) == len(subsets):
             raise DataError("every frame is unobserved (NaN) on every feature subset: nothing to cluster",
