@@ -20,10 +20,24 @@ the raw frames (the cells keep coordinate sums), so collapsing does not move the
 **Defaults from the data** (per subset, overridable):
 
 * ``eps``: ``max(0.02 * diagonal of the projections' bounding box, 4 * lower-quartile step)``,
-  the step being the distance between consecutive observed frames of a demonstration. Where a
-  demonstrator dwells for at least a quarter of the frames, the lower quartile of the steps is
-  detection noise; the median is not, when more than half the frames are in motion (a drone
-  flying between places), and then an ``eps`` from it chains the places together;
+  the step being the distance between consecutive observed frames of a demonstration, and at
+  most **half the travel step**. Where a demonstrator dwells for at least a quarter of the
+  frames, the lower quartile of the steps is detection noise; the median is not, when more than
+  half the frames are in motion (a drone flying between places), and then an ``eps`` from it
+  chains the places together. But a demonstrator fast against its noise (a cook walking 0.3 per
+  step, dwelling with noise 0.05) gets an ``eps`` from the noise alone (0.45) that spans more
+  than one walking step: a pass then puts about ``2 * eps / step`` frames in a neighbourhood, not
+  one (``min_samples`` below assumes one), and the busy paths join the places and the start into
+  one cluster. So the steps are split in two modes, dwelling and travelling (Otsu's threshold
+  on their logarithms, :func:`otsu_split`; the reward-machine learner tells still from moving
+  frames the same way), and ``eps`` is capped at half the *travel step*, the lower quartile of
+  the upper mode (:func:`travel_step`): the slower passes (accelerating near a place, a slower
+  demonstrator) leave about one frame in a neighbourhood too; half the median travel step left
+  two and more from the slow third of a tracker whose demonstrators moved 8 to 40 pixels per step,
+  and an extra sub-goal. A demonstrator that travels in long steps against its noise (the block
+  world, the guide's robot) keeps the ``eps`` from the noise; ``ClusterRecord.eps_source`` says
+  which bound was used. ``benchmarks/subgoal_defaults.py`` compares this rule with others on every
+  data set the benchmarks, the demo, the tests and the guide use, and on fresh demonstrators;
 * ``min_samples`` (a weight, in frames): ``max(3, ceil(1.5 * number of demonstrations))``. A
   sub-goal is a place where demonstrations dwell: on average more than one frame per
   demonstration (every demonstration dwelling two frames, or half of them four). A place a
@@ -102,33 +116,45 @@ def collapse(projected: np.ndarray, initial: np.ndarray, cell: float) -> Collaps
     return CollapsedFrames(sums / weights[:, None], weights, sums, has_initial)
 
 
+#: bins of the log-step histogram that :func:`otsu_split` splits (a fraction of a percent of the
+#: log range per bin; an exact split of a million sorted steps costs more than the clustering)
+OTSU_BINS = 512
+
+
 def otsu_split(values: np.ndarray) -> float | None:
-    """The threshold between the two modes of positive ``values``: Otsu's split (the largest
-    between-group variance) of their logarithms, zeros counted in the lower group; None when
-    fewer than two distinct values. (The reward-machine learner separates still from moving
-    frames the same way, :mod:`symlearn.learners.reward_machines.prototypes`.)"""
-    v = np.sort(np.asarray(values, dtype=np.float64))
+    """The threshold between the two modes of non-negative ``values``: Otsu's split (the largest
+    between-group variance) of the histogram of their logarithms (:data:`OTSU_BINS` bins), zeros
+    counted in the lowest bin; None when there are fewer than two distinct values. (The
+    reward-machine learner separates still from moving frames by Otsu's split of the log steps too,
+    :mod:`symlearn.learners.reward_machines.prototypes`.)"""
+    v = np.asarray(values, dtype=np.float64)
     positive = v[v > 0]
-    if len(v) < 2 or not len(positive) or v[0] == v[-1]:
+    if len(v) < 2 or not len(positive) or v.min() == v.max():
         return None
-    logs = np.log(np.maximum(v, positive[0] / 10))
-    n = len(logs)
-    left = np.cumsum(logs)[:-1]
-    counts = np.arange(1, n)
-    between = counts * (n - counts) * (left / counts - (logs.sum() - left) / (n - counts)) ** 2
-    between[logs[:-1] == logs[1:]] = -1  # a split falls between two different values
+    logs = np.log(np.maximum(v, positive.min() / 10))
+    counts, edges = np.histogram(logs, bins=OTSU_BINS)
+    centres = (edges[:-1] + edges[1:]) / 2
+    n_left = np.cumsum(counts)[:-1].astype(np.float64)
+    sum_left = np.cumsum(counts * centres)[:-1]
+    n, total = float(counts.sum()), float((counts * centres).sum())
+    with np.errstate(divide="ignore", invalid="ignore"):
+        between = n_left * (n - n_left) * (sum_left / n_left - (total - sum_left) / (n - n_left)) ** 2
+    between[(n_left == 0) | (n_left == n)] = -1  # both groups non-empty
     k = int(np.argmax(between))
-    return float(np.exp((logs[k] + logs[k + 1]) / 2))
+    return float(np.exp(edges[k + 1]))
 
 
 def travel_step(steps: np.ndarray) -> float | None:
-    """The median of the upper mode of consecutive-frame ``steps`` (:func:`otsu_split`): the
-    step of a demonstration in motion. None when the steps do not split."""
+    """The step of a demonstration in motion: the lower quartile of the upper mode of
+    consecutive-frame ``steps`` (:func:`otsu_split`). The lower quartile, not the median: passes
+    slower than the typical one (a demonstrator accelerating near a place, a slower demonstrator)
+    leave more frames in a neighbourhood, and they too should leave about one. None when the steps
+    do not split."""
     threshold = otsu_split(steps)
     if threshold is None:
         return None
     moving = steps[steps > threshold]
-    return float(np.median(moving)) if len(moving) else None
+    return float(np.quantile(moving, 0.25)) if len(moving) else None
 
 
 @dataclass(frozen=True)
@@ -138,7 +164,7 @@ class EpsChoice:
     eps: float
     source: str  # "dwelling noise" or "half the travel step"
     noise_eps: float  # max(0.02 * diagonal, 4 * lower-quartile step)
-    travel_step: float | None  # median step in motion (None: the steps do not split in two modes)
+    travel_step: float | None  # lower-quartile step in motion (None: the steps do not split in two modes)
 
 
 def derive_eps(runs: Sequence[np.ndarray]) -> EpsChoice:
