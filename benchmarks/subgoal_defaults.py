@@ -1,6 +1,6 @@
 """The sub-goal learner's default eps on every data set that exercises it, and on fresh ones.
 
-    python benchmarks/subgoal_defaults.py [--rules previous,library] [--only NAME,...]
+    python benchmarks/subgoal_defaults.py [--rules previous,library,...] [--only NAME,...] [--seeds 1,2,3]
         [--json benchmarks/results/subgoal_defaults.json]
 
 Each data set is learned with ``SubgoalPDFALearner`` at its defaults (only ``subsets`` given,
@@ -16,9 +16,9 @@ order of visits (where the generator tells it) and the warnings.
 Rules: ``previous`` (``max(0.02 * bounding-box diagonal, 4 * lower-quartile step)``),
 ``gap-cap-q25`` (previous, at most half the lower quartile of the travel steps -- the steps above
 Otsu's split of the log steps --: the library's default since this comparison), ``gap-cap``
-(previous, at most half the median travel step), ``gap-only`` (half the median travel step), ``q75-cap`` (previous, at most half the upper-quartile
-step) and ``stability`` (the largest eps of a grid halving from the previous one whose sub-goal
-count the next smaller eps keeps).
+(previous, at most half the median travel step), ``gap-only`` (half the median travel step),
+``q75-cap`` (previous, at most half the upper-quartile step) and ``stability`` (the largest eps
+of a grid halving from the previous one whose sub-goal count the next smaller eps keeps).
 
 Data sets (the first group is what the benchmarks, the demo, the tests and the guide run; the
 second was written for this comparison and tuned on by nobody):
@@ -106,16 +106,18 @@ def drone_set(name="drone", seed=0, **demonstrator):
     from symlearn.envs import drone
 
     runs, orders = drone.DroneDemonstrator(seed=seed, **demonstrator).demonstrations(20)
-    return DataSet(name, runs, ["x", "y", "z"], None, {}, 0.3, orders=[tuple(drone.NAMES[j] for j in o) for o in orders], truth_set=drone.truth_subgoals(),
-                   truth_pdfa=drone.truth_pdfa().dfa, preferred=drone.preferred())
+    return DataSet(name, runs, ["x", "y", "z"], None, {}, 0.3, truth_set=drone.truth_subgoals(),
+                   truth_pdfa=drone.truth_pdfa().dfa, preferred=drone.preferred(),
+                   orders=[tuple(drone.NAMES[j] for j in o) for o in orders])
 
 
 def reacher_set():
     from symlearn.envs import reacher_subgoals as reacher
 
     runs, orders = reacher.ReacherDemonstrator(seed=0).demonstrations(12)
-    return DataSet("reacher", runs, ["x", "y"], None, {}, 0.02, orders=[tuple(reacher.NAMES[j] for j in o) for o in orders], truth_set=reacher.truth_subgoals(),
-                   truth_pdfa=reacher.truth_pdfa().dfa, preferred=["px", "py", "nx", "ny"])
+    return DataSet("reacher", runs, ["x", "y"], None, {}, 0.02, truth_set=reacher.truth_subgoals(),
+                   truth_pdfa=reacher.truth_pdfa().dfa, preferred=["px", "py", "nx", "ny"],
+                   orders=[tuple(reacher.NAMES[j] for j in o) for o in orders])
 
 
 def guide_tour_set(n=20):
@@ -130,8 +132,8 @@ def guide_tour_set(n=20):
     tours = record(env, guide_robot.tour_expert(env, prefer_charger=0.8), n, seed=0)
     runs = [np.asarray(t.states, dtype=float) for t in tours]
     centres = [tuple(guide_robot.CHARGER), tuple(guide_robot.DOCK)]
-    return DataSet("guide-tour" if n == 20 else f"guide-tour-{n}", runs, ["x", "y"], "robot=0,1", {"robot": centres}, 0.05,
-                   preferred=[("robot", 0), ("robot", 1)])
+    return DataSet("guide-tour" if n == 20 else f"guide-tour-{n}", runs, ["x", "y"], "robot=0,1",
+                   {"robot": centres}, 0.05, preferred=[("robot", 0), ("robot", 1)])
 
 
 def cook_sets(seed: int = 0):
@@ -327,7 +329,8 @@ def rule_stability(runs):
     return start
 
 
-RULES = {"stability": rule_stability, "previous": rule_previous, "gap-cap": rule_gap_cap, "gap-cap-q25": rule_gap_cap_q25, "gap-only": rule_gap_only, "q75-cap": rule_quartile_cap}
+RULES = {"previous": rule_previous, "gap-cap": rule_gap_cap, "gap-cap-q25": rule_gap_cap_q25, "gap-only": rule_gap_only,
+         "q75-cap": rule_quartile_cap, "stability": rule_stability}
 
 
 # -------------------------------------------------------------------------------------- scoring
@@ -397,6 +400,8 @@ def main() -> int:
     parser.add_argument("--rules", default="library")
     parser.add_argument("--only", default="")
     parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--seeds", default="", help="also the cook and fresh data sets drawn with these seeds "
+                                                     "(e.g. 1,2,3; the tables use seed 0)")
     parser.add_argument("--json", default="benchmarks/results/subgoal_defaults.json")
     args = parser.parse_args()
     rules = args.rules.split(",")
@@ -415,10 +420,25 @@ def main() -> int:
             else:
                 eps = ", ".join(f"{v:.3g}" for v in row["eps"].values())
                 err = f"{row['max_centre_error']:.3g}" if row["max_centre_error"] is not None else "-"
+                words = "-" if row["words_right"] is None else f"{row['words_right']:.2f}"
                 print(f"{ds.name:22s} {rule:8s} eps {eps:30s} found {row['subgoals']:2d}/{row['truth']:2d} matched "
                       f"{row['matched']:2d} extra {row['extra']} err {err:7s} plan {row['plan_is_preferred']!s:5s} "
-                      f"lang {row['language_equivalent']!s:5s} shown {row['language_equals_shown']!s:5s} words {row['words_right'] if row['words_right'] is None else round(row['words_right'], 2)!s:4s} empty {row['empty_words']} warn {row['warnings']} "
+                      f"lang {row['language_equivalent']!s:5s} shown {row['language_equals_shown']!s:5s} words {words:4s} "
+                      f"empty {row['empty_words']} warn {row['warnings']} "
                       f"{row['seconds']:.2f}s", flush=True)
+    for seed in [int(x) for x in args.seeds.split(",") if x]:
+        for ds in cook_sets(seed) + fresh_sets(seed):
+            key = f"{ds.name}@seed{seed}"
+            result["sets"][key] = {}
+            for rule in rules:
+                row = evaluate(ds, None if rule == "library" else RULES[rule])
+                result["sets"][key][rule] = row
+                if "error" in row:
+                    print(f"{key:30s} {rule:11s} ERROR {row['error'][:90]}", flush=True)
+                    continue
+                eps = ", ".join(f"{v:.3g}" for v in row["eps"].values())
+                print(f"{key:30s} {rule:11s} eps {eps:28s} found {row['subgoals']}/{row['truth']} matched "
+                      f"{row['matched']} plan {row['plan_is_preferred']} words {row['words_right']}", flush=True)
     from symlearn.atomic import write_text
 
     write_text(args.json, json.dumps(result, indent=1) + "\n")
