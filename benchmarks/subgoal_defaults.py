@@ -51,10 +51,14 @@ import sys
 import time
 import warnings
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
-from symlearn.learners.subgoals import clustering
+REPO = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(REPO))  # this checkout's symlearn, and benchmarks.* beside it
+
+from symlearn.learners.subgoals import clustering  # noqa: E402
 
 # ----------------------------------------------------------------------------------- data sets
 
@@ -123,7 +127,7 @@ def reacher_set():
 def guide_tour_set(n=20):
     import gymnasium as gym
 
-    sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "docs", "guide"))
+    sys.path.insert(0, str(REPO / "docs" / "guide"))
     import guide_robot
 
     from symlearn.data import record
