@@ -38,7 +38,10 @@ second was written for this comparison and tuned on by nobody):
   15-30 frames, 30 demonstrations;
 * ``fresh-pixels``: a 2-D tracker in pixels (0..640), 6 stations, speed drawn per demonstration
   from 8 to 40 px per step, noise 1.5 px, dwelling 4-12 frames, 10 % missed detections (NaN),
-  60 demonstrations.
+  60 demonstrations;
+* ``fresh-mixnoise`` (written after the rule was chosen, to probe a suspected weakness): 3 places
+  whose dwelling noise differs tenfold and more (0.005, 0.1, 0.02), dwelling 15-30 frames, travel
+  0.6 per step, 40 demonstrations.
 """
 
 from __future__ import annotations
@@ -216,6 +219,29 @@ def fresh_sets(seed: int = 0):
                           lambda r, j: int(r.integers(4, 13)), (320, 0), 5.0, drop=0.1)
     out.append(DataSet("fresh-pixels", runs, ["u", "v"], None, {"all": [tuple(map(float, c)) for c in px]}, 10.0,
                        preferred=[("all", j) for j in (2, 0, 1, 4, 5, 3)], orders=_names(orders)))
+    # written after the rule was chosen, to probe a suspected weakness: places that differ tenfold
+    # and more in noise (0.005, 0.1, 0.02), long dwelling, few long travel steps (0.6): Otsu's
+    # split can fall between the noise levels instead of between dwelling and travelling
+    rng = np.random.default_rng(500 + seed)
+    places = [(0.0, 0.0), (3.0, 0.0), (1.5, 2.5)]
+    noise = {0: 0.005, 1: 0.1, 2: 0.02}
+    choices = [((0, 1, 2), 0.7), ((1, 0, 2), 0.3)]
+    runs, orders = [], []
+    for _ in range(40):
+        order = choices[rng.choice(2, p=[0.7, 0.3])][0]
+        pos = np.array([1.5, -1.5]) + rng.normal(0, 0.05, 2)
+        states = [pos.copy()]
+        for j in order:
+            goal = np.array(places[j])
+            while np.linalg.norm(goal - pos) > 0.6:
+                pos = pos + 0.6 * (goal - pos) / np.linalg.norm(goal - pos) + rng.normal(0, 0.01, 2)
+                states.append(pos.copy())
+            states += [goal + rng.normal(0, noise[j], 2) for _ in range(int(rng.integers(15, 30)))]
+            pos = states[-1].copy()
+        runs.append(np.array(states))
+        orders.append(order)
+    out.append(DataSet("fresh-mixnoise", runs, ["x", "y"], None, {"all": places}, 0.1,
+                       preferred=[("all", j) for j in (0, 1, 2)], orders=_names(orders)))
     return out
 
 

@@ -16,8 +16,9 @@
 
 JSON keys: ``subgoals`` (name -> centre, radius, subset, features), ``states`` (name, accepting,
 termination), ``edges`` (source, target, sub-goal, probability, count), ``words`` (each distinct
-word and its count), ``plan`` (sub-goal names), ``plan_probability``, ``clusters`` (per subset: frames,
-points, ``eps``, ``eps_source`` -- ``given``, ``dwelling noise`` or ``half the travel step`` --, ``min_samples``, ...),
+word and its count), ``plan`` (sub-goal names), ``plan_probability``, ``clusters`` (per subset:
+frames, points, ``eps`` and ``eps_source`` -- ``given``, ``dwelling noise`` or ``half the travel
+step`` --, ``min_samples``, clusters found and dropped),
 ``seconds``, ``timings``, ``warnings`` (a subset that clusters on a feature constant within every
 demonstration -- an episode's setting --, with the ``--subsets`` that leave it out). ``-o plan.json`` writes the PDFA's automaton JSON with ``subgoals``,
 ``plan`` and ``words`` added (``symlearn automaton show plan.json`` draws it); ``--dot`` writes

@@ -86,7 +86,7 @@ class ClusterRecord:
     dropped_initial: int  # of those, holding an initial state
     noise_weight: float  # frames in no cluster
     seconds: float
-    eps_source: str = "given"  # or how the default was found: "dwelling noise", "half the travel step"
+    eps_source: str = "given"  # or the default's bound: "dwelling noise", "half the travel step" ("no frames")
 
     def as_dict(self) -> dict:
         return asdict(self)
