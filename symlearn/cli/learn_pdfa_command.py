@@ -16,7 +16,9 @@
 
 JSON keys: ``subgoals`` (name -> centre, radius, subset, features), ``states`` (name, accepting,
 termination), ``edges`` (source, target, sub-goal, probability, count), ``words`` (each distinct
-word and its count), ``plan`` (sub-goal names), ``plan_probability``, ``clusters`` (per subset),
+word and its count), ``plan`` (sub-goal names), ``plan_probability``, ``clusters`` (per subset:
+frames, points, ``eps`` and ``eps_source`` -- ``given``, ``dwelling noise`` or ``half the travel
+step`` --, ``min_samples``, clusters found and dropped),
 ``seconds``, ``timings``, ``warnings`` (a subset that clusters on a feature constant within every
 demonstration -- an episode's setting --, with the ``--subsets`` that leave it out). ``-o plan.json`` writes the PDFA's automaton JSON with ``subgoals``,
 ``plan`` and ``words`` added (``symlearn automaton show plan.json`` draws it); ``--dot`` writes
@@ -47,7 +49,8 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--subsets", help="candidate feature subsets, e.g. 'red=0,1,2;blue=3,4,5' (default: all "
                                        "features as one subset; with --env: each block's xyz)")
     cmd.add_argument("--features", help="comma-separated names of the state vector's columns")
-    cmd.add_argument("--eps", type=float, help="DBSCAN radius (default: from the data, per subset)")
+    cmd.add_argument("--eps", type=float, help="DBSCAN radius (default: from the data, per subset: from the "
+                                                     "dwelling noise, at most half the travel step)")
     cmd.add_argument("--min-samples", type=float,
                      help="frames a sub-goal needs within eps (default: 1.5 x number of demonstrations)")
     cmd.add_argument("--method", choices=("dbscan", "hdbscan"), default="dbscan", help="clustering (dbscan)")

@@ -125,3 +125,35 @@ def test_thesis_probabilities_that_do_not_sum_to_one_are_not_written(capsys, tmp
     assert code == 2 and "could not be read back as a PDFA" in err and not (tmp_path / "p.json").exists()
     code, out, err = run(capsys, *args[:-2], "--json", "-o", tmp_path / "p.json")
     assert code == 0 and (tmp_path / "p.json").exists()
+
+
+def test_fast_walkers_at_the_defaults(capsys, tmp_path):
+    # a cook walking 0.3 per step between three stations, dwelling with noise 0.05 (the tours of
+    # benchmarks/fresh_domains.py); before: eps 0.45 from the dwelling noise chained the stations
+    # and the start, "no sub-goal found"
+    from symlearn.data import Demonstrations, Trajectory
+
+    rng = np.random.default_rng(2)
+    stations = np.array([(0.0, 0.0), (5.0, 0.0), (2.5, 4.0)])
+    tours = []
+    for k in range(40):
+        pos, states = np.array([2.5, -2.0]), []
+        for j in (0, 1, 2) if k % 4 else (1, 0, 2):
+            while np.linalg.norm(stations[j] - pos) > 0.3:
+                pos = pos + 0.3 * (stations[j] - pos) / np.linalg.norm(stations[j] - pos) + rng.normal(0, 0.05, 2)
+                states.append([*pos, float(j)])
+            states += [[*(stations[j] + rng.normal(0, 0.05, 2)), float(j)] for _ in range(int(rng.integers(6, 11)))]
+        tours.append(Trajectory(states=np.array(states)))
+    path = tmp_path / "tours.jsonl"
+    Demonstrations(tours).save(path)
+    code, out, err = run(capsys, "learn", "pdfa", "--demos", path, "--features", "x,y,station", "--subsets",
+                         "cook=0,1", "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    (clusters,) = doc["clusters"]
+    assert clusters["eps_source"] == "half the travel step" and clusters["eps"] < 0.16 and not doc["warnings"]
+    centres = [doc["subgoals"][name]["centre"] for name in doc["plan"]]
+    assert len(doc["subgoals"]) == 3 and np.allclose(centres, stations, atol=0.1)  # fridge, stove, table
+    code, out, err = run(capsys, "learn", "pdfa", "--demos", path, "--features", "x,y,station", "--subsets",
+                         "cook=0,1", "--eps", "0.45", "--json")
+    assert code == 2 and "no sub-goal found" in err  # an explicit --eps is used as given

@@ -22,10 +22,26 @@ the raw frames (the cells keep coordinate sums), so collapsing does not move the
 **Defaults from the data** (per subset, overridable):
 
 * ``eps``: ``max(0.02 * diagonal of the projections' bounding box, 4 * lower-quartile step)``,
-  the step being the distance between consecutive observed frames of a demonstration. Where a
-  demonstrator dwells for at least a quarter of the frames, the lower quartile of the steps is
-  detection noise; the median is not, when more than half the frames are in motion (a drone
-  flying between places), and then an ``eps`` from it chains the places together;
+  the step being the distance between consecutive observed frames of a demonstration, and at
+  most **half the travel step**. Where a demonstrator dwells for at least a quarter of the
+  frames, the lower quartile of the steps is detection noise; the median is not, when more than
+  half the frames are in motion (a drone flying between places), and then an ``eps`` from it
+  chains the places together. But a demonstrator fast against its noise (a cook walking 0.3 per
+  step, dwelling with noise 0.05) gets an ``eps`` from the noise alone (0.45) that spans more
+  than one walking step: a pass then puts about ``2 * eps / step`` frames in a neighbourhood, not
+  one (``min_samples`` below assumes one), and the busy paths join the places and the start into
+  one cluster. So the steps are split in two modes, dwelling and travelling (Otsu's threshold
+  on their logarithms, :func:`otsu_split`; the reward-machine learner tells still from moving
+  frames the same way), and ``eps`` is capped at half the *travel step*, the lower quartile of
+  the upper mode (:func:`travel_step`): the slower passes (accelerating near a place, a slower
+  demonstrator) leave about one frame in a neighbourhood too; half the median travel step left
+  two and more from the slow third of a tracker whose demonstrators moved 8 to 40 pixels per step,
+  and an extra sub-goal. A demonstrator that travels in long steps against its noise (the guide's
+  robot, 20 of the 21 block-world data sets of the benchmarks) keeps the ``eps`` from the noise;
+  the drone's and Reacher's are capped (0.288 -> 0.222, 0.0103 -> 0.0076) with the same sub-goals
+  and plans. ``ClusterRecord.eps_source`` says which bound was used.
+  ``benchmarks/subgoal_defaults.py`` compares this rule with others on every data set the
+  benchmarks, the demo, the tests and the guide use, and on fresh demonstrators;
 * ``min_samples`` (a weight, in frames): ``max(3, ceil(1.5 * number of demonstrations))``. A
   sub-goal is a place where demonstrations dwell: on average more than one frame per
   demonstration (every demonstration dwelling two frames, or half of them four). A place a
@@ -72,6 +88,7 @@ class ClusterRecord:
     dropped_initial: int  # of those, holding an initial state
     noise_weight: float  # frames in no cluster
     seconds: float
+    eps_source: str = "given"  # or the default's bound: "dwelling noise", "half the travel step" ("no frames")
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -117,17 +134,79 @@ def _start_place(members: np.ndarray, collapsed: CollapsedFrames, initial: np.nd
     return 2 * len(starting) >= len(visiting)
 
 
-def default_eps(runs: Sequence[np.ndarray]) -> float:
-    """``max(0.02 * bounding-box diagonal, 4 * lower-quartile consecutive step)`` of projected runs."""
+#: bins of the log-step histogram that :func:`otsu_split` splits (a fraction of a percent of the
+#: log range per bin; an exact split of a million sorted steps costs more than the clustering)
+OTSU_BINS = 512
+
+
+def otsu_split(values: np.ndarray) -> float | None:
+    """The threshold between the two modes of non-negative ``values``: Otsu's split (the largest
+    between-group variance) of the histogram of their logarithms (:data:`OTSU_BINS` bins), zeros
+    counted in the lowest bin; None when there are fewer than two distinct values. (The
+    reward-machine learner separates still from moving frames by Otsu's split of the log steps too,
+    :mod:`symlearn.learners.reward_machines.prototypes`.)"""
+    v = np.asarray(values, dtype=np.float64)
+    positive = v[v > 0]
+    if len(v) < 2 or not len(positive) or v.min() == v.max():
+        return None
+    logs = np.log(np.maximum(v, positive.min() / 10))
+    counts, edges = np.histogram(logs, bins=OTSU_BINS)
+    centres = (edges[:-1] + edges[1:]) / 2
+    n_left = np.cumsum(counts)[:-1].astype(np.float64)
+    sum_left = np.cumsum(counts * centres)[:-1]
+    n, total = float(counts.sum()), float((counts * centres).sum())
+    with np.errstate(divide="ignore", invalid="ignore"):
+        between = n_left * (n - n_left) * (sum_left / n_left - (total - sum_left) / (n - n_left)) ** 2
+    between[(n_left == 0) | (n_left == n)] = -1  # both groups non-empty
+    k = int(np.argmax(between))
+    return float(np.exp(edges[k + 1]))
+
+
+def travel_step(steps: np.ndarray) -> float | None:
+    """The step of a demonstration in motion: the lower quartile of the upper mode of
+    consecutive-frame ``steps`` (:func:`otsu_split`). The lower quartile, not the median: passes
+    slower than the typical one (a demonstrator accelerating near a place, a slower demonstrator)
+    leave more frames in a neighbourhood, and they too should leave about one. None when the steps
+    do not split."""
+    threshold = otsu_split(steps)
+    if threshold is None:
+        return None
+    moving = steps[steps > threshold]
+    return float(np.quantile(moving, 0.25)) if len(moving) else None
+
+
+@dataclass(frozen=True)
+class EpsChoice:
+    """How the default ``eps`` of a subset was found (:func:`derive_eps`)."""
+
+    eps: float
+    source: str  # "dwelling noise" or "half the travel step"
+    noise_eps: float  # max(0.02 * diagonal, 4 * lower-quartile step)
+    travel_step: float | None  # lower-quartile step in motion (None: the steps do not split in two modes)
+
+
+def derive_eps(runs: Sequence[np.ndarray]) -> EpsChoice:
+    """The default ``eps`` of projected ``runs`` (see the module docstring): ``max(0.02 *
+    bounding-box diagonal, 4 * lower-quartile consecutive step)``, at most half the travel step."""
     observed = [r[~np.isnan(r).any(axis=1)] for r in runs]
     stacked = np.concatenate([r for r in observed if len(r)]) if any(len(r) for r in observed) else None
     if stacked is None:
-        return 1.0
+        return EpsChoice(1.0, "no frames", 1.0, None)
     diagonal = float(np.linalg.norm(stacked.max(axis=0) - stacked.min(axis=0)))
     steps = [np.linalg.norm(np.diff(r, axis=0), axis=1) for r in observed if len(r) > 1]
-    step = float(np.quantile(np.concatenate(steps), 0.25)) if steps else 0.0
-    eps = max(0.02 * diagonal, 4 * step)
-    return eps if eps > 0 else 1e-6
+    all_steps = np.concatenate(steps) if steps else np.zeros(0)
+    step = float(np.quantile(all_steps, 0.25)) if len(all_steps) else 0.0
+    noise_eps = max(0.02 * diagonal, 4 * step)
+    noise_eps = noise_eps if noise_eps > 0 else 1e-6
+    travel = travel_step(all_steps)
+    if travel is not None and travel / 2 < noise_eps:
+        return EpsChoice(travel / 2, "half the travel step", noise_eps, travel)
+    return EpsChoice(noise_eps, "dwelling noise", noise_eps, travel)
+
+
+def default_eps(runs: Sequence[np.ndarray]) -> float:
+    """The default ``eps`` of projected runs (:func:`derive_eps`)."""
+    return derive_eps(runs).eps
 
 
 #: beyond this, squared Euclidean distances between frames overflow float64 (about 1.8e308)
@@ -166,7 +245,11 @@ def find_subgoals(frames: Sequence[np.ndarray], subsets: Sequence[FeatureSubset]
         started = time.perf_counter()
         runs = [f[:, subset.features] for f in frames]
         _check_magnitude(runs, subset.name)
-        subset_eps = float(eps) if eps is not None else default_eps(runs)
+        if eps is not None:
+            subset_eps, eps_source = float(eps), "given"
+        else:
+            choice = derive_eps(runs)
+            subset_eps, eps_source = choice.eps, choice.source
         subset_min = float(min_samples) if min_samples is not None else default_min_samples(len(frames))
         observed = [~np.isnan(r).any(axis=1) for r in runs]
         projected = np.concatenate([r[m] for r, m in zip(runs, observed)])
@@ -176,7 +259,7 @@ def find_subgoals(frames: Sequence[np.ndarray], subsets: Sequence[FeatureSubset]
         if len(projected) == 0:
             never_observed.append(subset.name)
             records.append(ClusterRecord(subset.name, 0, 0, subset_eps, subset_min, 0, 0, 0.0,
-                                         time.perf_counter() - started))
+                                         time.perf_counter() - started, eps_source))
             continue
         cell = cell_fraction * subset_eps / math.sqrt(len(subset.features))
         collapsed = collapse(projected, initial, cell)
@@ -197,7 +280,8 @@ def find_subgoals(frames: Sequence[np.ndarray], subsets: Sequence[FeatureSubset]
             goals.append(SubGoal(f"{subset.name}_{k}", subset.name, subset.features, centre, radius))
         records.append(ClusterRecord(subset.name, int(len(projected)), int(len(collapsed.weights)), subset_eps,
                                      subset_min, int(labels.max() + 1) if len(labels) else 0, dropped,
-                                     float(collapsed.weights[labels < 0].sum()), time.perf_counter() - started))
+                                     float(collapsed.weights[labels < 0].sum()), time.perf_counter() - started,
+                                     eps_source))
     if not goals:
         if len(never_observed) == len(subsets):
             raise DataError("every frame is unobserved (NaN) on every feature subset: nothing to cluster",

@@ -5,7 +5,7 @@ import pytest
 
 from symlearn.envs.block_world import Demonstrator, place_task
 from symlearn.errors import DataError
-from symlearn.learners.subgoals.clustering import collapse, find_subgoals
+from symlearn.learners.subgoals.clustering import collapse, derive_eps, find_subgoals, otsu_split, travel_step
 from symlearn.learners.subgoals.subsets import feature_subsets
 
 
@@ -35,6 +35,57 @@ def test_block_world_subgoals_are_the_targets_within_a_centimetre(place3):
     assert len(goals) == len(truth) == len(mapping)  # one sub-goal per target, none extra
     for record in records:  # the tray position of every block was a cluster, dropped as initial
         assert record.dropped_initial == 1 and record.points < record.frames / 3  # dwelling frames collapsed
+
+
+def test_dwelling_demonstrators_keep_the_eps_from_their_noise(place3):
+    # the block world's blocks sit still for most frames and are carried in a few long steps: the
+    # default is the one from the dwelling noise, as before the cap at half the travel step
+    task, runs = place3
+    _, records = find_subgoals(runs, feature_subsets(task.subsets(), task.feature_names()))
+    for record, columns in zip(records, ([0, 1, 2], [3, 4, 5], [6, 7, 8])):
+        projected = [r[:, columns] for r in runs]
+        observed = [p[~np.isnan(p).any(axis=1)] for p in projected]
+        stacked = np.concatenate(observed)
+        steps = np.concatenate([np.linalg.norm(np.diff(p, axis=0), axis=1) for p in observed])
+        noise_eps = max(0.02 * np.linalg.norm(stacked.max(axis=0) - stacked.min(axis=0)), 4 * np.quantile(steps, 0.25))
+        assert record.eps_source == "dwelling noise" and record.eps == pytest.approx(noise_eps)
+        assert derive_eps(projected).travel_step > 2 * record.eps
+
+
+def test_travel_step_is_the_upper_mode_of_the_steps():
+    rng = np.random.default_rng(0)
+    dwell, walk = rng.rayleigh(0.03, 500), 0.3 + rng.normal(0, 0.02, 300)
+    # the lower quartile of the walking steps
+    assert travel_step(np.concatenate([dwell, walk])) == pytest.approx(np.quantile(walk, 0.25), abs=0.01)
+    assert travel_step(np.array([0.0] * 40 + [1.0] * 10)) == 1.0  # exactly still frames: zero steps
+    assert otsu_split(np.full(10, 0.2)) is None and otsu_split(np.zeros(10)) is None and travel_step(np.zeros(0)) is None
+
+
+def _tours(n, speed, noise, rng):
+    """Tours of three places (each in one of two orders) walking ``speed`` per step with ``noise``,
+    dwelling 6-12 frames at each place."""
+    places = np.array([(0.0, 0.0), (1.0, 0.0), (0.5, 0.8)])
+    runs = []
+    for k in range(n):
+        pos, states = np.array([0.5, -0.6]), []
+        for j in (0, 1, 2) if k % 3 else (1, 0, 2):
+            while np.linalg.norm(places[j] - pos) > speed:
+                pos = pos + speed * (places[j] - pos) / np.linalg.norm(places[j] - pos) + rng.normal(0, noise, 2)
+                states.append(pos)
+            states += [places[j] + rng.normal(0, noise, 2) for _ in range(int(rng.integers(6, 13)))]
+        runs.append(np.array(states))
+    return places, runs
+
+
+@pytest.mark.parametrize("speed, noise", [(0.08, 0.012), (0.02, 0.006)])
+def test_places_of_demonstrators_fast_or_slow_against_their_noise(speed, noise):
+    # before: eps from the dwelling noise (4 x the lower-quartile step) was more than half a step,
+    # and the passing frames chained the start and the places into one cluster: no sub-goal
+    places, runs = _tours(30, speed, noise, np.random.default_rng(1))
+    goals, (record,) = find_subgoals(runs, feature_subsets(None, ("x", "y")))
+    assert len(goals) == 3 and record.eps_source == "half the travel step" and record.eps < speed / 2 + 0.01
+    for goal in goals:
+        assert min(np.linalg.norm(np.subtract(goal.centre, p)) for p in places) < 3 * noise
 
 
 def test_nan_frames_are_unknown_not_errors(place3):

@@ -80,14 +80,32 @@ def _walking_tours(n, rng):
 
 
 def test_places_joined_by_walking_frames_are_said_so():
-    # before: no sub-goal found with the hint to lower min_samples or raise eps (the wrong way), and
-    # with a feature more, a sub-goal 3 wide reported without a word
+    # an eps above half a walking step (the default before it was capped at half the travel step:
+    # 0.45 here) chains the stations: "no sub-goal found" with the hint to lower eps, and with a
+    # feature more, a sub-goal 3 wide with a warning
     tours = _walking_tours(60, np.random.default_rng(0))
     with pytest.raises(DataError, match="every cluster held a demonstration's first frame") as info:
-        SubgoalPDFALearner(subsets="cook=0,1").fit(tours, ["x", "y"])
+        SubgoalPDFALearner(subsets="cook=0,1", eps=0.45).fit(tours, ["x", "y"])
     assert "lower eps (--eps) or raise min_samples" in info.value.hint
     hand = [np.column_stack([t, (np.arange(len(t)) > 20).astype(float)]) for t in tours]
     with pytest.warns(UserWarning, match=r"sub-goal all_0 has radius .* of the extent of its frames"):
-        SubgoalPDFALearner().fit(hand, ["x", "y", "hand"])
+        SubgoalPDFALearner(eps=0.45).fit(hand, ["x", "y", "hand"])
     found = SubgoalPDFALearner(subsets="cook=0,1", eps=0.2).fit(tours, ["x", "y"])
     assert len(found.subgoals_) == 3 and not found.warnings_
+
+
+def test_walking_tours_at_the_defaults_find_the_stations_and_the_plan():
+    # before: eps 0.45 from the dwelling noise (4 x the lower-quartile step) exceeded half a
+    # walking step; "no sub-goal found", and with the hand a sub-goal 3 wide
+    tours = _walking_tours(60, np.random.default_rng(0))
+    learner = SubgoalPDFALearner(subsets="cook=0,1").fit(tours, ["x", "y"])
+    stations = [(0.0, 0.0), (5.0, 0.0), (2.5, 4.0)]
+    assert len(learner.subgoals_) == 3 and not learner.warnings_
+    nearest = {g.name: int(np.argmin([np.linalg.norm(np.subtract(g.centre, s)) for s in stations]))
+               for g in learner.subgoals_}
+    assert all(np.linalg.norm(np.subtract(g.centre, stations[nearest[g.name]])) < 0.1 for g in learner.subgoals_)
+    assert [nearest[s] for s in learner.plan_] == [0, 1, 2]  # 70 % of the tours
+    (record,) = learner.history_
+    assert record.eps_source == "half the travel step" and record.eps < 0.16
+    hand = [np.column_stack([t, (np.arange(len(t)) > 20).astype(float)]) for t in tours]
+    assert not SubgoalPDFALearner().fit(hand, ["x", "y", "hand"]).warnings_
