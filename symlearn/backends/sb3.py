@@ -365,6 +365,20 @@ def _space(space: Any) -> dict[str, Any]:
     return description
 
 
+def _descriptions(space: Any) -> list[dict[str, Any]]:
+    """What :func:`save_policy` may have recorded for a model trained on ``space``: its own
+    description, and for a channels-last picture the channels-first one stable-baselines3 trains
+    on (it wraps such an environment in ``VecTransposeImage`` and the model keeps that space; a
+    loaded model wraps the environment the same way, so the policy acts on it as trained)."""
+    found = [_space(space)]
+    from stable_baselines3.common.preprocessing import is_image_space, is_image_space_channels_first
+    from stable_baselines3.common.vec_env import VecTransposeImage
+
+    if is_image_space(space) and not is_image_space_channels_first(space):
+        found.append(_space(VecTransposeImage.transpose_space(space)))
+    return found
+
+
 def save_policy(model: Any, path: Any, extra: dict[str, Any] | None = None) -> Any:
     """Write a stable-baselines3 model's policy as ``NAME.safetensors`` + ``NAME.json`` (weights and
     the settings to build it again; never SB3's pickled ``.zip``). Returns the weights path."""
@@ -398,7 +412,7 @@ def load_policy(path: Any, env: Any) -> Any:
         raise ModelError(f"not a policy this symlearn builds: {config.get('algorithm')!r} {config.get('policy')!r}",
                          file=str(path))
     for side, space in (("observation", env.observation_space), ("action", env.action_space)):
-        if config.get(side) != _space(space):
+        if config.get(side) not in _descriptions(space):
             raise ModelError(f"the policy was trained for {side}s {config.get(side)}, the environment's are "
                              f"{_space(space)}", file=str(path))
     kwargs: dict[str, Any] = {}

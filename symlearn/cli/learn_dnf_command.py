@@ -101,7 +101,7 @@ def _demonstrations(args: argparse.Namespace, note=None):
         demos = _states_as_ids(demos, domain, args.demos)
     if target is not None and args.demos and demos.state_kind == "vector" and features is not None \
             and not args.features:
-        _check_states_are_features(target, demos, args.demos)
+        _check_states_are_features(target, demos, args.demos, tuple(features))
     if target is not None and args.demos and demos.state_kind == "vector" and features is None:
         # the environment names nothing, so nothing counts the columns later (named ones are
         # counted against the file by the learner): its observation's width, one probe
@@ -136,7 +136,7 @@ def _check_width(target, demos, path) -> None:
                              "learned as they are)")
 
 
-def _check_states_are_features(target, demos, path) -> None:
+def _check_states_are_features(target, demos, path, order) -> None:
     """The environment's names are those of ``info["features"]`` where it reports them, but
     ``record()`` stores the observation: where the two differ and the file's first state is the
     observation, those names would be put on other numbers (a silent mislabelling, not an
@@ -156,12 +156,14 @@ def _check_states_are_features(target, demos, path) -> None:
         observation, info = env.reset(seed=int(seed) if isinstance(seed, int) else 0)
     finally:
         env.close()
-    pair = features_and_observation(info, observation)
+    # a dict's values in the order of the names the rules will use, not its own key order
+    pair = features_and_observation(info, observation, order)
     if pair is None:   # no features, or a Dict observation, text: nothing to compare
         return
     features, observed = pair
     raw = info["features"]
-    names = [str(k) for k in raw] if isinstance(raw, Mapping) else None
+    names = (list(order) if set(map(str, raw)) == set(order) else [str(k) for k in raw]) \
+        if isinstance(raw, Mapping) else None
     try:
         state = np.asarray(first.states[0], dtype=np.float64).reshape(-1)
     except (TypeError, ValueError):

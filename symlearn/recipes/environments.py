@@ -160,15 +160,20 @@ class CostWatch:
         return CostWatched(env)
 
 
-def features_and_observation(info: Any, observation: Any) -> tuple[Any, Any] | None:
+def features_and_observation(info: Any, observation: Any,
+                             names: Sequence[str] | None = None) -> tuple[Any, Any] | None:
     """``info["features"]`` (a dict of named numbers or a vector) and ``observation`` as flat
     float vectors, or None where there are no features or either is not numbers (a ``Dict``
-    observation, text): what tells whether an environment's features are its observation."""
+    observation, text): what tells whether an environment's features are its observation.
+    ``names``: the order to read a dict's values in (a dict's own key order may change from step
+    to step, and every cost reads it by name); keys other than ``names`` keep the dict's order."""
     import numpy as np
 
     raw = info.get("features") if isinstance(info, Mapping) else None
     if raw is None:
         return None
+    if isinstance(raw, Mapping) and names is not None and set(map(str, raw)) == set(names):
+        raw = {name: {str(k): v for k, v in raw.items()}[name] for name in names}
     try:
         values = np.asarray(list(raw.values()) if isinstance(raw, Mapping) else raw, dtype=np.float64).reshape(-1)
         return values, np.asarray(observation, dtype=np.float64).reshape(-1)
@@ -322,6 +327,11 @@ class EnvTarget:
             if in_info and isinstance(raw, Mapping):
                 names = tuple(str(k) for k in raw)
                 width = len(names)
+                declared = _declared_names(env, self.entry)
+                if declared is not None and sorted(declared) == sorted(names):
+                    # the same names in the order the environment declares (a dict's key order
+                    # is how it happened to be built, and may differ between steps)
+                    names = declared
             else:
                 width = _width(raw) if in_info else _feature_width(env)
                 names = None
@@ -369,7 +379,7 @@ class EnvTarget:
         # info["features"] names its own numbers: they name the observation's entries only where
         # they are the observation (features (pos, vel) of an observation (vel, pos) name neither)
         observation, info = env.reset(seed=0)
-        pair = features_and_observation(info, observation)
+        pair = features_and_observation(info, observation, found.names)
         return found.names if pair is not None and same_numbers(*pair) else None
 
     def reports_cost(self, env: Any = None, max_steps: int = 1000) -> bool:
