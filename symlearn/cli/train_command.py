@@ -395,17 +395,18 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
 
 def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
     """A Lagrangian's greedy agent that still pays more than its limit of what it was trained on
-    (the learned cost, else ``info["cost"]``) per episode, or a neural cost held to 0, which no
-    policy reaches: one warning, whatever the multiplier's units (SB3's rule has no threshold on it
+    (the learned cost, else ``info["cost"]``) per episode, a neural cost held to 0, which no
+    policy reaches, or (any algorithm) a neural cost that is 0 everywhere: one warning, whatever the multiplier's units (SB3's rule has no threshold on it
     that means anything); None otherwise."""
-    if not args.algo.endswith("-lag"):
-        return None
     if cost is not None and getattr(cost, "charges_nothing", False):
         # learn icrl ended with every lambda at 0 (issue 24, a fresh conveyor arm): the cost is 0
-        # everywhere, the agent was trained on the reward alone -- not a limit out of reach
+        # everywhere, the agent was trained on the reward alone -- not a limit out of reach; said
+        # for every algorithm (ppo and sb3-sac learn from r - C, which is then r)
         return ("this learned neural cost is 0 everywhere (every lambda in it is 0: `learn icrl` found nothing in "
                 "the demonstrations to charge), so it constrained nothing and the agent learned from the reward "
                 "alone; learn it again (another --seed, more --iterations or --steps) or use a DNF file")
+    if not args.algo.endswith("-lag"):
+        return None
     if cost is not None and cost.kind == "neural" and args.cost_limit == 0:
         # a sigmoid charges every state something: 0 is out of reach by design
         if cost.expert_level is not None:

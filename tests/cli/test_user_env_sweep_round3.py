@@ -281,3 +281,27 @@ def test_a_small_learned_cost_keeps_its_digits_next_to_its_limit():
     assert "learned cost 0.0027 per episode (limit 0.000224" in text, text
     doc.update(learned_cost=0.0, cost=3.5, violation_rate=0.25)
     assert "learned cost 0.00 per episode" in _render(doc) and "ground-truth cost 3.50" in _render(doc)
+
+
+@pytest.mark.parametrize("algo", ["ppo", "sb3-ppo"])
+def test_a_neural_cost_of_zero_everywhere_is_named_without_a_lagrangian_too(capsys, tmp_path, monkeypatch, algo):
+    """docs/GUIDE.md: a cost whose every lambda is 0 constrains nothing, "and so does ``train
+    --cost`` with that file" say so; only the Lagrangians did, ``--algo ppo`` (and ``sb3-ppo``,
+    ``sb3-sac``: ``r - C``) trained on the reward alone in silence."""
+    import torch
+
+    from symlearn.learners.neural import NeuralCost
+    from symlearn.learners.neural.feature_network import FeatureNetwork
+
+    _module(tmp_path, monkeypatch, "painter", PAINTER)
+    import painter  # noqa: F401
+
+    cost = NeuralCost.for_env(gymnasium.make("paint/Painter-v1"),
+                              FeatureNetwork([0], 0, 1, (8,), torch.Generator().manual_seed(0)))
+    cost.set_lambdas([0.0])
+    cost.save(tmp_path / "zero.safetensors")
+    code, out, err = run(capsys, "--json", "--quiet", "train", "--env", "painter:paint/Painter-v1", "--algo", algo,
+                         "--cost", "zero.safetensors", "--steps", 128, "--n-envs", 2, "--n-steps", 64,
+                         "--eval-episodes", 1)
+    assert code == 0, err
+    assert any("0 everywhere" in w and "constrained nothing" in w for w in json.loads(out)["warnings"]), out
