@@ -87,6 +87,19 @@ def _check_keys(kwargs: Mapping[str, Any], known: Sequence[str], open_ended: boo
                         + ("its parameters: " + ", ".join(known) if known else "it takes no parameters"))
 
 
+def _missing_hint(exc: BaseException, kwargs: Mapping[str, Any]) -> str | None:
+    """For a constructor that lacks required arguments (``__init__(self, size)`` built without
+    one), the ``--env-kwargs`` that gives them: Python names them in its message only."""
+    found = re.search(r"missing \d+ required (?:positional |keyword-only )?arguments?: (.+)$", str(exc))
+    if not isinstance(exc, TypeError) or found is None:
+        return None
+    names = re.findall(r"'([A-Za-z_][A-Za-z0-9_]*)'", found.group(1))
+    if not names:
+        return None
+    given = ", ".join(f'"{k}": ...' for k in [*kwargs, *names])
+    return f"give {' and '.join(names)} in --env-kwargs '{{{given}}}'"
+
+
 # --- features ----------------------------------------------------------------------------------
 
 
@@ -280,7 +293,7 @@ class EnvTarget:
         except (TypeError, ValueError) as exc:  # a value of the wrong type ("wall": "left")
             raise DataError(f"--env-kwargs does not fit {self.display}: {type(exc).__name__}: {exc}"
                             if self.kwargs else f"building {self.display} failed: {type(exc).__name__}: {exc}",
-                            hint="check the environment's parameters") from None
+                            hint=_missing_hint(exc, self.kwargs) or "check the environment's parameters") from None
         except ImportError as exc:
             missing = getattr(exc, "name", None) or str(exc)
             raise DataError(f"building {self.display} needs {missing}, which is not installed",

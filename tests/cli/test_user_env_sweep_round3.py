@@ -305,3 +305,69 @@ def test_a_neural_cost_of_zero_everywhere_is_named_without_a_lagrangian_too(caps
                          "--eval-episodes", 1)
     assert code == 0, err
     assert any("0 everywhere" in w and "constrained nothing" in w for w in json.loads(out)["warnings"]), out
+
+
+#: a grid whose size has no default: ``__init__(self, size)``, given by ``--env-kwargs``
+SIZED_GRID = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class SizedGrid(gym.Env):
+    def __init__(self, size, hazard=None):
+        self.size = size
+        self.observation_space = spaces.MultiDiscrete([size, size])
+        self.action_space = spaces.Discrete(4)
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.p, self.t = np.array([0, 0]), 0
+        return self.p.copy(), {}
+
+    def step(self, action):
+        self.p = np.clip(self.p + [(0, 1), (1, 0), (0, -1), (-1, 0)][int(action)], 0, self.size - 1)
+        self.t += 1
+        return self.p.copy(), 0.0, False, self.t >= 10, {}
+
+
+gym.register("SizedGrid-v0", entry_point=SizedGrid)
+'''
+
+
+def test_a_required_constructor_argument_is_named_with_the_flag_that_gives_it(capsys, tmp_path, monkeypatch):
+    """Before: "building ... failed: TypeError: ... missing 1 required positional argument: 'size'"
+    with the hint "check the environment's parameters"."""
+    _module(tmp_path, monkeypatch, "sized_grid", SIZED_GRID)
+    code, _, err = run(capsys, "data", "record", "--env", "sized_grid:SizedGrid-v0", "--policy", "random",
+                       "-o", "demos.npz")
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "give size in --env-kwargs '{\"size\": ...}'" in err, err
+    code, _, err = run(capsys, "data", "record", "--env", "sized_grid:SizedGrid-v0", "--env-kwargs", '{"size": 4}',
+                       "--policy", "random", "--episodes", 2, "-o", "demos.npz")
+    assert code == 0, err
+
+
+def test_dnf_eval_on_a_demonstrations_file_says_what_it_reads(capsys, tmp_path, monkeypatch):
+    """``dnf eval rules.dnf --points demos.npz``: "per-feature arrays must be 1-D: states (804, 3),
+    actions (800, 1), __meta__ ()" listed the file's members as if they were features."""
+    _module(tmp_path, monkeypatch, "painter", PAINTER)
+    code, _, err = run(capsys, "data", "record", "--env", "painter:paint/Painter-v1", "--policy", "random",
+                       "--episodes", 2, "-o", "demos.npz")
+    assert code == 0, err
+    (tmp_path / "rules.dnf").write_text("x0 > 7\n")
+    code, _, err = run(capsys, "dnf", "eval", "rules.dnf", "--points", "demos.npz")
+    assert code == 2 and "is a demonstrations file, not points" in err and "__meta__" not in err, err
+
+
+def test_a_neural_cost_on_a_dict_space_names_the_views_that_work():
+    """The hint said "flatten dict/tuple spaces with FlattenObservation", which one-hot encodes a
+    Discrete part that ``record()`` stores as one column: the demonstrations then no longer fit."""
+    from gymnasium import spaces
+
+    from symlearn.errors import DataError
+    from symlearn.learners.neural.neural_cost import space_spec
+
+    with pytest.raises(DataError) as caught:
+        space_spec(spaces.Dict({"cell": spaces.Discrete(3), "pos": spaces.Box(-1, 1, (2,))}))
+    assert "numeric_observations" in caught.value.hint and "FlattenObservation" not in caught.value.hint
