@@ -218,13 +218,22 @@ def _lagrangian_class() -> type:
             self._window_steps += len(self.locals["infos"])
             self._since += len(self.locals["infos"])
             if self._since >= self.update_every:
-                if not self._seen:   # decided from the steps of the first rollout, not from the first step
-                    raise NoCostReported(f"the environment reported no info[{self.cost_key!r}] in the first "
-                                         f"{self._since} steps", steps=self._since,
-                                         hint="report it on the steps that pay it (a step without it costs 0), "
-                                              "or wrap the environment with LagrangianReward over a cost")
+                self._check_seen()   # decided from the steps of the first rollout, not from the first step
                 self._update()
             return True
+
+        def _on_training_end(self) -> None:
+            # a run shorter than one update window (SAC's 1,000 steps) never reached the check
+            # above, and trained a Lagrangian with nothing to constrain in silence
+            if self._since:
+                self._check_seen()
+
+        def _check_seen(self) -> None:
+            if not self._seen:
+                raise NoCostReported(f"the environment reported no info[{self.cost_key!r}] in the first "
+                                     f"{self._since} steps", steps=self._since,
+                                     hint="report it on the steps that pay it (a step without it costs 0), "
+                                          "or wrap the environment with LagrangianReward over a cost")
 
         def _update(self) -> None:
             if self._ended:

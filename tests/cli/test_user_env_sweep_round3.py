@@ -371,3 +371,15 @@ def test_a_neural_cost_on_a_dict_space_names_the_views_that_work():
     with pytest.raises(DataError) as caught:
         space_spec(spaces.Dict({"cell": spaces.Discrete(3), "pos": spaces.Box(-1, 1, (2,))}))
     assert "numeric_observations" in caught.value.hint and "FlattenObservation" not in caught.value.hint
+
+
+def test_a_short_sb3_sac_lagrangian_without_any_cost_is_refused_as_ppo_lag_is(capsys, tmp_path, monkeypatch):
+    """``train --algo sb3-sac-lag`` without ``--cost`` on an environment that reports no
+    ``info["cost"]``: refused after the first update window (1,000 steps for SAC), so a shorter
+    run trained a Lagrangian with nothing to constrain and exited 0; ``ppo-lag`` refuses."""
+    pytest.importorskip("stable_baselines3")
+    monkeypatch.chdir(tmp_path)
+    code, out, err = run(capsys, "--json", "--quiet", "train", "--env", "Pendulum-v1", "--algo", "sb3-sac-lag",
+                         "--steps", 200, "--eval-episodes", 1)
+    assert code == 2, err
+    assert "reports none in the first rollout (200 steps)" in err and "train --algo sb3-sac)" in err, err
