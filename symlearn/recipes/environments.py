@@ -87,6 +87,14 @@ def _check_keys(kwargs: Mapping[str, Any], known: Sequence[str], open_ended: boo
                         + ("its parameters: " + ", ".join(known) if known else "it takes no parameters"))
 
 
+def record_hint(target: Any) -> str:
+    """How to record demonstrations in ``target`` (an :class:`EnvTarget`) when it has no expert:
+    the command as well as the Python call, since a user of the command line may not know it."""
+    return (f"record them with `symlearn data record --env {target.name} --policy AGENT.safetensors -o demos.npz` "
+            "-- a policy `symlearn train -o` saved, or `random` for aimless episodes -- or with "
+            "symlearn.data.record(env, policy, n) in Python")
+
+
 def _missing_hint(exc: BaseException, kwargs: Mapping[str, Any]) -> str | None:
     """For a constructor that lacks required arguments (``__init__(self, size)`` built without
     one), the ``--env-kwargs`` that gives them: Python names them in its message only."""
@@ -430,7 +438,7 @@ class EnvTarget:
             raise DataError(f"--n-demos must be at least 1, got {n}")
         if not self.has_expert:
             raise DataError(f"{self.display} has no expert: give your demonstrations with --demos FILE",
-                            hint="record them with symlearn.data.record(env, policy, n) and save them as .npz/.jsonl")
+                            hint=record_hint(self))
         return self.entry.expert(n, seed=seed, env_kwargs=dict(self.kwargs))
 
 

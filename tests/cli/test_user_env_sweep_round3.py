@@ -383,3 +383,14 @@ def test_a_short_sb3_sac_lagrangian_without_any_cost_is_refused_as_ppo_lag_is(ca
                          "--steps", 200, "--eval-episodes", 1)
     assert code == 2, err
     assert "reports none in the first rollout (200 steps)" in err and "train --algo sb3-sac)" in err, err
+
+
+@pytest.mark.parametrize("command", [["learn", "icrl"], ["learn", "spec", "--labeling", '{"far": "x0 > 6"}']])
+def test_an_environment_without_an_expert_names_the_command_that_records_one(capsys, tmp_path, monkeypatch,
+                                                                            command):
+    """The hint named only the Python call ``symlearn.data.record(env, policy, n)``, not ``symlearn
+    data record``, which a user of the command line has."""
+    _module(tmp_path, monkeypatch, "painter", PAINTER)
+    code, _, err = run(capsys, *command, "--env", "painter:paint/Painter-v1")
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "`symlearn data record --env painter:paint/Painter-v1 --policy AGENT.safetensors -o demos.npz`" in err
