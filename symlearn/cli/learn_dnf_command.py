@@ -89,7 +89,11 @@ def _demonstrations(args: argparse.Namespace, note=None):
     if target is not None and not args.demos and not target.has_expert:
         raise DataError(f"{target.display} has no expert to record demonstrations for learning DNF constraints",
                         hint="give your demonstrations with --demos FILE (--env then names their features)")
-    if target is not None:
+    if target is not None and args.features and args.demos:
+        # --features names the file's columns (counted against the file by the learner), which
+        # may be the observation where the environment's info["features"] holds fewer numbers
+        features = list(parse_feature_names(args.features))
+    elif target is not None:
         features = target.feature_names(override=args.features)
         if features is None and not args.demos:
             raise DataError(f"{target.display} names no features",
@@ -176,8 +180,23 @@ def _check_states_are_features(target, demos, path, order) -> None:
                     f"reset), which are not its observation ({', '.join(f'{v:.4g}' for v in observed)}); the "
                     "demonstrations hold the observations (what record() stores), so those names would label "
                     "other numbers", file=path,
-                    hint="name the observation's columns with --features a,b,... (train --cost finds the same "
-                         "names in a dict info[\"features\"]), or store the features as the states")
+                    hint=f"name the observation's columns with --features {_observation_names(target, observed)} "
+                         f"(train --cost reads {', '.join(names or order)} from info[\"features\"] by name: keep the "
+                         f"rules to those columns with --inputs {','.join(names or order)}), or store the features as "
+                         "the states")
+
+
+def _observation_names(target, observed) -> str:
+    """The observation's column names to suggest: its ``observation_names`` where they count its
+    entries, else ``a,b,...``."""
+    env = target.make()
+    try:
+        names = getattr(env.unwrapped, "observation_names", None)
+    finally:
+        env.close()
+    if isinstance(names, (list, tuple)) and len(names) == len(observed) and all(isinstance(n, str) for n in names):
+        return ",".join(names)
+    return "a,b,..."
 
 
 def _states_as_ids(demos, domain, path):

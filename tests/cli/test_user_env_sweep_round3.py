@@ -394,3 +394,57 @@ def test_an_environment_without_an_expert_names_the_command_that_records_one(cap
     code, _, err = run(capsys, *command, "--env", "painter:paint/Painter-v1")
     assert code == 2 and len(err.strip().splitlines()) == 1, err
     assert "`symlearn data record --env painter:paint/Painter-v1 --policy AGENT.safetensors -o demos.npz`" in err
+
+
+#: a point observed as ``(px, py, vx, vy)`` (``observation_names``) whose ``info["features"]`` is the
+#: position alone (``feature_names`` = px, py); right of ``px = 0.5`` costs 1
+POSITION_FEATURES = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class PositionFeatures(gym.Env):
+    observation_names = ("px", "py", "vx", "vy")
+    feature_names = ("px", "py")
+
+    def __init__(self):
+        self.observation_space = spaces.Box(-1, 1, (4,), np.float32)
+        self.action_space = spaces.Box(-1, 1, (2,), np.float32)
+
+    def _obs(self):
+        return np.concatenate([self.p, self.v]).astype(np.float32)
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.p, self.v, self.t = self.np_random.uniform(-0.9, -0.5, 2), np.zeros(2), 0
+        return self._obs(), {"features": self.p.copy()}
+
+    def step(self, action):
+        self.v = 0.1 * np.clip(action, -1, 1)
+        self.p = np.clip(self.p + self.v, -1, 1)
+        self.t += 1
+        return self._obs(), float(self.v[0]), False, self.t >= 10, {"features": self.p.copy(),
+                                                                     "cost": float(self.p[0] > 0.5)}
+
+
+gym.register("PositionFeatures-v0", entry_point=PositionFeatures)
+'''
+
+
+def test_learn_dnf_next_to_an_env_takes_the_way_out_its_refusal_names(capsys, tmp_path, monkeypatch):
+    """Recorded observations (4 columns) of an environment whose ``info["features"]`` is 2 of them:
+    refused, with the hint "name the observation's columns with --features a,b,..."; doing so
+    was refused in turn ("4 feature names (px, py, vx, vy) for 2 columns of info["features"]")."""
+    _module(tmp_path, monkeypatch, "position_features", POSITION_FEATURES)
+    env = ("--env", "position_features:PositionFeatures-v0")
+    code, _, err = run(capsys, "data", "record", *env, "--policy", "random", "--episodes", 4, "-o", "demos.npz")
+    assert code == 0, err
+    code, _, err = run(capsys, "learn", "dnf", *env, "--demos", "demos.npz")
+    assert code == 2 and "--features px,py,vx,vy" in err and "--inputs px,py" in err, err
+    code, _, err = run(capsys, "learn", "dnf", *env, "--demos", "demos.npz", "--features", "px,py,vx,vy",
+                       "--inputs", "px,py", "-o", "rules.dnf")
+    assert code == 0, err
+    code, out, err = run(capsys, "--json", "--quiet", "train", *env, "--cost", "rules.dnf", "--steps", 128,
+                         "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 1)
+    assert code == 0, err
