@@ -448,3 +448,24 @@ def test_learn_dnf_next_to_an_env_takes_the_way_out_its_refusal_names(capsys, tm
     code, out, err = run(capsys, "--json", "--quiet", "train", *env, "--cost", "rules.dnf", "--steps", 128,
                          "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 1)
     assert code == 0, err
+
+
+def test_learn_pdfa_reads_the_column_names_recorded_with_the_demonstrations(capsys, tmp_path, monkeypatch):
+    """``record()`` names a Dict observation's columns (``arm[0]``, ``goal[1]``) in the file's
+    metadata, and ``learn dnf`` reads them; ``learn pdfa --subsets 'arm=arm[0],arm[1]'`` said "no
+    feature named 'arm[0]' (features: x0, x1, ...)"."""
+    from symlearn.data import Demonstrations, Trajectory
+
+    monkeypatch.chdir(tmp_path)
+    rng = np.random.default_rng(0)
+    runs = []
+    for _ in range(8):   # the arm dwells at (1, 0), then at (1, 1); the goal column stays put
+        path = [np.linspace([0, 0], [1, 0], 5), np.tile([1.0, 0.0], (10, 1)), np.linspace([1, 0], [1, 1], 5),
+                np.tile([1.0, 1.0], (10, 1))]
+        arm = np.concatenate(path) + rng.normal(0, 0.003, (30, 2))
+        runs.append(Trajectory(states=np.column_stack([arm, np.full((30, 2), 0.5)])))
+    Demonstrations(runs, metadata={"feature_names": ["arm[0]", "arm[1]", "goal[0]", "goal[1]"]}).save("demos.npz")
+    code, out, err = run(capsys, "--json", "--quiet", "learn", "pdfa", "--demos", "demos.npz", "--subsets",
+                         "arm=arm[0],arm[1]")
+    assert code == 0, err
+    assert len(json.loads(out)["subgoals"]) == 2, out
