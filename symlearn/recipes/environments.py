@@ -387,7 +387,10 @@ class EnvTarget:
         names = getattr(env.unwrapped, "observation_names", None)
         if names is not None:
             return tuple(names)
-        view = getattr(env, "column_names", None)   # recipes.spaces.NumericObservations' flattened view
+        from symlearn.recipes.spaces import find_numeric_view
+
+        # the flattened view's names, also under a wrapper that sees MultiDiscrete actions as one Discrete
+        view = getattr(find_numeric_view(env), "column_names", None)
         if view is not None and len(view) == observation_width(env):
             return tuple(view)
         found = self.features(env)

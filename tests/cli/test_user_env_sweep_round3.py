@@ -469,3 +469,56 @@ def test_learn_pdfa_reads_the_column_names_recorded_with_the_demonstrations(caps
                          "arm=arm[0],arm[1]")
     assert code == 0, err
     assert len(json.loads(out)["subgoals"]) == 2, out
+
+
+#: a Dict observation of MultiBinary, Box and MultiDiscrete parts, ``MultiDiscrete([2, 3])`` actions
+#: (seen by our PPO as one Discrete(6)); the level above 0.8 costs 1
+SWITCH_ROOM = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class SwitchRoom(gym.Env):
+    def __init__(self):
+        self.observation_space = spaces.Dict({"switches": spaces.MultiBinary(3),
+                                              "level": spaces.Box(0, 1, (1,), np.float32),
+                                              "room": spaces.MultiDiscrete([3, 2])})
+        self.action_space = spaces.MultiDiscrete([2, 3])
+
+    def _obs(self):
+        return {"switches": self.s.copy(), "level": np.array([self.level], np.float32), "room": self.room.copy()}
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.s, self.level, self.room, self.t = np.zeros(3, np.int8), 0.0, np.array([0, 0]), 0
+        return self._obs(), {}
+
+    def step(self, action):
+        a = np.asarray(action)
+        self.s[int(a[1])] = int(a[0])
+        self.level = float(np.clip(self.level + 0.1 * (self.s.sum() - 1), 0, 1))
+        self.room = np.array([int(a[1]), int(a[0])])
+        self.t += 1
+        return self._obs(), self.level, False, self.t >= 8, {"cost": float(self.level > 0.8)}
+
+
+gym.register("SwitchRoom-v0", entry_point=SwitchRoom)
+'''
+
+
+def test_learn_icrl_names_the_entries_of_a_dict_observation_under_joint_actions(capsys, tmp_path, monkeypatch):
+    """A Dict observation's view names its entries (``level[0]``, ``room[0]=2``), but under the
+    wrapper that makes MultiDiscrete actions one Discrete they were lost (gymnasium's wrappers no
+    longer hand attributes on): ``--cost-inputs 'level[0]'`` was "unknown observation entry
+    'level[0]' (observation entries: x0..x8)"."""
+    _module(tmp_path, monkeypatch, "switch_room", SWITCH_ROOM)
+    env = ("--env", "switch_room:SwitchRoom-v0")
+    code, _, err = run(capsys, "data", "record", *env, "--policy", "random", "--episodes", 4, "-o", "demos.npz")
+    assert code == 0, err
+    code, out, err = run(capsys, "--json", "--quiet", "learn", "icrl", *env, "--demos", "demos.npz",
+                         "--cost-inputs", "level[0]", "--steps", 256, "--iterations", 1, "-o", "cost.safetensors")
+    assert code == 0, err
+    code, out, err = run(capsys, "--json", "--quiet", "train", *env, "--cost", "cost.safetensors", "--steps", 128,
+                         "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 1)
+    assert code == 0, err
