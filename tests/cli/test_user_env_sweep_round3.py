@@ -522,3 +522,14 @@ def test_learn_icrl_names_the_entries_of_a_dict_observation_under_joint_actions(
     code, out, err = run(capsys, "--json", "--quiet", "train", *env, "--cost", "cost.safetensors", "--steps", 128,
                          "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 1)
     assert code == 0, err
+
+
+def test_train_cost_given_the_forbidden_pairs_of_learn_constraints_says_what_they_are(capsys, tmp_path, monkeypatch):
+    """``learn constraints --env FrozenLake-v1 ... -o rules.json`` then ``train --cost rules.json``
+    said only 'not a symlearn dnf (missing "symlearn": "dnf")'."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "rules.json").write_text(json.dumps({"format": "symlearn-constraints", "version": 1, "method": "ml",
+                                                     "forbidden": [["6", "0"]]}))
+    code, _, err = run(capsys, "train", "--env", "FrozenLake-v1", "--cost", "rules.json", "--steps", 64)
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "forbidden state-action pairs `learn constraints` writes" in err and "Shield" in err, err
