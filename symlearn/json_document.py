@@ -29,11 +29,36 @@ def read_document(text: str | Mapping[str, Any], magic: str, version: int, *,
     else:
         doc = load_json(text, source=source)  # syntax, nesting and duplicate keys located
     if not isinstance(doc, Mapping) or doc.get("symlearn") != magic:
-        raise DataError(f"not a symlearn {magic.replace('-', ' ')} (missing \"symlearn\": \"{magic}\")", file=source)
+        other = _other_kind(doc)
+        raise DataError(f"not a symlearn {magic.replace('-', ' ')} (missing \"symlearn\": \"{magic}\")"
+                        + (f": it is {other[0]}" if other else ""), file=source, hint=other[1] if other else None)
     if doc.get("format_version") != version:
         raise DataError(f"unsupported {magic} format_version {doc.get('format_version')!r}", file=source,
                         hint=f"this symlearn reads version {version}")
     return doc
+
+
+#: what a file of another symlearn kind is, said where a reader is handed it (``train --cost`` given
+#: the forbidden pairs ``learn constraints`` wrote), with where such a file goes instead
+_KINDS = {
+    "symlearn-constraints": ("the forbidden state-action pairs `learn constraints` writes",
+                             "a shield removes them from an agent's choices (symlearn.backends.shield.Shield, "
+                             "docs/SB3.md); `train --cost` reads a DNF file (learn dnf) or a neural cost (learn icrl)"),
+    "symlearn-torch-module": ("the settings of a model (the .json written beside its .safetensors weights)",
+                              "give the .safetensors file itself"),
+}
+
+
+def _other_kind(doc: Any) -> tuple[str, str | None] | None:
+    """``(what the document is, where it goes)`` for a document of another symlearn kind, else None."""
+    if not isinstance(doc, Mapping):
+        return None
+    if isinstance(doc.get("symlearn"), str):
+        return f"a symlearn {doc['symlearn']} document", None
+    found = doc.get("format")
+    if isinstance(found, str) and found in _KINDS:
+        return _KINDS[found]
+    return None
 
 
 class JsonFile:

@@ -24,7 +24,7 @@ later part only (the trained agent), :meth:`RuleStats.reset` starts again.
 from __future__ import annotations
 
 import math
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -39,6 +39,21 @@ def _names(features: Any) -> tuple[str, ...]:
     if names is None:
         raise SymlearnError("the cost wrapper needs the feature names (a FeatureMap or a list)")
     return tuple(names)
+
+
+def _by_name(raw: Any, names: tuple[str, ...]) -> Any:
+    """A dict ``info["features"]`` (name -> number) as the vector of its values in ``names``
+    order: a dict is read by its names, never by its key order, which an environment may build
+    differently on every step; anything else is returned as it is."""
+    if isinstance(raw, np.ndarray) and raw.dtype == object and raw.shape == ():   # as a rollout holds it
+        raw = raw.item()
+    if not isinstance(raw, Mapping):
+        return raw
+    keys = {str(k): v for k, v in raw.items()}
+    missing = [n for n in names if n not in keys]
+    if missing:
+        raise DataError(f"info['features'] has no feature {missing[0]!r}", hint="it has: " + ", ".join(keys))
+    return [keys[n] for n in names]
 
 
 @dataclass(frozen=True)
@@ -255,7 +270,7 @@ class DnfCostWrapper(gym.Wrapper):
             if "features" not in info:
                 raise DataError("the environment reports no info['features']",
                                 hint="use source='observation' or a callable")
-            raw = info["features"]
+            raw = _by_name(info["features"], self.feature_names)
         elif self.source == "observation":
             raw = observation
         else:
@@ -305,6 +320,8 @@ class DnfRolloutCost:
 
     def __call__(self, rollout: Any) -> np.ndarray:
         raw = rollout.info["features"] if self.source == "info" else rollout.next_obs
+        if raw.dtype == object:   # dicts name -> number, recorded as they came: read by name
+            raw = np.array([[_by_name(d, self.feature_names) for d in row] for row in raw], dtype=np.float64)
         if self.source == "observation" and self._id_start is not None:   # one-hot rows back to ids
             raw = raw.argmax(axis=-1)[..., None] + self._id_start
         shape = raw.shape[:2]

@@ -218,13 +218,22 @@ def _lagrangian_class() -> type:
             self._window_steps += len(self.locals["infos"])
             self._since += len(self.locals["infos"])
             if self._since >= self.update_every:
-                if not self._seen:   # decided from the steps of the first rollout, not from the first step
-                    raise NoCostReported(f"the environment reported no info[{self.cost_key!r}] in the first "
-                                         f"{self._since} steps", steps=self._since,
-                                         hint="report it on the steps that pay it (a step without it costs 0), "
-                                              "or wrap the environment with LagrangianReward over a cost")
+                self._check_seen()   # decided from the steps of the first rollout, not from the first step
                 self._update()
             return True
+
+        def _on_training_end(self) -> None:
+            # a run shorter than one update window (SAC's 1,000 steps) never reached the check
+            # above, and trained a Lagrangian with nothing to constrain in silence
+            if self._since:
+                self._check_seen()
+
+        def _check_seen(self) -> None:
+            if not self._seen:
+                raise NoCostReported(f"the environment reported no info[{self.cost_key!r}] in the first "
+                                     f"{self._since} steps", steps=self._since,
+                                     hint="report it on the steps that pay it (a step without it costs 0), "
+                                          "or wrap the environment with LagrangianReward over a cost")
 
         def _update(self) -> None:
             if self._ended:
@@ -365,6 +374,20 @@ def _space(space: Any) -> dict[str, Any]:
     return description
 
 
+def _descriptions(space: Any) -> list[dict[str, Any]]:
+    """What :func:`save_policy` may have recorded for a model trained on ``space``: its own
+    description, and for a channels-last picture the channels-first one stable-baselines3 trains
+    on (it wraps such an environment in ``VecTransposeImage`` and the model keeps that space; a
+    loaded model wraps the environment the same way, so the policy acts on it as trained)."""
+    found = [_space(space)]
+    from stable_baselines3.common.preprocessing import is_image_space, is_image_space_channels_first
+    from stable_baselines3.common.vec_env import VecTransposeImage
+
+    if is_image_space(space) and not is_image_space_channels_first(space):
+        found.append(_space(VecTransposeImage.transpose_space(space)))
+    return found
+
+
 def save_policy(model: Any, path: Any, extra: dict[str, Any] | None = None) -> Any:
     """Write a stable-baselines3 model's policy as ``NAME.safetensors`` + ``NAME.json`` (weights and
     the settings to build it again; never SB3's pickled ``.zip``). Returns the weights path."""
@@ -398,7 +421,7 @@ def load_policy(path: Any, env: Any) -> Any:
         raise ModelError(f"not a policy this symlearn builds: {config.get('algorithm')!r} {config.get('policy')!r}",
                          file=str(path))
     for side, space in (("observation", env.observation_space), ("action", env.action_space)):
-        if config.get(side) != _space(space):
+        if config.get(side) not in _descriptions(space):
             raise ModelError(f"the policy was trained for {side}s {config.get(side)}, the environment's are "
                              f"{_space(space)}", file=str(path))
     kwargs: dict[str, Any] = {}

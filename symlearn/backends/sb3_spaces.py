@@ -57,6 +57,20 @@ def env_action(space: Any, action: Any) -> Any:
     return action
 
 
+def predicted_action(action: Any) -> Any:
+    """An action from ``model.predict`` for one observation, as an environment takes it: SB3 gives
+    a ``Discrete`` action as a 0-d array, which is unhashable, and gymnasium's toy-text worlds look
+    their transitions up by it (``P[s][a]``: FrozenLake, Taxi, CliffWalking); training never shows
+    this, since the vectorised environment hands each copy a numpy scalar. Arrays of actions are
+    left as they are.
+
+    >>> predicted_action(np.array(2)), predicted_action(np.array([0.5]))
+    (2, array([0.5]))
+    """
+    array = np.asarray(action)
+    return array.item() if array.shape == () else action
+
+
 class SB3Spaces(gym.Wrapper):
     """``env`` with Discrete spaces numbered from 0, a scalar Box observation as shape ``(1,)`` and
     MultiBinary/MultiDiscrete actions cast to the space's dtype."""
@@ -74,23 +88,27 @@ class SB3Spaces(gym.Wrapper):
         if self._act_start:
             self.action_space = spaces.Discrete(int(action.n))
 
-    def _observation(self, observation: Any) -> Any:
+    def observation(self, observation: Any) -> Any:
+        """The environment's observation as stable-baselines3 is shown it."""
         if self._obs_start:
             return int(observation) - self._obs_start
         if self._scalar:
             return np.asarray(observation, dtype=self.observation_space.dtype).reshape(1)
         return observation
 
-    def reset(self, **kwargs: Any):
-        observation, info = self.env.reset(**kwargs)
-        return self._observation(observation), info
-
-    def step(self, action: Any):
+    def action(self, action: Any) -> Any:
+        """stable-baselines3's action as the environment takes it (its own ids and dtype)."""
         if self._act_start:
             action = int(action) + self._act_start
-        action = env_action(self.env.action_space, action)
-        observation, reward, terminated, truncated, info = self.env.step(action)
-        return self._observation(observation), reward, terminated, truncated, info
+        return env_action(self.env.action_space, action)
+
+    def reset(self, **kwargs: Any):
+        observation, info = self.env.reset(**kwargs)
+        return self.observation(observation), info
+
+    def step(self, action: Any):
+        observation, reward, terminated, truncated, info = self.env.step(self.action(action))
+        return self.observation(observation), reward, terminated, truncated, info
 
 
 def sb3_spaces(env: gym.Env) -> gym.Env:
@@ -101,4 +119,4 @@ def sb3_spaces(env: gym.Env) -> gym.Env:
     return env
 
 
-__all__ = ["SB3Spaces", "env_action", "sb3_spaces"]
+__all__ = ["SB3Spaces", "env_action", "predicted_action", "sb3_spaces"]

@@ -116,19 +116,28 @@ def _policy(path: str, env: Any, stochastic: bool, seed: int):
 
     if kind != POLICY_KIND:
         raise ModelError(f"the file holds a {kind!r} model, not a policy `symlearn train -o` writes", file=path)
-    try:  # trained on the numeric view; sb3-dqn also on the joint actions
-        model, view = load_policy(path, numeric), numeric
-    except ModelError:
-        if joint is numeric:
-            raise
-        model, view = load_policy(path, joint), joint
+    from symlearn.backends.sb3_spaces import SB3Spaces, env_action, predicted_action, sb3_spaces
+
+    # trained on the numeric view (sb3-dqn also on the joint actions) as stable-baselines3 reads it
+    # (train_sb3: Discrete ids from 0, a scalar observation as a vector of one): act through the
+    # same view, else a Discrete(3, start=-1) environment gets SB3's ids 0..2 as its own
+    views = [numeric] if joint is numeric else [numeric, joint]
+    for view in views:
+        plain = sb3_spaces(view)
+        try:
+            model = load_policy(path, plain)
+            break
+        except ModelError:
+            if view is views[-1]:
+                raise
+    shown = plain.observation if isinstance(plain, SB3Spaces) else (lambda o: o)
+    to_view = plain.action if isinstance(plain, SB3Spaces) else (lambda a: a)
     to_env = view.action if view is not numeric else (lambda a: a)
-    from symlearn.backends.sb3_spaces import env_action
 
     def act(o: Any) -> Any:
-        action, _ = model.predict(observe(o), deterministic=not stochastic)
+        action, _ = model.predict(shown(observe(o)), deterministic=not stochastic)
         # SB3's MultiBinary actions are floats: the environment gets its own dtype
-        return env_action(env.action_space, to_env(action.item() if getattr(action, "shape", None) == () else action))
+        return env_action(env.action_space, to_env(to_view(predicted_action(action))))
 
     return act
 

@@ -66,6 +66,13 @@ def read_points(path: str, features: str | None):
                 members = {name: archive[name] for name in archive.files}
     except ValueError as exc:  # object arrays refuse to load without pickle
         raise DataError(f"malformed archive: {exc}", file=path) from None
+    if "points" not in members and ("__meta__" in members or "observations" in members):
+        # demonstrations (symlearn's or a D4RL table): the points are not its members one by one
+        raise DataError("this is a demonstrations file, not points: dnf eval reads an array 'points' (N, k) or one "
+                        "1-D array per feature", file=path,
+                        hint="learn dnf --validation 0.2 counts the held-out demonstration states a formula flags; "
+                             "or save the states you care about as np.savez('points.npz', points=states, "
+                             "features=names)")
     if "points" in members:
         points = members["points"]
         if points.ndim != 2:

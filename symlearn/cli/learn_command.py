@@ -254,10 +254,11 @@ def _spec_in_user_env(args, out, target, seed: int) -> None:
     from symlearn.data import load
     from symlearn.errors import DataError
     from symlearn.learners.temporal.spec_from_demos import SpecLearner
+    from symlearn.recipes.environments import record_hint
 
     if not args.demos:
         raise DataError(f"{target.display} has no expert: give your demonstrations with --demos FILE",
-                        hint="record them with symlearn.data.record(env, policy, n, labeler=...) and save them")
+                        hint=record_hint(target) + "; unlabelled episodes are labelled by replaying them")
     if args.props == "learn":
         raise DataError("--props learn names states of a tabular model; in your own environment give "
                         "--labeling FILE.json|FILE.py:function")

@@ -89,7 +89,11 @@ def _demonstrations(args: argparse.Namespace, note=None):
     if target is not None and not args.demos and not target.has_expert:
         raise DataError(f"{target.display} has no expert to record demonstrations for learning DNF constraints",
                         hint="give your demonstrations with --demos FILE (--env then names their features)")
-    if target is not None:
+    if target is not None and args.features and args.demos:
+        # --features names the file's columns (counted against the file by the learner), which
+        # may be the observation where the environment's info["features"] holds fewer numbers
+        features = list(parse_feature_names(args.features))
+    elif target is not None:
         features = target.feature_names(override=args.features)
         if features is None and not args.demos:
             raise DataError(f"{target.display} names no features",
@@ -101,7 +105,7 @@ def _demonstrations(args: argparse.Namespace, note=None):
         demos = _states_as_ids(demos, domain, args.demos)
     if target is not None and args.demos and demos.state_kind == "vector" and features is not None \
             and not args.features:
-        _check_states_are_features(target, demos, args.demos)
+        _check_states_are_features(target, demos, args.demos, tuple(features))
     if target is not None and args.demos and demos.state_kind == "vector" and features is None:
         # the environment names nothing, so nothing counts the columns later (named ones are
         # counted against the file by the learner): its observation's width, one probe
@@ -136,7 +140,7 @@ def _check_width(target, demos, path) -> None:
                              "learned as they are)")
 
 
-def _check_states_are_features(target, demos, path) -> None:
+def _check_states_are_features(target, demos, path, order) -> None:
     """The environment's names are those of ``info["features"]`` where it reports them, but
     ``record()`` stores the observation: where the two differ and the file's first state is the
     observation, those names would be put on other numbers (a silent mislabelling, not an
@@ -156,12 +160,14 @@ def _check_states_are_features(target, demos, path) -> None:
         observation, info = env.reset(seed=int(seed) if isinstance(seed, int) else 0)
     finally:
         env.close()
-    pair = features_and_observation(info, observation)
+    # a dict's values in the order of the names the rules will use, not its own key order
+    pair = features_and_observation(info, observation, order)
     if pair is None:   # no features, or a Dict observation, text: nothing to compare
         return
     features, observed = pair
     raw = info["features"]
-    names = [str(k) for k in raw] if isinstance(raw, Mapping) else None
+    names = (list(order) if set(map(str, raw)) == set(order) else [str(k) for k in raw]) \
+        if isinstance(raw, Mapping) else None
     try:
         state = np.asarray(first.states[0], dtype=np.float64).reshape(-1)
     except (TypeError, ValueError):
@@ -174,8 +180,23 @@ def _check_states_are_features(target, demos, path) -> None:
                     f"reset), which are not its observation ({', '.join(f'{v:.4g}' for v in observed)}); the "
                     "demonstrations hold the observations (what record() stores), so those names would label "
                     "other numbers", file=path,
-                    hint="name the observation's columns with --features a,b,... (train --cost finds the same "
-                         "names in a dict info[\"features\"]), or store the features as the states")
+                    hint=f"name the observation's columns with --features {_observation_names(target, observed)} "
+                         f"(train --cost reads {', '.join(names or order)} from info[\"features\"] by name: keep the "
+                         f"rules to those columns with --inputs {','.join(names or order)}), or store the features as "
+                         "the states")
+
+
+def _observation_names(target, observed) -> str:
+    """The observation's column names to suggest: its ``observation_names`` where they count its
+    entries, else ``a,b,...``."""
+    env = target.make()
+    try:
+        names = getattr(env.unwrapped, "observation_names", None)
+    finally:
+        env.close()
+    if isinstance(names, (list, tuple)) and len(names) == len(observed) and all(isinstance(n, str) for n in names):
+        return ",".join(names)
+    return "a,b,..."
 
 
 def _states_as_ids(demos, domain, path):

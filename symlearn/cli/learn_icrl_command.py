@@ -321,16 +321,12 @@ def _in_the_view(demos: Any, env: Any, path: Any, names: Any = None) -> Any:
     from symlearn.data import Demonstrations, Trajectory
     from symlearn.errors import DataError
     from symlearn.recipes.action_spaces import find_joint_actions
-    from symlearn.recipes.spaces import NumericObservations
+    from symlearn.recipes.spaces import find_numeric_view
 
     if demos.state_kind == "symbol":
         raise DataError("the demonstrations' states are symbols (text); neural ICRL reads numeric observations",
                         file=path, hint="give the observations as numbers (vector states)")
 
-    def find_observations(env: Any) -> NumericObservations | None:
-        while env is not None and not isinstance(env, NumericObservations):
-            env = getattr(env, "env", None)
-        return env
 
     joint = find_joint_actions(env)
     if joint is not None:   # recorded actions of the environment's own space, as ids of the view
@@ -342,7 +338,7 @@ def _in_the_view(demos: Any, env: Any, path: Any, names: Any = None) -> Any:
         except DataError as exc:
             raise DataError(f"the demonstrations' actions do not fit: {exc.message}", file=path,
                             hint="were they recorded in this environment?") from None
-    observed = find_observations(env)
+    observed = find_numeric_view(env)
     if observed is None:
         if isinstance(demos[0].states[0], Mapping):
             return _placed_by_name(demos, env, path, names)

@@ -12,7 +12,8 @@
   ``--demos``, ``--env`` names their features; demonstrations whose ``metadata["env"]`` names
   another gymnasium id are read all the same, with a ``warning:`` line on stderr.
 * ``--subsets``: the candidate feature subsets (default: all features as one subset), by column
-  index or feature name.
+  index or feature name: ``--features``, else the names ``--env`` gives, else the names the file
+  records (``metadata["feature_names"]``: ``record()``'s ``robot.pos[0]`` of a Dict observation).
 
 JSON keys: ``subgoals`` (name -> centre, radius, subset, features), ``states`` (name, accepting,
 termination), ``edges`` (source, target, sub-goal, probability, count), ``words`` (each distinct
@@ -111,6 +112,16 @@ def _demonstrations(args: argparse.Namespace, note=None):
 
     demos = load(path)
     check_recorded_env(target, demos, path, note)  # recorded elsewhere: read all the same, with a warning
+    if features is None:
+        # names the file carries (record()'s names of a Dict observation's columns, robot.pos[0], a
+        # flattened Minari/D4RL observation's), as learn dnf reads them: usable in --subsets
+        meta = demos.metadata if isinstance(demos.metadata, dict) else {}
+        named = meta.get("feature_names")
+        if isinstance(named, list) and named and all(isinstance(n, str) for n in named):
+            try:
+                features = list(parse_feature_names(named, flag='metadata "feature_names"'))
+            except DataError as exc:
+                raise DataError(exc.message, file=str(path), hint=exc.hint) from None
     return demos, features, args.subsets, None
 
 

@@ -107,8 +107,9 @@ JSON keys: ``env``, ``algo``, ``cost_kind`` (``dnf``, ``neural`` or null), ``ret
 ``info["cost"]``), ``violation_rate`` (ground-truth cost per evaluation step) -- both ``null``
 when no step of training or evaluation reported ``info["cost"]``; once one did, a step without
 it costs 0 --, ``learned_cost`` (what ``--cost`` charges the greedy evaluation's episodes, summed
-over rules, per episode; null without ``--cost``), ``cost_limit`` (the limit of a Lagrangian
-with ``--cost``, else null) and ``cost_limit_from`` (``--cost-limit``, ``expert`` -- a learned neural
+over rules, per episode; null without ``--cost``), ``cost_limit`` (the limit of a Lagrangian --
+``ppo-lag``, ``sb3-*-lag`` -- on the learned cost, or on ``info["cost"]`` without ``--cost``; null
+for the other algorithms) and ``cost_limit_from`` (``--cost-limit``, ``expert`` -- a learned neural
 cost's expert level -- or ``default``: 0), ``multipliers`` (null without a
 Lagrangian), ``actor_resets`` (``ppo-lag``: the iterations whose actor was renewed, else null),
 ``pruned`` (the dropped rules, or null; with ``--prune`` also ``kept``), ``seconds``,
@@ -394,17 +395,18 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
 
 def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
     """A Lagrangian's greedy agent that still pays more than its limit of what it was trained on
-    (the learned cost, else ``info["cost"]``) per episode, or a neural cost held to 0, which no
-    policy reaches: one warning, whatever the multiplier's units (SB3's rule has no threshold on it
+    (the learned cost, else ``info["cost"]``) per episode, a neural cost held to 0, which no
+    policy reaches, or (any algorithm) a neural cost that is 0 everywhere: one warning, whatever the multiplier's units (SB3's rule has no threshold on it
     that means anything); None otherwise."""
-    if not args.algo.endswith("-lag"):
-        return None
     if cost is not None and getattr(cost, "charges_nothing", False):
         # learn icrl ended with every lambda at 0 (issue 24, a fresh conveyor arm): the cost is 0
-        # everywhere, the agent was trained on the reward alone -- not a limit out of reach
+        # everywhere, the agent was trained on the reward alone -- not a limit out of reach; said
+        # for every algorithm (ppo and sb3-sac learn from r - C, which is then r)
         return ("this learned neural cost is 0 everywhere (every lambda in it is 0: `learn icrl` found nothing in "
                 "the demonstrations to charge), so it constrained nothing and the agent learned from the reward "
                 "alone; learn it again (another --seed, more --iterations or --steps) or use a DNF file")
+    if not args.algo.endswith("-lag"):
+        return None
     if cost is not None and cost.kind == "neural" and args.cost_limit == 0:
         # a sigmoid charges every state something: 0 is out of reach by design
         if cost.expert_level is not None:
@@ -495,7 +497,8 @@ def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_c
         true_costs = np.zeros((len(returns), 1))
     if true_costs is not None:   # summed over constraints
         per_episode = np.asarray(true_costs, dtype=np.float64).reshape(len(returns), -1).sum(axis=1)
-    limited = cost is not None and args.algo.endswith("-lag")   # a Lagrangian on a learned cost
+    # a Lagrangian, on a learned cost or on info["cost"]: both keep a limit (0 unless given)
+    limited = args.algo.endswith("-lag")
     return {"env": args.env, "algo": args.algo, "cost_kind": None if cost is None else cost.kind,
             "return": float(np.mean(returns)),
             "cost": None if per_episode is None else float(np.mean(per_episode)),
@@ -521,11 +524,14 @@ def _prune(args: argparse.Namespace, stats, steps: int) -> dict:
 
 def _render(doc: dict) -> str:
     def number(value, digits: int) -> str:
-        return "n/a" if value is None else f"{value:.{digits}f}"
+        if value is None:
+            return "n/a"
+        # a small cost keeps its significant digits: "0.00" next to a limit of 0.000224 read as kept
+        return f"{value:.{digits}f}" if value == 0 or abs(value) >= 10 ** -digits else f"{value:.2g}"
 
     lines = [f"{doc['env']}: {doc['algo']}, {doc['steps']} steps in {doc['seconds']:.1f} s",
              f"greedy evaluation: return {doc['return']:.2f}, "
-             + ("" if doc.get("learned_cost") is None else f"learned cost {doc['learned_cost']:.2f} per episode"
+             + ("" if doc.get("learned_cost") is None else f"learned cost {number(doc['learned_cost'], 2)} per episode"
                 + ("" if doc.get("cost_limit") is None else f" (limit {doc['cost_limit']:.3g}"
                    + (", the expert's level" if doc.get("cost_limit_from") == "expert" else "") + ")") + ", ")
              + f"ground-truth cost {number(doc['cost'], 2)} per episode, "

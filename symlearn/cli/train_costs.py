@@ -155,7 +155,8 @@ def refused_without_cost(target: Any, algo: str, steps: int) -> SymlearnError:
     return SymlearnError(f"--algo {algo} without --cost constrains the environment's info['cost'], and "
                          f"{target.display} reports none in the first rollout ({steps} steps)",
                          hint="report info['cost'] on the steps that pay it (a step without it costs 0), give a "
-                              "learned cost with --cost RULES.dnf|COST.safetensors, or train --algo ppo")
+                              "learned cost with --cost RULES.dnf|COST.safetensors, or train --algo "
+                              + algo.removesuffix("-lag"))
 
 
 __all__ = ["TrainingCost", "penalised", "refused_without_cost", "training_cost"]

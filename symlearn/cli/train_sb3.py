@@ -131,12 +131,13 @@ def _evaluate(model: Any, target: Any, n_episodes: int, seed: int,
     """Greedy episodes on a fresh environment, through the loop our PPO is evaluated with: returns,
     lengths, and the summed ``info["cost"]`` ``(E, k)`` -- or None when the environment reports none.
     ``wrap``: around the environment, inside SB3's view (the learned cost's tally, as in training)."""
-    from symlearn.backends.sb3_spaces import sb3_spaces
+    from symlearn.backends.sb3_spaces import predicted_action, sb3_spaces
     from symlearn.rl.evaluation import run_episodes
 
     env = sb3_spaces(wrap(target.make()) if wrap is not None else target.make())
     try:
-        episodes = run_episodes(env, lambda observation: model.predict(observation, deterministic=True)[0],
+        episodes = run_episodes(env, lambda observation: predicted_action(model.predict(observation,
+                                                                                        deterministic=True)[0]),
                                 n_episodes, seed=seed)
     finally:
         env.close()

@@ -87,6 +87,27 @@ def _check_keys(kwargs: Mapping[str, Any], known: Sequence[str], open_ended: boo
                         + ("its parameters: " + ", ".join(known) if known else "it takes no parameters"))
 
 
+def record_hint(target: Any) -> str:
+    """How to record demonstrations in ``target`` (an :class:`EnvTarget`) when it has no expert:
+    the command as well as the Python call, since a user of the command line may not know it."""
+    return (f"record them with `symlearn data record --env {target.name} --policy AGENT.safetensors -o demos.npz` "
+            "-- a policy `symlearn train -o` saved, or `random` for aimless episodes -- or with "
+            "symlearn.data.record(env, policy, n) in Python")
+
+
+def _missing_hint(exc: BaseException, kwargs: Mapping[str, Any]) -> str | None:
+    """For a constructor that lacks required arguments (``__init__(self, size)`` built without
+    one), the ``--env-kwargs`` that gives them: Python names them in its message only."""
+    found = re.search(r"missing \d+ required (?:positional |keyword-only )?arguments?: (.+)$", str(exc))
+    if not isinstance(exc, TypeError) or found is None:
+        return None
+    names = re.findall(r"'([A-Za-z_][A-Za-z0-9_]*)'", found.group(1))
+    if not names:
+        return None
+    given = ", ".join(f'"{k}": ...' for k in [*kwargs, *names])
+    return f"give {' and '.join(names)} in --env-kwargs '{{{given}}}'"
+
+
 # --- features ----------------------------------------------------------------------------------
 
 
@@ -160,15 +181,20 @@ class CostWatch:
         return CostWatched(env)
 
 
-def features_and_observation(info: Any, observation: Any) -> tuple[Any, Any] | None:
+def features_and_observation(info: Any, observation: Any,
+                             names: Sequence[str] | None = None) -> tuple[Any, Any] | None:
     """``info["features"]`` (a dict of named numbers or a vector) and ``observation`` as flat
     float vectors, or None where there are no features or either is not numbers (a ``Dict``
-    observation, text): what tells whether an environment's features are its observation."""
+    observation, text): what tells whether an environment's features are its observation.
+    ``names``: the order to read a dict's values in (a dict's own key order may change from step
+    to step, and every cost reads it by name); keys other than ``names`` keep the dict's order."""
     import numpy as np
 
     raw = info.get("features") if isinstance(info, Mapping) else None
     if raw is None:
         return None
+    if isinstance(raw, Mapping) and names is not None and set(map(str, raw)) == set(names):
+        raw = {name: {str(k): v for k, v in raw.items()}[name] for name in names}
     try:
         values = np.asarray(list(raw.values()) if isinstance(raw, Mapping) else raw, dtype=np.float64).reshape(-1)
         return values, np.asarray(observation, dtype=np.float64).reshape(-1)
@@ -275,7 +301,7 @@ class EnvTarget:
         except (TypeError, ValueError) as exc:  # a value of the wrong type ("wall": "left")
             raise DataError(f"--env-kwargs does not fit {self.display}: {type(exc).__name__}: {exc}"
                             if self.kwargs else f"building {self.display} failed: {type(exc).__name__}: {exc}",
-                            hint="check the environment's parameters") from None
+                            hint=_missing_hint(exc, self.kwargs) or "check the environment's parameters") from None
         except ImportError as exc:
             missing = getattr(exc, "name", None) or str(exc)
             raise DataError(f"building {self.display} needs {missing}, which is not installed",
@@ -322,6 +348,11 @@ class EnvTarget:
             if in_info and isinstance(raw, Mapping):
                 names = tuple(str(k) for k in raw)
                 width = len(names)
+                declared = _declared_names(env, self.entry)
+                if declared is not None and sorted(declared) == sorted(names):
+                    # the same names in the order the environment declares (a dict's key order
+                    # is how it happened to be built, and may differ between steps)
+                    names = declared
             else:
                 width = _width(raw) if in_info else _feature_width(env)
                 names = None
@@ -356,7 +387,10 @@ class EnvTarget:
         names = getattr(env.unwrapped, "observation_names", None)
         if names is not None:
             return tuple(names)
-        view = getattr(env, "column_names", None)   # recipes.spaces.NumericObservations' flattened view
+        from symlearn.recipes.spaces import find_numeric_view
+
+        # the flattened view's names, also under a wrapper that sees MultiDiscrete actions as one Discrete
+        view = getattr(find_numeric_view(env), "column_names", None)
         if view is not None and len(view) == observation_width(env):
             return tuple(view)
         found = self.features(env)
@@ -369,7 +403,7 @@ class EnvTarget:
         # info["features"] names its own numbers: they name the observation's entries only where
         # they are the observation (features (pos, vel) of an observation (vel, pos) name neither)
         observation, info = env.reset(seed=0)
-        pair = features_and_observation(info, observation)
+        pair = features_and_observation(info, observation, found.names)
         return found.names if pair is not None and same_numbers(*pair) else None
 
     def reports_cost(self, env: Any = None, max_steps: int = 1000) -> bool:
@@ -407,7 +441,7 @@ class EnvTarget:
             raise DataError(f"--n-demos must be at least 1, got {n}")
         if not self.has_expert:
             raise DataError(f"{self.display} has no expert: give your demonstrations with --demos FILE",
-                            hint="record them with symlearn.data.record(env, policy, n) and save them as .npz/.jsonl")
+                            hint=record_hint(self))
         return self.entry.expert(n, seed=seed, env_kwargs=dict(self.kwargs))
 
 

@@ -26,7 +26,7 @@ from pathlib import Path
 from typing import Any
 
 from symlearn.errors import DataError
-from symlearn.recipes.environments import EnvTarget
+from symlearn.recipes.environments import EnvTarget, record_hint
 
 
 def demonstrations(target: EnvTarget | None, demos: str | Path | None, n_demos: int, *, seed: int = 0,
@@ -52,7 +52,7 @@ def demonstrations(target: EnvTarget | None, demos: str | Path | None, n_demos: 
                                           note=note),
                            f"{n_demos} episodes of a PPO-Lagrangian expert trained on {target.display}")
     raise DataError(f"{target.display} has no expert: give your demonstrations with --demos FILE",
-                    hint="record them with symlearn.data.record(env, policy, n) and save them as .npz or .jsonl")
+                    hint=record_hint(target))
 
 
 #: a gymnasium id as ``record`` stores it (``spec.id``): optional namespace, name, ``-v`` version; an

@@ -177,6 +177,14 @@ def from_record_columns(space: spaces.Space, row: Any) -> Any:
     return _rebuild(space, (), dict(zip(names, values.tolist())))
 
 
+def find_numeric_view(env: Any) -> NumericObservations | None:
+    """The :class:`NumericObservations` among ``env``'s wrappers (under a joint-action wrapper,
+    say: gymnasium's wrappers no longer hand their inner attributes on), or None."""
+    while env is not None and not isinstance(env, NumericObservations):
+        env = getattr(env, "env", None)
+    return env
+
+
 def numeric_observations(env: gym.Env) -> gym.Env:
     """``env`` itself when it observes a ``Box`` or ``Discrete``; else :class:`NumericObservations`."""
     if isinstance(env.observation_space, (spaces.Box, spaces.Discrete)):
@@ -184,4 +192,5 @@ def numeric_observations(env: gym.Env) -> gym.Env:
     return NumericObservations(env)
 
 
-__all__ = ["NumericObservations", "from_record_columns", "numeric_observations", "record_columns_width"]
+__all__ = ["NumericObservations", "find_numeric_view", "from_record_columns", "numeric_observations",
+           "record_columns_width"]

@@ -43,8 +43,13 @@ def space_spec(space: Any, bounds: bool = False) -> dict[str, Any]:
     """What a cost needs to know of a gymnasium Box or Discrete space, as JSON: the encoding of
     :mod:`symlearn.rl.spaces` (the one PPO's networks use), any other kind of space refused."""
     if type(space).__name__ not in SPACE_KINDS:
+        # FlattenObservation is no way out: it one-hot encodes Discrete parts, while record() stores
+        # them as one column each, so the demonstrations would no longer fit the space
         raise DataError(f"a learned cost needs Box or Discrete spaces, got {type(space).__name__}",
-                        hint="flatten dict/tuple spaces with a gymnasium wrapper (e.g. FlattenObservation)")
+                        hint="`symlearn learn icrl --env` reads such spaces as they are; in Python, build the "
+                             "environment as symlearn.recipes.spaces.numeric_observations(env) (observations) and "
+                             "symlearn.recipes.action_spaces.joint_discrete_actions(...) (MultiDiscrete/MultiBinary "
+                             "actions), and record the demonstrations in that view")
     return rl_space_spec(space, bounds)
 
 
