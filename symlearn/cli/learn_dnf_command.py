@@ -174,8 +174,9 @@ def _check_states_are_features(target, demos, path) -> None:
                     f"reset), which are not its observation ({', '.join(f'{v:.4g}' for v in observed)}); the "
                     "demonstrations hold the observations (what record() stores), so those names would label "
                     "other numbers", file=path,
-                    hint="name the observation's columns with --features a,b,... (train --cost finds the same "
-                         "names in a dict info[\"features\"]), or store the features as the states")
+                    hint="record the features as the states (symlearn data record --states features), or name "
+                         "the observation's columns with --features a,b,... (train --cost finds the same names in a "
+                         "dict info[\"features\"])")
 
 
 def _states_as_ids(demos, domain, path):

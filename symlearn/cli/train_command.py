@@ -179,6 +179,9 @@ def register(subparsers, common) -> None:
                      help="ppo-lag: in the mix of reward and cost, the reward's return scale never drops below "
                           "SHARE x the largest it had (default 0.01; 1 when every episode earns about the same "
                           "and the cost stays over its limit: the run's warning says when)")
+    cmd.add_argument("--cost-scale-floor", type=float, default=None, metavar="SHARE",
+                     help="ppo-lag: in the mix, each cost's return scale never drops below SHARE x the largest it "
+                          "had (default 0.01: a cost the agent stopped paying gets up to 100x dearer)")
     cmd.add_argument("--cost-estimate", choices=("rollout", "episodes"), default="rollout",
                      help="ppo-lag: update the multipliers every iteration from the rollout's cost per step x the "
                           "mean episode length (rollout, the default) or only from episodes that ended in it (episodes)")
@@ -232,6 +235,9 @@ def check_numbers(args: argparse.Namespace, default_steps: int) -> None:
     if args.reward_scale_floor is not None and not (math.isfinite(args.reward_scale_floor)
                                                     and 0 < args.reward_scale_floor <= 1):
         raise SymlearnError(f"--reward-scale-floor must be a number in (0, 1], got {args.reward_scale_floor:g}")
+    if args.cost_scale_floor is not None and not (math.isfinite(args.cost_scale_floor)
+                                                  and 0 < args.cost_scale_floor <= 1):
+        raise SymlearnError(f"--cost-scale-floor must be a number in (0, 1], got {args.cost_scale_floor:g}")
     if args.learning_rate is not None and not (math.isfinite(args.learning_rate) and 0 < args.learning_rate <= 1):
         raise SymlearnError(f"--learning-rate must be a number in (0, 1], got {args.learning_rate:g}")
     if args.log_std_init is not None and not (math.isfinite(args.log_std_init) and -20 <= args.log_std_init <= 5):
@@ -267,6 +273,7 @@ def _train(args: argparse.Namespace, out) -> None:
                                          ("--normalize-values", args.normalize_values),
                                          ("--advantage-scale", args.advantage_scale),
                                          ("--reward-scale-floor", args.reward_scale_floor),
+                                         ("--cost-scale-floor", args.cost_scale_floor),
                                          ("--learning-rate", args.learning_rate),
                                          ("--log-std-init", args.log_std_init),
                                          ("--reset-actor", args.reset_actor)) if given is not None]
@@ -354,6 +361,7 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
             else args.multiplier_init
         given = {key: value for key, value in (("update", args.multiplier_update), ("lr", args.multiplier_lr),
                                                ("init", start), ("reward_scale_floor", args.reward_scale_floor),
+                                               ("cost_scale_floor", args.cost_scale_floor),
                                                ("reset_actor", args.reset_actor))
                  if value is not None}  # the rest: the library's defaults
         lagrangian = LagrangianConfig(cost_limit=args.cost_limit, advantage_scale=args.advantage_scale or "returns",
@@ -380,7 +388,8 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
         doc["warnings"] = limit_warnings(result.history, [args.cost_limit] * len(result.multipliers),
                                          advantage_scale=lagrangian.advantage_scale,
                                          reward_floor=lagrangian.reward_scale_floor,
-                                         cost_kind=None if cost is None else cost.kind)
+                                         cost_kind=None if cost is None else cost.kind,
+                                         cost_floor=lagrangian.cost_scale_floor)
         if doc["warnings"] and cost is not None and cost.kind == "dnf" and not args.depth_weight:
             # an agent that cut across a narrow safe set pays 1 on every step of the short cut
             # whichever way it turns; a depth-shaped cost tells it the way out (backends/dnf_depth)

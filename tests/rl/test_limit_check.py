@@ -137,3 +137,31 @@ def test_shorter_episodes_that_earn_more_or_run_unconstrained_are_not():
     slightly = _run([150] * 6 + [100] * 6, [90] * 6 + [30] * 6, [2.0] * 12)
     for run in (sooner, unconstrained, slightly):
         assert not [w for w in limit_warnings(run, [0.0]) if "shorter" in w]
+
+
+def _safe_run(returns, estimates, multiplier=2.7):
+    return [dataclasses.replace(BASE, iteration=i, mean_return=r, multipliers=(multiplier,), cost_estimate=(c,))
+            for i, (r, c) in enumerate(zip(returns, estimates))]
+
+
+# the no-fly drone of issue 24's second pass, in shape: it pays while exploring, earns ~10 within
+# the limit at its best stretch, then keeps clear of the disc and ends at ~3, the cost at 0 throughout
+DRONE_RETURNS = [0.0] * 6 + [4.0] * 6 + [10.0] * 12 + [6.0] * 6 + [3.0] * 30
+DRONE_COSTS = [3.0] * 12 + [0.0] * 48
+
+
+def test_a_safe_run_that_gave_up_what_it_earned_within_the_limit_is_warned_about():
+    [warning] = limit_warnings(_safe_run(DRONE_RETURNS, DRONE_COSTS), [0.0], cost_kind=None)
+    assert "the return fell from 10 (iterations" in warning and "to 3 over the last 20 iterations" in warning
+    assert "--cost-scale-floor 1" in warning
+
+
+def test_safe_runs_that_kept_their_best_or_never_learned_are_not():
+    kept = _safe_run([0.0] * 6 + [4.0] * 6 + [10.0] * 48, DRONE_COSTS)
+    never = _safe_run([-5.0] * 60, [0.0] * 60)                         # nothing learned within the limit
+    broken = _safe_run(DRONE_RETURNS, [3.0] * 12 + [0.0] * 18 + [2.0] * 30)   # over the limit at the end
+    unpriced = _safe_run(DRONE_RETURNS, DRONE_COSTS, multiplier=0.0)   # no Lagrangian at work
+    for run in (kept, never, broken, unpriced):
+        assert not [w for w in limit_warnings(run, [0.0]) if "gave up" in w]
+    # the remedy it names already in use: nothing to say
+    assert limit_warnings(_safe_run(DRONE_RETURNS, DRONE_COSTS), [0.0], cost_floor=1.0) == []
