@@ -483,22 +483,51 @@ def run_task(task: str, seed: int, folder: Path, peers: bool = True, variant: tu
     return rows
 
 
+def new_warning(record: dict) -> str | None:
+    """Whether :func:`symlearn.rl.ppo.limit_check`'s safe-but-not-useful check fires on one of our
+    runs' recorded history (what train --log kept), with the code of today: ``"gave up"``,
+    ``"nothing"`` or None -- runs made before the check existed are read with it too."""
+    from symlearn.rl.ppo import PPOIteration
+    from symlearn.rl.ppo.limit_check import MIN_WINDOW, _gave_up_reward
+
+    cols, result = record.get("history"), record.get("result") or {}
+    if not cols or not cols.get("multipliers_0") or cols["multipliers_0"][0] is None:
+        return None
+    nan = float("nan")
+    rows = [PPOIteration(iteration=int(i), steps=0, episodes=int(e or 0),
+                         mean_return=nan if r is None else r, mean_length=nan if n is None else n, mean_cost=(nan,),
+                         multipliers=(m,), policy_loss=0.0, value_loss=0.0, cost_value_loss=(0.0,), entropy=0.0,
+                         approx_kl=0.0, clip_fraction=0.0, explained_variance=0.0, epochs=0.0, stopped_early=False,
+                         learning_rate=0.0, steps_per_second=0.0, seconds=0.0, cost_estimate=(c,))
+            for i, e, r, n, m, c in zip(cols["iteration"], cols["episodes"], cols["mean_return"], cols["mean_length"],
+                                        cols["multipliers_0"], cols["cost_estimate_0"]) if c is not None]
+    window = rows[-max(MIN_WINDOW, len(rows) // 3):]
+    limit = result.get("cost_limit") or 0.0
+    floor = 1.0 if "--cost-scale-floor 1" in record.get("command", "") else 0.01
+    found = _gave_up_reward(rows, window, [limit], floor)
+    return None if not found else ("gave up" if "gave up" in found[0] else "nothing")
+
+
 def table(runs: list[dict]) -> str:
-    """The markdown table of the BENCHMARKS section: mean return at mean true cost, per seed."""
+    """The markdown table of the BENCHMARKS section: mean return at mean true cost, per seed; our
+    runs' "safe, not useful" column is :func:`new_warning` on their recorded histories."""
     cells: dict[tuple, list] = {}
     for r in runs:
         if "cost_kind" in r and r.get("result"):
             cells.setdefault((r["task"], r["agent"], r["cost_kind"]), []).append(
-                (r["seed"], r["result"]["return"], r["result"]["cost"], r["result"].get("warnings") or []))
-    lines = ["| task | agent | cost kind | return at true cost (mean) | seeds: return (true cost) | warned |",
-             "|---|---|---|---|---|---|"]
+                (r["seed"], r["result"]["return"], r["result"]["cost"], r["result"].get("warnings") or [],
+                 new_warning(r) if r["agent"].startswith("ours") else None))
+    lines = ["| task | agent | cost kind | return at true cost (mean) | seeds: return (true cost) | warned | "
+             "safe, not useful |", "|---|---|---|---|---|---|---|"]
     for (task, agent, kind), rows in sorted(cells.items()):
-        rows.sort()
+        rows.sort(key=lambda x: x[0])
         ret = sum(x[1] for x in rows) / len(rows)
         cost = sum(x[2] for x in rows) / len(rows)
         per = " / ".join(f"{x[1]:.2f} ({x[2]:g})" for x in rows)
         warned = sum(bool(x[3]) for x in rows)
-        lines.append(f"| {task} | {agent} | {kind} | **{ret:.2f}** at {cost:.1f} | {per} | {warned}/{len(rows)} |")
+        flagged = ", ".join(f"s{x[0]} {x[4]}" for x in rows if x[4]) or ("-" if agent.startswith("ours") else "")
+        lines.append(f"| {task} | {agent} | {kind} | **{ret:.2f}** at {cost:.1f} | {per} | {warned}/{len(rows)} | "
+                     f"{flagged} |")
     return "\n".join(lines)
 
 

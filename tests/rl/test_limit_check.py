@@ -163,5 +163,18 @@ def test_safe_runs_that_kept_their_best_or_never_learned_are_not():
     unpriced = _safe_run(DRONE_RETURNS, DRONE_COSTS, multiplier=0.0)   # no Lagrangian at work
     for run in (kept, never, broken, unpriced):
         assert not [w for w in limit_warnings(run, [0.0]) if "gave up" in w]
-    # the remedy it names already in use: nothing to say
-    assert limit_warnings(_safe_run(DRONE_RETURNS, DRONE_COSTS), [0.0], cost_floor=1.0) == []
+    # the remedy it names already in use: the warning stays, the advice changes
+    [held] = limit_warnings(_safe_run(DRONE_RETURNS, DRONE_COSTS), [0.0], cost_floor=1.0)
+    assert "gave up" in held and "--cost-scale-floor" not in held
+    # a wobble of a tenth of the run's spread is not a gain given up
+    wobble = _safe_run([0.0] * 6 + [-20.0] * 6 + [-19.0] * 12 + [-19.5] * 36, [3.0] * 12 + [0.0] * 48)
+    assert not [w for w in limit_warnings(wobble, [0.0]) if "gave up" in w or "ended where it started" in w]
+
+
+def test_a_safe_run_that_never_earned_more_than_its_start_says_so():
+    """The speed cart's seed 1: the cart docks only in episodes that pay the cost (-8 instead of
+    -20); the multiplier keeps it safe, and it ends never docking, as it started."""
+    returns = [-20.0] * 20 + [-8.0] * 10 + [-20.0] * 30
+    costs = [0.0] * 20 + [8.0] * 10 + [0.0] * 30
+    [warning] = limit_warnings(_safe_run(returns, costs), [0.0], cost_kind=None)
+    assert "the return ended where it started (-20 -> -20)" in warning and "earned up to -8" in warning

@@ -82,26 +82,37 @@ def limit_warnings(history: Sequence[PPOIteration], cost_limits: Sequence[float]
 SMOOTH = 5
 #: the run's end kept less than this share of the best gain over its start made within the limits
 GAVE_UP = 0.5
+#: a gain counts only when it is at least this share of the spread of the run's (smoothed) returns
+NOTABLE = 0.25
+#: "nothing learned": the end kept less than this share of the best gain over the start, at any cost
+NOTHING = 0.1
 #: a smoothed cost estimate within ``limit + LIMIT_SLACK x`` its largest counts as within the limit
 LIMIT_SLACK = 0.05
 
 
 def _gave_up_reward(updated: Sequence[PPOIteration], window: Sequence[PPOIteration], cost_limits: Sequence[float],
                     cost_floor: float) -> list[str]:
-    """Safe but no longer useful: over the last third of the run (``window``) every cost estimate
-    stayed within its limit on average, yet the mean return kept less than :data:`GAVE_UP` of what
-    the run had gained over its first iterations at its best stretch *within the limits* (moving
-    means over :data:`SMOOTH` updates). A policy the run had already found earned more without
-    breaking anything; the one it ends with keeps further from what the cost forbids than the
-    limit asks. With return-unit advantages the cause measured (docs/BENCHMARKS.md, issue 24's
-    second pass: the no-fly drone, 10.9 within the limit at iteration 25-37, 2.9 at the end) is the
-    cost's own scale: as the agent stops paying, the spread of the cost's returns shrinks to a
-    hundredth of its widest and every remaining violation weighs up to 100x more; holding the
-    scale at its widest (``cost_scale_floor=1``) took that drone to its goal at cost 0. Said
-    only where something was learned within the limits (the best stretch above the start) and
-    the Lagrangian is on; a task whose safe policies all earn little, or a run that never got
-    safe, is not this warning's."""
-    if cost_floor >= 1.0 or len(window) < MIN_WINDOW or not any(sum(h.multipliers) > 0 for h in window):
+    """Safe but not useful, read off the run: over the last third (``window``) every cost estimate
+    stayed within its limit on average (up to :data:`LIMIT_SLACK` of its largest), the Lagrangian
+    on, and the mean return (moving means over :data:`SMOOTH` updates; gains count from
+    :data:`NOTABLE` of the spread of the run's returns) either
+
+    * kept less than :data:`GAVE_UP` of what the run had gained over its first iterations at its
+      best stretch *within the limits*: a policy the run had already found earned more without
+      breaking anything, and the one it ends with keeps further from what the cost forbids than the
+      limit asks. With return-unit advantages the cause measured (docs/BENCHMARKS.md, issue 24's
+      second pass: the no-fly drone, 10.9 within the limit at iterations 28-32, 2.9 at the end) is
+      the cost's own scale: as the agent stops paying, the spread of the cost's returns shrinks to
+      a hundredth of its widest and every remaining violation weighs up to 100x more; holding it at
+      its widest (``cost_scale_floor=1``, named unless already set) took that drone to its goal at
+      cost 0; or
+    * ended where it started (less than :data:`NOTHING` of its best gain) although the run earned
+      more while it paid the cost: no safe way to the reward was found (the speed cart's seed 1,
+      which never docked). Said so, since the limit was kept and no other warning would speak.
+
+    A task whose safe policies all earn about what the first iterations earned, or a run that
+    ended over its limit (the other warnings' case), gets nothing from here."""
+    if len(window) < MIN_WINDOW or not any(sum(h.multipliers) > 0 for h in window):
         return []
     points = [h for h in updated if math.isfinite(h.mean_return)]
     if len(points) < SMOOTH + len(window) // 2:
@@ -119,18 +130,29 @@ def _gave_up_reward(updated: Sequence[PPOIteration], window: Sequence[PPOIterati
                              for i, t in enumerate(tolerance)):
         return []   # the limit was not kept at the end: limit_warnings' own case
     start, end = returns[0], sum(h.mean_return for h in ending) / len(ending)
+    spread = max(returns) - min(returns)
+    if spread <= 0:
+        return []
     safe = [(r, j) for j, (r, ok) in enumerate(zip(returns, within)) if ok]
-    if not safe:
+    best, at = max(safe) if safe else (-math.inf, 0)
+    if best - start >= NOTABLE * spread:
+        if end - start >= GAVE_UP * (best - start):
+            return []
+        first, last = points[at].iteration, points[at + SMOOTH - 1].iteration
+        remedy = ("--cost-scale-floor 1 (LagrangianConfig.cost_scale_floor) holds the cost's scale at its widest"
+                  if cost_floor < 1.0 else "more --steps, or a --cost-limit above 0 to give it room")
+        return [f"the return fell from {best:.3g} (iterations {first}-{last}, within the cost limit) to {end:.3g} "
+                f"over the last {len(window)} iterations while the cost stayed within the limit: the agent keeps the "
+                "limit but gave up reward it had earned within it, keeping further from what the cost forbids than "
+                "it must (as it stops paying, the cost's spread shrinks and each remaining violation weighs more); "
+                + remedy]
+    top = max(returns)
+    if top - start < NOTABLE * spread or end - start >= NOTHING * (top - start):
         return []
-    best, at = max(safe)
-    if best <= start or end - start >= GAVE_UP * (best - start):
-        return []
-    first, last = points[at].iteration, points[at + SMOOTH - 1].iteration
-    return [f"the return fell from {best:.3g} (iterations {first}-{last}, within the cost limit) to {end:.3g} "
-            f"over the last {len(window)} iterations while the cost stayed within the limit: the agent keeps the "
-            "limit but gave up reward it had earned within it, keeping further from what the cost forbids than it "
-            "must (as it stops paying, the cost's spread shrinks and each remaining violation weighs more); "
-            "--cost-scale-floor 1 (LagrangianConfig.cost_scale_floor) holds the cost's scale at its widest"]
+    return [f"the return ended where it started ({start:.3g} -> {end:.3g}) while the cost stayed within the limit; "
+            f"the run earned up to {top:.3g} only while it paid the cost: the agent found no safe way to the reward "
+            "in these steps. If one exists, more --steps may find it; if every way pays, the limit costs all of the "
+            "reward (a --cost-limit above 0 allows some)"]
 
 
 #: episodes this many times shorter than at their longest, and returns this share of their best
