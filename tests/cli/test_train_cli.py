@@ -60,6 +60,7 @@ def test_the_greedy_evaluation_reports_what_the_learned_cost_charges(capsys, tmp
         # a Lagrangian whose greedy agent still pays more than the limit says so, whatever its multiplier
         kept = [w for w in doc["warnings"] if "does not keep --cost-limit 0" in w]
         assert len(kept) == (0 if algo == "ppo" else 1), doc["warnings"]
+        assert all("--depth-weight 3" in w for w in kept)   # a DNF cost: the depth-shaped cost is named
     code, out, err = run(capsys, "train", "--env", "CartPole-v1", "--cost", rules, *small)
     assert code == 0, err
     assert "per episode (limit 0), ground-truth cost n/a per episode" in out and "learned cost " in out
