@@ -177,4 +177,7 @@ def test_a_safe_run_that_never_earned_more_than_its_start_says_so():
     returns = [-20.0] * 20 + [-8.0] * 10 + [-20.0] * 30
     costs = [0.0] * 20 + [8.0] * 10 + [0.0] * 30
     [warning] = limit_warnings(_safe_run(returns, costs), [0.0], cost_kind=None)
-    assert "the return ended where it started (-20 -> -20)" in warning and "earned up to -8" in warning
+    assert "the return ended at the lowest the run saw (-20; at most -8, only while the cost was paid)" in warning
+    # seed 2: docked while exploring at a cost in its first iterations, never after
+    [warning] = limit_warnings(_safe_run([-12.0] * 5 + [-20.0] * 55, [9.0] * 5 + [0.0] * 55), [0.0])
+    assert "the lowest the run saw (-20" in warning

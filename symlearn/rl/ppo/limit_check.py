@@ -84,7 +84,7 @@ SMOOTH = 5
 GAVE_UP = 0.5
 #: a gain counts only when it is at least this share of the spread of the run's (smoothed) returns
 NOTABLE = 0.25
-#: "nothing learned": the end kept less than this share of the best gain over the start, at any cost
+#: "nothing found": the end lies within this share of the spread of the run's returns from their lowest
 NOTHING = 0.1
 #: a smoothed cost estimate within ``limit + LIMIT_SLACK x`` its largest counts as within the limit
 LIMIT_SLACK = 0.05
@@ -106,9 +106,10 @@ def _gave_up_reward(updated: Sequence[PPOIteration], window: Sequence[PPOIterati
       a hundredth of its widest and every remaining violation weighs up to 100x more; holding it at
       its widest (``cost_scale_floor=1``, named unless already set) took that drone to its goal at
       cost 0; or
-    * ended where it started (less than :data:`NOTHING` of its best gain) although the run earned
-      more while it paid the cost: no safe way to the reward was found (the speed cart's seed 1,
-      which never docked). Said so, since the limit was kept and no other warning would speak.
+    * ended at the bottom of the run's returns (within :data:`NOTHING` of their spread) while
+      only stretches that paid the cost earned notably more: no safe way to the reward was found
+      (the speed cart's seeds 1 and 2, which docked while exploring at a cost and never after).
+      Said so, since the limit was kept and no other warning would speak.
 
     A task whose safe policies all earn about what the first iterations earned, or a run that
     ended over its limit (the other warnings' case), gets nothing from here."""
@@ -146,13 +147,13 @@ def _gave_up_reward(updated: Sequence[PPOIteration], window: Sequence[PPOIterati
                 "limit but gave up reward it had earned within it, keeping further from what the cost forbids than "
                 "it must (as it stops paying, the cost's spread shrinks and each remaining violation weighs more); "
                 + remedy]
-    top = max(returns)
-    if top - start < NOTABLE * spread or end - start >= NOTHING * (top - start):
+    top, bottom = max(returns), min(returns)
+    if end - bottom > NOTHING * spread or best - end >= NOTABLE * spread:
         return []
-    return [f"the return ended where it started ({start:.3g} -> {end:.3g}) while the cost stayed within the limit; "
-            f"the run earned up to {top:.3g} only while it paid the cost: the agent found no safe way to the reward "
-            "in these steps. If one exists, more --steps may find it; if every way pays, the limit costs all of the "
-            "reward (a --cost-limit above 0 allows some)"]
+    return [f"the return ended at the lowest the run saw ({end:.3g}; at most {top:.3g}, only while the cost was "
+            "paid) while the cost stayed within the limit: the agent found no safe way to the reward in these "
+            "steps. If one exists, more --steps may find it; if every way pays, the limit costs all of the reward "
+            "(a --cost-limit above 0 allows some)"]
 
 
 #: episodes this many times shorter than at their longest, and returns this share of their best
