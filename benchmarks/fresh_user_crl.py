@@ -516,7 +516,7 @@ def table(runs: list[dict]) -> str:
         if "cost_kind" in r and r.get("result"):
             cells.setdefault((r["task"], r["agent"], r["cost_kind"]), []).append(
                 (r["seed"], r["result"]["return"], r["result"]["cost"], r["result"].get("warnings") or [],
-                 new_warning(r) if r["agent"].startswith("ours") else None))
+                 (new_warning(r) if r.get("history") else "n/a") if r["agent"].startswith("ours") else None))
     lines = ["| task | agent | cost kind | return at true cost (mean) | seeds: return (true cost) | warned | "
              "safe, not useful |", "|---|---|---|---|---|---|---|"]
     for (task, agent, kind), rows in sorted(cells.items()):
@@ -525,7 +525,10 @@ def table(runs: list[dict]) -> str:
         cost = sum(x[2] for x in rows) / len(rows)
         per = " / ".join(f"{x[1]:.2f} ({x[2]:g})" for x in rows)
         warned = sum(bool(x[3]) for x in rows)
-        flagged = ", ".join(f"s{x[0]} {x[4]}" for x in rows if x[4]) or ("-" if agent.startswith("ours") else "")
+        # "n/a": a row recorded before histories were kept (the first pass's JSON)
+        flagged = ("n/a" if all(x[4] == "n/a" for x in rows) else
+                   ", ".join(f"s{x[0]} {x[4]}" for x in rows if x[4] and x[4] != "n/a")) if agent.startswith("ours") else ""
+        flagged = flagged or ("-" if agent.startswith("ours") else "")
         lines.append(f"| {task} | {agent} | {kind} | **{ret:.2f}** at {cost:.1f} | {per} | {warned}/{len(rows)} | "
                      f"{flagged} |")
     return "\n".join(lines)
