@@ -1,7 +1,7 @@
 """``symlearn data record``: demonstrations from a policy that ``symlearn train`` saved.
 
 ``symlearn data record --env ENV [--env-kwargs JSON] --policy agent.safetensors [--episodes 20]
-[--stochastic] [--max-steps N] [--seed S] -o demos.npz|demos.jsonl``
+[--stochastic] [--max-steps N] [--states observations|features] [--seed S] -o demos.npz|demos.jsonl``
 
 The step between training an expert (``train --algo ppo-lag`` on the environment's own
 ``info["cost"]``, or any ``train -o``) and learning from it (``learn dnf|icrl|pdfa --demos``), from
@@ -13,6 +13,13 @@ observations (a ``Dict`` flattened and named as ``record()`` does) and its own a
 ``MultiDiscrete`` action, not the index of its combination). Greedy (the mean or most likely
 action) unless ``--stochastic``. A policy trained for other spaces is refused in one line.
 ``--policy random`` samples the action space (seeded by ``--seed``), as ``record(env, "random")``.
+``--states features`` stores each step's ``info["features"]`` instead of the observation, named
+as ``train --cost`` names them (the keys of a dict, else the environment's ``feature_names``, in
+the file's ``metadata["feature_names"]``): what ``learn dnf`` needs where the features a
+constraint reads are not the observation -- positions out of a position-and-velocity
+observation, or a flag of the action just taken that no observation holds (issue 24's second
+pass: a rover whose boost is forbidden on a low battery). ``learn icrl`` learns from observations:
+record those (the default) for it.
 
 JSON keys: ``env``, ``policy``, ``episodes``, ``steps``, ``return`` (mean per episode), ``cost``
 (mean ``info["cost"]`` per episode, null where no step reported one), ``files``.
@@ -44,8 +51,56 @@ def register(commands, common) -> None:
                      help="sample the policy's actions (default: its mean or most likely action)")
     cmd.add_argument("--max-steps", type=float, default=None, help="cap on an episode's length (default: the "
                                                                     "environment's own time limit, else 10000)")
+    cmd.add_argument("--states", choices=("observations", "features"), default="observations",
+                     help="store the observations (default; what learn icrl reads) or each step's info[\"features\"] "
+                          "(what learn dnf and train --cost read, where the environment reports them)")
     cmd.add_argument("-o", "--output", required=True, metavar="DEMOS.npz", help="the file to write (.npz or .jsonl)")
     cmd.set_defaults(handler=run)
+
+
+class _Features:
+    """Each step's ``info["features"]`` as a flat vector, for ``record(..., observation=...)``:
+    the wrapper keeps the latest one, and the stored state ignores the observation it is given."""
+
+    def __init__(self) -> None:
+        self.latest = None
+        self.steps = 0
+
+    def wrap(self, env: Any) -> Any:
+        import gymnasium as gym
+
+        keeper = self
+
+        class Kept(gym.Wrapper):
+            def reset(self, **kwargs: Any) -> Any:
+                observation, info = self.env.reset(**kwargs)
+                keeper.keep(info)
+                return observation, info
+
+            def step(self, action: Any) -> Any:
+                result = self.env.step(action)
+                keeper.keep(result[4])
+                return result
+
+        return Kept(env)
+
+    def keep(self, info: Any) -> None:
+        from collections.abc import Mapping
+
+        import numpy as np
+
+        from symlearn.errors import DataError
+
+        raw = info.get("features") if isinstance(info, Mapping) else None
+        if raw is None:
+            raise DataError(f"--states features: step {self.steps} reported no info[\"features\"]",
+                            hint="record the observations (the default), or report info[\"features\"] on every step")
+        values = list(raw.values()) if isinstance(raw, Mapping) else raw
+        self.latest = np.asarray(values, dtype=np.float64).reshape(-1).tolist()
+        self.steps += 1
+
+    def stored(self, observation: Any) -> Any:
+        return self.latest
 
 
 class _EpisodeCost:
@@ -172,9 +227,19 @@ def run(args: argparse.Namespace, out) -> None:
     # 'random' as record() takes it; a file of that name is a model's (random.safetensors)
     policy = "random" if args.policy == "random" else _policy(args.policy, env, args.stochastic, seed)
     metadata = {"policy": str(args.policy), "stochastic": bool(args.stochastic)}
+    kept = None
+    if getattr(args, "states", "observations") == "features":
+        names = target.feature_names(env)
+        if names is None:
+            raise SymlearnError(f"--states features: {target.display} names no features",
+                                hint="give it feature_names, or report info[\"features\"] as a dict of named numbers")
+        kept = _Features()
+        env = kept.wrap(env)
+        metadata.update(states="features", feature_names=list(names))
     with raised_by_environment(None if target.bundled else environment_file(env), f"recording in {target.display}"):
         try:
-            demos = record(env, policy, episodes, seed=seed, max_steps=max_steps, metadata=metadata)
+            demos = record(env, policy, episodes, seed=seed, max_steps=max_steps, metadata=metadata,
+                           observation=None if kept is None else kept.stored)
         except UnstorableObservations as exc:
             # an image inside a Dict (MiniGrid's): keep the numeric view the policy reads instead,
             # what docs/FORMATS.md tells a Python user to record

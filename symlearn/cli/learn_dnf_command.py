@@ -20,7 +20,11 @@
 JSON keys: ``formula`` (the text), ``conjunctions`` (one string each), ``leaves`` (safe boxes as
 ``{feature: [low, high]}``), ``features``, ``seconds``, ``unsafe_share`` (of the data's bounding
 box), ``slivers_closed``, ``notes`` (how the thresholds were rounded and gaps closed) and
-``warnings`` (e.g. more than half of the bounding box unsafe; in the text output too),
+``warnings`` (e.g. more than half of the bounding box unsafe; in the text output too; then,
+for 2 to 4 features and no ``--inputs``, ``inputs_options`` holds the formula over each feature
+alone -- ``inputs``, ``conjunctions``, ``unsafe_share`` -- and a note lists them: demonstrations of
+one route make a corridor of the features together, and a constraint about one of them is learned
+from that one with ``--inputs NAME``; which one, the demonstrations cannot tell),
 ``validation`` with ``--validation FRACTION`` (held-out expert states the formula calls unsafe;
 where that is more than 5 %, ``shallower`` holds the same check for every smaller ``--max-depth``
 and the warning names the one to try: :mod:`symlearn.learners.trees.depth_advice`);
@@ -182,8 +186,8 @@ def _check_states_are_features(target, demos, path, order) -> None:
                     "other numbers", file=path,
                     hint=f"name the observation's columns with --features {_observation_names(target, observed)} "
                          f"(train --cost reads {', '.join(names or order)} from info[\"features\"] by name: keep the "
-                         f"rules to those columns with --inputs {','.join(names or order)}), or store the features as "
-                         "the states")
+                         f"rules to those columns with --inputs {','.join(names or order)}), or record the features as "
+                         "the states (symlearn data record --states features)")
 
 
 def _observation_names(target, observed) -> str:
@@ -257,6 +261,15 @@ def _dnf(args: argparse.Namespace, out) -> None:
     if held is None and learner.warn_unsafe_share is not None and learner.unsafe_share_ > learner.warn_unsafe_share:
         doc["notes"].append("--validation 0.2 holds out a fifth of the demonstrations and counts the held-out "
                             "expert states the formula calls unsafe (with the --max-depth that calls fewer)")
+    if learner.warn_unsafe_share is not None and learner.unsafe_share_ > learner.warn_unsafe_share:
+        options = _single_inputs(args, demos, features, names, inputs)
+        if options:
+            doc["inputs_options"] = options
+            doc["notes"].append(
+                "if the constraint concerns only some of the features (an angle, not its speed), learn over those "
+                "alone with --inputs: the demonstrations cover a thin slice of the features together, not of each; "
+                "alone, each gives " + "; ".join(f"--inputs {o['inputs']}: {' | '.join(o['conjunctions'])}"
+                                                 for o in options))
     if held is not None:
         from symlearn.learners.trees.one_class_tree import feature_matrix
         from symlearn.learners.validation import unsafe_states_report
@@ -275,6 +288,35 @@ def _dnf(args: argparse.Namespace, out) -> None:
         else:  # the file OneClassTreeConstraint.save writes in Python
             doc["files"] = [str(learner.save(args.output))]
     out.result(doc, _render)
+
+
+#: at most this many features get their one-feature formulas listed (SafeNav's 20 would be a page)
+MAX_LISTED_INPUTS = 4
+
+
+def _single_inputs(args, demos, features, names, inputs) -> list[dict]:
+    """The formula over each feature alone, where most of the bounding box is unsafe: a tree over
+    every feature at once makes a corridor of demonstrations that cover one route (issue 24: an
+    arm's swing in (theta, omega), 87-94 % unsafe, and `--inputs theta` -- the constraint is about
+    the angle -- gave a formula that kept the agent safe). Which feature the constraint is about
+    the demonstrations cannot say: each one-feature formula forbids only what lies beyond the
+    demonstrated range, so all are listed, each with its rules, for the user to choose (measured
+    on 8 tasks, docs/BENCHMARKS.md). ``[]`` for one feature, more than :data:`MAX_LISTED_INPUTS`,
+    or ``--inputs`` already given."""
+    from symlearn.learners.trees.one_class_tree import OneClassTreeConstraint
+
+    if inputs is not None or not 2 <= len(names) <= MAX_LISTED_INPUTS:
+        return []
+    options = []
+    for name in names:
+        single = OneClassTreeConstraint(max_depth=args.max_depth, min_samples_leaf=args.min_samples_leaf,
+                                        inputs=[name], warn_unsafe_share=None)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)
+            single.fit(demos, features)
+        options.append({"inputs": name, "conjunctions": [str(c) for c in single.dnf_.conjunctions],
+                        "unsafe_share": single.unsafe_share_})
+    return options
 
 
 def _depth_advice(args, inputs, train, features, held_states, share: float, validation: dict) -> str:

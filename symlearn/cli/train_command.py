@@ -2,7 +2,7 @@
 
 ``symlearn train --env ENV [--env-kwargs JSON] [--algo ALGO] [--cost rules.dnf|cost.safetensors
 [--features a,b] [--per-rule] [--depth-weight W]] [--cost-limit C] [--multiplier-update gradient|adam|pid]
-[--multiplier-init M] [--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns] [--reward-scale-floor SHARE]
+[--multiplier-init M] [--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns] [--reward-scale-floor SHARE] [--cost-scale-floor SHARE]
 [--cost-estimate rollout|episodes] [--reset-actor auto|never] [--normalize-observations]
 [--normalize-values] [--n-envs N] [--n-steps T] [--prune [--prune-threshold T]] [--steps N]
 [--eval-episodes E] [-o agent.safetensors] [--log run.csv] [--tensorboard DIR] [--json]``
@@ -60,6 +60,13 @@
   3 of 5 seeds at the default, 5 of 5 with 1 -- but 1 costs SafeNav and BlockedPoint's learned wall
   (docs/BENCHMARKS.md, "A reward that stops varying"), so it is a remedy the run's warning names,
   not the default.
+* ``--cost-scale-floor SHARE`` (``ppo-lag``; default 0.01): the same for each cost's return scale
+  in the mix. As the agent stops paying a cost, the spread of its returns shrinks and every
+  remaining violation weighs up to 1 / SHARE times more than at the start: what keeps a last lava
+  step out of a grid walker's route, and what held a drone that must go round a no-fly disc at
+  3.1 instead of the 20 it earns by the detour (with 1: 20.2 at cost 0, but the grid walker kept
+  its lava step; docs/BENCHMARKS.md, "Fresh user modules, second pass"). A remedy the run's
+  warning names when the return fell from what the run earned within the limit, not the default.
 * ``--reset-actor auto|never`` (``ppo-lag``; default ``never``, the library's): with ``auto`` a policy that stays over
   ``--cost-limit`` while the multiplier keeps rising gets fresh weights -- critics, observation
   statistics and multipliers kept -- at most twice, never in the last third of the run
@@ -114,8 +121,9 @@ cost's expert level -- or ``default``: 0), ``multipliers`` (null without a
 Lagrangian), ``actor_resets`` (``ppo-lag``: the iterations whose actor was renewed, else null),
 ``pruned`` (the dropped rules, or null; with ``--prune`` also ``kept``), ``seconds``,
 ``steps``, ``files``, ``warnings`` (a Lagrangian whose multiplier rose while the cost stayed over the
-limit, :mod:`symlearn.rl.ppo.limit_check`; else one whose greedy agent still pays more than the limit of
-what it was trained on).
+limit, :mod:`symlearn.rl.ppo.limit_check`; one that kept its limit but is not useful -- its return fell
+from what the run had earned within the limit, or ended where it started while only episodes that
+paid earned more; else one whose greedy agent still pays more than the limit of what it was trained on).
 """
 
 from __future__ import annotations
@@ -180,6 +188,9 @@ def register(subparsers, common) -> None:
                      help="ppo-lag: in the mix of reward and cost, the reward's return scale never drops below "
                           "SHARE x the largest it had (default 0.01; 1 when every episode earns about the same "
                           "and the cost stays over its limit: the run's warning says when)")
+    cmd.add_argument("--cost-scale-floor", type=float, default=None, metavar="SHARE",
+                     help="ppo-lag: in the mix, each cost's return scale never drops below SHARE x the largest it "
+                          "had (default 0.01: a cost the agent stopped paying gets up to 100x dearer)")
     cmd.add_argument("--cost-estimate", choices=("rollout", "episodes"), default="rollout",
                      help="ppo-lag: update the multipliers every iteration from the rollout's cost per step x the "
                           "mean episode length (rollout, the default) or only from episodes that ended in it (episodes)")
@@ -233,6 +244,9 @@ def check_numbers(args: argparse.Namespace, default_steps: int) -> None:
     if args.reward_scale_floor is not None and not (math.isfinite(args.reward_scale_floor)
                                                     and 0 < args.reward_scale_floor <= 1):
         raise SymlearnError(f"--reward-scale-floor must be a number in (0, 1], got {args.reward_scale_floor:g}")
+    if args.cost_scale_floor is not None and not (math.isfinite(args.cost_scale_floor)
+                                                  and 0 < args.cost_scale_floor <= 1):
+        raise SymlearnError(f"--cost-scale-floor must be a number in (0, 1], got {args.cost_scale_floor:g}")
     if args.learning_rate is not None and not (math.isfinite(args.learning_rate) and 0 < args.learning_rate <= 1):
         raise SymlearnError(f"--learning-rate must be a number in (0, 1], got {args.learning_rate:g}")
     if args.log_std_init is not None and not (math.isfinite(args.log_std_init) and -20 <= args.log_std_init <= 5):
@@ -268,6 +282,7 @@ def _train(args: argparse.Namespace, out) -> None:
                                          ("--normalize-values", args.normalize_values),
                                          ("--advantage-scale", args.advantage_scale),
                                          ("--reward-scale-floor", args.reward_scale_floor),
+                                         ("--cost-scale-floor", args.cost_scale_floor),
                                          ("--learning-rate", args.learning_rate),
                                          ("--log-std-init", args.log_std_init),
                                          ("--reset-actor", args.reset_actor)) if given is not None]
@@ -355,6 +370,7 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
             else args.multiplier_init
         given = {key: value for key, value in (("update", args.multiplier_update), ("lr", args.multiplier_lr),
                                                ("init", start), ("reward_scale_floor", args.reward_scale_floor),
+                                               ("cost_scale_floor", args.cost_scale_floor),
                                                ("reset_actor", args.reset_actor))
                  if value is not None}  # the rest: the library's defaults
         lagrangian = LagrangianConfig(cost_limit=args.cost_limit, advantage_scale=args.advantage_scale or "returns",
@@ -381,7 +397,8 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
         doc["warnings"] = limit_warnings(result.history, [args.cost_limit] * len(result.multipliers),
                                          advantage_scale=lagrangian.advantage_scale,
                                          reward_floor=lagrangian.reward_scale_floor,
-                                         cost_kind=None if cost is None else cost.kind)
+                                         cost_kind=None if cost is None else cost.kind,
+                                         cost_floor=lagrangian.cost_scale_floor)
         if doc["warnings"] and cost is not None and cost.kind == "dnf" and not args.depth_weight:
             # an agent that cut across a narrow safe set pays 1 on every step of the short cut
             # whichever way it turns; a depth-shaped cost tells it the way out (backends/dnf_depth)
@@ -426,6 +443,11 @@ def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
     if cost is not None and cost.kind == "dnf":
         advice += ("; a formula that also flags the expert's own states cannot be kept (learn dnf --validation 0.2 "
                    "counts them)")
+        if not args.depth_weight:
+            # the speed cart of issue 24's second pass: its agent raced through the learned speed limit
+            # (12 per episode, multiplier 7.4 after 50k steps); --depth-weight 3: 2.2 at cost 0
+            advice += ("; an agent that cut across the formula's unsafe set pays 1 a step whichever way it turns: "
+                       "--depth-weight 3 charges by depth and points the way out")
     return (f"the trained agent does not keep {limit}: its greedy episodes pay {paid:.3g} "
             f"per episode of {what} after {doc['steps']} steps; {advice}")
 

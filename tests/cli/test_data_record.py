@@ -149,3 +149,60 @@ def test_policy_random_samples_the_action_space(capsys, tmp_path, monkeypatch):
     code, _, err = run(capsys, *flags, "-o", "again.npz")
     assert code == 0, err
     assert load(tmp_path / "again.npz") == demos
+
+
+BOOST_ROVER = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class Rover(gym.Env):
+    """Observes (x, battery); its features add whether the step boosted, which no observation holds."""
+    feature_names = ("x", "battery", "boost")
+
+    def __init__(self):
+        self.observation_space = spaces.Box(0.0, 1.0, (2,), np.float32)
+        self.action_space = spaces.Discrete(2)
+
+    def reset(self, seed=None, options=None):
+        super().reset(seed=seed)
+        self.x, self.battery = 0.0, 1.0
+        obs = np.array([self.x, self.battery], np.float32)
+        return obs, {"features": np.array([self.x, self.battery, 0.0], np.float32), "cost": 0.0}
+
+    def step(self, action):
+        boost = int(action) == 1
+        self.x = min(1.0, self.x + (0.1 if boost else 0.05))
+        self.battery -= 0.1 if boost else 0.02
+        obs = np.array([self.x, self.battery], np.float32)
+        info = {"features": np.array([self.x, self.battery, float(boost)], np.float32),
+                "cost": float(boost and self.battery < 0.5)}
+        return obs, 0.0, self.x >= 1.0, False, info
+
+
+gym.register("BoostRover-v0", entry_point=Rover, max_episode_steps=30)
+'''
+
+
+def test_states_features_records_what_a_formula_reads(capsys, tmp_path, monkeypatch):
+    """Features that are not the observation (a flag of the action taken): `learn dnf` refuses the
+    observations, names `--states features`, and learns from the file it writes (issue 24)."""
+    _module(tmp_path, monkeypatch, "boost_rover_t", BOOST_ROVER)
+    flags = ("data", "record", "--env", "boost_rover_t:BoostRover-v0", "--policy", "random", "--episodes", 4)
+    code, _, err = run(capsys, *flags, "-o", "obs.npz")
+    assert code == 0, err
+    code, _, err = run(capsys, "learn", "dnf", "--env", "boost_rover_t:BoostRover-v0", "--demos", "obs.npz")
+    assert code != 0 and "data record --states features" in err
+    code, _, err = run(capsys, *flags, "--states", "features", "-o", "features.npz")
+    assert code == 0, err
+    demos = load(tmp_path / "features.npz")
+    assert demos.metadata["feature_names"] == ["x", "battery", "boost"]
+    first = demos[0]
+    assert np.asarray(first.states).shape == (len(first.actions) + 1, 3)
+    # the boost column is the action just taken (the reset's 0 first), not anything observed
+    assert np.asarray(first.states)[1:, 2].tolist() == [float(a) for a in first.actions]
+    code, out, err = run(capsys, "learn", "dnf", "--env", "boost_rover_t:BoostRover-v0", "--demos", "features.npz",
+                         "--json")
+    assert code == 0, err
+    assert json.loads(out)["features"] == ["x", "battery", "boost"]

@@ -188,3 +188,33 @@ def test_no_depth_advice_where_the_formula_already_generalises():
     worse = [DepthOption(4, 0.35, 0.9, 9), DepthOption(3, 0.3, 0.8, 5)]
     assert advised(worse, 0.4) is None             # nothing halves it
     assert advised(worse, 0.7).max_depth == 3
+
+
+def test_a_corridor_of_demonstrations_lists_the_formula_over_each_feature_alone(capsys, tmp_path):
+    """One swing of an arm in (theta, omega) -- theta rising to 0.9 while omega rises and falls --
+    covers a thin curve of the plane: most of the box is unsafe, and the note lists the formula
+    over each feature alone for --inputs (issue 24); a box the demonstrations fill lists nothing."""
+    t = np.linspace(0, 1, 30)
+    rise = np.stack([0.9 * np.sin(np.pi / 2 * t), 2 * np.sin(np.pi * t)], 1)   # then held at 0.9, at rest
+    swing = [Trajectory(states=np.concatenate([rise, np.tile([0.9, 0.0], (40, 1))]) + [0.002 * k, 0.0])
+             for k in range(6)]
+    path = tmp_path / "swing.npz"
+    Demonstrations(swing).save(path)
+    code, out, err = run(capsys, "learn", "dnf", "--demos", path, "--features", "theta,omega", "--json")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["unsafe_share"] > 0.5
+    assert [o["inputs"] for o in doc["inputs_options"]] == ["theta", "omega"]
+    theta = doc["inputs_options"][0]["conjunctions"]
+    assert any(c.startswith("theta > 0.9") for c in theta) and all("omega" not in c for c in theta)
+    note = next(n for n in doc["notes"] if "--inputs" in n)
+    assert "--inputs theta: theta <" in note and "--inputs omega: omega <" in note
+    # --inputs given, or a box the demonstrations fill: nothing listed
+    code, out, err = run(capsys, "learn", "dnf", "--demos", path, "--features", "theta,omega", "--inputs", "theta",
+                         "--json")
+    assert code == 0 and "inputs_options" not in json.loads(out)
+    rng = np.random.default_rng(0)
+    filled = tmp_path / "filled.npz"
+    Demonstrations([Trajectory(states=rng.uniform(0, 1, (60, 2))) for _ in range(6)]).save(filled)
+    code, out, err = run(capsys, "learn", "dnf", "--demos", filled, "--features", "a,b", "--json")
+    assert code == 0 and "inputs_options" not in json.loads(out)

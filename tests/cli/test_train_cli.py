@@ -60,6 +60,7 @@ def test_the_greedy_evaluation_reports_what_the_learned_cost_charges(capsys, tmp
         # a Lagrangian whose greedy agent still pays more than the limit says so, whatever its multiplier
         kept = [w for w in doc["warnings"] if "does not keep --cost-limit 0" in w]
         assert len(kept) == (0 if algo == "ppo" else 1), doc["warnings"]
+        assert all("--depth-weight 3" in w for w in kept)   # a DNF cost: the depth-shaped cost is named
     code, out, err = run(capsys, "train", "--env", "CartPole-v1", "--cost", rules, *small)
     assert code == 0, err
     assert "per episode (limit 0), ground-truth cost n/a per episode" in out and "learned cost " in out
@@ -135,6 +136,9 @@ def _one_line(code, err, *needles):
     (("--reward-scale-floor", "nan"), "--reward-scale-floor must be a number in (0, 1]"),
     (("--reward-scale-floor", 2), "--reward-scale-floor must be a number in (0, 1]"),
     (("--algo", "sb3-ppo-lag", "--reward-scale-floor", "1"), "--reward-scale-floor is an option of our PPO"),
+    (("--cost-scale-floor", 0), "--cost-scale-floor must be a number in (0, 1]"),
+    (("--cost-scale-floor", "inf"), "--cost-scale-floor must be a number in (0, 1]"),
+    (("--algo", "sb3-ppo-lag", "--cost-scale-floor", "1"), "--cost-scale-floor is an option of our PPO"),
     (("--n-envs", 0), "--n-envs must be between 1"),
     (("--n-envs", 100, "--n-steps", 100_000), "steps per rollout"),
     (("--n-steps", "1e12"), "--n-steps must be between 1"),

@@ -149,6 +149,26 @@ def test_reward_scale_floor_is_a_share(floor):
         LagrangianConfig(cost_limit=0.0, reward_scale_floor=floor)
 
 
+def test_the_cost_scale_floor_holds_a_cost_the_agent_stopped_paying_at_its_spread():
+    """A cost the agent stopped paying: its running scale falls to 1 % of its peak (every remaining
+    violation 100x dearer in the mix); ``cost_floor=1`` holds it at the peak in the mix only."""
+    from symlearn.rl.ppo.update import RETURN_SCALE_FLOOR, _ReturnScales
+
+    spread = np.array([[0.0, 0.0], [10.0, 4.0]])
+    safe = np.array([[0.0, 0.0], [10.0, 0.0]])     # the reward still varies, the cost is 0 everywhere
+    running, held = _ReturnScales(), _ReturnScales(cost_floor=1.0)
+    for scales in (running, held):
+        scales.update(spread)
+        for _ in range(200):
+            scales.update(safe)
+    np.testing.assert_allclose(running.mix_scales(), [5.0, 2.0 * RETURN_SCALE_FLOOR], rtol=1e-6)
+    np.testing.assert_allclose(held.mix_scales(), [5.0, 2.0], rtol=1e-6)
+    np.testing.assert_allclose(held.scales(), running.scales())   # the critics' unit is not held
+    assert LagrangianConfig(cost_limit=0.0).cost_scale_floor == RETURN_SCALE_FLOOR   # the default: as before
+    with pytest.raises(SymlearnError, match="cost_scale_floor"):
+        LagrangianConfig(cost_limit=0.0, cost_scale_floor=0.0)
+
+
 def _run(reward_unit: float, cost_unit: float, scale: str, normalize_values: bool):
     return train_ppo(lambda: Line(reward_unit=reward_unit, cost_unit=cost_unit), 2048,
                      PPOConfig(seed=3, normalize_values=normalize_values, **SMALL),

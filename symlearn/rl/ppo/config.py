@@ -182,6 +182,9 @@ class LagrangianConfig:
     # nothing within 50k steps (docs/BENCHMARKS.md, "A reward that stops varying"): the default
     # stays, and limit_warnings names this setting when a run shows the collapse
     reward_scale_floor: float = 0.01
+    # the same for each cost's return scale in the mix: as the agent stops paying a cost its scale
+    # shrinks, and every remaining violation gets dearer in its units (up to 1 / 0.01 = 100x)
+    cost_scale_floor: float = 0.01
     cost_estimate: str = "rollout"
     # "auto": a fresh actor, on trial, when the policy is stuck over its limit while the multiplier
     # keeps rising (symlearn.rl.ppo.stall); "never" (the default: measured, it helps some tasks and
@@ -223,6 +226,9 @@ class LagrangianConfig:
         if isinstance(self.reward_scale_floor, bool) or not isinstance(self.reward_scale_floor, (int, float)) \
                 or not 0 < self.reward_scale_floor <= 1:
             raise SymlearnError(f"reward_scale_floor must be a number in (0, 1], got {self.reward_scale_floor!r}")
+        if isinstance(self.cost_scale_floor, bool) or not isinstance(self.cost_scale_floor, (int, float)) \
+                or not 0 < self.cost_scale_floor <= 1:
+            raise SymlearnError(f"cost_scale_floor must be a number in (0, 1], got {self.cost_scale_floor!r}")
         if self.reset_actor not in RESET_ACTOR_RULES:
             raise SymlearnError(f"reset_actor must be one of {', '.join(map(repr, RESET_ACTOR_RULES))}, "
                                 f"got {self.reset_actor!r}")

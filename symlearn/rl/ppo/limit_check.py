@@ -22,7 +22,7 @@ from collections.abc import Sequence
 
 from symlearn.rl.ppo.records import PPOIteration
 
-__all__ = ["limit_warnings", "MIN_WINDOW", "HEAVY_MULTIPLIER", "SATURATED_SHARE"]
+__all__ = ["limit_warnings", "MIN_WINDOW", "HEAVY_MULTIPLIER", "SATURATED_SHARE", "GAVE_UP"]
 
 #: iterations with a multiplier update needed in the window before anything is said
 MIN_WINDOW = 3
@@ -46,14 +46,16 @@ _COST_HINTS = {
 
 def limit_warnings(history: Sequence[PPOIteration], cost_limits: Sequence[float], *,
                    advantage_scale: str = "returns", reward_floor: float = 0.01,
-                   cost_kind: str | None = "dnf") -> list[str]:
+                   cost_kind: str | None = "dnf", cost_floor: float = 0.01) -> list[str]:
     """One warning per constraint whose cost stayed above its limit while its multiplier rose to
     :data:`HEAVY_MULTIPLIER` or more over the last third of the run; ``[]`` for a run without a
     Lagrangian, one that met its limits, or one with raw advantages. A run whose limit was broken
     throughout the window while the reward's returns stopped varying gets :func:`_saturated`'s
     warning as well. ``cost_kind`` is what the Lagrangian constrained -- ``"dnf"`` (a learned
     formula), ``"neural"`` (a learned network) or ``None`` (the environment's ``info["cost"]``) --
-    and picks the advice that ends the warning."""
+    and picks the advice that ends the warning. A run that kept its limits but ended earning much
+    less than it had earned within them gets :func:`_gave_up_reward`'s warning (``cost_floor``:
+    ``LagrangianConfig.cost_scale_floor``, the setting it names)."""
     if advantage_scale != "returns":
         return []
     updated = [h for h in history if h.cost_estimate]
@@ -72,7 +74,86 @@ def limit_warnings(history: Sequence[PPOIteration], cost_limits: Sequence[float]
                 f"(last estimate {estimates[-1]:.3g} per episode) while the multiplier rose from {first:.3g} "
                 f"to {last:.3g} (the reward {reward_weight:.0%} of the objective): the limit may be out of reach "
                 f"for this cost, and the agent trades its reward away for it; {_COST_HINTS.get(cost_kind, _COST_HINTS[None])}")
-    return warnings + _saturated(history, window, cost_limits, reward_floor) + _ending_early(history, window)
+    return (warnings + _saturated(history, window, cost_limits, reward_floor) + _ending_early(history, window)
+            + _gave_up_reward(updated, window, cost_limits, cost_floor))
+
+
+#: iterations in the moving mean of returns and cost estimates that :func:`_gave_up_reward` compares
+SMOOTH = 5
+#: the run's end kept less than this share of the best gain over its start made within the limits
+GAVE_UP = 0.5
+#: a gain counts only when it is at least this share of the spread of the run's (smoothed) returns
+NOTABLE = 0.25
+#: "nothing found": the end lies within this share of the spread of the run's returns from their lowest
+NOTHING = 0.1
+#: a smoothed cost estimate within ``limit + LIMIT_SLACK x`` its largest counts as within the limit
+LIMIT_SLACK = 0.05
+
+
+def _gave_up_reward(updated: Sequence[PPOIteration], window: Sequence[PPOIteration], cost_limits: Sequence[float],
+                    cost_floor: float) -> list[str]:
+    """Safe but not useful, read off the run: over the last third (``window``) every cost estimate
+    stayed within its limit on average (up to :data:`LIMIT_SLACK` of its largest), the Lagrangian
+    on, and the mean return (moving means over :data:`SMOOTH` updates; gains count from
+    :data:`NOTABLE` of the spread of the run's returns) either
+
+    * kept less than :data:`GAVE_UP` of what the run had gained over its first iterations at its
+      best stretch *within the limits*: a policy the run had already found earned more without
+      breaking anything, and the one it ends with keeps further from what the cost forbids than the
+      limit asks. With return-unit advantages the cause measured (docs/BENCHMARKS.md, issue 24's
+      second pass: the no-fly drone, 10.9 within the limit at iterations 28-32, 2.9 at the end) is
+      the cost's own scale: as the agent stops paying, the spread of the cost's returns shrinks to
+      a hundredth of its widest and every remaining violation weighs up to 100x more; holding it at
+      its widest (``cost_scale_floor=1``, named unless already set) took that drone to its goal at
+      cost 0; or
+    * ended at the bottom of the run's returns (within :data:`NOTHING` of their spread) while
+      only stretches that paid the cost earned notably more: no safe way to the reward was found
+      (the speed cart's seeds 1 and 2, which docked while exploring at a cost and never after).
+      Said so, since the limit was kept and no other warning would speak.
+
+    A task whose safe policies all earn about what the first iterations earned, or a run that
+    ended over its limit (the other warnings' case), gets nothing from here."""
+    if len(window) < MIN_WINDOW or not any(sum(h.multipliers) > 0 for h in window):
+        return []
+    points = [h for h in updated if math.isfinite(h.mean_return)]
+    if len(points) < SMOOTH + len(window) // 2:
+        return []
+
+    def moving(values: Sequence[float]) -> list[float]:
+        return [sum(values[i - SMOOTH + 1:i + 1]) / SMOOTH for i in range(SMOOTH - 1, len(values))]
+
+    returns = moving([h.mean_return for h in points])
+    estimates = [moving([h.cost_estimate[i] for h in points]) for i in range(len(cost_limits))]
+    tolerance = [limit + LIMIT_SLACK * max(max(e), 0.0) for limit, e in zip(cost_limits, estimates)]
+    within = [all(e[j] <= t for e, t in zip(estimates, tolerance)) for j in range(len(returns))]
+    ending = [h for h in window if math.isfinite(h.mean_return)]
+    if not ending or not all(sum(h.cost_estimate[i] for h in window) / len(window) <= t
+                             for i, t in enumerate(tolerance)):
+        return []   # the limit was not kept at the end: limit_warnings' own case
+    start, end = returns[0], sum(h.mean_return for h in ending) / len(ending)
+    spread = max(returns) - min(returns)
+    if spread <= 0:
+        return []
+    safe = [(r, j) for j, (r, ok) in enumerate(zip(returns, within)) if ok]
+    best, at = max(safe) if safe else (-math.inf, 0)
+    if best - start >= NOTABLE * spread:
+        if end - start >= GAVE_UP * (best - start):
+            return []
+        first, last = points[at].iteration, points[at + SMOOTH - 1].iteration
+        remedy = ("--cost-scale-floor 1 (LagrangianConfig.cost_scale_floor) holds the cost's scale at its widest"
+                  if cost_floor < 1.0 else "more --steps, or a --cost-limit above 0 to give it room")
+        return [f"the return fell from {best:.3g} (iterations {first}-{last}, within the cost limit) to {end:.3g} "
+                f"over the last {len(window)} iterations while the cost stayed within the limit: the agent keeps the "
+                "limit but gave up reward it had earned within it, keeping further from what the cost forbids than "
+                "it must (as it stops paying, the cost's spread shrinks and each remaining violation weighs more); "
+                + remedy]
+    top, bottom = max(returns), min(returns)
+    if end - bottom > NOTHING * spread or best - end >= NOTABLE * spread:
+        return []
+    return [f"the return ended at the lowest the run saw ({end:.3g}; at most {top:.3g}, only while the cost was "
+            "paid) while the cost stayed within the limit: the agent found no safe way to the reward in these "
+            "steps. If one exists, more --steps may find it; if every way pays, the limit costs all of the reward "
+            "(a --cost-limit above 0 allows some)"]
 
 
 #: episodes this many times shorter than at their longest, and returns this share of their best

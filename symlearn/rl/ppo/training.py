@@ -108,7 +108,8 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
     multipliers = None
     stall: LagrangianStall | None = None
     kept: tuple[list[torch.Tensor], list[dict]] | None = None   # the actor a stall reset replaced, on trial
-    return_scales = _ReturnScales() if lagrangian is None else _ReturnScales(lagrangian.reward_scale_floor)
+    return_scales = _ReturnScales() if lagrangian is None else _ReturnScales(lagrangian.reward_scale_floor,
+                                                                                    lagrangian.cost_scale_floor)
     rollouts = _Rollouts(envs, agent, costs, seed, _info_keys(reward_fn, cost_fn), read_costs=cost_fn is None)
     fresh_critics = policy is not None  # their outputs are in returns, not yet in the running scales
     batch = config.n_envs * config.n_steps

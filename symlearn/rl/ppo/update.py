@@ -31,10 +31,11 @@ class _ReturnScales:
     scale in the Lagrangian's mix (:meth:`mix_scales`, not the critics' unit) is floored at
     ``reward_floor`` times its largest value instead (``LagrangianConfig.reward_scale_floor``)."""
 
-    def __init__(self, reward_floor: float = RETURN_SCALE_FLOOR) -> None:
+    def __init__(self, reward_floor: float = RETURN_SCALE_FLOOR, cost_floor: float = RETURN_SCALE_FLOOR) -> None:
         self.values: np.ndarray | None = None
         self.peak: np.ndarray | None = None
         self.reward_floor = float(reward_floor)
+        self.cost_floor = float(cost_floor)
 
     def update(self, returns: np.ndarray) -> np.ndarray:
         now = np.asarray(returns, dtype=np.float64).std(axis=0)
@@ -51,11 +52,14 @@ class _ReturnScales:
         return np.where(self.peak > 0, np.maximum(self.values, RETURN_SCALE_FLOOR * self.peak), 1.0)
 
     def mix_scales(self) -> np.ndarray:
-        """:meth:`scales` with the reward's floored at ``reward_floor`` of its largest value: the
-        units the Lagrangian's advantages are mixed in."""
+        """:meth:`scales` with the reward's floored at ``reward_floor`` of its largest value and each
+        cost's at ``cost_floor`` of its own: the units the Lagrangian's advantages are mixed in."""
         scales = self.scales()
         if scales.size and self.peak[0] > 0:
             scales[0] = max(scales[0], self.reward_floor * self.peak[0])
+        if scales.size > 1:
+            costs = self.peak[1:] > 0
+            scales[1:][costs] = np.maximum(scales[1:][costs], self.cost_floor * self.peak[1:][costs])
         return scales
 
 
