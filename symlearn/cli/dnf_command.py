@@ -180,7 +180,8 @@ def _show(args: argparse.Namespace, out) -> None:
         text = d["simplified"] if "simplified" in d else d["text"]
         size = (f"{d['simplified_conjunctions']} conjunctions, {d['simplified_atoms']} atoms "
                 f"(from {d['conjunctions']}, {d['atoms']})" if "simplified" in d
-                else f"{d['conjunctions']} conjunctions, {d['atoms']} atoms")
+                else f"{d['conjunctions']} conjunction{'s' if d['conjunctions'] != 1 else ''}, {d['atoms']} "
+                     f"atom{'s' if d['atoms'] != 1 else ''}")
         return f"{text}\n# {size}; features: {', '.join(d['features']) or 'none'}"
 
     out.result(doc, render)

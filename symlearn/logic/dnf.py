@@ -864,6 +864,7 @@ def _parse_lines(lines: list[str], source: str | None) -> DNF:
     conjunctions: list[Conjunction] = []
     pending: ParseError | None = None  # a bad number; a syntax error on a later line comes first
     atoms_seen: dict = {}
+    never: list[tuple[int, Conjunction]] = []   # (line, conjunction) that no point satisfies
     for number, line in enumerate(lines, 1):
         found = _scan_line(line, atoms_seen)
         if found is None:
@@ -872,10 +873,35 @@ def _parse_lines(lines: list[str], source: str | None) -> DNF:
             except _BadNumber as exc:
                 pending = pending or exc.error
                 continue
+        for conjunction in found:
+            # only a feature bounded twice can empty a conjunction: the cheap test first
+            atoms = conjunction.atoms
+            if len(atoms) > 1 and len({a.feature for a in atoms}) < len(atoms) and not conjunction.is_satisfiable:
+                never.append((number, conjunction))
         conjunctions.extend(found)
     if pending is not None:
         raise pending
+    if never:
+        _warn_never_holding(never, source)
     return DNF(tuple(conjunctions))
+
+
+def _warn_never_holding(never: list[tuple[int, Conjunction]], source: str | None) -> None:
+    """One warning for the conjunctions no point satisfies (``x < 1 & x > 2``): a learner never
+    writes one, so in a file it is an edit gone wrong -- a reversed comparison, a misplaced bound --
+    and the rule it meant forbids nothing now."""
+    import warnings
+
+    lines = sorted({number for number, _ in never})
+    number, first = never[0]
+    empty = next(f for f, i in first.box().items() if i.is_empty)
+    bounds = " & ".join(a.to_string() for a in first.atoms if a.feature == empty)
+    where = f"{source}: " if source else ""
+    shown = ", ".join(map(str, lines[:10])) + (f", ... ({len(lines) - 10} more)" if len(lines) > 10 else "")
+    warnings.warn(f"{where}{len(never)} conjunction{'s' if len(never) > 1 else ''} can never hold, so "
+                  f"{'they forbid' if len(never) > 1 else 'it forbids'} nothing (line{'s' if len(lines) > 1 else ''} "
+                  f"{shown}; line {number}: {bounds} leaves no value of {empty}): a comparison the wrong way "
+                  "round?", UserWarning, stacklevel=4)
 
 
 _WS = r"[ \t\f\r]*"

@@ -107,3 +107,27 @@ def test_rule_file_that_is_not_utf8_is_located(capsys, tmp_path):
     bad.write_bytes(b"v > 1\nx0 > \xff0.1\n")
     code, out, err = run(capsys, "dnf", "show", bad)
     assert code == 2 and "bad.dnf:2:" in err and "UTF-8" in err
+
+
+def test_a_conjunction_that_can_never_hold_is_warned_about(capsys, tmp_path):
+    """``x < 1 & x > 2`` forbids nothing: in a hand-edited file that is a comparison the wrong way
+    round, said once for the file with its lines (``==``/``!=`` expansions included). The CLI
+    prints a warning as one ``warning:`` line; in-process, pytest records it."""
+    import warnings
+
+    path = tmp_path / "edited.dnf"
+    path.write_text("x < 1 & x > 2\ny > 3\nx >= 0.5 & x <= 0.5\nz == 1 & z != 1\n")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        code, out, err = run(capsys, "dnf", "show", path)
+    assert code == 0 and "y > 3" in out
+    warned = [str(w.message) for w in caught if "can never hold" in str(w.message)]
+    assert len(warned) == 1, warned
+    assert f"{path}: 3 conjunctions can never hold" in warned[0] and "lines 1, 4;" in warned[0]
+    assert "x < 1 & x > 2 leaves no value of x" in warned[0]
+    path.write_text("x < 3 & x > 2\nx >= 0.5 & x <= 0.5\n")   # narrow, but each holds somewhere
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        code, out, err = run(capsys, "dnf", "show", path)
+    assert code == 0 and not [w for w in caught if "can never hold" in str(w.message)]
+    assert "# 2 conjunctions, 4 atoms" in out
