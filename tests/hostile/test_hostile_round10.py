@@ -1,0 +1,165 @@
+"""Tenth round of issue 26: what a fresh held-out corpus of ~620 generated cases still found
+(docs/BENCHMARKS.md, "Tenth round"). Every input is generated here and run through the real
+command in a child process (tests/support/hostile.py): exit 0, or exit 2 and one line, no
+traceback, bounded time and memory, inputs untouched.
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+from pathlib import Path
+
+import pytest
+
+from hostile import assert_refused, assert_survived, run_command
+
+
+# -- an error quoting a huge token, or the excerpt of a huge line, stays short --------------------
+def test_an_error_message_quoting_a_huge_token_is_bounded(tmp_path):
+    (tmp_path / "f.ltl").write_text("F a\nG (a -> X b) " + "x" * 5_000_000 + "\n")
+    result = run_command(["ltl", "dfa", "--file", "f.ltl"], cwd=tmp_path, timeout=60)
+    line = assert_refused(result, names="f.ltl:2:14", max_seconds=30)
+    assert len(result.stderr) < 5000, len(result.stderr)
+    assert "characters]" in line
+    excerpt, caret = result.stderr_lines[1:]
+    assert excerpt.startswith("  G (a -> X b) xxx") and excerpt.endswith("...")
+    assert caret.index("^") == excerpt.index("xxx")
+
+
+def test_an_excerpt_far_into_a_long_line_keeps_its_caret_under_the_character():
+    from symlearn.errors import ParseError, with_excerpt
+
+    line = "a & " * 10_000 + "? & b"
+    column = line.index("?") + 1
+    text = str(ParseError(with_excerpt("unexpected character '?'", line, column), file="f.ltl", line=1,
+                          column=column))
+    message, excerpt, caret = text.split("\n")
+    assert len(excerpt) < 200 and excerpt.startswith("  ...")
+    assert excerpt[caret.index("^")] == "?"
+    short = str(ParseError(with_excerpt("unexpected character '?'", "a ? b", 3)))
+    assert short.split("\n")[1:] == ["  a ? b", "    ^"]
+
+
+# -- sweep files: TOML dates, and a folder's modules never shadow the libraries -------------------
+SWEEP = '[sweep]\nname = "t"\ncommand = ["symlearn", "ltl", "parse", "{f}", "--json"]\nseeds = 1\n[grid]\n'
+
+
+@pytest.mark.parametrize("values", ["f = [1979-05-27T07:32:00Z]", "f = [{a = [07:32:00]}]"])
+def test_a_toml_date_in_a_sweep_is_refused_at_its_key(tmp_path, values):
+    (tmp_path / "s.toml").write_text(SWEEP + values + "\n")
+    result = run_command(["sweep", "run", "s.toml", "--local"], cwd=tmp_path, timeout=60)
+    assert_refused(result, names="s.toml:6:1", contains="TOML date or time", max_seconds=30)
+    assert not (tmp_path / "s-results").exists()
+
+
+def test_a_sweep_command_does_not_import_modules_lying_in_the_sweep_folder(tmp_path):
+    folder = tmp_path / "sweep"
+    folder.mkdir()
+    (folder / "s.toml").write_text(SWEEP + 'f = ["F a"]\n')
+    for module in ("json", "typing"):  # what `python -m symlearn` imports first, were the folder on sys.path
+        (folder / f"{module}.py").write_text(f"open({str(tmp_path / 'IMPORTED')!r}, 'w')\nraise SystemExit(3)\n")
+    result = run_command(["sweep", "run", "sweep/s.toml", "--local", "--workers", "1"], cwd=tmp_path, timeout=90)
+    assert_survived(result, max_seconds=60)
+    assert result.returncode == 0, result.describe()
+    assert not (tmp_path / "IMPORTED").exists()
+
+
+# -- outputs onto a named pipe or a device: streamed into, never replaced by a file --------------
+def test_an_output_onto_a_named_pipe_without_a_reader_is_one_line(tmp_path):
+    os.mkfifo(tmp_path / "out.json")
+    result = run_command(["ltl", "dfa", "F a", "--save", "out.json"], cwd=tmp_path, timeout=30)
+    assert_refused(result, names="out.json", contains="nothing reads", max_seconds=20)
+    assert (tmp_path / "out.json").is_fifo()
+    assert [p.name for p in tmp_path.iterdir()] == ["out.json"]  # no temporary sibling either
+
+
+def test_an_output_onto_a_named_pipe_with_a_reader_is_streamed(tmp_path):
+    pipe = tmp_path / "out.json"
+    os.mkfifo(pipe)
+    received = []
+
+    def read():
+        with open(pipe) as handle:
+            received.append(handle.read())
+
+    reader = threading.Thread(target=read, daemon=True)
+    reader.start()
+    result = run_command(["ltl", "dfa", "F a", "--save", "out.json"], cwd=tmp_path, timeout=30)
+    reader.join(10)
+    assert result.returncode == 0, result.describe()
+    assert pipe.is_fifo(), "the pipe was replaced by a regular file"
+    assert '"symlearn-automaton"' in received[0]
+
+
+def test_atomic_open_writes_into_a_character_device_without_replacing_it(tmp_path):
+    from symlearn.atomic import write_text
+
+    link = tmp_path / "null.txt"  # a link to /dev/null: the device is written into, the link stays
+    link.symlink_to("/dev/null")
+    write_text(link, "x" * 1000)
+    assert link.is_symlink() and Path("/dev/null").is_char_device()
+    assert [p.name for p in tmp_path.iterdir()] == ["null.txt"]
+
+
+# -- a .npy header that is no Python literal ----------------------------------------------------
+@pytest.mark.parametrize("header", [b"{'descr': lambda}\n", b"{'descr': '<f8', 'shape': (1,\n", b"{'a': [[[[\n"])
+@pytest.mark.parametrize("command", [["data", "info", "{file}"], ["learn", "dnf", "--demos", "{file}"],
+                                     ["learn", "pdfa", "--demos", "{file}"]], ids=lambda c: " ".join(c[:2]))
+def test_an_npy_header_that_is_no_literal_is_one_line(tmp_path, header, command):
+    import io
+    import struct
+    import zipfile
+
+    import numpy as np
+
+    member = b"\x93NUMPY\x01\x00" + struct.pack("<H", len(header)) + header + b"\0" * 32
+    lengths = io.BytesIO()
+    np.save(lengths, np.array([1]))
+    with zipfile.ZipFile(tmp_path / "x.npz", "w") as archive:
+        archive.writestr("states.npy", member)
+        archive.writestr("lengths.npy", lengths.getvalue())
+    result = run_command([a.replace("{file}", "x.npz") for a in command], cwd=tmp_path, timeout=60)
+    assert_refused(result, names="x.npz", contains="header", max_seconds=30)
+
+
+# -- an archive of very many members is refused from its directory --------------------------------
+@pytest.mark.parametrize("command", [["data", "info", "x.npz"], ["learn", "pdfa", "--demos", "x.npz"],
+                                     ["dnf", "eval", "r.dnf", "--points", "x.npz"]], ids=lambda c: " ".join(c[:2]))
+def test_an_archive_of_many_members_is_refused_before_its_headers_are_read(tmp_path, command):
+    import io
+    import zipfile
+
+    import numpy as np
+
+    one = io.BytesIO()
+    np.save(one, np.zeros(1))
+    with zipfile.ZipFile(tmp_path / "x.npz", "w", zipfile.ZIP_STORED) as archive:
+        for i in range(12_000):  # 100,000 took > 60 s header by header
+            archive.writestr(f"m{i}.npy", one.getvalue())
+    (tmp_path / "r.dnf").write_text("x > 1\n")
+    result = run_command(command, cwd=tmp_path, timeout=60)
+    assert_refused(result, names="x.npz", contains="12,000 members", max_seconds=20)
+
+
+# -- domain.toml itself a link out of its folder ---------------------------------------------------
+def test_a_domain_toml_linked_from_outside_the_folder_is_refused(tmp_path):
+    from warehouse_domain import write_warehouse
+
+    write_warehouse(tmp_path / "wh")
+    outside = tmp_path / "elsewhere"
+    outside.mkdir()
+    text = (tmp_path / "wh" / "domain.toml").read_text()
+    (outside / "domain.toml").write_text(text.replace('name = "warehouse"', 'name = "SECRET"'))
+    (tmp_path / "wh" / "domain.toml").unlink()
+    (tmp_path / "wh" / "domain.toml").symlink_to(outside / "domain.toml")
+    result = run_command(["domain", "check", "wh"], cwd=tmp_path, timeout=60)
+    assert_refused(result, names="domain.toml", contains="outside the domain folder", max_seconds=30)
+    assert "SECRET" not in result.stdout + result.stderr
+    trusted = run_command(["domain", "check", "wh", "--allow-outside"], cwd=tmp_path, timeout=60)
+    assert trusted.returncode == 0, trusted.describe()
+    (tmp_path / "wh" / "domain.toml").unlink()  # a link to a file inside the folder is the folder's own
+    (tmp_path / "wh" / "real.toml").write_text(text)
+    (tmp_path / "wh" / "domain.toml").symlink_to("real.toml")
+    inside = run_command(["domain", "check", "wh"], cwd=tmp_path, timeout=60)
+    assert inside.returncode == 0, inside.describe()
