@@ -163,3 +163,69 @@ def test_a_domain_toml_linked_from_outside_the_folder_is_refused(tmp_path):
     (tmp_path / "wh" / "domain.toml").symlink_to("real.toml")
     inside = run_command(["domain", "check", "wh"], cwd=tmp_path, timeout=60)
     assert inside.returncode == 0, inside.describe()
+
+
+# -- an output (or a companion written beside it) that is one of the command's inputs ------------
+def _automaton(folder: Path) -> None:
+    from symlearn.logic.ltlf import parse, to_dfa
+
+    (folder / "aut.json").write_text(to_dfa(parse("F a")).to_json())
+
+
+@pytest.mark.parametrize("args, named, spared", [
+    (["automaton", "convert", "aut.json", "aut.json"], "aut.json", ["aut.json"]),
+    (["automaton", "convert", "aut.json", "link.json"], "link.json", ["aut.json"]),  # a link to the input
+    (["automaton", "show", "aut.json", "--dot", "hard.json"], "hard.json", ["aut.json"]),  # a hard link
+    (["ltl", "dfa", "--file", "f.ltl", "--save", "f.ltl"], "f.ltl", ["f.ltl"]),
+    (["ilp", "learn", "t.las", "--bk", "b.lp", "-o", "b.lp"], "b.lp", ["b.lp"]),
+    # a companion: the policy's .json beside its weights is the machine train reads
+    (["train", "--env", "blockworld-stack2", "--algo", "dqrm", "--machine", "aut.json", "-o", "aut.safetensors"],
+     "aut.safetensors", ["aut.json"]),
+])
+def test_no_command_writes_over_its_own_input(tmp_path, args, named, spared):
+    _automaton(tmp_path)
+    (tmp_path / "link.json").symlink_to("aut.json")
+    os.link(tmp_path / "aut.json", tmp_path / "hard.json")
+    (tmp_path / "f.ltl").write_text("F a\n")
+    (tmp_path / "t.las").write_text("#modeh(p).\n#pos(e1, {p}, {}).\n")
+    (tmp_path / "b.lp").write_text("q.\n")
+    (tmp_path / "x.labeling.json").write_text('{"f": "x > 1"}')
+    before = {name: (tmp_path / name).read_bytes() for name in spared}
+    result = run_command(args, cwd=tmp_path, timeout=60)
+    assert_refused(result, names=named, contains="would overwrite", max_seconds=30)
+    assert {name: (tmp_path / name).read_bytes() for name in spared} == before
+    assert (tmp_path / "link.json").is_symlink()
+
+
+def test_an_output_over_a_file_that_is_no_input_is_replaced(tmp_path):
+    _automaton(tmp_path)
+    (tmp_path / "old.json").write_text("old")
+    result = run_command(["automaton", "convert", "aut.json", "old.json"], cwd=tmp_path, timeout=60)
+    assert result.returncode == 0, result.describe()
+    assert (tmp_path / "old.json").read_text() == (tmp_path / "aut.json").read_text()
+
+
+# -- --env-kwargs of the wrong JSON type for a bundled environment --------------------------------
+@pytest.mark.parametrize("args, kwargs, key", [
+    (["learn", "dnf", "--env", "toy-navigation", "--n-demos", "2"], '{"max_steps": "10"}', "max_steps"),
+    (["learn", "dnf", "--env", "toy-navigation", "--n-demos", "2"], '{"speed": true}', "speed"),
+    (["learn", "icrl", "--env", "blocked-point", "--n-demos", "2", "--iterations", "1", "--steps", "1024"],
+     '{"wall": [1]}', "wall"),
+])
+def test_env_kwargs_of_the_wrong_type_are_one_line(tmp_path, args, kwargs, key):
+    result = run_command([*args, "--env-kwargs", kwargs], cwd=tmp_path, timeout=60)
+    assert_refused(result, contains=[key, "must be a number"], max_seconds=30)
+    fine = run_command(["learn", "dnf", "--env", "toy-navigation", "--n-demos", "2", "--env-kwargs",
+                        '{"max_steps": 50.0, "speed": 1}'], cwd=tmp_path, timeout=60)
+    assert fine.returncode == 0, fine.describe()
+
+
+def test_an_output_folder_that_takes_no_files_is_named_not_the_temporary_sibling(tmp_path):
+    from symlearn.atomic import write_text
+
+    with pytest.raises(OSError) as caught:
+        write_text("/proc/x.json", "{}")  # /proc exists, but no file can be created in it
+    assert caught.value.filename == "/proc/x.json"
+    result = run_command(["ltl", "dfa", "F a", "--save", "/proc/x.json"], cwd=tmp_path, timeout=30)
+    line = assert_refused(result, names="/proc/x.json", max_seconds=20)
+    assert ".tmp" not in line
