@@ -229,3 +229,36 @@ def test_an_output_folder_that_takes_no_files_is_named_not_the_temporary_sibling
     result = run_command(["ltl", "dfa", "F a", "--save", "/proc/x.json"], cwd=tmp_path, timeout=30)
     line = assert_refused(result, names="/proc/x.json", max_seconds=20)
     assert ".tmp" not in line
+
+
+# -- a Python labeling that returns without end, or a million names a step ------------------------
+@pytest.mark.parametrize("body", [
+    "import itertools\ndef f(o, i):\n    return (f'p{k}' for k in itertools.count())\n",  # a generator without end
+    "def f(o, i):\n    return [f'p{k}' for k in range(200000)]\n",  # discovered one by one: was quadratic
+])
+def test_a_python_labeling_returning_too_many_names_is_one_line(tmp_path, body):
+    from symlearn.grounding.labeling_function import MAX_NAMES, FunctionLabeling, load_labeling_function
+
+    (tmp_path / "lab.py").write_text(body)
+    labeling = load_labeling_function(f"{tmp_path / 'lab.py'}:f")
+    assert isinstance(labeling, FunctionLabeling)
+    import time
+
+    from symlearn.errors import DataError
+
+    start = time.perf_counter()
+    with pytest.raises(DataError, match=f"more than {MAX_NAMES:,} names"):
+        labeling.label([0.5], {}, where="demonstration 0, step 0")
+    assert time.perf_counter() - start < 5
+
+
+def test_a_python_labeling_discovering_names_step_by_step_is_bounded(tmp_path):
+    from symlearn.errors import DataError
+    from symlearn.grounding.labeling_function import MAX_NAMES, load_labeling_function
+
+    (tmp_path / "lab.py").write_text("def f(o, i):\n    return [f'p{o}-{k}' for k in range(1000)]\n")
+    labeling = load_labeling_function(f"{tmp_path / 'lab.py'}:f")
+    with pytest.raises(DataError, match="different names"):
+        for step in range(MAX_NAMES // 1000 + 1):
+            labeling.label(step, {})
+    assert len(labeling.propositions) == MAX_NAMES
