@@ -43,9 +43,13 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
     stream = _stream_target(target)
     if stream is not None:  # a device or a pipe: written into, never replaced by a file
         text = "b" not in mode
-        with os.fdopen(stream, mode, encoding=encoding if text else None,
-                       errors="backslashreplace" if text else None) as handle:
-            yield handle
+        try:
+            with os.fdopen(stream, mode, encoding=encoding if text else None,
+                           errors="backslashreplace" if text else None) as handle:
+                yield handle
+        except BrokenPipeError:  # `--dot /dev/stdout | head -1`: the reader is gone
+            raise OSError(errno.EPIPE, "the pipe's reader closed it before everything was written",
+                          str(target)) from None
         return
     target.parent.mkdir(parents=True, exist_ok=True)
     try:

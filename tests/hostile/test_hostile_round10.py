@@ -262,3 +262,24 @@ def test_a_python_labeling_discovering_names_step_by_step_is_bounded(tmp_path):
         for step in range(MAX_NAMES // 1000 + 1):
             labeling.label(step, {})
     assert len(labeling.propositions) == MAX_NAMES
+
+
+def test_an_output_pipe_closed_by_its_reader_is_one_line(tmp_path):
+    import json
+
+    chain = {"format": "symlearn-automaton", "version": 1, "kind": "dfa", "alphabet": ["a"], "states": 20000,
+             "initial": 0, "accepting": [19999],
+             "transitions": [{"source": i, "target": i + 1, "guard": "a"} for i in range(19999)]}
+    (tmp_path / "chain.json").write_text(json.dumps(chain))
+    pipe = tmp_path / "out.dot"
+    os.mkfifo(pipe)
+
+    def read_a_little():  # `| head -c 10`: far less than the drawing (> 64 KB, a pipe's buffer)
+        with open(pipe, "rb") as handle:
+            handle.read(10)
+
+    reader = threading.Thread(target=read_a_little, daemon=True)
+    reader.start()
+    result = run_command(["automaton", "show", "chain.json", "--dot", "out.dot"], cwd=tmp_path, timeout=60)
+    reader.join(10)
+    assert_refused(result, names="out.dot", contains="closed it", max_seconds=40)
