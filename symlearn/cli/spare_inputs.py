@@ -83,6 +83,8 @@ def _domain_files(folder: Path) -> list[Path]:
     try:
         if _regular(toml) is None or toml.stat().st_size > 1 << 20:
             return []
+        if not toml.resolve().is_relative_to(folder.resolve()):
+            return []  # a link out of the folder: its reader refuses it, unread
         config = tomllib.loads(toml.read_text(encoding="utf-8"))
     except (OSError, ValueError, RecursionError):
         return []  # the reader reports what is wrong with it
