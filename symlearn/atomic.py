@@ -40,8 +40,22 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
         raise OSError(errno.ENAMETOOLONG, os.strerror(errno.ENAMETOOLONG), str(target))
     if target.is_dir():  # os.replace would fail naming the temporary sibling, not the user's path
         raise IsADirectoryError(errno.EISDIR, os.strerror(errno.EISDIR), str(target))
+    stream = _stream_target(target)
+    if stream is not None:  # a device or a pipe: written into, never replaced by a file
+        text = "b" not in mode
+        try:
+            with os.fdopen(stream, mode, encoding=encoding if text else None,
+                           errors="backslashreplace" if text else None) as handle:
+                yield handle
+        except BrokenPipeError:  # `--dot /dev/stdout | head -1`: the reader is gone
+            raise OSError(errno.EPIPE, "the pipe's reader closed it before everything was written",
+                          str(target)) from None
+        return
     target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp_name = tempfile.mkstemp(prefix=f".{_shortened(target.name)}.", suffix=".tmp", dir=target.parent)
+    try:
+        fd, tmp_name = tempfile.mkstemp(prefix=f".{_shortened(target.name)}.", suffix=".tmp", dir=target.parent)
+    except OSError as exc:  # named for the user's path, not the temporary sibling no one asked for
+        raise OSError(exc.errno, exc.strerror, str(target)) from None
     try:
         os.fchmod(fd, _mode_for(target))
         text = "b" not in mode
@@ -57,6 +71,30 @@ def atomic_open(path: str | os.PathLike[str], mode: str = "w", encoding: str | N
         except FileNotFoundError:
             pass
         raise
+
+
+def _stream_target(target: Path) -> int | None:
+    """A descriptor open for writing when ``target`` (symlinks followed) exists and is no regular
+    file -- ``/dev/null``, ``/dev/stdout``, a terminal, a named pipe --, else None. Renaming a
+    temporary file onto such a path would replace the device or pipe itself (for root, ``-o
+    /dev/null`` would replace the system's ``/dev/null``); a stream has no partial file to avoid.
+    A named pipe nobody reads is refused at once rather than blocking."""
+    try:
+        info = os.stat(target)
+    except OSError:
+        return None
+    if stat.S_ISREG(info.st_mode) or stat.S_ISDIR(info.st_mode):
+        return None
+    fifo = stat.S_ISFIFO(info.st_mode)
+    try:
+        fd = os.open(target, os.O_WRONLY | (os.O_NONBLOCK if fifo else 0) | getattr(os, "O_CLOEXEC", 0))
+    except OSError as exc:
+        if exc.errno == errno.ENXIO:  # a pipe without a reader, a socket
+            raise OSError(errno.ENXIO, "nothing reads from this named pipe or socket", str(target)) from None
+        raise OSError(exc.errno, exc.strerror, str(target)) from None
+    if fifo:
+        os.set_blocking(fd, True)
+    return fd
 
 
 #: bytes in one path component on Linux and macOS file systems

@@ -38,6 +38,31 @@ def clipped(text: str, width: int = 40) -> str:
     return text if len(text) <= width else text[:width - 3] + "..."
 
 
+#: characters of an error line's message (and of its excerpt line) past which the middle is cut:
+#: a message quoting a 40 MB token from a file, or the excerpt of a 40 MB line, stays readable
+MAX_MESSAGE = 2000
+#: characters of the excerpt line kept on either side of its caret
+EXCERPT_SIDE = 60
+
+
+def bounded(text: str, limit: int = MAX_MESSAGE) -> str:
+    """``text`` with its middle replaced by ``...[N characters]...`` when it is longer than
+    ``limit``: the start (what went wrong) and the end (the hint, the file) stay."""
+    if len(text) <= limit:
+        return text
+    head, tail = limit * 2 // 3, limit // 3
+    return f"{text[:head]}...[{len(text) - head - tail} characters]...{text[-tail:]}"
+
+
+def _excerpt_window(line: str, column: int) -> tuple[str, int]:
+    """The part of an excerpt ``line`` around ``column`` (0-based) and the column within it."""
+    start, end = max(0, column - EXCERPT_SIDE), column + EXCERPT_SIDE
+    if start == 0 and len(line) <= end:
+        return line, column
+    prefix = "..." if start > 0 else ""
+    return prefix + line[start:end] + ("..." if end < len(line) else ""), len(prefix) + column - start
+
+
 def _escape(match: re.Match) -> str:
     return repr(match.group())[1:-1] if match.group() not in "\u2028\u2029" else f"\\u{ord(match.group()):04x}"
 
@@ -77,14 +102,14 @@ class SymlearnError(Exception):
         message, excerpt = self.message, ""
         found = _EXCERPT.search(message)
         if found:  # escape the excerpt line by line and move the caret under the same character
-            line, column = found.group(1), len(found.group(2))
+            line, column = _excerpt_window(found.group(1), len(found.group(2)))
             message = message[:found.start()]
             excerpt = f"\n  {printable(line)}\n  {' ' * len(printable(line[:column]))}^"
-        location = printable(self.location)
-        text = f"{location}: {printable(message)}" if location else printable(message)
+        location = bounded(printable(self.location))
+        text = f"{location}: {bounded(printable(message))}" if location else bounded(printable(message))
         text += excerpt
         if self.hint:
-            text += f" (hint: {printable(self.hint)})"
+            text += f" (hint: {bounded(printable(self.hint))})"
         return text
 
     def __reduce__(self):  # keep the fields when copied or sent between processes

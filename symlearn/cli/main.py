@@ -31,6 +31,7 @@ import traceback
 from collections.abc import Sequence
 
 from symlearn.cli.output import Output
+from symlearn.cli.spare_inputs import check_outputs_spare_inputs
 from symlearn.errors import SymlearnError, printable
 
 COMMAND_MODULES: tuple[str, ...] = (
@@ -259,6 +260,7 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     out = Output(json_mode=getattr(args, "json", False), quiet=args.quiet)
     try:
         check_seed(getattr(args, "seed", 0))
+        check_outputs_spare_inputs(args)
         with progress_bars(False if (args.quiet or out.json_mode and not sys.stderr.isatty()) else None), \
                 _one_line_warnings(args.debug):
             code = args.handler(args, out)

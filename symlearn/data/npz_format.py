@@ -24,6 +24,7 @@ import io
 import json
 import os
 import stat
+import tokenize
 import zipfile
 import zlib
 from pathlib import Path
@@ -143,12 +144,16 @@ def _read_npy_header(handle, name: str, path: Path) -> tuple[np.dtype, tuple[int
         raise DataError(f"member {name!r} is not a .npy array", file=path,
                         hint="symlearn archives hold only arrays written by numpy.savez")
     version = tuple(handle.read(2))
-    if version == (1, 0):
-        shape, _, dtype = np.lib.format.read_array_header_1_0(handle)
-    elif version == (2, 0):
-        shape, _, dtype = np.lib.format.read_array_header_2_0(handle)
-    else:
+    if version not in ((1, 0), (2, 0)):
         raise DataError(f"member {name!r}: unsupported .npy version {version}", file=path)
+    read = np.lib.format.read_array_header_1_0 if version == (1, 0) else np.lib.format.read_array_header_2_0
+    try:
+        shape, _, dtype = read(handle)
+    except (SyntaxError, tokenize.TokenError, TypeError, KeyError, RecursionError) as exc:
+        # numpy reads the header as a Python literal: text that is none fails in the tokenizer or
+        # parser, not with the ValueError it raises for a literal of the wrong form
+        raise DataError(f"member {name!r}: the .npy header is not a readable dictionary "
+                        f"({type(exc).__name__})", file=path) from None
     if dtype.hasobject or dtype.names is not None or dtype.shape or dtype.kind not in "biufU":
         hint = ("store text as numpy str (np.array(names, dtype=str), or .astype(str) of bytes), not bytes"
                 if dtype.kind == "S" else None)
@@ -196,6 +201,11 @@ def check_arrays(path: str | os.PathLike[str]) -> dict[str, tuple[np.dtype, tupl
     return {"": header}
 
 
+#: members of one NPZ archive (a demonstrations archive has a dozen, one per feature column at
+#: most): 100,000 members took 30 s to check header by header before anything was refused
+MAX_MEMBERS = 10_000
+
+
 def member_headers(path: str | os.PathLike[str]) -> dict[str, tuple[np.dtype, tuple[int, ...]]]:
     """``{member: (dtype, shape)}`` of an NPZ archive read from the ``.npy`` headers only (a few
     hundred bytes decompressed per member), after checking the archive's size and every declared
@@ -212,7 +222,12 @@ def member_headers(path: str | os.PathLike[str]) -> dict[str, tuple[np.dtype, tu
     total = 0
     try:
         with zipfile.ZipFile(path) as archive:
-            for info in archive.infolist():
+            members = archive.infolist()
+            if len(members) > MAX_MEMBERS:  # each header costs a decompressor and a parse (~0.2 ms)
+                raise DataError(f"the archive has {len(members):,} members, more than the {MAX_MEMBERS:,} "
+                                "symlearn reads", file=path,
+                                hint="an archive holds a few arrays (one per feature at most)")
+            for info in members:
                 name = info.filename[:-4] if info.filename.endswith(".npy") else info.filename
                 if name in headers:
                     raise DataError(f"two members answer to the name {name!r}", file=path,

@@ -54,6 +54,14 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
         raise DataError(f"{folder} is not a folder", file=str(folder), hint="a domain is a folder with domain.toml")
     if not toml_path.is_file():
         raise DataError("the domain folder has no domain.toml", file=str(folder))
+    if not allow_outside:  # domain.toml itself, like every file it names, is the folder's own
+        try:
+            outside = not toml_path.resolve().is_relative_to(folder.resolve())
+        except (OSError, RuntimeError):
+            outside = True
+        if outside:
+            raise DataError("domain.toml is a link to a file outside the domain folder", file=str(toml_path),
+                            hint="a domain folder reads only itself (--allow-outside lifts this for a trusted folder)")
     toml_text = read_input_text(toml_path)
     try:
         config = load_toml(toml_text, source=toml_path)

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import importlib.util
 import inspect
+import itertools
 import sys
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from pathlib import Path
@@ -100,7 +101,10 @@ class FunctionLabeling(LabelingBase):
         if isinstance(found, (str, bytes)) or not isinstance(found, Iterable):
             raise DataError(f"labeling function {self.name} returned {type(found).__name__} {found!r}{at}; "
                             f"it must return a list or set of proposition names", file=self.path)
-        names = list(found)
+        names = list(itertools.islice(found, MAX_NAMES + 1))  # a generator may never end
+        if len(names) > MAX_NAMES:
+            raise DataError(f"labeling function {self.name} returned more than {MAX_NAMES:,} names{at}",
+                            file=self.path, hint="return the propositions true in this state (a list or set)")
         odd = [n for n in names if not isinstance(n, str) or not n]
         if odd:
             raise DataError(f"labeling function {self.name} returned {type(odd[0]).__name__} {odd[0]!r}{at}, which "
@@ -113,8 +117,14 @@ class FunctionLabeling(LabelingBase):
                                 hint="declared: " + (", ".join(self._props) or "none") +
                                      " (PROPOSITIONS in the module or the function's propositions attribute)")
         else:
+            known = self._known = getattr(self, "_known", None) or set(self._props)  # a list scan per name was quadratic
             for n in names:
-                if n not in self._props:
+                if n not in known:
+                    if len(known) >= MAX_NAMES:
+                        raise DataError(f"labeling function {self.name} returned more than {MAX_NAMES:,} different "
+                                        f"names{at}", file=self.path,
+                                        hint="declare the propositions (PROPOSITIONS) and return only those")
+                    known.add(n)
                     self._props.append(n)
         return frozenset(names)
 
@@ -123,6 +133,12 @@ class FunctionLabeling(LabelingBase):
 
     def __repr__(self) -> str:
         return f"FunctionLabeling({self.name}: {', '.join(self._props) or 'propositions discovered'})"
+
+
+#: names one call of a labeling function may return, and propositions it may discover in all: a
+#: generator that never ends, or a million names a step (discovered one by one), would otherwise
+#: exhaust the memory or the time before any learning starts
+MAX_NAMES = 10_000
 
 
 def load_labeling_function(spec: str) -> FunctionLabeling:

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import importlib
 import inspect
+import json
 import os
 import re
 import sys
@@ -38,7 +39,7 @@ from typing import Any
 from symlearn.envs.registry import ENTRIES, Entry, Kind
 from symlearn.envs.registry import get as get_entry
 from symlearn.envs.registry import names as entry_names
-from symlearn.errors import DataError, SymlearnError, UnknownNameError
+from symlearn.errors import DataError, SymlearnError, UnknownNameError, clipped
 
 #: keywords ``gymnasium.make`` itself takes, accepted for every gymnasium id
 _MAKE_KEYWORDS = ("render_mode", "max_episode_steps", "disable_env_checker")
@@ -615,7 +616,34 @@ def _bundled(name: str, entry: Entry, kwargs: dict[str, Any]) -> EnvTarget:
         # Our own factories name every keyword they take (a robot's extra ``**kwargs`` are
         # passed on unchecked by MuJoCo, so a misspelt key would silently do nothing).
         _check_keys(kwargs, known, False, entry.name)
+        _check_types(kwargs, entry.env.resolve(), entry.name)
     return EnvTarget(name, entry, entry.gym_id, kwargs)
+
+
+def _check_types(kwargs: Mapping[str, Any], constructor: Callable[..., Any], display: str) -> None:
+    """A bundled environment's keyword of a number, text or flag default given a value of another
+    JSON type (``{"max_steps": "10"}``): one line, where the constructor would compare a string
+    with a number and fail as an internal error."""
+    import numbers
+
+    try:
+        parameters = inspect.signature(constructor).parameters
+    except (TypeError, ValueError):
+        return
+    for key, value in kwargs.items():
+        default = parameters[key].default if key in parameters else inspect.Parameter.empty
+        if isinstance(default, bool):
+            expected, fits = "true or false", isinstance(value, bool)
+        elif isinstance(default, numbers.Real):
+            expected, fits = "a number", isinstance(value, numbers.Real) and not isinstance(value, bool)
+        elif isinstance(default, str):
+            expected, fits = "a string", isinstance(value, str)
+        else:
+            continue  # no default, or None: the constructor's own checks decide
+        if not fits:
+            raise DataError(f"--env-kwargs {key!r} of {display} must be {expected} (default {default!r}), "
+                            f"not {clipped(json.dumps(value))}",
+                            hint=f"e.g. '{{\"{key}\": {json.dumps(default)}}}'")
 
 
 def _registered(name: str, gym_id: str, kwargs: dict[str, Any]) -> EnvTarget:

@@ -127,7 +127,10 @@ def _command_words(job: dict[str, Any]) -> list[str]:
     words = [word.format_map({k: v if isinstance(v, str) else json.dumps(v) for k, v in values.items()})
              for word in job["command"]]
     if words[0] in SYMLEARN_WORDS:  # the symlearn of this environment, not whichever is on PATH
-        words = [sys.executable, "-m", "symlearn", *words[1:]]
+        # -P: the command runs in the sweep file's folder, and `python -m` would put that folder first
+        # on sys.path, so a json.py (or numpy.py, ...) lying there would be imported in place of the
+        # library: code the sweep never named
+        words = [sys.executable, "-P", "-m", "symlearn", *words[1:]]
     return words
 
 

@@ -43,6 +43,7 @@ file and, where a key is to blame, its line.
 
 from __future__ import annotations
 
+import datetime
 import hashlib
 import inspect
 import itertools
@@ -237,6 +238,7 @@ def read_spec(path: str | Path, *, check_target: bool = True, allow_packages: It
     if depth(doc) > MAX_DEPTH:  # the values are written as JSON (cell ids, records): bounded nesting
         raise ParseError(f"TOML nested more than {MAX_DEPTH} levels deep", file=path)
     where = _Locator(path, text)
+    _refuse_dates(doc, where)
     for section in doc:
         if section not in SECTIONS:
             raise where.error(f"unknown section [{section}]", None, section,
@@ -321,6 +323,27 @@ def read_spec(path: str | Path, *, check_target: bool = True, allow_packages: It
         else:
             _check_command(command, names, where)
     return spec
+
+
+def _refuse_dates(doc: dict[str, Any], where: "_Locator") -> None:
+    """TOML's dates and times (``1979-05-27T07:32:00Z``) have no JSON form, and every value of a
+    sweep is written as JSON (cell ids, records): refused at their key, without recursion."""
+    for section, table in doc.items():
+        tables = table if isinstance(table, list) else [table]  # [[cases]] is a list of tables
+        keyed = [(section, k, v) for t in tables if isinstance(t, dict) for k, v in t.items()]
+        keyed += [(None, section, t) for t in tables if not isinstance(t, dict)]
+        for place, key, value in keyed:
+            stack = [value]
+            while stack:
+                item = stack.pop()
+                if isinstance(item, (datetime.date, datetime.time)):
+                    raise where.error(f"{key} holds {item.isoformat()}, a TOML date or time: a sweep's values "
+                                      "are passed on as JSON, which has none", place, key,
+                                      hint=f'write it as a string: "{item.isoformat()}"')
+                if isinstance(item, dict):
+                    stack.extend(item.values())
+                elif isinstance(item, list):
+                    stack.extend(item)
 
 
 def _seeds(value: Any, where: "_Locator") -> list[int]:

@@ -78,7 +78,7 @@ def test_unknown_env_kwargs_key_and_bad_json(capsys):
     _refused(capsys, "--env", "blocked-point", "--env-kwargs", '{"wal": -3}', match="unknown --env-kwargs key 'wal'")
     _refused(capsys, "--env", "blocked-point", "--env-kwargs", '{"wall": ', match="not JSON")
     _refused(capsys, "--env", "blocked-point", "--env-kwargs", '{"wall": 99}', match="wall must be")
-    _refused(capsys, "--env", "blocked-point", "--env-kwargs", '{"wall": "left"}', match="does not fit blocked-point")
+    _refused(capsys, "--env", "blocked-point", "--env-kwargs", '{"wall": "left"}', match="'wall' of blocked-point must be a number")
     _refused(capsys, "--env", "blocked-point", "--env-kwargs", '[1]', match="must be a JSON object")
 
 
