@@ -125,6 +125,21 @@ def _demonstrations(args: argparse.Namespace, note=None):
     return demos, None if features is None else (features if args.domain else list(features))
 
 
+def _picture_shape(demos) -> tuple[int, ...] | None:
+    """The shape of a state that is a picture -- an array of two or more dimensions with more than
+    :data:`PICTURE_CELLS` entries --, else None."""
+    import numpy as np
+
+    if getattr(demos, "state_kind", "vector") not in ("vector", "image") or not len(demos) or not len(demos[0].states):
+        return None
+    shape = tuple(int(d) for d in np.shape(demos[0].states[0]))
+    return shape if len(shape) >= 2 and int(np.prod(shape)) > PICTURE_CELLS else None
+
+
+#: entries of a 2-D or larger state from which learn dnf calls it a picture
+PICTURE_CELLS = 64
+
+
 def _check_width(target, demos, path) -> None:
     """Vector demonstrations whose width is not what ``--env`` reads (its features, else its
     observation): refused, rather than learning over columns the environment does not have."""
@@ -258,6 +273,14 @@ def _dnf(args: argparse.Namespace, out) -> None:
            "features": names, "samples": learner.n_samples_, "seconds": learner.result_.timings["total"],
            "unsafe_share": learner.unsafe_share_, "slivers_closed": learner.slivers_closed_,
            "notes": list(learner.notes_), "warnings": list(learner.warnings_)}
+    picture = _picture_shape(demos)
+    if picture is not None and inputs is None:
+        # a row-major reading of a picture: each rule bounds single pixels (a user's camera module
+        # gave ~1,300 rules), which is rarely the constraint meant
+        doc["warnings"].append(f"the states are arrays of shape {picture}, read as {len(names):,} separate columns: "
+                               "each rule bounds single pixels; learn over features instead (an environment's "
+                               "info[\"features\"] recorded with data record --states features) or choose the "
+                               "columns with --inputs")
     if held is None and learner.warn_unsafe_share is not None and learner.unsafe_share_ > learner.warn_unsafe_share:
         doc["notes"].append("--validation 0.2 holds out a fifth of the demonstrations and counts the held-out "
                             "expert states the formula calls unsafe (with the --max-depth that calls fewer)")

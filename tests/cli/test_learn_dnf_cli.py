@@ -218,3 +218,30 @@ def test_a_corridor_of_demonstrations_lists_the_formula_over_each_feature_alone(
     Demonstrations([Trajectory(states=rng.uniform(0, 1, (60, 2))) for _ in range(6)]).save(filled)
     code, out, err = run(capsys, "learn", "dnf", "--demos", filled, "--features", "a,b", "--json")
     assert code == 0 and "inputs_options" not in json.loads(out)
+
+
+def test_pictures_as_states_are_warned_about_and_their_box_does_not_overflow(capsys, tmp_path):
+    """A user's camera module's demonstrations: each state an 8 x 8 x 3 picture, learned as 192
+    columns, so every rule bounds single pixels (said once); the lattice count of whole-number
+    pixel values multiplied 192 extents in a float, which overflowed with a numpy warning."""
+    import warnings
+
+    import numpy as np
+
+    from symlearn.data import Demonstrations, Trajectory
+
+    rng = np.random.default_rng(0)
+    pictures = [Trajectory(states=rng.integers(0, 255, size=(6, 8, 8, 3)).astype(np.uint8),
+                           actions=np.zeros(5, dtype=int)) for _ in range(4)]
+    Demonstrations(pictures).save(tmp_path / "pics.npz")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        code, out, err = run(capsys, "--json", "learn", "dnf", "--demos", tmp_path / "pics.npz",
+                             "-o", tmp_path / "pics.dnf")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert any("arrays of shape (8, 8, 3), read as 192 separate columns" in w for w in doc["warnings"])
+    code, out, err = run(capsys, "--json", "learn", "dnf", "--demos", tmp_path / "pics.npz", "--inputs", "x0,x1",
+                         "-o", tmp_path / "two.dnf")
+    assert code == 0, err
+    assert not any("separate columns" in w for w in json.loads(out)["warnings"])

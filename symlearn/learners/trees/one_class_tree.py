@@ -1076,7 +1076,8 @@ def _lattice_unsafe_share(X: np.ndarray, dnf, names: Sequence[str]) -> float | N
         return None
     lo, hi = X.min(axis=0), X.max(axis=0)
     extents = (hi - lo + 1).astype(np.float64)
-    if float(np.prod(extents)) > LATTICE_POINTS:
+    # summed in logs: the product of many columns' extents (a picture's pixels) overflows a float
+    if float(np.sum(np.log(extents))) > np.log(LATTICE_POINTS):
         return None
     axes = [np.arange(a, b + 1) for a, b in zip(lo, hi)]
     points = np.stack([g.reshape(-1) for g in np.meshgrid(*axes, indexing="ij")], axis=1)
