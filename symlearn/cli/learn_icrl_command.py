@@ -299,7 +299,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
            "seconds": time.perf_counter() - started,
            "timings": {k: v for k, v in result.timings.items() if k != "total"},
            "history": [h.as_dict() for h in learner.history_], "files": []}
-    doc["warnings"] = lambda_warnings(doc["lambda"])
+    doc["warnings"] = lambda_warnings(doc["lambda"], doc["cost_inputs"])
     if args.output:
         path = learner.save(args.output)
         doc["files"] = [str(path), str(path.with_suffix(".json"))]
@@ -489,11 +489,29 @@ def _named_inputs(inputs: dict, names: Any) -> dict:
     return {**inputs, "names": [str(names[int(i)]) for i in inputs["entries"]]}
 
 
-def lambda_warnings(lambdas: list[float]) -> list[str]:
+#: below this held-out AUC the cost's inputs hardly tell the demonstrations' states from the
+#: nominal policy's (boost_rover, whose constraint is about an action: 0.66; lava_grid 0.99)
+SEPARABLE_AUC = 0.75
+
+
+def lambda_warnings(lambdas: list[float], cost_inputs: dict | None = None) -> list[str]:
     """A warning when every lambda is 0: the cost is 0 everywhere and `train --cost` constrains
-    nothing (issue 24: a fresh conveyor arm, seed 2, whose report said only "lambda 0, 0, 0, 0")."""
+    nothing (issue 24: a fresh conveyor arm, seed 2, whose report said only "lambda 0, 0, 0, 0").
+    ``cost_inputs`` (the result's, with the input selection's held-out AUC of telling the
+    demonstrations' states from the nominal policy's): where that AUC is low the warning names it
+    as the likely cause (docs/BENCHMARKS.md, "Fresh user modules, second pass")."""
     if any(lambdas):
         return []
+    selection = (cost_inputs or {}).get("selection") or {}
+    auc = selection.get("all_candidates_auc") if isinstance(selection, dict) else None
+    names = ", ".join(map(str, (cost_inputs or {}).get("names") or ())) or "its inputs"
+    if isinstance(auc, (int, float)) and auc < SEPARABLE_AUC:
+        return [f"every lambda is 0: the learned cost is 0 everywhere and constrains nothing. The cost reads "
+                f"{names}, which hardly tell the demonstrations' states from the unconstrained policy's "
+                f"(held-out AUC {auc:.2f}): a constraint on actions, or on what these entries do not hold, "
+                "cannot be learned from them; name the entries that matter with --cost-inputs (all: every "
+                "entry), or learn a rule over the environment's features (data record --states features, "
+                "learn dnf)"]
     return ["every lambda is 0: the learned cost is 0 everywhere and constrains nothing (the steps on lambda "
             "never grew it: the policy's feature sums never exceeded the demonstrations'); learn again with "
             "another --seed or more --iterations / --steps"]

@@ -296,3 +296,19 @@ def test_a_cost_with_every_lambda_at_zero_is_warned_about():
            "lambda": [0.0], "cost_inputs": {"names": ["x"], "entries": [0], "shares": [1.0], "from": "all",
                                             "selection": False}, "files": [], "warnings": [warning]}
     assert f"warning: {warning}" in _render(doc).splitlines()
+
+
+def test_a_zero_cost_whose_inputs_do_not_separate_names_that_cause():
+    """boost_rover (issue 24, second pass): the constraint is about an action and the cost's inputs
+    (x, battery) tell the demonstrations' states from the nominal policy's at a held-out AUC of
+    0.66; the warning says so and names --cost-inputs, not another seed."""
+    from symlearn.cli.learn_icrl_command import lambda_warnings
+
+    inputs = {"names": ["x0", "x1"], "selection": {"all_candidates_auc": 0.66}}
+    [warning] = lambda_warnings([0.0, 0.0], inputs)
+    assert "0 everywhere" in warning and "AUC 0.66" in warning and "--cost-inputs" in warning
+    assert "x0, x1" in warning and "another --seed" not in warning
+    [separable] = lambda_warnings([0.0], {"names": ["x"], "selection": {"all_candidates_auc": 0.99}})
+    assert "another --seed" in separable
+    assert lambda_warnings([0.0, 0.1], inputs) == []
+    assert "another --seed" in lambda_warnings([0.0], {"names": ["x"], "selection": False})[0]
