@@ -299,7 +299,7 @@ def _icrl(args: argparse.Namespace, out) -> None:
            "seconds": time.perf_counter() - started,
            "timings": {k: v for k, v in result.timings.items() if k != "total"},
            "history": [h.as_dict() for h in learner.history_], "files": []}
-    doc["warnings"] = lambda_warnings(doc["lambda"])
+    doc["warnings"] = lambda_warnings(doc["lambda"], doc["cost_inputs"], negligible_charge(doc))
     if args.output:
         path = learner.save(args.output)
         doc["files"] = [str(path), str(path.with_suffix(".json"))]
@@ -489,12 +489,61 @@ def _named_inputs(inputs: dict, names: Any) -> dict:
     return {**inputs, "names": [str(names[int(i)]) for i in inputs["entries"]]}
 
 
-def lambda_warnings(lambdas: list[float]) -> list[str]:
+#: below this held-out AUC the cost's inputs hardly tell the demonstrations' states from the
+#: nominal policy's (boost_rover, whose constraint is about an action: 0.66; lava_grid 0.99)
+SEPARABLE_AUC = 0.75
+
+
+#: a cost that charges the policy's episodes less than this share of the reward the policy earns
+#: over the expert cannot move it: 0 in effect (boost_rover with the dual step's fix: lambda
+#: <= 0.0002, 0.0003 per episode against a gap of 2.7; every other run measured: >= 0.3)
+NEGLIGIBLE_SHARE = 0.01
+
+
+def negligible_charge(doc: dict) -> tuple[float, float] | None:
+    """``(charge, gap)`` when the learned cost is 0 in effect though some lambda is not: the final
+    multipliers times the last iteration's policy feature sums (what it charges the policy's
+    discounted episode) are under :data:`NEGLIGIBLE_SHARE` of the reward the policy earns over the
+    demonstrations; None otherwise or where the result does not say (no history, no expert
+    reward)."""
+    history, expert_reward = doc.get("history") or [], doc.get("expert_reward")
+    if not history or expert_reward is None or doc.get("reward") is None or not any(doc["lambda"]):
+        return None
+    features = history[-1].get("policy_features") if isinstance(history[-1], dict) else None
+    if not features or len(features) != len(doc["lambda"]):
+        return None
+    charge = float(sum(l * f for l, f in zip(doc["lambda"], features)))
+    gap = float(doc["reward"]) - float(expert_reward)
+    return (charge, gap) if gap > 0 and charge < NEGLIGIBLE_SHARE * gap else None
+
+
+def lambda_warnings(lambdas: list[float], cost_inputs: dict | None = None,
+                    in_effect: tuple[float, float] | None = None) -> list[str]:
     """A warning when every lambda is 0: the cost is 0 everywhere and `train --cost` constrains
-    nothing (issue 24: a fresh conveyor arm, seed 2, whose report said only "lambda 0, 0, 0, 0")."""
-    if any(lambdas):
+    nothing (issue 24: a fresh conveyor arm, seed 2, whose report said only "lambda 0, 0, 0, 0"),
+    or when it is 0 in effect (``in_effect``: :func:`negligible_charge`'s charge and reward gap).
+    ``cost_inputs`` (the result's, with the input selection's held-out AUC of telling the
+    demonstrations' states from the nominal policy's): where that AUC is low the warning names it
+    as the likely cause (docs/BENCHMARKS.md, "Fresh user modules, second pass")."""
+    if any(lambdas) and in_effect is None:
         return []
-    return ["every lambda is 0: the learned cost is 0 everywhere and constrains nothing (the steps on lambda "
+    if in_effect is None:
+        what = "every lambda is 0: the learned cost is 0 everywhere and constrains nothing"
+    else:
+        what = (f"the learned cost is 0 in effect (lambda at most {max(lambdas):.3g}): it charges the policy's "
+                f"episodes {in_effect[0]:.3g}, against the {in_effect[1]:.3g} of reward they earn over the "
+                "demonstrations, and constrains nothing")
+    selection = (cost_inputs or {}).get("selection") or {}
+    auc = selection.get("all_candidates_auc") if isinstance(selection, dict) else None
+    names = ", ".join(map(str, (cost_inputs or {}).get("names") or ())) or "its inputs"
+    if isinstance(auc, (int, float)) and auc < SEPARABLE_AUC:
+        return [f"{what}. The cost reads "
+                f"{names}, which hardly tell the demonstrations' states from the unconstrained policy's "
+                f"(held-out AUC {auc:.2f}): a constraint on actions, or on what these entries do not hold, "
+                "cannot be learned from them; name the entries that matter with --cost-inputs (all: every "
+                "entry), or learn a rule over the environment's features (data record --states features, "
+                "learn dnf)"]
+    return [f"{what} (the steps on lambda "
             "never grew it: the policy's feature sums never exceeded the demonstrations'); learn again with "
             "another --seed or more --iterations / --steps"]
 

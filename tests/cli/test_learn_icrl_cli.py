@@ -296,3 +296,38 @@ def test_a_cost_with_every_lambda_at_zero_is_warned_about():
            "lambda": [0.0], "cost_inputs": {"names": ["x"], "entries": [0], "shares": [1.0], "from": "all",
                                             "selection": False}, "files": [], "warnings": [warning]}
     assert f"warning: {warning}" in _render(doc).splitlines()
+
+
+def test_a_zero_cost_whose_inputs_do_not_separate_names_that_cause():
+    """boost_rover (issue 24, second pass): the constraint is about an action and the cost's inputs
+    (x, battery) tell the demonstrations' states from the nominal policy's at a held-out AUC of
+    0.66; the warning says so and names --cost-inputs, not another seed."""
+    from symlearn.cli.learn_icrl_command import lambda_warnings
+
+    inputs = {"names": ["x0", "x1"], "selection": {"all_candidates_auc": 0.66}}
+    [warning] = lambda_warnings([0.0, 0.0], inputs)
+    assert "0 everywhere" in warning and "AUC 0.66" in warning and "--cost-inputs" in warning
+    assert "x0, x1" in warning and "another --seed" not in warning
+    [separable] = lambda_warnings([0.0], {"names": ["x"], "selection": {"all_candidates_auc": 0.99}})
+    assert "another --seed" in separable
+    assert lambda_warnings([0.0, 0.1], inputs) == []
+    assert "another --seed" in lambda_warnings([0.0], {"names": ["x"], "selection": False})[0]
+
+
+def test_a_cost_that_is_zero_in_effect_is_warned_about_too():
+    """boost_rover with the dual step's fix: lambda 0 / 0 / 0.00016 / 0.00004, a charge of 0.0003 on
+    the policy's episodes against the 2.7 of reward they earn over the expert -- 0 in effect, warned
+    like a cost with every lambda at 0; a cost that charges the policy more than 1 % of that is not."""
+    from symlearn.cli.learn_icrl_command import lambda_warnings, negligible_charge
+
+    doc = {"lambda": [0.0, 0.0, 0.00016, 0.00004], "reward": 8.89, "expert_reward": 6.21,
+           "history": [{"policy_features": [0.03, 0.04, 1.6, 0.29]}]}
+    charge, gap = negligible_charge(doc)
+    assert charge < 0.001 and abs(gap - 2.68) < 1e-9
+    [warning] = lambda_warnings(doc["lambda"], {"names": ["x0", "x1"], "selection": {"all_candidates_auc": 0.66}},
+                                (charge, gap))
+    assert "0 in effect" in warning and "constrains nothing" in warning and "AUC 0.66" in warning
+    assert negligible_charge({**doc, "lambda": [0.0, 0.0, 0.1, 0.0]}) is None     # 0.16 > 1 % of 2.68
+    assert negligible_charge({**doc, "reward": 6.0}) is None                       # no gap over the expert
+    assert negligible_charge({**doc, "expert_reward": None}) is None
+    assert negligible_charge({**doc, "lambda": [0.0] * 4}) is None                 # every lambda 0: the other warning

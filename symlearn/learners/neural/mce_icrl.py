@@ -21,7 +21,12 @@ exactly. Here every exact step has its sampled, neural counterpart:
      then ``zeta_steps``
      Adam steps on ``zeta`` down the gradient ``lambda . (E_D[grad phi] - E_pi[grad phi])``
      (eq. 2.13: the features rise where the policy goes and the expert does not), with a
-     learning rate ``zeta_lr * zeta_decay^(i-1)`` that decays every iteration;
+     learning rate ``zeta_lr * zeta_decay^(i-1)`` that decays every iteration. While every
+     multiplier is 0 the steps weigh the features alike (``lambda`` replaced by ones: Adam's
+     steps do not depend on the scale): with eq. 2.13 as written ``phi`` would never move from
+     there, and where the expert's episodes are longer than the policy's (a detour round what
+     the policy walks through) its sums of the positive features stay larger, every ``lambda``
+     step is projected back to 0 and the cost stays 0 everywhere (lava_grid, docs/BENCHMARKS.md);
    * **policy step**: PPO continues the same policy (``train_ppo(policy=...)``) for
      ``policy_steps`` steps on the reward ``r - lambda . phi(s, a)`` with entropy coefficient
      ``beta`` (eq. 2.11), the learned reward computed in one forward pass per rollout
@@ -288,9 +293,11 @@ class NeuralMCEICRL(Learner):
             # Algorithm 2.1 initialises lambda; 0 suits fixed-length episodes (BlockedPoint). Where
             # episodes end at a goal, the expert's longer paths give larger sums of the (positive)
             # pre-trained features than the nominal policy's shorter ones, so from 0 every step on
-            # lambda is projected back to 0 and phi, whose gradient is lambda-weighted, never moves
-            # (measured on the gridworld: lambda 0 for all 5 iterations); lambda_init > 0 lets phi
-            # first concentrate on where the policy goes and the expert does not.
+            # lambda is projected back to 0 and phi, whose gradient is lambda-weighted, never moved
+            # (measured on the gridworld: lambda 0 for all 5 iterations; on lava_grid, speed_cart
+            # and boost_rover: a cost 0 everywhere). dual_step now moves phi with every feature
+            # weighed alike while all multipliers are 0, so the gap turns and lambda rises from 0
+            # too; lambda_init > 0 still starts the multipliers (and the cost) higher.
             lambdas = np.full(int(self.n_features), float(self.lambda_init))
             expert_features = np.zeros_like(lambdas)
             memory: list = []  # cost_memory="all": every iteration's policy samples, the nominal policy's first
@@ -441,22 +448,27 @@ def dual_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer, lambdas: np
     lambdas = np.maximum(0.0, np.asarray(lambdas, dtype=np.float64) - lambda_lr * gradient)
     for group in optimizer.param_groups:
         group["lr"] = zeta_lr
-    if lambdas.any():
-        lam = torch.from_numpy(lambdas).float()
-        # the gap per unit of lambda and per discounted expert step, so that input_sparsity weighs
-        # the group lasso against a number in (-1, 1) whatever the multipliers' size and the
-        # episodes' length (Adam's steps do not depend on the loss's scale: without the penalty
-        # this division changes nothing)
-        scale = float(lambdas.sum()) * float(expert_w.sum()) if input_sparsity else 1.0
-        shown = remembered or [(policy_in, policy_w)]
-        for _ in range(zeta_steps):
-            policy_sum = sum(w @ phi(*inputs) for inputs, w in shown) / len(shown)
-            loss = lam @ (expert_w @ phi(*expert_in) - policy_sum)
-            if input_sparsity:
-                loss = loss / scale + input_sparsity * input_penalty(phi)
-            optimizer.zero_grad(set_to_none=True)
-            loss.backward()
-            optimizer.step()
+    # Every multiplier at 0 (the projection's fixed point when the expert's feature sums exceed
+    # the policy's, e.g. the expert's episodes are longer): the lambda-weighted gradient of eq. 2.13
+    # is 0, phi never moves and neither does lambda -- the cost stays 0 everywhere (measured on
+    # lava_grid, docs/BENCHMARKS.md). The zeta steps then weigh every feature alike: Adam's steps
+    # do not depend on the loss's scale, so this is the step any equal lambda > 0 would take, and
+    # the features rise where the policy goes and the expert does not until the gap turns.
+    lam = torch.from_numpy(lambdas if lambdas.any() else np.ones_like(lambdas)).float()
+    # the gap per unit of lambda and per discounted expert step, so that input_sparsity weighs
+    # the group lasso against a number in (-1, 1) whatever the multipliers' size and the
+    # episodes' length (Adam's steps do not depend on the loss's scale: without the penalty
+    # this division changes nothing)
+    scale = float(lam.sum()) * float(expert_w.sum()) if input_sparsity else 1.0
+    shown = remembered or [(policy_in, policy_w)]
+    for _ in range(zeta_steps):
+        policy_sum = sum(w @ phi(*inputs) for inputs, w in shown) / len(shown)
+        loss = lam @ (expert_w @ phi(*expert_in) - policy_sum)
+        if input_sparsity:
+            loss = loss / scale + input_sparsity * input_penalty(phi)
+        optimizer.zero_grad(set_to_none=True)
+        loss.backward()
+        optimizer.step()
     return lambdas, expert_features, policy_features
 
 

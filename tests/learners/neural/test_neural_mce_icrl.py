@@ -80,6 +80,33 @@ def test_dual_step_raises_lambda_and_the_features_where_only_the_policy_goes():
     assert (swapped[trained] == 0).all()
 
 
+def test_dual_step_leaves_zero_multipliers_when_the_expert_walks_longer():
+    """The expert's episodes twice as long as the policy's (a detour round what the policy walks
+    through, lava_grid): the expert's sums of the positive features exceed the policy's, so the
+    first lambda step is projected to 0. The zeta steps still move phi (every feature weighed
+    alike while all multipliers are 0) until the policy's sums exceed the expert's and lambda
+    rises; before, phi and lambda stayed put and the learned cost was 0 everywhere."""
+    gen = torch.Generator().manual_seed(0)
+    phi = FeatureNetwork([0], 0, 2, (16,), gen)
+    expert_x = torch.linspace(0, 5, 200)[:, None]  # expert: x >= 0, 200 steps
+    policy_x = torch.linspace(-5, -0.5, 100)[:, None]  # policy: x < 0, 100 steps
+    phi.fit_standardisation(torch.cat([expert_x, policy_x]).numpy(), None)
+    expert_w, policy_w = torch.full((200,), 1.0), torch.full((100,), 1.0)
+    optimizer = torch.optim.Adam(phi.parameters(), lr=1e-2)
+    lambdas = np.zeros(2)
+    first = None
+    for _ in range(8):
+        lambdas, fd, fp = dual_step(phi, optimizer, lambdas, ((expert_x, None), expert_w),
+                                    ((policy_x, None), policy_w), lambda_lr=0.01, alpha=0.0,
+                                    zeta_lr=1e-2, zeta_steps=20)
+        first = (lambdas.copy(), fd - fp) if first is None else first
+    assert (first[0] == 0).all() and (first[1] > 0).all()  # the stuck start: expert's sums larger
+    assert (lambdas > 0).any()
+    with torch.no_grad():
+        cost = phi(policy_x).double().numpy() @ lambdas, phi(expert_x).double().numpy() @ lambdas
+    assert cost[0].min() > cost[1].max()
+
+
 def test_remembered_policies_keep_the_cost_where_the_current_one_no_longer_goes():
     """cost_memory="all": the zeta steps separate the expert from every policy seen. An early
     policy went left (x < 0), the current one goes right beyond the expert (x > 5): with the
