@@ -199,6 +199,7 @@ def _lagrangian_class() -> type:
             self._length = np.zeros(n_envs, dtype=np.int64)
             self._since = 0
             self._seen = False   # some step has reported info[cost_key]
+            self.updates = 0     # multiplier steps taken (0: a run shorter than one window)
 
         def _on_step(self) -> bool:
             for i, (info, done) in enumerate(zip(self.locals["infos"], self.locals["dones"], strict=True)):
@@ -236,6 +237,7 @@ def _lagrangian_class() -> type:
                                           "or wrap the environment with LagrangianReward over a cost")
 
         def _update(self) -> None:
+            self.updates += 1
             if self._ended:
                 estimate = np.mean(self._ended, axis=0)
             else:  # no episode ended in this window: its cost rate over a typical episode's length

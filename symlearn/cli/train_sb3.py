@@ -119,6 +119,12 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any, watch: Any = Non
                               reported=watch is not None and watch.seen, learned=tally.per_episode())
     doc.update({"multipliers": [float(m) for m in multipliers.values] if lagrangian else None,
                 "steps": int(model.num_timesteps), "seconds": seconds})
+    if lagrangian and not callbacks[0].updates:
+        # SAC's window is 1,000 steps: a shorter run trained r - lambda c at the starting lambda throughout
+        doc["warnings"].append(f"the multiplier was never updated: {int(model.num_timesteps):,} steps are fewer than "
+                               f"one update window of {callbacks[0].update_every:,}, so the run trained at the "
+                               f"starting multiplier ({', '.join(f'{m:g}' for m in multipliers.values)}) throughout; "
+                               "raise --steps")
     if args.output:
         path = save_policy(model, args.output, {"env": args.env, "env_kwargs": target.kwargs, "algo": args.algo,
                                                 "steps": int(model.num_timesteps)})

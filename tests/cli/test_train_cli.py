@@ -373,6 +373,9 @@ def test_stable_baselines3_learners_on_a_user_module(capsys, tmp_path):
     assert code == 0, err
     doc = json.loads(out)
     assert doc["cost_kind"] is None and len(doc["multipliers"]) == 1 and doc["cost"] is not None
+    # 160 steps are less than SAC's 1,000-step update window: the multiplier never moved, and it says so
+    assert any("the multiplier was never updated: 160 steps are fewer than one update window of 1,000" in w
+               for w in doc["warnings"]), doc["warnings"]
     code, _, err = run(capsys, "train", "--env", ROBOT, "--algo", "sb3-dqn", "--steps", 64)
     _one_line(code, err, "DQN acts only in Discrete action spaces")
 
