@@ -268,7 +268,14 @@ def _read_model(path: Path) -> dict[str, np.ndarray]:
                             f"got {list(arrays[key].shape)}", file=str(path))
     for key in ("terminal", "available"):
         if key in arrays and arrays[key].dtype != bool:
-            raise DataError(f"array {key!r} must be boolean, got {arrays[key].dtype}", file=str(path))
+            # 0/1 integers are how numpy users often write flags (np.zeros(S, dtype=int)); other values are a mistake
+            values = arrays[key]
+            if values.dtype.kind in "iu" and np.isin(values, (0, 1)).all():
+                arrays[key] = values.astype(bool)
+                continue
+            raise DataError(f"array {key!r} must be boolean (or 0/1 integers), got {values.dtype}"
+                            + (" with values other than 0 and 1" if values.dtype.kind in "iu" else ""),
+                            file=str(path))
     if not np.isfinite(P).all() or (P < 0).any():
         raise DataError("transitions must be finite and non-negative", file=str(path))
     sums = P.sum(axis=2)

@@ -97,6 +97,23 @@ def test_rows_that_do_not_sum_to_one(folder):
         Domain.from_folder(folder)
 
 
+def test_flags_written_as_0_1_integers_read_as_booleans(folder):
+    """``terminal``/``available`` as 0/1 integers (``np.zeros(S, dtype=int)``, as numpy users
+    write flags) read as the booleans they mean; a 2 in them is still a mistake."""
+    reference = Domain.from_folder(folder)
+    arrays = wh.build_arrays()
+    arrays["terminal"] = arrays["terminal"].astype(np.int64)
+    arrays["available"] = arrays["available"].astype(np.uint8)
+    np.savez(folder / "model.npz", **arrays)
+    d = Domain.from_folder(folder)
+    np.testing.assert_array_equal(d.unavailable, reference.unavailable)
+    np.testing.assert_array_equal(d.truth_forbidden, reference.truth_forbidden)
+    arrays["terminal"][0] = 2
+    np.savez(folder / "model.npz", **arrays)
+    with pytest.raises(DataError, match="'terminal' must be boolean .or 0/1 integers., got int64 with values other"):
+        Domain.from_folder(folder)
+
+
 def test_shapes_that_disagree(folder):
     lines = (folder / "states.jsonl").read_text().splitlines()
     _edit(folder, "states.jsonl", "\n".join(lines[:-1]) + "\n")
