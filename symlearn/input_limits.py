@@ -267,7 +267,12 @@ def load_json(text: str, *, source: str | os.PathLike | None = None, line: int |
     try:
         value = json.loads(text, object_pairs_hook=hook, **keywords)
     except json.JSONDecodeError as exc:
-        raise error(f"{syntax}: {exc.msg}", file=file, line=exc.lineno + offset, column=exc.colno) from None
+        # a comment is the most common hand-written JSON(L) mistake: say so where the error points at one
+        at = text[exc.pos:exc.pos + 2]
+        hint = ("JSON has no comments: delete the line, or keep a note in a string field"
+                if at[:1] == "#" or at in ("//", "/*") else None)
+        raise error(f"{syntax}: {exc.msg}", file=file, line=exc.lineno + offset, column=exc.colno,
+                    hint=hint) from None
     except RecursionError:
         bound = MAX_JSON_DEPTH if max_depth is None else max_depth
         where = _too_deep_at(text, bound) or (None, None)

@@ -62,3 +62,22 @@ def test_located_fills_in_line_and_column_once():
     assert (error.line, error.column) == (2, 14) and str(error).startswith("f.json:2:14: list[1]: bad")
     kept = located(JsonPathError("x", path=("list",), line=9, column=1), TEXT)
     assert (kept.line, kept.column) == (9, 1)
+
+
+@pytest.mark.parametrize("text, line, column", [
+    ('# my demonstrations\n{"a": 1}\n', 1, 1),
+    ('{"a": 1, // the speed\n"b": 2}', 1, 10),
+    ('[1, /* two */ 2]', 1, 5),
+])
+def test_a_comment_in_json_is_named_as_one(text, line, column):
+    """JSON has no comments; hand-written files have them more often than any other mistake."""
+    from symlearn.errors import ParseError
+    from symlearn.input_limits import load_json
+
+    with pytest.raises(ParseError) as info:
+        load_json(text, source="f.json")
+    assert (info.value.line, info.value.column) == (line, column)
+    assert "JSON has no comments" in (info.value.hint or "")
+    with pytest.raises(ParseError) as info:
+        load_json('{"a": 1,}', source="f.json")
+    assert "comments" not in (info.value.hint or "")
