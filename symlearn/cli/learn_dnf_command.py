@@ -177,6 +177,7 @@ def _check_states_are_features(target, demos, path, order) -> None:
     env = target.make()
     try:
         observation, info = env.reset(seed=int(seed) if isinstance(seed, int) else 0)
+        declared = getattr(env.unwrapped, "observation_names", None)   # for the hint below
     finally:
         env.close()
     # a dict's values in the order of the names the rules will use, not its own key order
@@ -199,20 +200,15 @@ def _check_states_are_features(target, demos, path, order) -> None:
                     f"reset), which are not its observation ({', '.join(f'{v:.4g}' for v in observed)}); the "
                     "demonstrations hold the observations (what record() stores), so those names would label "
                     "other numbers", file=path,
-                    hint=f"name the observation's columns with --features {_observation_names(target, observed)} "
+                    hint=f"name the observation's columns with --features {_observation_names(declared, observed)} "
                          f"(train --cost reads {', '.join(names or order)} from info[\"features\"] by name: keep the "
                          f"rules to those columns with --inputs {','.join(names or order)}), or record the features as "
                          "the states (symlearn data record --states features)")
 
 
-def _observation_names(target, observed) -> str:
-    """The observation's column names to suggest: its ``observation_names`` where they count its
-    entries, else ``a,b,...``."""
-    env = target.make()
-    try:
-        names = getattr(env.unwrapped, "observation_names", None)
-    finally:
-        env.close()
+def _observation_names(names, observed) -> str:
+    """The observation's column names to suggest: the environment's ``observation_names``
+    (``names``) where they count its entries, else ``a,b,...``."""
     if isinstance(names, (list, tuple)) and len(names) == len(observed) and all(isinstance(n, str) for n in names):
         return ",".join(names)
     return "a,b,..."
@@ -281,10 +277,11 @@ def _dnf(args: argparse.Namespace, out) -> None:
                                "each rule bounds single pixels; learn over features instead (an environment's "
                                "info[\"features\"] recorded with data record --states features) or choose the "
                                "columns with --inputs")
-    if held is None and learner.warn_unsafe_share is not None and learner.unsafe_share_ > learner.warn_unsafe_share:
+    crowded = learner.warn_unsafe_share is not None and learner.unsafe_share_ > learner.warn_unsafe_share
+    if held is None and crowded:
         doc["notes"].append("--validation 0.2 holds out a fifth of the demonstrations and counts the held-out "
                             "expert states the formula calls unsafe (with the --max-depth that calls fewer)")
-    if learner.warn_unsafe_share is not None and learner.unsafe_share_ > learner.warn_unsafe_share:
+    if crowded:
         options = _single_inputs(args, demos, features, names, inputs)
         if options:
             doc["inputs_options"] = options
