@@ -451,8 +451,12 @@ def _run(method: str, world: _World, demos, args, known, out):
                                            noise=args.noise,
                                            known=Path(args.known) if args.known else None).fit(demos, world.domain)
         for step in learner.history_:
+            # the rules' own pairs are what the final count reports; the inference also holds pairs
+            # that no rule covers, so its count alone read as a different answer from the result's
+            pairs = (f"{step.n_constraints} forbidden pairs" if step.rule_pairs is None else
+                     f"{step.rule_pairs} forbidden pairs by the rules, {step.n_constraints} held by the inference")
             out.note(f"iteration {step.iteration}: inferred {step.inferred}; {len(step.rules)} rule(s), "
-                     f"{step.n_constraints} forbidden pairs (inference {step.inference_seconds:.2f} s, "
+                     f"{pairs} (inference {step.inference_seconds:.2f} s, "
                      f"induction {step.induction_seconds:.2f} s)")
         doc = {"rules": learner.rules_, "known_rules": learner.known_rules_,
                "iterations": len(learner.history_), "seconds": learner.seconds_,

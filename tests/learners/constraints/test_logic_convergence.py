@@ -143,3 +143,13 @@ def test_the_inference_loop_stops_when_the_hook_names_a_reason(warehouse):
     learner = MLConstraintInference(reward="given", horizon=30, max_iterations=10, stop_when=stop).fit(demos, domain)
     assert learner.stop_reason_ == learner.stopped_because_ == "converged"
     assert len(learner.history_) == 2 and learner.result_.metrics["stopped_because"] == "converged"
+
+
+def test_each_iteration_counts_the_pairs_its_rules_forbid_as_the_result_does(warehouse_fit):
+    # the per-iteration line printed the inference's closed set, which also holds pairs no rule
+    # covers, so it disagreed with the final count (87 vs 75 on a drone domain)
+    learner = warehouse_fit
+    final = [h for h in learner.history_ if tuple(h.rules) == tuple(learner.rules_)]
+    assert final, "the final rules were induced at some iteration"
+    assert all(h.rule_pairs == int(learner.rule_constraints_.sum()) for h in final)
+    assert all(h.as_dict()["rule_pairs"] == h.rule_pairs for h in learner.history_)
