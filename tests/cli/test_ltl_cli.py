@@ -87,3 +87,18 @@ def test_dfa_batch_errors_are_located(tmp_path, capsys):
     assert code == 2 and f"{specs}:1: " in err and "more than 50 states" in err
     code, _, err = run(capsys, "ltl", "dfa")
     assert code == 2 and "give one of a FORMULA, --file" in err
+
+
+def test_dfa_text_lists_the_first_states_of_a_large_automaton_and_json_lists_all(capsys):
+    # a 1,029-state DFA printed thousands of lines, most of the run spent writing guards nobody reads
+    formula = " & ".join(f"F q{i}" for i in range(7))  # 128 states
+    code, out, _ = run(capsys, "ltl", "dfa", formula)
+    assert code == 0
+    listed = [line for line in out.splitlines() if line.lstrip(" *").split(":")[0].isdigit()]
+    assert len(listed) == 50
+    assert "... and 78 more states (--json lists every state's transitions" in out
+    code, out, _ = run(capsys, "ltl", "dfa", formula, "--json")
+    doc = json.loads(out)
+    assert doc["states"] == 128 and len(doc["transitions"]) == 128
+    code, out, _ = run(capsys, "ltl", "dfa", "a U b")
+    assert "more states" not in out and len(out.splitlines()) == 4
