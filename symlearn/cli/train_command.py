@@ -191,6 +191,10 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--cost-scale-floor", type=float, default=None, metavar="SHARE",
                      help="ppo-lag: in the mix, each cost's return scale never drops below SHARE x the largest it "
                           "had (default 0.01: a cost the agent stopped paying gets up to 100x dearer)")
+    cmd.add_argument("--zero-limit-slack", type=float, default=None, metavar="SHARE",
+                     help="ppo-lag: at --cost-limit 0 the multipliers aim at SHARE of one cost step per rollout, "
+                          "so a rollout without cost lowers them (default 0: the exact limit, a multiplier "
+                          "that can only rise)")
     cmd.add_argument("--cost-estimate", choices=("rollout", "episodes"), default="rollout",
                      help="ppo-lag: update the multipliers every iteration from the rollout's cost per step x the "
                           "mean episode length (rollout, the default) or only from episodes that ended in it (episodes)")
@@ -247,6 +251,9 @@ def check_numbers(args: argparse.Namespace, default_steps: int) -> None:
     if args.cost_scale_floor is not None and not (math.isfinite(args.cost_scale_floor)
                                                   and 0 < args.cost_scale_floor <= 1):
         raise SymlearnError(f"--cost-scale-floor must be a number in (0, 1], got {args.cost_scale_floor:g}")
+    if args.zero_limit_slack is not None and not (math.isfinite(args.zero_limit_slack)
+                                                  and 0 <= args.zero_limit_slack <= 1):
+        raise SymlearnError(f"--zero-limit-slack must be a number in [0, 1], got {args.zero_limit_slack:g}")
     if args.learning_rate is not None and not (math.isfinite(args.learning_rate) and 0 < args.learning_rate <= 1):
         raise SymlearnError(f"--learning-rate must be a number in (0, 1], got {args.learning_rate:g}")
     if args.log_std_init is not None and not (math.isfinite(args.log_std_init) and -20 <= args.log_std_init <= 5):
@@ -283,6 +290,7 @@ def _train(args: argparse.Namespace, out) -> None:
                                          ("--advantage-scale", args.advantage_scale),
                                          ("--reward-scale-floor", args.reward_scale_floor),
                                          ("--cost-scale-floor", args.cost_scale_floor),
+                                         ("--zero-limit-slack", args.zero_limit_slack),
                                          ("--learning-rate", args.learning_rate),
                                          ("--log-std-init", args.log_std_init),
                                          ("--reset-actor", args.reset_actor)) if given is not None]
@@ -371,6 +379,7 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
         given = {key: value for key, value in (("update", args.multiplier_update), ("lr", args.multiplier_lr),
                                                ("init", start), ("reward_scale_floor", args.reward_scale_floor),
                                                ("cost_scale_floor", args.cost_scale_floor),
+                                               ("zero_limit_slack", args.zero_limit_slack),
                                                ("reset_actor", args.reset_actor))
                  if value is not None}  # the rest: the library's defaults
         lagrangian = LagrangianConfig(cost_limit=args.cost_limit, advantage_scale=args.advantage_scale or "returns",

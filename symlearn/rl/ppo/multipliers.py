@@ -24,6 +24,10 @@ class Multipliers:
 
     All three are capped at ``max_multiplier`` when set.
 
+    A limit of 0 is moved to ``resolution x zero_limit_slack`` where the update is given the
+    estimate's ``resolution`` (:func:`zero_limit_targets`), so that a rollout without cost can lower
+    a multiplier; with ``zero_limit_slack`` 0 (the default) the limit is the exact 0.
+
     >>> m = Multipliers(LagrangianConfig(cost_limit=1.0, update="gradient", lr=0.5, init=0.0), 1)
     >>> [float(m.update([3.0])[0]) for _ in range(2)], float(m.update([0.0])[0])
     ([1.0, 2.0], 1.5)
@@ -41,12 +45,16 @@ class Multipliers:
         self._pid_cost = np.zeros(n_constraints)
         self._pid_costs: deque[np.ndarray] = deque([np.zeros(n_constraints)], maxlen=config.d_delay)
 
-    def update(self, mean_costs: Sequence[float] | np.ndarray) -> np.ndarray:
+    def update(self, mean_costs: Sequence[float] | np.ndarray,
+               resolution: Sequence[float] | np.ndarray | None = None) -> np.ndarray:
+        """One step from the estimates ``mean_costs`` of ``J_c``; ``resolution``: per constraint, the
+        estimate a single cost step of the rollout would give (None: limits of 0 stay exact)."""
         costs = np.asarray(mean_costs, dtype=np.float64).reshape(-1)
         if costs.shape != self.limits.shape:
             raise DataError(f"got {costs.size} mean costs for {self.limits.size} constraints")
         c = self.config
-        error = costs - self.limits  # > 0: constraint violated, the multiplier should rise
+        targets = zero_limit_targets(self.limits, c.zero_limit_slack, resolution)
+        error = costs - targets  # > 0: constraint violated, the multiplier should rise
         if c.update == "gradient":
             self.values = np.maximum(0.0, self.values + c.lr * error)
         elif c.update == "adam":  # torch.optim.Adam's: beta1 0.9, eps 1e-8; beta2 = adam_beta2
@@ -67,3 +75,24 @@ class Multipliers:
         if c.max_multiplier is not None:
             self.values = np.minimum(self.values, c.max_multiplier)
         return self.values.copy()
+
+
+def zero_limit_targets(limits: np.ndarray, slack: float,
+                       resolution: Sequence[float] | np.ndarray | None) -> np.ndarray:
+    """The limits the multipliers are moved against: each limit of 0 replaced by ``slack`` times
+    the ``resolution`` of its estimate -- the ``J_c`` that one cost step in the rollout shows (the
+    largest step cost seen x mean episode length / rollout steps). Why: at an exact 0 the error
+    ``J_c - 0`` is never negative, so a multiplier can only rise; an agent whose exploring brushes
+    raised it stays priced out of every route that risks a brush, after it has become safe. Below
+    one cost step per rollout (slack < 1) a rollout without cost now lowers the multiplier and a
+    rollout with one cost step still raises it: the limit is still "no cost", as finely as a
+    rollout can tell. Positive limits are returned unchanged.
+
+    >>> zero_limit_targets(np.array([0.0, 2.0]), 0.5, [0.2, 0.2]).tolist()
+    [0.1, 2.0]
+    """
+    limits = np.asarray(limits, dtype=np.float64)
+    if not slack or resolution is None:
+        return limits
+    resolution = np.broadcast_to(np.asarray(resolution, dtype=np.float64), limits.shape)
+    return np.where(limits == 0, slack * resolution, limits)
