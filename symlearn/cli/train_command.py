@@ -2,7 +2,7 @@
 
 ``symlearn train --env ENV [--env-kwargs JSON] [--algo ALGO] [--cost rules.dnf|cost.safetensors
 [--features a,b] [--per-rule] [--depth-weight W]] [--cost-limit C] [--multiplier-update gradient|adam|pid]
-[--multiplier-init M] [--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns] [--reward-scale-floor SHARE] [--cost-scale-floor SHARE]
+[--multiplier-init M] [--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns] [--reward-scale-floor SHARE] [--cost-scale-floor SHARE] [--zero-limit-slack SHARE]
 [--cost-estimate rollout|episodes] [--reset-actor auto|never] [--normalize-observations]
 [--normalize-values] [--n-envs N] [--n-steps T] [--prune [--prune-threshold T]] [--steps N]
 [--eval-episodes E] [-o agent.safetensors] [--log run.csv] [--tensorboard DIR] [--json]``
@@ -67,6 +67,11 @@
   3.1 instead of the 20 it earns by the detour (with 1: 20.2 at cost 0, but the grid walker kept
   its lava step; docs/BENCHMARKS.md, "Fresh user modules, second pass"). A remedy the run's
   warning names when the return fell from what the run earned within the limit, not the default.
+* ``--zero-limit-slack SHARE`` (``ppo-lag``; default 0): at ``--cost-limit 0`` the multipliers aim
+  at SHARE violating steps per episode of the (stochastic) training policy instead of exactly 0.
+  At the exact 0 a rollout without cost is no error, so a multiplier that an exploring agent's
+  brushes raised never comes down, however cautious the agent has become. Opt-in: measured on the
+  fresh user modules (docs/BENCHMARKS.md, "Over-cautious agents at limit 0").
 * ``--reset-actor auto|never`` (``ppo-lag``; default ``never``, the library's): with ``auto`` a policy that stays over
   ``--cost-limit`` while the multiplier keeps rising gets fresh weights -- critics, observation
   statistics and multipliers kept -- at most twice, never in the last third of the run
@@ -192,9 +197,10 @@ def register(subparsers, common) -> None:
                      help="ppo-lag: in the mix, each cost's return scale never drops below SHARE x the largest it "
                           "had (default 0.01: a cost the agent stopped paying gets up to 100x dearer)")
     cmd.add_argument("--zero-limit-slack", type=float, default=None, metavar="SHARE",
-                     help="ppo-lag: at --cost-limit 0 the multipliers aim at SHARE of one cost step per rollout, "
-                          "so a rollout without cost lowers them (default 0: the exact limit, a multiplier "
-                          "that can only rise)")
+                     help="ppo-lag: at --cost-limit 0 the multipliers aim at SHARE violating steps per episode of "
+                          "the training policy, so rollouts without cost lower them (default 0: the exact limit, "
+                          "a multiplier that can only rise; an opt-in for an agent the warning calls safe but "
+                          "not useful)")
     cmd.add_argument("--cost-estimate", choices=("rollout", "episodes"), default="rollout",
                      help="ppo-lag: update the multipliers every iteration from the rollout's cost per step x the "
                           "mean episode length (rollout, the default) or only from episodes that ended in it (episodes)")

@@ -186,13 +186,12 @@ class LagrangianConfig:
     # shrinks, and every remaining violation gets dearer in its units (up to 1 / 0.01 = 100x)
     cost_scale_floor: float = 0.01
     cost_estimate: str = "rollout"
-    # a limit of 0 as the multipliers see it: this share of the smallest cost the rollout's estimate
-    # can show (one step at the largest step cost seen, in episode units: mean length / rollout
-    # steps; symlearn.rl.ppo.multipliers.zero_limit_targets). At an exact 0 a rollout without cost
-    # has no error, so no rule ever lowers a multiplier, and once an exploring agent's violations
-    # have raised it the agent is held at that price after it has become over-cautious (the speed
-    # cart's "gave up", docs/BENCHMARKS.md "Over-cautious agents at limit 0"). 0 (the default):
-    # the exact limit, the behaviour before
+    # a limit of 0 as the multipliers see it: this many violating steps per episode of the training
+    # policy (times the largest step cost seen; symlearn.rl.ppo.multipliers.zero_limit_targets). At
+    # an exact 0 a rollout without cost is no error, so no rule ever lowers a multiplier: once an
+    # exploring agent's brushes have raised it, the agent is held at that price after it has become
+    # over-cautious. 0 (the default): the exact limit, as before (opt-in: measured in
+    # docs/BENCHMARKS.md, "Over-cautious agents at limit 0")
     zero_limit_slack: float = 0.0
     # "auto": a fresh actor, on trial, when the policy is stuck over its limit while the multiplier
     # keeps rising (symlearn.rl.ppo.stall); "never" (the default: measured, it helps some tasks and
