@@ -51,3 +51,46 @@ def test_the_slack_is_checked():
     for bad in (-0.1, 1.5, True):
         with pytest.raises(SymlearnError, match="zero_limit_slack"):
             LagrangianConfig(cost_limit=0.0, zero_limit_slack=bad)
+
+
+def _env(costly: int):
+    """An environment class whose steps cost 1 for the first ``costly`` steps of the whole run (an
+    exploring agent's brushes), 0 after (an agent that has become safe)."""
+    import gymnasium as gym
+    from gymnasium import spaces
+
+    class BrushThenSafe(gym.Env):
+        steps = 0   # shared by the copies: the run's step count
+
+        def __init__(self):
+            self.observation_space = spaces.Box(-1.0, 1.0, (1,), dtype=np.float32)
+            self.action_space = spaces.Discrete(2)
+
+        def reset(self, *, seed=None, options=None):
+            super().reset(seed=seed)
+            self.t = 0
+            return np.zeros(1, dtype=np.float32), {}
+
+        def step(self, action):
+            self.t += 1
+            BrushThenSafe.steps += 1
+            cost = 1.0 if BrushThenSafe.steps <= costly else 0.0
+            return np.zeros(1, dtype=np.float32), 0.0, False, self.t >= 16, {"cost": cost}
+
+    return BrushThenSafe
+
+
+@pytest.mark.parametrize("slack", [0.0, 0.25])
+def test_training_passes_the_step_cost_so_a_safe_agent_lowers_its_multiplier(slack):
+    pytest.importorskip("torch")
+    from symlearn.rl.ppo import PPOConfig, train_ppo
+
+    env = _env(costly=64)
+    result = train_ppo(lambda: env(), 64 * 12, PPOConfig(seed=0, n_envs=1, n_steps=64, batch_size=64, n_epochs=1),
+                       # the gradient rule: Adam's steps after a violation of 16 are ~lr x 0.25 / 16 down
+                       LagrangianConfig(cost_limit=0.0, update="gradient", lr=0.1, zero_limit_slack=slack))
+    lambdas = [h.multipliers[0] for h in result.history]
+    if slack:   # violations in the first rollout only: the multiplier comes back down
+        assert lambdas[-1] < max(lambdas) - 0.2
+    else:       # the exact limit: it never comes down
+        assert all(b >= a - 1e-12 for a, b in zip(lambdas, lambdas[1:]))
