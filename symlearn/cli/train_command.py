@@ -413,7 +413,8 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
                                          advantage_scale=lagrangian.advantage_scale,
                                          reward_floor=lagrangian.reward_scale_floor,
                                          cost_kind=None if cost is None else cost.kind,
-                                         cost_floor=lagrangian.cost_scale_floor)
+                                         cost_floor=lagrangian.cost_scale_floor,
+                                         zero_slack=lagrangian.zero_limit_slack)
         if doc["warnings"] and cost is not None and cost.kind == "dnf" and not args.depth_weight:
             # an agent that cut across a narrow safe set pays 1 on every step of the short cut
             # whichever way it turns; a depth-shaped cost tells it the way out (backends/dnf_depth)
