@@ -431,7 +431,7 @@ def history(log: Path) -> dict | None:
 
 
 def run_task(task: str, seed: int, folder: Path, peers: bool = True, variant: tuple[str, ...] = (),
-             dnf_only: bool = False) -> list[dict]:
+             dnf_only: bool = False, true_only: bool = False) -> list[dict]:
     env_id, out = ALL_TASKS[task], folder / f"{task}_s{seed}{'_variant' if variant else ''}"
     out.mkdir(parents=True, exist_ok=True)
     s = ["--seed", str(seed)]
@@ -456,6 +456,8 @@ def run_task(task: str, seed: int, folder: Path, peers: bool = True, variant: tu
         if peers:
             train("sb3-ppo-lag", "true", ["--algo", "sb3-ppo-lag"])
             train("ppo (unconstrained)", "none", ["--algo", "ppo"])
+        if true_only:   # --true-only: the environment's own cost, nothing learned
+            return rows
     demos, rules, cost = out / "demos.npz", out / "rules.dnf", out / "cost.safetensors"
     if not dnf_only:
         rows.append(dict(symlearn(["data", "record", "--env", env_id, "--policy", str(expert), *s,
@@ -547,6 +549,9 @@ def main() -> None:
     parser.add_argument("--dnf-only", action="store_true",
                         help="with --keep FOLDER of an earlier run: only record (features), learn dnf and the "
                              "learned-DNF trains, from that run's experts")
+    parser.add_argument("--true-only", action="store_true",
+                        help="only our train on the environment's own cost (no record, learn, learned costs); "
+                             "with --variant: that variant's true-cost rows")
     parser.add_argument("--ours-only", action="store_true",
                         help="skip the peers' and plain PPO's runs (a rerun of our rows; their old rows are kept)")
     parser.add_argument("--out", type=Path, default=None,
@@ -572,7 +577,8 @@ def main() -> None:
     with ThreadPoolExecutor(args.workers) as pool:
         variant = tuple(args.variant.split())
         results = [r for rows in pool.map(lambda j: run_task(*j, folder, not (args.ours_only or variant), variant,
-                                                             args.dnf_only), jobs) for r in rows]
+                                                             args.dnf_only, args.true_only), jobs)
+                   for r in rows]
     previous = json.loads(args.out.read_text()) if args.out.exists() else {"runs": []}
     # a rerun replaces the rows it made (by task, seed, agent and cost); --ours-only keeps the peers' old rows
     done = {(r["task"], r["seed"], r["agent"], r.get("cost_kind")) for r in results}

@@ -41,6 +41,8 @@ TASKS = {
 }
 VARIANTS = {"old defaults": OLD, "gradient 0.05, PPO 2.5e-4, log std 0": GRADIENT, "new defaults": [],
             "episodes-only multiplier updates": ["--cost-estimate", "episodes"],
+            # docs/BENCHMARKS.md, "Over-cautious agents at limit 0" (issue 24, 2026-12-08): opt-in
+            "zero-limit slack 0.25": ["--zero-limit-slack", "0.25"],
             "sb3-ppo-lag (peer)": ["--algo", "sb3-ppo-lag"],
             "unconstrained PPO (reference)": ["--algo", "ppo"]}
 

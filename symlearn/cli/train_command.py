@@ -2,7 +2,7 @@
 
 ``symlearn train --env ENV [--env-kwargs JSON] [--algo ALGO] [--cost rules.dnf|cost.safetensors
 [--features a,b] [--per-rule] [--depth-weight W]] [--cost-limit C] [--multiplier-update gradient|adam|pid]
-[--multiplier-init M] [--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns] [--reward-scale-floor SHARE] [--cost-scale-floor SHARE]
+[--multiplier-init M] [--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns] [--reward-scale-floor SHARE] [--cost-scale-floor SHARE] [--zero-limit-slack SHARE]
 [--cost-estimate rollout|episodes] [--reset-actor auto|never] [--normalize-observations]
 [--normalize-values] [--n-envs N] [--n-steps T] [--prune [--prune-threshold T]] [--steps N]
 [--eval-episodes E] [-o agent.safetensors] [--log run.csv] [--tensorboard DIR] [--json]``
@@ -67,6 +67,11 @@
   3.1 instead of the 20 it earns by the detour (with 1: 20.2 at cost 0, but the grid walker kept
   its lava step; docs/BENCHMARKS.md, "Fresh user modules, second pass"). A remedy the run's
   warning names when the return fell from what the run earned within the limit, not the default.
+* ``--zero-limit-slack SHARE`` (``ppo-lag``; default 0): at ``--cost-limit 0`` the multipliers aim
+  at SHARE violating steps per episode of the (stochastic) training policy instead of exactly 0.
+  At the exact 0 a rollout without cost is no error, so a multiplier that an exploring agent's
+  brushes raised never comes down, however cautious the agent has become. Opt-in: measured on the
+  fresh user modules (docs/BENCHMARKS.md, "Over-cautious agents at limit 0").
 * ``--reset-actor auto|never`` (``ppo-lag``; default ``never``, the library's): with ``auto`` a policy that stays over
   ``--cost-limit`` while the multiplier keeps rising gets fresh weights -- critics, observation
   statistics and multipliers kept -- at most twice, never in the last third of the run
@@ -191,6 +196,11 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--cost-scale-floor", type=float, default=None, metavar="SHARE",
                      help="ppo-lag: in the mix, each cost's return scale never drops below SHARE x the largest it "
                           "had (default 0.01: a cost the agent stopped paying gets up to 100x dearer)")
+    cmd.add_argument("--zero-limit-slack", type=float, default=None, metavar="SHARE",
+                     help="ppo-lag: at --cost-limit 0 the multipliers aim at SHARE violating steps per episode of "
+                          "the training policy, so rollouts without cost lower them (default 0: the exact limit, "
+                          "a multiplier that can only rise; an opt-in for an agent the warning calls safe but "
+                          "not useful)")
     cmd.add_argument("--cost-estimate", choices=("rollout", "episodes"), default="rollout",
                      help="ppo-lag: update the multipliers every iteration from the rollout's cost per step x the "
                           "mean episode length (rollout, the default) or only from episodes that ended in it (episodes)")
@@ -247,6 +257,9 @@ def check_numbers(args: argparse.Namespace, default_steps: int) -> None:
     if args.cost_scale_floor is not None and not (math.isfinite(args.cost_scale_floor)
                                                   and 0 < args.cost_scale_floor <= 1):
         raise SymlearnError(f"--cost-scale-floor must be a number in (0, 1], got {args.cost_scale_floor:g}")
+    if args.zero_limit_slack is not None and not (math.isfinite(args.zero_limit_slack)
+                                                  and 0 <= args.zero_limit_slack <= 1):
+        raise SymlearnError(f"--zero-limit-slack must be a number in [0, 1], got {args.zero_limit_slack:g}")
     if args.learning_rate is not None and not (math.isfinite(args.learning_rate) and 0 < args.learning_rate <= 1):
         raise SymlearnError(f"--learning-rate must be a number in (0, 1], got {args.learning_rate:g}")
     if args.log_std_init is not None and not (math.isfinite(args.log_std_init) and -20 <= args.log_std_init <= 5):
@@ -283,6 +296,7 @@ def _train(args: argparse.Namespace, out) -> None:
                                          ("--advantage-scale", args.advantage_scale),
                                          ("--reward-scale-floor", args.reward_scale_floor),
                                          ("--cost-scale-floor", args.cost_scale_floor),
+                                         ("--zero-limit-slack", args.zero_limit_slack),
                                          ("--learning-rate", args.learning_rate),
                                          ("--log-std-init", args.log_std_init),
                                          ("--reset-actor", args.reset_actor)) if given is not None]
@@ -371,6 +385,7 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
         given = {key: value for key, value in (("update", args.multiplier_update), ("lr", args.multiplier_lr),
                                                ("init", start), ("reward_scale_floor", args.reward_scale_floor),
                                                ("cost_scale_floor", args.cost_scale_floor),
+                                               ("zero_limit_slack", args.zero_limit_slack),
                                                ("reset_actor", args.reset_actor))
                  if value is not None}  # the rest: the library's defaults
         lagrangian = LagrangianConfig(cost_limit=args.cost_limit, advantage_scale=args.advantage_scale or "returns",
@@ -398,7 +413,8 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
                                          advantage_scale=lagrangian.advantage_scale,
                                          reward_floor=lagrangian.reward_scale_floor,
                                          cost_kind=None if cost is None else cost.kind,
-                                         cost_floor=lagrangian.cost_scale_floor)
+                                         cost_floor=lagrangian.cost_scale_floor,
+                                         zero_slack=lagrangian.zero_limit_slack)
         if doc["warnings"] and cost is not None and cost.kind == "dnf" and not args.depth_weight:
             # an agent that cut across a narrow safe set pays 1 on every step of the short cut
             # whichever way it turns; a depth-shaped cost tells it the way out (backends/dnf_depth)

@@ -154,6 +154,12 @@ def test_a_safe_run_that_gave_up_what_it_earned_within_the_limit_is_warned_about
     [warning] = limit_warnings(_safe_run(DRONE_RETURNS, DRONE_COSTS), [0.0], cost_kind=None)
     assert "the return fell from 10 (iterations" in warning and "to 3 over the last 20 iterations" in warning
     assert "--cost-scale-floor 1" in warning
+    # at a limit of 0 the multiplier cannot come down: the slack that lets it is named too, unless set
+    assert "--zero-limit-slack 0.25" in warning
+    [slack] = limit_warnings(_safe_run(DRONE_RETURNS, DRONE_COSTS), [0.0], cost_kind=None, zero_slack=0.25)
+    assert "gave up" in slack and "--zero-limit-slack" not in slack
+    [budget] = limit_warnings(_safe_run(DRONE_RETURNS, DRONE_COSTS), [0.5], cost_kind=None)
+    assert "--zero-limit-slack" not in budget
 
 
 def test_safe_runs_that_kept_their_best_or_never_learned_are_not():

@@ -186,6 +186,13 @@ class LagrangianConfig:
     # shrinks, and every remaining violation gets dearer in its units (up to 1 / 0.01 = 100x)
     cost_scale_floor: float = 0.01
     cost_estimate: str = "rollout"
+    # a limit of 0 as the multipliers see it: this many violating steps per episode of the training
+    # policy (times the largest step cost seen; symlearn.rl.ppo.multipliers.zero_limit_targets). At
+    # an exact 0 a rollout without cost is no error, so no rule ever lowers a multiplier: once an
+    # exploring agent's brushes have raised it, the agent is held at that price after it has become
+    # over-cautious. 0 (the default): the exact limit, as before (opt-in: measured in
+    # docs/BENCHMARKS.md, "Over-cautious agents at limit 0")
+    zero_limit_slack: float = 0.0
     # "auto": a fresh actor, on trial, when the policy is stuck over its limit while the multiplier
     # keeps rising (symlearn.rl.ppo.stall); "never" (the default: measured, it helps some tasks and
     # costs others, docs/BENCHMARKS.md): the policy is only ever continued
@@ -229,6 +236,9 @@ class LagrangianConfig:
         if isinstance(self.cost_scale_floor, bool) or not isinstance(self.cost_scale_floor, (int, float)) \
                 or not 0 < self.cost_scale_floor <= 1:
             raise SymlearnError(f"cost_scale_floor must be a number in (0, 1], got {self.cost_scale_floor!r}")
+        if isinstance(self.zero_limit_slack, bool) or not isinstance(self.zero_limit_slack, (int, float)) \
+                or not 0 <= self.zero_limit_slack <= 1:
+            raise SymlearnError(f"zero_limit_slack must be a number in [0, 1], got {self.zero_limit_slack!r}")
         if self.reset_actor not in RESET_ACTOR_RULES:
             raise SymlearnError(f"reset_actor must be one of {', '.join(map(repr, RESET_ACTOR_RULES))}, "
                                 f"got {self.reset_actor!r}")

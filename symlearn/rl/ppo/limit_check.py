@@ -46,7 +46,8 @@ _COST_HINTS = {
 
 def limit_warnings(history: Sequence[PPOIteration], cost_limits: Sequence[float], *,
                    advantage_scale: str = "returns", reward_floor: float = 0.01,
-                   cost_kind: str | None = "dnf", cost_floor: float = 0.01) -> list[str]:
+                   cost_kind: str | None = "dnf", cost_floor: float = 0.01,
+                   zero_slack: float = 0.0) -> list[str]:
     """One warning per constraint whose cost stayed above its limit while its multiplier rose to
     :data:`HEAVY_MULTIPLIER` or more over the last third of the run; ``[]`` for a run without a
     Lagrangian, one that met its limits, or one with raw advantages. A run whose limit was broken
@@ -55,7 +56,8 @@ def limit_warnings(history: Sequence[PPOIteration], cost_limits: Sequence[float]
     formula), ``"neural"`` (a learned network) or ``None`` (the environment's ``info["cost"]``) --
     and picks the advice that ends the warning. A run that kept its limits but ended earning much
     less than it had earned within them gets :func:`_gave_up_reward`'s warning (``cost_floor``:
-    ``LagrangianConfig.cost_scale_floor``, the setting it names)."""
+    ``LagrangianConfig.cost_scale_floor``, ``zero_slack``: ``LagrangianConfig.zero_limit_slack``,
+    the settings it names)."""
     if advantage_scale != "returns":
         return []
     updated = [h for h in history if h.cost_estimate]
@@ -75,7 +77,7 @@ def limit_warnings(history: Sequence[PPOIteration], cost_limits: Sequence[float]
                 f"to {last:.3g} (the reward {reward_weight:.0%} of the objective): the limit may be out of reach "
                 f"for this cost, and the agent trades its reward away for it; {_COST_HINTS.get(cost_kind, _COST_HINTS[None])}")
     return (warnings + _saturated(history, window, cost_limits, reward_floor) + _ending_early(history, window)
-            + _gave_up_reward(updated, window, cost_limits, cost_floor))
+            + _gave_up_reward(updated, window, cost_limits, cost_floor, zero_slack))
 
 
 #: iterations in the moving mean of returns and cost estimates that :func:`_gave_up_reward` compares
@@ -91,7 +93,7 @@ LIMIT_SLACK = 0.05
 
 
 def _gave_up_reward(updated: Sequence[PPOIteration], window: Sequence[PPOIteration], cost_limits: Sequence[float],
-                    cost_floor: float) -> list[str]:
+                    cost_floor: float, zero_slack: float = 0.0) -> list[str]:
     """Safe but not useful, read off the run: over the last third (``window``) every cost estimate
     stayed within its limit on average (up to :data:`LIMIT_SLACK` of its largest), the Lagrangian
     on, and the mean return (moving means over :data:`SMOOTH` updates; gains count from
@@ -105,7 +107,10 @@ def _gave_up_reward(updated: Sequence[PPOIteration], window: Sequence[PPOIterati
       the cost's own scale: as the agent stops paying, the spread of the cost's returns shrinks to
       a hundredth of its widest and every remaining violation weighs up to 100x more; holding it at
       its widest (``cost_scale_floor=1``, named unless already set) took that drone to its goal at
-      cost 0; or
+      cost 0. At limits of 0 the multiplier itself never comes down either; ``zero_limit_slack``
+      (``zero_slack``, named unless already set) lets it, and took the drone to its goal on 2 of 3
+      seeds where the floor's 1 also let a lava grid's agent back onto its lava step
+      (docs/BENCHMARKS.md, "Over-cautious agents at limit 0"); or
     * ended at the bottom of the run's returns (within :data:`NOTHING` of their spread) while
       only stretches that paid the cost earned notably more: no safe way to the reward was found
       (the speed cart's seeds 1 and 2, which docked while exploring at a cost and never after).
@@ -142,6 +147,9 @@ def _gave_up_reward(updated: Sequence[PPOIteration], window: Sequence[PPOIterati
         first, last = points[at].iteration, points[at + SMOOTH - 1].iteration
         remedy = ("--cost-scale-floor 1 (LagrangianConfig.cost_scale_floor) holds the cost's scale at its widest"
                   if cost_floor < 1.0 else "more --steps, or a --cost-limit above 0 to give it room")
+        if not zero_slack and all(limit == 0 for limit in cost_limits):   # the multiplier can only rise at 0
+            remedy += ("; or --zero-limit-slack 0.25 (LagrangianConfig.zero_limit_slack), which lets the multiplier "
+                       "come down once the agent stops paying")
         return [f"the return fell from {best:.3g} (iterations {first}-{last}, within the cost limit) to {end:.3g} "
                 f"over the last {len(window)} iterations while the cost stayed within the limit: the agent keeps the "
                 "limit but gave up reward it had earned within it, keeping further from what the cost forbids than "

@@ -106,6 +106,7 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
     cost_optimizer = None if not agent.n_costs else \
         torch.optim.Adam(agent.cost_critics.parameters(), lr=config.learning_rate, eps=1e-5, foreach=True)
     multipliers = None
+    step_peak = 0.0  # the largest cost of one step seen so far, per constraint
     stall: LagrangianStall | None = None
     kept: tuple[list[torch.Tensor], list[dict]] | None = None   # the actor a stall reset replaced, on trial
     return_scales = _ReturnScales() if lagrangian is None else _ReturnScales(lagrangian.reward_scale_floor,
@@ -160,7 +161,9 @@ def _train(envs: list[Any], total_steps: int, config: PPOConfig, lagrangian: Lag
                 elif episodes:
                     estimate = mean_cost
                 if estimate is not None:
-                    multipliers.update(estimate)
+                    # one step at the largest step cost seen: the unit of LagrangianConfig.zero_limit_slack
+                    step_peak = np.maximum(step_peak, data.costs.reshape(-1, n_costs).max(axis=0))
+                    multipliers.update(estimate, step_peak)
             lambdas = multipliers.values.copy() if multipliers is not None else np.zeros(0)
             verdict = None if stall is None else stall.update(
                 iteration, estimate, lambdas, mean_return,
