@@ -96,16 +96,25 @@ def record_hint(target: Any) -> str:
             "symlearn.data.record(env, policy, n) in Python")
 
 
+def _placeholder(name: str) -> str:
+    # a required render_mode is gymnasium's to fill (make(..., render_mode=None)): null (no
+    # rendering) is what training and recording want
+    return "null" if name == "render_mode" else "..."
+
+
 def _missing_hint(exc: BaseException, kwargs: Mapping[str, Any]) -> str | None:
     """For a constructor that lacks required arguments (``__init__(self, size)`` built without
     one), the ``--env-kwargs`` that gives them: Python names them in its message only."""
-    found = re.search(r"missing \d+ required (?:positional |keyword-only )?arguments?: (.+)$", str(exc))
+    # only the quoted names right after "missing N required ...: " -- gymnasium appends "... with
+    # kwargs ({'speed': 0.1})", whose keys are not missing (they were named twice in the hint)
+    found = re.search(r"missing \d+ required (?:positional |keyword-only )?arguments?: "
+                      r"((?:'[A-Za-z_][A-Za-z0-9_]*'(?:,? and |, )?)+)", str(exc))
     if not isinstance(exc, TypeError) or found is None:
         return None
-    names = re.findall(r"'([A-Za-z_][A-Za-z0-9_]*)'", found.group(1))
+    names = [n for n in re.findall(r"'([A-Za-z_][A-Za-z0-9_]*)'", found.group(1)) if n not in kwargs]
     if not names:
         return None
-    given = ", ".join(f'"{k}": ...' for k in [*kwargs, *names])
+    given = ", ".join([*(f'"{k}": {json.dumps(v)}' for k, v in kwargs.items()), *(f'"{k}": {_placeholder(k)}' for k in names)])
     return f"give {' and '.join(names)} in --env-kwargs '{{{given}}}'"
 
 
