@@ -170,6 +170,7 @@ def _spec(args: argparse.Namespace, out) -> None:
         "length": learner.length_,
         "pruned": learner.pruned_,
         "rejected": learner.rejected_,
+        "stopped_because": learner.stopped_because_,
         "seconds": learner.seconds_,
         "files": files,
         "labeling_not_written": not_written,
@@ -221,7 +222,16 @@ def _meanings(labeling, conditions=None, source: str | None = None) -> dict[str,
 def _reporter(out):
     def report(record: dict) -> None:
         if "iteration" in record:
-            verdict = "added" if record["added"] else "stop (below threshold)"
+            # "below threshold" was printed with gain 0 where no formula was even scored: the nominal
+            # traces repeated every demonstration's labels (random demonstrations, say)
+            if record["added"]:
+                verdict = "added"
+            elif record.get("formula"):
+                verdict = "stop (below threshold)"
+            elif record.get("nominal_reproduced") == 1.0:
+                verdict = "stop (every nominal label trace repeats a demonstration's: no formula to score)"
+            else:
+                verdict = "stop (no candidate formula)"
             out.note(f"iteration {record['iteration']}: {record['formula'] or '-'}  gain {record['gain']:.3f}  "
                      f"{verdict}  ({record['seconds']:.1f} s)")
         elif "pruned" in record:
@@ -285,6 +295,7 @@ def _spec_in_user_env(args, out, target, seed: int) -> None:
         "length": learner.length_,
         "pruned": learner.pruned_,
         "rejected": learner.rejected_,
+        "stopped_because": learner.stopped_because_,
         "policy_update": learner.world_.route,
         "seconds": learner.seconds_,
         "files": files,
