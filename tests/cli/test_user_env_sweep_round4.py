@@ -1,0 +1,251 @@
+"""A fourth sweep of users' environments at the CLI's defaults (docs/BENCHMARKS.md, issue 25,
+"Fourth sweep of users' environments"): kinds no earlier sweep wrote -- a required ``render_mode``,
+``Sequence``/``Graph`` observations, a ``Discrete(5, start=2)`` observation returned as
+``np.int64`` with a two-entry ``info["cost"]``, a scalar ``Box`` observation returned as a Python
+float. One test per failure."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+from cli_runner import run
+
+#: a point whose constructor requires ``render_mode`` and ``speed`` (no defaults)
+NEEDY = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class Needy(gym.Env):
+    metadata = {"render_modes": ["ansi"]}
+
+    def __init__(self, render_mode, speed):
+        self.render_mode, self.speed = render_mode, speed
+        self.observation_space = spaces.Box(-1, 1, (2,), np.float64)
+        self.action_space = spaces.Box(-1, 1, (2,), np.float64)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.p = np.zeros(2)
+        return self.p.copy(), {}
+
+    def step(self, action):
+        self.p = np.clip(self.p + self.speed * np.asarray(action), -1, 1)
+        return self.p.copy(), 0.0, False, False, {"cost": float(self.p[1] > 0.6)}
+
+
+gym.register("Needy-v0", entry_point=Needy, max_episode_steps=5)
+'''
+
+#: observations of no fixed size: a ``Sequence`` that grows by one entry a step, and a ``Graph``
+UNSIZED = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class Growing(gym.Env):
+    def __init__(self):
+        self.observation_space = spaces.Sequence(spaces.Box(0, 1, (2,), np.float32))
+        self.action_space = spaces.Discrete(2)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.t = 0
+        return (np.zeros(2, np.float32),), {}
+
+    def step(self, action):
+        self.t += 1
+        return tuple(np.full(2, 0.1 * i, np.float32) for i in range(self.t + 1)), 0.0, self.t >= 3, False, {}
+
+
+class Network(gym.Env):
+    def __init__(self):
+        self.observation_space = spaces.Graph(spaces.Box(0, 1, (2,)), spaces.Discrete(2))
+        self.action_space = spaces.Discrete(2)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        return self.observation_space.sample(), {}
+
+    def step(self, action):
+        return self.observation_space.sample(), 0.0, True, False, {}
+
+
+gym.register("Growing-v0", entry_point=Growing)
+gym.register("Network-v0", entry_point=Network)
+'''
+
+#: a ladder of rungs 2..6: ``Discrete(5, start=2)`` observed as ``np.int64``, two actions (down,
+#: up), and ``info["cost"]`` a vector of two constraints (rung 5; a second that never pays)
+LADDER = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class Ladder(gym.Env):
+    def __init__(self):
+        self.observation_space = spaces.Discrete(5, start=2)
+        self.action_space = spaces.Discrete(2)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.s = np.int64(2)
+        return self.s, {}
+
+    def step(self, action):
+        self.s = np.int64(min(6, max(2, self.s + (1 if int(action) == 1 else -1))))
+        return self.s, float(self.s == 6), bool(self.s == 6), False, {"cost": np.array([float(self.s == 5), 0.0])}
+
+
+gym.register("Ladder-v0", entry_point=Ladder, max_episode_steps=20)
+'''
+
+#: a scalar ``Box(())`` observation returned as a Python float, two actions, 10 steps
+SCALAR_WALK = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class ScalarWalk(gym.Env):
+    def __init__(self):
+        self.observation_space = spaces.Box(-5.0, 5.0, (), np.float64)
+        self.action_space = spaces.Discrete(2)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.x, self.t = 0.0, 0
+        return np.float64(self.x), {}
+
+    def step(self, action):
+        self.x = float(np.clip(self.x + (0.5 if action else -0.5), -5, 5))
+        self.t += 1
+        return np.float64(self.x), -abs(self.x - 2), False, self.t >= 10, {"cost": float(self.x > 3)}
+
+
+gym.register("ScalarWalk-v0", entry_point=ScalarWalk)
+'''
+
+
+def _module(tmp_path, monkeypatch, name, source):
+    (tmp_path / f"{name}.py").write_text(source)
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.syspath_prepend(str(tmp_path))
+
+
+def test_a_missing_constructor_argument_hint_names_only_what_is_missing(capsys, tmp_path, monkeypatch):
+    """``--env-kwargs '{"speed": 0.1}'`` for ``__init__(self, render_mode, speed)``: the hint read the
+    keys of gymnasium's "with kwargs ({'speed': 0.1})" as missing too, and said "give render_mode and
+    speed in --env-kwargs '{"speed": ..., "render_mode": ..., "speed": ...}'" (a key twice)."""
+    _module(tmp_path, monkeypatch, "needy", NEEDY)
+    record = ("data", "record", "--env", "needy:Needy-v0", "--policy", "random", "--episodes", 1, "-o", "d.npz")
+    code, _, err = run(capsys, *record, "--env-kwargs", '{"speed": 0.1}')
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "give render_mode in --env-kwargs '{\"speed\": 0.1, \"render_mode\": null}'" in err, err
+    code, _, err = run(capsys, *record)
+    assert code == 2 and "'{\"render_mode\": null, \"speed\": ...}'" in err, err
+    # the suggested kwargs work
+    code, _, err = run(capsys, *record, "--env-kwargs", '{"speed": 0.1, "render_mode": null}')
+    assert code == 0, err
+
+
+def test_observations_of_no_fixed_size_are_refused_before_anything_runs(capsys, tmp_path, monkeypatch):
+    """A ``Sequence`` observation was recorded as a vector while its length stayed 1, then stopped
+    mid-recording with "the observation's entries changed between steps" (hint: "an observation space
+    keeps its keys and shapes", which a Sequence need not); ``train`` said "no numeric part" with a
+    FlattenObservation hint that does not apply."""
+    _module(tmp_path, monkeypatch, "unsized", UNSIZED)
+    for env, kind in (("unsized:Growing-v0", "Sequence"), ("unsized:Network-v0", "Graph")):
+        code, _, err = run(capsys, "data", "record", "--env", env, "--policy", "random", "--episodes", 2,
+                           "-o", "d.npz")
+        assert code == 2 and len(err.strip().splitlines()) == 1, err
+        assert kind in err and "no fixed size" in err and "ObservationWrapper" in err, err
+        assert not (tmp_path / "d.npz").exists()
+        code, _, err = run(capsys, "train", "--env", env, "--steps", 64)
+        assert code == 2 and kind in err and "no fixed size" in err, err
+
+    from gymnasium import spaces
+
+    from symlearn.recipes.spaces import variable_size_parts
+    nested = spaces.Dict({"pos": spaces.Box(0, 1, (2,)), "seen": spaces.Sequence(spaces.Discrete(3))})
+    assert variable_size_parts(nested) == ["seen"]
+    assert variable_size_parts(spaces.Box(0, 1, (2,))) == []
+
+
+def test_learn_dnf_reads_the_ids_of_a_discrete_observation_as_train_does(capsys, tmp_path, monkeypatch):
+    """``data record`` stores a ``Discrete`` observation as ids; ``learn dnf --env`` refused them as
+    "discrete states" (hint: a Python ``record(..., observation=...)``), though ``train --cost`` reads
+    a Discrete observation by its id. Now one column, the id, named as train names it."""
+    _module(tmp_path, monkeypatch, "ladder", LADDER)
+    code, _, err = run(capsys, "data", "record", "--env", "ladder:Ladder-v0", "--policy", "random",
+                       "--episodes", 6, "-o", "ladder.jsonl")
+    assert code == 0, err
+    code, out, err = run(capsys, "--json", "learn", "dnf", "--env", "ladder:Ladder-v0", "--demos", "ladder.jsonl",
+                         "-o", "ladder.dnf")
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["features"] == ["x0"], doc
+    (low, high), = [leaf["x0"] for leaf in doc["leaves"]][:1]
+    assert 2 <= low and high <= 6, doc    # bounds in ids (2..6), not in one-hot entries
+    code, out, err = run(capsys, "--json", "--quiet", "train", "--env", "ladder:Ladder-v0", "--cost", "ladder.dnf",
+                         "--steps", 256, "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 1)
+    assert code == 0, err
+    # without --env there is nothing to say the ids are one observation's: still refused, the hint says so
+    code, _, err = run(capsys, "learn", "dnf", "--demos", "ladder.jsonl")
+    assert code == 2 and "--env" in err, err
+
+
+def test_sb3_lagrangian_keeps_one_multiplier_per_entry_of_a_vector_cost(capsys, tmp_path, monkeypatch):
+    """``info["cost"] = np.array([c1, c2])``: ``--algo ppo-lag`` keeps two multipliers; ``sb3-ppo-lag``
+    made one and stopped with "info['cost'] has 2 entries for 1 multiplier(s)"."""
+    _module(tmp_path, monkeypatch, "ladder", LADDER)
+    for algo in ("sb3-ppo-lag", "ppo-lag"):
+        code, out, err = run(capsys, "--json", "--quiet", "train", "--env", "ladder:Ladder-v0", "--algo", algo,
+                             "--steps", 256, "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 1)
+        assert code == 0, (algo, err)
+        assert len(json.loads(out)["multipliers"]) == 2, (algo, out)
+
+
+def test_the_lagrangian_reward_says_a_cost_keeps_its_length():
+    import gymnasium
+    import pytest
+
+    from symlearn.backends.lagrangian import LagrangianReward, SharedMultipliers
+    from symlearn.errors import DataError
+
+    class Env(gymnasium.Env):
+        observation_space = gymnasium.spaces.Box(0, 1, (1,))
+        action_space = gymnasium.spaces.Discrete(2)
+
+        def reset(self, *, seed=None, options=None):
+            return np.zeros(1, np.float32), {}
+
+        def step(self, action):
+            return np.zeros(1, np.float32), 0.0, False, False, {"cost": [1.0, 0.0, 0.0]}
+
+    env = LagrangianReward(Env(), SharedMultipliers(n_costs=2, fixed=[1.0, 1.0]))
+    env.reset()
+    with pytest.raises(DataError, match="3 entries for 2") as caught:
+        env.step(0)
+    assert "one multiplier each" in str(caught.value.hint)
+
+
+def test_learn_spec_on_a_scalar_box_observation(capsys, tmp_path, monkeypatch):
+    """A ``Box(())`` observation with two actions takes the PPO route; it was refused as "a PPO policy
+    update needs array observations (a Box), not Box(-5.0, 5.0, (), float64)". Where no formula was
+    scored, the stop line said "below threshold" with gain 0."""
+    _module(tmp_path, monkeypatch, "scalar_walk", SCALAR_WALK)
+    code, _, err = run(capsys, "data", "record", "--env", "scalar_walk:ScalarWalk-v0", "--policy", "random",
+                       "--episodes", 4, "-o", "walk.jsonl")
+    assert code == 0, err
+    code, out, err = run(capsys, "--json", "learn", "spec", "--env", "scalar_walk:ScalarWalk-v0", "--demos",
+                         "walk.jsonl", "--labeling", '{"far": "x0 > 3"}', "--ppo-steps", 128, "--max-iterations", 1)
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["policy_update"] == "ppo" and doc["stopped_because"], doc
+    if doc["stopped_because"] != "gain below threshold":
+        assert "below threshold" not in err, err
