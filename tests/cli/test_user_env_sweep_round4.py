@@ -249,3 +249,75 @@ def test_learn_spec_on_a_scalar_box_observation(capsys, tmp_path, monkeypatch):
     assert doc["policy_update"] == "ppo" and doc["stopped_because"], doc
     if doc["stopped_because"] != "gain below threshold":
         assert "below threshold" not in err, err
+
+
+#: a corridor of cells 1..6 (``Discrete(6, start=1)``) with its toy-text model ``P`` keyed by those
+#: ids; actions left, right, jump (+2); cell 4 is lava
+CORRIDOR = '''
+import gymnasium as gym
+from gymnasium import spaces
+
+
+class Corridor(gym.Env):
+    def __init__(self):
+        self.observation_space = spaces.Discrete(6, start=1)
+        self.action_space = spaces.Discrete(3)
+        self.P = {s: {a: [(1.0, min(6, max(1, s + (-1, 1, 2)[a])), float(s + (-1, 1, 2)[a] >= 6),
+                           s + (-1, 1, 2)[a] >= 6)] for a in range(3)} for s in range(1, 7)}
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.s = 1
+        return self.s, {}
+
+    def step(self, action):
+        _, self.s, reward, done = self.P[self.s][int(action)][0]
+        return self.s, reward, done, False, {"cost": float(self.s == 4)}
+
+
+gym.register("Corridor-v0", entry_point=Corridor, max_episode_steps=30)
+'''
+
+
+def test_learn_constraints_in_a_toy_text_world_whose_ids_start_at_one(capsys, tmp_path, monkeypatch):
+    """``P`` keyed by the observation space's ids 1..6: ``learn constraints --env`` stopped with
+    ``internal error: KeyError: 0`` (the model was read at 0..5). Now read by id, the demonstrations'
+    ids too, and the forbidden pairs named by the ids: stepping into the lava from 3 (right), 2
+    (jump) and 5 (left)."""
+    import gymnasium
+
+    from symlearn.data import record
+    from symlearn.mdp import TabularMDP
+
+    _module(tmp_path, monkeypatch, "corridor", CORRIDOR)
+    import corridor  # noqa: F401  (registers Corridor-v0)
+
+    record(gymnasium.make("Corridor-v0"), lambda s: 2 if s == 3 else 1, 4, seed=0).save("walk.jsonl")
+    code, out, err = run(capsys, "--json", "--quiet", "learn", "constraints", "--env", "corridor:Corridor-v0",
+                         "--demos", "walk.jsonl", "-o", "rules.json")
+    assert code == 0, err
+    forbidden = {tuple(pair) for pair in json.load(open(tmp_path / "rules.json"))["forbidden"]}
+    assert {("3", "1"), ("2", "2"), ("5", "0")} <= forbidden, forbidden
+
+    mdp = TabularMDP.from_gymnasium(gymnasium.make("Corridor-v0"))
+    assert mdp.state_names == ("1", "2", "3", "4", "5", "6") and mdp.initial[0] == 1.0
+    assert mdp.transitions[mdp.state_index("3"), 1, mdp.state_index("4")] == 1.0
+
+
+def test_a_model_without_an_entry_is_one_line_naming_the_state():
+    import gymnasium
+    import pytest
+
+    from symlearn.errors import ModelError
+    from symlearn.mdp import TabularMDP
+
+    class Holey(gymnasium.Env):
+        observation_space = gymnasium.spaces.Discrete(2)
+        action_space = gymnasium.spaces.Discrete(1)
+        P = {0: {0: [(1.0, 1, 0.0, True)]}}
+
+        def reset(self, *, seed=None, options=None):
+            return 0, {}
+
+    with pytest.raises(ModelError, match="no entry for state 1, action 0"):
+        TabularMDP.from_gymnasium(Holey())
