@@ -147,9 +147,10 @@ def _ids_as_column(demos):
 
     from symlearn.data import Demonstrations, Trajectory
 
+    metadata = {**(demos.metadata if isinstance(demos.metadata, dict) else {}), "observation_ids": True}
     return Demonstrations([Trajectory(states=np.asarray(t.states, dtype=np.float64).reshape(-1, 1),
                                       actions=t.actions, rewards=t.rewards, labels=t.labels, info=t.info)
-                           for t in demos], metadata=demos.metadata)
+                           for t in demos], metadata=metadata)
 
 
 def _picture_shape(demos) -> tuple[int, ...] | None:
@@ -277,7 +278,10 @@ def _dnf(args: argparse.Namespace, out) -> None:
         from symlearn.recipes.environments import parse_feature_names
 
         inputs = list(parse_feature_names(args.inputs, flag="--inputs"))
-    learner = OneClassTreeConstraint(max_depth=args.max_depth, min_samples_leaf=args.min_samples_leaf, inputs=inputs)
+    meta = demos.metadata if isinstance(demos.metadata, dict) else {}
+    # ids of a Discrete observation: a step 3 -> 5 does not pass through 4, so crossing closes no gap
+    learner = OneClassTreeConstraint(max_depth=args.max_depth, min_samples_leaf=args.min_samples_leaf, inputs=inputs,
+                                     close_crossed=not meta.get("observation_ids", False))
     try:
         with warnings.catch_warnings():  # the learner's warnings go into the result (text and JSON)
             warnings.simplefilter("ignore", UserWarning)

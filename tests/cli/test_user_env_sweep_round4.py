@@ -299,6 +299,15 @@ def test_learn_constraints_in_a_toy_text_world_whose_ids_start_at_one(capsys, tm
     forbidden = {tuple(pair) for pair in json.load(open(tmp_path / "rules.json"))["forbidden"]}
     assert {("3", "1"), ("2", "2"), ("5", "0")} <= forbidden, forbidden
 
+    # the same ids as one DNF column: the expert jumps 3 -> 5 over the lava, which is no path
+    # through 4 (the gap was closed as "crossed by a demonstrated step", calling 4 safe)
+    code, out, err = run(capsys, "--json", "learn", "dnf", "--env", "corridor:Corridor-v0", "--demos", "walk.jsonl",
+                         "-o", "cells.dnf")
+    assert code == 0, err
+    from symlearn.logic import dnf
+    rule = dnf.parse((tmp_path / "cells.dnf").read_text())
+    assert rule.evaluate([[1.0], [3.0], [4.0], [5.0], [6.0]], ["x0"]).tolist() == [False, False, True, False, False]
+
     mdp = TabularMDP.from_gymnasium(gymnasium.make("Corridor-v0"))
     assert mdp.state_names == ("1", "2", "3", "4", "5", "6") and mdp.initial[0] == 1.0
     assert mdp.transitions[mdp.state_index("3"), 1, mdp.state_index("4")] == 1.0
