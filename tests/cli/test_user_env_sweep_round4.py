@@ -330,3 +330,58 @@ def test_a_model_without_an_entry_is_one_line_naming_the_state():
 
     with pytest.raises(ModelError, match="no entry for state 1, action 0"):
         TabularMDP.from_gymnasium(Holey())
+
+
+#: a throttle in ``Box(0, 10, (1,))`` observing ``MultiBinary(3)``; the reward is best at 8
+THROTTLE = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class Throttle(gym.Env):
+    def __init__(self):
+        self.observation_space = spaces.MultiBinary(3)
+        self.action_space = spaces.Box(0.0, 10.0, (1,), np.float32)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.t = 0
+        return np.array([1, 0, 0], np.int8), {}
+
+    def step(self, action):
+        a = float(np.asarray(action).reshape(-1)[0])
+        self.t += 1
+        return (np.array([self.t % 2, a > 5, a > 9], np.int8), -abs(a - 8.0), False, self.t >= 8,
+                {"cost": float(a > 9)})
+
+
+gym.register("Throttle-v0", entry_point=Throttle)
+'''
+
+
+def test_ppo_starts_inside_an_action_box_that_excludes_zero(capsys, tmp_path, monkeypatch):
+    """``Box(0, 10)`` actions: a new policy's mean was 0, the lower bound, and stayed there (greedy
+    return -63.8 after 4,096 steps: 8 steps of -8). It now starts at the box's centre with a spread
+    in the box's units; boxes around 0 start as before."""
+    import gymnasium
+    import torch
+
+    from symlearn.rl.ppo import ActorCritic
+
+    _module(tmp_path, monkeypatch, "throttle", THROTTLE)
+    code, out, err = run(capsys, "--json", "--quiet", "train", "--env", "throttle:Throttle-v0", "--steps", 256,
+                         "--n-envs", 2, "--n-steps", 64, "--eval-episodes", 1, "-o", "agent.safetensors")
+    assert code == 0, err
+    assert json.loads(out)["return"] > -40, out
+    loaded = ActorCritic.load(tmp_path / "agent.safetensors")   # the centred bias is a saved weight
+    assert 3 < float(loaded.act(np.array([1, 0, 0]), deterministic=True)[0]) < 7
+
+    obs = gymnasium.spaces.Box(-1, 1, (2,))
+    for low, high, mean in ((0.0, 10.0, 5.0), (-4.0, -2.0, -3.0), (-2.0, 2.0, 0.0)):
+        torch.manual_seed(0)
+        agent = ActorCritic.for_spaces(obs, gymnasium.spaces.Box(low, high, (1,)), log_std_init=-1.0)
+        act = float(agent.act(np.zeros(2, np.float32), deterministic=True)[0])
+        assert abs(act - mean) < 0.1, (low, high, act)
+        spread = float(agent.log_std.detach().exp()[0])
+        assert abs(spread - np.exp(-1.0) * (1.0 if low < 0 < high else (high - low) / 2)) < 1e-5
