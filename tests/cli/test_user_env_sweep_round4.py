@@ -385,3 +385,36 @@ def test_ppo_starts_inside_an_action_box_that_excludes_zero(capsys, tmp_path, mo
         assert abs(act - mean) < 0.1, (low, high, act)
         spread = float(agent.log_std.detach().exp()[0])
         assert abs(spread - np.exp(-1.0) * (1.0 if low < 0 < high else (high - low) / 2)) < 1e-5
+
+
+TUPLE_ACTIONS = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class Lever(gym.Env):
+    def __init__(self):
+        self.observation_space = spaces.Box(-1, 1, (2,), np.float32)
+        self.action_space = spaces.Tuple((spaces.Discrete(2), spaces.Box(-1, 1, (1,), np.float32)))
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        return np.zeros(2, np.float32), {}
+
+    def step(self, action):
+        return np.zeros(2, np.float32), 0.0, True, False, {}
+
+
+gym.register("Lever-v0", entry_point=Lever)
+'''
+
+
+def test_data_record_refuses_composite_actions_in_one_line(capsys, tmp_path, monkeypatch):
+    """``Tuple(Discrete(2), Box(...))`` actions: ``internal error: ValueError: setting an array element
+    with a sequence`` after the first episode; ``train`` already said what to do."""
+    _module(tmp_path, monkeypatch, "lever", TUPLE_ACTIONS)
+    code, _, err = run(capsys, "data", "record", "--env", "lever:Lever-v0", "--policy", "random", "-o", "d.npz")
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "Tuple(" in err and "ActionWrapper" in err and "internal error" not in err, err
+    assert not (tmp_path / "d.npz").exists()
