@@ -497,10 +497,20 @@ def _check_returns(build: Callable[[], Any], display: str, key: tuple[Any, str])
     raw = getattr(env, "unwrapped", env)   # gymnasium's own wrappers (TimeLimit) would unpack the values first
     try:
         found = raw.reset(seed=0)
+        if isinstance(found, tuple) and len(found) == 2 and not isinstance(found[1], Mapping):
+            # two values, the second no dict ("returned a tuple of 2, not (observation, info)" read
+            # as if the count were wrong)
+            raise DataError(f"{display}: reset() returned (observation, {_shape_of(found[1])}), not (observation, "
+                            "info) with info a dict", hint="return observation, {} (an empty dict where there is "
+                                                           "nothing to report)")
         if not (isinstance(found, tuple) and len(found) == 2 and isinstance(found[1], Mapping)):
             raise DataError(f"{display}: reset() returned {_shape_of(found)}, not (observation, info)",
                             hint="gymnasium's API: return observation, {} (info a dict)")
         found = raw.step(raw.action_space.sample())
+        if isinstance(found, tuple) and len(found) == 5 and not isinstance(found[4], Mapping):
+            raise DataError(f"{display}: step() returned info as {_shape_of(found[4])}, not a dict",
+                            hint="return observation, reward, terminated, truncated, {} (an empty dict where there "
+                                 "is nothing to report)")
         if not (isinstance(found, tuple) and len(found) == 5):
             raise DataError(f"{display}: step() returned {_shape_of(found)}, not (observation, reward, terminated, "
                             "truncated, info)", hint="gymnasium's API: the old done is terminated (the task ended) "
@@ -518,6 +528,8 @@ def _check_returns(build: Callable[[], Any], display: str, key: tuple[Any, str])
 
 
 def _shape_of(value: Any) -> str:
+    if value is None:
+        return "None"
     return f"a tuple of {len(value)}" if isinstance(value, tuple) else f"one {type(value).__name__}"
 
 

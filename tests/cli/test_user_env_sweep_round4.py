@@ -418,3 +418,38 @@ def test_data_record_refuses_composite_actions_in_one_line(capsys, tmp_path, mon
     assert code == 2 and len(err.strip().splitlines()) == 1, err
     assert "Tuple(" in err and "ActionWrapper" in err and "internal error" not in err, err
     assert not (tmp_path / "d.npz").exists()
+
+
+NO_INFO = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class NoInfo(gym.Env):
+    def __init__(self, where="reset"):
+        self.where = where
+        self.observation_space = spaces.Box(-1, 1, (2,), np.float32)
+        self.action_space = spaces.Discrete(2)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        return np.zeros(2, np.float32), (None if self.where == "reset" else {})
+
+    def step(self, action):
+        return np.zeros(2, np.float32), 0.0, True, False, (None if self.where == "step" else {})
+
+
+gym.register("NoInfo-v0", entry_point=NoInfo, disable_env_checker=True)
+'''
+
+
+def test_an_info_that_is_none_is_named_as_such(capsys, tmp_path, monkeypatch):
+    """``return observation, None`` from ``reset``: "reset() returned a tuple of 2, not (observation,
+    info)" -- two values, as asked; the info was the matter."""
+    _module(tmp_path, monkeypatch, "no_info", NO_INFO)
+    for where, says in (("reset", "reset() returned (observation, None)"), ("step", "step() returned info as None")):
+        code, _, err = run(capsys, "data", "record", "--env", "no_info:NoInfo-v0", "--env-kwargs",
+                           json.dumps({"where": where}), "--policy", "random", "-o", "d.npz")
+        assert code == 2 and len(err.strip().splitlines()) == 1, err
+        assert says in err and "dict" in err, err
