@@ -453,3 +453,21 @@ def test_an_info_that_is_none_is_named_as_such(capsys, tmp_path, monkeypatch):
                            json.dumps({"where": where}), "--policy", "random", "-o", "d.npz")
         assert code == 2 and len(err.strip().splitlines()) == 1, err
         assert says in err and "dict" in err, err
+
+
+def test_a_library_warning_repeated_by_every_environment_copy_is_printed_once():
+    """highway-env's "roundabout-v0 is out of date" came once per environment copy: 5 times in a
+    ``train``. The one-line format prints a text once per command (what Python's showwarning
+    writes is the format's text; pytest records warnings itself, so the format is called here)."""
+    import warnings
+
+    from symlearn.cli.main import _one_line_warnings
+
+    old = "\x1b[33mWARN: The environment roundabout-v0 is out of date.\x1b[0m"
+    with _one_line_warnings(debug=False):
+        printed = [warnings.formatwarning(old, DeprecationWarning, "registration.py", 512) for _ in range(3)]
+        printed.append(warnings.formatwarning("another", UserWarning, "x.py", 1))
+    assert printed == ["warning: WARN: The environment roundabout-v0 is out of date.\n", "", "",
+                       "warning: another\n"], printed
+    with _one_line_warnings(debug=False):   # the next command prints it again
+        assert warnings.formatwarning(old, DeprecationWarning, "registration.py", 512).startswith("warning:")
