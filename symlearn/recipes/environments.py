@@ -319,6 +319,7 @@ class EnvTarget:
         except Exception as exc:  # the user's own environment failed: say so in one line
             raise DataError(f"building {self.display} failed: {type(exc).__name__}: {exc}") from None
         if self.entry is None:
+            _check_spaces(env, self.display)
             _check_reset_signature(env, self.display)
             _check_returns(build, self.display, (self.gym_id, repr(sorted(self.kwargs.items()))))
         return env
@@ -453,6 +454,21 @@ class EnvTarget:
             raise DataError(f"{self.display} has no expert: give your demonstrations with --demos FILE",
                             hint=record_hint(self))
         return self.entry.expert(n, seed=seed, env_kwargs=dict(self.kwargs))
+
+
+def _check_spaces(env: Any, display: str) -> None:
+    """Every command reads ``observation_space`` and ``action_space`` before the first ``reset``; an
+    environment that sets them later (in ``reset``) stopped with ``internal error: AttributeError``.
+    Refused here in one line naming the class's file and line."""
+    inner = getattr(env, "unwrapped", env)
+    missing = [name for name in ("observation_space", "action_space") if getattr(inner, name, None) is None]
+    if missing:
+        try:
+            where = {"file": inspect.getsourcefile(type(inner)), "line": inspect.getsourcelines(type(inner))[1]}
+        except (TypeError, OSError):
+            where = {}
+        raise DataError(f"{display}: {type(inner).__name__} has no {' or '.join(missing)} once built", hint="set self.observation_space and self.action_space in __init__: they are read "
+                                      "before the first reset", **where)
 
 
 def _check_reset_signature(env: Any, display: str) -> None:

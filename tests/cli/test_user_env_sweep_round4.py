@@ -471,3 +471,35 @@ def test_a_library_warning_repeated_by_every_environment_copy_is_printed_once():
                        "warning: another\n"], printed
     with _one_line_warnings(debug=False):   # the next command prints it again
         assert warnings.formatwarning(old, DeprecationWarning, "registration.py", 512).startswith("warning:")
+
+
+LAZY_SPACES = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class Lazy(gym.Env):
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.observation_space = spaces.Box(-1, 1, (2,), np.float32)
+        self.action_space = spaces.Discrete(2)
+        return np.zeros(2, np.float32), {}
+
+    def step(self, action):
+        return np.zeros(2, np.float32), 0.0, True, False, {}
+
+
+gym.register("Lazy-v0", entry_point=Lazy, disable_env_checker=True)
+'''
+
+
+def test_spaces_set_only_in_reset_are_one_line_naming_the_class(capsys, tmp_path, monkeypatch):
+    """``observation_space``/``action_space`` assigned in ``reset``: ``internal error: AttributeError:
+    'Lazy' object has no attribute 'observation_space'`` from every command."""
+    _module(tmp_path, monkeypatch, "lazy", LAZY_SPACES)
+    for command in (("train", "--steps", 64), ("data", "record", "--policy", "random", "-o", "d.npz")):
+        code, _, err = run(capsys, *command[:2 if command[0] == "data" else 1], "--env", "lazy:Lazy-v0",
+                           *command[2 if command[0] == "data" else 1:])
+        assert code == 2 and len(err.strip().splitlines()) == 1, err
+        assert "lazy.py:" in err and "observation_space or action_space" in err and "__init__" in err, err
