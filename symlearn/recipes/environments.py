@@ -212,6 +212,15 @@ def features_and_observation(info: Any, observation: Any,
         return None
 
 
+def _features_after_step(env: Any) -> bool:
+    """Whether one step (a sampled action, after the reset just made) reports ``info["features"]``."""
+    try:
+        info = env.step(env.action_space.sample())[-1]
+    except Exception:   # the environment's own failure is the command's to report, where it happens
+        return False
+    return isinstance(info, Mapping) and "features" in info
+
+
 def same_numbers(a: Any, b: Any) -> bool:
     """Two flat vectors of one length and equal up to float noise."""
     import numpy as np
@@ -377,6 +386,13 @@ class EnvTarget:
                 return Features(tuple(f"x{i}" for i in range(width)), "info" if in_info else "observation",
                                 named=False)
             if width is not None and len(names) != width:
+                if not in_info and _features_after_step(env):
+                    # reported by step only: the names were put on the observation, and the hint
+                    # (--features a,b) pointed away from what was missing
+                    raise DataError(f"{self.display} reports info[\"features\"] after step but not after reset; "
+                                    "where the features come from is read from reset's info",
+                                    hint="return the features of the start state in reset's info too: "
+                                         "return observation, {\"features\": ...}")
                 where = 'info["features"]' if in_info else "the observation"
                 raise DataError(f"{len(names)} feature names ({', '.join(names)}) for {width} columns of {where} "
                                 f"of {self.display}", hint="give one name per column with --features a,b,...")

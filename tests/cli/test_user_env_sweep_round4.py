@@ -503,3 +503,45 @@ def test_spaces_set_only_in_reset_are_one_line_naming_the_class(capsys, tmp_path
                            *command[2 if command[0] == "data" else 1:])
         assert code == 2 and len(err.strip().splitlines()) == 1, err
         assert "lazy.py:" in err and "observation_space or action_space" in err and "__init__" in err, err
+
+
+STEP_FEATURES = '''
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+
+class StepFeatures(gym.Env):
+    feature_names = ("speed",)
+
+    def __init__(self):
+        self.observation_space = spaces.Box(-1, 1, (2,), np.float32)
+        self.action_space = spaces.Box(-1, 1, (2,), np.float32)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        self.p = np.zeros(2, np.float32)
+        return self.p.copy(), {}
+
+    def step(self, action):
+        a = np.clip(np.asarray(action, np.float32), -1, 1) * 0.1
+        self.p = np.clip(self.p + a, -1, 1).astype(np.float32)
+        speed = float(np.linalg.norm(a))
+        return self.p.copy(), 0.0, False, False, {"features": {"speed": speed}, "cost": float(speed > 0.12)}
+
+
+gym.register("StepFeatures-v0", entry_point=StepFeatures, max_episode_steps=10)
+'''
+
+
+def test_features_reported_by_step_only_are_named_as_the_matter(capsys, tmp_path, monkeypatch):
+    """``info["features"]`` after ``step`` but not after ``reset``: "1 feature names (speed) for 2
+    columns of the observation" with the hint ``--features a,b,...``, pointing away from the fix."""
+    _module(tmp_path, monkeypatch, "step_features", STEP_FEATURES)
+    (tmp_path / "fast.dnf").write_text("speed > 0.12\n")
+    for command in (("train", "--cost", "fast.dnf", "--steps", 64),
+                    ("data", "record", "--states", "features", "--policy", "random", "-o", "d.npz")):
+        head = 2 if command[0] == "data" else 1
+        code, _, err = run(capsys, *command[:head], "--env", "step_features:StepFeatures-v0", *command[head:])
+        assert code == 2 and len(err.strip().splitlines()) == 1, err
+        assert "after step but not after reset" in err and "--features" not in err, err
