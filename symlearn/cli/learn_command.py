@@ -304,6 +304,13 @@ def _spec_in_user_env(args, out, target, seed: int) -> None:
     out.result(doc, _render)
 
 
+def _without_numbers(env) -> bool:
+    """Whether the observation is text, which no feature labeling can read."""
+    from gymnasium import spaces
+
+    return isinstance(env.observation_space, spaces.Text)
+
+
 def _user_labeling(args, target, env):
     """``--labeling`` read for a user's environment, and the labeling to save as SPEC.labeling.json
     (None for a Python function); a feature labeling's names from ``--features`` or the
@@ -325,7 +332,13 @@ def _user_labeling(args, target, env):
         if names is None:  # nothing names them: x0, x1, ... as `learn dnf` and `train --cost` call them
             numbered = target.features(env, numbered=True)
             names = None if numbered is None else numbered.names
-    labeling = read_labeling(args.labeling, feature_names=names)
+    hint = {}
+    if names is None and _without_numbers(env):
+        # a Text observation: --features (the default hint) cannot help, a Python function can
+        hint["names_hint"] = (f"{target.display} observes {env.observation_space}, which has no numeric columns to "
+                              "name: label it with a Python function --labeling FILE.py:function (called with the "
+                              "observation and info)")
+    labeling = read_labeling(args.labeling, feature_names=names, **hint)
     columns = None  # where a feature labeling's columns come from, when not the observation itself
     if by_part and hasattr(labeling, "feature_map"):
         from symlearn.data.flat_observations import observation_features

@@ -545,3 +545,40 @@ def test_features_reported_by_step_only_are_named_as_the_matter(capsys, tmp_path
         code, _, err = run(capsys, *command[:head], "--env", "step_features:StepFeatures-v0", *command[head:])
         assert code == 2 and len(err.strip().splitlines()) == 1, err
         assert "after step but not after reset" in err and "--features" not in err, err
+
+
+TEXT_WORLD = '''
+import gymnasium as gym
+from gymnasium import spaces
+
+
+class Words(gym.Env):
+    def __init__(self):
+        self.observation_space = spaces.Text(8)
+        self.action_space = spaces.Discrete(2)
+
+    def reset(self, *, seed=None, options=None):
+        super().reset(seed=seed)
+        return "a", {}
+
+    def step(self, action):
+        return "b" if action else "a", 0.0, True, False, {}
+
+
+gym.register("Words-v0", entry_point=Words)
+'''
+
+
+def test_a_text_observation_is_recorded_and_a_feature_labeling_names_the_way_that_works(capsys, tmp_path,
+                                                                                       monkeypatch):
+    """``Text`` observations record as symbols; a feature labeling over them was refused with the
+    hint "give --features a,b,...", which cannot name text. ``train`` says it needs numbers."""
+    _module(tmp_path, monkeypatch, "words", TEXT_WORLD)
+    env = ("--env", "words:Words-v0")
+    code, _, err = run(capsys, "data", "record", *env, "--policy", "random", "--episodes", 3, "-o", "w.npz")
+    assert code == 0, err
+    code, _, err = run(capsys, "learn", "spec", *env, "--demos", "w.npz", "--labeling", '{"b": "x0 > 0"}')
+    assert code == 2 and len(err.strip().splitlines()) == 1, err
+    assert "FILE.py:function" in err and "give --features" not in err, err
+    code, _, err = run(capsys, "train", *env, "--steps", 64)
+    assert code == 2 and "no numeric part" in err and "symbols" in err, err
