@@ -130,7 +130,9 @@ class LagrangianReward(gym.Wrapper):
             return observation, float(reward), terminated, truncated, info
         cost = np.asarray(raw, dtype=np.float64).reshape(-1)
         if cost.size != lambdas.size:
-            raise DataError(f"info[{self.cost_key!r}] has {cost.size} entries for {lambdas.size} multiplier(s)")
+            raise DataError(f"info[{self.cost_key!r}] has {cost.size} entries for {lambdas.size} multiplier(s)",
+                            hint="a cost keeps its length on every step (one entry per constraint, one multiplier "
+                                 "each)")
         info = dict(info)
         info["env_reward"] = float(reward)
         return observation, float(reward) - float(lambdas @ cost), terminated, truncated, info

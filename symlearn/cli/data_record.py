@@ -206,7 +206,7 @@ def run(args: argparse.Namespace, out) -> None:
     from symlearn.data.recording import UnstorableObservations
     from symlearn.errors import SymlearnError
     from symlearn.recipes.environments import resolve_env
-    from symlearn.recipes.spaces import numeric_observations
+    from symlearn.recipes.spaces import numeric_observations, refuse_variable_size
 
     episodes = whole("--episodes", args.episodes, 1, MAX_EPISODES)
     max_steps = None if args.max_steps is None else whole("--max-steps", args.max_steps, 1, MAX_EPISODE_STEPS)
@@ -220,6 +220,7 @@ def run(args: argparse.Namespace, out) -> None:
     shape = getattr(env.observation_space, "shape", None)
     from gymnasium import spaces
 
+    refuse_variable_size(env.observation_space, target.display)   # before the episodes are run
     if str(args.output).endswith(".jsonl") and isinstance(env.observation_space, spaces.Box) and len(shape) >= 2:
         # before the episodes are run: JSONL holds no arrays of 2 or more dimensions per step
         raise SymlearnError(f"{args.output}: {target.display} observes arrays of shape {tuple(shape)}, which JSONL "

@@ -170,6 +170,7 @@ def _spec(args: argparse.Namespace, out) -> None:
         "length": learner.length_,
         "pruned": learner.pruned_,
         "rejected": learner.rejected_,
+        "stopped_because": learner.stopped_because_,
         "seconds": learner.seconds_,
         "files": files,
         "labeling_not_written": not_written,
@@ -221,7 +222,16 @@ def _meanings(labeling, conditions=None, source: str | None = None) -> dict[str,
 def _reporter(out):
     def report(record: dict) -> None:
         if "iteration" in record:
-            verdict = "added" if record["added"] else "stop (below threshold)"
+            # "below threshold" was printed with gain 0 where no formula was even scored: the nominal
+            # traces repeated every demonstration's labels (random demonstrations, say)
+            if record["added"]:
+                verdict = "added"
+            elif record.get("formula"):
+                verdict = "stop (below threshold)"
+            elif record.get("nominal_reproduced") == 1.0:
+                verdict = "stop (every nominal label trace repeats a demonstration's: no formula to score)"
+            else:
+                verdict = "stop (no candidate formula)"
             out.note(f"iteration {record['iteration']}: {record['formula'] or '-'}  gain {record['gain']:.3f}  "
                      f"{verdict}  ({record['seconds']:.1f} s)")
         elif "pruned" in record:
@@ -285,12 +295,20 @@ def _spec_in_user_env(args, out, target, seed: int) -> None:
         "length": learner.length_,
         "pruned": learner.pruned_,
         "rejected": learner.rejected_,
+        "stopped_because": learner.stopped_because_,
         "policy_update": learner.world_.route,
         "seconds": learner.seconds_,
         "files": files,
         "labeling_not_written": not_written,
     }
     out.result(doc, _render)
+
+
+def _without_numbers(env) -> bool:
+    """Whether the observation is text, which no feature labeling can read."""
+    from gymnasium import spaces
+
+    return isinstance(env.observation_space, spaces.Text)
 
 
 def _user_labeling(args, target, env):
@@ -314,7 +332,13 @@ def _user_labeling(args, target, env):
         if names is None:  # nothing names them: x0, x1, ... as `learn dnf` and `train --cost` call them
             numbered = target.features(env, numbered=True)
             names = None if numbered is None else numbered.names
-    labeling = read_labeling(args.labeling, feature_names=names)
+    hint = {}
+    if names is None and _without_numbers(env):
+        # a Text observation: --features (the default hint) cannot help, a Python function can
+        hint["names_hint"] = (f"{target.display} observes {env.observation_space}, which has no numeric columns to "
+                              "name: label it with a Python function --labeling FILE.py:function (called with the "
+                              "observation and info)")
+    labeling = read_labeling(args.labeling, feature_names=names, **hint)
     columns = None  # where a feature labeling's columns come from, when not the observation itself
     if by_part and hasattr(labeling, "feature_map"):
         from symlearn.data.flat_observations import observation_features

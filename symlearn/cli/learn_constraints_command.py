@@ -66,6 +66,7 @@ class _World:
     rationality: float | str = "auto"  # a bundled setting's tuned value, else fitted (``"auto"``)
     features: str = "state"
     grid: Any = None  # a grid environment to draw the learned cost map on, where the world is one
+    starts: tuple[int, int] = (0, 0)  # the first ids of a user's Discrete(n, start=k) observations, actions
 
 
 def register_learn(commands, common) -> None:
@@ -200,8 +201,29 @@ def _gymnasium_world(name: str, env_kwargs: Any) -> _World | None:
         env.close()
     space = np.ones((mdp.n_states, mdp.n_actions), dtype=bool)
     space[mdp.terminal] = False
+    starts = (int(getattr(env.observation_space, "start", 0)), int(getattr(env.action_space, "start", 0)))
     return _World(target.display, mdp, space, None if truth is None else truth & space,
-                  bool(np.any(mdp.rewards != 0)))
+                  bool(np.any(mdp.rewards != 0)), starts=starts)
+
+
+def _from_starts(demos, starts: tuple[int, int]):
+    """Demonstrations recorded in a ``Discrete(n, start=k)`` world (ids ``k..``) as the model's
+    rows ``0..n-1`` (the model names them by the ids again). Text states (names) are left alone."""
+    import numpy as np
+
+    from symlearn.data import Demonstrations, Trajectory
+
+    s0, a0 = starts
+    if (s0, a0) == (0, 0) or getattr(demos, "state_kind", None) != "discrete":
+        return demos
+    shifted = []
+    for t in demos:
+        actions = t.actions
+        if actions is not None and a0 and getattr(demos, "action_kind", None) == "discrete":
+            actions = np.asarray(actions) - a0
+        shifted.append(Trajectory(states=np.asarray(t.states) - s0, actions=actions, rewards=t.rewards,
+                                  labels=t.labels, info=t.info))
+    return Demonstrations(shifted, metadata=demos.metadata)
 
 
 def _constraints(args: argparse.Namespace, out) -> None:
@@ -267,7 +289,7 @@ def _learn(args: argparse.Namespace, out) -> None:
     if args.demos:
         from symlearn.data import load
 
-        demos = load(args.demos)
+        demos = _from_starts(load(args.demos), world.starts)
     elif world.expert is None:
         raise DataError(f"{world.name} has no bundled expert: give your demonstrations with --demos FILE")
     else:

@@ -107,6 +107,11 @@ def _demonstrations(args: argparse.Namespace, note=None):
     demos = demonstrations(target, args.demos, args.n_demos, seed=seed, note=note)
     if args.domain and demos.state_kind == "symbol":  # states by their names in states.jsonl
         demos = _states_as_ids(demos, domain, args.demos)
+    if target is not None and demos.state_kind == "discrete" and _observes_ids(target):
+        # a Discrete observation recorded as its ids: one numeric column, the id, which is what
+        # `train --cost` reads a Discrete observation as (`cell == 5`); refused as "discrete
+        # states" before, though the rule it learns is the one train takes
+        demos = _ids_as_column(demos)
     if target is not None and args.demos and demos.state_kind == "vector" and features is not None \
             and not args.features:
         _check_states_are_features(target, demos, args.demos, tuple(features))
@@ -123,6 +128,29 @@ def _demonstrations(args: argparse.Namespace, note=None):
             except DataError as exc:  # the file's own names: say which file
                 raise DataError(exc.message, file=args.demos, hint=exc.hint) from None
     return demos, None if features is None else (features if args.domain else list(features))
+
+
+def _observes_ids(target) -> bool:
+    """Whether ``target``'s environment observes a ``Discrete`` space (one id per step)."""
+    from gymnasium import spaces
+
+    env = target.make()
+    try:
+        return isinstance(env.observation_space, spaces.Discrete)
+    finally:
+        env.close()
+
+
+def _ids_as_column(demos):
+    """Demonstrations of integer ids as one float column per state (the id itself)."""
+    import numpy as np
+
+    from symlearn.data import Demonstrations, Trajectory
+
+    metadata = {**(demos.metadata if isinstance(demos.metadata, dict) else {}), "observation_ids": True}
+    return Demonstrations([Trajectory(states=np.asarray(t.states, dtype=np.float64).reshape(-1, 1),
+                                      actions=t.actions, rewards=t.rewards, labels=t.labels, info=t.info)
+                           for t in demos], metadata=metadata)
 
 
 def _picture_shape(demos) -> tuple[int, ...] | None:
@@ -236,7 +264,8 @@ def _dnf(args: argparse.Namespace, out) -> None:
         # the learner's hint names its Python arguments; from here the ways out are files and flags
         raise DataError(f"cannot read features from {demos.state_kind} states: a DNF is learned over numeric "
                         "features", file=args.demos,
-                        hint="record the states as numbers (record(env, policy, n, observation=lambda s: "
+                        hint="ids of a Discrete observation are learned as one column with the --env they come "
+                             "from; else record the states as numbers (record(env, policy, n, observation=lambda s: "
                              "[row, col]) for a cell id), or give a domain folder whose feature map turns the "
                              "ids into features (--domain DIR)")
     held = None
@@ -249,7 +278,10 @@ def _dnf(args: argparse.Namespace, out) -> None:
         from symlearn.recipes.environments import parse_feature_names
 
         inputs = list(parse_feature_names(args.inputs, flag="--inputs"))
-    learner = OneClassTreeConstraint(max_depth=args.max_depth, min_samples_leaf=args.min_samples_leaf, inputs=inputs)
+    meta = demos.metadata if isinstance(demos.metadata, dict) else {}
+    # ids of a Discrete observation: a step 3 -> 5 does not pass through 4, so crossing closes no gap
+    learner = OneClassTreeConstraint(max_depth=args.max_depth, min_samples_leaf=args.min_samples_leaf, inputs=inputs,
+                                     close_crossed=not meta.get("observation_ids", False))
     try:
         with warnings.catch_warnings():  # the learner's warnings go into the result (text and JSON)
             warnings.simplefilter("ignore", UserWarning)

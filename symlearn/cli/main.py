@@ -233,12 +233,19 @@ def _one_line_warnings(debug: bool):
         yield
         return
     previous = warnings.formatwarning
+    shown: set[str] = set()
 
     def one_line(message, category, filename, lineno, line=None):
         # gymnasium colours its checker's warnings (ESC[33m ... ESC[0m): the codes are dropped and
         # any other control character escaped, so a log file gets one plain line
-        text = _ANSI_CODE.sub("", " ".join(str(message).split()))
-        return "warning: " + printable(text) + "\n"
+        text = "warning: " + printable(_ANSI_CODE.sub("", " ".join(str(message).split()))) + "\n"
+        # once per command: a library warns on every environment copy it builds (highway-env's
+        # "roundabout-v0 is out of date" came 5 times in one train), and the catch_warnings
+        # blocks elsewhere reset Python's own once-per-place registry
+        if text in shown:
+            return ""
+        shown.add(text)
+        return text
 
     warnings.formatwarning = one_line
     try:

@@ -56,7 +56,10 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any, watch: Any = Non
     seed = getattr(args, "seed", 0) or 0
     multipliers = None
     cost_key = "cost" if cost is None else "learned_cost"
-    n_costs = 1 if cost is None else cost.n_costs
+    # without --cost the Lagrangian constrains info["cost"], which may be a vector (one entry per
+    # constraint; our PPO keeps a multiplier each): sized from the environment's first report, as
+    # ours is -- one multiplier for a 2-entry cost stopped with "has 2 entries for 1 multiplier(s)"
+    n_costs = cost.n_costs if cost is not None else _reported_cost_width(target, seed) if lagrangian else 1
     if lagrangian:
         # SB3's measured rule (train_command's docstring), unless the flags name another
         multipliers = SharedMultipliers(LagrangianConfig(cost_limit=args.cost_limit,
@@ -130,6 +133,28 @@ def train_sb3(args: argparse.Namespace, target: Any, cost: Any, watch: Any = Non
                                                 "steps": int(model.num_timesteps)})
         doc["files"] += [str(path), str(path.with_suffix(".json"))]
     return doc
+
+
+def _reported_cost_width(target: Any, seed: int, max_steps: int = 256) -> int:
+    """The number of entries of ``info["cost"]`` on the first step (of a random walk in a separate
+    copy, at most ``max_steps``) that reports one; 1 where none does (the callback then refuses a
+    first window without any)."""
+    env = target.make()
+    try:
+        env.reset(seed=seed)
+        env.action_space.seed(seed)
+        for _ in range(max_steps):
+            _, _, terminated, truncated, info = env.step(env.action_space.sample())
+            if isinstance(info, dict) and info.get("cost") is not None:
+                try:
+                    return max(1, int(np.asarray(info["cost"], dtype=np.float64).size))
+                except (TypeError, ValueError):
+                    return 1   # no number: the cost reader says so, in one line, when training reads it
+            if terminated or truncated:
+                env.reset()
+        return 1
+    finally:
+        env.close()
 
 
 def _evaluate(model: Any, target: Any, n_episodes: int, seed: int,

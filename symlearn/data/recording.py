@@ -89,6 +89,16 @@ def _check_action_space(space: Any) -> None:
     dimensions (``Box(-1, 1, (2, 2))``, ``MultiDiscrete([[2, 3], [2, 2]])``): a trajectory stores
     one id or 1-D vector per action, and the episodes would otherwise all run before the first
     one failed to store."""
+    if space is not None and (hasattr(space, "spaces") or hasattr(space, "feature_space")
+                              or hasattr(space, "node_space")):
+        # a Tuple/Dict of parts (a Sequence, a Graph): the first step stopped with numpy's
+        # "setting an array element with a sequence ... inhomogeneous shape", an internal error
+        described = " ".join(str(space).split())
+        raise DataError(f"the action space {described} acts in composite values; demonstrations store one id or "
+                        "1-D vector per action",
+                        hint="wrap the environment in a gymnasium ActionWrapper whose action space is one Box, "
+                             "Discrete, MultiDiscrete or MultiBinary (a Tuple(Discrete(2), Box(-1, 1, (1,))) as "
+                             "Box(-1, 1, (2,)), say)")
     shape = getattr(space, "shape", None)
     if space is None or shape is None or len(shape) < 2:
         return

@@ -186,16 +186,31 @@ class TabularMDP:
             A = int(inner.action_space.n)
         except AttributeError:
             raise ModelError("the environment's observation and action spaces must be Discrete") from None
+        # a Discrete(n, start=k) space numbers its states k..k+n-1, and P is keyed by those ids;
+        # the model's rows are 0..n-1 (P[0] was looked up, a KeyError), named by the ids
+        s0 = int(getattr(inner.observation_space, "start", 0))
+        a0 = int(getattr(inner.action_space, "start", 0))
+        what = type(inner).__name__
         P = np.zeros((S, A, S))
         R = np.zeros((S, A))
         terminal = np.zeros(S, dtype=bool)
         for s in range(S):
             for a in range(A):
-                for prob, nxt, reward, done in model[s][a]:
-                    P[s, a, int(nxt)] += prob
+                try:
+                    entries = model[s0 + s][a0 + a]
+                except (KeyError, IndexError, TypeError):
+                    raise ModelError(f"{what}.P has no entry for state {s0 + s}, action {a0 + a}",
+                                     hint=f"P[s][a] for every state id s = {s0}..{s0 + S - 1} and action a = "
+                                          f"{a0}..{a0 + A - 1} of its spaces") from None
+                for prob, nxt, reward, done in entries:
+                    j = int(nxt) - s0
+                    if not 0 <= j < S:
+                        raise ModelError(f"{what}.P[{s0 + s}][{a0 + a}] leads to state {nxt}, not one of the "
+                                         f"observation space's ids {s0}..{s0 + S - 1}")
+                    P[s, a, j] += prob
                     R[s, a] += prob * reward
                     if done:
-                        terminal[int(nxt)] = True
+                        terminal[j] = True
         # Terminal states end the episode in the environment; make them explicit self-loops.
         P[terminal] = 0.0
         for s in np.flatnonzero(terminal):
@@ -203,25 +218,29 @@ class TabularMDP:
         R[terminal] = 0.0
         initial = getattr(inner, "initial_state_distrib", None)
         if initial is None:   # not every toy-text-style world keeps it: read it off the environment's resets
-            initial = _reset_distribution(env, S)
+            initial = _reset_distribution(env, S, s0)
+        if s0 and not state_names:
+            state_names = [str(s0 + s) for s in range(S)]
+        if a0 and not action_names:
+            action_names = [str(a0 + a) for a in range(A)]
         return cls(P, R, np.asarray(initial, dtype=float), terminal, tuple(state_names), tuple(action_names))
 
 
 RESETS = 64   # resets that estimate a start distribution the environment does not state
 
 
-def _reset_distribution(env: Any, n_states: int) -> np.ndarray:
+def _reset_distribution(env: Any, n_states: int, start: int = 0) -> np.ndarray:
     """The start distribution of a discrete world without ``initial_state_distrib``: how often
-    ``env.reset(seed=i)``, ``i < RESETS``, returns each state."""
+    ``env.reset(seed=i)``, ``i < RESETS``, returns each state (ids ``start..start+n_states-1``)."""
     counts = np.zeros(n_states)
     for seed in range(RESETS):
         observation, _ = env.reset(seed=seed)
         state = np.asarray(observation)
-        if state.shape != () or state.dtype.kind not in "iu" or not 0 <= int(state) < n_states:
+        if state.shape != () or state.dtype.kind not in "iu" or not 0 <= int(state) - start < n_states:
             raise ModelError(f"{type(getattr(env, 'unwrapped', env)).__name__}.reset() returned {observation!r}, "
-                             f"not a state 0..{n_states - 1} of its model P",
+                             f"not a state {start}..{start + n_states - 1} of its model P",
                              hint="give the start distribution as env.unwrapped.initial_state_distrib")
-        counts[int(state)] += 1
+        counts[int(state) - start] += 1
     return counts / RESETS
 
 

@@ -96,16 +96,25 @@ def record_hint(target: Any) -> str:
             "symlearn.data.record(env, policy, n) in Python")
 
 
+def _placeholder(name: str) -> str:
+    # a required render_mode is gymnasium's to fill (make(..., render_mode=None)): null (no
+    # rendering) is what training and recording want
+    return "null" if name == "render_mode" else "..."
+
+
 def _missing_hint(exc: BaseException, kwargs: Mapping[str, Any]) -> str | None:
     """For a constructor that lacks required arguments (``__init__(self, size)`` built without
     one), the ``--env-kwargs`` that gives them: Python names them in its message only."""
-    found = re.search(r"missing \d+ required (?:positional |keyword-only )?arguments?: (.+)$", str(exc))
+    # only the quoted names right after "missing N required ...: " -- gymnasium appends "... with
+    # kwargs ({'speed': 0.1})", whose keys are not missing (they were named twice in the hint)
+    found = re.search(r"missing \d+ required (?:positional |keyword-only )?arguments?: "
+                      r"((?:'[A-Za-z_][A-Za-z0-9_]*'(?:,? and |, )?)+)", str(exc))
     if not isinstance(exc, TypeError) or found is None:
         return None
-    names = re.findall(r"'([A-Za-z_][A-Za-z0-9_]*)'", found.group(1))
+    names = [n for n in re.findall(r"'([A-Za-z_][A-Za-z0-9_]*)'", found.group(1)) if n not in kwargs]
     if not names:
         return None
-    given = ", ".join(f'"{k}": ...' for k in [*kwargs, *names])
+    given = ", ".join([*(f'"{k}": {json.dumps(v)}' for k, v in kwargs.items()), *(f'"{k}": {_placeholder(k)}' for k in names)])
     return f"give {' and '.join(names)} in --env-kwargs '{{{given}}}'"
 
 
@@ -201,6 +210,15 @@ def features_and_observation(info: Any, observation: Any,
         return values, np.asarray(observation, dtype=np.float64).reshape(-1)
     except (TypeError, ValueError):
         return None
+
+
+def _features_after_step(env: Any) -> bool:
+    """Whether one step (a sampled action, after the reset just made) reports ``info["features"]``."""
+    try:
+        info = env.step(env.action_space.sample())[-1]
+    except Exception:   # the environment's own failure is the command's to report, where it happens
+        return False
+    return isinstance(info, Mapping) and "features" in info
 
 
 def same_numbers(a: Any, b: Any) -> bool:
@@ -310,6 +328,7 @@ class EnvTarget:
         except Exception as exc:  # the user's own environment failed: say so in one line
             raise DataError(f"building {self.display} failed: {type(exc).__name__}: {exc}") from None
         if self.entry is None:
+            _check_spaces(env, self.display)
             _check_reset_signature(env, self.display)
             _check_returns(build, self.display, (self.gym_id, repr(sorted(self.kwargs.items()))))
         return env
@@ -367,6 +386,13 @@ class EnvTarget:
                 return Features(tuple(f"x{i}" for i in range(width)), "info" if in_info else "observation",
                                 named=False)
             if width is not None and len(names) != width:
+                if not in_info and _features_after_step(env):
+                    # reported by step only: the names were put on the observation, and the hint
+                    # (--features a,b) pointed away from what was missing
+                    raise DataError(f"{self.display} reports info[\"features\"] after step but not after reset; "
+                                    "where the features come from is read from reset's info",
+                                    hint="return the features of the start state in reset's info too: "
+                                         "return observation, {\"features\": ...}")
                 where = 'info["features"]' if in_info else "the observation"
                 raise DataError(f"{len(names)} feature names ({', '.join(names)}) for {width} columns of {where} "
                                 f"of {self.display}", hint="give one name per column with --features a,b,...")
@@ -446,6 +472,21 @@ class EnvTarget:
         return self.entry.expert(n, seed=seed, env_kwargs=dict(self.kwargs))
 
 
+def _check_spaces(env: Any, display: str) -> None:
+    """Every command reads ``observation_space`` and ``action_space`` before the first ``reset``; an
+    environment that sets them later (in ``reset``) stopped with ``internal error: AttributeError``.
+    Refused here in one line naming the class's file and line."""
+    inner = getattr(env, "unwrapped", env)
+    missing = [name for name in ("observation_space", "action_space") if getattr(inner, name, None) is None]
+    if missing:
+        try:
+            where = {"file": inspect.getsourcefile(type(inner)), "line": inspect.getsourcelines(type(inner))[1]}
+        except (TypeError, OSError):
+            where = {}
+        raise DataError(f"{display}: {type(inner).__name__} has no {' or '.join(missing)} once built", hint="set self.observation_space and self.action_space in __init__: they are read "
+                                      "before the first reset", **where)
+
+
 def _check_reset_signature(env: Any, display: str) -> None:
     """gymnasium's wrappers call ``reset(seed=..., options=...)``; a user's ``reset`` without those
     keywords (the pre-0.26 gym API) fails deep inside a learner with a TypeError that names no file
@@ -488,10 +529,20 @@ def _check_returns(build: Callable[[], Any], display: str, key: tuple[Any, str])
     raw = getattr(env, "unwrapped", env)   # gymnasium's own wrappers (TimeLimit) would unpack the values first
     try:
         found = raw.reset(seed=0)
+        if isinstance(found, tuple) and len(found) == 2 and not isinstance(found[1], Mapping):
+            # two values, the second no dict ("returned a tuple of 2, not (observation, info)" read
+            # as if the count were wrong)
+            raise DataError(f"{display}: reset() returned (observation, {_shape_of(found[1])}), not (observation, "
+                            "info) with info a dict", hint="return observation, {} (an empty dict where there is "
+                                                           "nothing to report)")
         if not (isinstance(found, tuple) and len(found) == 2 and isinstance(found[1], Mapping)):
             raise DataError(f"{display}: reset() returned {_shape_of(found)}, not (observation, info)",
                             hint="gymnasium's API: return observation, {} (info a dict)")
         found = raw.step(raw.action_space.sample())
+        if isinstance(found, tuple) and len(found) == 5 and not isinstance(found[4], Mapping):
+            raise DataError(f"{display}: step() returned info as {_shape_of(found[4])}, not a dict",
+                            hint="return observation, reward, terminated, truncated, {} (an empty dict where there "
+                                 "is nothing to report)")
         if not (isinstance(found, tuple) and len(found) == 5):
             raise DataError(f"{display}: step() returned {_shape_of(found)}, not (observation, reward, terminated, "
                             "truncated, info)", hint="gymnasium's API: the old done is terminated (the task ended) "
@@ -509,6 +560,8 @@ def _check_returns(build: Callable[[], Any], display: str, key: tuple[Any, str])
 
 
 def _shape_of(value: Any) -> str:
+    if value is None:
+        return "None"
     return f"a tuple of {len(value)}" if isinstance(value, tuple) else f"one {type(value).__name__}"
 
 

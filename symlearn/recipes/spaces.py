@@ -63,6 +63,33 @@ def _select(value: Any, kept: spaces.Space) -> Any:
     return value
 
 
+def variable_size_parts(space: spaces.Space, path: str = "") -> list[str]:
+    """The parts of ``space`` whose values have no fixed size (``Sequence``, ``Graph``), by path
+    (``"observation"`` for the whole): what no demonstration column, policy input or cost input
+    can hold. A ``Sequence`` of length 1 flattened like a Tuple looked like a vector until the
+    length changed in the middle of a recording."""
+    if isinstance(space, (spaces.Sequence, spaces.Graph)):
+        return [path or "observation"]
+    if isinstance(space, spaces.Dict):
+        return [p for key, sub in space.spaces.items()
+                for p in variable_size_parts(sub, f"{path}.{key}" if path else key)]
+    if isinstance(space, spaces.Tuple):
+        return [p for i, sub in enumerate(space.spaces) for p in variable_size_parts(sub, f"{path}[{i}]")]
+    return []
+
+
+def refuse_variable_size(space: spaces.Space, display: str) -> None:
+    """A ``DataError`` for an observation space with a ``Sequence`` or ``Graph`` part, saying which
+    part and what to do, before anything is recorded or trained."""
+    parts = variable_size_parts(space)
+    if parts:
+        where = "" if parts == ["observation"] else f" (its part {', '.join(parts)})"
+        raise DataError(f"{display} observes {space}{where}, whose values have no fixed size: symlearn records, "
+                        "learns from and trains on fixed-size observations",
+                        hint="wrap the environment in a gymnasium.ObservationWrapper whose observation_space is a "
+                             "Box (pad or cut a Sequence to a fixed length; summarise a Graph in fixed features)")
+
+
 class NumericObservations(gym.ObservationWrapper):
     """The numeric parts of ``env``'s observation, flattened to one ``Box`` (see the module doc)."""
 
@@ -71,9 +98,11 @@ class NumericObservations(gym.ObservationWrapper):
         self.dropped: list[str] = []
         kept = _numeric_part(env.observation_space, "", self.dropped)
         if kept is None:
+            refuse_variable_size(env.observation_space, "the environment")
             raise DataError(f"the observation space {env.observation_space} has no numeric part a policy or cost "
-                            "could read", hint="wrap the environment so that it observes a Box (e.g. "
-                                               "gymnasium.wrappers.FlattenObservation over its numeric parts)")
+                            "could read", hint="wrap the environment in a gymnasium.ObservationWrapper whose "
+                                               "observation_space is a Box or Discrete (text encoded as numbers, "
+                                               "say); `symlearn data record` stores text observations as symbols")
         self._kept = kept
         flat = spaces.flatten_space(kept)
         self.observation_space = spaces.Box(flat.low.astype(np.float32), flat.high.astype(np.float32),
@@ -193,4 +222,4 @@ def numeric_observations(env: gym.Env) -> gym.Env:
 
 
 __all__ = ["NumericObservations", "find_numeric_view", "from_record_columns", "numeric_observations",
-           "record_columns_width"]
+           "record_columns_width", "refuse_variable_size", "variable_size_parts"]

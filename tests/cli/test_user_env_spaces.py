@@ -157,10 +157,15 @@ def test_stable_baselines3_multibinary_actions_reach_the_environment_as_integers
 
 
 def test_learn_dnf_on_discrete_states_names_the_ways_out_of_the_cli(capsys, tmp_path, monkeypatch):
+    """Without ``--env`` nothing says the ids are one Discrete observation's: refused, naming the ways
+    out. (With the ``--env`` of a Discrete observation they are learned as one column, the id, as
+    ``train --cost`` reads it: tests/cli/test_user_env_sweep_round4.py.)"""
     _walk(tmp_path, monkeypatch)
-    code, out, err = run(capsys, "learn", "dnf", "--env", "offset_walk:OffsetWalk-v0", "--demos", "walk.jsonl")
+    code, out, err = run(capsys, "learn", "dnf", "--demos", "walk.jsonl")
     assert code == 2 and len(err.strip().splitlines()) == 1
-    assert "walk.jsonl" in err and "--domain" in err and "FeatureMap" not in err
+    assert "walk.jsonl" in err and "--domain" in err and "--env" in err and "FeatureMap" not in err
+    code, out, err = run(capsys, "learn", "dnf", "--env", "offset_walk:OffsetWalk-v0", "--demos", "walk.jsonl")
+    assert code == 0, err
 
 
 @pytest.mark.parametrize("env_id", ["geared_point:GearedPoint-v0", "Blackjack-v1"])

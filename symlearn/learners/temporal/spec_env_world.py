@@ -175,7 +175,11 @@ class EnvWorld:
         if self.route not in ("tabular", "ppo"):
             raise ModelError(f"policy must be 'auto', 'tabular' or 'ppo', got {policy!r}")
         space = getattr(self.env, "observation_space", None)
-        if self.route == "ppo" and not getattr(space, "shape", None) and not _flat_parts(space):
+        # a scalar Box (shape ()) is one entry, which ProductEnv hands PPO as a vector of one; it
+        # was refused as "needs array observations (a Box)", though it is a Box
+        scalar_box = getattr(space, "shape", None) == () and getattr(space, "n", None) is None \
+            and getattr(space, "low", None) is not None
+        if self.route == "ppo" and not getattr(space, "shape", None) and not scalar_box and not _flat_parts(space):
             raise ModelError(f"a PPO policy update needs array observations (a Box), not {space}",
                              hint="wrap the environment (gymnasium.wrappers.FlattenObservation) or use the "
                                   "tabular update (--policy tabular)")

@@ -315,6 +315,9 @@ class OneClassTreeConstraint(Learner):
     neighbouring children narrower than the feature's bandwidth or crossed by a demonstrated
     step are closed -- see
     :mod:`~symlearn.learners.trees.readable_bounds`; False keeps the data's values and every gap),
+    ``close_crossed`` (default True: with ``readable``, a gap a demonstrated step crossed is
+    closed, as a continuous path passes through it; False where neighbouring values are not
+    neighbours in the world -- the ids of a ``Discrete`` observation, where 3 -> 5 jumps over 4),
     ``warn_unsafe_share`` (default 0.5: a ``UserWarning``, also in ``warnings_``, when the formula
     marks more than this share of the data's bounding box unsafe; None: never), ``inputs`` (names
     of the features the rules may test, e.g. the positions of an observation that also holds
@@ -353,7 +356,8 @@ class OneClassTreeConstraint(Learner):
     def __init__(self, *, max_depth: int = 5, bandwidth: str | float = "silverman", min_samples_leaf: int = 5,
                  density_threshold: float = 0.5, min_gain: float = 0.05, box_sigmas: float = 2.5,
                  grid_size: int = 256, readable: bool = True, warn_unsafe_share: float | None = 0.5,
-                 inputs: Sequence[str] | None = None, random_state: Any = None) -> None:
+                 inputs: Sequence[str] | None = None, close_crossed: bool = True,
+                 random_state: Any = None) -> None:
         self.max_depth = max_depth
         self.bandwidth = bandwidth
         self.min_samples_leaf = min_samples_leaf
@@ -364,6 +368,7 @@ class OneClassTreeConstraint(Learner):
         self.readable = readable
         self.warn_unsafe_share = warn_unsafe_share
         self.inputs = inputs
+        self.close_crossed = close_crossed
         self.random_state = random_state
 
     # --- fitting -------------------------------------------------------------------------------
@@ -376,6 +381,8 @@ class OneClassTreeConstraint(Learner):
                                 hint="max_depth=1 splits the root once")
         if not integer(self.min_samples_leaf) or self.min_samples_leaf < 1:
             raise SymlearnError(f"min_samples_leaf must be an integer >= 1, got {self.min_samples_leaf!r}")
+        if not isinstance(self.close_crossed, (bool, np.bool_)):
+            raise SymlearnError(f"close_crossed must be True or False, got {self.close_crossed!r}")
         if not integer(self.grid_size) or not 16 <= self.grid_size <= 4096:
             raise SymlearnError(f"grid_size must be an integer in [16, 4096], got {self.grid_size!r}")
         if isinstance(self.bandwidth, str):
@@ -411,7 +418,7 @@ class OneClassTreeConstraint(Learner):
         tree = OneClassTree(grower.grow(), names)
         closed = {"narrow": 0, "crossed": 0}
         lengths = demonstration_lengths(demonstrations, len(X))
-        steps = demonstrated_steps(lengths)
+        steps = demonstrated_steps(lengths) if self.close_crossed else None
         if self.readable:
             from symlearn.learners.trees.readable_bounds import readable_tree
 

@@ -93,6 +93,7 @@ class ActorCritic(nn.Module):
             low = [-np.inf if x is None else x for x in action["low"]]
             high = [np.inf if x is None else x for x in action["high"]]
             self._low, self._high = np.asarray(low, np.float32), np.asarray(high, np.float32)
+            self._centre_actions()
         # running mean and variance of the observation features (saved with the weights)
         self.obs_normalization = bool(obs_normalization)
         if self.obs_normalization:
@@ -100,6 +101,22 @@ class ActorCritic(nn.Module):
             self.register_buffer("obs_var", torch.ones(self.obs_dim, dtype=torch.float64))
             self.register_buffer("obs_count", torch.zeros(1, dtype=torch.float64))
         self._normalizer: tuple[np.ndarray, np.ndarray] | None = None  # numpy (mean, 1 / std), rebuilt on change
+
+    def _centre_actions(self) -> None:
+        """Start the Gaussian's mean inside the action box where 0 is not: a new policy's mean is
+        about 0, which for ``Box(0, 10)`` is the lower bound -- half the samples clipped to it and
+        the mean barely moved in 4,096 steps (a user's throttle). The last layer's bias starts at
+        the centre of such a dimension's finite bounds; boxes around 0 keep it at 0 (unchanged)."""
+        off = np.isfinite(self._low) & np.isfinite(self._high) & ((self._low >= 0) | (self._high <= 0))
+        if not np.any(off):
+            return
+        low, high = self._low.astype(np.float64), self._high.astype(np.float64)
+        centre = np.where(off, (low + high) / 2, 0.0)
+        # and its spread in the box's units (log_std_init is for a half-width of 1, as [-1, 1])
+        spread = np.where(off, np.log(np.maximum((high - low) / 2, 1e-6)), 0.0)
+        with torch.no_grad():
+            self.actor[-1].bias.add_(torch.as_tensor(centre, dtype=self.actor[-1].bias.dtype))
+            self.log_std.add_(torch.as_tensor(spread, dtype=self.log_std.dtype))
 
     @classmethod
     def for_spaces(cls, observation_space: Any, action_space: Any, **kwargs: Any) -> ActorCritic:
@@ -131,6 +148,8 @@ class ActorCritic(nn.Module):
             self.actor.load_state_dict(fresh.state_dict())
             if not self.discrete:
                 self.log_std.fill_(self.log_std_init)
+        if not self.discrete:
+            self._centre_actions()
 
     def actor_parameters(self) -> list[nn.Parameter]:
         """The policy's parameters (the actor network and, for Box actions, ``log_std``): what
