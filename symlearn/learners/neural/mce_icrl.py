@@ -42,6 +42,12 @@ exactly. Here every exact step has its sampled, neural counterpart:
      ``policy_steps`` steps on the reward ``r - lambda . phi(s, a)`` with entropy coefficient
      ``beta`` (eq. 2.11), the learned reward computed in one forward pass per rollout
      (``reward_fn``).
+     ``beta`` is 0.03 by default (0.01 before, and still for the other three learners): the
+     cost can only charge what the loop's policies visit, and with 0.01 the continued policy on
+     lava_grid stayed on the straight row or fell back to standing still, never tried the
+     routes through the rest of the lava column, and ``train --cost`` then took one of those
+     (docs/BENCHMARKS.md, "Learned neural costs on detour tasks"; 0.03 alone, with the cost
+     step as before, did not help, nor did ``expert_weight`` and the stronger cost step alone).
 
    Both PPO phases learn from the reward minus ``bound_penalty * sum(max(|a| - bound, 0)^2)`` on
    the sampled (unclipped) Gaussian actions of a bounded Box action space. PPO samples actions
@@ -201,7 +207,7 @@ class NeuralMCEICRL(Learner):
 
     artefact_suffix = ".safetensors"
 
-    def __init__(self, *, beta: float = 0.01, n_iterations: int = 10, nominal_steps: int = 30_000,
+    def __init__(self, *, beta: float = 0.03, n_iterations: int = 10, nominal_steps: int = 30_000,
                  policy_steps: int = 20_480, features: str = "state", obs_dims: Sequence[int] | None = None,
                  n_features: int = 4, hidden_sizes: Sequence[int] = (64, 64), pretrain: bool = True,
                  pretrain_epochs: int = 30, lambda_lr: float = 0.02, zeta_lr: float = 3e-3, zeta_decay: float = 1.0,
