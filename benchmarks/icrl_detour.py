@@ -11,6 +11,10 @@ and ``symlearn learn icrl --env blocked-point`` (reward, violation, recovery AUC
 learned cost is also printed over the 7 x 7 grid (the lava column is x = 3, y = 1..5).
 
     python benchmarks/icrl_detour.py --keep /tmp/detour --label after --seeds 0 1 2
+
+``--label`` names the runs (they replace earlier runs of the same label, task and seed in
+``--out``); ``--flags`` adds flags to every ``learn icrl``. Results: benchmarks/results/icrl_detour.json
+(docs/BENCHMARKS.md, "Learned neural costs on detour tasks").
 """
 
 from __future__ import annotations
@@ -97,7 +101,7 @@ def main() -> None:
     done = {(r["task"], r["seed"], r["label"]) for r in results}
     kept = [r for r in previous["runs"] if (r["task"], r["seed"], r["label"]) not in done]
     a.out.parent.mkdir(parents=True, exist_ok=True)
-    a.out.write_text(json.dumps({"runs": kept + results}, indent=1))
+    a.out.write_text(json.dumps({**previous, "runs": kept + results}, indent=1))
     print("wrote", a.out)
 
 
