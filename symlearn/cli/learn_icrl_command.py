@@ -25,7 +25,8 @@
   variational baseline: Beta-distributed feasibility, KL from a prior) or ``gacl`` (a GAIL
   discriminator, the policy learning from ``r + log D``).
 * ``--steps``: PPO steps in all: one eighth for the nominal policy, the rest split evenly over
-  the ``--iterations``. ``--beta``: the entropy coefficient (> 0). ``--cost-inputs``: the
+  the ``--iterations``. ``--beta``: the entropy coefficient of the policy phases (> 0; by default
+  each method's own: 0.03 for ``mce-icrl``, 0.01 for the others). ``--cost-inputs``: the
   observation entries the cost may read (its candidates), by name (``x,y``) or index, or ``all``;
   by default the entries the environment declares its constraints to be about (its
   ``feature_names``, where each names an observation entry: ``x,y`` on BlockedPoint, ``x`` on the
@@ -100,7 +101,8 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--steps", type=int, default=240_000,
                      help="PPO steps in all: 1/8 nominal, the rest over the iterations (240000)")
     cmd.add_argument("--iterations", type=int, default=10, help="ICRL iterations (10)")
-    cmd.add_argument("--beta", type=float, default=0.01, help="entropy coefficient, > 0 (0.01)")
+    cmd.add_argument("--beta", type=float, default=None,
+                     help="entropy coefficient of the policy phases, > 0 (mce-icrl 0.03, the others 0.01)")
     cmd.add_argument("--cost-inputs", help="candidate observation entries of the cost: names (x,y; x0,x1 where "
                                             "nothing names them; a Discrete observation's states cell=3, "
                                             "or its name for all of them), indices or 'all' (default: the environment's "
@@ -142,7 +144,7 @@ def _check_arguments(args: argparse.Namespace) -> None:
     if args.output and not str(args.output).endswith(".safetensors"):
         raise DataError(f"-o must end in .safetensors, got {args.output!r}",
                         hint="the cost is two files, NAME.safetensors and NAME.json")
-    if not (math.isfinite(args.beta) and args.beta > 0):
+    if args.beta is not None and not (math.isfinite(args.beta) and args.beta > 0):
         raise DataError(f"--beta must be a number > 0, got {args.beta:g}",
                         hint="beta weighs the policy's entropy; MCE-ICRL needs some (e.g. 0.01)")
     if args.iterations < 1:
@@ -255,7 +257,8 @@ def _icrl(args: argparse.Namespace, out) -> None:
               "gacl": NeuralGACL}[args.method]
     if args.cost_memory is not None and args.method != "mce-icrl":
         raise DataError(f"--cost-memory is a setting of --method mce-icrl, not {args.method}")
-    learner = method(beta=args.beta, n_iterations=args.iterations, nominal_steps=nominal,
+    learner = method(**({} if args.beta is None else {"beta": args.beta}),  # None: the method's own default
+                     n_iterations=args.iterations, nominal_steps=nominal,
                      policy_steps=max((args.steps - nominal) // args.iterations, 1), obs_dims=obs_dims,
                      random_state=seed, reset_actor=args.reset_actor, select_inputs=args.select_inputs,
                      **({} if args.lambda_lr is None else {"lambda_lr": args.lambda_lr}),

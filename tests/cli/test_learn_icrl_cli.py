@@ -40,7 +40,10 @@ def test_short_run_writes_the_cost_and_reports_the_metrics(capsys, tmp_path):
     from symlearn.learners.neural import NeuralCost
 
     cost = NeuralCost.load(out, BlockedPoint())
-    assert cost.phi.obs_dims == (0, 1) and len(cost.lambdas) == len(doc["lambda"])
+    # the inputs read: those the selection kept of the candidates x, y (which, at this budget,
+    # depends on the nominal policy; it changed with MCE-ICRL's default beta)
+    assert set(cost.phi.obs_dims) <= {0, 1} and list(cost.phi.obs_dims) == doc["cost_inputs"]["entries"]
+    assert len(cost.lambdas) == len(doc["lambda"])
     assert doc["expert_cost"]["episodes"] == 3 and cost.expert_level == pytest.approx(doc["expert_cost"]["mean"])
 
 

@@ -19,9 +19,20 @@ exactly. Here every exact step has its sampled, neural counterpart:
      budget ``alpha > 0`` raises ``lambda`` even when the sums match, i.e. it tightens the
      constraint; a slack would enter as ``+ alpha``. The default ``alpha = 0`` is unaffected),
      then ``zeta_steps``
-     Adam steps on ``zeta`` down the gradient ``lambda . (E_D[grad phi] - E_pi[grad phi])``
-     (eq. 2.13: the features rise where the policy goes and the expert does not), with a
-     learning rate ``zeta_lr * zeta_decay^(i-1)`` that decays every iteration. While every
+     Adam steps on ``zeta`` down the gradient ``lambda . (w E_D[grad phi] - E_pi[grad phi])``
+     (eq. 2.13 with ``w = expert_weight``: the features rise where the policy goes and the expert
+     does not), with a learning rate ``zeta_lr * zeta_decay^(i-1)`` (the defaults: 100 steps a
+     iteration at a constant ``3e-3``). ``expert_weight`` (default 2; 1 is eq. 2.13 as written):
+     a state both the expert and the policies visit alike (the start, the common first steps)
+     has no gradient under eq. 2.13, so the network charges it what its neighbours get -- on
+     lava_grid the expert's start cell cost as much as the straight row through the lava, the
+     expert's own episodes cost ~1.3 and ``train --cost``, held to that level, bought a shorter
+     route through the lava with it. Weighing the expert's term more pushes every state the
+     expert visits towards 0 (the expert's level ~0.001) and raises only what the policies do
+     beyond it. The former 20 steps with a decay of 0.9 moved the network too little for the
+     features to separate the expert's cells from the rest within 10 iterations (the cost
+     stayed a soft half-plane through the expert's path; docs/BENCHMARKS.md, "Learned neural
+     costs on detour tasks"). While every
      multiplier is 0 the steps weigh the features alike (``lambda`` replaced by ones: Adam's
      steps do not depend on the scale): with eq. 2.13 as written ``phi`` would never move from
      there, and where the expert's episodes are longer than the policy's (a detour round what
@@ -31,6 +42,12 @@ exactly. Here every exact step has its sampled, neural counterpart:
      ``policy_steps`` steps on the reward ``r - lambda . phi(s, a)`` with entropy coefficient
      ``beta`` (eq. 2.11), the learned reward computed in one forward pass per rollout
      (``reward_fn``).
+     ``beta`` is 0.03 by default (0.01 before, and still for the other three learners): the
+     cost can only charge what the loop's policies visit, and with 0.01 the continued policy on
+     lava_grid stayed on the straight row or fell back to standing still, never tried the
+     routes through the rest of the lava column, and ``train --cost`` then took one of those
+     (docs/BENCHMARKS.md, "Learned neural costs on detour tasks"; 0.03 alone, with the cost
+     step as before, did not help, nor did ``expert_weight`` and the stronger cost step alone).
 
    Both PPO phases learn from the reward minus ``bound_penalty * sum(max(|a| - bound, 0)^2)`` on
    the sampled (unclipped) Gaussian actions of a bounded Box action space. PPO samples actions
@@ -178,7 +195,8 @@ class NeuralMCEICRL(Learner):
     docstring), ``n_features`` (width of ``phi``, one multiplier each),
     ``hidden_sizes``, ``pretrain`` (autoencoder pre-training on/off) and ``pretrain_epochs``,
     ``lambda_lr``, ``zeta_lr``, ``zeta_decay`` (per iteration), ``zeta_steps`` (Adam steps per
-    iteration), ``alpha`` (the budget; 0 = hard constraints), ``discount`` (of the feature
+    iteration), ``expert_weight`` (the expert's term in those steps, >= 1; module docstring),
+    ``alpha`` (the budget; 0 = hard constraints), ``discount`` (of the feature
     sums), ``n_policy_episodes`` (episodes sampled per dual step), ``bound_penalty`` (module
     docstring), ``lambda_init`` (every multiplier's start, >= 0; see ``fit``'s comment on why
     episodes that end at a goal need it > 0), ``reset_actor`` (module docstring), ``input_sparsity``
@@ -189,14 +207,14 @@ class NeuralMCEICRL(Learner):
 
     artefact_suffix = ".safetensors"
 
-    def __init__(self, *, beta: float = 0.01, n_iterations: int = 10, nominal_steps: int = 30_000,
+    def __init__(self, *, beta: float = 0.03, n_iterations: int = 10, nominal_steps: int = 30_000,
                  policy_steps: int = 20_480, features: str = "state", obs_dims: Sequence[int] | None = None,
                  n_features: int = 4, hidden_sizes: Sequence[int] = (64, 64), pretrain: bool = True,
-                 pretrain_epochs: int = 30, lambda_lr: float = 0.02, zeta_lr: float = 3e-3, zeta_decay: float = 0.9,
-                 zeta_steps: int = 20, alpha: float = 0.0, discount: float = 0.99, n_policy_episodes: int = 16,
+                 pretrain_epochs: int = 30, lambda_lr: float = 0.02, zeta_lr: float = 3e-3, zeta_decay: float = 1.0,
+                 zeta_steps: int = 100, alpha: float = 0.0, discount: float = 0.99, n_policy_episodes: int = 16,
                  bound_penalty: float = 1.0, lambda_init: float = 0.0, reset_actor: str = "auto",
                  select_inputs: float = 0.01, input_sparsity: float = 0.0, ppo: dict[str, Any] | None = None,
-                 cost_memory: str = "all", random_state: int | None = 0) -> None:
+                 cost_memory: str = "all", expert_weight: float = 2.0, random_state: int | None = 0) -> None:
         self.beta = beta
         self.n_iterations = n_iterations
         self.nominal_steps = nominal_steps
@@ -221,6 +239,7 @@ class NeuralMCEICRL(Learner):
         self.input_sparsity = input_sparsity
         self.ppo = ppo
         self.cost_memory = cost_memory
+        self.expert_weight = expert_weight
         self.random_state = random_state
 
     # --- settings ----------------------------------------------------------------------------------
@@ -236,7 +255,9 @@ class NeuralMCEICRL(Learner):
                           and math.isfinite(self.input_sparsity) and self.input_sparsity >= 0),
                          ("lambda_init", isinstance(self.lambda_init, (int, float)) and math.isfinite(self.lambda_init)
                           and self.lambda_init >= 0),
-                         ("cost_memory", self.cost_memory in ("all", "current"))):
+                         ("cost_memory", self.cost_memory in ("all", "current")),
+                         ("expert_weight", isinstance(self.expert_weight, (int, float))
+                          and math.isfinite(self.expert_weight) and self.expert_weight >= 1)):
             if not ok:
                 raise SymlearnError(f"{name} out of range: {getattr(self, name)!r}")
 
@@ -314,7 +335,8 @@ class NeuralMCEICRL(Learner):
                     phi, optimizer, lambdas, (expert_t, expert_w), (policy_t, policy_w), lambda_lr=self.lambda_lr,
                     alpha=self.alpha, zeta_lr=zeta_lr, zeta_steps=int(self.zeta_steps),
                     input_sparsity=float(self.input_sparsity),
-                    remembered=(memory[1:] or memory) if self.cost_memory == "all" else None)
+                    remembered=(memory[1:] or memory) if self.cost_memory == "all" else None,
+                    expert_weight=float(self.expert_weight))
                 cost.set_lambdas(lambdas)
                 return lambdas, expert_features, policy_features, zeta_lr
 
@@ -427,7 +449,7 @@ def dual_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer, lambdas: np
               policy: tuple[tuple[torch.Tensor, torch.Tensor | None], torch.Tensor], *, lambda_lr: float,
               alpha: float, zeta_lr: float, zeta_steps: int,
               input_sparsity: float = 0.0,
-              remembered: list | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+              remembered: list | None = None, expert_weight: float = 1.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """One step on the dual variables: ``lambda`` (eq. 2.12, projected on ``lambda >= 0``), then
     ``zeta_steps`` steps of ``optimizer`` (on ``phi``'s parameters, learning rate ``zeta_lr``)
     down ``lambda . (F_D - F_pi)`` (eq. 2.13). ``expert``/``policy``: ``((obs, actions), weights)``
@@ -438,7 +460,9 @@ def dual_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer, lambdas: np
     ``(-1, 1)``: the weight means the same whatever the multipliers' size and the episodes'
     length); at 0 the steps are as without it. ``remembered``: ``[((obs, actions), weights), ...]``
     samples of several policies, whose mean feature sum stands for ``F_pi`` in the ``zeta`` steps
-    (``cost_memory="all"``; the ``lambda`` step keeps ``policy``). Returns the new ``lambda`` and
+    (``cost_memory="all"``; the ``lambda`` step keeps ``policy``). ``expert_weight``: the expert's
+    sum in the ``zeta`` steps is multiplied by it (1: eq. 2.13 as written; > 1 pushes the states
+    the expert shares with the policies towards 0, module docstring). Returns the new ``lambda`` and
     the feature sums ``F_D``, ``F_pi`` it was computed from."""
     (expert_in, expert_w), (policy_in, policy_w) = expert, policy
     with torch.no_grad():
@@ -463,7 +487,7 @@ def dual_step(phi: FeatureNetwork, optimizer: torch.optim.Optimizer, lambdas: np
     shown = remembered or [(policy_in, policy_w)]
     for _ in range(zeta_steps):
         policy_sum = sum(w @ phi(*inputs) for inputs, w in shown) / len(shown)
-        loss = lam @ (expert_w @ phi(*expert_in) - policy_sum)
+        loss = lam @ (expert_weight * (expert_w @ phi(*expert_in)) - policy_sum)
         if input_sparsity:
             loss = loss / scale + input_sparsity * input_penalty(phi)
         optimizer.zero_grad(set_to_none=True)

@@ -136,6 +136,49 @@ def test_remembered_policies_keep_the_cost_where_the_current_one_no_longer_goes(
     assert costs["all"]["left"] - costs["all"]["expert"] > costs["current"]["left"] - costs["current"]["expert"]
 
 
+def _shared_start_costs(**settings):
+    """A grid in miniature: the expert and the policy both start at (0, 0); the expert detours
+    through y = 1, the policy walks straight along y = 0. Ten dual steps at the learner's
+    settings (its defaults, overridden by ``settings``); the learned cost of the start, of the
+    policy's own cells (1, 0), (2, 0), and of an expert cell (1, 1)."""
+    learner = NeuralMCEICRL(**settings)
+    gen = torch.Generator().manual_seed(0)
+    phi = FeatureNetwork([0, 1], 0, learner.n_features, learner.hidden_sizes, gen)
+    expert = torch.tensor([[0, 0], [0, 1], [1, 1], [2, 1], [3, 1], [3, 0]], dtype=torch.float32)
+    policy = torch.tensor([[0, 0], [1, 0], [2, 0]], dtype=torch.float32)
+    phi.fit_standardisation(torch.cat([expert, policy]).numpy(), None)
+    expert_w, policy_w = 0.99 ** torch.arange(6.0), 0.99 ** torch.arange(3.0)
+    optimizer = torch.optim.Adam(phi.parameters(), lr=learner.zeta_lr)
+    lambdas = np.zeros(learner.n_features)
+    for i in range(10):
+        lambdas, _, _ = dual_step(phi, optimizer, lambdas, ((expert, None), expert_w), ((policy, None), policy_w),
+                                  lambda_lr=learner.lambda_lr, alpha=0.0,
+                                  zeta_lr=learner.zeta_lr * learner.zeta_decay ** i,
+                                  zeta_steps=learner.zeta_steps, expert_weight=learner.expert_weight)
+    with torch.no_grad():
+        cells = torch.tensor([[0, 0], [1, 0], [2, 0], [1, 1]], dtype=torch.float32)
+        return phi(cells).double().numpy() @ lambdas
+
+
+def test_the_experts_shared_start_costs_nothing_at_the_defaults():
+    """The states the expert shares with the policies (the start) must cost ~0 and only what the
+    policies do beyond the expert be charged: lava_grid's learned cost charged the expert's
+    start as much as the straight row through the lava, so the expert's own level (the limit
+    ``train --cost`` holds an agent to) paid for a shorter route through the lava. With eq. 2.13
+    as written (``expert_weight=1``) the shared start has no gradient of its own and costs what
+    the straight row costs; at the defaults it costs ~0 and the straight row stays charged."""
+    start, straight_1, straight_2, expert_cell = _shared_start_costs()
+    assert min(straight_1, straight_2) > 0.5
+    assert start < 0.05 * min(straight_1, straight_2) and expert_cell < 0.05 * min(straight_1, straight_2)
+    start, straight_1, _, _ = _shared_start_costs(expert_weight=1.0)  # eq. 2.13 as written
+    assert start > 0.5 * straight_1
+
+
+def test_expert_weight_is_checked():
+    with pytest.raises(SymlearnError, match="expert_weight"):
+        NeuralMCEICRL(expert_weight=0.5).fit(expert_demonstrations(2, seed=0), BlockedPoint)
+
+
 def test_cost_memory_is_checked():
     with pytest.raises(SymlearnError, match="cost_memory"):
         NeuralMCEICRL(cost_memory="some").fit(expert_demonstrations(2, seed=0), BlockedPoint)
