@@ -805,19 +805,23 @@ def gymnasium_id_hint(name: str) -> str:
     ending in a space; ``""`` when nothing): the closest registered id, else, for a name shaped
     like an id, the ``package:ID`` that registers it on import (``highway_env:highway-v0`` where
     that package is installed)."""
-    from difflib import get_close_matches
+    from difflib import SequenceMatcher, get_close_matches
 
     gymnasium = _gymnasium()
     ids = [i for i in gymnasium.registry if not i.startswith("symlearn/")]
     close = get_close_matches(name.strip(), ids, n=1)
-    if close:
-        return f"did you mean {close[0]!r}? "
-    if "-" not in name or "/" in name or ":" in name:
-        return ""
+    shaped = "-" in name and "/" not in name and ":" not in name
     package = name.split("-")[0].lower()
-    found = _installed_package(package)
+    found = _installed_package(package) if shaped else None
+    # an installed package named by the id's stem beats a loose likeness to some registered id
+    # (a user module's 'Corridor-v0' was offered for 'zorkworld-v0' beside zorkworld_env); a
+    # near-spelling of a registered id (a typo) still wins
+    if close and (found is None or SequenceMatcher(None, name.strip(), close[0]).ratio() >= 0.8):
+        return f"did you mean {close[0]!r}? "
     if found is not None:  # highway-v0 is registered by importing highway_env
         return f"did you mean {found}:{name}? (its package registers it on import); "
+    if not shaped:
+        return ""
     return f"an id a package registers on import is named package:ID (e.g. {package}:{name}); "
 
 
