@@ -173,7 +173,9 @@ def read_header(document: Any, kind: str | None, source: str | None) -> tuple[_R
         "alphabet": _unique(reader, "alphabet", reader.list_of(document, "", "alphabet", "str"), "proposition"),
         "n_states": _state_count(reader, document),
         "initial": reader.get(document, "", "initial", "int"),
-        "accepting": reader.list_of(document, "", "accepting", "int"),
+        # a reward machine ends in its "terminal" states; "accepting" is only a DFA's and PDFA's
+        # notion, so a hand-written machine without it was refused as "accepting: missing field"
+        "accepting": reader.list_of(document, "", "accepting", "int", optional=found == "reward_machine") or [],
         "state_names": _unique(reader, "state_names",
                                reader.list_of(document, "", "state_names", "str", optional=True), "state name"),
     }

@@ -41,15 +41,18 @@ from symlearn.errors import ParseError, SymlearnError
 from symlearn.logic.guards import Guard
 
 _HEADER = re.compile(r"\s*digraph\s+(\w+)?\s*\{\s*$")
-_ATTRIBUTE = re.compile(r"\s*(\w+\s*=\s*(\"[^\"]*\"|[\w.]+)\s*;\s*)+$")  # one or more graph attributes
-_DEFAULTS = re.compile(r"\s*(node|edge|graph)\s*\[(?P<attrs>[^\]]*)\]\s*;(?P<states>(\s*\w+\s*;)*)\s*$")
+# quoted strings may hold escaped quotes and ']' (symlearn.rendering.quote writes \" for a quoted
+# proposition, and such a DOT file was refused at its first edge)
+_ATTRS = r'(?:[^\]"]|"(?:[^"\\]|\\.)*")*'  # attributes up to ']', quoted strings whole
+_ATTRIBUTE = re.compile(r"\s*(\w+\s*=\s*(\"(?:[^\"\\]|\\.)*\"|[\w.]+)\s*;\s*)+$")  # one or more graph attributes
+_DEFAULTS = re.compile(r"\s*(node|edge|graph)\s*\[(?P<attrs>" + _ATTRS + r")\]\s*;(?P<states>(\s*\w+\s*;)*)\s*$")
 # the start marker: MONA's and LTLf2DFA's ``init``, or ``__start`` in the DOT symlearn writes
-_INIT_NODE = re.compile(r"\s*(init|__start)\s*\[[^\]]*\]\s*;\s*$")
+_INIT_NODE = re.compile(r"\s*(init|__start)\s*\[" + _ATTRS + r"\]\s*;\s*$")
 _INIT_EDGE = re.compile(r"\s*(init|__start)\s*->\s*(?P<target>\d+)\s*;\s*$")
-_EDGE = re.compile(r"\s*(?P<source>\d+)\s*->\s*(?P<target>\d+)\s*\[\s*label\s*=\s*\"(?P<label>[^\"]*)\"\s*"
-                   r"(,[^\]]*)?\]\s*;\s*$")
+_EDGE = re.compile(r"\s*(?P<source>\d+)\s*->\s*(?P<target>\d+)\s*\[\s*label\s*=\s*\"(?P<label>(?:[^\"\\]|\\.)*)\"\s*"
+                   r"(,(?:[^\]\"]|\"(?:[^\"\\]|\\.)*\")*)?\]\s*;\s*$")
 # one state with its own attributes, as symlearn writes them: ``1 [label="1", shape=doublecircle];``
-_NODE = re.compile(r"\s*(?P<state>\d+)\s*\[(?P<attrs>[^\]]*)\]\s*;\s*$")
+_NODE = re.compile(r"\s*(?P<state>\d+)\s*\[(?P<attrs>" + _ATTRS + r")\]\s*;\s*$")
 _SHAPE = re.compile(r"shape\s*=\s*(\w+)")
 _BITS = re.compile(r"[01X ,]+(\\n[01X ,]+)*")
 
@@ -87,7 +90,7 @@ def parse_mona_dot(text: str, *, source: str | None = None, variables: Sequence[
         if match := _EDGE.match(line):
             label_column = match.start("label") + 1
             edges.append((_state(match["source"], source, number, line), _state(match["target"], source, number, line),
-                          match["label"], number, label_column))
+                          re.sub(r'\\(["\\])', r"\1", match["label"]), number, label_column))
         elif match := _INIT_EDGE.match(line):
             if initial is not None:
                 raise _error("a second 'init ->' edge: the automaton has one initial state", source, number, line)
