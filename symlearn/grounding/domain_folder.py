@@ -279,11 +279,26 @@ def _read_model(path: Path) -> dict[str, np.ndarray]:
     if not np.isfinite(P).all() or (P < 0).any():
         raise DataError("transitions must be finite and non-negative", file=str(path))
     sums = P.sum(axis=2)
+    # a move that does not exist (available false) and a terminal state have no next state to give: an
+    # all-zero row there is how a user writes "nothing happens" (refused as "sums to 0" before); it is
+    # read as staying put, the self-loop the bundled domains write
+    idle = (sums == 0) & (~arrays["available"] if "available" in arrays else False)
+    if "terminal" in arrays:
+        idle |= (sums == 0) & arrays["terminal"][:, None]
+    if idle.any():
+        P = arrays["transitions"] = P.astype(np.float64 if P.dtype.kind != "f" else P.dtype, copy=True)
+        s_idx, a_idx = np.nonzero(idle)
+        P[s_idx, a_idx, s_idx] = 1
+        sums = P.sum(axis=2)
     bad = np.argwhere(np.abs(sums - 1.0) > 1e-6)
     if bad.size:
         s, a = map(int, bad[0])
+        hint = f"{len(bad)} row(s) in all; every P[s, a, :] is a distribution"
+        if sums[s, a] == 0:
+            hint += (" (an all-zero row is read as staying put only where the move does not exist, 'available' "
+                     "false, or the state is 'terminal')")
         raise DataError(f"transition row (s, a) = ({s}, {a}) sums to {sums[s, a]:.6g}, not 1",
-                        file=str(path), hint=f"{len(bad)} row(s) in all; every P[s, a, :] is a distribution")
+                        file=str(path), hint=hint)
     return arrays
 
 
