@@ -80,7 +80,10 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
 
         close = difflib.get_close_matches(unknown[0], [k for k in REQUIRED + OPTIONAL if k not in config], n=1)
         line = next((i for i, text in enumerate(toml_text.splitlines(), start=1)
-                     if re.match(rf"\s*[\"']?{re.escape(unknown[0])}[\"']?\s*=", text)), None)
+                     if re.match(rf"\s*[\"']?{re.escape(unknown[0])}[\"']?\s*=", text)
+                     # a table "[extra]" (or "[[extra]]", "extra.x = 1") is an unknown key too
+                     or re.match(rf"\s*\[\[?\s*[\"']?{re.escape(unknown[0])}[\"']?\s*[\].]", text)
+                     or re.match(rf"\s*[\"']?{re.escape(unknown[0])}[\"']?\s*\.", text)), None)
         raise DataError(f"unknown key {unknown[0]!r}" + (f" (did you mean {close[0]!r}?)" if close else ""),
                         file=str(toml_path), line=line, hint="known keys: " + ", ".join(REQUIRED + OPTIONAL))
     for key in REQUIRED:
