@@ -223,3 +223,17 @@ def test_a_non_ascii_name_in_a_guard_is_told_to_be_quoted(capsys, tmp_path):
     (tmp_path / "m.json").write_text(json.dumps(machine, ensure_ascii=False))
     code, out, err = run(capsys, "automaton", "show", tmp_path / "m.json")
     assert code == 2 and "transitions[0].guard" in err and 'quote a name that is not a plain identifier: "ü"' in err
+
+
+@pytest.mark.parametrize("formula, hint", [
+    ("F café", 'quote other names: "café"'),
+    ("F a & G !2b", 'quote other names: "2b"'),
+    ('F "door', "a quoted name needs its closing quote"),
+    ("F a # the goal", "a comment (#) takes a line of its own"),
+])
+def test_formula_mistakes_from_hand_written_files_get_a_hint(capsys, tmp_path, formula, hint):
+    # before: "unexpected character 'é' ..." and no hint
+    spec = tmp_path / "f.ltl"
+    spec.write_text(f"# mine\n{formula}\n")
+    code, out, err = run(capsys, "ltl", "dfa", "--file", spec)
+    assert code == 2 and "f.ltl:2:" in err and f"hint: {hint}" in err

@@ -242,6 +242,19 @@ def _hint(text: str, position: int) -> str | None:
         return _word_before(text, position)
     if _word_before(text, position):
         return _word_before(text, position)
+    here = text[position]
+    if here == "#":  # '--file' skips lines starting with '#'; a comment after a formula is not one
+        return "a comment (#) takes a line of its own, before or after the formula"
+    if here == '"':
+        if not re.match(r'"(?:[^"\\]|\\.)*"', text[position:]):
+            return 'a quoted name needs its closing quote: "door open"'
+        if text[position:position + 2] == '""':
+            return "a proposition name cannot be empty"
+    # 'café', '2b': a name with a character outside [a-z0-9_] (or one that starts with a digit), read
+    # up to that character; the whole name is what to quote
+    name = re.search(r"[^\s!&|()<>\-~\"]*$", text[:position]).group() + re.match(r"[^\s!&|()<>\-~\"]*", text[position:]).group()
+    if name and (not here.isascii() or (here.isdigit() and not re.search(r"[a-z0-9_]$", text[:position]))):
+        return f'propositions are written [a-z_][a-z0-9_]*; quote other names: "{name}"'
     start = end = position
     while start > 0 and text[start - 1] in _OPERATOR_CHARS:
         start -= 1
