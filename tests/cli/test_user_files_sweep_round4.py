@@ -237,3 +237,12 @@ def test_formula_mistakes_from_hand_written_files_get_a_hint(capsys, tmp_path, f
     spec.write_text(f"# mine\n{formula}\n")
     code, out, err = run(capsys, "ltl", "dfa", "--file", spec)
     assert code == 2 and "f.ltl:2:" in err and hint in err
+
+
+def test_an_undeclared_tlsf_signal_is_named_where_it_is_with_the_declared_one(capsys, tmp_path):
+    # before: the column of the formula's start ("10:15") and no hint
+    spec = tmp_path / "s.tlsf"
+    spec.write_text('INFO {\n TITLE: "x"\n DESCRIPTION: "y"\n SEMANTICS: Finite,Mealy\n TARGET: Mealy\n}\nMAIN {\n'
+                    ' INPUTS { req; }\n OUTPUTS { grant; }\n GUARANTEES { G (req -> F Grant); }\n}\n')
+    code, out, err = run(capsys, "ltl", "parse", "--tlsf", spec)
+    assert code == 2 and "s.tlsf:10:27: GUARANTEES names 'Grant'" in err and "did you mean 'grant'?" in err
