@@ -246,3 +246,26 @@ def test_an_undeclared_tlsf_signal_is_named_where_it_is_with_the_declared_one(ca
                     ' INPUTS { req; }\n OUTPUTS { grant; }\n GUARANTEES { G (req -> F Grant); }\n}\n')
     code, out, err = run(capsys, "ltl", "parse", "--tlsf", spec)
     assert code == 2 and "s.tlsf:10:27: GUARANTEES names 'Grant'" in err and "did you mean 'grant'?" in err
+
+
+def test_rules_learned_with_known_ones_are_scored_and_rechecked_with_them(capsys, cards, tmp_path):
+    # before: FNR 0.316 and "misses the truth rule :- finish, cards_left." for the rule given as --known,
+    # from learn constraints and from the re-check command its file's header names
+    (cards / "truth.lp").write_text(":- deal(P), waiting(P).\n:- finish, cards_left.\n")
+    (cards / "domain.toml").write_text((cards / "domain.toml").read_text() + 'truth = "truth.lp"\n')
+    known = tmp_path / "known.lp"
+    known.write_text("% given\r\n:- finish, cards_left.   % sure\r\n")
+    demos = tmp_path / "d.jsonl"
+    demos.write_text(_HEADER + ''.join('{"states": [14, 15, 5, 11, 1, 9, 16], "actions": ["shuffle", "deal(\\"Bob\\")", '
+                                       '"deal(\\"Alice\\")", "deal(\\"Bob\\")", "wait", "finish"]}\n' for _ in range(3)))
+    rules = tmp_path / "r.lp"
+    code, out, err = run(capsys, "--json", "learn", "constraints", "--domain", cards, "--demos", demos,
+                         "--known", known, "-o", rules)
+    doc = json.loads(out)
+    assert code == 0 and doc["fnr"] == 0 and doc["known_constraints"] > 0, err
+    recheck = [line for line in rules.read_text().splitlines() if "re-check with:" in line][0]
+    assert f"--known {known}" in recheck
+    code, out, err = run(capsys, "--json", "domain", "check", cards, "--rules", rules, "--known", known)
+    check = json.loads(out)
+    assert code == 0 and check["fnr"] == 0 and check["missed_truth_rules"] == [] and check["known_rules"]
+    assert check["forbidden"] == doc["constraints"]
