@@ -132,6 +132,12 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
         from symlearn.grounding.features import FeatureMap
 
         feature_map = FeatureMap.load(path("features"))
+        table = feature_map._table
+        if isinstance(table, dict) and grounding.state_names and any(isinstance(k, str) for k in table):
+            # "table_by_state" keyed by the states' names (as demonstrations may name them): read as
+            # their ids; before, every named row was ignored and state 0 "not in the feature table"
+            ids = {name: i for i, name in enumerate(grounding.state_names)}
+            feature_map = FeatureMap(feature_map.names, table={ids.get(k, k): v for k, v in table.items()})
     labeling = None
     if "labeling" in config:
         from symlearn.grounding.labeling import load_labeling

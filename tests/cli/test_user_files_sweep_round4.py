@@ -269,3 +269,20 @@ def test_rules_learned_with_known_ones_are_scored_and_rechecked_with_them(capsys
     check = json.loads(out)
     assert code == 0 and check["fnr"] == 0 and check["missed_truth_rules"] == [] and check["known_rules"]
     assert check["forbidden"] == doc["constraints"]
+
+
+def test_a_feature_table_by_state_name_is_read_by_the_domain(capsys, tmp_path):
+    # before: "features.json: state 0 of 17 has no features: state 0 is not in the feature table"
+    folder = _write_cards(tmp_path / "cards")
+    lines = (folder / "states.jsonl").read_text().splitlines()
+    named = [dict(json.loads(line), name=f"état {i}") for i, line in enumerate(lines)]
+    (folder / "states.jsonl").write_text("".join(json.dumps(n, ensure_ascii=False) + "\n" for n in named))
+    (folder / "features.json").write_text(json.dumps({"symlearn": "feature-map", "format_version": 1, "names": ["k"],
+                                                      "table_by_state": [[n["name"], [i % 4]] for i, n in enumerate(named)]},
+                                                     ensure_ascii=False))
+    (folder / "domain.toml").write_text((folder / "domain.toml").read_text() + 'features = "features.json"\n')
+    code, out, err = run(capsys, "domain", "check", folder)
+    assert code == 0, err
+    from symlearn.grounding import Domain
+
+    assert Domain.from_folder(folder).feature_map.features(5).tolist() == [1.0]
