@@ -286,3 +286,13 @@ def test_a_feature_table_by_state_name_is_read_by_the_domain(capsys, tmp_path):
     from symlearn.grounding import Domain
 
     assert Domain.from_folder(folder).feature_map.features(5).tolist() == [1.0]
+
+
+def test_a_capitalised_constant_in_the_bias_is_named(capsys, tmp_path):
+    # before: "unexpected 'Bob).' ... (hint: declarations look like #modeb(1, p(var(t))). ...)"
+    folder = _write_cards(tmp_path / "cards")
+    (folder / "bias.las").write_text('#modeb(1, deal(const(player)), (positive)).\n#constant(player, "Alice").\n'
+                                     "#constant(player, Bob).\n")
+    code, out, err = run(capsys, "domain", "check", folder)
+    assert code == 2 and "bias.las:3:19:" in err
+    assert "Bob starts with a capital letter" in err and 'the string "Bob"' in err
