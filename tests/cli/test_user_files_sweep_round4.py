@@ -296,3 +296,15 @@ def test_a_capitalised_constant_in_the_bias_is_named(capsys, tmp_path):
     code, out, err = run(capsys, "domain", "check", folder)
     assert code == 2 and "bias.las:3:19:" in err
     assert "Bob starts with a capital letter" in err and 'the string "Bob"' in err
+
+
+def test_a_bias_constant_no_pair_has_is_warned_about(capsys, tmp_path):
+    # before: no word; every literal deal(bob) was false and the learner found no rule for Bob
+    folder = _write_cards(tmp_path / "cards")
+    (folder / "bias.las").write_text('#modeb(1, deal(const(player)), (positive)).\n#constant(player, "Alice").\n'
+                                     "#constant(player, bob).\n#modeb(1, empty_deck, (positive)).\n")
+    code, out, err = run(capsys, "--json", "domain", "check", folder)
+    warnings = json.loads(out)["bias_warnings"]
+    assert code == 0 and len(warnings) == 1
+    assert "#constant(player, bob): deal/1 never has bob as argument 1" in warnings[0]["message"]
+    assert 'did you mean "Bob"?' in warnings[0]["message"] and warnings[0]["line"] == 1
