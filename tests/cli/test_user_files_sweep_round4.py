@@ -308,3 +308,16 @@ def test_a_bias_constant_no_pair_has_is_warned_about(capsys, tmp_path):
     assert code == 0 and len(warnings) == 1
     assert "#constant(player, bob): deal/1 never has bob as argument 1" in warnings[0]["message"]
     assert 'did you mean "Bob"?' in warnings[0]["message"] and warnings[0]["line"] == 1
+
+
+def test_reward_machine_text_with_a_false_guard_or_a_repeated_pair(capsys, tmp_path):
+    # before: "r.txt: edge 1 -> 2 has reward 1.0 but its guard is false" (no line), and a second line for
+    # the same pair of states "reward machine is not deterministic" (no line)
+    (tmp_path / "r.txt").write_text("0\n[2]\n(0, 1, 'c & !n', ConstantRewardFunction(1e-3))\n"
+                                    "(1,\t2,'False',ConstantRewardFunction(1))\n(1,2,'True',ConstantRewardFunction(1))\n")
+    code, out, err = run(capsys, "automaton", "show", tmp_path / "r.txt")
+    assert code == 0 and "1 --[true / r=1]--> 2" in out, err
+    (tmp_path / "twice.txt").write_text("0\n[1]\n(0,1,'a',ConstantRewardFunction(1))\n(0,1,'b',ConstantRewardFunction(1))\n")
+    code, out, err = run(capsys, "automaton", "show", tmp_path / "twice.txt")
+    assert code == 2 and "twice.txt:4:1: a second transition from 0 to 1 (the first is on line 3)" in err
+    assert "joined by '|'" in err

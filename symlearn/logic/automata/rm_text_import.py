@@ -144,6 +144,14 @@ def parse_rm_text(text: str, *, source: str | None = None, unmatched: str = "ter
         line.expect("punct", ")")
         line.expect("punct", ")")
         line.end()
+        earlier = next((e for e in edges if (e[0], e[1]) == (u1, u2)), None)
+        if earlier is not None:
+            # the public code stores one guard per (u1, u2): a second line silently replaced the first there
+            raise line.error(f"a second transition from {u1} to {u2} (the first is on line {earlier[4].number}): "
+                             "the public reward-machine code keeps only one guard and reward per pair of states",
+                             1, hint="write one transition with the guards joined by '|'")
+        if guard.is_false():
+            continue  # 'False': never taken (the public code never matches it); the machine has no such edge
         edges.append((u1, u2, guard, float(value), line, column))
 
     ids = sorted({initial, *(terminal or ()), *(e[0] for e in edges), *(e[1] for e in edges)})
