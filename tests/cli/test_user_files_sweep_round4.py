@@ -321,3 +321,16 @@ def test_reward_machine_text_with_a_false_guard_or_a_repeated_pair(capsys, tmp_p
     code, out, err = run(capsys, "automaton", "show", tmp_path / "twice.txt")
     assert code == 2 and "twice.txt:4:1: a second transition from 0 to 1 (the first is on line 3)" in err
     assert "joined by '|'" in err
+
+
+@pytest.mark.parametrize("kind, extra", [("dfa", {"accepting": [1]}), ("reward_machine", {"terminal": [1]})])
+def test_overlapping_guards_in_an_automaton_file_are_located(capsys, tmp_path, kind, extra):
+    # before: "m.json: DFA is not deterministic: ..." with no line or field
+    edge = {"reward": 0} if kind == "reward_machine" else {}
+    machine = {"format": "symlearn-automaton", "version": 1, "kind": kind, "alphabet": ["a", "b"], "states": 2,
+               "initial": 0, **extra, "transitions": [{"source": 0, "target": 1, "guard": "a", **edge},
+                                                      {"source": 0, "target": 0, "guard": "b", **edge}]}
+    (tmp_path / "m.json").write_text(json.dumps(machine, indent=1))
+    code, out, err = run(capsys, "automaton", "show", tmp_path / "m.json")
+    assert code == 2 and "m.json:" in err and "transitions[1].guard:" in err and "not deterministic" in err
+    assert err.split("m.json:")[1].split(":")[0].isdigit()  # a line number

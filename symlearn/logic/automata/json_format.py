@@ -229,6 +229,7 @@ def write_transitions(automaton, extra: str | None = None) -> list[dict]:
 def read_transitions(reader: _Reader, document: dict, extra: str | None) -> dict[int, list[tuple]]:
     """``{source: [(guard, target[, extra]), ...]}``, as the constructors take it, every field checked."""
     result: dict[int, list[tuple]] = {}
+    reader.edges, reader.edge_paths = result, {}  # construct() names the edge that breaks determinism
     for i, item in enumerate(reader.get(document, "", "transitions", "list")):
         path = f"transitions[{i}]"
         source = _state(reader, reader.get(item, path, "source", "int"), f"{path}.source", "source")
@@ -243,6 +244,7 @@ def read_transitions(reader: _Reader, document: dict, extra: str | None) -> dict
                               hint="add the propositions to \"alphabet\" or correct the guard")
         edge = (guard, target) + ((reader.get(item, path, extra, "number"),) if extra else ())
         result.setdefault(source, []).append(edge)
+        reader.edge_paths[source, len(result[source]) - 1] = path
     return result
 
 
@@ -259,6 +261,19 @@ def construct(reader: _Reader, build):
     try:
         return build()
     except SymlearnError as exc:
+        overlap = re.match(r"[\w ]+? is not deterministic: from state (\d+),", exc.message)
+        edges = getattr(reader, "edges", {}).get(int(overlap.group(1))) if overlap else None
+        if edges:
+            # the constructor cannot say where the edge is: find the first guard that meets one before
+            # it (the constructor's own order), only now that the check has failed
+            from symlearn.logic.guards import Guard
+
+            seen = Guard.false()
+            for k, edge in enumerate(edges):
+                if not (edge[0] & seen).is_false():
+                    raise reader.fail(f"{reader.edge_paths[int(overlap.group(1)), k]}.guard", exc.message,
+                                      exc.hint) from None
+                seen = seen | edge[0]
         if exc.file is None:
             exc.file = reader.source
         raise
