@@ -271,8 +271,10 @@ def construct(reader: _Reader, build):
             seen = Guard.false()
             for k, edge in enumerate(edges):
                 if not (edge[0] & seen).is_false():
-                    raise reader.fail(f"{reader.edge_paths[int(overlap.group(1)), k]}.guard", exc.message,
-                                      exc.hint) from None
+                    path = f"{reader.edge_paths[int(overlap.group(1)), k]}.guard"
+                    located = type(exc)(f"{path}: {exc.message}", file=reader.source, hint=exc.hint)  # still a ModelError
+                    located.json_path = _path_parts(path)
+                    raise located from None
                 seen = seen | edge[0]
         if exc.file is None:
             exc.file = reader.source
