@@ -26,6 +26,7 @@ import re
 import tomllib
 import zipfile
 import zlib
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -143,7 +144,7 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
         from symlearn.grounding.labeling import load_labeling
 
         labeling = labeling_of_states(load_labeling(path("labeling")), feature_map, sources["labeling"],
-                                      grounding.n_states)
+                                      grounding.n_states, grounding.state_names)
     domain = Domain(config["name"], background=background, bias=bias, grounding=grounding, mdp=mdp, truth=truth,
                     labeling=labeling, available=model.get("available"), description=config.get("description", ""),
                     sources=sources, feature_map=feature_map)
@@ -170,7 +171,8 @@ def _in_file(error):
     return error
 
 
-def labeling_of_states(labeling: Any, feature_map: Any, source: str, n_states: int | None = None) -> Any:
+def labeling_of_states(labeling: Any, feature_map: Any, source: str, n_states: int | None = None,
+                       state_names: Sequence[str] | None = None) -> Any:
     """``labeling`` as it labels the folder's states, which are ids: a feature labeling (conditions
     over named features, ``height > 3``) reads each id's features from the folder's feature map
     (``features = ...``); any other labeling is returned as it is. A feature labeling in a folder
@@ -178,7 +180,14 @@ def labeling_of_states(labeling: Any, feature_map: Any, source: str, n_states: i
     table labeling a state that is no id ``0..n_states-1``."""
     from symlearn.grounding.feature_labeling import FeatureLabeling
     from symlearn.grounding.features import FeatureMap
+    from symlearn.grounding.labeling import Labeling
 
+    items = list(getattr(labeling, "items", lambda: [])())
+    if state_names and isinstance(labeling, Labeling) and any(isinstance(state, str) for state, _ in items):
+        # a table that names the states as states.jsonl does (as demonstrations may): read by their ids
+        ids = {name: i for i, name in enumerate(state_names)}
+        labeling = Labeling({ids.get(state, state): props for state, props in items}, meanings=labeling.meanings,
+                            propositions=labeling.propositions)
     if n_states is not None:
         for k, (state, _) in enumerate(getattr(labeling, "items", lambda: [])()):
             if not (isinstance(state, (int, np.integer)) and not isinstance(state, bool) and 0 <= state < n_states):

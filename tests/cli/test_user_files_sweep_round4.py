@@ -334,3 +334,20 @@ def test_overlapping_guards_in_an_automaton_file_are_located(capsys, tmp_path, k
     code, out, err = run(capsys, "automaton", "show", tmp_path / "m.json")
     assert code == 2 and "m.json:" in err and "transitions[1].guard:" in err and "not deterministic" in err
     assert err.split("m.json:")[1].split(":")[0].isdigit()  # a line number
+
+
+def test_a_table_labeling_by_state_name_is_read_by_the_domain(capsys, tmp_path):
+    # before: "labeling.json:1:..: table[0]: the labeling labels state 'état 0', which is not one of the domain's ..."
+    folder = _write_cards(tmp_path / "cards")
+    lines = (folder / "states.jsonl").read_text().splitlines()
+    named = [dict(json.loads(line), name=f"état {i}") for i, line in enumerate(lines)]
+    (folder / "states.jsonl").write_text("".join(json.dumps(n, ensure_ascii=False) + "\n" for n in named))
+    (folder / "labeling.json").write_text(json.dumps({"symlearn": "labeling", "format_version": 1, "kind": "table",
+                                                      "propositions": [{"name": "over", "meaning": ""}],
+                                                      "table": [["état 16", ["over"]]]}, ensure_ascii=False))
+    (folder / "domain.toml").write_text((folder / "domain.toml").read_text() + 'labeling = "labeling.json"\n')
+    code, out, err = run(capsys, "domain", "check", folder)
+    assert code == 0 and "labeling: over" in out, err
+    from symlearn.grounding import Domain
+
+    assert Domain.from_folder(folder).labeling.label(16) == {"over"}
