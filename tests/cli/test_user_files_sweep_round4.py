@@ -351,3 +351,13 @@ def test_a_table_labeling_by_state_name_is_read_by_the_domain(capsys, tmp_path):
     from symlearn.grounding import Domain
 
     assert Domain.from_folder(folder).labeling.label(16) == {"over"}
+
+
+@pytest.mark.parametrize("text", ['[[["call"], []], [["call"]]]', '[["call"], []]\n[["call"]]\n'])
+def test_explaining_a_file_of_several_traces_says_it_runs_one(capsys, tmp_path, text):
+    # before: "trace step 0 must be a list of proposition names" / "not valid JSON: Extra data", hint [["a"], ...]
+    dfa = tmp_path / "f.json"
+    assert run(capsys, "ltl", "dfa", "F call", "--save", dfa)[0] == 0
+    (tmp_path / "t.json").write_text(text)
+    code, out, err = run(capsys, "automaton", "explain", dfa, "--trace", tmp_path / "t.json")
+    assert code == 2 and "explain runs one trace" in err
