@@ -361,3 +361,12 @@ def test_explaining_a_file_of_several_traces_says_it_runs_one(capsys, tmp_path, 
     (tmp_path / "t.json").write_text(text)
     code, out, err = run(capsys, "automaton", "explain", dfa, "--trace", tmp_path / "t.json")
     assert code == 2 and "explain runs one trace" in err
+
+
+def test_learn_dnf_on_one_point_warns_that_the_safe_set_is_that_point(capsys, tmp_path):
+    # before: "4 rules over 2 features from 1 points" and no word
+    demos = tmp_path / "one.jsonl"
+    demos.write_text(_HEADER + '{"states": [[1.5, -2]]}\n')
+    code, out, err = run(capsys, "learn", "dnf", "--demos", demos, "-o", tmp_path / "one.dnf")
+    assert code == 0 and "only 1 distinct demonstration point(s)" in out + err
+    assert "# warning: only 1 distinct" in (tmp_path / "one.dnf").read_text()
