@@ -370,3 +370,10 @@ def test_learn_dnf_on_one_point_warns_that_the_safe_set_is_that_point(capsys, tm
     code, out, err = run(capsys, "learn", "dnf", "--demos", demos, "-o", tmp_path / "one.dnf")
     assert code == 0 and "only 1 distinct demonstration point(s)" in out + err
     assert "# warning: only 1 distinct" in (tmp_path / "one.dnf").read_text()
+
+
+def test_a_directive_in_a_rule_file_says_to_delete_it(capsys, cards, tmp_path):
+    rules = tmp_path / "r.lp"
+    rules.write_bytes(b"% edited\r\n:- deal(P), waiting(P).   %* a block\r\n comment *%\r\n#show deal/1.\r\n")
+    code, out, err = run(capsys, "domain", "check", cards, "--rules", rules)
+    assert code == 2 and "r.lp:4:1: only rules are allowed in a hypothesis" in err and "delete this line" in err
