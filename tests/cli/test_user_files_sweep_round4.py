@@ -377,3 +377,14 @@ def test_a_directive_in_a_rule_file_says_to_delete_it(capsys, cards, tmp_path):
     rules.write_bytes(b"% edited\r\n:- deal(P), waiting(P).   %* a block\r\n comment *%\r\n#show deal/1.\r\n")
     code, out, err = run(capsys, "domain", "check", cards, "--rules", rules)
     assert code == 2 and "r.lp:4:1: only rules are allowed in a hypothesis" in err and "delete this line" in err
+
+
+def test_a_labeling_function_wanting_the_environment_is_named_with_a_domain(capsys, cards, tmp_path):
+    # before: "d.jsonl: labeling function label needs the environment ... record(env, policy, n, labeler=...)"
+    (tmp_path / "lab.py").write_text('PROPOSITIONS = ["over"]\ndef label(o, info, env):\n    return []\n')
+    demos = tmp_path / "d.jsonl"
+    demos.write_text(_HEADER + '{"states": [14, 15, 16], "actions": ["shuffle", "finish"]}\n')
+    code, out, err = run(capsys, "learn", "spec", "--domain", cards, "--demos", demos,
+                         "--labeling", f"{tmp_path / 'lab.py'}:label")
+    assert code == 2 and f"{tmp_path / 'lab.py'}: labeling function label takes a third parameter" in err
+    assert "def label(state, info)" in err

@@ -318,6 +318,13 @@ class SpecLearner(Learner):
             if not (isinstance(state, (int, np.integer)) and 0 <= state < n_states):
                 raise DataError(f"the labeling labels state {state!r}, which is not one of the environment's "
                                 f"{n_states} states")
+        if getattr(labeling, "arity", None) == 3:
+            # a finite model (a domain folder) has states, not an environment to hand the function:
+            # said here, at the function, instead of "not at hand ... record while recording" at the data
+            raise DataError(f"labeling function {labeling.name} takes a third parameter (the environment), which "
+                            "a domain or tabular task does not have: it is called with the state id and an "
+                            "empty info", file=getattr(labeling, "path", None),
+                            hint="drop the third parameter: def label(state, info) -> names")
         if not getattr(labeling, "declared", True):
             # a labeling function without PROPOSITIONS discovers them from what it returns; on a finite
             # model ask it about every state first (before, --domain with such a function stopped at
