@@ -227,6 +227,12 @@ def _convert(args: argparse.Namespace, out) -> None:
     elif suffix in (".svg", ".png", ".pdf"):
         render_dot(automaton.to_dot(), args.target)
     elif suffix == ".hoa":
+        if isinstance(automaton, RewardMachine):
+            # HOA holds a language; a reward machine's rewards and terminal states have no place in it,
+            # and the file written (no accepting state) accepted nothing, without a word
+            raise ModelError(f"{args.source} is a reward machine: HOA holds an automaton's language, with no place "
+                             "for rewards or terminal states", hint="write it as .json, .txt (reward-machine text), "
+                                                                   ".dot or .svg")
         dfa = automaton if isinstance(automaton, DFA) else automaton.dfa
         write_text(args.target, dfa.to_hoa(name=Path(args.source).stem))
         out.note("note: HOA has no finite-word acceptance; the DFA is encoded as in Spot's from_ltlf (proposition "

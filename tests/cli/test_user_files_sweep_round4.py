@@ -388,3 +388,14 @@ def test_a_labeling_function_wanting_the_environment_is_named_with_a_domain(caps
                          "--labeling", f"{tmp_path / 'lab.py'}:label")
     assert code == 2 and f"{tmp_path / 'lab.py'}: labeling function label takes a third parameter" in err
     assert "def label(state, info)" in err
+
+
+def test_a_reward_machine_is_refused_as_hoa_and_its_drawing_says_to_read_the_json(capsys, tmp_path):
+    # before: rm.hoa written with no accepting state (its language empty, rewards gone) without a word; the
+    # DOT drawing of the machine refused as "unexpected character '/' in guard 'true / 0'" with no way out
+    (tmp_path / "rm.txt").write_text("0\n[1]\n(0,1,'a',ConstantRewardFunction(1))\n(0,0,'!a',ConstantRewardFunction(0))\n")
+    code, out, err = run(capsys, "automaton", "convert", tmp_path / "rm.txt", tmp_path / "rm.hoa")
+    assert code == 2 and "is a reward machine: HOA holds" in err and not (tmp_path / "rm.hoa").exists()
+    assert run(capsys, "automaton", "convert", tmp_path / "rm.txt", tmp_path / "rm.dot")[0] == 0
+    code, out, err = run(capsys, "automaton", "show", tmp_path / "rm.dot")
+    assert code == 2 and "read the automaton from its .json" in err

@@ -170,8 +170,13 @@ def _expression_guards(edges, source) -> list[Guard]:
         try:
             guards.append(Guard.parse(label))
         except SymlearnError as exc:
+            hint = exc.hint
+            if re.search(r" / -?[\d.]", label):
+                # 'guard / number': the drawing `automaton convert` writes of a reward machine or a PDFA
+                hint = ("this is a drawing of a reward machine or PDFA (guard / reward or probability labels), "
+                        "which is not read back: read the automaton from its .json (or reward-machine .txt)")
             raise ParseError(f"edge label: {exc.message}", file=source, line=number,
-                             column=column + (exc.column or 1) - 1, hint=exc.hint) from None
+                             column=column + (exc.column or 1) - 1, hint=hint) from None
     return guards
 
 
