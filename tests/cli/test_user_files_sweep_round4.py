@@ -399,3 +399,12 @@ def test_a_reward_machine_is_refused_as_hoa_and_its_drawing_says_to_read_the_jso
     assert run(capsys, "automaton", "convert", tmp_path / "rm.txt", tmp_path / "rm.dot")[0] == 0
     code, out, err = run(capsys, "automaton", "show", tmp_path / "rm.dot")
     assert code == 2 and "read the automaton from its .json" in err
+
+
+def test_a_step_after_the_terminal_state_says_to_end_the_demonstration_there(capsys, cards, tmp_path):
+    # before: the hint asked whether the demonstrations were recorded in another environment
+    demos = tmp_path / "after.jsonl"
+    demos.write_text(_HEADER + '{"states": [14, 15, 16, 16], "actions": ["shuffle", "finish", "wait"]}\n')
+    code, out, err = run(capsys, "learn", "constraints", "--domain", cards, "--demos", demos)
+    assert code == 2 and "step 2: action 'wait' is not available in state '16' (after the episode ended)" in err
+    assert "end the demonstration there" in err
