@@ -93,7 +93,12 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
                             hint="required: " + ", ".join(REQUIRED) + "; optional: " + ", ".join(OPTIONAL))
     for key in config:
         if not isinstance(config[key], str):
-            raise DataError(f"key {key!r} must be a string, got {type(config[key]).__name__}", file=str(toml_path))
+            line = next((i for i, text in enumerate(toml_text.splitlines(), start=1)
+                         if re.match(rf"\s*[\"']?{re.escape(key)}[\"']?\s*=", text)), None)
+            several = key == "background" and isinstance(config[key], list)
+            raise DataError(f"key {key!r} must be a string, got {type(config[key]).__name__}", file=str(toml_path),
+                            line=line, hint='name one program; #include "more.lp". in it brings in the others'
+                            if several else f'write it in quotes: {key} = "..."')
 
     inside = None if allow_outside else folder.resolve()
 

@@ -408,3 +408,13 @@ def test_a_step_after_the_terminal_state_says_to_end_the_demonstration_there(cap
     code, out, err = run(capsys, "learn", "constraints", "--domain", cards, "--demos", demos)
     assert code == 2 and "step 2: action 'wait' is not available in state '16' (after the episode ended)" in err
     assert "end the demonstration there" in err
+
+
+def test_a_list_of_background_programs_is_located_with_the_way_out(capsys, tmp_path):
+    # before: "domain.toml: key 'background' must be a string, got list" (no line, no way out)
+    folder = _write_cards(tmp_path / "cards")
+    text = (folder / "domain.toml").read_text().replace('background = "bk.lp"', 'background = ["bk.lp", "more.lp"]')
+    (folder / "domain.toml").write_text(text)
+    code, out, err = run(capsys, "domain", "check", folder)
+    assert code == 2 and "domain.toml:2: key 'background' must be a string, got list" in err
+    assert '#include "more.lp".' in err
