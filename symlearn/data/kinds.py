@@ -58,11 +58,10 @@ def normalize_column(values: Any, what: str) -> tuple[Kind, Any]:
     if any(isinstance(v, (str, Mapping)) for v in items):
         first = type(items[0]).__name__
         odd = next(t for t, v in enumerate(items) if type(v) is not type(items[0]))
-        kinds = {type(items[0]).__name__, type(items[odd]).__name__}
+        ids_and_names = {type(items[0]).__name__, type(items[odd]).__name__} == {"int", "str"}
         raise DataError(
             f"{what} mixes value types: step 0 is {first}, step {odd} is {type(items[odd]).__name__}",
-            hint=same_kind_hint(what.split()[0].rstrip("s"), "discrete" if "int" in kinds else "", "symbol"
-                                if "str" in kinds else ""),
+            hint=same_kind_hint(what.split()[0].rstrip("s"), "discrete", "symbol") if ids_and_names else None,
         )
     return _normalize_array(_stack(items, what), what)
 

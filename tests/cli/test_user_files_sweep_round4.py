@@ -418,3 +418,14 @@ def test_a_list_of_background_programs_is_located_with_the_way_out(capsys, tmp_p
     code, out, err = run(capsys, "domain", "check", folder)
     assert code == 2 and "domain.toml:2: key 'background' must be a string, got list" in err
     assert '#include "more.lp".' in err
+
+
+def test_a_long_name_ending_in_a_foreign_character_is_reported_at_once(capsys):
+    # before: the hint's search for an operator word ("eventually door") was quadratic in the name:
+    # 20,000 characters took 8 s, 40,000 took 29 s
+    import time
+
+    started = time.perf_counter()
+    code, out, err = run(capsys, "ltl", "parse", "F " + "a" * 200_000 + "é")
+    assert code == 2 and "quote other names" in err
+    assert time.perf_counter() - started < 5

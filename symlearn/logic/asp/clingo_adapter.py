@@ -185,7 +185,7 @@ def _syntax_hint(text: str, line: int, column: int, message: str) -> str:
                 "compare scaled integers in rules")
     # "Waiting(P)" or ":- Finish, ...": a name with a capital is a variable, and a variable can be
     # neither called nor a literal, so clingo stops at the "(" or "," after it; say so in the user's terms
-    before = here[:max(column - 1, 0)]
+    before = here[max(column - 201, 0):max(column - 1, 0)]  # a window: a search anchored at "$" is quadratic
     called = re.search(r"(?<![A-Za-z0-9_'])([A-Z_][A-Za-z0-9_']*)\s*$", before)
     literal = called and re.search(r"(:-|,|\bnot)\s*$", before[:called.start()]) and rest[:1] in (",", ".", ";")
     if called and (rest.startswith("(") or literal):
