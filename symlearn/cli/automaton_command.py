@@ -156,7 +156,10 @@ def read_trace(text: str) -> list[frozenset[str]]:
     try:
         value = load_json(text, source=source, syntax="the trace is not valid JSON")
     except ParseError as exc:
-        if exc.hint is None and "not valid JSON" in exc.message:
+        if exc.hint is None and "Extra data" in exc.message and source != "--trace":
+            # a traces file of ltl eval (one trace per line): explain runs one
+            exc.hint = "explain runs one trace; this file holds more than one (one per line): give one of them"
+        elif exc.hint is None and "not valid JSON" in exc.message:
             exc.hint = 'write it like [["a"], [], ["a", "b"]]'
         raise
     if not isinstance(value, list):
@@ -164,8 +167,13 @@ def read_trace(text: str) -> list[frozenset[str]]:
     steps = []
     for i, step in enumerate(value):
         if not isinstance(step, list) or not all(isinstance(p, str) for p in step):
-            raise DataError(f"trace step {i} must be a list of proposition names, got {json.dumps(step)}",
-                            file=source, hint='e.g. [["a"], [], ["b"]]')
+            several = isinstance(step, list) and all(isinstance(p, list) for p in step)  # [[["a"], []], [["b"]]]
+            shown = json.dumps(step)
+            raise DataError(f"trace step {i} must be a list of proposition names, got "
+                            f"{shown if len(shown) <= 80 else shown[:77] + '...'}", file=source,
+                            hint="explain runs one trace, and this looks like a list of traces: give one of them "
+                                 "(ltl eval --traces takes many, one per line)" if several
+                            else 'e.g. [["a"], [], ["b"]]')
         steps.append(frozenset(step))
     return steps
 
@@ -219,6 +227,12 @@ def _convert(args: argparse.Namespace, out) -> None:
     elif suffix in (".svg", ".png", ".pdf"):
         render_dot(automaton.to_dot(), args.target)
     elif suffix == ".hoa":
+        if isinstance(automaton, RewardMachine):
+            # HOA holds a language; a reward machine's rewards and terminal states have no place in it,
+            # and the file written (no accepting state) accepted nothing, without a word
+            raise ModelError(f"{args.source} is a reward machine: HOA holds an automaton's language, with no place "
+                             "for rewards or terminal states", hint="write it as .json, .txt (reward-machine text), "
+                                                                   ".dot or .svg")
         dfa = automaton if isinstance(automaton, DFA) else automaton.dfa
         write_text(args.target, dfa.to_hoa(name=Path(args.source).stem))
         out.note("note: HOA has no finite-word acceptance; the DFA is encoded as in Spot's from_ltlf (proposition "

@@ -1,13 +1,14 @@
 """``symlearn domain check DIR``: read a domain folder, check it, and score a rule file against it.
 
-``symlearn domain check DIR [--rules RULES.lp] [--demos D.jsonl] [--json]``
+``symlearn domain check DIR [--rules RULES.lp] [--known KNOWN.lp] [--demos D.jsonl] [--json]``
 
 Without options it loads the folder (every error one line, naming file and line), checks that
 every state-action context has exactly one answer set, and prints the domain's size. With
 ``--rules`` (learned, edited or hand-written integrity constraints) it counts the pairs they
 forbid, scores them against the folder's truth rules when there are any (FPR, FNR, accuracy,
 and which truth rules they miss), and, with ``--demos``, counts the demonstrated steps the rules
-would forbid: the re-check after editing a learned rule file. ``--demos`` alone reads your
+would forbid: the re-check after editing a learned rule file (``--known``: the rules that were given to
+``learn constraints --known``, scored together with them). ``--demos`` alone reads your
 demonstrations against the domain before you learn from them: an unknown state or action, or a
 move that does not exist, is an error at its line and column; it counts episodes, steps and
 distinct state-action pairs, and warns about steps the model gives probability zero.
@@ -29,6 +30,8 @@ def register(subparsers, common) -> None:
                                 description=__doc__.split("\n\n")[2].replace("\n", " ") if __doc__ else None)
     check.add_argument("folder", metavar="DIR", help="the domain folder (with domain.toml)")
     check.add_argument("--rules", help="an .lp file of integrity constraints to score against the domain")
+    check.add_argument("--known", help="an .lp file of rules given in advance (learn constraints --known): "
+                                        "scored together with --rules")
     check.add_argument("--demos", help="demonstrations (.jsonl/.npz): check them against the domain, and count "
                                         "the steps the --rules forbid")
     check.add_argument("--timeout", default="600", metavar="S",
@@ -46,7 +49,12 @@ def _check(args: argparse.Namespace, out) -> None:
 
     # the folder's background and rules are the user's programs: a recursive rule grounds until
     # memory is gone, and clingo cannot be interrupted, so the work runs in a bounded worker
-    doc = run_limited(_check_document, args.folder, args.rules, args.demos, args.allow_outside,
+    if args.known and not args.rules:
+        from symlearn.errors import SymlearnError
+
+        raise SymlearnError("--known is scored together with --rules", hint="give the learned rule file too: "
+                            "symlearn domain check DIR --rules RULES.lp --known KNOWN.lp")
+    doc = run_limited(_check_document, args.folder, args.rules, args.demos, args.allow_outside, args.known,
                       seconds=seconds_limit(args.timeout, name="--timeout"),
                       memory_mb=memory_limit_mb(args.max_memory, name="--max-memory"),
                       what=f"grounding and scoring the domain {args.folder}", time_hint="raise --timeout",
@@ -55,7 +63,8 @@ def _check(args: argparse.Namespace, out) -> None:
     out.result(doc, _render)
 
 
-def _check_document(folder: str, rules: str | None, demos: str | None, allow_outside: bool = False) -> dict:
+def _check_document(folder: str, rules: str | None, demos: str | None, allow_outside: bool = False,
+                    known: str | None = None) -> dict:
     from pathlib import Path
 
     import numpy as np
@@ -77,9 +86,18 @@ def _check_document(folder: str, rules: str | None, demos: str | None, allow_out
 
         hypothesis = domain.hypothesis(Path(rules))
         learned = domain.rule_mask(Path(rules))
-        doc.update({"rules": list(hypothesis.rules), "forbidden": int(learned.sum()),
+        given = []
+        if known:
+            # a file learned with --known holds the learned rules only; scored alone it "missed" the
+            # truth rules that were given, so the re-check its header named reported a false FNR
+            given = list(domain.hypothesis(Path(known)).rules)
+            learned = learned | domain.rule_mask(Path(known))
+            hypothesis = domain.hypothesis(list(hypothesis.rules) + given)
+        doc.update({"rules": list(hypothesis.rules)[:len(hypothesis.rules) - len(given)], "known_rules": given,
+                    "forbidden": int(learned.sum()),
                     "fpr": None, "fnr": None, "accuracy": None, "missed_truth_rules": None,
-                    "warnings": [u.as_dict() for u in domain.undefined_predicates(rules)]})
+                    "warnings": [u.as_dict() for u in domain.undefined_predicates(rules)]
+                    + ([u.as_dict() for u in domain.undefined_predicates(known)] if known else [])})
         if domain.truth is not None:
             from symlearn.learners.constraints.constraint_metrics import reach_scores
 
@@ -163,7 +181,8 @@ def _render(doc: dict) -> str:
             lines.append(f"warning: {d['impossible_steps']} step(s) have probability zero under the model (first: "
                          f"demonstration {f['demonstration']}, step {f['step']}: {f['pair']} -> {f['next_state']})")
     if "rules" in doc:
-        lines.append(f"rules ({len(doc['rules'])}) forbid {doc['forbidden']} pairs")
+        lines.append(f"rules ({len(doc['rules'])}" + (f" and {len(doc['known_rules'])} known" if doc.get("known_rules")
+                                                     else "") + f") forbid {doc['forbidden']} pairs")
         if doc["fpr"] is not None:
             lines.append(f"against the truth: FPR {doc['fpr']:.3f}  FNR {doc['fnr']:.3f}  accuracy {doc['accuracy']:.3f}")
             lines += reach_lines(doc)

@@ -197,7 +197,7 @@ def _domain_labeling(args: argparse.Namespace, domain):
     labeling = read_labeling(args.labeling, feature_names=names,
                              names_hint='the domain names no features: add a feature map of every state (features = '
                                         '"features.json" in domain.toml), or give a table labeling')
-    return labeling_of_states(labeling, domain.feature_map, args.labeling, domain.n_states)
+    return labeling_of_states(labeling, domain.feature_map, args.labeling, domain.n_states, domain.state_names)
 
 
 def _meanings(labeling, conditions=None, source: str | None = None) -> dict[str, str]:

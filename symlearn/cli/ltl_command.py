@@ -171,13 +171,23 @@ def _dfa(args: argparse.Namespace, out) -> None:
     if sum(x is not None for x in (args.formula, args.file, args.tlsf)) != 1:
         raise SymlearnError("give one of a FORMULA, --file FORMULAS.txt or --tlsf SPEC.tlsf",
                             hint="symlearn ltl dfa 'F a & G !b'")
+    single = None
     if args.file:
-        if args.dot or args.svg or args.save:
-            raise SymlearnError("--dot, --svg and --save write one automaton; they cannot be used with --file")
         from symlearn.input_limits import check_size, limit, read_input_text
 
         lines = read_input_text(args.file, what="formula file").split("\n")
         numbers = [n for n, text in enumerate(lines, start=1) if text.strip() and not text.lstrip().startswith("#")]
+        if args.dot or args.svg or args.save:
+            # an edited SPEC.ltl with a '# why' comment above its formula is one automaton: write it
+            # (before, --save was refused with --file, and "$(cat SPEC.ltl)" fails on the comment)
+            if len(numbers) != 1:
+                raise SymlearnError(f"--dot, --svg and --save write one automaton; {args.file} holds "
+                                    f"{len(numbers)} formulas", file=args.file,
+                                    hint="keep one formula in the file (lines starting with # are comments), "
+                                         "or drop --dot/--svg/--save to translate them all")
+            single = parse(lines[numbers[0] - 1], args.dialect, source=args.file, line=numbers[0])
+            args.formula = lines[numbers[0] - 1].strip()
+    if args.file and single is None:
         bound = limit("SYMLEARN_MAX_FORMULAS")
         if bound is not None and len(numbers) > bound:  # refused before any is translated
             check_size(len(numbers), "SYMLEARN_MAX_FORMULAS", what="formulas in the file", file=args.file,
@@ -202,7 +212,7 @@ def _dfa(args: argparse.Namespace, out) -> None:
         out.result(rows, render_rows)
         return
 
-    formula = _formula(args)
+    formula = single if single is not None else _formula(args)
     args.formula = args.formula if args.tlsf is None else str(formula)
     start = time.perf_counter()
     dfa = translate(formula, max_states=max_states)

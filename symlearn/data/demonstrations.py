@@ -199,7 +199,8 @@ def _check_consistent(items: tuple[Trajectory, ...]) -> None:
     first = items[0]
     for i, traj in enumerate(items[1:], start=1):
         if traj.state_kind != first.state_kind:
-            raise DataError(f"trajectory {i} has {traj.state_kind} states, trajectory 0 has {first.state_kind}")
+            raise DataError(f"trajectory {i} has {traj.state_kind} states, trajectory 0 has {first.state_kind}",
+                            hint=kinds.same_kind_hint("state", traj.state_kind, first.state_kind))
         if traj.state_shape != first.state_shape:
             raise DataError(
                 f"ragged states across trajectories: trajectory {i} has per-step shape "
@@ -221,5 +222,6 @@ def _check_consistent(items: tuple[Trajectory, ...]) -> None:
             if traj.action_kind != ref.action_kind or traj.action_shape != ref.action_shape:
                 raise DataError(
                     f"trajectory {i} has {traj.action_kind} actions of shape {traj.action_shape}, "
-                    f"trajectory {i0} has {ref.action_kind} actions of shape {ref.action_shape}"
+                    f"trajectory {i0} has {ref.action_kind} actions of shape {ref.action_shape}",
+                    hint=kinds.same_kind_hint("action", traj.action_kind, ref.action_kind),
                 )

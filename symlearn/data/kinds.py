@@ -58,8 +58,10 @@ def normalize_column(values: Any, what: str) -> tuple[Kind, Any]:
     if any(isinstance(v, (str, Mapping)) for v in items):
         first = type(items[0]).__name__
         odd = next(t for t, v in enumerate(items) if type(v) is not type(items[0]))
+        ids_and_names = {type(items[0]).__name__, type(items[odd]).__name__} == {"int", "str"}
         raise DataError(
-            f"{what} mixes value types: step 0 is {first}, step {odd} is {type(items[odd]).__name__}"
+            f"{what} mixes value types: step 0 is {first}, step {odd} is {type(items[odd]).__name__}",
+            hint=same_kind_hint(what.split()[0].rstrip("s"), "discrete", "symbol") if ids_and_names else None,
         )
     return _normalize_array(_stack(items, what), what)
 
@@ -185,3 +187,11 @@ def columns_equal(kind: Kind, a: Any, b: Any) -> bool:
     if kind in ARRAY_KINDS:
         return a.dtype == b.dtype and a.shape == b.shape and bool(np.array_equal(a, b))
     return tuple(a) == tuple(b)
+
+
+def same_kind_hint(what: str, kind: str, other: str) -> str | None:
+    """Integer ids in one place and names in another (a domain reads either) are one mistake: say the fix."""
+    if {kind, other} == {"discrete", "symbol"}:
+        return (f"write every {what} of the file the same way, all as integer ids or all as names (strings): "
+                "a domain folder reads either, but one file holds one kind")
+    return None

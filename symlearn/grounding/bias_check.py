@@ -17,7 +17,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from symlearn.logic.asp.predicates import MAX_SUGGESTIONS, Suggestions
-from symlearn.logic.ilp.modes import ModeAtom, ModeConditional, render_mode
+from symlearn.logic.ilp.modes import ModeAtom, ModeConditional, Placeholder, render_mode
 
 
 @dataclass(frozen=True)
@@ -58,6 +58,7 @@ def bias_warnings(domain) -> list[BiasWarning]:
         declaration = f"#mode{mode.kind}({render_mode(mode.literal)})"
         for atom in _atoms(mode.literal):
             if atom.signature in defined:
+                out += _unmatched_constants(domain, atom, declaration, source, mode)
                 continue
             name, arity = atom.signature
             suggestion = closest(atom.signature) if suggested < MAX_SUGGESTIONS else None
@@ -72,6 +73,36 @@ def bias_warnings(domain) -> list[BiasWarning]:
                 out.append(BiasWarning(source, mode.line, mode.column,
                                        f"{declaration}: const({slot.type}) has no #constant({slot.type}, ...) "
                                        "declaration, so the mode gives no literal"))
+    return out
+
+
+def _unmatched_constants(domain, atom: ModeAtom, declaration: str, source, mode) -> list[BiasWarning]:
+    """``#constant(player, bob)`` where the facts say ``"Bob"``: a ``const(t)`` argument value that
+    the atom never has in any pair's answer set makes every literal with it false, silently (the
+    learner then finds no rule and reports the pairs as unexplained)."""
+    import difflib
+
+    values = domain.argument_values.get(atom.signature)
+    if not values:
+        return []
+    out = []
+    for position, argument in enumerate(atom.args):
+        if not (isinstance(argument, Placeholder) and argument.kind == "const"):
+            continue
+        have = values[position]
+        for constant in domain.bias.constants.get(argument.type, []):
+            written = str(constant)
+            if written in have:
+                continue
+            plain = {v.strip('"').lower(): v for v in have}
+            meant = plain.get(written.strip('"').lower()) or next(iter(difflib.get_close_matches(written, have, n=1)),
+                                                                  None)
+            shown = ", ".join(sorted(have)[:5]) + (", ..." if len(have) > 5 else "")
+            out.append(BiasWarning(source, mode.line, mode.column,
+                                   f"{declaration}: #constant({argument.type}, {written}): {atom.name}/"
+                                   f"{len(atom.args)} never has {written} as argument {position + 1} in any pair "
+                                   f"(it has: {shown}), so the literal with it is always false"
+                                   + (f"; did you mean {meant}?" if meant else "")))
     return out
 
 

@@ -26,6 +26,7 @@ import re
 import tomllib
 import zipfile
 import zlib
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
@@ -80,7 +81,10 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
 
         close = difflib.get_close_matches(unknown[0], [k for k in REQUIRED + OPTIONAL if k not in config], n=1)
         line = next((i for i, text in enumerate(toml_text.splitlines(), start=1)
-                     if re.match(rf"\s*[\"']?{re.escape(unknown[0])}[\"']?\s*=", text)), None)
+                     if re.match(rf"\s*[\"']?{re.escape(unknown[0])}[\"']?\s*=", text)
+                     # a table "[extra]" (or "[[extra]]", "extra.x = 1") is an unknown key too
+                     or re.match(rf"\s*\[\[?\s*[\"']?{re.escape(unknown[0])}[\"']?\s*[\].]", text)
+                     or re.match(rf"\s*[\"']?{re.escape(unknown[0])}[\"']?\s*\.", text)), None)
         raise DataError(f"unknown key {unknown[0]!r}" + (f" (did you mean {close[0]!r}?)" if close else ""),
                         file=str(toml_path), line=line, hint="known keys: " + ", ".join(REQUIRED + OPTIONAL))
     for key in REQUIRED:
@@ -89,7 +93,12 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
                             hint="required: " + ", ".join(REQUIRED) + "; optional: " + ", ".join(OPTIONAL))
     for key in config:
         if not isinstance(config[key], str):
-            raise DataError(f"key {key!r} must be a string, got {type(config[key]).__name__}", file=str(toml_path))
+            line = next((i for i, text in enumerate(toml_text.splitlines(), start=1)
+                         if re.match(rf"\s*[\"']?{re.escape(key)}[\"']?\s*=", text)), None)
+            several = key == "background" and isinstance(config[key], list)
+            raise DataError(f"key {key!r} must be a string, got {type(config[key]).__name__}", file=str(toml_path),
+                            line=line, hint='name one program; #include "more.lp". in it brings in the others'
+                            if several else f'write it in quotes: {key} = "..."')
 
     inside = None if allow_outside else folder.resolve()
 
@@ -129,12 +138,18 @@ def read_domain_folder(folder: Path, *, allow_outside: bool = False):
         from symlearn.grounding.features import FeatureMap
 
         feature_map = FeatureMap.load(path("features"))
+        table = feature_map._table
+        if isinstance(table, dict) and grounding.state_names and any(isinstance(k, str) for k in table):
+            # "table_by_state" keyed by the states' names (as demonstrations may name them): read as
+            # their ids; before, every named row was ignored and state 0 "not in the feature table"
+            ids = {name: i for i, name in enumerate(grounding.state_names)}
+            feature_map = FeatureMap(feature_map.names, table={ids.get(k, k): v for k, v in table.items()})
     labeling = None
     if "labeling" in config:
         from symlearn.grounding.labeling import load_labeling
 
         labeling = labeling_of_states(load_labeling(path("labeling")), feature_map, sources["labeling"],
-                                      grounding.n_states)
+                                      grounding.n_states, grounding.state_names)
     domain = Domain(config["name"], background=background, bias=bias, grounding=grounding, mdp=mdp, truth=truth,
                     labeling=labeling, available=model.get("available"), description=config.get("description", ""),
                     sources=sources, feature_map=feature_map)
@@ -161,7 +176,8 @@ def _in_file(error):
     return error
 
 
-def labeling_of_states(labeling: Any, feature_map: Any, source: str, n_states: int | None = None) -> Any:
+def labeling_of_states(labeling: Any, feature_map: Any, source: str, n_states: int | None = None,
+                       state_names: Sequence[str] | None = None) -> Any:
     """``labeling`` as it labels the folder's states, which are ids: a feature labeling (conditions
     over named features, ``height > 3``) reads each id's features from the folder's feature map
     (``features = ...``); any other labeling is returned as it is. A feature labeling in a folder
@@ -169,7 +185,14 @@ def labeling_of_states(labeling: Any, feature_map: Any, source: str, n_states: i
     table labeling a state that is no id ``0..n_states-1``."""
     from symlearn.grounding.feature_labeling import FeatureLabeling
     from symlearn.grounding.features import FeatureMap
+    from symlearn.grounding.labeling import Labeling
 
+    items = list(getattr(labeling, "items", lambda: [])())
+    if state_names and isinstance(labeling, Labeling) and any(isinstance(state, str) for state, _ in items):
+        # a table that names the states as states.jsonl does (as demonstrations may): read by their ids
+        ids = {name: i for i, name in enumerate(state_names)}
+        labeling = Labeling({ids.get(state, state): props for state, props in items}, meanings=labeling.meanings,
+                            propositions=labeling.propositions)
     if n_states is not None:
         for k, (state, _) in enumerate(getattr(labeling, "items", lambda: [])()):
             if not (isinstance(state, (int, np.integer)) and not isinstance(state, bool) and 0 <= state < n_states):
@@ -279,11 +302,26 @@ def _read_model(path: Path) -> dict[str, np.ndarray]:
     if not np.isfinite(P).all() or (P < 0).any():
         raise DataError("transitions must be finite and non-negative", file=str(path))
     sums = P.sum(axis=2)
+    # a move that does not exist (available false) and a terminal state have no next state to give: an
+    # all-zero row there is how a user writes "nothing happens" (refused as "sums to 0" before); it is
+    # read as staying put, the self-loop the bundled domains write
+    idle = (sums == 0) & (~arrays["available"] if "available" in arrays else False)
+    if "terminal" in arrays:
+        idle |= (sums == 0) & arrays["terminal"][:, None]
+    if idle.any():
+        P = arrays["transitions"] = P.astype(np.float64 if P.dtype.kind != "f" else P.dtype, copy=True)
+        s_idx, a_idx = np.nonzero(idle)
+        P[s_idx, a_idx, s_idx] = 1
+        sums = P.sum(axis=2)
     bad = np.argwhere(np.abs(sums - 1.0) > 1e-6)
     if bad.size:
         s, a = map(int, bad[0])
+        hint = f"{len(bad)} row(s) in all; every P[s, a, :] is a distribution"
+        if sums[s, a] == 0:
+            hint += (" (an all-zero row is read as staying put only where the move does not exist, 'available' "
+                     "false, or the state is 'terminal')")
         raise DataError(f"transition row (s, a) = ({s}, {a}) sums to {sums[s, a]:.6g}, not 1",
-                        file=str(path), hint=f"{len(bad)} row(s) in all; every P[s, a, :] is a distribution")
+                        file=str(path), hint=hint)
     return arrays
 
 

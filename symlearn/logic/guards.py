@@ -940,6 +940,11 @@ def _parse_cached(text: str) -> Guard:
         else:  # pragma: no cover - lark has no other kinds today
             what = "syntax error"
         hint = "guards use true, false, names, ! & | and parentheses"
+        if isinstance(exc, UnexpectedCharacters) and not text[exc.pos_in_stream].isascii():
+            # a proposition such as "ü" or "café": plain names are ASCII identifiers, others are quoted
+            name = re.match(r"[^\s!&|()\"]+", text[exc.pos_in_stream:])
+            hint = (f"quote a name that is not a plain identifier: \"{name.group() if name else text[exc.pos_in_stream]}\" "
+                    "(guards use true, false, names, ! & | and parentheses)")
         for word, spelling in _SPELLINGS.items():
             if re.search(rf"(?<![A-Za-z0-9_]){re.escape(word)}(?![A-Za-z0-9_])", text, re.I) and word.isalpha():
                 hint = f"write {spelling!r} instead of {word!r}"

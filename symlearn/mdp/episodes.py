@@ -155,6 +155,16 @@ def demonstrated_pairs(episodes: Sequence[TabularEpisode], mdp: TabularMDP) -> n
     return seen
 
 
+def require_steps(episodes: Sequence[TabularEpisode]) -> None:
+    """Refuse demonstrations that take no action at all (one-state episodes): with no demonstrated
+    pair every pair looks avoided, and a constraint learner forbade every pair of the domain."""
+    if not any(len(e.actions) for e in episodes):
+        raise DataError(f"the demonstrations take no action ({len(episodes)} episode(s), 0 steps): "
+                        "there is no choice to learn constraints from",
+                        hint="give each demonstration its 'actions' (one per state, or one fewer) "
+                             "and at least one step")
+
+
 def check_constraints(
     episodes: Sequence[TabularEpisode],
     forbidden: np.ndarray,

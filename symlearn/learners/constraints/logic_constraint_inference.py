@@ -470,8 +470,9 @@ def check_available(episodes, d: Domain) -> None:
             where = "after the episode ended" if d.mdp.terminal[s] else "there"
             raise DemonstrationError(f"demonstration {i}, step {t}: action {d.action_names[a]!r} is not available "
                                      f"in state {d.state_names[s]!r} ({where})", demonstration=i, key="actions",
-                                     step=t, hint=f"{d.name}: were the demonstrations recorded in another "
-                                                  "environment?")
+                                     step=t, hint=f"the state is terminal in {d.name}'s model: end the demonstration "
+                                                  "there (its last state, with no action after it)" if d.mdp.terminal[s]
+                                     else f"{d.name}: were the demonstrations recorded in another environment?")
 
 
 __all__ = ["STOP_REASONS", "Induction", "check_available", "LogicConstraintInference", "LogicIteration", "RuleInduction", "Unexplained",

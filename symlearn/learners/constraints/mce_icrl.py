@@ -53,7 +53,7 @@ from symlearn.learners.base import Learner
 from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.learners.constraints.ml_constraint_inference import tabular_model
 from symlearn.mdp import TabularMDP
-from symlearn.mdp.episodes import check_constraints, discounted_counts, tabular_episodes
+from symlearn.mdp.episodes import check_constraints, discounted_counts, require_steps, tabular_episodes
 from symlearn.rl.maxent import Entropy, forward_pass, soft_value_iteration
 from symlearn.rl.tabular import check_mask
 
@@ -175,6 +175,7 @@ class MCEICRL(Learner):
         started = time.perf_counter()
         mdp, known = tabular_model(world)
         episodes = tabular_episodes(demonstrations, mdp)
+        require_steps(episodes)
         if self.reward == "sparse":
             # no reward given: the expert is taken to head for where its demonstrations end
             # (reward 1 for entering such a state, which then ends the episode)

@@ -68,7 +68,8 @@ from symlearn.errors import SymlearnError
 from symlearn.learners.base import Learner
 from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.mdp import TabularMDP
-from symlearn.mdp.episodes import as_tabular, check_constraints, demonstrated_pairs, final_states, tabular_episodes
+from symlearn.mdp.episodes import (as_tabular, check_constraints, demonstrated_pairs, final_states, require_steps,
+                                    tabular_episodes)
 from symlearn.rl.maxent import forward_pass, maxent_backward_pass
 from symlearn.rl.tabular import check_mask, restrict
 
@@ -214,6 +215,7 @@ class MLConstraintInference(Learner):
         mdp, domain_known = tabular_model(world)
         episodes = tabular_episodes(demonstrations, mdp)
         seen = demonstrated_pairs(episodes, mdp)
+        require_steps(episodes)
         known = np.zeros_like(seen) if domain_known is None else domain_known.copy()
         if self.known_constraints is not None:
             known |= check_mask(mdp, self.known_constraints, "known constraints")

@@ -318,13 +318,28 @@ class SpecLearner(Learner):
             if not (isinstance(state, (int, np.integer)) and 0 <= state < n_states):
                 raise DataError(f"the labeling labels state {state!r}, which is not one of the environment's "
                                 f"{n_states} states")
+        if getattr(labeling, "arity", None) == 3:
+            # a finite model (a domain folder) has states, not an environment to hand the function:
+            # said here, at the function, instead of "not at hand ... record while recording" at the data
+            raise DataError(f"labeling function {labeling.name} takes a third parameter (the environment), which "
+                            "a domain or tabular task does not have: it is called with the state id and an "
+                            "empty info", file=getattr(labeling, "path", None),
+                            hint="drop the third parameter: def label(state, info) -> names")
+        if not getattr(labeling, "declared", True):
+            # a labeling function without PROPOSITIONS discovers them from what it returns; on a finite
+            # model ask it about every state first (before, --domain with such a function stopped at
+            # "the given labeling has no propositions": nothing had been labelled yet)
+            for state in range(n_states):
+                labeling.label(state, where=f"state {state}")
         names = list(labeling.propositions) if self.propositions == "given" else list(self.propositions)
         unknown = [p for p in names if p not in labeling.propositions]
         if unknown:
             raise DataError(f"unknown proposition {unknown[0]!r}: not in the given labeling",
                             hint="known propositions: " + ", ".join(labeling.propositions))
         if not names:
-            raise DataError("the given labeling has no propositions", hint="use propositions='learn'")
+            raise DataError("the given labeling has no propositions (it labels no state with any)",
+                            hint="use propositions='learn' (the CLI's --props learn), or a labeling whose "
+                                 "propositions hold somewhere")
         return labeling, names
 
     def _state_name(self, labeling: Labeling, state: int) -> str:

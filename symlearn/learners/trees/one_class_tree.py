@@ -456,6 +456,14 @@ class OneClassTreeConstraint(Learner):
                 f"the formula marks {self.unsafe_share_:.0%} of the demonstrations' bounding box unsafe: every "
                 "state the expert never visited counts as unsafe; if the allowed space is larger, give "
                 "demonstrations that cover it")
+        distinct = len(np.unique(X, axis=0))
+        if distinct < 2 * self.min_samples_leaf:
+            # too few points to split: the safe set is their bounding box (one point: that point
+            # alone), with no warning before, since a box of no volume has no share to report
+            self.warnings_.append(
+                f"only {distinct} distinct demonstration point(s), fewer than two leaves' worth "
+                f"(min_samples_leaf {self.min_samples_leaf}, --min-samples-leaf): the safe set is their bounding box, everything "
+                "outside it is unsafe; give more demonstrations")
         self.warnings_.extend(episode_setting_warnings(X, names, lengths, dnf))
         for message in self.warnings_:
             warnings.warn(message, UserWarning, stacklevel=FIT_CALLER)

@@ -183,6 +183,15 @@ def _syntax_hint(text: str, line: int, column: int, message: str) -> str:
     if re.search(r"\d\.\d", here[max(column - 4, 0):column + 3]):
         return ("ASP has no decimal numbers: write 0.5 as a scaled integer (5 in tenths) or a string (\"0.5\"); "
                 "compare scaled integers in rules")
+    # "Waiting(P)" or ":- Finish, ...": a name with a capital is a variable, and a variable can be
+    # neither called nor a literal, so clingo stops at the "(" or "," after it; say so in the user's terms
+    before = here[max(column - 201, 0):max(column - 1, 0)]  # a window: a search anchored at "$" is quadratic
+    called = re.search(r"(?<![A-Za-z0-9_'])([A-Z_][A-Za-z0-9_']*)\s*$", before)
+    literal = called and re.search(r"(:-|,|\bnot)\s*$", before[:called.start()]) and rest[:1] in (",", ".", ";")
+    if called and (rest.startswith("(") or literal):
+        return (f"{called.group(1)} starts with a capital letter or '_', which makes it a variable in ASP: "
+                f"predicate names start with a lowercase letter (write {called.group(1)[:1].lower()}"
+                f"{called.group(1)[1:]})")
     directive = re.match(r"#\w+", rest)
     if directive and "unexpected" in message:
         close = difflib.get_close_matches(directive.group(), _DIRECTIVES, n=1, cutoff=0.6)

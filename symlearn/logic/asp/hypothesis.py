@@ -229,7 +229,9 @@ class Hypothesis:
                 raise cl.unsupported_feature(statement, Program.from_text(text, source=source))
             if statement.ast_type != ASTType.Rule:
                 raise ParseError(f"only rules are allowed in a hypothesis, found: {statement}",
-                                 file=source, line=loc.line, column=loc.column)
+                                 file=source, line=loc.line, column=loc.column,
+                                 hint="a rule file holds rules such as ':- p(X), q(X).'; delete this line (a "
+                                      "directive such as #show or #const belongs in the background)")
             rules.append(_slice(lines, statement.location))
             origins.append((source, loc.line, loc.column))
         return cls(rules, background=background, provenance={"source": source}, origins=origins)

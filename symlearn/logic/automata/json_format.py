@@ -173,7 +173,9 @@ def read_header(document: Any, kind: str | None, source: str | None) -> tuple[_R
         "alphabet": _unique(reader, "alphabet", reader.list_of(document, "", "alphabet", "str"), "proposition"),
         "n_states": _state_count(reader, document),
         "initial": reader.get(document, "", "initial", "int"),
-        "accepting": reader.list_of(document, "", "accepting", "int"),
+        # a reward machine ends in its "terminal" states; "accepting" is only a DFA's and PDFA's
+        # notion, so a hand-written machine without it was refused as "accepting: missing field"
+        "accepting": reader.list_of(document, "", "accepting", "int", optional=found == "reward_machine") or [],
         "state_names": _unique(reader, "state_names",
                                reader.list_of(document, "", "state_names", "str", optional=True), "state name"),
     }
@@ -227,6 +229,7 @@ def write_transitions(automaton, extra: str | None = None) -> list[dict]:
 def read_transitions(reader: _Reader, document: dict, extra: str | None) -> dict[int, list[tuple]]:
     """``{source: [(guard, target[, extra]), ...]}``, as the constructors take it, every field checked."""
     result: dict[int, list[tuple]] = {}
+    reader.edges, reader.edge_paths = result, {}  # construct() names the edge that breaks determinism
     for i, item in enumerate(reader.get(document, "", "transitions", "list")):
         path = f"transitions[{i}]"
         source = _state(reader, reader.get(item, path, "source", "int"), f"{path}.source", "source")
@@ -241,6 +244,7 @@ def read_transitions(reader: _Reader, document: dict, extra: str | None) -> dict
                               hint="add the propositions to \"alphabet\" or correct the guard")
         edge = (guard, target) + ((reader.get(item, path, extra, "number"),) if extra else ())
         result.setdefault(source, []).append(edge)
+        reader.edge_paths[source, len(result[source]) - 1] = path
     return result
 
 
@@ -257,6 +261,21 @@ def construct(reader: _Reader, build):
     try:
         return build()
     except SymlearnError as exc:
+        overlap = re.match(r"[\w ]+? is not deterministic: from state (\d+),", exc.message)
+        edges = getattr(reader, "edges", {}).get(int(overlap.group(1))) if overlap else None
+        if edges:
+            # the constructor cannot say where the edge is: find the first guard that meets one before
+            # it (the constructor's own order), only now that the check has failed
+            from symlearn.logic.guards import Guard
+
+            seen = Guard.false()
+            for k, edge in enumerate(edges):
+                if not (edge[0] & seen).is_false():
+                    path = f"{reader.edge_paths[int(overlap.group(1)), k]}.guard"
+                    located = type(exc)(f"{path}: {exc.message}", file=reader.source, hint=exc.hint)  # still a ModelError
+                    located.json_path = _path_parts(path)
+                    raise located from None
+                seen = seen | edge[0]
         if exc.file is None:
             exc.file = reader.source
         raise

@@ -41,15 +41,18 @@ from symlearn.errors import ParseError, SymlearnError
 from symlearn.logic.guards import Guard
 
 _HEADER = re.compile(r"\s*digraph\s+(\w+)?\s*\{\s*$")
-_ATTRIBUTE = re.compile(r"\s*(\w+\s*=\s*(\"[^\"]*\"|[\w.]+)\s*;\s*)+$")  # one or more graph attributes
-_DEFAULTS = re.compile(r"\s*(node|edge|graph)\s*\[(?P<attrs>[^\]]*)\]\s*;(?P<states>(\s*\w+\s*;)*)\s*$")
+# quoted strings may hold escaped quotes and ']' (symlearn.rendering.quote writes \" for a quoted
+# proposition, and such a DOT file was refused at its first edge)
+_ATTRS = r'(?:[^\]"]|"(?:[^"\\]|\\.)*")*'  # attributes up to ']', quoted strings whole
+_ATTRIBUTE = re.compile(r"\s*(\w+\s*=\s*(\"(?:[^\"\\]|\\.)*\"|[\w.]+)\s*;\s*)+$")  # one or more graph attributes
+_DEFAULTS = re.compile(r"\s*(node|edge|graph)\s*\[(?P<attrs>" + _ATTRS + r")\]\s*;(?P<states>(\s*\w+\s*;)*)\s*$")
 # the start marker: MONA's and LTLf2DFA's ``init``, or ``__start`` in the DOT symlearn writes
-_INIT_NODE = re.compile(r"\s*(init|__start)\s*\[[^\]]*\]\s*;\s*$")
+_INIT_NODE = re.compile(r"\s*(init|__start)\s*\[" + _ATTRS + r"\]\s*;\s*$")
 _INIT_EDGE = re.compile(r"\s*(init|__start)\s*->\s*(?P<target>\d+)\s*;\s*$")
-_EDGE = re.compile(r"\s*(?P<source>\d+)\s*->\s*(?P<target>\d+)\s*\[\s*label\s*=\s*\"(?P<label>[^\"]*)\"\s*"
-                   r"(,[^\]]*)?\]\s*;\s*$")
+_EDGE = re.compile(r"\s*(?P<source>\d+)\s*->\s*(?P<target>\d+)\s*\[\s*label\s*=\s*\"(?P<label>(?:[^\"\\]|\\.)*)\"\s*"
+                   r"(,(?:[^\]\"]|\"(?:[^\"\\]|\\.)*\")*)?\]\s*;\s*$")
 # one state with its own attributes, as symlearn writes them: ``1 [label="1", shape=doublecircle];``
-_NODE = re.compile(r"\s*(?P<state>\d+)\s*\[(?P<attrs>[^\]]*)\]\s*;\s*$")
+_NODE = re.compile(r"\s*(?P<state>\d+)\s*\[(?P<attrs>" + _ATTRS + r")\]\s*;\s*$")
 _SHAPE = re.compile(r"shape\s*=\s*(\w+)")
 _BITS = re.compile(r"[01X ,]+(\\n[01X ,]+)*")
 
@@ -87,7 +90,7 @@ def parse_mona_dot(text: str, *, source: str | None = None, variables: Sequence[
         if match := _EDGE.match(line):
             label_column = match.start("label") + 1
             edges.append((_state(match["source"], source, number, line), _state(match["target"], source, number, line),
-                          match["label"], number, label_column))
+                          re.sub(r'\\(["\\])', r"\1", match["label"]), number, label_column))
         elif match := _INIT_EDGE.match(line):
             if initial is not None:
                 raise _error("a second 'init ->' edge: the automaton has one initial state", source, number, line)
@@ -167,8 +170,13 @@ def _expression_guards(edges, source) -> list[Guard]:
         try:
             guards.append(Guard.parse(label))
         except SymlearnError as exc:
+            hint = exc.hint
+            if re.search(r" / -?[\d.]", label):
+                # 'guard / number': the drawing `automaton convert` writes of a reward machine or a PDFA
+                hint = ("this is a drawing of a reward machine or PDFA (guard / reward or probability labels), "
+                        "which is not read back: read the automaton from its .json (or reward-machine .txt)")
             raise ParseError(f"edge label: {exc.message}", file=source, line=number,
-                             column=column + (exc.column or 1) - 1, hint=exc.hint) from None
+                             column=column + (exc.column or 1) - 1, hint=hint) from None
     return guards
 
 

@@ -144,6 +144,14 @@ def parse_rm_text(text: str, *, source: str | None = None, unmatched: str = "ter
         line.expect("punct", ")")
         line.expect("punct", ")")
         line.end()
+        earlier = next((e for e in edges if (e[0], e[1]) == (u1, u2)), None)
+        if earlier is not None:
+            # the public code stores one guard per (u1, u2): a second line silently replaced the first there
+            raise line.error(f"a second transition from {u1} to {u2} (the first is on line {earlier[4].number}): "
+                             "the public reward-machine code keeps only one guard and reward per pair of states",
+                             1, hint="write one transition with the guards joined by '|'")
+        if guard.is_false():
+            continue  # 'False': never taken (the public code never matches it); the machine has no such edge
         edges.append((u1, u2, guard, float(value), line, column))
 
     ids = sorted({initial, *(terminal or ()), *(e[0] for e in edges), *(e[1] for e in edges)})
@@ -230,9 +238,12 @@ def to_rm_text(rm) -> str:
     read with (the reader keeps a file's own numbers, ``-1`` for a failure state, as state names),
     so text -> JSON -> text gives the file's numbering back; other names are numbered ``0..n-1``.
     """
-    number = _state_numbers(rm)
-    lines = [number[rm.initial], "[" + ", ".join(number[q] for q in sorted(rm.terminal, key=int)) + "]"]
+    fail = _implicit_fail(rm)
+    number = _state_numbers(rm, skip=fail)
+    lines = [number[rm.initial], "[" + ", ".join(number[q] for q in sorted(rm.terminal, key=int) if q != fail) + "]"]
     for source, guard, target, reward in rm.edges():
+        if fail is not None and fail in (source, target):
+            continue  # the reader sends every label no transition matches there again
         if guard.is_true():
             text = "True"
         else:
@@ -243,12 +254,43 @@ def to_rm_text(rm) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _state_numbers(rm) -> list[str]:
-    """The text's number of each state: its name where every name is a distinct integer in
-    increasing state order (the order the reader numbers them in), else its index."""
+def _implicit_fail(rm) -> int | None:
+    """The state ``fail`` the reader added for labels no transition of a file matched, or None.
+
+    Written out, it became a numbered state of its own and the file's numbers were lost (a file of
+    states 0..3 and -5 came back as 0..5); left implicit, reading the text again rebuilds it. Only
+    where re-reading rebuilds exactly it: the last state, named ``fail``, terminal, entered with
+    reward 0 and left by no edge, and every other non-terminal state's guards covering every label."""
     names = rm.state_names
+    fail = rm.n_states - 1
+    if not names or names[fail] != "fail" or fail not in rm.terminal or fail == rm.initial:
+        return None
+    edges = list(rm.edges())
+    if any((t == fail and r != 0) or (s == fail and t != fail) for s, _, t, r in edges):
+        return None
+    for q in range(fail):
+        if q not in rm.terminal and not Guard.any_of(g for s, g, _, _ in edges if s == q).is_true():
+            return None
+    return fail
+
+
+def _state_numbers(rm, skip: int | None = None) -> list[str]:
+    """The text's number of each state: its name where every name is a distinct integer in
+    increasing state order (the order the reader numbers them in), else its index (``skip``, the
+    implicit failure state, is not written)."""
+    names = rm.state_names
+    if skip is not None and names:
+        kept = _state_numbers(_Named(names[:skip] + names[skip + 1:]))
+        return kept[:skip] + ["fail"] + kept[skip:]  # never written: no edge or list names it
     if names and all(re.fullmatch(r"[-+]?\d{1,18}", n) for n in names):
         values = [int(n) for n in names]
         if all(a < b for a, b in zip(values, values[1:])):
             return [str(v) for v in values]
     return [str(q) for q in range(rm.n_states)]
+
+
+class _Named:
+    """Just the state names, for :func:`_state_numbers` on a machine with a state left out."""
+
+    def __init__(self, names: list[str]) -> None:
+        self.state_names, self.n_states = names, len(names)

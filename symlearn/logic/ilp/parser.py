@@ -362,8 +362,15 @@ def _syntax_error(exc: UnexpectedInput, text: str, source: str) -> ParseError:
         message = f"unexpected character {text[exc.pos_in_stream]!r} in {statement}"
     else:  # pragma: no cover - lark raises only the kinds above
         message = str(exc).splitlines()[0]
-    return ParseError(message, file=source, line=line, column=column,
-                      hint="declarations look like #modeb(1, p(var(t))). and every statement ends with '.'")
+    hint = "declarations look like #modeb(1, p(var(t))). and every statement ends with '.'"
+    capital = re.match(r"[A-Z_][A-Za-z0-9_']*", text[exc.pos_in_stream:]) if exc.pos_in_stream is not None else None
+    if capital and statement.startswith(("#constant", "#modeb", "#modeh", "#modec")):
+        # '#constant(player, Bob).': a capital starts a variable in ASP, which a declaration cannot hold
+        name = capital.group()
+        hint = (f"{name} starts with a capital letter or '_', which makes it a variable in ASP: predicate, type and "
+                f"constant names start lowercase ({name[:1].lower()}{name[1:]}); a constant may also be the string "
+                f"\"{name}\", as the facts have it")
+    return ParseError(message, file=source, line=line, column=column, hint=hint)
 
 
 def _end_of_code_before(text: str, pos: int) -> tuple[int, int, int]:

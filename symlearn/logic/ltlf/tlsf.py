@@ -235,10 +235,11 @@ class _Reader:
                     start = self.peek
                     if start.kind == "end":
                         raise self.error(f"{head.text} is not closed with '}}'", head)
+                    first = self.i
                     formula = self.formula()
                     self.expect(";", "';' after the formula (every formula in a section ends with ';')")
                     sections.setdefault(key, []).append(formula)
-                    pending.append((key, formula, start))
+                    pending.append((key, formula, start, self.tokens[first:self.i]))
                 self.take()
             else:
                 raise self.error(f"unknown MAIN section {head.text!r}", head,
@@ -246,11 +247,18 @@ class _Reader:
                                       "ASSUMPTIONS, GUARANTEES")
         self.take()
         known = set(declared)  # once: built per formula, n formulas over n signals cost n^2
-        for section, formula, start in pending:
+        for section, formula, start, tokens in pending:
             unknown = sorted(propositions(formula) - known)
             if unknown:
+                import difflib
+
+                # at the name itself (the formula's start was named before), with the declared name meant
+                where = next((t for t in tokens if t.text == unknown[0]), start)
+                close = difflib.get_close_matches(unknown[0], sorted(known), n=1) or \
+                    [k for k in sorted(known) if k.lower() == unknown[0].lower()]
                 raise self.error(f"{section} names {unknown[0]!r}, which is declared neither in INPUTS nor in "
-                                 "OUTPUTS", start)
+                                 "OUTPUTS", where, hint=f"did you mean {close[0]!r}?" if close else
+                                 "declare it in INPUTS or OUTPUTS")
         return tuple(signals["INPUTS"]), tuple(signals["OUTPUTS"]), sections
 
     # -- formulas (precedence climbing) ---------------------------------------------------------

@@ -67,7 +67,11 @@ def _trace(value, line: str, number: int, source: str | None) -> list[frozenset[
         for name in step:
             if not isinstance(name, str) or not name:
                 shown = json.dumps(name)
+                # [[["a"], []], [["b"]]]: a JSON list of traces on one line, where one trace per line is read
+                several = isinstance(name, list) and all(isinstance(v, list) for v in step)
                 raise DataError(f"step {index}: a proposition name must be a non-empty string, not {shown}",
-                                file=source, line=number, column=_column(line, shown))
+                                file=source, line=number, column=_column(line, shown),
+                                hint="the file holds one trace per line (JSONL): this line looks like a list "
+                                     "of traces; write each trace on a line of its own" if several else None)
         steps.append(frozenset(step))
     return steps
