@@ -34,9 +34,14 @@ def register(subparsers, common) -> None:
 
     evaluate = commands.add_parser("eval", parents=[common()], help="verdict of a formula on each trace",
                                    description="Evaluate a formula on traces: a JSONL file with one trace per line, "
-                                               "each a list of steps, each step a list of the true propositions.")
-    evaluate.add_argument("formula")
-    evaluate.add_argument("--traces", required=True, help="JSONL file, e.g. a line [[\"a\"], [], [\"a\", \"b\"]]")
+                                               "each a list of steps, each step a list of the true propositions; "
+                                               "or on labelled demonstrations (re-check an edited SPEC.ltl).")
+    evaluate.add_argument("formula", nargs="?")
+    evaluate.add_argument("--file", help="read the formula from a file holding one (SPEC.ltl as learn spec "
+                                         "writes it; lines starting with # are comments)")
+    evaluate.add_argument("--traces", help="JSONL file, e.g. a line [[\"a\"], [], [\"a\", \"b\"]]")
+    evaluate.add_argument("--demos", help="labelled demonstrations (.jsonl/.npz with labels, as "
+                                          "symlearn.data.record(labeler=...) writes them): each one's label word")
     dialect_option(evaluate)
     evaluate.set_defaults(handler=_eval)
 
@@ -120,24 +125,67 @@ def _eval(args: argparse.Namespace, out) -> None:
 
     from symlearn.logic.ltlf import propositions
 
-    formula = parse(args.formula, args.dialect)
-    traces = read_traces(args.traces)
+    from symlearn.errors import SymlearnError
+
+    if (args.formula is None) == (args.file is None):
+        raise SymlearnError("give one of a FORMULA or --file SPEC.ltl", hint="symlearn ltl eval 'F a' --traces t.jsonl")
+    if (args.traces is None) == (args.demos is None):
+        raise SymlearnError("give one of --traces TRACES.jsonl or --demos DEMOS.jsonl",
+                            hint="--traces: one list of steps per line; --demos: labelled demonstrations")
+    if args.file:
+        number, text = _one_formula(args.file)
+        formula = parse(text, args.dialect, source=args.file, line=number)
+        args.formula = text.strip()
+    else:
+        formula = parse(args.formula, args.dialect)
+    source = args.traces or args.demos
+    traces = read_traces(args.traces) if args.traces else _demonstration_words(args.demos)
+    what = "traces" if args.traces else "demonstrations"
     named = propositions(formula)
     seen = set().union(*(step for trace in traces for step in trace)) if traces else set()
     never = sorted(named - seen)
     if never and traces:  # the traces' own names make a misspelling easy to spot
         others = sorted(seen - named)
         listed = ", ".join(others[:10]) + (" ..." if len(others) > 10 else "") if others else "none"
-        out.note(f"warning: proposition(s) {', '.join(never)} of the formula never hold in {args.traces}, so "
+        out.note(f"warning: proposition(s) {', '.join(never)} of the formula never hold in {source}, so "
                  f"they are false at every step (propositions in the traces but not in the formula: {listed})")
     results = [bool(v) for v in evaluate_many(formula, traces)] if traces else []
 
     def render(doc: dict) -> str:
-        lines = [f"trace {i + 1}: {'holds' if v else 'fails'}" for i, v in enumerate(doc["results"])]
-        lines.append(f"{sum(doc['results'])} of {len(doc['results'])} traces satisfy {args.formula}")
+        noun = "trace" if what == "traces" else "demonstration"
+        lines = [f"{noun} {i + 1}: {'holds' if v else 'fails'}" for i, v in enumerate(doc["results"])]
+        lines.append(f"{sum(doc['results'])} of {len(doc['results'])} {what} satisfy {args.formula}")
         return "\n".join(lines)
 
     out.result({"results": results}, render)
+
+
+def _one_formula(path: str) -> tuple[int, str]:
+    """``(line number, text)`` of the one formula a file holds (blank lines and lines starting
+    with ``#`` skipped, as ``ltl dfa --file`` reads them); more or none is an error at the file."""
+    from symlearn.errors import SymlearnError
+    from symlearn.input_limits import read_input_text
+
+    lines = read_input_text(path, what="formula file").split("\n")
+    numbers = [n for n, text in enumerate(lines, start=1) if text.strip() and not text.lstrip().startswith("#")]
+    if len(numbers) != 1:
+        raise SymlearnError(f"the file holds {len(numbers)} formulas; --file here reads one", file=path,
+                            hint="keep one formula in the file (lines starting with # are comments); "
+                                 "ltl dfa --file translates a file of many")
+    return numbers[0], lines[numbers[0] - 1]
+
+
+def _demonstration_words(path: str) -> list:
+    """Each demonstration's label word; demonstrations without labels are refused with the way on."""
+    from symlearn.data import load
+    from symlearn.errors import DataError
+
+    demos = load(path)
+    if len(demos) and not demos.has_labels:
+        raise DataError(f"{path}: these demonstrations have no labels, so a formula has nothing to read",
+                        hint="record them with a labeling (symlearn.data.record(env, policy, n, labeler=label)) "
+                             "or write traces of propositions for --traces")
+    return [list(word) for word in demos.to_label_words()] if len(demos) else []
 
 
 _SHOWN = 50  # states whose transitions the text output lists

@@ -1,5 +1,6 @@
 import json
 
+import numpy as np
 import pytest
 
 from cli_runner import run
@@ -102,3 +103,29 @@ def test_dfa_text_lists_the_first_states_of_a_large_automaton_and_json_lists_all
     assert doc["states"] == 128 and len(doc["transitions"]) == 128
     code, out, _ = run(capsys, "ltl", "dfa", "a U b")
     assert "more states" not in out and len(out.splitlines()) == 4
+
+
+def test_eval_rechecks_a_spec_file_against_labelled_demonstrations(tmp_path, capsys):
+    from symlearn.data import Demonstrations, Trajectory
+
+    # an edited SPEC.ltl (a '# why' comment above its formula) against the demonstrations' label
+    # words: the guide did this in Python only
+    demos = Demonstrations([Trajectory(states=np.zeros((3, 1)), labels=[["charger"], [], ["dock"]]),
+                            Trajectory(states=np.zeros((2, 1)), labels=[["dock"], ["charger"]])])
+    demos.save(tmp_path / "tour.jsonl")
+    spec = tmp_path / "tour.ltl"
+    spec.write_text("# charger first\nF charger & (!dock U charger) & F dock\n")
+    code, out, _ = run(capsys, "ltl", "eval", "--file", spec, "--demos", tmp_path / "tour.jsonl")
+    assert code == 0
+    assert "demonstration 1: holds" in out and "demonstration 2: fails" in out
+    assert "1 of 2 demonstrations satisfy F charger & (!dock U charger) & F dock" in out
+    code, out, _ = run(capsys, "ltl", "eval", "F dock", "--demos", tmp_path / "tour.jsonl", "--json")
+    assert json.loads(out) == {"results": [True, True]}
+    Demonstrations([Trajectory(states=np.zeros((2, 1)))]).save(tmp_path / "plain.jsonl")
+    code, _, err = run(capsys, "ltl", "eval", "F dock", "--demos", tmp_path / "plain.jsonl")
+    assert code != 0 and "have no labels" in err and "labeler" in err
+    (tmp_path / "two.ltl").write_text("F a\nG b\n")
+    code, _, err = run(capsys, "ltl", "eval", "--file", tmp_path / "two.ltl", "--demos", tmp_path / "tour.jsonl")
+    assert code != 0 and "holds 2 formulas" in err
+    code, _, err = run(capsys, "ltl", "eval", "F dock", "--traces", spec, "--demos", tmp_path / "tour.jsonl")
+    assert code != 0 and "give one of --traces" in err
