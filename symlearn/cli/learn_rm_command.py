@@ -86,7 +86,12 @@ def _demonstrations(args: argparse.Namespace):
 
     if args.demos:
         from symlearn.data import load
+        from symlearn.data.frame_archive import is_frame_archive, load_video
 
+        # frames stacked with their run lengths (an .npz of 'states' and 'lengths'): a camera tour's
+        # natural file, read as image demonstrations
+        if str(args.demos).lower().endswith(".npz") and is_frame_archive(args.demos):
+            return load_video(args.demos), args.demos
         return load(args.demos), args.demos
     from symlearn.envs.registry import Kind
     from symlearn.recipes.environments import resolve_env

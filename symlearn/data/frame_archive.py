@@ -115,3 +115,38 @@ def _member(archive, name: str, source: str) -> np.ndarray:
         if isinstance(exc, DataError):
             raise
         raise DataError(f"member {name!r} is malformed: {exc}", file=source) from None
+
+
+def load_video(path: str | os.PathLike[str]):
+    """A frame archive whose ``states`` are pictures -- ``(total frames, H, W[, C])`` with
+    ``lengths`` -- as :class:`~symlearn.data.Demonstrations` of the image kind, one per run.
+
+    Why: camera tours are most naturally saved as a stack of frames and the run lengths, the same
+    two members as a position archive; ``learn rm`` refused such a file for lacking the
+    demonstrations header. Position archives (2-D ``states``) stay :func:`load_frames`'s."""
+    from symlearn.data.demonstrations import Demonstrations
+    from symlearn.data.npz_format import open_checked
+    from symlearn.data.trajectory import Trajectory
+
+    source = str(path)
+    headers, archive = open_checked(path)
+    if not isinstance(archive, np.lib.npyio.NpzFile):
+        raise DataError("holds a single array, not a frame archive", file=source)
+    with archive:
+        (s_dtype, s_shape), (l_dtype, l_shape) = headers["states"], headers["lengths"]
+        if s_dtype.kind not in "iuf" or len(s_shape) not in (3, 4) or 0 in s_shape:
+            raise DataError(f"member 'states' must hold numeric pictures (frames, H, W[, C]), got {s_dtype.str} "
+                            f"{s_shape}", file=source,
+                            hint="a (frames, features) archive of positions is learn pdfa's input")
+        if l_dtype.kind not in "iu" or len(l_shape) != 1 or l_shape[0] < 1:
+            raise DataError(f"member 'lengths' must be a non-empty integer vector, got {l_dtype.str} {l_shape}",
+                            file=source)
+        lengths = _member(archive, "lengths", source).astype(np.int64)
+        if (lengths < 1).any() or int(lengths.sum()) != s_shape[0]:
+            raise DataError(f"'lengths' must be positive and sum to the {s_shape[0]} frames of 'states', "
+                            f"they sum to {int(lengths.sum())}", file=source)
+        frames = _member(archive, "states", source)
+    if frames.dtype.kind == "f" and not np.isfinite(frames).all():
+        raise DataError("member 'states' holds NaN or infinite pixels", file=source)
+    ends = np.cumsum(lengths)
+    return Demonstrations([Trajectory(states=frames[end - n:end]) for n, end in zip(lengths, ends)])

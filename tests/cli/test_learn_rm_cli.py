@@ -102,3 +102,21 @@ def test_too_large_kappa_is_a_warning_with_counts(capsys, place2):
     doc = json.loads(out)
     assert doc["multiple_label_frames"] == doc["frames"]
     assert f"warning: {doc['frames']} of {doc['frames']} demonstration frames satisfy several propositions" in err
+
+
+def test_a_stack_of_frames_with_run_lengths_is_read_as_image_demonstrations(capsys, tmp_path, place2):
+    # a camera tour's natural file: frames stacked with the runs' lengths, no demonstrations header
+    # (refused before for lacking __meta__); the same machine as from the demonstrations file
+    path, demos = place2
+    runs = [np.asarray(t.states) for t in demos.front]
+    video = tmp_path / "video.npz"
+    np.savez(video, states=np.concatenate(runs), lengths=np.array([len(r) for r in runs]))
+    code, out, err = run(capsys, "learn", "rm", "--demos", video, "--json")
+    assert code == 0, err
+    code2, reference, _ = run(capsys, "learn", "rm", "--demos", path, "--json")
+    got, want = json.loads(out), json.loads(reference)
+    assert got["states"] == want["states"] == 4 and got["edges"] == want["edges"]
+    flat = tmp_path / "positions.npz"
+    np.savez(flat, states=np.zeros((4, 2)), lengths=np.array([2, 2]))
+    code, _, err = run(capsys, "learn", "rm", "--demos", flat)
+    assert code != 0 and "pictures" in err and "learn pdfa" in err
