@@ -279,9 +279,11 @@ def _dnf(args: argparse.Namespace, out) -> None:
 
         inputs = list(parse_feature_names(args.inputs, flag="--inputs"))
     meta = demos.metadata if isinstance(demos.metadata, dict) else {}
-    # ids of a Discrete observation: a step 3 -> 5 does not pass through 4, so crossing closes no gap
+    # ids of a Discrete observation: a step 3 -> 5 does not pass through 4, so crossing closes no gap,
+    # and a slab between two ids (x0 > 1 & x0 < 2) forbids nothing
+    ids = bool(meta.get("observation_ids", False))
     learner = OneClassTreeConstraint(max_depth=args.max_depth, min_samples_leaf=args.min_samples_leaf, inputs=inputs,
-                                     close_crossed=not meta.get("observation_ids", False))
+                                     close_crossed=not ids, whole_numbers=ids)
     try:
         with warnings.catch_warnings():  # the learner's warnings go into the result (text and JSON)
             warnings.simplefilter("ignore", UserWarning)

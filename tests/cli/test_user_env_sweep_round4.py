@@ -307,6 +307,9 @@ def test_learn_constraints_in_a_toy_text_world_whose_ids_start_at_one(capsys, tm
     from symlearn.logic import dnf
     rule = dnf.parse((tmp_path / "cells.dnf").read_text())
     assert rule.evaluate([[1.0], [3.0], [4.0], [5.0], [6.0]], ["x0"]).tolist() == [False, False, True, False, False]
+    # and no rule is a slab between two ids (x0 > 3 & x0 < 4 holds at no id: it forbids nothing)
+    from symlearn.learners.trees.one_class_tree import _holds_at_a_whole_number
+    assert all(_holds_at_a_whole_number(c) for c in rule.conjunctions), str(rule)
 
     mdp = TabularMDP.from_gymnasium(gymnasium.make("Corridor-v0"))
     assert mdp.state_names == ("1", "2", "3", "4", "5", "6") and mdp.initial[0] == 1.0

@@ -318,6 +318,10 @@ class OneClassTreeConstraint(Learner):
     ``close_crossed`` (default True: with ``readable``, a gap a demonstrated step crossed is
     closed, as a continuous path passes through it; False where neighbouring values are not
     neighbours in the world -- the ids of a ``Discrete`` observation, where 3 -> 5 jumps over 4),
+    ``whole_numbers`` (default False; True where every feature takes whole-number values only, as
+    the ids of a ``Discrete`` observation: an unsafe conjunction that holds at no whole-number
+    point, such as the slab ``x0 > 1 & x0 < 2`` between two ids, forbids nothing and is dropped,
+    said in ``notes_``),
     ``warn_unsafe_share`` (default 0.5: a ``UserWarning``, also in ``warnings_``, when the formula
     marks more than this share of the data's bounding box unsafe; None: never), ``inputs`` (names
     of the features the rules may test, e.g. the positions of an observation that also holds
@@ -356,7 +360,7 @@ class OneClassTreeConstraint(Learner):
     def __init__(self, *, max_depth: int = 5, bandwidth: str | float = "silverman", min_samples_leaf: int = 5,
                  density_threshold: float = 0.5, min_gain: float = 0.05, box_sigmas: float = 2.5,
                  grid_size: int = 256, readable: bool = True, warn_unsafe_share: float | None = 0.5,
-                 inputs: Sequence[str] | None = None, close_crossed: bool = True,
+                 inputs: Sequence[str] | None = None, close_crossed: bool = True, whole_numbers: bool = False,
                  random_state: Any = None) -> None:
         self.max_depth = max_depth
         self.bandwidth = bandwidth
@@ -369,6 +373,7 @@ class OneClassTreeConstraint(Learner):
         self.warn_unsafe_share = warn_unsafe_share
         self.inputs = inputs
         self.close_crossed = close_crossed
+        self.whole_numbers = whole_numbers
         self.random_state = random_state
 
     # --- fitting -------------------------------------------------------------------------------
@@ -383,6 +388,8 @@ class OneClassTreeConstraint(Learner):
             raise SymlearnError(f"min_samples_leaf must be an integer >= 1, got {self.min_samples_leaf!r}")
         if not isinstance(self.close_crossed, (bool, np.bool_)):
             raise SymlearnError(f"close_crossed must be True or False, got {self.close_crossed!r}")
+        if not isinstance(self.whole_numbers, (bool, np.bool_)):
+            raise SymlearnError(f"whole_numbers must be True or False, got {self.whole_numbers!r}")
         if not integer(self.grid_size) or not 16 <= self.grid_size <= 4096:
             raise SymlearnError(f"grid_size must be an integer in [16, 4096], got {self.grid_size!r}")
         if isinstance(self.bandwidth, str):
@@ -427,6 +434,10 @@ class OneClassTreeConstraint(Learner):
         root = tree.root
         t_tree = time.perf_counter()
         dnf = tree_dnf(tree)
+        empty = 0
+        if self.whole_numbers:
+            kept = tuple(c for c in dnf.conjunctions if _holds_at_a_whole_number(c))
+            empty, dnf = len(dnf.conjunctions) - len(kept), DNF(kept)
         t_dnf = time.perf_counter()
 
         self.feature_names_ = names
@@ -450,6 +461,9 @@ class OneClassTreeConstraint(Learner):
         self.slivers_closed_ = slivers
         self.slivers_crossed_ = closed["crossed"]
         self.notes_ = _notes(self, closed, steps is not None)
+        if empty:
+            self.notes_.append(f"{empty} conjunction(s) that hold at no whole-number point (slabs between ids) "
+                               "dropped: they forbid nothing")
         self.warnings_ = []
         if self.warn_unsafe_share is not None and self.unsafe_share_ > float(self.warn_unsafe_share):
             self.warnings_.append(
@@ -1203,3 +1217,19 @@ def tree_text(tree: OneClassTree, digits: int = 4) -> str:
 
     visit(root, "")
     return "\n".join(lines) + "\n"
+
+
+def _holds_at_a_whole_number(conjunction: Conjunction) -> bool:
+    """Whether some whole-number point satisfies every atom: per feature, the interval the atoms
+    leave must hold an integer (``x > 1 & x < 2`` holds none, ``x >= 1 & x < 2`` holds 1)."""
+    low: dict[str, float] = {}
+    high: dict[str, float] = {}
+    for atom in conjunction.atoms:
+        v = float(atom.value)
+        if atom.op in (">", ">="):  # smallest whole number the atom allows
+            least = math.floor(v) + 1 if atom.op == ">" else math.ceil(v)
+            low[atom.feature] = max(low.get(atom.feature, -math.inf), least)
+        else:
+            most = math.ceil(v) - 1 if atom.op == "<" else math.floor(v)
+            high[atom.feature] = min(high.get(atom.feature, math.inf), most)
+    return all(low.get(f, -math.inf) <= high.get(f, math.inf) for f in set(low) | set(high))

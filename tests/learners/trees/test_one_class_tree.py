@@ -399,3 +399,35 @@ def test_values_near_the_float64_limit_do_not_overflow_the_bandwidth():
         h = bandwidths(X, "scott")
     assert _np.isfinite(h).all() and h[0] > 1e299
     assert bandwidths(X[:, 1:], "scott").tolist() == (1.06 * X[:, 1:].std(axis=0) * 3 ** -0.2).tolist()
+
+
+def test_whole_numbers_drops_the_conjunctions_between_ids():
+    # ids of a Discrete observation: 1, 2 visited, 3 avoided, 5 visited; slabs such as
+    # x > 2 & x < 3 hold at no id and were printed as rules that forbid nothing
+    from symlearn.learners.trees.one_class_tree import _holds_at_a_whole_number
+
+    points = [[v] for v in [1.0] * 10 + [2.0] * 10 + [5.0] * 10 + [6.0] * 10]
+    plain = OneClassTreeConstraint(max_depth=3, min_samples_leaf=2).fit(points, ["x"])
+    ids = OneClassTreeConstraint(max_depth=3, min_samples_leaf=2, whole_numbers=True).fit(points, ["x"])
+    assert all(_holds_at_a_whole_number(c) for c in ids.dnf_.conjunctions)
+    assert not all(_holds_at_a_whole_number(c) for c in plain.dnf_.conjunctions)  # x > 1 & x < 2, ...
+    assert len(ids.dnf_.conjunctions) < len(plain.dnf_.conjunctions)
+    assert any("hold at no whole-number point" in note for note in ids.notes_)
+    grid = [[float(v)] for v in range(-1, 9)]
+    assert ids.dnf_.evaluate(grid, ["x"]).tolist() == plain.dnf_.evaluate(grid, ["x"]).tolist()
+    assert ids.dnf_.evaluate([[3.0], [4.0]], ["x"]).tolist() == [True, True]
+
+
+def test_whole_number_check_of_one_conjunction():
+    from symlearn.learners.trees.one_class_tree import _holds_at_a_whole_number
+    from symlearn.logic.dnf import DNF
+
+    def holds(*atoms):
+        return _holds_at_a_whole_number(DNF.of(atoms).conjunctions[0])
+
+    assert not holds(("x", ">", 1), ("x", "<", 2))
+    assert holds(("x", ">=", 1), ("x", "<", 2)) and holds(("x", ">", 1.5), ("x", "<=", 2))
+    assert not holds(("x", ">", 1.2), ("x", "<", 1.9)) and holds(("x", "<", 0.5))
+    assert holds(("x", ">", 1), ("x", "<", 3), ("y", ">=", -1), ("y", "<=", -1))
+    with pytest.raises(SymlearnError):
+        OneClassTreeConstraint(whole_numbers="yes").fit([[0.0], [1.0]], ["x"])
