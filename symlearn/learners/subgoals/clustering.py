@@ -4,6 +4,10 @@ For each candidate feature subset, every observed frame of every demonstration i
 the subset and the projections are clustered with DBSCAN; clusters holding the first frame of a
 demonstration (an initial state) are dropped where at least half of the demonstrations that reach
 them start in them (a place a few demonstrations start near is still a sub-goal for the others);
+clusters of pass-through frames are dropped too: where a cluster's frames that have a frame of
+the same demonstration before or after them in the cluster (the demonstration stayed) weigh less
+than ``min_samples``, demonstrations only pass there (a deterministic walker puts one frame of every
+tour on the same point of a shared path, a dense cluster nobody stays in);
 each remaining cluster is a sub-goal: its centre is
 the mean of its frames, its radius the largest distance from the centre to one of its core points
 (plus the collapse resolution).
@@ -89,6 +93,7 @@ class ClusterRecord:
     noise_weight: float  # frames in no cluster
     seconds: float
     eps_source: str = "given"  # or the default's bound: "dwelling noise", "half the travel step" ("no frames")
+    dropped_passing: int = 0  # of the clusters found, made of pass-through frames (:func:`_passing_place`)
 
     def as_dict(self) -> dict:
         return asdict(self)
@@ -132,6 +137,28 @@ def _start_place(members: np.ndarray, collapsed: CollapsedFrames, initial: np.nd
     visiting = np.unique(demonstration[frames])
     starting = np.unique(demonstration[frames & initial])
     return 2 * len(starting) >= len(visiting)
+
+
+def _passing_place(members: np.ndarray, collapsed: CollapsedFrames, demonstration: np.ndarray,
+                   min_samples: float) -> bool:
+    """Whether a cluster is a place demonstrations pass through, not one where they stay: without
+    its pass-through frames (a frame whose demonstration's previous and next observed frames both
+    lie outside the cluster) its weight falls below ``min_samples``. Where every demonstration
+    puts its frames on the same points (a deterministic walker), the one frame that each of them
+    leaves at the same spot on a shared path (the last step before a place, passed on the way in
+    and out) piles up into a dense cluster although nobody stays there; a place where
+    demonstrations dwell keeps its runs of consecutive frames."""
+    frames = members[collapsed.index]
+    inside = np.flatnonzero(frames)
+    if not len(inside):
+        return False
+    # consecutive frames of one demonstration are adjacent in the concatenated observed frames
+    same_prev = np.zeros(len(frames), dtype=bool)
+    same_prev[1:] = frames[:-1] & (demonstration[:-1] == demonstration[1:])
+    same_next = np.zeros(len(frames), dtype=bool)
+    same_next[:-1] = frames[1:] & (demonstration[1:] == demonstration[:-1])
+    staying = frames & (same_prev | same_next)
+    return float(staying.sum()) < min_samples
 
 
 #: bins of the log-step histogram that :func:`otsu_split` splits (a fraction of a percent of the
@@ -264,11 +291,14 @@ def find_subgoals(frames: Sequence[np.ndarray], subsets: Sequence[FeatureSubset]
         cell = cell_fraction * subset_eps / math.sqrt(len(subset.features))
         collapsed = collapse(projected, initial, cell)
         labels, core = _cluster(collapsed, subset_eps, subset_min, method)
-        found, dropped = [], 0
+        found, dropped, passing = [], 0, 0
         for label in range(labels.max() + 1 if len(labels) else 0):
             members = labels == label
             if collapsed.initial[members].any() and _start_place(members, collapsed, initial, demonstration):
                 dropped += 1
+                continue
+            if _passing_place(members, collapsed, demonstration, subset_min):
+                passing += 1
                 continue
             weight = collapsed.weights[members].sum()
             centre = collapsed.sums[members].sum(axis=0) / weight
@@ -281,13 +311,14 @@ def find_subgoals(frames: Sequence[np.ndarray], subsets: Sequence[FeatureSubset]
         records.append(ClusterRecord(subset.name, int(len(projected)), int(len(collapsed.weights)), subset_eps,
                                      subset_min, int(labels.max() + 1) if len(labels) else 0, dropped,
                                      float(collapsed.weights[labels < 0].sum()), time.perf_counter() - started,
-                                     eps_source))
+                                     eps_source, passing))
     if not goals:
         if len(never_observed) == len(subsets):
             raise DataError("every frame is unobserved (NaN) on every feature subset: nothing to cluster",
                             hint="check the demonstrations and the subsets' columns")
         described = "; ".join(f"{r.subset}: {r.clusters} clusters, {r.dropped_initial} holding an initial state, "
-                              f"eps={r.eps:.3g}, min_samples={r.min_samples:.3g}" for r in records)
+                              + (f"{r.dropped_passing} of pass-through frames, " if r.dropped_passing else "")
+                              + f"eps={r.eps:.3g}, min_samples={r.min_samples:.3g}" for r in records)
         hint = ("lower min_samples (--min-samples) so sparser places count, or raise eps (--eps) so a dwelling "
                 "place forms one cluster")
         if any(r.clusters and r.dropped_initial == r.clusters for r in records):

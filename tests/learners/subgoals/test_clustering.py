@@ -149,3 +149,37 @@ def test_values_whose_distances_overflow_are_refused_not_an_internal_error(tmp_p
     path.write_text("\n".join(lines) + "\n")
     code, _, err = run(capsys, "learn", "pdfa", "--demos", path)
     assert code == 2 and f"{path}: the frames hold values up to 1e+300" in err and "internal error" not in err, err
+
+
+def walker_tours(n=30, seed=0, step=0.1, dwell=9, noise=0.01):
+    """A deterministic walker's tours: from the same start, 2.2 from (0, 0) at 15 degrees below the
+    x axis, walking in equal steps on straight lines to (0, 0), then (4, 0) and (2, 3), dwelling
+    ``dwell`` frames at each; every tour's frames fall on the same points (up to ``noise``). The
+    last frame before (0, 0) and the first after it lie 0.026 apart, two frames of every tour at
+    one spot."""
+    rng = np.random.default_rng(seed)
+    angle = np.radians(15)
+    start = 22 * step * np.array([np.cos(angle), -np.sin(angle)])
+    stations = [np.array(p) for p in ((0.0, 0.0), (4.0, 0.0), (2.0, 3.0))]
+    runs = []
+    for _ in range(n):
+        position, frames = start, [start]
+        for target in stations:
+            length = float(np.linalg.norm(target - position))
+            frames += [position + (target - position) * j * step / length
+                       for j in range(1, int(round(length / step, 6)) + 1)]
+            frames += [target] * dwell
+            position = target
+        runs.append(np.array(frames) + rng.normal(0, noise, (len(frames), 2)))
+    return runs, stations
+
+
+def test_a_spot_every_tour_passes_through_is_no_sub_goal():
+    # 30 tours each put two walking frames next to (0, 0) on the same line (arriving, leaving):
+    # a dense cluster (60 frames >= min_samples 45) where nobody stays; dropped as pass-through
+    runs, stations = walker_tours()
+    goals, records = find_subgoals(runs, feature_subsets(None, ["x", "y"]))
+    assert len(goals) == 3, [g.centre for g in goals]
+    for goal, station in zip(sorted(goals, key=lambda g: g.centre), sorted(map(tuple, stations))):
+        assert np.linalg.norm(np.subtract(goal.centre, station)) < 0.02
+    assert records[0].dropped_passing >= 1
