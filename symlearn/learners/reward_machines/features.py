@@ -75,8 +75,15 @@ def check_pixel_values(array: np.ndarray, what: str = "frames") -> None:
         raise DataError(f"{what} contain NaN or infinite pixels")
     lo, hi = float(array.min()), float(array.max())
     if lo < 0 or hi > 1:
+        # negative values are rarely pixels: a table of features stored per step (highway-env's
+        # kinematics, (5, 5) of positions and speeds) reads as a tiny picture, and "scale to 0..1"
+        # misleads there
+        table = lo < 0 and array.ndim >= 3 and min(array.shape[1:3]) < 16
         raise DataError(f"float {what} must lie in [0, 1], got [{lo:.3g}, {hi:.3g}]",
-                        hint="give uint8 images or floats scaled to 0..1")
+                        hint=("give uint8 images or floats scaled to 0..1"
+                              + ("; these look like tables of features, not camera frames "
+                                 f"({array.shape[1]} x {array.shape[2]}, negative values): learn rm reads pictures, "
+                                 "learn dnf / learn pdfa read features" if table else "")))
 
 
 def pool_factor(shape: tuple[int, ...]) -> int:

@@ -25,3 +25,21 @@ def test_learn_rm_reports_the_range_of_all_frames(tmp_path, capsys):
              states=states, lengths=np.array([3, 3]))
     code, _, err = run(capsys, "learn", "rm", "--demos", path)
     assert code == 2 and "got [0, 200]" in err, err
+
+
+def test_a_table_of_features_is_told_apart_from_pictures():
+    # highway-env's kinematics, a (5, 5) float table per step with negative values, was told to
+    # "scale to 0..1" as if it were a camera frame
+    import numpy as np
+    import pytest
+
+    from symlearn.errors import DataError
+    from symlearn.learners.reward_machines.features import check_pixel_values
+
+    with pytest.raises(DataError) as table:
+        check_pixel_values(np.linspace(-2, 2, 250).reshape(10, 5, 5))
+    assert "tables of features" in table.value.hint and "learn dnf" in table.value.hint
+    with pytest.raises(DataError) as picture:
+        check_pixel_values(np.linspace(0, 2, 10 * 32 * 32).reshape(10, 32, 32))
+    assert "tables of features" not in picture.value.hint
+    check_pixel_values(np.linspace(0, 1, 250).reshape(10, 5, 5))  # a tiny picture in range is fine
