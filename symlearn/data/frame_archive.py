@@ -72,17 +72,11 @@ def load_frames(path: str | os.PathLike[str]) -> tuple[list[np.ndarray], tuple[s
                 raise DataError(f"a frame archive needs a member {name!r}", file=source,
                                 hint="members: states (frames x features, NaN = unobserved), lengths (frames per "
                                      "demonstration), optional feature_names")
-        (s_dtype, s_shape), (l_dtype, l_shape) = headers["states"], headers["lengths"]
+        s_dtype, s_shape = headers["states"]
         if s_dtype.kind not in "iuf" or len(s_shape) != 2 or s_shape[1] < 1:
             raise DataError(f"member 'states' must be a numeric (frames, features) array, got {s_dtype.str} "
                             f"{s_shape}", file=source)
-        if l_dtype.kind not in "iu" or len(l_shape) != 1 or l_shape[0] < 1:
-            raise DataError(f"member 'lengths' must be a non-empty integer vector, got {l_dtype.str} {l_shape}",
-                            file=source)
-        lengths = _member(archive, "lengths", source).astype(np.int64)
-        if (lengths < 1).any() or int(lengths.sum()) != s_shape[0]:
-            raise DataError(f"'lengths' must be positive and sum to the {s_shape[0]} rows of 'states', "
-                            f"they sum to {int(lengths.sum())}", file=source)
+        lengths = _lengths(archive, headers["lengths"], s_shape[0], "rows", source)
         states = _member(archive, "states", source).astype(np.float64)
         names = None
         if "feature_names" in headers:
@@ -101,6 +95,19 @@ def load_frames(path: str | os.PathLike[str]) -> tuple[list[np.ndarray], tuple[s
         raise DataError(f"demonstration {demo} has an infinite feature value (row {row} of 'states')",
                         file=source, hint="NaN marks an unobserved feature; infinity is not allowed")
     return np.split(states, np.cumsum(lengths)[:-1]), names
+
+
+def _lengths(archive, header: tuple[np.dtype, tuple[int, ...]], total: int, unit: str, source: str) -> np.ndarray:
+    """The ``lengths`` member, checked: a non-empty integer vector of positive runs summing to the
+    ``total`` rows (or frames) of ``states``."""
+    dtype, shape = header
+    if dtype.kind not in "iu" or len(shape) != 1 or shape[0] < 1:
+        raise DataError(f"member 'lengths' must be a non-empty integer vector, got {dtype.str} {shape}", file=source)
+    lengths = _member(archive, "lengths", source).astype(np.int64)
+    if (lengths < 1).any() or int(lengths.sum()) != total:
+        raise DataError(f"'lengths' must be positive and sum to the {total} {unit} of 'states', "
+                        f"they sum to {int(lengths.sum())}", file=source)
+    return lengths
 
 
 def _member(archive, name: str, source: str) -> np.ndarray:
@@ -133,18 +140,12 @@ def load_video(path: str | os.PathLike[str]):
     if not isinstance(archive, np.lib.npyio.NpzFile):
         raise DataError("holds a single array, not a frame archive", file=source)
     with archive:
-        (s_dtype, s_shape), (l_dtype, l_shape) = headers["states"], headers["lengths"]
+        s_dtype, s_shape = headers["states"]
         if s_dtype.kind not in "iuf" or len(s_shape) not in (3, 4) or 0 in s_shape:
             raise DataError(f"member 'states' must hold numeric pictures (frames, H, W[, C]), got {s_dtype.str} "
                             f"{s_shape}", file=source,
                             hint="a (frames, features) archive of positions is learn pdfa's input")
-        if l_dtype.kind not in "iu" or len(l_shape) != 1 or l_shape[0] < 1:
-            raise DataError(f"member 'lengths' must be a non-empty integer vector, got {l_dtype.str} {l_shape}",
-                            file=source)
-        lengths = _member(archive, "lengths", source).astype(np.int64)
-        if (lengths < 1).any() or int(lengths.sum()) != s_shape[0]:
-            raise DataError(f"'lengths' must be positive and sum to the {s_shape[0]} frames of 'states', "
-                            f"they sum to {int(lengths.sum())}", file=source)
+        lengths = _lengths(archive, headers["lengths"], s_shape[0], "frames", source)
         frames = _member(archive, "states", source)
     if frames.dtype.kind == "f" and not np.isfinite(frames).all():
         raise DataError("member 'states' holds NaN or infinite pixels", file=source)
