@@ -165,6 +165,14 @@ class Interval:
         return self.lo == -_INF and self.hi == _INF
 
     @property
+    def holds_whole_number(self) -> bool:
+        """Whether some integer lies in the interval (``(1, 2)`` holds none, ``[1, 2)`` holds 1):
+        where a feature takes whole-number values only, an interval without one is empty."""
+        least = self.lo if self.lo == -_INF else math.ceil(self.lo) if self.lo_closed else math.floor(self.lo) + 1
+        most = self.hi if self.hi == _INF else math.floor(self.hi) if self.hi_closed else math.ceil(self.hi) - 1
+        return least <= most
+
+    @property
     def length(self) -> float:
         return 0.0 if self.is_empty else self.hi - self.lo
 

@@ -462,3 +462,11 @@ def test_containment_examples_and_limit():
     assert square.implies(cells) and cells.simplify() == square
     with pytest.raises(LimitExceededError):
         square.implies(cells, limit=10)
+
+
+def test_interval_holds_whole_number():
+    from symlearn.logic.dnf import Interval
+
+    assert not Interval(1, 2).holds_whole_number and Interval(1, 2, lo_closed=True).holds_whole_number
+    assert not Interval(1.2, 1.9, True, True).holds_whole_number and Interval(hi=0.5).holds_whole_number
+    assert Interval().holds_whole_number and not Interval(2, 1, True, True).holds_whole_number

@@ -1220,16 +1220,6 @@ def tree_text(tree: OneClassTree, digits: int = 4) -> str:
 
 
 def _holds_at_a_whole_number(conjunction: Conjunction) -> bool:
-    """Whether some whole-number point satisfies every atom: per feature, the interval the atoms
-    leave must hold an integer (``x > 1 & x < 2`` holds none, ``x >= 1 & x < 2`` holds 1)."""
-    low: dict[str, float] = {}
-    high: dict[str, float] = {}
-    for atom in conjunction.atoms:
-        v = float(atom.value)
-        if atom.op in (">", ">="):  # smallest whole number the atom allows
-            least = math.floor(v) + 1 if atom.op == ">" else math.ceil(v)
-            low[atom.feature] = max(low.get(atom.feature, -math.inf), least)
-        else:
-            most = math.ceil(v) - 1 if atom.op == "<" else math.floor(v)
-            high[atom.feature] = min(high.get(atom.feature, math.inf), most)
-    return all(low.get(f, -math.inf) <= high.get(f, math.inf) for f in set(low) | set(high))
+    """Whether some whole-number point satisfies every atom: each feature's interval (the
+    conjunction's box) must hold an integer (``x > 1 & x < 2`` holds none, ``x >= 1 & x < 2`` holds 1)."""
+    return all(interval.holds_whole_number for interval in conjunction.box().values())
