@@ -164,15 +164,22 @@ def _one_formula(path: str) -> tuple[int, str]:
     """``(line number, text)`` of the one formula a file holds (blank lines and lines starting
     with ``#`` skipped, as ``ltl dfa --file`` reads them); more or none is an error at the file."""
     from symlearn.errors import SymlearnError
-    from symlearn.input_limits import read_input_text
 
-    lines = read_input_text(path, what="formula file").split("\n")
-    numbers = [n for n, text in enumerate(lines, start=1) if text.strip() and not text.lstrip().startswith("#")]
+    lines, numbers = _formula_lines(path)
     if len(numbers) != 1:
         raise SymlearnError(f"the file holds {len(numbers)} formulas; --file here reads one", file=path,
                             hint="keep one formula in the file (lines starting with # are comments); "
                                  "ltl dfa --file translates a file of many")
     return numbers[0], lines[numbers[0] - 1]
+
+
+def _formula_lines(path: str) -> tuple[list[str], list[int]]:
+    """A formula file's lines and the numbers (from 1) of those holding a formula: blank lines and
+    lines starting with ``#`` are skipped (``ltl dfa --file``, ``ltl eval --file``)."""
+    from symlearn.input_limits import read_input_text
+
+    lines = read_input_text(path, what="formula file").split("\n")
+    return lines, [n for n, text in enumerate(lines, start=1) if text.strip() and not text.lstrip().startswith("#")]
 
 
 def _demonstration_words(path: str) -> list:
@@ -221,10 +228,9 @@ def _dfa(args: argparse.Namespace, out) -> None:
                             hint="symlearn ltl dfa 'F a & G !b'")
     single = None
     if args.file:
-        from symlearn.input_limits import check_size, limit, read_input_text
+        from symlearn.input_limits import check_size, limit
 
-        lines = read_input_text(args.file, what="formula file").split("\n")
-        numbers = [n for n, text in enumerate(lines, start=1) if text.strip() and not text.lstrip().startswith("#")]
+        lines, numbers = _formula_lines(args.file)
         if args.dot or args.svg or args.save:
             # an edited SPEC.ltl with a '# why' comment above its formula is one automaton: write it
             # (before, --save was refused with --file, and "$(cat SPEC.ltl)" fails on the comment)
