@@ -149,15 +149,14 @@ def _passing_place(members: np.ndarray, collapsed: CollapsedFrames, demonstratio
     and out) piles up into a dense cluster although nobody stays there; a place where
     demonstrations dwell keeps its runs of consecutive frames."""
     frames = members[collapsed.index]
-    inside = np.flatnonzero(frames)
-    if not len(inside):
+    if not frames.any():
         return False
-    # consecutive frames of one demonstration are adjacent in the concatenated observed frames
-    same_prev = np.zeros(len(frames), dtype=bool)
-    same_prev[1:] = frames[:-1] & (demonstration[:-1] == demonstration[1:])
-    same_next = np.zeros(len(frames), dtype=bool)
-    same_next[:-1] = frames[1:] & (demonstration[1:] == demonstration[:-1])
-    staying = frames & (same_prev | same_next)
+    # consecutive frames of one demonstration are adjacent in the concatenated observed frames:
+    # a pair of them both in the cluster makes both staying frames
+    pair = frames[:-1] & frames[1:] & (demonstration[:-1] == demonstration[1:])
+    staying = np.zeros(len(frames), dtype=bool)
+    staying[:-1] |= pair
+    staying[1:] |= pair
     return float(staying.sum()) < min_samples
 
 
