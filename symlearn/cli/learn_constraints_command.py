@@ -41,6 +41,7 @@ demonstration can visit), printed as a second line when some pairs are unreachab
 from __future__ import annotations
 
 import argparse
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -106,6 +107,10 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--rationality", default=None, metavar="BETA|auto",
                      help="logic/ml: inverse temperature of the MaxEnt model (--domain: auto, fitted to the "
                           "demonstrations by maximum likelihood; bundled worlds: their setting's, 1, 3 for gridworld)")
+    cmd.add_argument("--min-evidence", type=float, default=None, metavar="NATS",
+                     help="logic: infer a pair only if the nominal planner would have visited it at least this often "
+                          "in as many episodes as were demonstrated (default 1: Akaike's price of a rule's "
+                          "parameter; 0 turns the test off)")
     cmd.add_argument("--known", help="an .lp file of rules known in advance (logic environments)")
     cmd.add_argument("--noise", action="store_true",
                      help="treat demonstrated steps that break --known rules as noise (warn) instead of an error")
@@ -274,6 +279,9 @@ def _learn_in_worker(job: dict) -> tuple[list[str], dict]:
 def _learn(args: argparse.Namespace, out) -> None:
     from symlearn.errors import DataError, SymlearnError
 
+    if args.min_evidence is not None and not (math.isfinite(args.min_evidence) and args.min_evidence >= 0):
+        raise SymlearnError(f"--min-evidence must be a number of nats >= 0, got {args.min_evidence:g}",
+                            hint="leave it out for the default (1); 0 turns the test off")
     if args.iterations is not None and args.iterations < 1:  # 0 would read as "the default" below
         raise SymlearnError(f"--iterations must be at least 1, got {args.iterations}",
                             hint="leave it out for the default (logic: at most 20, stopping on convergence)")
@@ -368,7 +376,9 @@ def _learn(args: argparse.Namespace, out) -> None:
         doc["cost_map"] = _cost_map(world, learner, args)
     if args.output:
         if method == "logic" and learner.hypothesis_ is None:
-            raise _nothing_to_write(args.output, learner, doc["warnings"])
+            if not learner.needed_none() or any("#mode" in w for w in doc["warnings"]):
+                raise _nothing_to_write(args.output, learner, doc["warnings"])
+            doc["warnings"].append(f"no rule learned: {_nothing_to_write(args.output, learner, []).hint}")
         doc["files"] = _write(args.output, method, doc, world, learner, args)
     out.result(doc, _render)
 
@@ -384,6 +394,11 @@ def _nothing_to_write(output: str, learner, warnings: list[str]):
     elif learner.stop_reason_ == "no_candidates":
         hint = ("no rule of the bias forbids an undemonstrated pair without forbidding a demonstrated one: widen "
                 "the bias (more #modeb literals, a larger #maxv)")
+    elif learner.stop_reason_ in ("min_evidence", "min_visitation"):
+        hint = (f"the demonstrations never needed a constraint: at the rationality {learner.rationality_:g} a planner "
+                "as deliberate as the expert does what it did without one. Give rules you know with --known, "
+                "demonstrations where breaking them would have paid, or --min-evidence 0 with a lower --rationality "
+                "to guess from a more random planner")
     else:
         hint = "give more demonstrations or more iterations"
     return SymlearnError(f"no rules were induced ({learner.stop_text()}), so there is nothing to write to {output}",
@@ -475,7 +490,7 @@ def _run(method: str, world: _World, demos, args, known, out):
 
         learner = LogicConstraintInference(iterations=args.iterations or 20, horizon=args.horizon,
                                            reward=_reward(args, world), rationality=_rationality(args, world),
-                                           noise=args.noise,
+                                           noise=args.noise, **_min_evidence(args),
                                            known=Path(args.known) if args.known else None).fit(demos, world.domain)
         for step in learner.history_:
             # the rules' own pairs are what the final count reports; the inference also holds pairs
@@ -525,6 +540,14 @@ def _reward(args: argparse.Namespace, world: _World) -> str:
     if args.reward == "given" and not world.has_reward:
         raise SymlearnError(f"{world.name} defines no reward", hint="use --reward sparse")
     return args.reward or ("given" if world.has_reward else "sparse")
+
+
+def _min_evidence(args: argparse.Namespace) -> dict[str, float | None]:
+    """``--min-evidence`` as the logic learner's keyword: nothing when not given (the learner's
+    default), None (off) at 0."""
+    if getattr(args, "min_evidence", None) is None:
+        return {}
+    return {"min_evidence": None if args.min_evidence == 0 else float(args.min_evidence)}
 
 
 def _rationality(args: argparse.Namespace, world: _World | None) -> float | str:

@@ -121,7 +121,10 @@ def test_known_rules_are_reported_as_given_not_learned(capsys, tmp_path):
     known = tmp_path / "known.lp"
     known.write_text(":- move(up), doorOpen.\n")
     rules = tmp_path / "rules.lp"
-    args = ("learn", "constraints", "--domain", domain, "--demos", demos, "--known", known, "-o", rules)
+    # (five copies of one ride show nothing about moving down with the door open: without the
+    # evidence test the learner still guesses that rule, which is what this test needs learned)
+    args = ("learn", "constraints", "--domain", domain, "--demos", demos, "--known", known, "-o", rules,
+            "--min-evidence", "0")
     code, out, err = run(capsys, *args, "--json")
     assert code == 0, err
     doc = json.loads(out)

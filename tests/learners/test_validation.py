@@ -63,8 +63,11 @@ def test_cli_constraints_validation_catches_an_over_strict_rule(capsys, tmp_path
     few, many = tmp_path / "few.jsonl", tmp_path / "many.jsonl"
     wh.expert_demonstrations(5, seed=0).save(few)
     wh.expert_demonstrations(60, seed=0).save(many)
+    # a random planner and no evidence test (the learner before 2026-12-08), so that 3 deliveries
+    # give a rule to catch: the defaults learn none from them
+    legacy = ("--rationality", "2.8", "--min-evidence", "0")
     code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", few, "--validation", 0.4,
-                         "--json")
+                         "--json", *legacy)
     assert code == 0, err
     doc = json.loads(out)
     v = doc["validation"]
@@ -76,7 +79,8 @@ def test_cli_constraints_validation_catches_an_over_strict_rule(capsys, tmp_path
                          "--json")
     doc = json.loads(out)
     assert doc["validation"]["forbidden"] == 0 and doc["warnings"] == [] and doc["fpr"] == 0.0
-    code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", few, "--validation", 0.4)
+    code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", few, "--validation", 0.4,
+                         *legacy)
     assert "validation: " in out and "warning: the learned constraint forbids" in out
     code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", few, "--validation", 2)
     assert code == 2 and "strictly between 0 and 1" in err

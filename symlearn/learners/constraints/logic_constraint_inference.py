@@ -98,6 +98,7 @@ class Unexplained:
 STOP_REASONS = {
     "converged": "converged: the rules forbade no new pair in the last {patience} iterations",
     "min_visitation": ML_STOP_REASONS["min_visitation"],
+    "min_evidence": ML_STOP_REASONS["min_evidence"],
     "no_candidates": "no undemonstrated pair the bias can forbid is left",
     "max_iterations": "the iteration budget ({iterations}) ran out before convergence",
 }
@@ -206,7 +207,8 @@ class LogicConstraintInference(Learner):
     (``stop_reason_``): ``"converged"`` once rules exist and ``patience`` iterations in a row
     induced rules that forbid no pair the previous rules allowed (the inferred pairs since were
     allowed pairs that no demonstration happened to show, which the ILP step leaves uncovered);
-    ``"min_visitation"`` when no undemonstrated pair is likely any more; ``"no_candidates"``
+    ``"min_visitation"`` when no undemonstrated pair is likely any more; ``"min_evidence"`` when
+    the likeliest one's absence is no evidence (below); ``"no_candidates"``
     when no undemonstrated pair the bias can forbid is left; ``"max_iterations"`` at the cap.
 
     **What the bias cannot express.** Before the loop every candidate rule of the bias is
@@ -233,8 +235,26 @@ class LogicConstraintInference(Learner):
 
     ``rationality`` is the MaxEnt model's inverse temperature; ``"auto"`` (the default) fits it to
     the demonstrations by maximum likelihood before the loop (see
-    :mod:`~symlearn.learners.constraints.rationality_fit`; ``rationality_`` is the value used). It
+    :mod:`~symlearn.learners.constraints.rationality_fit`; ``rationality_`` is the value used) and,
+    with ``refit_rationality`` (the default), again after every iteration under the constraints
+    found so far: one likelihood, maximised over the constraints and the temperature in turn. It
     only matters with a reward other than the sparse one, where it cancels.
+
+    **Evidence.** ``min_evidence`` (nats, default 1): a pair is inferred only if the nominal
+    policy would have visited it at least that often in as many episodes as were demonstrated
+    (``visitation x len(demonstrations)``); forbidding a pair with expected visits ``k`` raises
+    the demonstrations' log-likelihood by about ``k`` nats, and 1 nat per added constraint is
+    Akaike's price of a parameter. Below it the pair's absence is what the nominal policy itself
+    would show about as often as not, so the loop stops (``"min_evidence"``) -- unless the pair lies
+    in a state no demonstration could reach under the constraints found so far (only the uniform
+    start share visits it): there the data can say nothing either way, and the share's guess goes
+    on as before (the junctions' off-road rule is one). Together with the
+    refitted temperature this keeps a deliberate expert's unused moves (waiting, actions that
+    change nothing) from being read as constraints; the price is that a rule the expert never
+    had a reason to break (a blocked cell off every shortest path) is not learned -- the
+    demonstrations do not show it. ``None`` turns the test off (and ``refit_rationality=False``
+    with it gives the behaviour before 2026-12-08; docs/BENCHMARKS.md, "Evidence and the
+    refitted temperature").
 
     ``start`` is where the nominal visitation starts (see :class:`MLConstraintInference`): the
     default 0.1 keeps 90 % of the mass on the demonstrations' starts (the thesis' objective) and
@@ -261,7 +281,8 @@ class LogicConstraintInference(Learner):
     def __init__(self, *, iterations: int = 10, horizon: int = 30, reward: str | np.ndarray = "sparse",
                  rationality: float | str = "auto", min_visitation: float = 1e-3, ilp_timeout: float = 30.0,
                  noise: bool = False, penalty: int = 10, known: np.ndarray | None = None,
-                 start: str | float = 0.1, patience: int = 2) -> None:
+                 start: str | float = 0.1, patience: int = 2, min_evidence: float | None = 1.0,
+                 refit_rationality: bool = True) -> None:
         self.iterations = iterations
         self.patience = patience
         self.horizon = horizon
@@ -269,6 +290,8 @@ class LogicConstraintInference(Learner):
         self.rationality = rationality
         self.start = start
         self.min_visitation = min_visitation
+        self.min_evidence = min_evidence
+        self.refit_rationality = refit_rationality
         self.ilp_timeout = ilp_timeout
         self.noise = noise
         self.penalty = penalty
@@ -299,7 +322,8 @@ class LogicConstraintInference(Learner):
             min_visitation=self.min_visitation, known_constraints=known,
             on_violation="warn" if self.noise else "error", generalize=induction,
             rationality=self.rationality, start=self.start, choosable=reach,
-            stop_when=lambda: induction.converged(self.patience))
+            stop_when=lambda: induction.converged(self.patience), min_evidence=self.min_evidence,
+            refit_rationality=self.refit_rationality)
         try:
             inference.fit(episodes, d)
             closed, self.final_induction_seconds_ = induction.final(inference.constraints_, inference.demonstrated_)
@@ -390,15 +414,33 @@ class LogicConstraintInference(Learner):
         return STOP_REASONS.get(self.stop_reason_, self.stop_reason_).format(patience=self.patience,
                                                                               iterations=self.iterations)
 
+    def needed_none(self) -> bool:
+        """No rule was induced because the demonstrations needed none: the loop stopped on the
+        evidence (no undemonstrated pair likely enough) before any rule. A result, written as a
+        rule file of comments; other ways to end without rules (a bias that cannot forbid) are not."""
+        return self.hypothesis_ is None and self.stop_reason_ in ("min_evidence", "min_visitation")
+
+    def _no_rules_text(self, recheck: str | None) -> str:
+        lines = [f"No rules learned by logic constraint inference on {self.domain_name_} "
+                 f"({len(self.history_)} of at most {self.iterations} iterations, {self.seconds_:.1f} s).",
+                 f"Stopped: {self.stop_text()}.",
+                 f"At the fitted rationality {self.rationality_:g} a planner as deliberate as the expert does what the "
+                 "demonstrations show without any constraint, so they give no evidence for one.",
+                 "Write rules you know below (or give them with --known), or record demonstrations in which",
+                 "breaking them would have paid.",
+                 f"re-check with: {recheck or 'symlearn domain check DOMAIN_DIR --rules THIS.lp [--demos DEMOS.jsonl]'}"]
+        return "".join(f"% {line}\n" for line in lines)
+
     def _lp_text(self, recheck: str | None = None) -> str:
         if self.hypothesis_ is None:
-            return ""
+            return self._no_rules_text(recheck) if self.needed_none() else ""
         header = (f"Rules learned by logic constraint inference on {self.domain_name_} "
                   f"({len(self.history_)} of at most {self.iterations} iterations, {self.seconds_:.1f} s).\n"
                   f"Stopped: {self.stop_text()}.")
         fit = self.__dict__.get("rationality_fit_")
         if fit is not None and fit.source == "fitted":
-            header += (f"\nMaxEnt rationality {self.rationality_:g}, fitted to the demonstrations (maximum "
+            under = " under the learned constraints" if self.refit_rationality else ""
+            header += (f"\nMaxEnt rationality {self.rationality_:g}, fitted to the demonstrations{under} (maximum "
                        "likelihood; --rationality sets it).")
         given = self.__dict__.get("known_rules_") or []
         if given:
@@ -425,7 +467,7 @@ class LogicConstraintInference(Learner):
         ``recheck``: the command the header's last line recommends after an edit (the CLI names
         the domain folder, this file and the demonstrations), instead of the placeholder one."""
         self.check_fitted()
-        if self.hypothesis_ is None:
+        if self.hypothesis_ is None and not self.needed_none():
             raise SymlearnError("no rules were induced, so there is nothing to write",
                                 hint="give more demonstrations or more iterations")
         if recheck is None:

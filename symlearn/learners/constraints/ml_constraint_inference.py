@@ -20,7 +20,11 @@ policy visits most often. Each iteration
 5. restricts the MDP.
 
 **Stopping criterion**: the loop ends when the best candidate's expected visitation drops below
-``min_visitation`` (adding it would barely change the likelihood), when no unobserved allowed
+``min_visitation`` (adding it would barely change the likelihood), when ``min_evidence`` (nats,
+off by default) is given and the candidate lies in a state the demonstrations could reach but the
+nominal policy would have visited it fewer than ``min_evidence`` times in as many episodes as
+were demonstrated (forbidding it gains about that many nats of likelihood; ``"min_evidence"``),
+when no unobserved allowed
 pair is left, when ``stop_when`` (a hook, e.g. logic inference's convergence test) names a reason,
 or after ``max_iterations`` (a cap). ``stop_reason_`` says which.
 
@@ -28,6 +32,9 @@ or after ``max_iterations`` (a cap). ``stop_reason_`` says which.
 as visited as the pair chosen is passed over and recorded once in ``passed_over_``
 (iteration, state, action, visitation) --
 logic inference uses it for the pairs its rule language cannot express.
+
+``refit_rationality`` (off by default) refits a fitted rationality (``"auto"``) after every
+iteration, under the constraints found so far: coordinate ascent on the one likelihood.
 
 The reward is the MDP's own (``reward="given"``), an explicit ``(S, A)``/``(S, A, S)`` array,
 or ``"sparse"``: 1 for entering a state where a demonstration ended, 0 otherwise.
@@ -81,6 +88,8 @@ STOP_REASONS = {
     "min_visitation": "no undemonstrated pair is likely any more (visitation below min_visitation)",
     "no_candidates": "no undemonstrated pair is left to forbid",
     "max_iterations": "the iteration cap ({iterations}) was reached",
+    "min_evidence": "no undemonstrated pair is likely enough to have shown up in the demonstrations "
+                    "(expected demonstrated visits below min_evidence)",
 }
 
 
@@ -193,6 +202,8 @@ class MLConstraintInference(Learner):
         start: Literal["demonstrations", "uniform"] | float = "demonstrations",
         choosable: np.ndarray | None = None,
         stop_when: Callable[[], str | None] | None = None,
+        min_evidence: float | None = None,
+        refit_rationality: bool = False,
     ) -> None:
         self.reward = reward
         self.horizon = horizon
@@ -205,6 +216,8 @@ class MLConstraintInference(Learner):
         self.start = start
         self.choosable = choosable
         self.stop_when = stop_when
+        self.min_evidence = min_evidence
+        self.refit_rationality = refit_rationality
 
     @renamed_arguments(domain="world")
     def fit(self, demonstrations: Iterable[Any], world: Any = None) -> MLConstraintInference:
@@ -224,6 +237,8 @@ class MLConstraintInference(Learner):
             check_constraints(episodes, forbidden, self.on_violation)
             forbidden &= ~seen  # with on_violation="warn" the noisy pairs stay allowed
         visitation = MaxEntVisitation(mdp, _goal_groups(mdp, episodes, share), self.reward, self.horizon, 1.0)
+        starts = np.zeros(mdp.n_states)  # where the demonstrations start: what "reachable" is measured from
+        starts[[int(e.states[0]) for e in episodes]] = 1.0
         fitted = resolve_rationality(self.rationality, visitation, episodes, ~forbidden)
         visitation.rationality = fitted.value
         forbidden = restrict(mdp, forbidden, protected=seen).forbidden
@@ -256,6 +271,16 @@ class MLConstraintInference(Learner):
             if value < self.min_visitation:
                 stopped = "min_visitation"
                 break
+            if self.min_evidence is not None and value * len(episodes) < self.min_evidence and \
+                    _reachable(mdp, forbidden, starts)[divmod(best, mdp.n_actions)[0]]:
+                # the pair's absence from the demonstrations is no evidence: the nominal policy
+                # itself would leave it unseen in these many episodes with probability about
+                # exp(-evidence) (37 % at 1 expected visit). Asked only in states the demonstrations
+                # could reach under the constraints so far: a pair in a state none can reach (only
+                # the uniform start share visits it) can have no evidence either way -- it is the
+                # share's guess about such regions, bounded by min_visitation as before
+                stopped = "min_evidence"
+                break
             s, a = divmod(best, mdp.n_actions)
             forbidden = forbidden.copy()
             forbidden[s, a] = True
@@ -267,6 +292,14 @@ class MLConstraintInference(Learner):
                 n_generalized = int((extra & ~forbidden).sum())
                 forbidden |= extra
             forbidden = restrict(mdp, forbidden, protected=seen).forbidden
+            if self.refit_rationality and fitted.source == "fitted":
+                # coordinate ascent on the one likelihood: the temperature that best explains the
+                # demonstrations under the constraints found so far. Fitted without them it is
+                # biased low (detours around forbidden pairs look like randomness), and a planner
+                # that random visits allowed moves a deliberate expert never needed (waiting,
+                # no-op actions) often enough to make their absence look like a constraint.
+                fitted = resolve_rationality("auto", visitation, episodes, ~forbidden)
+                visitation.rationality = fitted.value
             history.append(InferenceStep(iteration, s, a, value, int(forbidden.sum()),
                                          max(n_generalized, int(forbidden.sum()) - before), time.perf_counter() - t0))
             reason = self.stop_when() if self.stop_when is not None else None
@@ -300,6 +333,13 @@ class MLConstraintInference(Learner):
         """``stop_reason_`` in words (a reason ``stop_when`` gave as it is)."""
         self.check_fitted()
         return STOP_REASONS.get(self.stop_reason_, self.stop_reason_).format(iterations=self.max_iterations)
+
+
+def _reachable(mdp: TabularMDP, forbidden: np.ndarray, starts: np.ndarray) -> np.ndarray:
+    """Boolean (S,): the non-terminal states reachable from ``starts`` by allowed pairs."""
+    from symlearn.learners.constraints.constraint_metrics import reachable_pairs
+
+    return reachable_pairs(mdp, forbidden, initial=starts)[:, 0]
 
 
 def resolve_rationality(setting: Any, visitation: MaxEntVisitation, episodes, allowed: np.ndarray):

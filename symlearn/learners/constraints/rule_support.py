@@ -5,7 +5,10 @@ demonstrations never show. How random that planner is (its rationality) decides 
 absence counts: the rationality is fitted to the demonstrations *before* any rule is known, and
 the expert's detours around forbidden pairs then look like randomness, so the fit is low, the
 planner wanders, and pairs the expert merely never needed (waiting, where every step costs) look
-as avoided as the pairs it had to avoid. The guide's floor shows it: the rug rule and ``:- wait.``.
+as avoided as the pairs it had to avoid. The guide's floor showed it (the rug rule and ``:- wait.``)
+until the learner refitted the rationality after every iteration and asked each inferred pair for
+evidence (``LogicConstraintInference(refit_rationality=, min_evidence=)``, 2026-12-08); with a
+given low ``--rationality`` it still does.
 
 This module asks of each rule, once the learning is done, whether the demonstrations need it:
 the log-likelihood of the demonstrated actions with every learned rule, minus the same without

@@ -26,10 +26,14 @@ def warehouse(tmp_path_factory):
     return Domain.from_folder(folder), wh.expert_demonstrations(200, seed=0)
 
 
+#: the learner before 2026-12-08: no evidence test, the temperature fitted once without constraints
+LEGACY = {"min_evidence": None, "refit_rationality": False}
+
+
 @pytest.fixture(scope="module")
 def warehouse_fit(warehouse):
     domain, demos = warehouse
-    return LogicConstraintInference(iterations=20, reward="given").fit(demos, domain)
+    return LogicConstraintInference(iterations=20, reward="given", **LEGACY).fit(demos, domain)
 
 
 def test_hanoi_stops_at_convergence_not_at_the_budget():
@@ -43,7 +47,21 @@ def test_hanoi_stops_at_convergence_not_at_the_budget():
     assert learner.history_[-1].n_constraints <= int(hanoi.truth_forbidden.sum()) + 2
 
 
-def test_warehouse_learns_both_rules_at_defaults_and_reports_the_inexpressible(warehouse, warehouse_fit):
+def test_warehouse_at_defaults_learns_what_the_demonstrations_show(warehouse, warehouse_fit):
+    domain, demos = warehouse
+    learner = LogicConstraintInference(iterations=20, reward="given").fit(demos, domain)
+    # the expert plans optimally: refitted under the alarm rule the temperature is high, and the
+    # blocked cells lie on no shortest path, so nothing in the data asks for the second truth rule
+    assert learner.rules_ == [":- alarm, move(V1)."]
+    assert learner.score()["fpr"] == 0.0
+    assert learner.rationality_ > 10 > warehouse_fit.rationality_
+    assert learner.stop_reason_ in {"min_visitation", "min_evidence"}
+    # ... which the rule-support check of the legacy fit already said: it learned the rule on no evidence
+    blocked = next(r for r in warehouse_fit.rule_support_ if "blocked" in r.rule)
+    assert blocked.weak and blocked.gain < 1.0
+
+
+def test_warehouse_learns_both_rules_legacy_and_reports_the_inexpressible(warehouse, warehouse_fit):
     domain, _ = warehouse
     learner = warehouse_fit
     assert sorted(learner.rules_) == [":- alarm, move(V1).", ":- move(V1), blocked(V1)."]
@@ -120,16 +138,27 @@ def test_cli_reports_the_stop_and_the_unexplained(tmp_path, capsys):
     wh.expert_demonstrations(200, seed=0).save(demos)
     out_file = tmp_path / "rules.lp"
     code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", demos, "--json",
-                         "-o", out_file)
+                         "--rationality", "2.8", "--min-evidence", "0", "-o", out_file)
     assert code == 0, err
     doc = json.loads(out)
     assert doc["stop_reason"] in STOP_REASONS and doc["stop_reason"] != "max_iterations"
     assert doc["stop"] and doc["fnr"] == 0.0
     assert doc["unexplained"] and {"pair", "state", "action", "visitation", "iteration"} <= set(doc["unexplained"][0])
     assert "% Unexplained:" in out_file.read_text()
-    code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", demos)
+    code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", demos,
+                         "--rationality", "2.8", "--min-evidence", "0")
     assert code == 0, err
     assert "stopped: " in out and "Unexplained: " in out and "/ wait" in out
+
+
+@pytest.mark.parametrize("value", ["-1", "nan", "inf"])
+def test_cli_refuses_a_bad_min_evidence(tmp_path, capsys, value):
+    folder = wh.write_warehouse(tmp_path / "warehouse")
+    demos = tmp_path / "demos.jsonl"
+    wh.expert_demonstrations(5, seed=0).save(demos)
+    code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", demos,
+                         "--min-evidence", value)
+    assert code == 2 and "--min-evidence" in err and "Traceback" not in err
 
 
 def test_the_inference_loop_stops_when_the_hook_names_a_reason(warehouse):
