@@ -108,9 +108,9 @@ def register_learn(commands, common) -> None:
                      help="logic/ml: inverse temperature of the MaxEnt model (--domain: auto, fitted to the "
                           "demonstrations by maximum likelihood; bundled worlds: their setting's, 1, 3 for gridworld)")
     cmd.add_argument("--min-evidence", type=float, default=None, metavar="NATS",
-                     help="logic: infer a pair only if the nominal planner would have visited it at least this often "
-                          "in as many episodes as were demonstrated (default 1: Akaike's price of a rule's "
-                          "parameter; 0 turns the test off)")
+                     help="logic: keep an iteration's constraint only if the nominal planner would have visited what "
+                          "it forbids at least this often in as many episodes as were demonstrated (default 1: "
+                          "Akaike's price of a parameter; 0 turns the test off)")
     cmd.add_argument("--known", help="an .lp file of rules known in advance (logic environments)")
     cmd.add_argument("--noise", action="store_true",
                      help="treat demonstrated steps that break --known rules as noise (warn) instead of an error")

@@ -182,6 +182,15 @@ class RuleInduction:
                                       gained))
         return extra
 
+    def snapshot(self) -> tuple:
+        """What a call changes (the rules so far, their mask, the stale count, the records), for
+        :meth:`restore` when the inference loop undoes a step that lacked evidence."""
+        return self.best, self.mask, self.stale, len(self.records), self.last_negatives
+
+    def restore(self, snapshot: tuple) -> None:
+        self.best, self.mask, self.stale, n_records, self.last_negatives = snapshot
+        del self.records[n_records:]
+
     def final(self, closed: np.ndarray, seen: np.ndarray) -> tuple[np.ndarray, float]:
         """Algorithm 3.1 closes the constraint set (pairs into empty states) *before* each
         induction, so every closure is generalised. The inference loop closes after the hook, so
@@ -240,12 +249,14 @@ class LogicConstraintInference(Learner):
     found so far: one likelihood, maximised over the constraints and the temperature in turn. It
     only matters with a reward other than the sparse one, where it cancels.
 
-    **Evidence.** ``min_evidence`` (nats, default 1): a pair is inferred only if the nominal
-    policy would have visited it at least that often in as many episodes as were demonstrated
-    (``visitation x len(demonstrations)``); forbidding a pair with expected visits ``k`` raises
-    the demonstrations' log-likelihood by about ``k`` nats, and 1 nat per added constraint is
-    Akaike's price of a parameter. Below it the pair's absence is what the nominal policy itself
-    would show about as often as not, so the loop stops (``"min_evidence"``) -- unless the pair lies
+    **Evidence.** ``min_evidence`` (nats, default 1): an iteration is kept only if the nominal
+    policy would have visited what it forbids -- the inferred pair, the pairs its induced rules
+    add, the closure -- at least that often in as many episodes as were demonstrated
+    (``visitation x len(demonstrations)``); forbidding pairs with expected visits ``k`` raises the
+    demonstrations' log-likelihood by about ``k`` nats, and 1 nat per added constraint is Akaike's
+    price of a parameter. Below it the step's absence from the data is what the nominal policy
+    itself would show about as often as not, so the step is undone and the loop stops
+    (``"min_evidence"``; one Hanoi game is enough: its rule forbids 102 pairs) -- unless the pair lies
     in a state no demonstration could reach under the constraints found so far (only the uniform
     start share visits it): there the data can say nothing either way, and the share's guess goes
     on as before (the junctions' off-road rule is one). Together with the

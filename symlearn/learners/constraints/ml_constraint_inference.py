@@ -21,9 +21,12 @@ policy visits most often. Each iteration
 
 **Stopping criterion**: the loop ends when the best candidate's expected visitation drops below
 ``min_visitation`` (adding it would barely change the likelihood), when ``min_evidence`` (nats,
-off by default) is given and the candidate lies in a state the demonstrations could reach but the
-nominal policy would have visited it fewer than ``min_evidence`` times in as many episodes as
-were demonstrated (forbidding it gains about that many nats of likelihood; ``"min_evidence"``),
+off by default) is given and a step lacks evidence: the candidate lies in a state the
+demonstrations could reach, and the nominal policy would have visited the pairs the step forbids
+(the candidate, what ``generalize`` adds, the closure) fewer than ``min_evidence`` times in as
+many episodes as were demonstrated -- forbidding them gains about that many nats of likelihood.
+Such a step is undone (a ``generalize`` hook with ``snapshot()``/``restore()`` is rolled back with
+it) and the loop ends (``"min_evidence"``),
 when no unobserved allowed
 pair is left, when ``stop_when`` (a hook, e.g. logic inference's convergence test) names a reason,
 or after ``max_iterations`` (a cap). ``stop_reason_`` says which.
@@ -271,16 +274,14 @@ class MLConstraintInference(Learner):
             if value < self.min_visitation:
                 stopped = "min_visitation"
                 break
-            if self.min_evidence is not None and value * len(episodes) < self.min_evidence and \
-                    _reachable(mdp, forbidden, starts)[divmod(best, mdp.n_actions)[0]]:
-                # the pair's absence from the demonstrations is no evidence: the nominal policy
-                # itself would leave it unseen in these many episodes with probability about
-                # exp(-evidence) (37 % at 1 expected visit). Asked only in states the demonstrations
-                # could reach under the constraints so far: a pair in a state none can reach (only
-                # the uniform start share visits it) can have no evidence either way -- it is the
-                # share's guess about such regions, bounded by min_visitation as before
-                stopped = "min_evidence"
-                break
+            # the evidence test (min_evidence) is asked of this step only when the pair alone is
+            # not enough and its state is one the demonstrations could reach under the constraints
+            # so far: a pair in a state none can reach (only the uniform start share visits it)
+            # can have no evidence either way -- the share's guess, bounded by min_visitation
+            ask = (self.min_evidence is not None and value * len(episodes) < self.min_evidence
+                   and bool(_reachable(mdp, forbidden, starts)[best // mdp.n_actions]))
+            previous = forbidden
+            snapshot = self.generalize.snapshot() if ask and hasattr(self.generalize, "snapshot") else None
             s, a = divmod(best, mdp.n_actions)
             forbidden = forbidden.copy()
             forbidden[s, a] = True
@@ -292,6 +293,17 @@ class MLConstraintInference(Learner):
                 n_generalized = int((extra & ~forbidden).sum())
                 forbidden |= extra
             forbidden = restrict(mdp, forbidden, protected=seen).forbidden
+            if ask and float(visits[forbidden & ~previous].sum()) * len(episodes) < self.min_evidence:
+                # forbidding a set of pairs raises the demonstrations' log-likelihood by about the
+                # nominal policy's expected visits to it over as many episodes (each unseen visit
+                # is probability mass the model no longer wastes); under min_evidence nats --
+                # Akaike's price of a parameter at 1 -- the step's absence from the data is what
+                # the nominal policy itself would show about as often as not: undo it and stop
+                forbidden = previous
+                if snapshot is not None:
+                    self.generalize.restore(snapshot)
+                stopped = "min_evidence"
+                break
             if self.refit_rationality and fitted.source == "fitted":
                 # coordinate ascent on the one likelihood: the temperature that best explains the
                 # demonstrations under the constraints found so far. Fitted without them it is
