@@ -126,8 +126,9 @@ class RuleInduction:
     """
 
     def __init__(self, domain: Domain, *, noise: bool, penalty: int, timeout: float, bar: Any = None,
-                 known: np.ndarray | None = None) -> None:
+                 known: np.ndarray | None = None, max_body: int | None = None) -> None:
         self.domain, self.noise, self.penalty, self.timeout = domain, noise, penalty, timeout
+        self.max_body = max_body
         # pairs the given rules forbid already: no learned rule is needed for them, so they are
         # no negatives (else induction learns the given rules again, as if from the data)
         self.known = np.zeros(domain.unavailable.shape, dtype=bool) if known is None else known
@@ -163,7 +164,7 @@ class RuleInduction:
         negatives = d.examples(map(tuple, np.argwhere(forbidden & available & ~self.known)), False, self.penalty)
         self.last_negatives = forbidden & available
         result = learn(d.ilp_task(positives + negatives), timeout=self.timeout, noise=True,
-                       space=d.hypothesis_space)
+                       space=d.space(self.max_body))
         extra = np.zeros_like(forbidden)
         rules: tuple[str, ...] = ()
         optimal = False
@@ -215,8 +216,10 @@ class LogicConstraintInference(Learner):
     rule. Inference passes such pairs over instead of spending an iteration on each (``wait`` in
     one cell, then the next, ...) and reports them in ``unexplained_`` (:class:`Unexplained`:
     the pair and the visitation that would have chosen it) and in the rule file's header: either
-    the bias lacks a literal (e.g. a negated condition) or the demonstrations leave a real
-    constraint undemonstrated that no rule distinguishes from what the expert did.
+    the bias lacks a literal (e.g. a negated condition), the rule needs more body literals than
+    ``max_body`` (None: the ILP default, 3; a rule joining an object and a place through two
+    variables, ``:- put, at(P), hot(P), holding(O), fragile(O).``, needs 5), or the demonstrations
+    leave a real constraint undemonstrated that no rule distinguishes from what the expert did.
 
     Each iteration infers one constraint and runs one induction. The ILP step must cover
     every demonstrated pair but may leave an inferred constraint uncovered at ``penalty`` (a rule
@@ -261,8 +264,9 @@ class LogicConstraintInference(Learner):
     def __init__(self, *, iterations: int = 10, horizon: int = 30, reward: str | np.ndarray = "sparse",
                  rationality: float | str = "auto", min_visitation: float = 1e-3, ilp_timeout: float = 30.0,
                  noise: bool = False, penalty: int = 10, known: np.ndarray | None = None,
-                 start: str | float = 0.1, patience: int = 2) -> None:
+                 start: str | float = 0.1, patience: int = 2, max_body: int | None = None) -> None:
         self.iterations = iterations
+        self.max_body = max_body
         self.patience = patience
         self.horizon = horizon
         self.reward = reward
@@ -280,6 +284,10 @@ class LogicConstraintInference(Learner):
             raise SymlearnError(f"iterations must be at least 1, got {self.iterations}")
         if self.patience < 1:
             raise SymlearnError(f"patience must be at least 1, got {self.patience}")
+        if self.max_body is not None and (isinstance(self.max_body, bool) or not isinstance(self.max_body, int)
+                                          or self.max_body < 1):
+            raise SymlearnError(f"max_body must be a whole number of at least 1, got {self.max_body!r}",
+                                hint="leave it out for the default, 3 body literals")
         if world is None:
             raise SymlearnError("logic constraint inference needs the domain: fit(demonstrations, world=domain)")
         started = time.perf_counter()
@@ -289,10 +297,11 @@ class LogicConstraintInference(Learner):
         from symlearn.learners.constraints.bias_reach import bias_reach
         from symlearn.mdp.episodes import demonstrated_pairs
 
-        reach = bias_reach(d, demonstrated_pairs(episodes, d.mdp), noise=self.noise)
+        reach = bias_reach(d, demonstrated_pairs(episodes, d.mdp), noise=self.noise, max_body=self.max_body)
         known, self.known_rules_ = _known(self.known, d)
         bar = progress(range(self.iterations), total=self.iterations, desc=f"logic inference {d.name}")
         induction = RuleInduction(d, noise=self.noise, penalty=self.penalty, timeout=self.ilp_timeout, bar=bar,
+                                  max_body=self.max_body,
                                   known=None if known is None else check_mask(d.mdp, known, "known constraints"))
         inference = MLConstraintInference(
             reward=self.reward, horizon=self.horizon, max_iterations=self.iterations,
@@ -415,7 +424,7 @@ class LogicConstraintInference(Learner):
                                  f"{'that' if len(r.overlaps) == 1 else 'those'}")
                               + ")" for r in weak)
         if self.unexplained_:
-            header += "\n" + "\n".join(unexplained_lines(self.unexplained_))
+            header += "\n" + "\n".join(unexplained_lines(self.unexplained_, max_body=self.max_body))
         return self.hypothesis_.lp_text(header, recheck=recheck or "symlearn domain check DOMAIN_DIR --rules THIS.lp "
                                                                    "[--demos DEMOS.jsonl] (or Domain.rule_mask in "
                                                                    "Python)")
@@ -444,13 +453,20 @@ def _known(known: Any, d: Domain) -> tuple[np.ndarray | None, list[str]]:
     return d.rule_mask(known), list(d.hypothesis(known).rules)
 
 
-def unexplained_lines(unexplained: list[Unexplained], shown: int = 20) -> list[str]:
-    """The header/console lines for the constraints the bias cannot express (most visited first)."""
+def unexplained_lines(unexplained: list[Unexplained], shown: int = 20, max_body: int | None = None) -> list[str]:
+    """The header/console lines for the constraints the bias cannot express (most visited first).
+
+    The body length is named because nothing else tells a user that a rule of 4 or more literals
+    (a join of two variables) is outside the space: the bias file looks as if it allowed it."""
     if not unexplained:
         return []
+    from symlearn.logic.ilp.task import DEFAULT_MAX_BODY
+
+    body = DEFAULT_MAX_BODY if max_body is None else max_body
     lines = [f"Unexplained: {len(unexplained)} pair(s) inference found likely forbidden (never demonstrated, often "
              "visited by the nominal policy) that no rule of the bias can forbid without forbidding a demonstrated "
-             "pair -- allowed moves the expert never chose, or constraints the bias has no literal for "
+             "pair -- allowed moves the expert never chose, constraints the bias has no literal for, or rules "
+             f"longer than {body} body literals (--max-body) "
              "(state / action, nominal visitation when passed over):"]
     ranked = sorted(unexplained, key=lambda u: -u.visitation)
     lines += [f"  {u.pair}  ({u.visitation:.3g})" for u in ranked[:shown]]
