@@ -98,7 +98,9 @@ class Unexplained:
 STOP_REASONS = {
     "converged": "converged: the rules forbade no new pair in the last {patience} iterations",
     "min_visitation": ML_STOP_REASONS["min_visitation"],
-    "no_candidates": "no undemonstrated pair the bias can forbid is left",
+    # the body length is part of "the bias": a user reads the mode declarations and sees no limit
+    "no_candidates": "no undemonstrated pair the bias can forbid (with rules of at most {max_body} body literals, "
+                     "--max-body) is left",
     "max_iterations": "the iteration budget ({iterations}) ran out before convergence",
 }
 
@@ -396,8 +398,12 @@ class LogicConstraintInference(Learner):
         """``stop_reason_`` in words."""
         if "stop_reason_" not in self.__dict__:
             self.check_fitted()
+        from symlearn.logic.ilp.task import DEFAULT_MAX_BODY
+
+        max_body = DEFAULT_MAX_BODY if self.max_body is None else self.max_body
         return STOP_REASONS.get(self.stop_reason_, self.stop_reason_).format(patience=self.patience,
-                                                                              iterations=self.iterations)
+                                                                              iterations=self.iterations,
+                                                                              max_body=max_body)
 
     def _lp_text(self, recheck: str | None = None) -> str:
         if self.hypothesis_ is None:
