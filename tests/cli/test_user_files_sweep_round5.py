@@ -202,3 +202,58 @@ def test_a_reward_past_float_range_is_located(capsys, tmp_path):
     machine.write_text("0\n[2]\n(0,1,'a',ConstantRewardFunction(1e400))\n(1,2,'b',ConstantRewardFunction(1))\n")
     code, out, err = run(capsys, "automaton", "show", machine)
     assert code == 2 and "rm.txt:3:33: reward 1e400 is too large: it reads as infinity" in err
+
+
+# --- an edited SPEC.ltl re-checked on the unlabelled demonstrations learn spec read -------------------------
+def _kitchen_labeling(path):
+    table = [[i, [p for p, held in (("pan", "pan"), ("egg", "egg")) if s != "end" and s[1] == held]
+              + (["stove"] if s != "end" and s[0] == 2 else []) + (["served"] if s == "end" else [])]
+             for i, s in enumerate(_STATES)]
+    path.write_text(json.dumps({"symlearn": "labeling", "format_version": 1, "kind": "table",
+                                "propositions": [{"name": n, "meaning": ""} for n in ("pan", "egg", "stove", "served")],
+                                "table": table}))
+    return path
+
+
+def test_ltl_eval_labels_unlabelled_demonstrations_with_the_labeling_file(capsys, kitchen, tmp_path):
+    # before: "these demonstrations have no labels, so a formula has nothing to read" and no way to
+    # use the SPEC.labeling.json that learn spec writes beside SPEC.ltl
+    labeling = _kitchen_labeling(tmp_path / "spec.labeling.json")
+    spec = tmp_path / "spec.ltl"
+    spec.write_text("# edited by hand: the pan is on the stove just before serving\nF (pan & stove & X served)\n\n")
+    demos = kitchen.parent / "cook.jsonl"
+    code, out, err = run(capsys, "--json", "ltl", "eval", "--file", spec, "--demos", demos, "--labeling", labeling)
+    assert code == 0, err
+    index = {i: s for i, s in enumerate(_STATES)}
+    ended = [index[json.loads(line)["states"][-1]] == "end" for line in demos.read_text().splitlines()[1:]]
+    assert json.loads(out)["results"] == ended and 0 < sum(ended) < len(ended)
+    code, out, err = run(capsys, "--json", "ltl", "eval", "G !egg", "--demos", demos, "--labeling", labeling)
+    took_egg = [any(index[i] != "end" and index[i][1] == "egg" for i in json.loads(line)["states"])
+                for line in demos.read_text().splitlines()[1:]]
+    assert code == 0 and json.loads(out)["results"] == [not t for t in took_egg] and any(took_egg)
+
+
+def test_a_labeling_that_knows_none_of_the_states_is_refused(capsys, kitchen, tmp_path):
+    labeling = _kitchen_labeling(tmp_path / "l.json")
+    demos = tmp_path / "named.jsonl"
+    demos.write_text('{"symlearn": "demonstrations", "format_version": 1}\n{"states": ["a", "b"]}\n')
+    code, out, err = run(capsys, "ltl", "eval", "F pan", "--demos", demos, "--labeling", labeling)
+    assert code == 2 and "none of the demonstrations' states ('a', 'b', ...) is in the labeling's table" in err
+    corner = _corner_demos(tmp_path / "corner.jsonl")
+    code, out, err = run(capsys, "ltl", "eval", "F pan", "--demos", corner, "--labeling", labeling)
+    assert code == 2 and "Traceback" not in err and "states are named features" in err
+    code, out, err = run(capsys, "ltl", "eval", "F pan", "--traces", demos, "--labeling", labeling)
+    assert code == 2 and "--labeling labels the states of --demos" in err
+
+
+def test_a_feature_labeling_labels_feature_demonstrations(capsys, tmp_path):
+    corner = _corner_demos(tmp_path / "corner.jsonl")
+    labeling = tmp_path / "f.json"
+    labeling.write_text(json.dumps({"symlearn": "labeling", "format_version": 1, "kind": "features",
+                                    "features": {"symlearn": "feature-map", "format_version": 1, "names": ["x", "y"]},
+                                    "propositions": [{"name": "right", "meaning": "", "when": "x > 0.5"}]}))
+    code, out, err = run(capsys, "--json", "ltl", "eval", "G !right", "--demos", corner, "--labeling", labeling)
+    assert code == 0, err
+    expected = [all(s["x"] <= 0.5 for s in json.loads(line)["states"])
+                for line in corner.read_text(encoding="utf-8-sig").splitlines()[1:]]
+    assert json.loads(out)["results"] == expected
