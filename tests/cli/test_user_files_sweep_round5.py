@@ -257,3 +257,25 @@ def test_a_feature_labeling_labels_feature_demonstrations(capsys, tmp_path):
     expected = [all(s["x"] <= 0.5 for s in json.loads(line)["states"])
                 for line in corner.read_text(encoding="utf-8-sig").splitlines()[1:]]
     assert json.loads(out)["results"] == expected
+
+
+# --- sub-goal tours with a broken one-frame recording --------------------------------------------------------
+def test_a_demonstration_that_visits_no_subgoal_is_warned_about(capsys, tmp_path):
+    # before: "plan: (stop at once) (p = 0.5)" from one tour and one one-frame recording, no word why
+    rng = random.Random(3)
+    stations = [(0.1, 0.1), (0.9, 0.1), (0.5, 0.9)]
+    states, x, y = [], 0.5, 0.5
+    for tx, ty in stations:
+        while abs(tx - x) + abs(ty - y) > 0.05:
+            d = ((tx - x) ** 2 + (ty - y) ** 2) ** 0.5
+            x, y = x + 0.05 * (tx - x) / d, y + 0.05 * (ty - y) / d
+            states.append({"x": x, "y": y})
+        states += [{"x": tx + rng.gauss(0, 0.005), "y": ty + rng.gauss(0, 0.005)} for _ in range(8)]
+        x, y = tx, ty
+    demos = tmp_path / "tours.jsonl"
+    demos.write_text('{"symlearn": "demonstrations", "format_version": 1, "state_kind": "features"}\n'
+                     + json.dumps({"states": states}) + "\n" + json.dumps({"states": [{"x": 0.5, "y": 0.5}]}) + "\n")
+    code, out, err = run(capsys, "--json", "learn", "pdfa", "--demos", demos, "--features", "x,y")
+    assert code == 0, err
+    warnings = json.loads(out)["warnings"]
+    assert any("1 of 2 demonstrations visit no sub-goal (demonstration 1 (1 frame))" in w for w in warnings)
