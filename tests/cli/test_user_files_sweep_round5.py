@@ -279,3 +279,18 @@ def test_a_demonstration_that_visits_no_subgoal_is_warned_about(capsys, tmp_path
     assert code == 0, err
     warnings = json.loads(out)["warnings"]
     assert any("1 of 2 demonstrations visit no sub-goal (demonstration 1 (1 frame))" in w for w in warnings)
+
+
+# --- demonstrations under a suffix symlearn does not read -----------------------------------------------------
+@pytest.mark.parametrize("name, body, hint", [
+    ("demos.json", '{"symlearn": "demonstrations", "format_version": 1}\n{"states": [{"x": 1}]}\n',
+     "the file holds JSONL demonstrations (a header line, one trajectory per line): rename it demos.jsonl"),
+    ("list.json", '[{"states": [{"x": 1}]}]', "demonstrations in JSON are JSONL: a header line"),
+    ("table.csv", "x,y\n0.1,0.2\n", "tables are not read as demonstrations: write one line per episode"),
+])
+def test_a_demonstrations_file_under_another_suffix_says_what_to_do(capsys, tmp_path, name, body, hint):
+    # before: only "unknown demonstrations format '.json'" with the list of suffixes
+    path = tmp_path / name
+    path.write_bytes(b"\xef\xbb\xbf" + body.encode())
+    code, out, err = run(capsys, "learn", "dnf", "--demos", path)
+    assert code == 2 and f"{name}: unknown demonstrations format" in err and hint in err
