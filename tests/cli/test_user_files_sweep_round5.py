@@ -294,3 +294,20 @@ def test_a_demonstrations_file_under_another_suffix_says_what_to_do(capsys, tmp_
     path.write_bytes(b"\xef\xbb\xbf" + body.encode())
     code, out, err = run(capsys, "learn", "dnf", "--demos", path)
     assert code == 2 and f"{name}: unknown demonstrations format" in err and hint in err
+
+
+# --- a hand-edited rule whose conditions never hold together ----------------------------------------------------
+def test_a_rule_that_forbids_nothing_is_warned_about_at_its_line(capsys, kitchen, tmp_path):
+    # before: "rules (2) forbid 72 pairs" and nothing about the second rule, which can never fire
+    rules = tmp_path / "edited.lp"
+    rules.write_text(":- take(O), busy.\n% my change\n:- put, holding(O), at(P), hot(P), fragile(O), metal(O).\n"
+                     ":- put, at(P), holding(O), fragile(o).\n")
+    code, out, err = run(capsys, "--json", "domain", "check", kitchen, "--rules", rules)
+    assert code == 0, err
+    warnings = json.loads(out)["warnings"]
+    idle = [w for w in warnings if "forbids no state-action pair" in w["message"]]
+    assert [(w["line"], w["column"]) for w in idle] == [(3, 1)]      # line 4 is warned about for its 'o' already
+    assert any(w["line"] == 4 and "never has o as argument 1" in w["message"] for w in warnings)
+    code, out, err = run(capsys, "domain", "check", kitchen, "--rules", rules)
+    assert "warning: " in out + err and "edited.lp:3:1: rule :- put, holding(O), at(P), hot(P), fragile(O), metal(O). " \
+        "forbids no state-action pair" in out + err
