@@ -311,3 +311,25 @@ def test_a_rule_that_forbids_nothing_is_warned_about_at_its_line(capsys, kitchen
     code, out, err = run(capsys, "domain", "check", kitchen, "--rules", rules)
     assert "warning: " in out + err and "edited.lp:3:1: rule :- put, holding(O), at(P), hot(P), fragile(O), metal(O). " \
         "forbids no state-action pair" in out + err
+
+
+def test_a_formula_with_no_split_says_it_only_bounds_the_range(capsys, tmp_path):
+    # before: "x < 0 / x > 1 / y < 0 / y > 1" for an expert who avoids the corner x > 0.7 & y > 0.7,
+    # and nothing said the inside of the range was left alone (FNR 1 on the corner)
+    rng = random.Random(2)
+    lines = ['{"symlearn": "demonstrations", "format_version": 1, "state_kind": "features"}']
+    for _ in range(20):
+        states = []
+        while len(states) < 30:
+            x, y = rng.random(), rng.random()
+            if not (x > 0.7 and y > 0.7):
+                states.append({"x": x, "y": y})
+        lines.append(json.dumps({"states": states}))
+    demos = tmp_path / "corner.jsonl"
+    demos.write_text("\n".join(lines) + "\n")
+    out_file = tmp_path / "c.dnf"
+    code, out, err = run(capsys, "--json", "learn", "dnf", "--demos", demos, "-o", out_file)
+    assert code == 0, err
+    doc = json.loads(out)
+    assert len(doc["leaves"]) == 1 and any(n.startswith("no split: the rules only bound") for n in doc["notes"])
+    assert "# no split: the rules only bound each feature's range" in out_file.read_text()
