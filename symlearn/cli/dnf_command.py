@@ -132,11 +132,16 @@ def _eval(args: argparse.Namespace, out) -> None:
     missing = [f for f in rules.features if f not in columns]
     if missing:
         close = _close_names(missing, columns)
+        unnamed = None
+        if where is not None:
+            from symlearn.cli.dnf_demos import unnamed_columns_hint
+
+            unnamed = unnamed_columns_hint(args.demos, args.features, columns)
         raise DataError(f"the rules use feature{'s' if len(missing) > 1 else ''} {', '.join(missing)}, "
                         f"which the {'demonstrations' if where else 'points'} do not have (they have: "
                         f"{', '.join(columns) or 'none'})", file=source,
-                        hint=(f"did you mean {close}? (a feature renamed in the rules or in the data)" if close
-                              else None))
+                        hint=unnamed or (f"did you mean {close}? (a feature renamed in the rules or in the data)"
+                                         if close else None))
     m = len(rules)
     # the points x conjunctions table is built a block of points at a time (at most
     # EVAL_BLOCK_CELLS cells): 2e4 points x 2e5 conjunctions asked numpy for 3.7 GiB at once

@@ -15,7 +15,8 @@ import numpy as np
 
 def demonstration_points(path: str, features: str | None) -> tuple[dict[str, np.ndarray], int, list[tuple[int, int]]]:
     """``(columns, n, where)``: ``name -> 1-D array`` of every demonstrated state, their number,
-    and ``(demonstration, step)`` of each row."""
+    and ``(demonstration, step)`` of each row. Unnamed vector states without ``--features`` are
+    ``x0, x1, ...``; :func:`unnamed_columns_hint` says how to name them when the rules disagree."""
     from symlearn.cli.output import blame_file
     from symlearn.data import load
     from symlearn.errors import DataError
@@ -34,6 +35,21 @@ def demonstration_points(path: str, features: str | None) -> tuple[dict[str, np.
     return {name: X[:, j] for j, name in enumerate(columns)}, X.shape[0], where
 
 
+def unnamed_columns_hint(path: str, features: str | None, columns) -> str | None:
+    """The way out when a formula names features (``x``, ``y``: learned with ``--env`` or
+    ``--features``) and the demonstrations are unnamed vectors read as ``x0, x1, ...``: a close
+    name such as ``x1 for x`` would be a wrong guess there."""
+    from symlearn.data import load
+
+    if features is not None or list(columns) != [f"x{i}" for i in range(len(columns))]:
+        return None
+    if load(path).state_kind not in ("vector", "image"):
+        return None
+    return (f"the demonstrations' states are unnamed vectors, read as {', '.join(list(columns)[:4])}"
+            f"{', ...' if len(columns) > 4 else ''}: name their columns in order with --features a,b,... (the "
+            "names learn dnf --env or --features gave them)")
+
+
 def first_unsafe_line(doc: dict) -> str | None:
     """``first: demonstration 3, step 17 (conjunction #2)`` for the first unsafe demonstrated state."""
     first = doc.get("first_unsafe")
@@ -43,4 +59,4 @@ def first_unsafe_line(doc: dict) -> str | None:
             f"(conjunction #{first['conjunction'] + 1})")
 
 
-__all__ = ["demonstration_points", "first_unsafe_line"]
+__all__ = ["demonstration_points", "first_unsafe_line", "unnamed_columns_hint"]

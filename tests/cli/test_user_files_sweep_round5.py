@@ -177,6 +177,12 @@ def test_dnf_eval_on_vector_demonstrations_uses_learn_dnf_names(capsys, tmp_path
     assert json.loads(out)["unsafe"] == [False, True]
     code, out, err = run(capsys, "--json", "dnf", "eval", rules, "--demos", demos, "--features", "x0,x1")
     assert code == 0 and json.loads(out)["unsafe"] == [False, True]
+    # rules over the names learn dnf --env gave: the hint says to name the columns, not "x1 for x"
+    rules.write_text("y > 0.5\n")
+    code, out, err = run(capsys, "dnf", "eval", rules, "--demos", demos)
+    assert code == 2 and "the demonstrations' states are unnamed vectors, read as x0, x1: name their columns" in err
+    code, out, err = run(capsys, "--json", "dnf", "eval", rules, "--demos", demos, "--features", "x,y")
+    assert code == 0 and json.loads(out)["unsafe"] == [False, True]
 
 
 def test_a_feature_renamed_in_the_rules_is_named_with_the_close_one(capsys, tmp_path):
