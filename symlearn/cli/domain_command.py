@@ -129,7 +129,7 @@ def _check_document(folder: str, rules: str | None, demos: str | None, allow_out
 
 #: rules of a file checked one by one for forbidding nothing (one grounding each); a hand-edited file
 #: is short, a learned one of thousands is checked as a whole only
-IDLE_RULES_CHECKED = 200
+IDLE_RULES_CHECKED = 50
 
 
 def _idle_rules(domain, hypothesis, warned: list[dict]) -> list[dict]:
