@@ -31,10 +31,16 @@ def register(subparsers, common) -> None:
     evaluate = commands.add_parser("eval", parents=[common()], help="which points the rules flag as unsafe",
                                    description="Evaluate a DNF file on the points of an NPZ archive: one array "
                                                "'points' (N, k) with --features naming its columns, or one 1-D "
-                                               "array per feature.")
+                                               "array per feature; or on the states of demonstrations (--demos), "
+                                               "to re-check edited rules against the data.")
     evaluate.add_argument("rules", metavar="RULES", help="a .dnf text file (or its .json form)")
-    evaluate.add_argument("--points", required=True, metavar="P.npz", help="the points (NPZ, no pickle)")
-    evaluate.add_argument("--features", help="comma-separated names of the columns of 'points'")
+    where = evaluate.add_mutually_exclusive_group(required=True)
+    where.add_argument("--points", metavar="P.npz", help="the points (NPZ, no pickle)")
+    where.add_argument("--demos", metavar="D.jsonl|D.npz",
+                       help="demonstrations: every state is a point (feature-dict states by their keys, vector "
+                            "states as x0, x1, ... or --features), as learn dnf reads them")
+    evaluate.add_argument("--features", help="comma-separated names of the columns of 'points' (or of the "
+                                             "demonstrations' vector states)")
     evaluate.add_argument("--per-conjunction", action="store_true",
                           help="also list, per point, which conjunctions hold")
     evaluate.set_defaults(handler=_eval)
@@ -70,7 +76,7 @@ def read_points(path: str, features: str | None):
         # demonstrations (symlearn's or a D4RL table): the points are not its members one by one
         raise DataError("this is a demonstrations file, not points: dnf eval reads an array 'points' (N, k) or one "
                         "1-D array per feature", file=path,
-                        hint="learn dnf --validation 0.2 counts the held-out demonstration states a formula flags; "
+                        hint="dnf eval RULES --demos FILE reads the demonstrations' states as the points; "
                              "or save the states you care about as np.savez('points.npz', points=states, "
                              "features=names)")
     if "points" in members:
@@ -115,12 +121,27 @@ def _eval(args: argparse.Namespace, out) -> None:
     from symlearn.logic.dnf import load
 
     rules = load(args.rules)
-    columns, n = read_points(args.points, args.features)
+    source = args.points or args.demos
+    where = None
+    if args.demos:
+        from symlearn.cli.dnf_demos import demonstration_points
+
+        columns, n, where = demonstration_points(args.demos, args.features)
+    else:
+        columns, n = read_points(args.points, args.features)
     missing = [f for f in rules.features if f not in columns]
     if missing:
+        close = _close_names(missing, columns)
+        unnamed = None
+        if where is not None:
+            from symlearn.cli.dnf_demos import unnamed_columns_hint
+
+            unnamed = unnamed_columns_hint(args.demos, args.features, columns)
         raise DataError(f"the rules use feature{'s' if len(missing) > 1 else ''} {', '.join(missing)}, "
-                        f"which the points do not have (they have: {', '.join(columns) or 'none'})",
-                        file=args.points)
+                        f"which the {'demonstrations' if where else 'points'} do not have (they have: "
+                        f"{', '.join(columns) or 'none'})", file=source,
+                        hint=unnamed or (f"did you mean {close}? (a feature renamed in the rules or in the data)"
+                                         if close else None))
     m = len(rules)
     # the points x conjunctions table is built a block of points at a time (at most
     # EVAL_BLOCK_CELLS cells): 2e4 points x 2e5 conjunctions asked numpy for 3.7 GiB at once
@@ -131,7 +152,7 @@ def _eval(args: argparse.Namespace, out) -> None:
     listed = 0
     for start in range(0, max(n, 1), rows):
         block = {name: column[start:start + rows] for name, column in columns.items()}
-        with blame_file(args.points):
+        with blame_file(source):
             per = rules.evaluate(block, per_conjunction=True)
         unsafe[start:start + len(per)] = per.any(axis=1)
         hits += per.sum(axis=0, dtype=np.int64)
@@ -142,18 +163,43 @@ def _eval(args: argparse.Namespace, out) -> None:
                                          f"conjunction) pairs ({m:,} conjunctions, {n:,} points); leave it "
                                          f"out for the counts per conjunction", file=args.rules)
             holding.extend(np.flatnonzero(row).tolist() for row in per)
-    doc = {"rules": str(args.rules), "points": str(args.points), "n_points": n,
+    doc = {"rules": str(args.rules), "points": str(source), "n_points": n,
            "features": list(rules.features), "conjunctions": m,
            "unsafe_count": int(unsafe.sum()),
            "conjunction_hits": hits.tolist(),
            "unsafe": unsafe.tolist()}
     if args.per_conjunction:
         doc["holding"] = holding
+    if where is not None:
+        # which demonstration and step: the row number alone is meaningless to whoever edits the rules
+        doc["demos"] = str(args.demos)
+        doc["first_unsafe"] = None
+        if unsafe.any():
+            row = int(np.flatnonzero(unsafe)[0])
+            point = {name: column[row:row + 1] for name, column in columns.items()}
+            conjunction = int(np.flatnonzero(rules.evaluate(point, per_conjunction=True)[0])[0])
+            doc["first_unsafe"] = {"demonstration": where[row][0], "step": where[row][1], "conjunction": conjunction}
     out.result(doc, _render_eval)
 
 
+def _close_names(missing: list[str], columns) -> str | None:
+    """The data's feature names close to the rules' missing ones (``speed`` for ``sped``)."""
+    import difflib
+
+    close = []
+    for name in missing:
+        match = difflib.get_close_matches(name, list(columns), n=1, cutoff=0.6) or \
+            [c for c in columns if c.lower() == name.lower()]
+        if match:
+            close.append(f"{match[0]} for {name}")
+    return ", ".join(close) or None
+
+
 def _render_eval(doc: dict) -> str:
-    lines = [f"{doc['rules']}: {doc['unsafe_count']} of {doc['n_points']} points unsafe "
+    from symlearn.cli.dnf_demos import first_unsafe_line
+
+    what = "demonstrated states" if "demos" in doc else "points"
+    lines = [f"{doc['rules']}: {doc['unsafe_count']} of {doc['n_points']} {what} unsafe "
              f"({doc['conjunctions']} conjunctions over {', '.join(doc['features']) or 'no features'})"]
     hits = [f"#{i + 1}: {h}" for i, h in enumerate(doc["conjunction_hits"])]
     if hits:
@@ -161,7 +207,10 @@ def _render_eval(doc: dict) -> str:
     flagged = [i for i, u in enumerate(doc["unsafe"]) if u]
     if flagged:
         shown = ", ".join(map(str, flagged[:50])) + (f", ... ({len(flagged) - 50} more)" if len(flagged) > 50 else "")
-        lines.append(f"unsafe points: {shown}")
+        lines.append(f"unsafe {what}: {shown}")
+    first = first_unsafe_line(doc)
+    if first:
+        lines.append(first)
     return "\n".join(lines)
 
 

@@ -97,7 +97,9 @@ def _check_document(folder: str, rules: str | None, demos: str | None, allow_out
                     "forbidden": int(learned.sum()),
                     "fpr": None, "fnr": None, "accuracy": None, "missed_truth_rules": None,
                     "warnings": [u.as_dict() for u in domain.undefined_predicates(rules)]
-                    + ([u.as_dict() for u in domain.undefined_predicates(known)] if known else [])})
+                    + ([u.as_dict() for u in domain.undefined_predicates(known)] if known else [])
+})
+        doc["warnings"] += _idle_rules(domain, domain.hypothesis(Path(rules)), doc["warnings"])
         if domain.truth is not None:
             from symlearn.learners.constraints.constraint_metrics import reach_scores
 
@@ -123,6 +125,38 @@ def _check_document(folder: str, rules: str | None, demos: str | None, allow_out
                 doc["first_forbidden_step"] = {"demonstration": i, "step": t, "pair": domain.describe_pair(s, a),
                                                "rules": [r for r in hypothesis.rules if domain.rule_mask([r])[s, a]]}
     return doc
+
+
+#: rules of a file checked one by one for forbidding nothing (one grounding each); a hand-edited file
+#: is short, a learned one of thousands is checked as a whole only
+IDLE_RULES_CHECKED = 50
+
+
+def _idle_rules(domain, hypothesis, warned: list[dict]) -> list[dict]:
+    """A warning per rule that forbids no available pair: its body holds in no pair's answer set
+    (``fragile(O), metal(O)``; ``busy, not holding(_)`` where ``busy`` means holding). Such a rule
+    in a hand-edited file is a mistake that scores like a deleted rule and says nothing -- the
+    DNF reader warns about its empty conjunctions the same way. Predicates defined nowhere are
+    warned about already (and are why such a rule is idle), so those rules are not named twice."""
+    rules = list(hypothesis.rules)
+    if not rules or len(rules) > IDLE_RULES_CHECKED:
+        return []
+    origins = hypothesis.origins if hypothesis.origins and len(hypothesis.origins) == len(rules) else None
+    # lines already warned about (a predicate defined nowhere, an argument no pair has): a rule
+    # from there up to the next rule's line is idle for that reason, named already
+    lines = {w.get("line") for w in warned}
+    starts = [o[1] for o in origins] + [float("inf")] if origins else None
+    out = []
+    for k, rule in enumerate(rules):
+        if starts and any(starts[k] <= n < max(starts[k + 1], starts[k] + 1) for n in lines if n):
+            continue
+        if domain.rule_mask([rule]).any():
+            continue
+        file, line, column = origins[k] if origins else (None, 0, 0)
+        out.append({"file": file, "line": line, "column": column, "rule": rule,
+                    "message": f"rule {rule} forbids no state-action pair: its body holds in no pair of "
+                               f"{domain.name} (conditions that never hold together?)"})
+    return out
 
 
 def _demonstrations_report(domain, demos: str) -> dict:

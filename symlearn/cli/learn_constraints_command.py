@@ -114,6 +114,9 @@ def register_learn(commands, common) -> None:
     cmd.add_argument("--known", help="an .lp file of rules known in advance (logic environments)")
     cmd.add_argument("--noise", action="store_true",
                      help="treat demonstrated steps that break --known rules as noise (warn) instead of an error")
+    cmd.add_argument("--max-body", type=int, default=None, metavar="N",
+                     help="logic: the longest rule body the bias's rules may have (default 3); a rule that joins "
+                          "two variables, ':- put, at(P), hot(P), holding(O), fragile(O).', needs 5")
     cmd.add_argument("--stochasticity", type=float, default=0.0, help="slip probability p of the gridworld (0)")
     cmd.add_argument("--features", choices=("state", "state_action"), default=None,
                      help="mce-icrl: one multiplier per state (gridworld default) or per state-action pair "
@@ -285,8 +288,15 @@ def _learn(args: argparse.Namespace, out) -> None:
     if args.iterations is not None and args.iterations < 1:  # 0 would read as "the default" below
         raise SymlearnError(f"--iterations must be at least 1, got {args.iterations}",
                             hint="leave it out for the default (logic: at most 20, stopping on convergence)")
+    max_body = getattr(args, "max_body", None)
+    if max_body is not None and max_body < 1:  # before the world is read: a wrong number costs nothing
+        raise SymlearnError(f"--max-body must be at least 1, got {max_body}",
+                            hint="leave it out for the default, 3 body literals")
     world = _world(args)
     method = args.method or ("logic" if world.domain is not None else "mce-icrl")
+    if max_body is not None and method != "logic":
+        raise SymlearnError(f"--max-body bounds the rules of --method logic; --method {method} learns no rules",
+                            hint="leave --max-body out, or use --method logic")
     if method == "logic" and world.domain is None:
         raise SymlearnError(f"{world.name} has no ASP facts, so no rules can be learned there",
                             hint="use --method ml or --method mce-icrl")
@@ -490,7 +500,8 @@ def _run(method: str, world: _World, demos, args, known, out):
 
         learner = LogicConstraintInference(iterations=args.iterations or 20, horizon=args.horizon,
                                            reward=_reward(args, world), rationality=_rationality(args, world),
-                                           noise=args.noise, **_min_evidence(args),
+                                           noise=args.noise, max_body=getattr(args, "max_body", None),
+                                           **_min_evidence(args),
                                            known=Path(args.known) if args.known else None).fit(demos, world.domain)
         for step in learner.history_:
             # the rules' own pairs are what the final count reports; the inference also holds pairs
@@ -504,7 +515,7 @@ def _run(method: str, world: _World, demos, args, known, out):
                "iterations": len(learner.history_), "seconds": learner.seconds_,
                "rationality": learner.rationality_fit_.as_dict(),
                "stop_reason": learner.stop_reason_, "stop": learner.stop_text(),
-               "unexplained": [u.as_dict() for u in learner.unexplained_],
+               "unexplained": [u.as_dict() for u in learner.unexplained_], "max_body": learner.max_body,
                "rule_support": [r.as_dict() for r in learner.rule_support_],
                "history": [h.as_dict() for h in learner.history_]}
         return doc, learner.rule_constraints_, learner
@@ -636,7 +647,8 @@ def _render(doc: dict) -> str:
     if doc.get("unexplained"):
         from symlearn.learners.constraints.logic_constraint_inference import Unexplained, unexplained_lines
 
-        lines += unexplained_lines([Unexplained(**u) for u in doc["unexplained"]], shown=10)
+        lines += unexplained_lines([Unexplained(**u) for u in doc["unexplained"]], shown=10,
+                                   max_body=doc.get("max_body"))
     pairs = str(doc["constraints"]) + (f" ({doc['known_constraints']} of them by the --known rules alone)"
                                        if doc.get("known_constraints") else "")
     if doc["fpr"] is None:

@@ -42,6 +42,9 @@ def register(subparsers, common) -> None:
     evaluate.add_argument("--traces", help="JSONL file, e.g. a line [[\"a\"], [], [\"a\", \"b\"]]")
     evaluate.add_argument("--demos", help="labelled demonstrations (.jsonl/.npz with labels, as "
                                           "symlearn.data.record(labeler=...) writes them): each one's label word")
+    evaluate.add_argument("--labeling", metavar="FILE.json",
+                          help="with --demos: label each demonstrated state with this labeling (the "
+                               "SPEC.labeling.json learn spec writes next to SPEC.ltl, a table or feature labeling)")
     dialect_option(evaluate)
     evaluate.set_defaults(handler=_eval)
 
@@ -132,6 +135,9 @@ def _eval(args: argparse.Namespace, out) -> None:
     if (args.traces is None) == (args.demos is None):
         raise SymlearnError("give one of --traces TRACES.jsonl or --demos DEMOS.jsonl",
                             hint="--traces: one list of steps per line; --demos: labelled demonstrations")
+    if getattr(args, "labeling", None) and not args.demos:
+        raise SymlearnError("--labeling labels the states of --demos; traces are propositions already",
+                            hint="symlearn ltl eval --file SPEC.ltl --demos D.jsonl --labeling SPEC.labeling.json")
     if args.file:
         number, text = _one_formula(args.file)
         formula = parse(text, args.dialect, source=args.file, line=number)
@@ -139,7 +145,8 @@ def _eval(args: argparse.Namespace, out) -> None:
     else:
         formula = parse(args.formula, args.dialect)
     source = args.traces or args.demos
-    traces = read_traces(args.traces) if args.traces else _demonstration_words(args.demos)
+    traces = read_traces(args.traces) if args.traces else _demonstration_words(args.demos,
+                                                                               getattr(args, "labeling", None))
     what = "traces" if args.traces else "demonstrations"
     named = propositions(formula)
     seen = set().union(*(step for trace in traces for step in trace)) if traces else set()
@@ -182,16 +189,22 @@ def _formula_lines(path: str) -> tuple[list[str], list[int]]:
     return lines, [n for n, text in enumerate(lines, start=1) if text.strip() and not text.lstrip().startswith("#")]
 
 
-def _demonstration_words(path: str) -> list:
-    """Each demonstration's label word; demonstrations without labels are refused with the way on."""
+def _demonstration_words(path: str, labeling: str | None = None) -> list:
+    """Each demonstration's label word: its recorded labels, or its states through ``labeling``
+    (a file); demonstrations without either are refused with the way on."""
     from symlearn.data import load
     from symlearn.errors import DataError
 
     demos = load(path)
+    if labeling:
+        from symlearn.cli.ltl_labeled_demos import labelled_words
+
+        return labelled_words(demos, path, labeling)
     if len(demos) and not demos.has_labels:
         raise DataError(f"{path}: these demonstrations have no labels, so a formula has nothing to read",
-                        hint="record them with a labeling (symlearn.data.record(env, policy, n, labeler=label)) "
-                             "or write traces of propositions for --traces")
+                        hint="give the labeling of their states (--labeling SPEC.labeling.json, which learn spec "
+                             "writes next to SPEC.ltl), record them with a labeling (symlearn.data.record(env, "
+                             "policy, n, labeler=label)) or write traces of propositions for --traces")
     return [list(word) for word in demos.to_label_words()] if len(demos) else []
 
 

@@ -28,8 +28,35 @@ def _format_of(path: Path, *, writing: bool = False) -> str:
         hint = ("use .jsonl for symbolic/discrete traces, .npz for numeric/image arrays, .hdf5 for a D4RL "
                 "table" + (" (Minari datasets are read, not written: minari's DataCollector writes them)"
                            if writing else ", or a Minari dataset folder"))
+        if not writing:
+            hint = _content_hint(path) or hint
         raise DataError(f"unknown demonstrations format {suffix or '(no suffix)'!r}", file=path, hint=hint)
     return suffix
+
+
+def _content_hint(path: Path) -> str | None:
+    """What to do with a file whose suffix says nothing, judged by its first bytes: JSONL saved as
+    ``.json`` (the commonest slip) only needs renaming; a JSON list of trajectories or a CSV table
+    needs rewriting, and the hint says into what."""
+    import stat
+
+    try:
+        if not stat.S_ISREG(path.stat().st_mode):
+            return None
+        with open(path, "rb") as f:
+            head = f.read(512).decode("utf-8", errors="replace").lstrip("\ufeff \t\r\n")
+    except OSError:
+        return None
+    if head.startswith("{") and '"symlearn"' in head.split("\n", 1)[0] and '"demonstrations"' in head.split("\n", 1)[0]:
+        return f"the file holds JSONL demonstrations (a header line, one trajectory per line): rename it {path.stem}.jsonl"
+    if head.startswith("[") or head.startswith("{"):
+        return ("demonstrations in JSON are JSONL: a header line {\"symlearn\": \"demonstrations\", \"format_version\": 1}, "
+                "then one trajectory per line, {\"states\": [...], \"actions\": [...]} (docs/FORMATS.md), saved as .jsonl")
+    if path.suffix.lower() in (".csv", ".tsv", ".txt"):
+        return ("tables are not read as demonstrations: write one line per episode, {\"states\": [{\"x\": 0.1, "
+                "\"y\": 0.2}, ...]}, after a header line {\"symlearn\": \"demonstrations\", \"format_version\": 1} "
+                "in a .jsonl file, or np.savez an .npz (docs/FORMATS.md)")
+    return None
 
 
 def save(demos: Demonstrations, path: str | os.PathLike[str], *, format: str | None = None) -> None:

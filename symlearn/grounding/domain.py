@@ -83,6 +83,7 @@ class Domain:
         unavailable = ~available | np.asarray(mdp.terminal, dtype=bool)[:, None]
         unavailable.setflags(write=False)
         self.unavailable = unavailable
+        self._spaces: dict[int | None, Any] = {}  # hypothesis spaces by body length (space())
 
     # --- the pair space -----------------------------------------------------------------------
     @property
@@ -141,18 +142,30 @@ class Domain:
                             hint="remove the #modeh declaration; #modeb literals make the constraints' bodies")
         return task
 
-    @cached_property
+    @property
     def hypothesis_space(self):
-        """The candidate rules of the bias (independent of the examples, so built once)."""
+        """The candidate rules of the bias at the ILP's default body length (:meth:`space`)."""
+        return self.space()
+
+    def space(self, max_body: int | None = None):
+        """The candidate rules of the bias with at most ``max_body`` body literals (None: the ILP
+        default, 3). Independent of the examples, so built once per length: a user whose rule joins
+        two objects through their places (``:- put, at(P), hot(P), holding(O), fragile(O).``) needs
+        5, and every learner of one fit asks for the same space."""
         from symlearn.logic.ilp.space import generate_space
 
+        if max_body not in self._spaces:
+            self._check_bias_has_modes()
+            self._spaces[max_body] = generate_space(self.ilp_task([]), max_body=max_body)
+        return self._spaces[max_body]
+
+    def _check_bias_has_modes(self) -> None:
         if not self.bias.modeb and not self.bias.modec:
             # named here, not as the generated induction task, and only when rules are to be learned
             # (checking a folder or rules needs no bias)
             raise DataError("the bias declares no #modeb or #modec: no rule can be learned",
                             file=self.sources.get("bias", f"<{self.name} bias>"),
                             hint="add mode declarations such as #modeb(1, p(var(t))).")
-        return generate_space(self.ilp_task([]))
 
     def examples(self, pairs: Iterable[tuple[int, int]], positive: bool, penalty: int | None = None,
                  prefix: str | None = None) -> list:

@@ -188,7 +188,8 @@ def test_no_rules_to_write_says_why(capsys, blocks, tmp_path):
     target = tmp_path / "rules.lp"
     code, out, err = run(capsys, "learn", "constraints", "--domain", folder, "--demos", demos, "-q", "-o", target)
     assert code == 2 and not target.exists()
-    assert "no rules were induced (no undemonstrated pair the bias can forbid is left)" in err
+    assert ("no rules were induced (no undemonstrated pair the bias can forbid (with rules of at most 3 body "
+            "literals, --max-body) is left)") in err
     assert f"{folder / 'bias.las'}:1:1: #modeb(stak(var(block),var(block)))" in err and "did you mean stack/2?" in err
 
 

@@ -17,14 +17,16 @@ import numpy as np
 from symlearn.grounding import Domain
 
 
-def bias_reach(domain: Domain, demonstrated: np.ndarray, *, noise: bool = False) -> np.ndarray | None:
+def bias_reach(domain: Domain, demonstrated: np.ndarray, *, noise: bool = False,
+               max_body: int | None = None) -> np.ndarray | None:
     """``(S, A)`` mask of the pairs some candidate integrity constraint of the bias forbids while
     forbidding no demonstrated pair (with ``noise=True`` demonstrated pairs may be forbidden too,
     so any candidate counts). None when the space holds rules with heads (their effect is not a
-    per-pair firing, so no pair can be ruled out this way)."""
+    per-pair firing, so no pair can be ruled out this way). ``max_body``: the candidates' longest
+    body (None: the ILP default), the same the induction searches."""
     from symlearn.logic.ilp.encoding import firing_rows
 
-    space = domain.hypothesis_space
+    space = domain.space(max_body)
     if any(not c.is_constraint for c in space.candidates):
         return None
     pairs = domain.pair_ids

@@ -99,7 +99,9 @@ STOP_REASONS = {
     "converged": "converged: the rules forbade no new pair in the last {patience} iterations",
     "min_visitation": ML_STOP_REASONS["min_visitation"],
     "min_evidence": ML_STOP_REASONS["min_evidence"],
-    "no_candidates": "no undemonstrated pair the bias can forbid is left",
+    # the body length is part of "the bias": a user reads the mode declarations and sees no limit
+    "no_candidates": "no undemonstrated pair the bias can forbid (with rules of at most {max_body} body literals, "
+                     "--max-body) is left",
     "max_iterations": "the iteration budget ({iterations}) ran out before convergence",
 }
 
@@ -127,8 +129,9 @@ class RuleInduction:
     """
 
     def __init__(self, domain: Domain, *, noise: bool, penalty: int, timeout: float, bar: Any = None,
-                 known: np.ndarray | None = None) -> None:
+                 known: np.ndarray | None = None, max_body: int | None = None) -> None:
         self.domain, self.noise, self.penalty, self.timeout = domain, noise, penalty, timeout
+        self.max_body = max_body
         # pairs the given rules forbid already: no learned rule is needed for them, so they are
         # no negatives (else induction learns the given rules again, as if from the data)
         self.known = np.zeros(domain.unavailable.shape, dtype=bool) if known is None else known
@@ -164,7 +167,7 @@ class RuleInduction:
         negatives = d.examples(map(tuple, np.argwhere(forbidden & available & ~self.known)), False, self.penalty)
         self.last_negatives = forbidden & available
         result = learn(d.ilp_task(positives + negatives), timeout=self.timeout, noise=True,
-                       space=d.hypothesis_space)
+                       space=d.space(self.max_body))
         extra = np.zeros_like(forbidden)
         rules: tuple[str, ...] = ()
         optimal = False
@@ -226,8 +229,10 @@ class LogicConstraintInference(Learner):
     rule. Inference passes such pairs over instead of spending an iteration on each (``wait`` in
     one cell, then the next, ...) and reports them in ``unexplained_`` (:class:`Unexplained`:
     the pair and the visitation that would have chosen it) and in the rule file's header: either
-    the bias lacks a literal (e.g. a negated condition) or the demonstrations leave a real
-    constraint undemonstrated that no rule distinguishes from what the expert did.
+    the bias lacks a literal (e.g. a negated condition), the rule needs more body literals than
+    ``max_body`` (None: the ILP default, 3; a rule joining an object and a place through two
+    variables, ``:- put, at(P), hot(P), holding(O), fragile(O).``, needs 5), or the demonstrations
+    leave a real constraint undemonstrated that no rule distinguishes from what the expert did.
 
     Each iteration infers one constraint and runs one induction. The ILP step must cover
     every demonstrated pair but may leave an inferred constraint uncovered at ``penalty`` (a rule
@@ -249,13 +254,14 @@ class LogicConstraintInference(Learner):
     found so far: one likelihood, maximised over the constraints and the temperature in turn. It
     only matters with a reward other than the sparse one, where it cancels.
 
-    **Evidence.** ``min_evidence`` (nats, default 1): an iteration is kept only if the nominal
-    policy would have visited what it forbids -- the inferred pair, the pairs its induced rules
-    add, the closure -- at least that often in as many episodes as were demonstrated
-    (``visitation x len(demonstrations)``); forbidding pairs with expected visits ``k`` raises the
-    demonstrations' log-likelihood by about ``k`` nats, and 1 nat per added constraint is Akaike's
-    price of a parameter. Below it the step's absence from the data is what the nominal policy
-    itself would show about as often as not, so the step is undone and the loop stops
+    **Evidence.** ``min_evidence`` (nats, default 1): an iteration is kept only if what it forbids
+    -- the inferred pair, the pairs its induced rules add, the closure -- makes the demonstrated
+    actions at least that many nats likelier under the nominal policies (checked only when the
+    pair alone falls short: its expected visits in as many episodes as were demonstrated,
+    ``visitation x len(demonstrations)``, which is about its own gain). 1 nat per added
+    constraint is Akaike's price of a parameter. Below it the step's absence from the data is
+    what the nominal policy itself would show about as often as not, so the step is undone and
+    the loop stops
     (``"min_evidence"``; one Hanoi game is enough: its rule forbids 102 pairs) -- unless the pair lies
     in a state no demonstration could reach under the constraints found so far (only the uniform
     start share visits it): there the data can say nothing either way, and the share's guess goes
@@ -293,8 +299,9 @@ class LogicConstraintInference(Learner):
                  rationality: float | str = "auto", min_visitation: float = 1e-3, ilp_timeout: float = 30.0,
                  noise: bool = False, penalty: int = 10, known: np.ndarray | None = None,
                  start: str | float = 0.1, patience: int = 2, min_evidence: float | None = 1.0,
-                 refit_rationality: bool = True) -> None:
+                 refit_rationality: bool = True, max_body: int | None = None) -> None:
         self.iterations = iterations
+        self.max_body = max_body
         self.patience = patience
         self.horizon = horizon
         self.reward = reward
@@ -314,6 +321,10 @@ class LogicConstraintInference(Learner):
             raise SymlearnError(f"iterations must be at least 1, got {self.iterations}")
         if self.patience < 1:
             raise SymlearnError(f"patience must be at least 1, got {self.patience}")
+        if self.max_body is not None and (isinstance(self.max_body, bool) or not isinstance(self.max_body, int)
+                                          or self.max_body < 1):
+            raise SymlearnError(f"max_body must be a whole number of at least 1, got {self.max_body!r}",
+                                hint="leave it out for the default, 3 body literals")
         if world is None:
             raise SymlearnError("logic constraint inference needs the domain: fit(demonstrations, world=domain)")
         started = time.perf_counter()
@@ -323,10 +334,11 @@ class LogicConstraintInference(Learner):
         from symlearn.learners.constraints.bias_reach import bias_reach
         from symlearn.mdp.episodes import demonstrated_pairs
 
-        reach = bias_reach(d, demonstrated_pairs(episodes, d.mdp), noise=self.noise)
+        reach = bias_reach(d, demonstrated_pairs(episodes, d.mdp), noise=self.noise, max_body=self.max_body)
         known, self.known_rules_ = _known(self.known, d)
         bar = progress(range(self.iterations), total=self.iterations, desc=f"logic inference {d.name}")
         induction = RuleInduction(d, noise=self.noise, penalty=self.penalty, timeout=self.ilp_timeout, bar=bar,
+                                  max_body=self.max_body,
                                   known=None if known is None else check_mask(d.mdp, known, "known constraints"))
         inference = MLConstraintInference(
             reward=self.reward, horizon=self.horizon, max_iterations=self.iterations,
@@ -422,8 +434,12 @@ class LogicConstraintInference(Learner):
         """``stop_reason_`` in words."""
         if "stop_reason_" not in self.__dict__:
             self.check_fitted()
+        from symlearn.logic.ilp.task import DEFAULT_MAX_BODY
+
+        max_body = DEFAULT_MAX_BODY if self.max_body is None else self.max_body
         return STOP_REASONS.get(self.stop_reason_, self.stop_reason_).format(patience=self.patience,
-                                                                              iterations=self.iterations)
+                                                                              iterations=self.iterations,
+                                                                              max_body=max_body)
 
     def needed_none(self) -> bool:
         """No rule was induced because the demonstrations needed none: the loop stopped on the
@@ -468,7 +484,7 @@ class LogicConstraintInference(Learner):
                                  f"{'that' if len(r.overlaps) == 1 else 'those'}")
                               + ")" for r in weak)
         if self.unexplained_:
-            header += "\n" + "\n".join(unexplained_lines(self.unexplained_))
+            header += "\n" + "\n".join(unexplained_lines(self.unexplained_, max_body=self.max_body))
         return self.hypothesis_.lp_text(header, recheck=recheck or "symlearn domain check DOMAIN_DIR --rules THIS.lp "
                                                                    "[--demos DEMOS.jsonl] (or Domain.rule_mask in "
                                                                    "Python)")
@@ -497,13 +513,20 @@ def _known(known: Any, d: Domain) -> tuple[np.ndarray | None, list[str]]:
     return d.rule_mask(known), list(d.hypothesis(known).rules)
 
 
-def unexplained_lines(unexplained: list[Unexplained], shown: int = 20) -> list[str]:
-    """The header/console lines for the constraints the bias cannot express (most visited first)."""
+def unexplained_lines(unexplained: list[Unexplained], shown: int = 20, max_body: int | None = None) -> list[str]:
+    """The header/console lines for the constraints the bias cannot express (most visited first).
+
+    The body length is named because nothing else tells a user that a rule of 4 or more literals
+    (a join of two variables) is outside the space: the bias file looks as if it allowed it."""
     if not unexplained:
         return []
+    from symlearn.logic.ilp.task import DEFAULT_MAX_BODY
+
+    body = DEFAULT_MAX_BODY if max_body is None else max_body
     lines = [f"Unexplained: {len(unexplained)} pair(s) inference found likely forbidden (never demonstrated, often "
              "visited by the nominal policy) that no rule of the bias can forbid without forbidding a demonstrated "
-             "pair -- allowed moves the expert never chose, or constraints the bias has no literal for "
+             "pair -- allowed moves the expert never chose, constraints the bias has no literal for, or rules "
+             f"longer than {body} body literals (--max-body) "
              "(state / action, nominal visitation when passed over):"]
     ranked = sorted(unexplained, key=lambda u: -u.visitation)
     lines += [f"  {u.pair}  ({u.visitation:.3g})" for u in ranked[:shown]]

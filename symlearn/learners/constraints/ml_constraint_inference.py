@@ -22,10 +22,10 @@ policy visits most often. Each iteration
 **Stopping criterion**: the loop ends when the best candidate's expected visitation drops below
 ``min_visitation`` (adding it would barely change the likelihood), when ``min_evidence`` (nats,
 off by default) is given and a step lacks evidence: the candidate lies in a state the
-demonstrations could reach, and the nominal policy would have visited the pairs the step forbids
-(the candidate, what ``generalize`` adds, the closure) fewer than ``min_evidence`` times in as
-many episodes as were demonstrated -- forbidding them gains about that many nats of likelihood.
-Such a step is undone (a ``generalize`` hook with ``snapshot()``/``restore()`` is rolled back with
+demonstrations could reach, the nominal policy would have visited it fewer than ``min_evidence``
+times in as many episodes as were demonstrated, and forbidding what the step forbids (the
+candidate, what ``generalize`` adds, the closure) makes the demonstrated actions fewer than
+``min_evidence`` nats likelier under the nominal policies. Such a step is undone (a ``generalize`` hook with ``snapshot()``/``restore()`` is rolled back with
 it) and the loop ends (``"min_evidence"``),
 when no unobserved allowed
 pair is left, when ``stop_when`` (a hook, e.g. logic inference's convergence test) names a reason,
@@ -293,12 +293,10 @@ class MLConstraintInference(Learner):
                 n_generalized = int((extra & ~forbidden).sum())
                 forbidden |= extra
             forbidden = restrict(mdp, forbidden, protected=seen).forbidden
-            if ask and float(visits[forbidden & ~previous].sum()) * len(episodes) < self.min_evidence:
-                # forbidding a set of pairs raises the demonstrations' log-likelihood by about the
-                # nominal policy's expected visits to it over as many episodes (each unseen visit
-                # is probability mass the model no longer wastes); under min_evidence nats --
-                # Akaike's price of a parameter at 1 -- the step's absence from the data is what
-                # the nominal policy itself would show about as often as not: undo it and stop
+            if ask and _gain(visitation, episodes, previous, forbidden) < self.min_evidence:
+                # the step raises the demonstrations' log-likelihood by fewer than min_evidence
+                # nats (Akaike's price of a parameter at 1): what it forbids is what the nominal
+                # policy itself would leave undemonstrated about as often as not -- undo it, stop
                 forbidden = previous
                 if snapshot is not None:
                     self.generalize.restore(snapshot)
@@ -345,6 +343,19 @@ class MLConstraintInference(Learner):
         """``stop_reason_`` in words (a reason ``stop_when`` gave as it is)."""
         self.check_fitted()
         return STOP_REASONS.get(self.stop_reason_, self.stop_reason_).format(iterations=self.max_iterations)
+
+
+def _gain(visitation: MaxEntVisitation, episodes, before: np.ndarray, after: np.ndarray) -> float:
+    """How many nats likelier the demonstrated actions are under the goal-conditioned nominal
+    policies with ``after`` forbidden than with ``before`` (the same likelihood the rationality is
+    fitted by, at the current rationality). Not the pairs' expected visits: a visit after a first
+    forbidden step lies off every demonstration and changes no demonstrated action's probability."""
+    from symlearn.learners.constraints.rationality_fit import demonstration_log_likelihood
+
+    steps = sum(len(e.actions) for e in episodes)
+    ll = [demonstration_log_likelihood(visitation.mdp, episodes, visitation._reward, visitation.rationality,
+                                       visitation.horizon, ~mask) for mask in (before, after)]
+    return (ll[1] - ll[0]) * steps
 
 
 def _reachable(mdp: TabularMDP, forbidden: np.ndarray, starts: np.ndarray) -> np.ndarray:

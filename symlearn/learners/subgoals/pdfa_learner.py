@@ -91,6 +91,9 @@ class SubgoalPDFALearner(Learner):
             self.warnings_.append(message)
             warnings.warn(message, UserWarning, stacklevel=FIT_CALLER)
         words = demonstration_words(subgoals, frames)
+        for message in empty_word_warnings(words, frames):
+            self.warnings_.append(message)
+            warnings.warn(message, UserWarning, stacklevel=FIT_CALLER)
         t_words = time.perf_counter()
         counts = count_orderings(words, subgoals.propositions)
         pdfa = ordering_pdfa(counts, self.probabilities)
@@ -159,6 +162,22 @@ def wide_subgoal_warnings(subgoals, frames) -> list[str]:
                        f"of its frames ({extent:.3g}): no single place, but several joined by the frames in between "
                        "(lower --eps below half a demonstration's step, or raise --min-samples)")
     return out
+
+
+def empty_word_warnings(words, frames) -> list[str]:
+    """One warning when some demonstrations, but not all, visit no sub-goal: each is the word
+    "stop at once" and carries the same weight in the plan's probabilities as a whole tour, so one
+    broken recording (a single frame, a run cut at the start) beside one good tour makes a plan of
+    "stop at once" at p = 0.5. Nothing here can tell a real "do nothing" from a broken file, so the
+    learner keeps them and says which they are."""
+    empty = [i for i, w in enumerate(words) if not w]
+    if not empty or len(empty) == len(words):
+        return []
+    shown = ", ".join(f"{i} ({len(frames[i])} frame{'s' if len(frames[i]) != 1 else ''})" for i in empty[:5])
+    more = f" and {len(empty) - 5} more" if len(empty) > 5 else ""
+    return [f"{len(empty)} of {len(words)} demonstrations visit no sub-goal (demonstration {shown}{more}): each "
+            "counts as a tour that stops at once in the plan's probabilities (remove them if they are broken "
+            "recordings)"]
 
 
 def plan_document(pdfa, subgoals, words, plan) -> dict[str, Any]:

@@ -464,6 +464,14 @@ class OneClassTreeConstraint(Learner):
         if empty:
             self.notes_.append(f"{empty} conjunction(s) that hold at no whole-number point (slabs between ids) "
                                "dropped: they forbid nothing")
+        if len(self.safe_boxes_) == 1 and X.shape[1] > 1:
+            # a single box is right for a box-shaped safe set, but the rules then say nothing about
+            # the inside of the data's range: a region the demonstrations avoid there (the corner
+            # x > 0.7 & y > 0.7 of an L-shaped safe set) is unsafe in truth and absent here, and the
+            # file gives no sign of it unless said
+            self.notes_.append("no split: the rules only bound each feature's range, so a region the demonstrations "
+                               "avoid inside that range (a corner of it) is not forbidden; check such a region "
+                               "with dnf eval, or add its rule by hand")
         self.warnings_ = []
         if self.warn_unsafe_share is not None and self.unsafe_share_ > float(self.warn_unsafe_share):
             self.warnings_.append(

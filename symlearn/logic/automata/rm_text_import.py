@@ -23,6 +23,7 @@ uncovered labels; ``unmatched="stay"`` keeps symlearn's implicit self-loop inste
 
 from __future__ import annotations
 
+import math
 import re
 from pathlib import Path
 
@@ -140,7 +141,11 @@ def parse_rm_text(text: str, *, source: str | None = None, unmatched: str = "ter
             raise line.error(f"only ConstantRewardFunction rewards can be read, found {function!r}", fcolumn,
                              hint="other reward functions depend on the environment's state")
         line.expect("punct", "(")
-        value, _ = line.expect("number", what="a reward number")
+        value, vcolumn = line.expect("number", what="a reward number")
+        if not math.isfinite(float(value)):
+            # 1e400 reads as inf; the machine refuses it later, but then without the line it came from
+            raise line.error(f"reward {value} is too large: it reads as infinity", vcolumn,
+                             hint="rewards are finite numbers (at most about 1.8e308)")
         line.expect("punct", ")")
         line.expect("punct", ")")
         line.end()
