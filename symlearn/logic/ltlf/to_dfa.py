@@ -568,7 +568,7 @@ class _Translation:
         else:
             # child guards only mention later propositions, so each guard is one new node
             high, low = self._split(bdd.high[u]), self._split(bdd.low[u])
-            found = {t: bdd.node(level, low.get(t, FALSE), high.get(t, FALSE)) for t in {**low, **high}}
+            found = bdd.nodes_by_key(level, low, high)
         self.split_memo[u] = found
         return found
 
