@@ -201,31 +201,38 @@ def from_bdd(bdd: BDD, nodes: Sequence[int], names: Sequence[str]) -> list[Guard
         raise ValueError("from_bdd needs the variables in proposition-name order")
     _maybe_collect()
     memo = {_FALSE: _FALSE, _TRUE: _TRUE}
-    # per node of ``bdd``: (fewest true propositions, that label as a name-sorted tuple), the
-    # recurrence of Guard.satisfying_label (low child on ties) run during the conversion, so the
-    # converted guards' label keys are known without a second walk per guard. Callers sort a DFA
-    # state's edges by label_key; in a fresh process that walk was about a third of a
-    # 257-state translation (Patterns/GFand pb_09: 6,818 edges, docs/BENCHMARKS.md, issue 27).
-    best: dict[int, tuple] = {_FALSE: (float("inf"), None), _TRUE: (0, ())}
     level, low, high = bdd.level, bdd.low, bdd.high
 
     def convert(u: int) -> int:
         found = memo.get(u)
         if found is None:
-            lo, hi = low[u], high[u]
-            name = names[level[u]]
-            found = memo[u] = _make(name, convert(lo), convert(hi))
-            cost_lo, label_lo = best[lo]
-            cost_hi, label_hi = best[hi]
-            # names are in variable order, so prefixing keeps the tuple sorted
-            best[u] = (cost_lo, label_lo) if cost_lo <= 1 + cost_hi else (1 + cost_hi, (name,) + label_hi)
+            found = memo[u] = _make(names[level[u]], convert(low[u]), convert(high[u]))
         return found
 
     converted = [convert(u) for u in nodes]  # every node is built before any Guard exists
+    # Callers sort a DFA state's edges by label_key, which walks each guard once more (in a fresh
+    # process about a third of a 257-state translation: Patterns/GFand pb_09, 6,818 edges, issue
+    # 27). The keys of the guards not seen before are found here instead, by the recurrence of
+    # Guard.satisfying_label (fewest true propositions, the low child on ties) memoised per node
+    # of ``bdd``: one step per node for all the guards together. Guards whose key is known
+    # already (a translation repeated in one process) cost a lookup.
     keys = _label_key_cache
-    for u, g in zip(nodes, converted):
-        if g not in keys:  # the same key Guard.label_key computes, as the two walks are the same
-            cost, label = best[u]
+    missing = [(u, g) for u, g in zip(nodes, converted) if g not in keys]
+    if missing:
+        best: dict[int, tuple] = {_FALSE: (float("inf"), None), _TRUE: (0, ())}
+
+        def fewest(u: int) -> tuple:
+            found = best.get(u)
+            if found is None:
+                cost_lo, label_lo = fewest(low[u])
+                cost_hi, label_hi = fewest(high[u])
+                # names are in variable order, so prefixing keeps the label's tuple sorted
+                found = best[u] = ((cost_lo, label_lo) if cost_lo <= 1 + cost_hi
+                                   else (1 + cost_hi, (names[level[u]],) + label_hi))
+            return found
+
+        for u, g in missing:
+            cost, label = fewest(u)
             keys[g] = (0, ()) if label is None else (1, cost, label)
     return [_wrap(u) for u in converted]
 
