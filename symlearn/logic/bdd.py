@@ -89,15 +89,17 @@ class BDD:
         call only for a new node (a Python call per result node was about a fifth of a
         translation's time on the tlsf-fin sample, issue 27)."""
         var, low, high = key
-        if self._free:
-            found = self._free.pop()
+        free = self._free
+        if free:
+            found = free.pop()
             self.level[found], self.low[found], self.high[found] = var, low, high
         else:
-            found = len(self.level)
-            if self.max_nodes is not None and found >= self.max_nodes:
-                raise LimitExceededError(f"the BDD needs more than {self.max_nodes:,} nodes",
-                                         hint=self.limit_hint)
-            self.level.append(var)
+            level = self.level
+            found = len(level)
+            bound = self.max_nodes
+            if bound is not None and found >= bound:
+                raise LimitExceededError(f"the BDD needs more than {bound:,} nodes", hint=self.limit_hint)
+            level.append(var)
             self.low.append(low)
             self.high.append(high)
         self._unique[key] = found

@@ -996,6 +996,6 @@ def finish(diagram: TransitionDiagram, roots: Sequence[int], accepting: Sequence
                     order.append(t)
         names = None if state_names is None else [state_names[q] for q in order]
         return DFA._trusted(alphabet, len(order), 0, [index[q] for q in order if accepting[q]],
-                            [[(g, index[t]) for g, t in table[q]] for q in order], names)
+                            [[(g, index[t]) for g, t in table[q]] for q in order], names, ordered=True)
     return DFA._symbolic(alphabet, len(roots), initial, [q for q, a in enumerate(accepting) if a], diagram, roots,
                          state_names)

@@ -662,7 +662,7 @@ class _Translation:
         accepting_blocks = [index[order[block[q]]] for q in representative if accepting[q]]
         # the edges are canonical already (disjoint, complete, one per target): skip validation
         return DFA._trusted(names, len(table), 0, accepting_blocks,
-                            [[(g, index[t]) for g, t in table[q]] for q in canonical])
+                            [[(g, index[t]) for g, t in table[q]] for q in canonical], ordered=True)
 
 
 def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFA:
