@@ -210,6 +210,30 @@ def from_bdd(bdd: BDD, nodes: Sequence[int], names: Sequence[str]) -> list[Guard
         return found
 
     converted = [convert(u) for u in nodes]  # every node is built before any Guard exists
+    # Callers sort a DFA state's edges by label_key, which walks each guard once more (in a fresh
+    # process about a third of a 257-state translation: Patterns/GFand pb_09, 6,818 edges, issue
+    # 27). The keys of the guards not seen before are found here instead, by the recurrence of
+    # Guard.satisfying_label (fewest true propositions, the low child on ties) memoised per node
+    # of ``bdd``: one step per node for all the guards together. Guards whose key is known
+    # already (a translation repeated in one process) cost a lookup.
+    keys = _label_key_cache
+    missing = [(u, g) for u, g in zip(nodes, converted) if g not in keys]
+    if missing:
+        best: dict[int, tuple] = {_FALSE: (float("inf"), None), _TRUE: (0, ())}
+
+        def fewest(u: int) -> tuple:
+            found = best.get(u)
+            if found is None:
+                cost_lo, label_lo = fewest(low[u])
+                cost_hi, label_hi = fewest(high[u])
+                # names are in variable order, so prefixing keeps the label's tuple sorted
+                found = best[u] = ((cost_lo, label_lo) if cost_lo <= 1 + cost_hi
+                                   else (1 + cost_hi, (names[level[u]],) + label_hi))
+            return found
+
+        for u, g in missing:
+            cost, label = fewest(u)
+            keys[g] = (0, ()) if label is None else (1, cost, label)
     return [_wrap(u) for u in converted]
 
 

@@ -109,3 +109,30 @@ def test_operations_on_a_chain_deeper_than_the_recursion_limit():
         h = 0
         for i in range(40):   # (a_i & b_i) | ... with every a before every b: exponential
             h = small.apply_or(h, small.apply_and(small.var(i), small.var(40 + i)))
+
+
+def test_nodes_by_key_is_node_per_key_in_merged_order():
+    """nodes_by_key looks the unique table up inline; it must give node(var, low[k], high[k])
+    (FALSE where a side lacks k) for every key, keys in the order of {**low, **high}, build
+    only the nodes node() would, and respect the node bound as node() does."""
+    import random
+
+    import pytest
+
+    from symlearn.errors import LimitExceededError
+
+    rng = random.Random(27)
+    for _ in range(100):
+        m = BDD()
+        pool = [FALSE, TRUE] + [m.apply_or(m.var(rng.randrange(1, 5)), m.var(rng.randrange(1, 5))) for _ in range(6)]
+        low = {k: rng.choice(pool) for k in rng.sample(range(8), rng.randrange(0, 5))}
+        high = {k: rng.choice(pool) for k in rng.sample(range(8), rng.randrange(0, 5))}
+        found = m.nodes_by_key(0, low, high)
+        size = len(m)
+        expected = {k: m.node(0, low.get(k, FALSE), high.get(k, FALSE)) for k in {**low, **high}}
+        assert list(found.items()) == list(expected.items())
+        assert len(m) == size  # node() found every node nodes_by_key built: none missing, none extra
+    small = BDD(max_nodes=4)
+    a = small.var(1)
+    with pytest.raises(LimitExceededError, match="more than 4 nodes"):
+        small.nodes_by_key(0, {"x": a, "y": FALSE}, {"y": a, "z": TRUE})

@@ -240,6 +240,34 @@ def test_from_bdd_converts_nodes_of_another_manager():
         from_bdd(m, [both], ["b", "a"])
 
 
+def test_from_bdd_gives_the_label_keys_a_fresh_walk_gives():
+    """from_bdd records each converted guard's label_key (the order of a DFA state's edges)
+    during its conversion; it must be the key of the guard's own minimal satisfying label, ties
+    broken as satisfying_label breaks them, on random functions with many equal-cost labels."""
+    import random
+
+    from symlearn.logic.bdd import BDD, FALSE, TRUE
+    from symlearn.logic.guards import _label_key_cache, from_bdd
+
+    rng = random.Random(27)
+    names = ["p0", "p1", "p2", "q", "r", "s"]
+    for _ in range(200):
+        m = BDD()
+        nodes, disjunction = [FALSE, TRUE], FALSE
+        for _ in range(rng.randrange(1, 5)):  # a growing disjunction of random cubes
+            cube = TRUE
+            for level in sorted(rng.sample(range(len(names)), rng.randrange(1, 4)), reverse=True):
+                cube = m.node(level, FALSE, cube) if rng.random() < 0.5 else m.node(level, cube, FALSE)
+            disjunction = m.apply_or(disjunction, cube)
+            nodes += [cube, disjunction, m.negate(disjunction)]
+        converted = from_bdd(m, nodes, names)
+        for guard in converted:
+            label = guard.satisfying_label()  # its own walk and cache, not the recorded key
+            expected = (0, ()) if label is None else (1, len(label), tuple(sorted(label)))
+            assert _label_key_cache[guard._node] == expected, (str(guard), expected)
+            assert guard.label_key == expected
+
+
 def test_guards_over_thousands_of_propositions_print():
     """The printer's diagram operations recurse once per proposition: a guard over 10,000
     (the edge guard of F(p0 & ... & p9999)) stopped as "too deep to print" before."""

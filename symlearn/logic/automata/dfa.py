@@ -104,13 +104,16 @@ class DFA(GuardedAutomaton):
         )
 
     @classmethod
-    def _trusted(cls, alphabet, n_states, initial, accepting, edges, state_names=None) -> DFA:
-        """Build from already canonical edges (internal: skips validation)."""
+    def _trusted(cls, alphabet, n_states, initial, accepting, edges, state_names=None, *, ordered=False) -> DFA:
+        """Build from already canonical edges (internal: skips validation). ``ordered``: each
+        row is in label_key order already (the translation sorts its rows to number the states,
+        and sorting again cost a key lookup per edge)."""
         dfa = object.__new__(cls)
         dfa._init_fields(alphabet=frozenset(alphabet), n_states=n_states, initial=initial,
                          accepting=frozenset(accepting),
                          # a DFA state's guards are disjoint: label_key orders them as sort_key does
-                         _explicit=tuple(tuple(sorted(row, key=lambda e: e[0].label_key)) for row in edges),
+                         _explicit=(tuple(tuple(row) for row in edges) if ordered else
+                                    tuple(tuple(sorted(row, key=lambda e: e[0].label_key)) for row in edges)),
                          state_names=None if state_names is None else tuple(state_names),
                          _diagram=None, _roots=None)
         return dfa

@@ -784,7 +784,7 @@ def materialise(diagram: TransitionDiagram, roots: Sequence[int], limit: int | N
 
     Raises :class:`LimitExceededError` when the DFA has more than ``limit`` edges.
     """
-    from symlearn.logic.bdd import BDD, FALSE, TRUE
+    from symlearn.logic.bdd import BDD, TRUE
     from symlearn.logic.guards import from_bdd
 
     if limit is not None and count_edges(diagram, roots, limit) is None:
@@ -811,7 +811,7 @@ def materialise(diagram: TransitionDiagram, roots: Sequence[int], limit: int | N
                 lo_u, hi_u = low[u], high[u]
                 if lo_u in memo and hi_u in memo:
                     lo, hi = memo[lo_u], memo[hi_u]
-                    memo[u] = {t: bdd.node(var[u], lo.get(t, FALSE), hi.get(t, FALSE)) for t in {**lo, **hi}}
+                    memo[u] = bdd.nodes_by_key(var[u], lo, hi)
                     stack.pop()
                 else:
                     stack.append(hi_u)
@@ -996,6 +996,6 @@ def finish(diagram: TransitionDiagram, roots: Sequence[int], accepting: Sequence
                     order.append(t)
         names = None if state_names is None else [state_names[q] for q in order]
         return DFA._trusted(alphabet, len(order), 0, [index[q] for q in order if accepting[q]],
-                            [[(g, index[t]) for g, t in table[q]] for q in order], names)
+                            [[(g, index[t]) for g, t in table[q]] for q in order], names, ordered=True)
     return DFA._symbolic(alphabet, len(roots), initial, [q for q, a in enumerate(accepting) if a], diagram, roots,
                          state_names)

@@ -142,25 +142,34 @@ class _Translation:
 
     def _nnf(self, root: Formula, negated: bool) -> int:
         # explicit stack: formulas from files can be nested deeper than Python's recursion limit
+        # A node waiting for its parts is pushed back with them (None: not yet asked), so its
+        # parts are listed once; composition builds the negation normal form of each part it
+        # progresses, and on Random/Syft 145 that was a third of the translation (issue 27).
         memo = self.memo
-        stack: list[tuple[Formula, bool, bool]] = [(root, negated, False)]
+        parts_of, combine = self._parts, self._combine
+        stack: list[tuple[Formula, bool, list | None]] = [(root, negated, None)]
         while stack:
-            node, neg, ready = stack.pop()
+            node, neg, parts = stack.pop()
             key = (id(node), neg)
             if key in memo:
                 continue
-            parts = self._parts(node, neg)
-            if not ready:
+            if parts is None:
+                parts = parts_of(node, neg)
                 missing = [(c, n) for c, n in parts if (id(c), n) not in memo]
                 if missing:
-                    stack.append((node, neg, True))
-                    stack.extend((c, n, False) for c, n in missing)
+                    stack.append((node, neg, parts))
+                    stack.extend((c, n, None) for c, n in missing)
                     continue
-            memo[key] = self._combine(node, neg, [memo[(id(c), n)] for c, n in parts])
+            memo[key] = combine(node, neg, [memo[(id(c), n)] for c, n in parts])
         return memo[(id(root), negated)]
 
     @staticmethod
     def _parts(node: Formula, neg: bool) -> list[tuple[Formula, bool]]:
+        kind = type(node)
+        if kind is And or kind is Or:  # the commonest nodes first (exact types; subclasses below)
+            return [(node.left, neg), (node.right, neg)]
+        if kind is Prop:
+            return []
         if isinstance(node, (Const, Prop)):
             return []
         if isinstance(node, Not):
@@ -174,6 +183,9 @@ class _Translation:
         return [(node.left, neg), (node.right, neg)]
 
     def _combine(self, node: Formula, neg: bool, c: list[int]) -> int:
+        kind = type(node)
+        if kind is And or kind is Or:  # the commonest nodes first, as in _parts
+            return self._and(c[0], c[1]) if (kind is And) != neg else self._or(c[0], c[1])
         mk, AND, OR = self._mk, self._and, self._or
         if isinstance(node, Const):
             return mk((_TT,) if node.value != neg else (_FF,))
@@ -568,7 +580,7 @@ class _Translation:
         else:
             # child guards only mention later propositions, so each guard is one new node
             high, low = self._split(bdd.high[u]), self._split(bdd.low[u])
-            found = {t: bdd.node(level, low.get(t, FALSE), high.get(t, FALSE)) for t in {**low, **high}}
+            found = bdd.nodes_by_key(level, low, high)
         self.split_memo[u] = found
         return found
 
@@ -662,7 +674,7 @@ class _Translation:
         accepting_blocks = [index[order[block[q]]] for q in representative if accepting[q]]
         # the edges are canonical already (disjoint, complete, one per target): skip validation
         return DFA._trusted(names, len(table), 0, accepting_blocks,
-                            [[(g, index[t]) for g, t in table[q]] for q in canonical])
+                            [[(g, index[t]) for g, t in table[q]] for q in canonical], ordered=True)
 
 
 def translate(formula: Formula, *, max_states: int = DEFAULT_MAX_STATES) -> DFA:

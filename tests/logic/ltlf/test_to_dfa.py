@@ -164,3 +164,18 @@ def test_nested_eventualities_keep_the_language(f):
 ])
 def test_eventualities_forcing_others_or_not(text):
     _agrees_with_the_semantics(parse(text))
+
+
+def test_translated_edges_are_in_guard_order():
+    """The translation's rows reach DFA._trusted already sorted (ordered=True: not sorted a
+    second time); each state's edges must still be in label_key/sort_key order, on the explicit
+    route, the composed route (transition_diagram.finish) and a start state split for the empty word."""
+    from symlearn.logic.ltlf.parser import parse
+
+    for text in ["F a & F b & G !c", "G(a -> X b) & (F c | G d)", "!a", "(a U b) & (c R d) & F(e & X f)",
+                 "G F a & G F b & G(c -> X !c)"]:
+        dfa = translate(parse(text))
+        assert not dfa.is_symbolic()
+        for q in dfa.states:
+            guards = [g for g, _ in dfa.successors(q)]
+            assert guards == sorted(guards, key=lambda g: g.sort_key), (text, q)
