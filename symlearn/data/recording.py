@@ -68,7 +68,7 @@ def record(
         if policy != "random":
             raise SymlearnError(f"unknown policy {policy!r}", hint="pass a callable or 'random'")
         policy = _random_policy(env, seed)
-    _check_action_space(getattr(env, "action_space", None))
+    stored_action = _check_action_space(getattr(env, "action_space", None))
     spec = getattr(env, "spec", None)
     limit = max_steps or getattr(spec, "max_episode_steps", None) or DEFAULT_MAX_STEPS
     episode_seeds = np.random.SeedSequence(seed).generate_state(n_episodes).tolist()
@@ -76,7 +76,8 @@ def record(
     trajectories = []
     flat = _FlatStates()
     for episode_seed in progress(episode_seeds, total=n_episodes, desc=desc, unit="episode"):
-        trajectories.append(_run_episode(env, policy, int(episode_seed), limit, labeler, observation or flat))
+        trajectories.append(_run_episode(env, policy, int(episode_seed), limit, labeler, observation or flat,
+                                         stored_action))
     meta = {"env": getattr(spec, "id", type(env).__name__), "seed": seed, "n_episodes": n_episodes}
     if flat.names is not None:
         meta["feature_names"] = flat.names
@@ -84,11 +85,14 @@ def record(
     return Demonstrations(trajectories, metadata=meta)
 
 
-def _check_action_space(space: Any) -> None:
-    """Refuse, before any episode runs, an action space whose actions are arrays of two or more
-    dimensions (``Box(-1, 1, (2, 2))``, ``MultiDiscrete([[2, 3], [2, 2]])``): a trajectory stores
-    one id or 1-D vector per action, and the episodes would otherwise all run before the first
-    one failed to store."""
+def _check_action_space(space: Any) -> Callable[[Any], Any]:
+    """What a trajectory stores of one action of ``space``: a ``Box`` of two or more dimensions
+    (``Box(-1, 1, (2, 3))``) as its flat vector, row-major -- the actions symlearn's PPO samples
+    for it (:class:`symlearn.recipes.action_spaces.FlatBoxActions`), so recorded and trained
+    actions are one kind of thing; any other action as it is. Refuses, before any episode runs,
+    the rest a trajectory cannot store (one id or 1-D vector per action): composite actions and
+    ``MultiDiscrete``/``MultiBinary`` arrays of two or more dimensions, where the episodes would
+    otherwise all run before the first one failed to store."""
     if space is not None and (hasattr(space, "spaces") or hasattr(space, "feature_space")
                               or hasattr(space, "node_space")):
         # a Tuple/Dict of parts (a Sequence, a Graph): the first step stopped with numpy's
@@ -101,7 +105,9 @@ def _check_action_space(space: Any) -> None:
                              "Box(-1, 1, (2,)), say)")
     shape = getattr(space, "shape", None)
     if space is None or shape is None or len(shape) < 2:
-        return
+        return lambda action: action
+    if hasattr(space, "low") and hasattr(space, "high"):   # a Box (read by its bounds: no gymnasium import)
+        return lambda action: np.asarray(action).reshape(-1)
     described = " ".join(str(space).split())  # MultiDiscrete's repr spans lines
     raise DataError(f"the action space {described} acts in arrays of shape {tuple(shape)}; demonstrations store one "
                     f"id or 1-D vector per action",
@@ -170,7 +176,8 @@ def labeler_arity(labeler: Callable[..., Any]) -> int:
 
 
 def _run_episode(env: Any, policy: Policy, seed: int, limit: int, labeler: Labeler | None,
-                 stored: Callable[[Any], Any] | None) -> Trajectory:
+                 stored: Callable[[Any], Any] | None,
+                 stored_action: Callable[[Any], Any] = lambda action: action) -> Trajectory:
     keep = stored or (lambda value: value)
     observation, info = env.reset(seed=seed)
     arity = labeler_arity(labeler) if labeler is not None else 0
@@ -186,7 +193,7 @@ def _run_episode(env: Any, policy: Policy, seed: int, limit: int, labeler: Label
             break
         action = _plain(policy(observation))
         observation, reward, terminated, truncated, info = env.step(action)
-        actions.append(action)
+        actions.append(_plain(stored_action(action)))
         rewards.append(float(reward))
         states.append(_plain(keep(observation)))
     truncated = truncated or not terminated

@@ -273,9 +273,9 @@ class EnvTarget:
 
             env = numeric_observations(env)
         if self.joint_actions:
-            from symlearn.recipes.action_spaces import joint_discrete_actions
+            from symlearn.recipes.action_spaces import policy_actions
 
-            env = joint_discrete_actions(env)
+            env = policy_actions(env)
         return env
 
     def as_numeric(self, actions: bool = False) -> EnvTarget:
@@ -376,10 +376,17 @@ class EnvTarget:
             else:
                 width = _width(raw) if in_info else _feature_width(env)
                 names = None
+            declared_here = False   # named by the environment's feature_names: the error names it
             if override is not None:
                 names = parse_feature_names(override)
             elif names is None:
                 names = _declared_names(env, self.entry)
+                declared_here = names is not None and self.entry is None
+            if declared_here and len(set(names)) != len(names):
+                repeated = sorted({n for n in names if names.count(n) > 1})
+                raise DataError(f"{self.display}'s feature_names repeat {', '.join(repeated)}: "
+                                f"{', '.join(names)}", hint="give each column its own name in feature_names, "
+                                                            "or name them with --features a,b,...")
             if names is None:
                 if not numbered or not width:
                     return None
@@ -394,8 +401,12 @@ class EnvTarget:
                                     hint="return the features of the start state in reset's info too: "
                                          "return observation, {\"features\": ...}")
                 where = 'info["features"]' if in_info else "the observation"
-                raise DataError(f"{len(names)} feature names ({', '.join(names)}) for {width} columns of {where} "
-                                f"of {self.display}", hint="give one name per column with --features a,b,...")
+                counted = f"{len(names)} feature names ({', '.join(names)})"
+                if declared_here:
+                    counted = f"feature_names gives {counted}"
+                raise DataError(f"{counted} for {width} columns of {where} "
+                                f"of {self.display}", hint="give one name per column with --features a,b,..."
+                                + (" or in the environment's feature_names" if declared_here else ""))
             return Features(tuple(names), "info" if in_info else "observation")
 
     def feature_names(self, env: Any = None, override: str | Sequence[str] | None = None) -> tuple[str, ...] | None:
@@ -729,17 +740,41 @@ def _from_module(name: str, kwargs: dict[str, Any]) -> EnvTarget:
     import symlearn.envs  # noqa: F401 -- `symlearn.envs:symlearn/toy-navigation-v0` works too
 
     if env_id not in gymnasium.registry:
+        class_id = _registered_class(module, env_id, gymnasium)
+        if class_id is not None:
+            return _registered(name, class_id, kwargs)
         added = sorted(set(gymnasium.registry) - before)
         own = added or sorted(i for i, s in gymnasium.registry.items() if _defined_in(s.entry_point, module))
         close = get_close_matches(env_id, own or list(gymnasium.registry), n=1)
         hint = (f"did you mean {module}:{close[0]}? " if close else "") + (
             f"it registers: {', '.join(own[:10])}" if own else
-            "it registered no gymnasium id: call gymnasium.register(id=..., entry_point=...) at import")
-        raise UnknownNameError(f"module {module!r} did not register the gymnasium id {env_id!r}", hint=hint)
+            "it registered no gymnasium id: call gymnasium.register(id=..., entry_point=...) at import, "
+            "or name a gymnasium.Env class it defines (module:ClassName)")
+        raise UnknownNameError(f"module {module!r} did not register the gymnasium id {env_id!r} "
+                               f"and defines no gymnasium.Env class of that name", hint=hint)
     bundled = _entry_with_gym_id(env_id)
     if bundled is not None:
         return _bundled(name, bundled, kwargs)
     return _registered(name, env_id, kwargs)
+
+
+def _registered_class(module: str, name: str, gymnasium: Any) -> str | None:
+    """The gymnasium id under which ``module``'s ``gymnasium.Env`` class ``name`` is registered
+    for ``module:ClassName`` (registered here, once, as ``module/ClassName``), or None where the
+    module defines no such class. A module that only defines its class is as usable as one that
+    registers it; the id gets no time limit, as the class has none (episodes end when it says)."""
+    found = getattr(sys.modules.get(module), name, None)
+    if not (inspect.isclass(found) and issubclass(found, gymnasium.Env)):
+        if found is not None and callable(found):
+            raise UnknownNameError(f"{module}:{name} is {'a class' if inspect.isclass(found) else 'a function'} "
+                                   f"but no gymnasium.Env class, and no registered gymnasium id",
+                                   hint=f"register it: gymnasium.register(id={name + '-v0'!r}, entry_point={name}) "
+                                        f"in {module}, then --env {module}:{name}-v0")
+        return None
+    gym_id = f"{module}/{name}"
+    if gym_id not in gymnasium.registry:
+        gymnasium.register(id=gym_id, entry_point=found)
+    return gym_id
 
 
 def _defined_in(entry_point: Any, module: str) -> bool:
