@@ -745,11 +745,14 @@ def _from_module(name: str, kwargs: dict[str, Any]) -> EnvTarget:
             return _registered(name, class_id, kwargs)
         added = sorted(set(gymnasium.registry) - before)
         own = added or sorted(i for i, s in gymnasium.registry.items() if _defined_in(s.entry_point, module))
-        close = get_close_matches(env_id, own or list(gymnasium.registry), n=1)
+        own = [i for i in own if not i.startswith(f"{module}/")]   # the ids module:ClassName registered
+        classes = _env_classes(module, gymnasium)
+        close = get_close_matches(env_id, own + classes or list(gymnasium.registry), n=1)
         hint = (f"did you mean {module}:{close[0]}? " if close else "") + (
             f"it registers: {', '.join(own[:10])}" if own else
             "it registered no gymnasium id: call gymnasium.register(id=..., entry_point=...) at import, "
-            "or name a gymnasium.Env class it defines (module:ClassName)")
+            "or name a gymnasium.Env class it defines (module:ClassName)") + (
+            f"; its gymnasium.Env classes: {', '.join(classes[:10])}" if classes else "")
         raise UnknownNameError(f"module {module!r} did not register the gymnasium id {env_id!r} "
                                f"and defines no gymnasium.Env class of that name", hint=hint)
     bundled = _entry_with_gym_id(env_id)
@@ -775,6 +778,13 @@ def _registered_class(module: str, name: str, gymnasium: Any) -> str | None:
     if gym_id not in gymnasium.registry:
         gymnasium.register(id=gym_id, entry_point=found)
     return gym_id
+
+
+def _env_classes(module: str, gymnasium: Any) -> list[str]:
+    """Names of the ``gymnasium.Env`` classes ``module`` itself defines (not those it imports)."""
+    found = vars(sys.modules.get(module) or object())
+    return sorted(k for k, v in found.items() if inspect.isclass(v) and issubclass(v, gymnasium.Env)
+                  and getattr(v, "__module__", None) == module)
 
 
 def _defined_in(entry_point: Any, module: str) -> bool:

@@ -1,0 +1,90 @@
+"""A fifth sweep of users' environments at the CLI's defaults (docs/BENCHMARKS.md, issue 25,
+"Fifth sweep of users' environments"): kinds no earlier sweep wrote -- ``module:ClassName`` for a
+module that registers nothing, ``Box`` actions of a scalar or matrix shape, ``feature_names`` that
+repeat or miscount. The environments are in ``tests/support/sweep5_envs.py``; one test per failure,
+each with the smallest step counts that show it."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+from cli_runner import run
+
+
+def _one_line(code, err):
+    lines = [line for line in err.strip().splitlines() if line.strip()]
+    assert code == 2 and len(lines) == 1 and "Traceback" not in err, err
+    return lines[0]
+
+
+def test_module_colon_class_builds_the_class_the_module_defines(capsys, tmp_path, monkeypatch):
+    """``--env sweep5_envs:Walker`` for a module that defines the class and registers nothing: "module
+    'sweep5_envs' did not register the gymnasium id 'Walker'" (hint: call gymnasium.register). The
+    class is now registered (once, as ``sweep5_envs/Walker``) and built; a function of that name is
+    refused in one line saying how to register it."""
+    monkeypatch.chdir(tmp_path)
+    code, out, err = run(capsys, "data", "record", "--env", "sweep5_envs:Walker", "--policy", "random",
+                         "--episodes", 2, "-o", "w.npz")
+    assert code == 0, err
+    assert "sweep5_envs:Walker: 2 episodes" in out and (tmp_path / "w.npz").exists()
+    code, out, err = run(capsys, "--json", "train", "--env", "sweep5_envs:Walker", "--algo", "ppo-lag",
+                         "--steps", 64, "--eval-episodes", 1)
+    assert code == 0, err
+    doc = json.loads(out)
+    assert doc["env"] == "sweep5_envs:Walker" and doc["cost"] is not None, doc   # info["cost"] read
+    line = _one_line(*run(capsys, "train", "--env", "sweep5_envs:not_an_env", "--steps", 64)[::2])
+    assert "is a function but no gymnasium.Env class" in line and "gymnasium.register(" in line, line
+    line = _one_line(*run(capsys, "train", "--env", "sweep5_envs:Nowhere", "--steps", 64)[::2])
+    assert "defines no gymnasium.Env class of that name" in line and "gymnasium.Env classes: " in line, line
+    assert "Walker" in line and "sweep5_envs/Walker" not in line, line   # the class, not our id for it
+
+
+def test_box_actions_of_a_matrix_or_scalar_shape_train_and_record(capsys, tmp_path, monkeypatch):
+    """A ``Box(-1, 1, (1, 2))`` action space: ``train`` said "PPO needs a 1-D Box action space, got
+    shape (1, 2)", ``data record`` refused the space; a ``Box(())`` one: "got shape ()". PPO now acts
+    in the flat vector of the entries (reshaped for the environment, which refuses any other shape),
+    and demonstrations store that flat vector, which ``learn icrl`` reads back."""
+    monkeypatch.chdir(tmp_path)
+    for env in ("sweep5_envs:sweep5/MatrixPush-v0", "sweep5_envs:sweep5/ScalarPush-v0"):
+        code, out, err = run(capsys, "--json", "train", "--env", env, "--algo", "ppo-lag", "--steps", 64,
+                             "--eval-episodes", 1, "-o", "agent.safetensors")
+        assert code == 0, err
+        assert json.loads(out)["cost"] is not None
+        code, _, err = run(capsys, "data", "record", "--env", env, "--policy", "agent.safetensors",
+                           "--episodes", 1, "-o", "agent.npz")
+        assert code == 0, err
+    matrix = "sweep5_envs:sweep5/MatrixPush-v0"
+    code, _, err = run(capsys, "data", "record", "--env", matrix, "--policy", "random", "--episodes", 2,
+                       "-o", "random.npz")
+    assert code == 0, err
+    from symlearn.data import load
+
+    actions = np.asarray(load(tmp_path / "random.npz")[0].actions)
+    assert actions.shape == (20, 2), actions.shape     # one flat (x, y) push per step
+    code, _, err = run(capsys, "learn", "icrl", "--env", matrix, "--demos", "random.npz", "--steps", 128,
+                       "--iterations", 1, "-o", "cost.safetensors")
+    assert code == 0, err
+
+
+def test_feature_names_that_repeat_or_miscount_are_named_as_the_environments(capsys, tmp_path, monkeypatch):
+    """``feature_names = ("x", "x")``: ``learn dnf --env E --demos d.npz`` said "d.npz: feature names
+    repeat: x, x", blaming the demonstrations for the environment's attribute. Three names for two
+    columns said "3 feature names ... (hint: give one name per column with --features a,b,...)"
+    without naming where the names came from. Both now name ``feature_names``."""
+    monkeypatch.chdir(tmp_path)
+    for env in ("sweep5_envs:sweep5/TwinNames-v0", "sweep5_envs:sweep5/ThreeNames-v0"):
+        code, _, err = run(capsys, "data", "record", "--env", env, "--policy", "random", "--episodes", 2,
+                           "-o", "d.npz")
+        assert code == 0, err
+        line = _one_line(*run(capsys, "learn", "dnf", "--env", env, "--demos", "d.npz", "-o", "r.dnf")[::2])
+        assert "feature_names" in line and "d.npz" not in line, line
+    assert "feature_names repeat x: x, x" in _one_line(*run(
+        capsys, "learn", "dnf", "--env", "sweep5_envs:sweep5/TwinNames-v0", "--demos", "d.npz", "-o", "r.dnf")[::2])
+    line = _one_line(*run(capsys, "learn", "dnf", "--env", "sweep5_envs:sweep5/ThreeNames-v0", "--demos",
+                          "d.npz", "-o", "r.dnf")[::2])
+    assert "feature_names gives 3 feature names (x, y, z) for 2 columns" in line, line
+    # --features overrides the attribute, as documented
+    code, _, err = run(capsys, "learn", "dnf", "--env", "sweep5_envs:sweep5/TwinNames-v0", "--demos", "d.npz",
+                       "--features", "a,b", "-o", "r.dnf")
+    assert code == 0, err
