@@ -331,6 +331,9 @@ class EnvTarget:
             _check_spaces(env, self.display)
             _check_reset_signature(env, self.display)
             _check_returns(build, self.display, (self.gym_id, repr(sorted(self.kwargs.items()))))
+            from symlearn.recipes.step_checks import CheckedRewards
+
+            env = CheckedRewards(env, self.display)   # a reward gone wrong later is one line, not a TypeError
         return env
 
     @property
@@ -549,6 +552,7 @@ def _check_returns(build: Callable[[], Any], display: str, key: tuple[Any, str])
         if not (isinstance(found, tuple) and len(found) == 2 and isinstance(found[1], Mapping)):
             raise DataError(f"{display}: reset() returned {_shape_of(found)}, not (observation, info)",
                             hint="gymnasium's API: return observation, {} (info a dict)")
+        _check_box_size(raw.observation_space, found[0], display, "reset()")
         found = raw.step(raw.action_space.sample())
         if isinstance(found, tuple) and len(found) == 5 and not isinstance(found[4], Mapping):
             raise DataError(f"{display}: step() returned info as {_shape_of(found[4])}, not a dict",
@@ -558,6 +562,7 @@ def _check_returns(build: Callable[[], Any], display: str, key: tuple[Any, str])
             raise DataError(f"{display}: step() returned {_shape_of(found)}, not (observation, reward, terminated, "
                             "truncated, info)", hint="gymnasium's API: the old done is terminated (the task ended) "
                                                      "or truncated (a time limit)")
+        _check_box_size(raw.observation_space, found[0], display, "step()")
     except SymlearnError:
         _RETURNS_CHECKED.discard(key)
         raise
@@ -568,6 +573,27 @@ def _check_returns(build: Callable[[], Any], display: str, key: tuple[Any, str])
             env.close()
         except Exception:
             pass
+
+
+def _check_box_size(space: Any, observation: Any, display: str, where: str) -> None:
+    """A ``Box`` observation must hold as many numbers as the space declares: PPO's buffers are
+    sized from the space, and an observation of 3 numbers for a ``(2,)`` space stopped training
+    with an internal "could not broadcast" error (gymnasium only warns). Shapes that hold the
+    same numbers (a list, a float for ``(1,)``) are left alone, as the learners read them."""
+    shape = getattr(space, "shape", None)
+    if type(space).__name__ != "Box" or shape is None:
+        return
+    import numpy as np   # here: the commands that never build an environment start without numpy
+
+    try:
+        size = np.asarray(observation, dtype=float).size
+    except (TypeError, ValueError):
+        size = None
+    if size != int(np.prod(shape, dtype=np.int64)):
+        shown = _shape_of(observation) if size is None else f"an observation of shape {np.shape(observation)}"
+        raise DataError(f"{display}: {where} returned {shown}, but its observation_space is "
+                        f"{' '.join(str(space).split())}",
+                        hint="return observations of the declared shape, or declare the shape they have")
 
 
 def _shape_of(value: Any) -> str:
@@ -606,9 +632,14 @@ def _feature_width(env: Any) -> int | None:
 
 
 def _declared_names(env: Any, entry: Entry | None) -> tuple[str, ...] | None:
-    names = getattr(env.unwrapped, "feature_names", None)
-    if callable(names):
-        names = names()
+    try:   # a property or method of the user's: its exception is theirs, in one located line
+        names = getattr(env.unwrapped, "feature_names", None)
+        if callable(names):
+            names = names()
+    except Exception as exc:  # noqa: BLE001
+        raise DataError(f"reading {type(env.unwrapped).__name__}.feature_names raised {type(exc).__name__}: {exc}",
+                        hint="feature_names must give the column names without raising (before and after reset)",
+                        **_innermost_frame(exc)) from None
     if isinstance(names, str):  # feature_names = "xy" is one name, not the names "x" and "y"
         names = (names,)
     if names is not None:

@@ -88,3 +88,60 @@ def test_feature_names_that_repeat_or_miscount_are_named_as_the_environments(cap
     code, _, err = run(capsys, "learn", "dnf", "--env", "sweep5_envs:sweep5/TwinNames-v0", "--demos", "d.npz",
                        "--features", "a,b", "-o", "r.dnf")
     assert code == 0, err
+
+
+def test_a_reward_that_is_no_number_on_a_later_step_is_one_line(capsys, tmp_path, monkeypatch):
+    """``step`` returning the reward ``None`` on its third step (the check when the environment is
+    built looks at one step): ``data record`` and ``train`` stopped with "internal error: TypeError:
+    float() argument must be ... not 'NoneType'" (PPO: "must be real number"). Now one line naming
+    the environment, the step and the value, from every command that steps it."""
+    monkeypatch.chdir(tmp_path)
+    env = "sweep5_envs:sweep5/ForgetsReward-v0"
+    for args in (("data", "record", "--env", env, "--policy", "random", "--episodes", 1, "-o", "d.npz"),
+                 ("train", "--env", env, "--steps", 64, "--eval-episodes", 1)):
+        line = _one_line(*run(capsys, *args)[::2])
+        assert "step 3 of an episode returned the reward None" in line and "internal" not in line, line
+    # a reward of a 0-d array, a one-entry list or numpy's bool is one number: still accepted
+    from gymnasium import Env, spaces
+
+    from symlearn.recipes.step_checks import CheckedRewards
+
+    class Rewards(Env):
+        observation_space, action_space = spaces.Discrete(1), spaces.Discrete(1)
+        values = [np.array(1.5), [2.0], np.bool_(True), np.float32(0.5)]
+
+        def reset(self, *, seed=None, options=None):
+            return 0, {}
+
+        def step(self, action):
+            return 0, self.values.pop(0), False, False, {}
+
+    checked = CheckedRewards(Rewards(), "rewards")
+    checked.reset()
+    assert [checked.step(0)[1] for _ in range(4)] == [1.5, 2.0, 1.0, 0.5]
+
+
+def test_an_observation_of_another_size_than_its_space_is_named_when_built(capsys, tmp_path, monkeypatch):
+    """A ``Box((2,))`` space with observations of 3 numbers: gymnasium only warns, ``data record``
+    stored them, and ``train --algo ppo-lag`` stopped with "internal error: ValueError: could not
+    broadcast input array from shape (6,2) into shape (4,2)". Now every command says it when the
+    environment is first built."""
+    monkeypatch.chdir(tmp_path)
+    env = "sweep5_envs:sweep5/ThreeNumbers-v0"
+    for args in (("train", "--env", env, "--algo", "ppo-lag", "--steps", 64),
+                 ("data", "record", "--env", env, "--policy", "random", "--episodes", 1, "-o", "d.npz")):
+        line = _one_line(*run(capsys, *args)[::2])
+        assert "reset() returned an observation of shape (3,), but its observation_space is Box(" in line, line
+    assert not (tmp_path / "d.npz").exists()
+
+
+def test_a_feature_names_property_that_raises_is_the_users_error(capsys, tmp_path, monkeypatch):
+    """``feature_names`` a property raising ``RuntimeError``: ``learn dnf --env`` and ``learn icrl``
+    said "internal error: RuntimeError: names not ready" (please report it). Now one line with the
+    property's file and line."""
+    monkeypatch.chdir(tmp_path)
+    env = "sweep5_envs:sweep5/LateNames-v0"
+    code, _, err = run(capsys, "data", "record", "--env", env, "--policy", "random", "--episodes", 1, "-o", "d.npz")
+    assert code == 0, err
+    line = _one_line(*run(capsys, "learn", "dnf", "--env", env, "--demos", "d.npz", "-o", "r.dnf")[::2])
+    assert "sweep5_envs.py:" in line and "LateNames.feature_names raised RuntimeError: names not ready" in line, line

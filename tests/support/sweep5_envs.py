@@ -73,6 +73,34 @@ class ThreeNames(Walker):
     feature_names = ("x", "y", "z")
 
 
+class ForgetsReward(Walker):
+    """A branch of ``step`` forgets its reward (``None``) on the third step."""
+
+    def step(self, action):
+        observation, reward, terminated, truncated, info = super().step(action)
+        return observation, (None if self.t == 3 else reward), terminated, truncated, info
+
+
+class ThreeNumbers(Walker):
+    """Declares a ``(2,)`` observation and returns three numbers."""
+
+    def reset(self, *, seed=None, options=None):
+        observation, info = super().reset(seed=seed, options=options)
+        return np.append(observation, 0.0).astype(np.float32), info
+
+    def step(self, action):
+        observation, *rest = super().step(action)
+        return (np.append(observation, 0.0).astype(np.float32), *rest)
+
+
+class LateNames(Walker):
+    """``feature_names`` a property that raises (names built only after something the user forgot)."""
+
+    @property
+    def feature_names(self):
+        raise RuntimeError("names not ready")
+
+
 def not_an_env():
     """A function, not an environment class: ``--env sweep5_envs:not_an_env`` is refused."""
     return None
@@ -82,3 +110,6 @@ gym.register("sweep5/MatrixPush-v0", entry_point=MatrixPush, max_episode_steps=2
 gym.register("sweep5/ScalarPush-v0", entry_point=ScalarPush, max_episode_steps=20)
 gym.register("sweep5/TwinNames-v0", entry_point=TwinNames, max_episode_steps=20)
 gym.register("sweep5/ThreeNames-v0", entry_point=ThreeNames, max_episode_steps=20)
+gym.register("sweep5/ForgetsReward-v0", entry_point=ForgetsReward, max_episode_steps=20)
+gym.register("sweep5/ThreeNumbers-v0", entry_point=ThreeNumbers, max_episode_steps=20)
+gym.register("sweep5/LateNames-v0", entry_point=LateNames, max_episode_steps=20)
