@@ -10,6 +10,7 @@ import inspect
 import numpy as np
 
 from symlearn.data.demonstrations import Demonstrations
+from symlearn.data.kinds import NonFiniteValues
 from symlearn.data.flat_observations import has_parts, is_symbolic_mapping, observation_columns
 from symlearn.data.trajectory import Trajectory
 from symlearn.errors import DataError, SymlearnError
@@ -200,6 +201,10 @@ def _run_episode(env: Any, policy: Policy, seed: int, limit: int, labeler: Label
     info = {"seed": seed, "terminated": bool(terminated), "truncated": bool(truncated)}
     try:
         return Trajectory(states, actions, rewards, labels, info)
+    except NonFiniteValues as exc:   # the environment's observation: say which episode, and what to do
+        raise DataError(f"the environment observed {exc.value} at step {exc.step} of the episode of seed {seed}",
+                        hint="an environment must observe finite numbers on every step (train refuses them "
+                             "too): replace NaN or infinity in the observation before returning it") from None
     except DataError as exc:
         if not isinstance(states[0], Mapping):
             raise

@@ -145,3 +145,14 @@ def test_a_feature_names_property_that_raises_is_the_users_error(capsys, tmp_pat
     assert code == 0, err
     line = _one_line(*run(capsys, "learn", "dnf", "--env", env, "--demos", "d.npz", "-o", "r.dnf")[::2])
     assert "sweep5_envs.py:" in line and "LateNames.feature_names raised RuntimeError: names not ready" in line, line
+
+
+def test_a_nan_observation_while_recording_says_which_episode_and_what_to_do(capsys, tmp_path, monkeypatch):
+    """An observation holding NaN on a later step: ``data record`` said "states hold a non-finite value
+    (nan) at step 4" (no episode, no hint; ``train`` names both). Now the episode's seed and the
+    remedy, in one line."""
+    monkeypatch.chdir(tmp_path)
+    line = _one_line(*run(capsys, "data", "record", "--env", "sweep5_envs:sweep5/Blinded-v0", "--policy", "random",
+                          "--episodes", 2, "-o", "d.npz")[::2])
+    assert "the environment observed nan at step 4 of the episode of seed" in line, line
+    assert "must observe finite numbers" in line and not (tmp_path / "d.npz").exists(), line

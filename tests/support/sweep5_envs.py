@@ -101,6 +101,16 @@ class LateNames(Walker):
         raise RuntimeError("names not ready")
 
 
+class Blinded(Walker):
+    """Observes NaN for x on its fourth step."""
+
+    def step(self, action):
+        observation, *rest = super().step(action)
+        if self.t == 4:
+            observation[0] = np.nan
+        return (observation, *rest)
+
+
 def not_an_env():
     """A function, not an environment class: ``--env sweep5_envs:not_an_env`` is refused."""
     return None
@@ -113,3 +123,4 @@ gym.register("sweep5/ThreeNames-v0", entry_point=ThreeNames, max_episode_steps=2
 gym.register("sweep5/ForgetsReward-v0", entry_point=ForgetsReward, max_episode_steps=20)
 gym.register("sweep5/ThreeNumbers-v0", entry_point=ThreeNumbers, max_episode_steps=20)
 gym.register("sweep5/LateNames-v0", entry_point=LateNames, max_episode_steps=20)
+gym.register("sweep5/Blinded-v0", entry_point=Blinded, max_episode_steps=20)
