@@ -741,7 +741,7 @@ def _check_types(kwargs: Mapping[str, Any], constructor: Callable[..., Any], dis
                             hint=f"e.g. '{{\"{key}\": {json.dumps(default)}}}'")
 
 
-def _registered(name: str, gym_id: str, kwargs: dict[str, Any]) -> EnvTarget:
+def _registered(name: str, gym_id: str, kwargs: dict[str, Any], display: str | None = None) -> EnvTarget:
     gymnasium = _gymnasium()
     spec = gymnasium.spec(gym_id)
     if kwargs:
@@ -756,7 +756,7 @@ def _registered(name: str, gym_id: str, kwargs: dict[str, Any]) -> EnvTarget:
                                 f"{type(exc).__name__}: {exc}") from None
         known, open_ended = _parameters(constructor)
         known = [*known, *(k for k in _MAKE_KEYWORDS if k not in known)]
-        _check_keys(kwargs, known, open_ended, gym_id)
+        _check_keys(kwargs, known, open_ended, display or gym_id)
     return EnvTarget(name, None, gym_id, kwargs)
 
 
@@ -773,7 +773,7 @@ def _from_module(name: str, kwargs: dict[str, Any]) -> EnvTarget:
     if env_id not in gymnasium.registry:
         class_id = _registered_class(module, env_id, gymnasium)
         if class_id is not None:
-            return _registered(name, class_id, kwargs)
+            return _registered(name, class_id, kwargs, display=name)   # the user's name, not our id
         added = sorted(set(gymnasium.registry) - before)
         own = added or sorted(i for i, s in gymnasium.registry.items() if _defined_in(s.entry_point, module))
         own = [i for i in own if not i.startswith(f"{module}/")]   # the ids module:ClassName registered
