@@ -87,8 +87,8 @@ def record(
 
 
 def _check_action_space(space: Any) -> Callable[[Any], Any]:
-    """What a trajectory stores of one action of ``space``: a ``Box`` of two or more dimensions
-    (``Box(-1, 1, (2, 3))``) as its flat vector, row-major -- the actions symlearn's PPO samples
+    """What a trajectory stores of one action of ``space``: a ``Box`` of other than one dimension
+    (``Box(-1, 1, (2, 3))``, a scalar ``Box(-1, 1, ())``) as its flat vector, row-major -- the actions symlearn's PPO samples
     for it (:class:`symlearn.recipes.action_spaces.FlatBoxActions`), so recorded and trained
     actions are one kind of thing; any other action as it is. Refuses, before any episode runs,
     the rest a trajectory cannot store (one id or 1-D vector per action): composite actions and
@@ -105,10 +105,12 @@ def _check_action_space(space: Any) -> Callable[[Any], Any]:
                              "Discrete, MultiDiscrete or MultiBinary (a Tuple(Discrete(2), Box(-1, 1, (1,))) as "
                              "Box(-1, 1, (2,)), say)")
     shape = getattr(space, "shape", None)
-    if space is None or shape is None or len(shape) < 2:
+    if space is None or shape is None:
         return lambda action: action
-    if hasattr(space, "low") and hasattr(space, "high"):   # a Box (read by its bounds: no gymnasium import)
-        return lambda action: np.asarray(action).reshape(-1)
+    if len(shape) != 1 and hasattr(space, "low") and hasattr(space, "high"):   # a Box (no gymnasium import)
+        return lambda action: np.asarray(action).reshape(-1)   # a scalar Box's too: a vector of one
+    if len(shape) < 2:
+        return lambda action: action
     described = " ".join(str(space).split())  # MultiDiscrete's repr spans lines
     raise DataError(f"the action space {described} acts in arrays of shape {tuple(shape)}; demonstrations store one "
                     f"id or 1-D vector per action",

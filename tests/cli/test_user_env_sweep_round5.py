@@ -54,17 +54,19 @@ def test_box_actions_of_a_matrix_or_scalar_shape_train_and_record(capsys, tmp_pa
         code, _, err = run(capsys, "data", "record", "--env", env, "--policy", "agent.safetensors",
                            "--episodes", 1, "-o", "agent.npz")
         assert code == 0, err
-    matrix = "sweep5_envs:sweep5/MatrixPush-v0"
-    code, _, err = run(capsys, "data", "record", "--env", matrix, "--policy", "random", "--episodes", 2,
-                       "-o", "random.npz")
-    assert code == 0, err
     from symlearn.data import load
 
-    actions = np.asarray(load(tmp_path / "random.npz")[0].actions)
-    assert actions.shape == (20, 2), actions.shape     # one flat (x, y) push per step
-    code, _, err = run(capsys, "learn", "icrl", "--env", matrix, "--demos", "random.npz", "--steps", 128,
-                       "--iterations", 1, "-o", "cost.safetensors")
-    assert code == 0, err
+    # random episodes store the flat vector too (a scalar's is a vector of one: learn icrl said
+    # "demonstration actions have shape (20,), the space's is (1,)" for scalars stored as they came)
+    for env, width in (("sweep5_envs:sweep5/MatrixPush-v0", 2), ("sweep5_envs:sweep5/ScalarPush-v0", 1)):
+        code, _, err = run(capsys, "data", "record", "--env", env, "--policy", "random", "--episodes", 2,
+                           "-o", "random.npz")
+        assert code == 0, err
+        actions = np.asarray(load(tmp_path / "random.npz")[0].actions)
+        assert actions.shape == (20, width), actions.shape     # one flat push per step
+        code, _, err = run(capsys, "learn", "icrl", "--env", env, "--demos", "random.npz", "--steps", 128,
+                           "--iterations", 1, "-o", "cost.safetensors")
+        assert code == 0, err
 
 
 def test_feature_names_that_repeat_or_miscount_are_named_as_the_environments(capsys, tmp_path, monkeypatch):
