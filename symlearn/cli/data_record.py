@@ -146,13 +146,13 @@ def _policy(path: str, env: Any, stochastic: bool, seed: int):
     import numpy as np
 
     from symlearn.errors import ModelError
-    from symlearn.recipes.action_spaces import joint_discrete_actions
+    from symlearn.recipes.action_spaces import policy_actions
     from symlearn.recipes.spaces import numeric_observations
     from symlearn.rl.model_files import read_model_kind
     from symlearn.rl.ppo import MODEL_KIND, ActorCritic, _space_spec
 
     numeric = numeric_observations(env)
-    joint = joint_discrete_actions(numeric)
+    joint = policy_actions(numeric)
     observe = numeric.observation if numeric is not env else (lambda o: o)
     kind = read_model_kind(path)
     if kind == MODEL_KIND:

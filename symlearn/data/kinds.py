@@ -106,15 +106,23 @@ def _normalize_array(array: np.ndarray, what: str) -> tuple[Kind, np.ndarray]:
     return kind, np.ascontiguousarray(array)
 
 
+class NonFiniteValues(DataError):
+    """A step holds NaN or infinity (:func:`check_finite`); ``record()`` adds the episode and what to do."""
+
+    def __init__(self, message: str, *, value: float | None = None, step: int | None = None, **location: Any) -> None:
+        super().__init__(message, **location)   # re-raised as type(exc)(message, file=...) by some readers
+        self.value, self.step = value, step
+
+
 def check_finite(array: np.ndarray, what: str) -> None:
-    """Raise naming the first step that holds NaN or infinity."""
+    """Raise :class:`NonFiniteValues` naming the first step that holds NaN or infinity."""
     if array.dtype.kind != "f":
         return
     bad = ~np.isfinite(array)
     if bad.any():
         step = int(np.argwhere(bad)[0][0])
         value = array.reshape(len(array), -1)[step][bad.reshape(len(array), -1)[step]][0]
-        raise DataError(f"{what} hold a non-finite value ({value}) at step {step}")
+        raise NonFiniteValues(f"{what} hold a non-finite value ({value}) at step {step}", value=float(value), step=step)
 
 
 def check_text(value: str, where: str) -> None:

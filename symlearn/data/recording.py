@@ -10,6 +10,7 @@ import inspect
 import numpy as np
 
 from symlearn.data.demonstrations import Demonstrations
+from symlearn.data.kinds import NonFiniteValues
 from symlearn.data.flat_observations import has_parts, is_symbolic_mapping, observation_columns
 from symlearn.data.trajectory import Trajectory
 from symlearn.errors import DataError, SymlearnError
@@ -68,7 +69,7 @@ def record(
         if policy != "random":
             raise SymlearnError(f"unknown policy {policy!r}", hint="pass a callable or 'random'")
         policy = _random_policy(env, seed)
-    _check_action_space(getattr(env, "action_space", None))
+    stored_action = _check_action_space(getattr(env, "action_space", None))
     spec = getattr(env, "spec", None)
     limit = max_steps or getattr(spec, "max_episode_steps", None) or DEFAULT_MAX_STEPS
     episode_seeds = np.random.SeedSequence(seed).generate_state(n_episodes).tolist()
@@ -76,7 +77,8 @@ def record(
     trajectories = []
     flat = _FlatStates()
     for episode_seed in progress(episode_seeds, total=n_episodes, desc=desc, unit="episode"):
-        trajectories.append(_run_episode(env, policy, int(episode_seed), limit, labeler, observation or flat))
+        trajectories.append(_run_episode(env, policy, int(episode_seed), limit, labeler, observation or flat,
+                                         stored_action))
     meta = {"env": getattr(spec, "id", type(env).__name__), "seed": seed, "n_episodes": n_episodes}
     if flat.names is not None:
         meta["feature_names"] = flat.names
@@ -84,11 +86,14 @@ def record(
     return Demonstrations(trajectories, metadata=meta)
 
 
-def _check_action_space(space: Any) -> None:
-    """Refuse, before any episode runs, an action space whose actions are arrays of two or more
-    dimensions (``Box(-1, 1, (2, 2))``, ``MultiDiscrete([[2, 3], [2, 2]])``): a trajectory stores
-    one id or 1-D vector per action, and the episodes would otherwise all run before the first
-    one failed to store."""
+def _check_action_space(space: Any) -> Callable[[Any], Any]:
+    """What a trajectory stores of one action of ``space``: a ``Box`` of other than one dimension
+    (``Box(-1, 1, (2, 3))``, a scalar ``Box(-1, 1, ())``) as its flat vector, row-major -- the actions symlearn's PPO samples
+    for it (:class:`symlearn.recipes.action_spaces.FlatBoxActions`), so recorded and trained
+    actions are one kind of thing; any other action as it is. Refuses, before any episode runs,
+    the rest a trajectory cannot store (one id or 1-D vector per action): composite actions and
+    ``MultiDiscrete``/``MultiBinary`` arrays of two or more dimensions, where the episodes would
+    otherwise all run before the first one failed to store."""
     if space is not None and (hasattr(space, "spaces") or hasattr(space, "feature_space")
                               or hasattr(space, "node_space")):
         # a Tuple/Dict of parts (a Sequence, a Graph): the first step stopped with numpy's
@@ -100,8 +105,12 @@ def _check_action_space(space: Any) -> None:
                              "Discrete, MultiDiscrete or MultiBinary (a Tuple(Discrete(2), Box(-1, 1, (1,))) as "
                              "Box(-1, 1, (2,)), say)")
     shape = getattr(space, "shape", None)
-    if space is None or shape is None or len(shape) < 2:
-        return
+    if space is None or shape is None:
+        return lambda action: action
+    if len(shape) != 1 and hasattr(space, "low") and hasattr(space, "high"):   # a Box (no gymnasium import)
+        return lambda action: np.asarray(action).reshape(-1)   # a scalar Box's too: a vector of one
+    if len(shape) < 2:
+        return lambda action: action
     described = " ".join(str(space).split())  # MultiDiscrete's repr spans lines
     raise DataError(f"the action space {described} acts in arrays of shape {tuple(shape)}; demonstrations store one "
                     f"id or 1-D vector per action",
@@ -170,7 +179,8 @@ def labeler_arity(labeler: Callable[..., Any]) -> int:
 
 
 def _run_episode(env: Any, policy: Policy, seed: int, limit: int, labeler: Labeler | None,
-                 stored: Callable[[Any], Any] | None) -> Trajectory:
+                 stored: Callable[[Any], Any] | None,
+                 stored_action: Callable[[Any], Any] = lambda action: action) -> Trajectory:
     keep = stored or (lambda value: value)
     observation, info = env.reset(seed=seed)
     arity = labeler_arity(labeler) if labeler is not None else 0
@@ -186,13 +196,17 @@ def _run_episode(env: Any, policy: Policy, seed: int, limit: int, labeler: Label
             break
         action = _plain(policy(observation))
         observation, reward, terminated, truncated, info = env.step(action)
-        actions.append(action)
+        actions.append(_plain(stored_action(action)))
         rewards.append(float(reward))
         states.append(_plain(keep(observation)))
     truncated = truncated or not terminated
     info = {"seed": seed, "terminated": bool(terminated), "truncated": bool(truncated)}
     try:
         return Trajectory(states, actions, rewards, labels, info)
+    except NonFiniteValues as exc:   # the environment's observation: say which episode, and what to do
+        raise DataError(f"the environment observed {exc.value} at step {exc.step} of the episode of seed {seed}",
+                        hint="an environment must observe finite numbers on every step (train refuses them "
+                             "too): replace NaN or infinity in the observation before returning it") from None
     except DataError as exc:
         if not isinstance(states[0], Mapping):
             raise

@@ -75,6 +75,35 @@ class JointDiscreteActions(gym.ActionWrapper):
         return int(np.ravel_multi_index(tuple(shifted), tuple(self._nvec)))
 
 
+class FlatBoxActions(gym.ActionWrapper):
+    """``env`` with a ``Box`` action space of any shape but 1-D (a scalar ``Box(-1, 1, ())``, a
+    matrix ``Box(-1, 1, (2, 3))``) seen as the flat ``Box`` of its entries, row-major: symlearn's
+    PPO samples one Gaussian vector, and the environment gets it reshaped to its own shape. The
+    bounds and dtype stay those of each entry, so nothing about the actions changes but their
+    arrangement (recorded demonstrations store the same flat vector, :mod:`symlearn.data.recording`)."""
+
+    def __init__(self, env: gym.Env) -> None:
+        super().__init__(env)
+        original = env.action_space
+        if not isinstance(original, spaces.Box) or len(original.shape) == 1:
+            raise DataError(f"only Box action spaces of other than one dimension are flattened, got {original}")
+        self._shape = tuple(original.shape)
+        self.action_space = spaces.Box(original.low.reshape(-1), original.high.reshape(-1), dtype=original.dtype)
+
+    def action(self, action: Any) -> np.ndarray:
+        return np.asarray(action, dtype=self.env.action_space.dtype).reshape(self._shape)
+
+
+def policy_actions(env: gym.Env) -> gym.Env:
+    """``env`` seen through the action view symlearn's PPO acts in: :class:`JointDiscreteActions`
+    for MultiDiscrete/MultiBinary, :class:`FlatBoxActions` for a ``Box`` not 1-D; ``env`` itself
+    otherwise."""
+    space = env.action_space
+    if isinstance(space, spaces.Box) and len(space.shape) != 1:
+        return FlatBoxActions(env)
+    return joint_discrete_actions(env)
+
+
 def joint_discrete_actions(env: gym.Env) -> gym.Env:
     """:class:`JointDiscreteActions` over ``env`` when it acts in a MultiDiscrete or MultiBinary
     space; ``env`` itself otherwise."""
@@ -92,4 +121,4 @@ def find_joint_actions(env: Any) -> JointDiscreteActions | None:
     return None
 
 
-__all__ = ["JointDiscreteActions", "MAX_JOINT_ACTIONS", "find_joint_actions", "joint_discrete_actions"]
+__all__ = ["FlatBoxActions", "JointDiscreteActions", "policy_actions", "MAX_JOINT_ACTIONS", "find_joint_actions", "joint_discrete_actions"]

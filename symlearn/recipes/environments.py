@@ -273,9 +273,9 @@ class EnvTarget:
 
             env = numeric_observations(env)
         if self.joint_actions:
-            from symlearn.recipes.action_spaces import joint_discrete_actions
+            from symlearn.recipes.action_spaces import policy_actions
 
-            env = joint_discrete_actions(env)
+            env = policy_actions(env)
         return env
 
     def as_numeric(self, actions: bool = False) -> EnvTarget:
@@ -331,6 +331,9 @@ class EnvTarget:
             _check_spaces(env, self.display)
             _check_reset_signature(env, self.display)
             _check_returns(build, self.display, (self.gym_id, repr(sorted(self.kwargs.items()))))
+            from symlearn.recipes.step_checks import CheckedRewards
+
+            env = CheckedRewards(env, self.display)   # a reward gone wrong later is one line, not a TypeError
         return env
 
     @property
@@ -376,10 +379,17 @@ class EnvTarget:
             else:
                 width = _width(raw) if in_info else _feature_width(env)
                 names = None
+            declared_here = False   # named by the environment's feature_names: the error names it
             if override is not None:
                 names = parse_feature_names(override)
             elif names is None:
                 names = _declared_names(env, self.entry)
+                declared_here = names is not None and self.entry is None
+            if declared_here and len(set(names)) != len(names):
+                repeated = sorted({n for n in names if names.count(n) > 1})
+                raise DataError(f"{self.display}'s feature_names repeat {', '.join(repeated)}: "
+                                f"{', '.join(names)}", hint="give each column its own name in feature_names, "
+                                                            "or name them with --features a,b,...")
             if names is None:
                 if not numbered or not width:
                     return None
@@ -394,8 +404,12 @@ class EnvTarget:
                                     hint="return the features of the start state in reset's info too: "
                                          "return observation, {\"features\": ...}")
                 where = 'info["features"]' if in_info else "the observation"
-                raise DataError(f"{len(names)} feature names ({', '.join(names)}) for {width} columns of {where} "
-                                f"of {self.display}", hint="give one name per column with --features a,b,...")
+                counted = f"{len(names)} feature names ({', '.join(names)})"
+                if declared_here:
+                    counted = f"feature_names gives {counted}"
+                raise DataError(f"{counted} for {width} columns of {where} "
+                                f"of {self.display}", hint="give one name per column with --features a,b,..."
+                                + (" or in the environment's feature_names" if declared_here else ""))
             return Features(tuple(names), "info" if in_info else "observation")
 
     def feature_names(self, env: Any = None, override: str | Sequence[str] | None = None) -> tuple[str, ...] | None:
@@ -538,6 +552,7 @@ def _check_returns(build: Callable[[], Any], display: str, key: tuple[Any, str])
         if not (isinstance(found, tuple) and len(found) == 2 and isinstance(found[1], Mapping)):
             raise DataError(f"{display}: reset() returned {_shape_of(found)}, not (observation, info)",
                             hint="gymnasium's API: return observation, {} (info a dict)")
+        _check_box_size(raw.observation_space, found[0], display, "reset()")
         found = raw.step(raw.action_space.sample())
         if isinstance(found, tuple) and len(found) == 5 and not isinstance(found[4], Mapping):
             raise DataError(f"{display}: step() returned info as {_shape_of(found[4])}, not a dict",
@@ -547,6 +562,7 @@ def _check_returns(build: Callable[[], Any], display: str, key: tuple[Any, str])
             raise DataError(f"{display}: step() returned {_shape_of(found)}, not (observation, reward, terminated, "
                             "truncated, info)", hint="gymnasium's API: the old done is terminated (the task ended) "
                                                      "or truncated (a time limit)")
+        _check_box_size(raw.observation_space, found[0], display, "step()")
     except SymlearnError:
         _RETURNS_CHECKED.discard(key)
         raise
@@ -557,6 +573,27 @@ def _check_returns(build: Callable[[], Any], display: str, key: tuple[Any, str])
             env.close()
         except Exception:
             pass
+
+
+def _check_box_size(space: Any, observation: Any, display: str, where: str) -> None:
+    """A ``Box`` observation must hold as many numbers as the space declares: PPO's buffers are
+    sized from the space, and an observation of 3 numbers for a ``(2,)`` space stopped training
+    with an internal "could not broadcast" error (gymnasium only warns). Shapes that hold the
+    same numbers (a list, a float for ``(1,)``) are left alone, as the learners read them."""
+    shape = getattr(space, "shape", None)
+    if type(space).__name__ != "Box" or shape is None:
+        return
+    import numpy as np   # here: the commands that never build an environment start without numpy
+
+    try:
+        size = np.asarray(observation, dtype=float).size
+    except (TypeError, ValueError):
+        size = None
+    if size != int(np.prod(shape, dtype=np.int64)):
+        shown = _shape_of(observation) if size is None else f"an observation of shape {np.shape(observation)}"
+        raise DataError(f"{display}: {where} returned {shown}, but its observation_space is "
+                        f"{' '.join(str(space).split())}",
+                        hint="return observations of the declared shape, or declare the shape they have")
 
 
 def _shape_of(value: Any) -> str:
@@ -595,9 +632,14 @@ def _feature_width(env: Any) -> int | None:
 
 
 def _declared_names(env: Any, entry: Entry | None) -> tuple[str, ...] | None:
-    names = getattr(env.unwrapped, "feature_names", None)
-    if callable(names):
-        names = names()
+    try:   # a property or method of the user's: its exception is theirs, in one located line
+        names = getattr(env.unwrapped, "feature_names", None)
+        if callable(names):
+            names = names()
+    except Exception as exc:  # noqa: BLE001
+        raise DataError(f"reading {type(env.unwrapped).__name__}.feature_names raised {type(exc).__name__}: {exc}",
+                        hint="feature_names must give the column names without raising (before and after reset)",
+                        **_innermost_frame(exc)) from None
     if isinstance(names, str):  # feature_names = "xy" is one name, not the names "x" and "y"
         names = (names,)
     if names is not None:
@@ -699,7 +741,7 @@ def _check_types(kwargs: Mapping[str, Any], constructor: Callable[..., Any], dis
                             hint=f"e.g. '{{\"{key}\": {json.dumps(default)}}}'")
 
 
-def _registered(name: str, gym_id: str, kwargs: dict[str, Any]) -> EnvTarget:
+def _registered(name: str, gym_id: str, kwargs: dict[str, Any], display: str | None = None) -> EnvTarget:
     gymnasium = _gymnasium()
     spec = gymnasium.spec(gym_id)
     if kwargs:
@@ -714,7 +756,7 @@ def _registered(name: str, gym_id: str, kwargs: dict[str, Any]) -> EnvTarget:
                                 f"{type(exc).__name__}: {exc}") from None
         known, open_ended = _parameters(constructor)
         known = [*known, *(k for k in _MAKE_KEYWORDS if k not in known)]
-        _check_keys(kwargs, known, open_ended, gym_id)
+        _check_keys(kwargs, known, open_ended, display or gym_id)
     return EnvTarget(name, None, gym_id, kwargs)
 
 
@@ -729,17 +771,51 @@ def _from_module(name: str, kwargs: dict[str, Any]) -> EnvTarget:
     import symlearn.envs  # noqa: F401 -- `symlearn.envs:symlearn/toy-navigation-v0` works too
 
     if env_id not in gymnasium.registry:
+        class_id = _registered_class(module, env_id, gymnasium)
+        if class_id is not None:
+            return _registered(name, class_id, kwargs, display=name)   # the user's name, not our id
         added = sorted(set(gymnasium.registry) - before)
         own = added or sorted(i for i, s in gymnasium.registry.items() if _defined_in(s.entry_point, module))
-        close = get_close_matches(env_id, own or list(gymnasium.registry), n=1)
+        own = [i for i in own if not i.startswith(f"{module}/")]   # the ids module:ClassName registered
+        classes = _env_classes(module, gymnasium)
+        close = get_close_matches(env_id, own + classes or list(gymnasium.registry), n=1)
         hint = (f"did you mean {module}:{close[0]}? " if close else "") + (
             f"it registers: {', '.join(own[:10])}" if own else
-            "it registered no gymnasium id: call gymnasium.register(id=..., entry_point=...) at import")
-        raise UnknownNameError(f"module {module!r} did not register the gymnasium id {env_id!r}", hint=hint)
+            "it registered no gymnasium id: call gymnasium.register(id=..., entry_point=...) at import, "
+            "or name a gymnasium.Env class it defines (module:ClassName)") + (
+            f"; its gymnasium.Env classes: {', '.join(classes[:10])}" if classes else "")
+        raise UnknownNameError(f"module {module!r} did not register the gymnasium id {env_id!r} "
+                               f"and defines no gymnasium.Env class of that name", hint=hint)
     bundled = _entry_with_gym_id(env_id)
     if bundled is not None:
         return _bundled(name, bundled, kwargs)
     return _registered(name, env_id, kwargs)
+
+
+def _registered_class(module: str, name: str, gymnasium: Any) -> str | None:
+    """The gymnasium id under which ``module``'s ``gymnasium.Env`` class ``name`` is registered
+    for ``module:ClassName`` (registered here, once, as ``module/ClassName``), or None where the
+    module defines no such class. A module that only defines its class is as usable as one that
+    registers it; the id gets no time limit, as the class has none (episodes end when it says)."""
+    found = getattr(sys.modules.get(module), name, None)
+    if not (inspect.isclass(found) and issubclass(found, gymnasium.Env)):
+        if found is not None and callable(found):
+            raise UnknownNameError(f"{module}:{name} is {'a class' if inspect.isclass(found) else 'a function'} "
+                                   f"but no gymnasium.Env class, and no registered gymnasium id",
+                                   hint=f"register it: gymnasium.register(id={name + '-v0'!r}, entry_point={name}) "
+                                        f"in {module}, then --env {module}:{name}-v0")
+        return None
+    gym_id = f"{module}/{name}"
+    if gym_id not in gymnasium.registry:
+        gymnasium.register(id=gym_id, entry_point=found)
+    return gym_id
+
+
+def _env_classes(module: str, gymnasium: Any) -> list[str]:
+    """Names of the ``gymnasium.Env`` classes ``module`` itself defines (not those it imports)."""
+    found = vars(sys.modules.get(module) or object())
+    return sorted(k for k, v in found.items() if inspect.isclass(v) and issubclass(v, gymnasium.Env)
+                  and getattr(v, "__module__", None) == module)
 
 
 def _defined_in(entry_point: Any, module: str) -> bool:

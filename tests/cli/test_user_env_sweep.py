@@ -51,13 +51,24 @@ def test_data_record_refuses_a_cost_that_is_no_number_in_one_line(capsys, odd_co
 @pytest.mark.parametrize("kind, algo", [("box", "sb3-ppo"), ("multi", "ppo")])
 def test_data_record_refuses_matrix_actions_before_recording(capsys, tmp_path, monkeypatch, kind, algo):
     """An agent ``train`` saved in a ``(2, 2)`` action space: ``data record`` ran every episode and
-    then said "actions must be ... not images"; now it names the space before the first episode."""
+    then said "actions must be ... not images"; now it names the space before the first episode.
+    A ``(2, 2)`` ``Box`` is recorded since the fifth sweep (each action as its flat vector of 4,
+    what symlearn's PPO acts in: ``tests/cli/test_user_env_sweep_round5.py``); a ``(2, 2)``
+    ``MultiDiscrete`` is still refused."""
     _module(tmp_path, monkeypatch, "matrix_action", MATRIX_ACTION)
     env = ("--env", "matrix_action:MatrixAction-v0", "--env-kwargs", json.dumps({"kind": kind}))
     code, _, err = run(capsys, "train", *env, "--algo", algo, "--steps", 256, "--eval-episodes", 1,
                        "-o", "agent.safetensors")
     assert code == 0, err
     code, _, err = run(capsys, "data", "record", *env, "--policy", "agent.safetensors", "-o", "demos.npz")
+    if kind == "box":
+        import numpy as np
+
+        from symlearn.data import load
+
+        assert code == 0, err
+        assert np.asarray(load(tmp_path / "demos.npz")[0].actions).shape[1:] == (4,)
+        return
     assert code == 2, err
     assert "images" not in err and "shape (2, 2)" in err and len(err.strip().splitlines()) == 1
 
