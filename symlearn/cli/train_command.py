@@ -173,6 +173,12 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--cost-limit", type=float, default=None,
                      help="Lagrangian: allowed expected cost per episode (default 0; for a cost learned by "
                           "`learn icrl`, what it charges the expert's demonstrations per episode, recorded in its file)")
+    cmd.add_argument("--false-alarm-floor", dest="false_alarm_floor_mode", choices=("auto", "add", "none"),
+                     default="auto",
+                     help="Lagrangian on a DNF file from learn dnf --validation: add what the formula charged its "
+                          "held-out expert episodes per episode (the file's validation line) to a positive "
+                          "--cost-limit (auto, the default), to any limit, 0 included (add), or never (none: the "
+                          "limit as given, on the formula's own cost)")
     cmd.add_argument("--multiplier-init", type=float, default=None,
                      help="Lagrangian: every multiplier's value at the start (ppo-lag: 1 -- the cost weighing as "
                           "much as the reward -- at limit 0 or a learned cost's expert level, 0 under a positive "
@@ -322,6 +328,7 @@ def _train(args: argparse.Namespace, out) -> None:
         "expert" if cost is not None and cost.expert_level is not None else "default")
     if args.cost_limit is None:
         args.cost_limit = cost.expert_level if args.cost_limit_from == "expert" else 0.0
+    _add_false_alarm_floor(args, cost)
     from symlearn.cli.env_errors import environment_file, raised_by_environment
 
     # an exception from the user's environment code while training is theirs, one located line
@@ -360,6 +367,48 @@ def _train(args: argparse.Namespace, out) -> None:
     out.result(doc, _render)
 
 
+def _add_false_alarm_floor(args: argparse.Namespace, cost) -> None:
+    """A learned DNF's limit counts the states the formula wrongly calls unsafe: ``args.cost_limit``
+    becomes the limit given (in violations per episode) plus the file's false-alarm floor -- what
+    the formula charged the held-out expert episodes of ``learn dnf --validation``, per episode
+    (``Validation.per_demonstration``). Without it a budget of 25 on a SafeNav formula that charges
+    the scripted expert 19-36 per episode is out of every policy's reach: the multiplier rises for the
+    whole run and the agent stops earning (docs/BENCHMARKS.md, "A learned DNF's false-alarm floor
+    in the limit"). ``--false-alarm-floor auto`` (the default) adds it to a positive budget only: at
+    limit 0 the constraint is hard, the floor would let the agent spend it on real violations, and
+    the library's hard-limit handling (multiplier from 1) already copes; ``add`` adds it at 0 too,
+    ``none`` keeps the limit as given (the behaviour before). Sets ``args.cost_limit_given`` and
+    ``args.false_alarm_floor`` (the file's floor, or None) for the JSON."""
+    from symlearn.errors import SymlearnError
+
+    args.cost_limit_given = args.cost_limit
+    recorded = getattr(cost, "validation", None) if cost is not None and cost.kind == "dnf" else None
+    args.false_alarm_floor = None if recorded is None else recorded.per_demonstration
+    mode = args.false_alarm_floor_mode
+    if mode == "none" or not args.algo.endswith("-lag"):
+        return
+    if mode == "add" and recorded is None:
+        if cost is not None and cost.kind == "neural":
+            raise SymlearnError("--false-alarm-floor add is for a DNF cost: a learned neural cost's limit is its "
+                                "expert's level already")
+        raise SymlearnError("--false-alarm-floor add needs a DNF rule file whose header records a held-out check; "
+                            + (f"{args.cost} records none" if cost is not None else "no --cost was given"),
+                            hint="learn the formula with learn dnf --validation 0.2 -o rules.dnf")
+    if recorded is None:
+        return
+    if args.per_rule or args.depth_weight:
+        # the floor counts unsafe states of the whole formula at 1 each: a cost per rule or one
+        # weighted by depth is in other units, so the file's number does not apply
+        if mode == "add":
+            raise SymlearnError("--false-alarm-floor add counts the whole formula's unsafe states at 1 each; it "
+                                "does not apply with " + ("--per-rule" if args.per_rule else "--depth-weight"))
+        return
+    if mode == "auto" and args.cost_limit <= 0:
+        return
+    args.cost_limit = args.cost_limit + args.false_alarm_floor
+    args.cost_limit_from = "validation"
+
+
 def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
     from symlearn.cli.train_costs import penalised
     from symlearn.rl.ppo import LagrangianConfig, PPOConfig, evaluate, train_ppo
@@ -380,8 +429,9 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
     if constrained:
         # a learned cost's expert level is its floor, the hard constraint in its own terms: from 1 as
         # a limit of 0 would (the library starts a positive budget at 0)
-        start = 1.0 if args.multiplier_init is None and args.cost_limit_from == "expert" \
-            else args.multiplier_init
+        # a floor added to a limit of 0 (--false-alarm-floor add) is the same case
+        hard = args.cost_limit_from == "expert" or (args.cost_limit_from == "validation" and args.cost_limit_given == 0)
+        start = 1.0 if args.multiplier_init is None and hard else args.multiplier_init
         given = {key: value for key, value in (("update", args.multiplier_update), ("lr", args.multiplier_lr),
                                                ("init", start), ("reward_scale_floor", args.reward_scale_floor),
                                                ("cost_scale_floor", args.cost_scale_floor),
@@ -456,9 +506,16 @@ def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
     limit = f"--cost-limit {args.cost_limit:g}"
     if args.cost_limit_from == "expert":
         limit = f"its limit, the expert's level of {args.cost_limit:.3g} per episode"
+    elif args.cost_limit_from == "validation":
+        limit = (f"its limit, {args.cost_limit_given:g} plus the formula's false-alarm floor of "
+                 f"{args.false_alarm_floor:.3g} per episode")
     if cost is not None and cost.kind == "dnf":
-        advice += ("; a formula that also flags the expert's own states cannot be kept (learn dnf --validation 0.2 "
-                   "counts them)")
+        if getattr(args, "false_alarm_floor", None) is None:
+            advice += ("; a formula that also flags the expert's own states cannot be kept (learn dnf --validation "
+                       "0.2 counts them, and train then adds them to a positive --cost-limit)")
+        elif args.cost_limit_from != "validation":
+            advice += (f"; the formula flags {args.false_alarm_floor:.3g} states of an unseen expert episode "
+                       "(its validation line): --false-alarm-floor add allows them")
         if not args.depth_weight:
             # the speed cart of issue 24's second pass: its agent raced through the learned speed limit
             # (12 per episode, multiplier 7.4 after 50k steps); --depth-weight 3: 2.2 at cost 0
@@ -545,6 +602,10 @@ def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_c
             float(np.sum(per_episode) / max(int(np.sum(lengths)), 1)),
             "cost_limit": float(args.cost_limit) if limited else None,
             "cost_limit_from": args.cost_limit_from if limited else None,
+            # the limit before a DNF file's false-alarm floor was added, and that floor (the
+            # file's held-out expert episodes' formula cost each; null for a file without one)
+            "cost_limit_given": float(args.cost_limit_given) if limited else None,
+            "false_alarm_floor": getattr(args, "false_alarm_floor", None),
             "actor_resets": None, "actor_restored": None, "pruned": None, "files": [], "warnings": []}
 
 
@@ -571,7 +632,10 @@ def _render(doc: dict) -> str:
              f"greedy evaluation: return {doc['return']:.2f}, "
              + ("" if doc.get("learned_cost") is None else f"learned cost {number(doc['learned_cost'], 2)} per episode"
                 + ("" if doc.get("cost_limit") is None else f" (limit {doc['cost_limit']:.3g}"
-                   + (", the expert's level" if doc.get("cost_limit_from") == "expert" else "") + ")") + ", ")
+                   + (", the expert's level" if doc.get("cost_limit_from") == "expert" else "")
+                   + (f": {doc['cost_limit_given']:.3g} + the formula's false-alarm floor "
+                      f"{doc['false_alarm_floor']:.3g}" if doc.get("cost_limit_from") == "validation" else "")
+                   + ")") + ", ")
              + f"ground-truth cost {number(doc['cost'], 2)} per episode, "
              f"violation rate {number(doc['violation_rate'], 3)}"]
     if doc["multipliers"] is not None:
