@@ -80,8 +80,8 @@ def main() -> None:
             continue
         for seed in args.seeds:
             for mode in (("auto", "add") if floor > 0 else ("auto",)):
-                rec = symlearn(["train", "--env", env_id, "--algo", "ppo-lag", "--cost", str(rules), "--seed", str(seed),
-                                "--false-alarm-floor", mode, "--json"], folder)
+                rec = symlearn(["train", "--env", env_id, "--algo", "ppo-lag", "--cost", str(rules),
+                                "--seed", str(seed), "--false-alarm-floor", mode, "--json"], folder)
                 rec.update(task=task, seed=seed, mode=mode, floor=floor)
                 runs.append(rec)
                 res = rec.get("result") or {}

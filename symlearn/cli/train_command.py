@@ -1,7 +1,7 @@
 """``symlearn train``: train an agent in any environment, optionally with a learned cost.
 
 ``symlearn train --env ENV [--env-kwargs JSON] [--algo ALGO] [--cost rules.dnf|cost.safetensors
-[--features a,b] [--per-rule] [--depth-weight W]] [--cost-limit C] [--multiplier-update gradient|adam|pid]
+[--features a,b] [--per-rule] [--depth-weight W]] [--cost-limit C] [--false-alarm-floor auto|add|none] [--multiplier-update gradient|adam|pid]
 [--multiplier-init M] [--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns] [--reward-scale-floor SHARE] [--cost-scale-floor SHARE] [--zero-limit-slack SHARE]
 [--cost-estimate rollout|episodes] [--reset-actor auto|never] [--normalize-observations]
 [--normalize-values] [--n-envs N] [--n-steps T] [--prune [--prune-threshold T]] [--steps N]
@@ -92,6 +92,16 @@
   is the least cost a policy can reach, and the expert's level is one a policy is known to reach
   and the constraint the learner matched (eq. 2.2). Measured in docs/BENCHMARKS.md ("Where the
   multiplier starts, and a learned neural cost's limit").
+* ``--false-alarm-floor auto|add|none`` (Lagrangians on a ``.dnf`` file whose header has the
+  ``# validation: K of N held-out expert states unsafe (...; H demonstrations held out, ...)`` line
+  of ``learn dnf --validation``): a learned formula also fires where the expert goes, K / H times
+  per unseen expert episode (its false-alarm floor, :attr:`symlearn.learners.validation.Validation.per_demonstration`).
+  ``auto`` (the default) reads a positive ``--cost-limit`` as violations per episode and trains on
+  the formula's cost against the limit plus the floor; a limit of 0 stays 0 (a hard constraint:
+  the floor would be spent on real violations). ``add`` adds it at 0 too, ``none`` never (the limit
+  on the formula's own cost, as before). Not with ``--per-rule`` or ``--depth-weight``, whose
+  costs are in other units. Measured in docs/BENCHMARKS.md ("A learned DNF's false-alarm floor in
+  the limit").
 * ``--cost-estimate rollout|episodes``: ``ppo-lag``'s multipliers are updated every iteration from
   the rollout's cost per step times the mean episode length (``rollout``, the default), or, as
   before, only in iterations in which an episode ended, from those episodes (``episodes``).
@@ -122,7 +132,9 @@ it costs 0 --, ``learned_cost`` (what ``--cost`` charges the greedy evaluation's
 over rules, per episode; null without ``--cost``), ``cost_limit`` (the limit of a Lagrangian --
 ``ppo-lag``, ``sb3-*-lag`` -- on the learned cost, or on ``info["cost"]`` without ``--cost``; null
 for the other algorithms) and ``cost_limit_from`` (``--cost-limit``, ``expert`` -- a learned neural
-cost's expert level -- or ``default``: 0), ``multipliers`` (null without a
+cost's expert level --, ``validation`` -- the limit given plus a DNF file's false-alarm floor -- or
+``default``: 0), ``cost_limit_given`` (the limit before the floor) and ``false_alarm_floor`` (the
+file's floor per episode, null without one), ``multipliers`` (null without a
 Lagrangian), ``actor_resets`` (``ppo-lag``: the iterations whose actor was renewed, else null),
 ``pruned`` (the dropped rules, or null; with ``--prune`` also ``kept``), ``seconds``,
 ``steps``, ``files``, ``warnings`` (a Lagrangian whose multiplier rose while the cost stayed over the
