@@ -565,10 +565,15 @@ def main() -> None:
     if not args.quick:
         folder = Path(args.rules_dir)
         for source, dnf in rule_sets.items():
-            dnf.save(folder / rule_file_name(args, source),
-                     header=f"unsafe set of safenav-{source}: one-class tree, max_depth {args.depth}, "
-                            f"{args.n_demos} scripted-expert episodes (seed {args.demo_seed}); "
-                            f"written by benchmarks/safenav_transfer.py")
+            header = (f"unsafe set of safenav-{source}: one-class tree, max_depth {args.depth}, "
+                      f"{args.n_demos} scripted-expert episodes (seed {args.demo_seed}); "
+                      f"written by benchmarks/safenav_transfer.py")
+            if "validation" in rules[source]:
+                from symlearn.cli.output import validation_line
+
+                # the line learn dnf --validation writes, so train --cost reads the same floor from the file
+                header += "\n" + validation_line(rules[source]["validation"], "held-out expert states unsafe")
+            dnf.save(folder / rule_file_name(args, source), header=header)
     experts = {t: expert_rows(t, rule_sets, args.eval_episodes) for t in keys}
     for t, e in experts.items():
         print(f"expert on {t}: return {fmt(e['return'], 2)}, true cost {fmt(e['true_cost'])}, formula cost "
