@@ -27,6 +27,11 @@ unseen expert and random-policy states each formula calls unsafe).
         --prune-tasks "" --jsonl benchmarks/results/safenav_defaults.runs.jsonl --json benchmarks/results/safenav_defaults.json \
         --figure docs/figures/safenav_defaults_curves.png --rules-dir benchmarks/results/safenav_defaults_rules
 
+``--validation F`` learns each formula as ``learn dnf --validation F`` does (from the other episodes; the
+held-out check in the JSON's ``rules`` and in the rule file's header), and ``--limit-floor`` gives the
+learned-DNF agents ``--cost-limit`` plus that check's false-alarm floor per episode, the limit ``train
+--cost`` gives a positive budget (docs/BENCHMARKS.md, "A learned DNF's false-alarm floor in the limit").
+
 ``--settings legacy`` (the default) keeps the pinned settings the recorded tables were measured with;
 ``--settings defaults`` gives PPO and PPO-Lagrangian only the cost limit and the budget. ``--inputs
 lidar`` learns formulas over the hazard lidar only. Every baseline run also reports which rules of
