@@ -576,3 +576,25 @@ def test_a_validation_line_below_the_rules_or_inconsistent_is_not_read_as_the_fl
     assert rule_file_validation("x > 1\n" + line) is None     # a user's comment among the rules
     with pytest.raises(DataError, match="inconsistent"):
         rule_file_validation(line.replace("3 of 30", "31 of 30"))
+
+
+def test_an_unkept_dnf_limit_names_the_false_alarm_floor_it_left_out():
+    """The warning of an agent over its limit says how the file's floor would enter the limit:
+    dropping ``--false-alarm-floor none`` at a budget, ``add`` at limit 0."""
+    import argparse
+
+    from symlearn.cli.train_command import _limit_kept
+
+    class Dnf:
+        kind, expert_level = "dnf", None
+
+    args = argparse.Namespace(algo="ppo-lag", cost_limit=5.0, cost_limit_given=5.0, cost_limit_from="--cost-limit",
+                              false_alarm_floor=10.0, false_alarm_floor_mode="none", depth_weight=0.0)
+    said = _limit_kept(args, Dnf, {"learned_cost": 40.0, "steps": 256})
+    assert "flags 10 states of an unseen expert episode" in said and "without --false-alarm-floor none" in said
+    args.cost_limit = args.cost_limit_given = 0.0
+    args.cost_limit_from, args.false_alarm_floor_mode = "default", "auto"
+    assert "--false-alarm-floor add allows them" in _limit_kept(args, Dnf, {"learned_cost": 40.0, "steps": 256})
+    args.cost_limit, args.cost_limit_from, args.false_alarm_floor_mode = 10.0, "validation", "add"
+    assert "its limit, 0 plus the formula's false-alarm floor of 10" in _limit_kept(
+        args, Dnf, {"learned_cost": 40.0, "steps": 256})
