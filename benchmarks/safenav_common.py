@@ -68,13 +68,20 @@ def demonstrations(agent: str, task: str, n: int, seed: int):
 
 @lru_cache(maxsize=None)
 def learn_rules(agent: str, task: str, depth: int, n_demos: int, demo_seed: int,
-                inputs: tuple[str, ...] | None = None):
+                inputs: tuple[str, ...] | None = None, validation: float | None = None):
     """``(dnf, info)``: the one-class tree's unsafe-set formula from ``n_demos`` expert episodes
-    (``inputs``: the features its rules may test, ``OneClassTreeConstraint(inputs=...)``; all 20 when ``None``)."""
+    (``inputs``: the features its rules may test, ``OneClassTreeConstraint(inputs=...)``; all 20 when ``None``).
+    ``validation``: hold out that share of the episodes as ``learn dnf --validation`` does (whole
+    episodes, ``holdout(..., seed=0)``), learn from the rest and put the held-out check in
+    ``info["validation"]`` (its ``per_demonstration``: the formula's false-alarm floor per episode)."""
     from symlearn.envs.safenav.observation import FEATURE_NAMES
-    from symlearn.learners.trees.one_class_tree import OneClassTreeConstraint
+    from symlearn.learners.trees.one_class_tree import OneClassTreeConstraint, feature_matrix
+    from symlearn.learners.validation import holdout, unsafe_states_report
 
     demos = demonstrations(agent, task, n_demos, demo_seed)
+    held = None
+    if validation is not None:
+        demos, held = holdout(demos, validation, seed=0)
     start = time.perf_counter()
     tree = OneClassTreeConstraint(max_depth=depth, random_state=0,
                                   inputs=list(inputs) if inputs else None).fit(demos, list(FEATURE_NAMES))
@@ -86,6 +93,10 @@ def learn_rules(agent: str, task: str, depth: int, n_demos: int, demo_seed: int,
             "fit_seconds": time.perf_counter() - start,
             "expert_return": float(np.mean([sum(t.rewards) for t in demos])),
             "expert_cost": float(np.mean([t.info["cost"] for t in demos]))}
+    if held is not None:
+        states = [feature_matrix(type(held)([t]), list(FEATURE_NAMES))[0] for t in held]
+        info["validation"] = unsafe_states_report(tree.predict, states, list(FEATURE_NAMES), validation,
+                                                  len(demos)).as_dict()
     return dnf, info
 
 
@@ -302,7 +313,7 @@ def run(spec: dict[str, Any]) -> dict[str, Any]:
             dnf = parse(spec["rules"])
         else:
             dnf, _ = learn_rules(*parse_key(spec["source"]), spec["depth"], spec["n_demos"], spec["demo_seed"],
-                                 tuple(spec["inputs"]) if spec.get("inputs") else None)
+                                 tuple(spec["inputs"]) if spec.get("inputs") else None, spec.get("validation"))
         rules = FastRules(dnf, FEATURE_NAMES)
         check_on = spec.get("source") or spec["target"]
         rules.check(probe_points(*parse_key(check_on), spec["n_demos"], spec["demo_seed"], n_random=1500))

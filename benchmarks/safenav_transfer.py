@@ -27,6 +27,11 @@ unseen expert and random-policy states each formula calls unsafe).
         --prune-tasks "" --jsonl benchmarks/results/safenav_defaults.runs.jsonl --json benchmarks/results/safenav_defaults.json \
         --figure docs/figures/safenav_defaults_curves.png --rules-dir benchmarks/results/safenav_defaults_rules
 
+``--validation F`` learns each formula as ``learn dnf --validation F`` does (from the other episodes; the
+held-out check in the JSON's ``rules`` and in the rule file's header), and ``--limit-floor`` gives the
+learned-DNF agents ``--cost-limit`` plus that check's false-alarm floor per episode, the limit ``train
+--cost`` gives a positive budget (docs/BENCHMARKS.md, "A learned DNF's false-alarm floor in the limit").
+
 ``--settings legacy`` (the default) keeps the pinned settings the recorded tables were measured with;
 ``--settings defaults`` gives PPO and PPO-Lagrangian only the cost limit and the budget. ``--inputs
 lidar`` learns formulas over the hazard lidar only. Every baseline run also reports which rules of
@@ -79,8 +84,12 @@ INPUT_SETS = {"lidar": tuple(f"d_{k}" for k in range(16))}
 
 
 def formula_tag(args: argparse.Namespace) -> str:
-    """``d<depth>|n<demos>`` plus ``-in<name>`` when the formulas may test only ``--inputs``."""
-    return f"d{args.depth}|n{args.n_demos}" + (f"-in{args.inputs}" if args.inputs else "")
+    """``d<depth>|n<demos>`` plus ``-in<name>`` when the formulas may test only ``--inputs``,
+    ``-v<fraction>`` when they are learned with ``--validation`` and ``-floor`` when their limit
+    has the held-out false-alarm floor added (``--limit-floor``)."""
+    return (f"d{args.depth}|n{args.n_demos}" + (f"-in{args.inputs}" if args.inputs else "")
+            + (f"-v{args.validation:g}" if args.validation is not None else "")
+            + ("-floor" if args.limit_floor else ""))
 
 
 def rule_inputs(args: argparse.Namespace) -> tuple[str, ...] | None:
@@ -90,7 +99,8 @@ def rule_inputs(args: argparse.Namespace) -> tuple[str, ...] | None:
 
 
 def rule_file_name(args: argparse.Namespace, source: str) -> str:
-    return f"{source}.d{args.depth}" + (f"-in{args.inputs}" if args.inputs else "") + ".dnf"
+    return (f"{source}.d{args.depth}" + (f"-in{args.inputs}" if args.inputs else "")
+            + (f"-v{args.validation:g}" if args.validation is not None else "") + ".dnf")
 
 
 def run_suffix(args: argparse.Namespace) -> str:
@@ -111,7 +121,14 @@ def common(args: argparse.Namespace, seed: int) -> dict[str, Any]:
             "n_demos": args.n_demos, "demo_seed": args.demo_seed, "cost_limit": args.cost_limit,
             "multiplier_lr": args.multiplier_lr, "advantage_scale": args.advantage_scale,
             "normalize": args.normalize, "settings": args.settings, "inputs": rule_inputs(args),
-            "multiplier_init": args.multiplier_init}
+            "multiplier_init": args.multiplier_init, "validation": args.validation}
+
+
+def false_alarm_floor(args: argparse.Namespace, source: str) -> float:
+    """The source formula's held-out false-alarm floor per episode (``--validation`` needed)."""
+    _, info = learn_rules(*parse_key(source), args.depth, args.n_demos, args.demo_seed, rule_inputs(args),
+                          args.validation)
+    return float(info["validation"]["per_demonstration"])
 
 
 def table_specs(args: argparse.Namespace, keys: list[str]) -> list[dict[str, Any]]:
@@ -129,8 +146,14 @@ def table_specs(args: argparse.Namespace, keys: list[str]) -> list[dict[str, Any
                 specs.append(dict(base, id=f"lag-true|{target}|s{seed}|{suffix}", algo="ppo-lag", target=target,
                                   cost="true", monitor_depth=args.depth))
             for source in ([target] if args.diagonal_only else keys):
+                limit = args.cost_limit
+                if args.limit_floor:
+                    # the limit in true-violation units plus what the formula charges an unseen
+                    # expert episode (train --cost's rule for a file with a validation line)
+                    limit += false_alarm_floor(args, source)
                 specs.append(dict(base, id=f"lag-dnf|{source}>{target}|{formula_tag(args)}|s{seed}|{suffix}",
-                                  algo="ppo-lag", target=target, cost="dnf", source=source, depth=args.depth))
+                                  algo="ppo-lag", target=target, cost="dnf", source=source, depth=args.depth,
+                                  cost_limit=limit))
     return specs
 
 
@@ -141,7 +164,8 @@ def prune_specs(args: argparse.Namespace, log: ResultLog, keys: list[str]) -> tu
     for task in args.prune_tasks:
         if task not in keys:
             continue
-        dnf, _ = learn_rules(*parse_key(task), args.depth, args.n_demos, args.demo_seed, rule_inputs(args))
+        dnf, _ = learn_rules(*parse_key(task), args.depth, args.n_demos, args.demo_seed, rule_inputs(args),
+                             args.validation)
         for seed in range(args.seeds):
             full_id = f"lag-dnf|{task}>{task}|{formula_tag(args)}|s{seed}|{suffix}"
             if not log.done(full_id):
@@ -498,6 +522,12 @@ def main() -> None:
     parser.add_argument("--multiplier-init", type=float, default=None,
                         help="with --settings defaults: where PPO-Lagrangian's multiplier starts (default: the "
                              "library's, 1; 0 before 2026-12-07)")
+    parser.add_argument("--validation", type=float, default=None, metavar="FRACTION",
+                        help="learn each formula as learn dnf --validation FRACTION does: from the other episodes, "
+                             "with the held-out ones' false-alarm floor in the JSON's rules (run ids carry -v<F>)")
+    parser.add_argument("--limit-floor", action="store_true",
+                        help="with --validation: the learned-DNF agents' limit is --cost-limit plus the formula's "
+                             "held-out false-alarm floor per episode, as train --cost gives it (run ids carry -floor)")
     parser.add_argument("--rules-dir", default=str(REPO / "benchmarks/results/safenav_rules"),
                         help="where the learned formulas are written (<source>.d<depth>.dnf)")
     parser.add_argument("--markdown", default=None, help="also write the tables as markdown here")
@@ -513,6 +543,8 @@ def main() -> None:
         args.tasks, args.prune_tasks = "point-goal,car-push", "point-goal"
         args.jsonl, args.json = "/tmp/safenav_transfer_quick.jsonl", "/tmp/safenav_transfer_quick.json"
         args.figure = "/tmp/safenav_training_curves_quick.png"
+    if args.limit_floor and args.validation is None:
+        parser.error("--limit-floor needs --validation FRACTION (the held-out episodes measure the floor)")
     keys = [k for k in args.tasks.split(",") if k]
     args.prune_tasks = [k for k in args.prune_tasks.split(",") if k]
     started = time.perf_counter()
@@ -520,7 +552,8 @@ def main() -> None:
     # the formulas (learned once in the parent; the forked workers inherit them)
     rules, rule_sets = {}, {}
     for source in keys:
-        dnf, info = learn_rules(*parse_key(source), args.depth, args.n_demos, args.demo_seed, rule_inputs(args))
+        dnf, info = learn_rules(*parse_key(source), args.depth, args.n_demos, args.demo_seed, rule_inputs(args),
+                                args.validation)
         probe = probe_points(*parse_key(source), args.n_demos, args.demo_seed, 1500)
         from symlearn.envs.safenav.observation import FEATURE_NAMES
 
@@ -530,13 +563,22 @@ def main() -> None:
         print(f"{source}: {info['conjunctions']} conjunctions ({info['leaves']} leaves) from {info['points']} points "
               f"in {info['fit_seconds']:.2f} s; expert return {info['expert_return']:.2f}, cost {info['expert_cost']:.1f}",
               flush=True)
+        if "validation" in info:
+            v = info["validation"]
+            print(f"  held out {v['n_held_out']} episodes: {v['forbidden']} of {v['steps']} states unsafe "
+                  f"({v['share']:.2%}), false-alarm floor {v['per_demonstration']:.1f} per episode", flush=True)
     if not args.quick:
         folder = Path(args.rules_dir)
         for source, dnf in rule_sets.items():
-            dnf.save(folder / rule_file_name(args, source),
-                     header=f"unsafe set of safenav-{source}: one-class tree, max_depth {args.depth}, "
-                            f"{args.n_demos} scripted-expert episodes (seed {args.demo_seed}); "
-                            f"written by benchmarks/safenav_transfer.py")
+            header = (f"unsafe set of safenav-{source}: one-class tree, max_depth {args.depth}, "
+                      f"{args.n_demos} scripted-expert episodes (seed {args.demo_seed}); "
+                      f"written by benchmarks/safenav_transfer.py")
+            if "validation" in rules[source]:
+                from symlearn.cli.output import validation_line
+
+                # the line learn dnf --validation writes, so train --cost reads the same floor from the file
+                header += "\n" + validation_line(rules[source]["validation"], "held-out expert states unsafe")
+            dnf.save(folder / rule_file_name(args, source), header=header)
     experts = {t: expert_rows(t, rule_sets, args.eval_episodes) for t in keys}
     for t, e in experts.items():
         print(f"expert on {t}: return {fmt(e['return'], 2)}, true cost {fmt(e['true_cost'])}, formula cost "

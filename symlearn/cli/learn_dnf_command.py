@@ -25,7 +25,9 @@ for 2 to 4 features and no ``--inputs``, ``inputs_options`` holds the formula ov
 alone -- ``inputs``, ``conjunctions``, ``unsafe_share`` -- and a note lists them: demonstrations of
 one route make a corridor of the features together, and a constraint about one of them is learned
 from that one with ``--inputs NAME``; which one, the demonstrations cannot tell),
-``validation`` with ``--validation FRACTION`` (held-out expert states the formula calls unsafe;
+``validation`` with ``--validation FRACTION`` (held-out expert states the formula calls unsafe,
+``per_demonstration`` of them per held-out episode: the false-alarm floor ``train --cost`` adds to a
+positive ``--cost-limit``, read from the file's ``# validation:`` line;
 where that is more than 5 %, ``shallower`` holds the same check for every smaller ``--max-depth``
 and the warning names the one to try: :mod:`symlearn.learners.trees.depth_advice`);
 ``-o`` writes the editable ``.dnf`` file
@@ -392,7 +394,9 @@ def _depth_advice(args, inputs, train, features, held_states, share: float, vali
 def _with_validation(text: str, doc: dict) -> str:
     """The rule file's text with the validation line (and its warning) after its ``#`` header:
     how often the formula fires on held-out expert states is what a cost limit on it has to
-    allow, so it stays with the file, not only on the terminal."""
+    allow, so it stays with the file, not only on the terminal; ``train --cost`` reads the line
+    back (:func:`symlearn.learners.validation.rule_file_validation`) and adds its count per held-out
+    demonstration to a positive ``--cost-limit``."""
     from symlearn.cli.output import validation_line
 
     lines = text.splitlines(keepends=True)

@@ -1,7 +1,7 @@
 """``symlearn train``: train an agent in any environment, optionally with a learned cost.
 
 ``symlearn train --env ENV [--env-kwargs JSON] [--algo ALGO] [--cost rules.dnf|cost.safetensors
-[--features a,b] [--per-rule] [--depth-weight W]] [--cost-limit C] [--multiplier-update gradient|adam|pid]
+[--features a,b] [--per-rule] [--depth-weight W]] [--cost-limit C] [--false-alarm-floor auto|add|none] [--multiplier-update gradient|adam|pid]
 [--multiplier-init M] [--multiplier-lr LR] [--learning-rate LR] [--log-std-init S] [--advantage-scale raw|returns] [--reward-scale-floor SHARE] [--cost-scale-floor SHARE] [--zero-limit-slack SHARE]
 [--cost-estimate rollout|episodes] [--reset-actor auto|never] [--normalize-observations]
 [--normalize-values] [--n-envs N] [--n-steps T] [--prune [--prune-threshold T]] [--steps N]
@@ -92,6 +92,16 @@
   is the least cost a policy can reach, and the expert's level is one a policy is known to reach
   and the constraint the learner matched (eq. 2.2). Measured in docs/BENCHMARKS.md ("Where the
   multiplier starts, and a learned neural cost's limit").
+* ``--false-alarm-floor auto|add|none`` (Lagrangians on a ``.dnf`` file whose header has the
+  ``# validation: K of N held-out expert states unsafe (...; H demonstrations held out, ...)`` line
+  of ``learn dnf --validation``): a learned formula also fires where the expert goes, K / H times
+  per unseen expert episode (its false-alarm floor, :attr:`symlearn.learners.validation.Validation.per_demonstration`).
+  ``auto`` (the default) reads a positive ``--cost-limit`` as violations per episode and trains on
+  the formula's cost against the limit plus the floor; a limit of 0 stays 0 (a hard constraint:
+  the floor would be spent on real violations). ``add`` adds it at 0 too, ``none`` never (the limit
+  on the formula's own cost, as before). Not with ``--per-rule`` or ``--depth-weight``, whose
+  costs are in other units. Measured in docs/BENCHMARKS.md ("A learned DNF's false-alarm floor in
+  the limit").
 * ``--cost-estimate rollout|episodes``: ``ppo-lag``'s multipliers are updated every iteration from
   the rollout's cost per step times the mean episode length (``rollout``, the default), or, as
   before, only in iterations in which an episode ended, from those episodes (``episodes``).
@@ -122,7 +132,9 @@ it costs 0 --, ``learned_cost`` (what ``--cost`` charges the greedy evaluation's
 over rules, per episode; null without ``--cost``), ``cost_limit`` (the limit of a Lagrangian --
 ``ppo-lag``, ``sb3-*-lag`` -- on the learned cost, or on ``info["cost"]`` without ``--cost``; null
 for the other algorithms) and ``cost_limit_from`` (``--cost-limit``, ``expert`` -- a learned neural
-cost's expert level -- or ``default``: 0), ``multipliers`` (null without a
+cost's expert level --, ``validation`` -- the limit given plus a DNF file's false-alarm floor -- or
+``default``: 0), ``cost_limit_given`` (the limit before the floor) and ``false_alarm_floor`` (the
+file's floor per episode, null without one), ``multipliers`` (null without a
 Lagrangian), ``actor_resets`` (``ppo-lag``: the iterations whose actor was renewed, else null),
 ``pruned`` (the dropped rules, or null; with ``--prune`` also ``kept``), ``seconds``,
 ``steps``, ``files``, ``warnings`` (a Lagrangian whose multiplier rose while the cost stayed over the
@@ -173,6 +185,12 @@ def register(subparsers, common) -> None:
     cmd.add_argument("--cost-limit", type=float, default=None,
                      help="Lagrangian: allowed expected cost per episode (default 0; for a cost learned by "
                           "`learn icrl`, what it charges the expert's demonstrations per episode, recorded in its file)")
+    cmd.add_argument("--false-alarm-floor", dest="false_alarm_floor_mode", choices=("auto", "add", "none"),
+                     default="auto",
+                     help="Lagrangian on a DNF file from learn dnf --validation: add what the formula charged its "
+                          "held-out expert episodes per episode (the file's validation line) to a positive "
+                          "--cost-limit (auto, the default), to any limit, 0 included (add), or never (none: the "
+                          "limit as given, on the formula's own cost)")
     cmd.add_argument("--multiplier-init", type=float, default=None,
                      help="Lagrangian: every multiplier's value at the start (ppo-lag: 1 -- the cost weighing as "
                           "much as the reward -- at limit 0 or a learned cost's expert level, 0 under a positive "
@@ -322,6 +340,7 @@ def _train(args: argparse.Namespace, out) -> None:
         "expert" if cost is not None and cost.expert_level is not None else "default")
     if args.cost_limit is None:
         args.cost_limit = cost.expert_level if args.cost_limit_from == "expert" else 0.0
+    _add_false_alarm_floor(args, cost)
     from symlearn.cli.env_errors import environment_file, raised_by_environment
 
     # an exception from the user's environment code while training is theirs, one located line
@@ -360,6 +379,49 @@ def _train(args: argparse.Namespace, out) -> None:
     out.result(doc, _render)
 
 
+def _add_false_alarm_floor(args: argparse.Namespace, cost) -> None:
+    """A learned DNF's limit counts the states the formula wrongly calls unsafe: ``args.cost_limit``
+    becomes the limit given (in violations per episode) plus the file's false-alarm floor -- what
+    the formula charged the held-out expert episodes of ``learn dnf --validation``, per episode
+    (``Validation.per_demonstration``). Without it a budget of 25 on a SafeNav formula that charges
+    the scripted expert 19-36 per episode is out of every policy's reach, the expert's included.
+    Measured, the floor alone trains within noise of the raw limit there: the agents' own false
+    alarms are 5-10 times the expert's (docs/BENCHMARKS.md, "A learned DNF's false-alarm floor in
+    the limit"). ``--false-alarm-floor auto`` (the default) adds it to a positive budget only: at
+    limit 0 the constraint is hard, the floor would let the agent spend it on real violations, and
+    the library's hard-limit handling (multiplier from 1) already copes; ``add`` adds it at 0 too,
+    ``none`` keeps the limit as given (the behaviour before). Sets ``args.cost_limit_given`` and
+    ``args.false_alarm_floor`` (the file's floor, or None) for the JSON."""
+    from symlearn.errors import SymlearnError
+
+    args.cost_limit_given = args.cost_limit
+    recorded = getattr(cost, "validation", None) if cost is not None and cost.kind == "dnf" else None
+    args.false_alarm_floor = None if recorded is None else recorded.per_demonstration
+    mode = args.false_alarm_floor_mode
+    if mode == "none" or not args.algo.endswith("-lag"):
+        return
+    if mode == "add" and recorded is None:
+        if cost is not None and cost.kind == "neural":
+            raise SymlearnError("--false-alarm-floor add is for a DNF cost: a learned neural cost's limit is its "
+                                "expert's level already")
+        raise SymlearnError("--false-alarm-floor add needs a DNF rule file whose header records a held-out check; "
+                            + (f"{args.cost} records none" if cost is not None else "no --cost was given"),
+                            hint="learn the formula with learn dnf --validation 0.2 -o rules.dnf")
+    if recorded is None:
+        return
+    if args.per_rule or args.depth_weight:
+        # the floor counts unsafe states of the whole formula at 1 each: a cost per rule or one
+        # weighted by depth is in other units, so the file's number does not apply
+        if mode == "add":
+            raise SymlearnError("--false-alarm-floor add counts the whole formula's unsafe states at 1 each; it "
+                                "does not apply with " + ("--per-rule" if args.per_rule else "--depth-weight"))
+        return
+    if mode == "auto" and args.cost_limit <= 0:
+        return
+    args.cost_limit = args.cost_limit + args.false_alarm_floor
+    args.cost_limit_from = "validation"
+
+
 def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
     from symlearn.cli.train_costs import penalised
     from symlearn.rl.ppo import LagrangianConfig, PPOConfig, evaluate, train_ppo
@@ -380,8 +442,10 @@ def _train_ours(args: argparse.Namespace, target, cost, watch) -> dict:
     if constrained:
         # a learned cost's expert level is its floor, the hard constraint in its own terms: from 1 as
         # a limit of 0 would (the library starts a positive budget at 0)
-        start = 1.0 if args.multiplier_init is None and args.cost_limit_from == "expert" \
-            else args.multiplier_init
+        # a floor added to a limit of 0 (--false-alarm-floor add) is the same case
+        hard = args.cost_limit_from == "expert" or (args.cost_limit_from == "validation"
+                                                    and args.cost_limit_given == 0)
+        start = 1.0 if args.multiplier_init is None and hard else args.multiplier_init
         given = {key: value for key, value in (("update", args.multiplier_update), ("lr", args.multiplier_lr),
                                                ("init", start), ("reward_scale_floor", args.reward_scale_floor),
                                                ("cost_scale_floor", args.cost_scale_floor),
@@ -456,9 +520,19 @@ def _limit_kept(args: argparse.Namespace, cost, doc: dict) -> str | None:
     limit = f"--cost-limit {args.cost_limit:g}"
     if args.cost_limit_from == "expert":
         limit = f"its limit, the expert's level of {args.cost_limit:.3g} per episode"
+    elif args.cost_limit_from == "validation":
+        limit = (f"its limit, {args.cost_limit_given:g} plus the formula's false-alarm floor of "
+                 f"{args.false_alarm_floor:.3g} per episode")
     if cost is not None and cost.kind == "dnf":
-        advice += ("; a formula that also flags the expert's own states cannot be kept (learn dnf --validation 0.2 "
-                   "counts them)")
+        if getattr(args, "false_alarm_floor", None) is None:
+            advice += ("; a formula that also flags the expert's own states cannot be kept (learn dnf --validation "
+                       "0.2 counts them, and train then adds them to a positive --cost-limit)")
+        elif args.cost_limit_from != "validation":
+            allow = ("without --false-alarm-floor none they are added to the limit"
+                     if getattr(args, "false_alarm_floor_mode", None) == "none" and args.cost_limit > 0
+                     else "--false-alarm-floor add allows them")
+            advice += (f"; the formula flags {args.false_alarm_floor:.3g} states of an unseen expert episode "
+                       f"(its validation line): {allow}")
         if not args.depth_weight:
             # the speed cart of issue 24's second pass: its agent raced through the learned speed limit
             # (12 per episode, multiplier 7.4 after 50k steps); --depth-weight 3: 2.2 at cost 0
@@ -545,6 +619,10 @@ def evaluation_document(args: argparse.Namespace, cost, returns, lengths, true_c
             float(np.sum(per_episode) / max(int(np.sum(lengths)), 1)),
             "cost_limit": float(args.cost_limit) if limited else None,
             "cost_limit_from": args.cost_limit_from if limited else None,
+            # the limit before a DNF file's false-alarm floor was added, and that floor (the
+            # file's held-out expert episodes' formula cost each; null for a file without one)
+            "cost_limit_given": float(args.cost_limit_given) if limited else None,
+            "false_alarm_floor": getattr(args, "false_alarm_floor", None),
             "actor_resets": None, "actor_restored": None, "pruned": None, "files": [], "warnings": []}
 
 
@@ -571,7 +649,10 @@ def _render(doc: dict) -> str:
              f"greedy evaluation: return {doc['return']:.2f}, "
              + ("" if doc.get("learned_cost") is None else f"learned cost {number(doc['learned_cost'], 2)} per episode"
                 + ("" if doc.get("cost_limit") is None else f" (limit {doc['cost_limit']:.3g}"
-                   + (", the expert's level" if doc.get("cost_limit_from") == "expert" else "") + ")") + ", ")
+                   + (", the expert's level" if doc.get("cost_limit_from") == "expert" else "")
+                   + (f": {doc['cost_limit_given']:.3g} + the formula's false-alarm floor "
+                      f"{doc['false_alarm_floor']:.3g}" if doc.get("cost_limit_from") == "validation" else "")
+                   + ")") + ", ")
              + f"ground-truth cost {number(doc['cost'], 2)} per episode, "
              f"violation rate {number(doc['violation_rate'], 3)}"]
     if doc["multipliers"] is not None:

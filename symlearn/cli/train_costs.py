@@ -19,6 +19,7 @@ reports, never what a learned cost is trained against.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -38,6 +39,9 @@ class TrainingCost:
     wrap: Any = None              # env -> env making info["features"] a vector (dict features), or None
     expert_level: float | None = None   # a neural cost's charge on its demonstrations per episode (default limit)
     charges_nothing: bool = False       # a neural cost whose weights lambda are all 0: 0 everywhere
+    # a DNF file's held-out check (learn dnf --validation): its per_demonstration is what the formula
+    # charges an unseen expert episode, the false-alarm floor train adds to a budget
+    validation: Any = None
 
 
 class _DictFeatures:
@@ -125,7 +129,20 @@ def _dnf(path: str, target: Any, features: str | None, per_rule: bool, depth_wei
         return np.asarray(costs[0], dtype=np.float64).reshape(-1)
 
     n = len(dnf.conjunctions) if per_rule else 1
-    return TrainingCost("dnf", rollout, step_cost, n, stats=stats, wrap=wrap)
+    return TrainingCost("dnf", rollout, step_cost, n, stats=stats, wrap=wrap, validation=_recorded_validation(path))
+
+
+def _recorded_validation(path: str):
+    """The held-out check a ``.dnf`` text file's header records, or None (a JSON formula has no header)."""
+    from symlearn.input_limits import read_input_text
+    from symlearn.learners.validation import rule_file_validation
+
+    if str(path).endswith(".json"):
+        return None
+    try:
+        return rule_file_validation(read_input_text(Path(path), what="rule file"))
+    except DataError as exc:
+        raise DataError(exc.message, file=str(path), hint=exc.hint) from None
 
 
 def _view_columns(env: Any) -> tuple[str, ...] | None:

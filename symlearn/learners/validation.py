@@ -21,6 +21,7 @@ somewhere the expert goes (too few demonstrations there, or a rule that over-gen
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 from typing import Any
@@ -46,6 +47,14 @@ class Validation:
     def share(self) -> float:
         return self.forbidden / self.steps if self.steps else 0.0
 
+    @property
+    def per_demonstration(self) -> float:
+        """The held-out demonstrations' mean count of forbidden steps (states) each: what the
+        learned constraint, as a cost of 1 per step, charges an unseen expert episode -- its
+        false-alarm floor, the least a cost limit on it can ask of a policy that behaves like the
+        expert (``share`` x the mean held-out episode length)."""
+        return self.forbidden / self.n_held_out if self.n_held_out else 0.0
+
     def warning(self) -> str | None:
         """One line when the learned constraint forbids held-out expert behaviour, else None."""
         if not self.forbidden:
@@ -55,7 +64,7 @@ class Validation:
                 "demonstrations there or check the rule")
 
     def as_dict(self) -> dict[str, Any]:
-        return {**asdict(self), "share": self.share}
+        return {**asdict(self), "share": self.share, "per_demonstration": self.per_demonstration}
 
 
 def holdout(demonstrations: Any, fraction: float, *, seed: int = 0):
@@ -126,4 +135,30 @@ def unsafe_states_report(predict: Callable[[np.ndarray], np.ndarray], held_state
     return Validation(float(fraction), n_train, len(held_states), steps, hits, first, unit="states")
 
 
-__all__ = ["Validation", "forbidden_pairs_report", "holdout", "holdout_indices", "unsafe_states_report"]
+#: the rule-file line ``learn dnf --validation`` writes (cli.output.validation_line after a ``# ``):
+#: its three whole numbers are what ``train --cost`` reads back -- the held-out count, the states
+#: checked and the demonstrations held out -- so nothing rounded is read
+_RULE_FILE_LINE = re.compile(r"^#\s*validation: (\d+) of (\d+) held-out expert states unsafe \([^;]*; "
+                             r"(\d+) demonstrations? held out, (\d+) learned from\)\s*$")
+
+
+def rule_file_validation(text: str) -> Validation | None:
+    """The held-out check a rule file records in its ``#`` header (``learn dnf --validation``),
+    or None where it records none. Only the header is read (the ``#`` lines before the first
+    rule): a line written lower down is a user's comment, not the learner's record."""
+    for line in text.splitlines():
+        if line.strip() and not line.lstrip().startswith("#"):
+            break
+        match = _RULE_FILE_LINE.match(line.strip())
+        if match:
+            forbidden, steps, held, train = (int(g) for g in match.groups())
+            if held == 0 or forbidden > steps:
+                raise DataError(f"the rule file's validation line is inconsistent ({forbidden} of {steps} states, "
+                                f"{held} demonstrations held out)",
+                                hint="delete the line, or learn the file again with learn dnf --validation")
+            return Validation(held / (held + train), train, held, steps, forbidden, unit="states")
+    return None
+
+
+__all__ = ["Validation", "forbidden_pairs_report", "holdout", "holdout_indices", "rule_file_validation",
+           "unsafe_states_report"]

@@ -245,3 +245,20 @@ def test_pictures_as_states_are_warned_about_and_their_box_does_not_overflow(cap
                          "-o", tmp_path / "two.dnf")
     assert code == 0, err
     assert not any("separate columns" in w for w in json.loads(out)["warnings"])
+
+
+def test_the_validation_line_learn_dnf_writes_is_the_floor_train_reads(capsys, tmp_path):
+    """The rule file's validation line is read back (rule_file_validation) with the numbers the
+    JSON reports: the held-out demonstrations' unsafe states per demonstration."""
+    from symlearn.learners.validation import rule_file_validation
+
+    out_file = tmp_path / "toy.dnf"
+    code, out, err = run(capsys, "learn", "dnf", "--env", "toy-navigation", "--n-demos", 10, "--validation", 0.3,
+                         "-o", out_file, "--json")
+    assert code == 0, err
+    doc = json.loads(out)["validation"]
+    recorded = rule_file_validation(out_file.read_text())
+    assert recorded is not None
+    assert (recorded.forbidden, recorded.steps, recorded.n_held_out, recorded.n_train) \
+        == (doc["forbidden"], doc["steps"], doc["n_held_out"], doc["n_train"])
+    assert recorded.per_demonstration == doc["per_demonstration"] == doc["forbidden"] / doc["n_held_out"]

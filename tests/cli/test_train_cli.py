@@ -520,3 +520,81 @@ def test_sb3_training_leaves_no_folder_in_the_temporary_directory(capsys, tmp_pa
     assert code == 0, err
     assert json.loads(out)["steps"] == 256
     assert list(scratch.iterdir()) == []
+
+
+def test_a_learned_dnfs_false_alarm_floor_is_added_to_a_positive_budget(capsys, tmp_path):
+    """`learn dnf --validation` records in the rule file how often the formula fires on held-out
+    expert states; `train --cost` adds that per episode (the file's false-alarm floor) to a positive
+    --cost-limit, keeps limit 0 as it is unless --false-alarm-floor add, and --false-alarm-floor none
+    gives the limit as written (issue 24: a SafeNav formula charges the expert 19-36 per episode, so
+    a budget of 25 on it was out of every policy's reach)."""
+    from symlearn.learners.validation import rule_file_validation
+
+    rules = tmp_path / "toy.dnf"
+    # what learn dnf --validation writes: 30 of 300 held-out states in 3 episodes -> 10 per episode
+    rules.write_text("# unsafe set of toy-navigation\n"
+                     "# validation: 30 of 300 held-out expert states unsafe (10.0%; 3 demonstrations held out, "
+                     "12 learned from)\n" + UNSAFE_DNF)
+    recorded = rule_file_validation(rules.read_text())
+    assert (recorded.forbidden, recorded.n_held_out, recorded.per_demonstration) == (30, 3, 10.0)
+    small = ("--steps", 128, "--n-envs", 1, "--n-steps", 128, "--eval-episodes", 1, "--json")
+
+    def trained(*flags):
+        code, out, err = run(capsys, "train", "--env", "toy-navigation", "--cost", rules, *flags, *small)
+        assert code == 0, err
+        return json.loads(out)
+
+    doc = trained("--cost-limit", 5)
+    assert (doc["cost_limit"], doc["cost_limit_from"], doc["cost_limit_given"], doc["false_alarm_floor"]) \
+        == (15, "validation", 5, 10)
+    assert doc["multipliers"][0] <= 0.1 + 1e-9    # a budget: from 0, as before
+    doc = trained("--cost-limit", 5, "--false-alarm-floor", "none")
+    assert (doc["cost_limit"], doc["cost_limit_from"], doc["false_alarm_floor"]) == (5, "--cost-limit", 10)
+    doc = trained()
+    assert (doc["cost_limit"], doc["cost_limit_from"]) == (0, "default")   # a hard limit stays hard
+    doc = trained("--false-alarm-floor", "add")
+    assert (doc["cost_limit"], doc["cost_limit_from"], doc["cost_limit_given"]) == (10, "validation", 0)
+    assert abs(doc["multipliers"][0] - 1.0) <= 0.1 + 1e-9   # still the hard constraint: from 1
+    doc = trained("--cost-limit", 5, "--per-rule")   # a cost per rule is in other units than the floor
+    assert doc["cost_limit"] == 5 and doc["cost_limit_from"] == "--cost-limit"
+
+    plain = tmp_path / "plain.dnf"
+    plain.write_text(UNSAFE_DNF)
+    doc = json.loads(run(capsys, "train", "--env", "toy-navigation", "--cost", plain, "--cost-limit", 5, *small)[1])
+    assert (doc["cost_limit"], doc["cost_limit_from"], doc["false_alarm_floor"]) == (5, "--cost-limit", None)
+    code, out, err = run(capsys, "train", "--env", "toy-navigation", "--cost", plain, "--false-alarm-floor", "add",
+                         *small)
+    assert code != 0 and "records none" in err and "--validation" in err
+
+
+def test_a_validation_line_below_the_rules_or_inconsistent_is_not_read_as_the_floor(tmp_path):
+    from symlearn.errors import DataError
+    from symlearn.learners.validation import rule_file_validation
+
+    line = "# validation: 3 of 30 held-out expert states unsafe (10.0%; 1 demonstration held out, 4 learned from)\n"
+    assert rule_file_validation(line + "x > 1\n").per_demonstration == 3
+    assert rule_file_validation("x > 1\n" + line) is None     # a user's comment among the rules
+    with pytest.raises(DataError, match="inconsistent"):
+        rule_file_validation(line.replace("3 of 30", "31 of 30"))
+
+
+def test_an_unkept_dnf_limit_names_the_false_alarm_floor_it_left_out():
+    """The warning of an agent over its limit says how the file's floor would enter the limit:
+    dropping ``--false-alarm-floor none`` at a budget, ``add`` at limit 0."""
+    import argparse
+
+    from symlearn.cli.train_command import _limit_kept
+
+    class Dnf:
+        kind, expert_level = "dnf", None
+
+    args = argparse.Namespace(algo="ppo-lag", cost_limit=5.0, cost_limit_given=5.0, cost_limit_from="--cost-limit",
+                              false_alarm_floor=10.0, false_alarm_floor_mode="none", depth_weight=0.0)
+    said = _limit_kept(args, Dnf, {"learned_cost": 40.0, "steps": 256})
+    assert "flags 10 states of an unseen expert episode" in said and "without --false-alarm-floor none" in said
+    args.cost_limit = args.cost_limit_given = 0.0
+    args.cost_limit_from, args.false_alarm_floor_mode = "default", "auto"
+    assert "--false-alarm-floor add allows them" in _limit_kept(args, Dnf, {"learned_cost": 40.0, "steps": 256})
+    args.cost_limit, args.cost_limit_from, args.false_alarm_floor_mode = 10.0, "validation", "add"
+    assert "its limit, 0 plus the formula's false-alarm floor of 10" in _limit_kept(
+        args, Dnf, {"learned_cost": 40.0, "steps": 256})
