@@ -124,7 +124,10 @@ def main(argv: list[str] | None = None) -> dict:
             rec = recovery(learner.cost_, probe.is_unsafe, states, seed=seed, margin="auto").as_dict()
             probe.close()
             result = {**evaluate(learner.policy_, 50_000 + seed), "recovery": rec, "seconds": seconds,
-                      "timings": learner.result_.timings, "history": [h.as_dict() for h in learner.history_]}
+                      "timings": learner.result_.timings, "history": [h.as_dict() for h in learner.history_],
+                      # which phases started from a fresh actor: reset_actor="auto" decides this per run,
+                      # and the history alone does not show it
+                      "actor_resets": learner.result_.metrics.get("actor_resets")}
             result["targets"] = {"violation_rate <= 0.1": result["violation_rate"] <= 0.1,
                                  "reward >= 0.5 x expert": result["reward"] >= 0.5 * expert["reward"]}
             run[name] = result

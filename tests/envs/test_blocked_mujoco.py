@@ -222,4 +222,7 @@ def test_blocked_mujoco_benchmark_plumbing(tmp_path, task, monkeypatch):
     for method in ("mce-icrl", "gacl"):
         assert len(run[method]["history"]) == 2 and 0 <= run[method]["violation_rate"] <= 1
         assert set(run[method]["targets"]) == {"violation_rate <= 0.1", "reward >= 0.5 x expert"}
+        # "last" with 2 iterations: only the second phase starts from a fresh actor, and the
+        # record says so (reset_actor="auto" decides per run, so the runs must keep it)
+        assert run[method]["actor_resets"] == [2]
     assert set(document["summary"]) == {"expert", "unconstrained", "mce-icrl", "gacl"}
