@@ -108,9 +108,9 @@ def register_learn(commands, common) -> None:
                      help="logic/ml: inverse temperature of the MaxEnt model (--domain: auto, fitted to the "
                           "demonstrations by maximum likelihood; bundled worlds: their setting's, 1, 3 for gridworld)")
     cmd.add_argument("--min-evidence", type=float, default=None, metavar="NATS",
-                     help="logic: keep an iteration's constraint only if the nominal planner would have visited what "
-                          "it forbids at least this often in as many episodes as were demonstrated (default 1: "
-                          "Akaike's price of a parameter; 0 turns the test off)")
+                     help="logic: keep an iteration's constraint only if what it forbids makes the demonstrations at "
+                          "least this many nats likelier under the nominal planner (default 1: Akaike's price of a "
+                          "parameter; 0 turns the test off)")
     cmd.add_argument("--known", help="an .lp file of rules known in advance (logic environments)")
     cmd.add_argument("--noise", action="store_true",
                      help="treat demonstrated steps that break --known rules as noise (warn) instead of an error")
@@ -388,7 +388,7 @@ def _learn(args: argparse.Namespace, out) -> None:
         if method == "logic" and learner.hypothesis_ is None:
             if not learner.needed_none() or any("#mode" in w for w in doc["warnings"]):
                 raise _nothing_to_write(args.output, learner, doc["warnings"])
-            doc["warnings"].append(f"no rule learned: {_nothing_to_write(args.output, learner, []).hint}")
+            doc["warnings"].append(f"no rule learned: {_why_no_rules(learner, [])}")
         doc["files"] = _write(args.output, method, doc, world, learner, args)
     out.result(doc, _render)
 
@@ -397,6 +397,13 @@ def _nothing_to_write(output: str, learner, warnings: list[str]):
     """No rules for ``-o``: say why the loop found none, and what to change."""
     from symlearn.errors import SymlearnError
 
+    return SymlearnError(f"no rules were induced ({learner.stop_text()}), so there is nothing to write to {output}",
+                         hint=_why_no_rules(learner, warnings))
+
+
+def _why_no_rules(learner, warnings: list[str]) -> str:
+    """Why the loop found no rule and what to change: the hint of :func:`_nothing_to_write`, and
+    the warning of a run that needed none (``learner.needed_none()``)."""
     bias = [w for w in warnings if "#mode" in w]
     if bias:
         hint = (f"{len(bias)} declaration(s) of the bias can give no literal, e.g. {bias[0]}; fix the bias "
@@ -411,8 +418,7 @@ def _nothing_to_write(output: str, learner, warnings: list[str]):
                 "to guess from a more random planner")
     else:
         hint = "give more demonstrations or more iterations"
-    return SymlearnError(f"no rules were induced ({learner.stop_text()}), so there is nothing to write to {output}",
-                         hint=hint)
+    return hint
 
 
 def _user_warnings(caught) -> list[str]:
@@ -556,7 +562,7 @@ def _reward(args: argparse.Namespace, world: _World) -> str:
 def _min_evidence(args: argparse.Namespace) -> dict[str, float | None]:
     """``--min-evidence`` as the logic learner's keyword: nothing when not given (the learner's
     default), None (off) at 0."""
-    if getattr(args, "min_evidence", None) is None:
+    if args.min_evidence is None:
         return {}
     return {"min_evidence": None if args.min_evidence == 0 else float(args.min_evidence)}
 

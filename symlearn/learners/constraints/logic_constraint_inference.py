@@ -261,11 +261,10 @@ class LogicConstraintInference(Learner):
     ``visitation x len(demonstrations)``, which is about its own gain). 1 nat per added
     constraint is Akaike's price of a parameter. Below it the step's absence from the data is
     what the nominal policy itself would show about as often as not, so the step is undone and
-    the loop stops
-    (``"min_evidence"``; one Hanoi game is enough: its rule forbids 102 pairs) -- unless the pair lies
-    in a state no demonstration could reach under the constraints found so far (only the uniform
-    start share visits it): there the data can say nothing either way, and the share's guess goes
-    on as before (the junctions' off-road rule is one). Together with the
+    the loop stops (``"min_evidence"``; one Hanoi game is enough: its rule forbids 102 pairs) --
+    unless the pair lies in a state no demonstration could reach under the constraints found so
+    far (only the uniform start share visits it): there the data can say nothing either way, and
+    the share's guess goes on as before (the junctions' off-road rule is one). Together with the
     refitted temperature this keeps a deliberate expert's unused moves (waiting, actions that
     change nothing) from being read as constraints; the price is that a rule the expert never
     had a reason to break (a blocked cell off every shortest path) is not learned -- the
@@ -451,7 +450,7 @@ class LogicConstraintInference(Learner):
         lines = [f"No rules learned by logic constraint inference on {self.domain_name_} "
                  f"({len(self.history_)} of at most {self.iterations} iterations, {self.seconds_:.1f} s).",
                  f"Stopped: {self.stop_text()}.",
-                 f"At the fitted rationality {self.rationality_:g} a planner as deliberate as the expert does what the "
+                 f"At the rationality {self.rationality_:g} a planner as deliberate as the expert does what the "
                  "demonstrations show without any constraint, so they give no evidence for one.",
                  "Write rules you know below (or give them with --known), or record demonstrations in which",
                  "breaking them would have paid.",

@@ -25,10 +25,9 @@ off by default) is given and a step lacks evidence: the candidate lies in a stat
 demonstrations could reach, the nominal policy would have visited it fewer than ``min_evidence``
 times in as many episodes as were demonstrated, and forbidding what the step forbids (the
 candidate, what ``generalize`` adds, the closure) makes the demonstrated actions fewer than
-``min_evidence`` nats likelier under the nominal policies. Such a step is undone (a ``generalize`` hook with ``snapshot()``/``restore()`` is rolled back with
-it) and the loop ends (``"min_evidence"``),
-when no unobserved allowed
-pair is left, when ``stop_when`` (a hook, e.g. logic inference's convergence test) names a reason,
+``min_evidence`` nats likelier under the nominal policies -- such a step is undone (a
+``generalize`` hook with ``snapshot()``/``restore()`` is rolled back with it) and the loop ends
+(``"min_evidence"``) --, when no unobserved allowed pair is left, when ``stop_when`` (a hook, e.g. logic inference's convergence test) names a reason,
 or after ``max_iterations`` (a cap). ``stop_reason_`` says which.
 
 ``choosable`` (an ``(S, A)`` mask) limits which pairs may be inferred: a pair outside it at least
@@ -76,6 +75,7 @@ import numpy as np
 
 from symlearn.errors import SymlearnError
 from symlearn.learners.base import Learner
+from symlearn.learners.constraints.constraint_metrics import reachable_pairs
 from symlearn.learners.fit_arguments import renamed_arguments
 from symlearn.mdp import TabularMDP
 from symlearn.mdp.episodes import (as_tabular, check_constraints, demonstrated_pairs, final_states, require_steps,
@@ -91,8 +91,8 @@ STOP_REASONS = {
     "min_visitation": "no undemonstrated pair is likely any more (visitation below min_visitation)",
     "no_candidates": "no undemonstrated pair is left to forbid",
     "max_iterations": "the iteration cap ({iterations}) was reached",
-    "min_evidence": "no undemonstrated pair is likely enough to have shown up in the demonstrations "
-                    "(expected demonstrated visits below min_evidence)",
+    "min_evidence": "forbidding the likeliest undemonstrated pair, with what its rules forbid, would make the "
+                    "demonstrations less than min_evidence nats likelier",
 }
 
 
@@ -279,7 +279,7 @@ class MLConstraintInference(Learner):
             # so far: a pair in a state none can reach (only the uniform start share visits it)
             # can have no evidence either way -- the share's guess, bounded by min_visitation
             ask = (self.min_evidence is not None and value * len(episodes) < self.min_evidence
-                   and bool(_reachable(mdp, forbidden, starts)[best // mdp.n_actions]))
+                   and bool(reachable_pairs(mdp, forbidden, initial=starts).flat[best]))
             previous = forbidden
             snapshot = self.generalize.snapshot() if ask and hasattr(self.generalize, "snapshot") else None
             s, a = divmod(best, mdp.n_actions)
@@ -356,13 +356,6 @@ def _gain(visitation: MaxEntVisitation, episodes, before: np.ndarray, after: np.
     ll = [demonstration_log_likelihood(visitation.mdp, episodes, visitation._reward, visitation.rationality,
                                        visitation.horizon, ~mask) for mask in (before, after)]
     return (ll[1] - ll[0]) * steps
-
-
-def _reachable(mdp: TabularMDP, forbidden: np.ndarray, starts: np.ndarray) -> np.ndarray:
-    """Boolean (S,): the non-terminal states reachable from ``starts`` by allowed pairs."""
-    from symlearn.learners.constraints.constraint_metrics import reachable_pairs
-
-    return reachable_pairs(mdp, forbidden, initial=starts)[:, 0]
 
 
 def resolve_rationality(setting: Any, visitation: MaxEntVisitation, episodes, allowed: np.ndarray):
